@@ -1,0 +1,97 @@
+"""The exceptions fkcheck raises: one base class, a few subclasses with fields.
+
+Every error's ``str()`` is one line that names where the problem is (file and
+field, or argument) and what is wrong, and where there is a closed set of valid
+values, lists them. The CLI prints that line and exits with status 2.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+
+__all__ = [
+    "BackendNotFoundError",
+    "FkcheckError",
+    "FrameError",
+    "JointInputError",
+    "ModelError",
+    "UrdfError",
+]
+
+
+def _alternatives(valid: Iterable[str]) -> str:
+    names = list(valid)
+    return ", ".join(names) if names else "(none)"
+
+
+class FkcheckError(Exception):
+    """Base class of every error fkcheck raises on bad input."""
+
+
+class ModelError(FkcheckError):
+    """A model file (TOML or DH CSV) that cannot be read as a valid model.
+
+    Attributes:
+        path: The model file, or ``None`` for a model built in memory.
+        field: Dotted location inside the file, e.g. ``joint[2].alpha``.
+        problem: What is wrong, in a few words.
+    """
+
+    def __init__(self, path: Path | str | None, field: str, problem: str) -> None:
+        self.path = None if path is None else Path(path)
+        self.field = field
+        self.problem = problem
+        where = str(self.path) if self.path is not None else "<model>"
+        super().__init__(f"{where}: {field}: {problem}" if field else f"{where}: {problem}")
+
+
+class JointInputError(FkcheckError, ValueError):
+    """Joint values that cannot be used: wrong length, non-finite, out of limits.
+
+    It is also a :class:`ValueError`, so numeric code can catch it as such.
+    """
+
+
+class FrameError(FkcheckError):
+    """A frame name that the model (or its URDF) does not define.
+
+    Attributes:
+        frame: The name asked for.
+        where: Where it was looked up (``"model ur5"``, ``"URDF ur5_robot.urdf"``).
+        valid: The names that exist there.
+    """
+
+    def __init__(self, frame: str, where: str, valid: Iterable[str]) -> None:
+        self.frame = frame
+        self.where = where
+        self.valid = tuple(valid)
+        super().__init__(f"frame {frame!r} not in {where}; frames are: {_alternatives(self.valid)}")
+
+
+class UrdfError(FkcheckError):
+    """A URDF that is missing, unreadable, unsafe, or does not fit the model.
+
+    Attributes:
+        path: The URDF file (or the spec as written in the model).
+        problem: What is wrong.
+    """
+
+    def __init__(self, path: Path | str, problem: str) -> None:
+        self.path = str(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: {problem}")
+
+
+class BackendNotFoundError(FkcheckError):
+    """A backend name (``--against``) that fkcheck does not know.
+
+    Attributes:
+        name: The name asked for.
+        valid: The registered backend names and accepted prefixes.
+    """
+
+    def __init__(self, name: str, valid: Iterable[str]) -> None:
+        self.name = name
+        self.valid = tuple(valid)
+        super().__init__(f"unknown backend {name!r}; backends are: {_alternatives(self.valid)}")

@@ -1,0 +1,35 @@
+"""Named float tolerances, each with the reason for its size. Use these, not literals.
+
+Measured on this project's machines: two float64 implementations of the same DH
+chain agree to ~1e-15 (a few ulps per joint); a URDF that writes π/2 as
+1.57079632679 differs from exact π/2 by ~4.9e-12 rad per joint, which shows up
+as ~1e-11 in poses; real modelling errors start around 1e-4 m (UR5's rounded d1
+is 3.0e-4 m off).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "DEFAULT_TOL_POS_M",
+    "DEFAULT_TOL_ROT_RAD",
+    "ROUNDED_URDF",
+    "SAME_CHAIN",
+    "SIX_DECIMALS",
+]
+
+#: Same chain, two float64 implementations (poses of unit-scale arms, m or rad).
+#: Round-off is ~1e-15; 1e-12 leaves three orders of margin for long chains.
+SAME_CHAIN = 1e-12
+
+#: A URDF whose angles are π/2 rounded to 11 decimals, against exact DH numbers:
+#: observed ~1.4e-11; 1e-9 keeps two orders of margin.
+ROUNDED_URDF = 1e-9
+
+#: Values printed to six decimals (seed 000's hand-computed matrices): half a unit
+#: in the last place is 5e-7, so 1e-6 is the tightest honest bound.
+SIX_DECIMALS = 1e-6
+
+#: User-facing default tolerances of a check: 1 µm and 1 µrad. Far above any
+#: round-off, far below any real modelling error.
+DEFAULT_TOL_POS_M = 1e-6
+DEFAULT_TOL_ROT_RAD = 1e-6

@@ -1,0 +1,42 @@
+"""Shared assertions for poses: one place that knows the maths."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+
+def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> np.ndarray:
+    """Angle (rad) of R_aᵀ R_b, stable near 0 and π (atan2 of |axis| and trace)."""
+    R = np.swapaxes(R_a, -1, -2) @ R_b
+    skew = np.stack(
+        [R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]],
+        axis=-1,
+    )
+    trace = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2]
+    return np.arctan2(np.linalg.norm(skew, axis=-1) / 2.0, (trace - 1.0) / 2.0)
+
+
+def assert_pose_close(actual: ArrayLike, expected: ArrayLike, tol: float, what: str = "") -> None:
+    """Assert poses (..., 4, 4) agree in position (m) and rotation angle (rad) within tol."""
+    a = np.asarray(actual, dtype=float)
+    e = np.asarray(expected, dtype=float)
+    assert a.shape == e.shape, f"{what}: shape {a.shape} != {e.shape}"
+    assert np.isfinite(a).all(), f"{what}: non-finite values in actual pose"
+    pos = np.linalg.norm(a[..., :3, 3] - e[..., :3, 3], axis=-1)
+    rot = rotation_angle(a[..., :3, :3], e[..., :3, :3])
+    assert pos.max(initial=0.0) <= tol, f"{what}: position error {pos.max():.3g} m > {tol:g}"
+    assert rot.max(initial=0.0) <= tol, f"{what}: rotation error {rot.max():.3g} rad > {tol:g}"
+    # Entry-wise too: catches a wrong last row, which the two norms above ignore.
+    np.testing.assert_allclose(a, e, rtol=0, atol=tol, err_msg=what)
+
+
+def assert_se3(T: ArrayLike, tol: float) -> None:
+    """Assert every (..., 4, 4) is a rigid transform: RᵀR = I, det R = 1, last row 0 0 0 1."""
+    T = np.asarray(T, dtype=float)
+    R = T[..., :3, :3]
+    eye = np.broadcast_to(np.eye(3), R.shape)
+    np.testing.assert_allclose(np.swapaxes(R, -1, -2) @ R, eye, rtol=0, atol=tol)
+    np.testing.assert_allclose(np.linalg.det(R), 1.0, rtol=0, atol=tol)
+    last = np.broadcast_to(np.array([0.0, 0.0, 0.0, 1.0]), T[..., 3, :].shape)
+    np.testing.assert_array_equal(T[..., 3, :], last)

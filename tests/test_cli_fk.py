@@ -1,0 +1,158 @@
+"""`fkcheck fk` and `fkcheck models` as a user runs them: output values and exit codes."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import seed_ur5
+from fkcheck import load_model
+from fkcheck.cli import main
+from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
+from helpers import assert_pose_close
+
+ARTICLE = "30,-60,90,-120,-90,45"
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_fk_prints_the_seed_pose(capsys):
+    code, out, err = run(capsys, "fk", "ur5", "--q", ARTICLE, "--deg")
+    assert code == 0, err
+    printed = np.array([[float(v) for v in line.split()] for line in out.strip().splitlines()])
+    assert_pose_close(printed, seed_ur5.T0[6], SIX_DECIMALS)
+
+
+def test_fk_json_contract(capsys):
+    code, out, _ = run(capsys, "fk", "ur5", "--q", ARTICLE, "--deg", "--json")
+    assert code == 0
+    record = json.loads(out)
+    assert set(record) == {"model", "q_rad", "matrix", "position", "rotation"}
+    assert record["model"] == "ur5"
+    np.testing.assert_allclose(record["q_rad"], np.deg2rad(seed_ur5.Q_DEG), atol=1e-15)
+    np.testing.assert_allclose(
+        record["position"], [-0.505612, -0.417951, 0.178795], atol=SIX_DECIMALS
+    )
+    np.testing.assert_array_equal(np.array(record["matrix"])[:3, :3], record["rotation"])
+
+
+def test_fk_negative_first_value_is_not_an_option(capsys):
+    code, out, err = run(capsys, "fk", "ur5", "--q", "-30,-60,90,-120,-90,45", "--deg", "--json")
+    assert code == 0, err
+    assert json.loads(out)["q_rad"][0] == pytest.approx(np.deg2rad(-30))
+
+
+def test_fk_all_frames_prints_each_T_0_i(capsys):
+    code, out, _ = run(capsys, "fk", "ur5", "--q", ARTICLE, "--deg", "--all-frames", "--json")
+    assert code == 0
+    frames = np.array(json.loads(out)["frames"])
+    assert frames.shape == (7, 4, 4)
+    for k, expected in seed_ur5.T0.items():
+        assert_pose_close(frames[k], expected, SIX_DECIMALS, f"T0_{k}")
+    code, out, _ = run(capsys, "fk", "ur5", "--q", ARTICLE, "--deg", "--all-frames")
+    assert [ln for ln in out.splitlines() if ln.startswith("T_0_")] == [
+        f"T_0_{i} =" for i in range(7)
+    ]
+
+
+def test_fk_named_pose(capsys):
+    code, out, _ = run(capsys, "fk", "ur5", "--pose", "article", "--json")
+    assert code == 0
+    np.testing.assert_allclose(json.loads(out)["position"], [-0.505612, -0.417951, 0.178795],
+                               atol=SIX_DECIMALS)  # fmt: skip
+
+
+def test_fk_q_file_batch(tmp_path, capsys, rng):
+    model = load_model("ur5")
+    q = rng.uniform(-3, 3, (25, 6))
+    lines = ["# logged joint states, radians"] + [
+        ",".join(repr(float(v)) for v in row) for row in q
+    ]
+    path = tmp_path / "q.csv"
+    path.write_text("\n".join(lines) + "\n\n")
+    code, out, _ = run(capsys, "fk", "ur5", "--q-file", str(path))
+    assert code == 0
+    rows = np.array([[float(v) for v in ln.split()] for ln in out.strip().splitlines()])
+    assert rows.shape == (25, 16)
+    assert_pose_close(rows.reshape(25, 4, 4), model.fk(q), SAME_CHAIN)
+    code, out, _ = run(capsys, "fk", "ur5", "--q-file", str(path), "--json")
+    records = json.loads(out)
+    assert len(records) == 25
+    np.testing.assert_allclose([r["matrix"] for r in records], model.fk(q), atol=SAME_CHAIN)
+
+
+def test_fk_accepts_a_csv_model(capsys):
+    code, out, _ = run(
+        capsys, "fk", "tests/data/ur5_seed001.csv", "--q", ARTICLE, "--deg", "--json"
+    )
+    assert code == 0
+    np.testing.assert_allclose(json.loads(out)["position"], [-0.505612, -0.417951, 0.178795],
+                               atol=SIX_DECIMALS)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("argv", "match"),
+    [
+        (["fk", "ur5", "--q", "1,2,3"], r"--q: model ur5 has 6 joints, got 3 values"),
+        (["fk", "ur5", "--q", "1,2,x,4,5,6"], r"--q: 'x' is not a number"),
+        (["fk", "ur5", "--q", "1,2,nan,4,5,6"], r"--q: joint values must be finite"),
+        (["fk", "ur5", "--q", "0,0,4,0,0,0"], r"joint elbow = 4 rad is outside its limits"),
+        (["fk", "ur5", "--q", "0,0,200,0,0,0", "--deg"], r"joint elbow = 3\.49066 rad is outside"),
+        (["fk", "ur5", "--pose", "nope"], r"has no pose 'nope'; poses are: zero, home, article"),
+        (["fk", "ur7", "--q", "0"], r"no bundled model of that name"),
+        (["fk", "ur5"], r"give joint values with --q, --q-file or --pose"),
+        (["fk", "ur5", "--q-file", "missing.csv"], r"missing\.csv: cannot read"),
+        (["fk", "ur5", "--bogus"], r"unrecognized arguments: --bogus"),
+        (["nonsense"], r"invalid choice: 'nonsense'"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(capsys, argv, match):
+    code, out, err = run(capsys, *argv)
+    assert code == 2
+    assert out == ""
+    assert len(err.strip().splitlines()) == 1, err
+    assert __import__("re").search(match, err), err
+
+
+def test_ignore_limits_allows_out_of_range(capsys):
+    code, out, _ = run(capsys, "fk", "ur5", "--q", "0,0,4,0,0,0", "--ignore-limits", "--json")
+    assert code == 0
+    assert json.loads(out)["q_rad"][2] == 4.0
+
+
+def test_q_file_bad_line_names_the_line(tmp_path, capsys):
+    path = tmp_path / "q.csv"
+    path.write_text("0,0,0,0,0,0\n0,0,0\n")
+    code, _, err = run(capsys, "fk", "ur5", "--q-file", str(path))
+    assert code == 2
+    assert f"{path}: line 2: model ur5 has 6 joints, got 3 values" in err
+
+
+def test_models_lists_every_bundled_model(capsys):
+    code, out, _ = run(capsys, "models")
+    assert code == 0
+    for name in ("ur3", "ur5", "ur10", "ur3e", "ur5e", "ur10e", "ur16e", "panda", "puma560",
+                 "stanford", "planar2", "planar3"):  # fmt: skip
+        assert f" {name} " in out
+    assert "modified" in out
+
+
+def test_console_script_entry_point_runs():
+    # The installed entry point, as a user calls it (a fresh process, no reference library).
+    proc = subprocess.run(
+        [sys.executable, "-c", "import sys; from fkcheck.cli import main; "
+         "code = main(['fk', 'ur5', '--q', '0,0,0,0,0,0']); "
+         "heavy = [m for m in ('roboticstoolbox', 'pinocchio', 'yourdfpy') if m in sys.modules]; "
+         "print('HEAVY', heavy); sys.exit(code)"],
+        capture_output=True, text=True, check=False,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "HEAVY []" in proc.stdout
