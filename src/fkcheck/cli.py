@@ -18,10 +18,13 @@ from typing import NoReturn
 from fkcheck import __version__
 from fkcheck.errors import FkcheckError
 
-__all__ = ["COMMANDS", "main"]
+__all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
 #: Subcommand modules under fkcheck.commands, in the order ``--help`` lists them.
-COMMANDS = ("fk", "models")
+COMMANDS = ("check", "fk", "models")
+
+#: What plain ``fkcheck`` runs.
+MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json")
 
 EXIT_OK = 0
 EXIT_FAIL = 1
@@ -68,8 +71,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line and return the exit code."""
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     parser = build_parser()
-    if not args_list:
-        args_list = ["--help"]
+    if not args_list:  # the main job: check the bundled UR5 against every default backend
+        args_list = list(MAIN_JOB)
     try:
         args = parser.parse_args(args_list)
     except SystemExit as exc:  # --help, --version, or a usage error (already printed)
@@ -77,6 +80,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_OK
+    args.argv = args_list
     try:
         return int(args.run(args))
     except FkcheckError as exc:

@@ -1,0 +1,67 @@
+"""The JSON result: a contract other tools read (documented in the README).
+
+Identical inputs and seed give identical JSON except ``created`` and the
+``duration_s`` fields.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from fkcheck import __version__
+from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
+from fkcheck.report.atomic import write_text_atomic
+
+__all__ = ["TIME_FIELDS", "result_to_dict", "write_json"]
+
+#: Fields whose values name times; everything else is reproducible.
+TIME_FIELDS = ("created", "duration_s")
+
+
+def _backend(result: BackendResult, check: CheckResult) -> dict[str, Any]:
+    worst_q = None
+    if result.worst_index is not None:
+        worst_q = check.q[result.worst_index].tolist()
+    return {
+        "name": result.name,
+        "status": result.status,
+        "max_position_error_m": result.max_position_error_m,
+        "max_rotation_error_rad": result.max_rotation_error_rad,
+        "p99_position_error_m": result.percentile("position", 99),
+        "p99_rotation_error_rad": result.percentile("rotation", 99),
+        "median_position_error_m": result.percentile("position", 50),
+        "median_rotation_error_rad": result.percentile("rotation", 50),
+        "worst_q": worst_q,
+        "message": result.message,
+        "method": result.method,
+        "duration_s": round(result.duration_s, 6),
+    }
+
+
+def result_to_dict(check: CheckResult) -> dict[str, Any]:
+    """The JSON document as a dict."""
+    return {
+        "model": check.model.name,
+        "samples": check.samples,
+        "seed": check.seed,
+        "sampler": check.sampler,
+        "configurations": int(check.q.shape[0]),
+        "from": check.frame_from,
+        "to": check.frame_to,
+        "tolerance": {"position_m": check.tol_pos_m, "rotation_rad": check.tol_rot_rad},
+        "reference": REFERENCE_NAME,
+        "backends": [_backend(b, check) for b in check.backends],
+        "verdict": check.verdict,
+        "cross_checked": len(check.ran),
+        "fkcheck_version": __version__,
+        "command": check.command,
+        "created": check.created,
+        "duration_s": round(check.duration_s, 6),
+    }
+
+
+def write_json(check: CheckResult, path: Path | str) -> Path:
+    """Write the result as JSON, atomically."""
+    return write_text_atomic(path, json.dumps(result_to_dict(check), indent=2) + "\n")
