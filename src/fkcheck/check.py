@@ -45,6 +45,7 @@ __all__ = [
 
 Float = NDArray[np.float64]
 Status = Literal["pass", "fail", "error", "skipped"]
+Progress = Callable[[str, int, int], None]
 Verdict = Literal["pass", "fail", "error"]
 
 #: Name of the reference row: the in-house DH core.
@@ -184,6 +185,7 @@ def _compare(
     q: Float,
     pair: tuple[str, str],
     tol: tuple[float, float],
+    on_progress: Progress | None = None,
 ) -> BackendResult:
     """Run one backend over all configurations and compare with the reference."""
     start = time.perf_counter()
@@ -209,6 +211,8 @@ def _compare(
         ours = relative_pose(ref[0], ref[1])
         pos[first : first + CHUNK] = position_error_m(ours, theirs)
         rot[first : first + CHUNK] = rotation_error_rad(ours, theirs)
+        if on_progress is not None:
+            on_progress(backend.name, first + chunk.shape[0], q.shape[0])
     tol_pos, tol_rot = tol
     score = np.maximum(pos / tol_pos, rot / tol_rot)
     worst = int(np.argmax(score)) if score.size else None
@@ -243,6 +247,7 @@ def _run_one(
     pair: tuple[str, str],
     tol: tuple[float, float],
     timeout_s: float,
+    on_progress: Progress | None = None,
 ) -> BackendResult | FkcheckError:
     """Run one backend with a time limit; returns a result, or bad input to re-raise."""
     name = backend.name
@@ -258,7 +263,7 @@ def _run_one(
 
     def target() -> None:
         try:
-            box.append(_compare(backend, model, q, pair, tol))
+            box.append(_compare(backend, model, q, pair, tol, on_progress))
         except (BackendUnavailable, FrameUnavailable) as exc:
             box.append(BackendResult(name, "skipped", str(exc), backend.method))
         except FkcheckError as exc:
@@ -296,6 +301,7 @@ def run_check(
     tol_rot_rad: float | None = None,
     timeout_s: float = 120.0,
     on_done: Callable[[BackendResult], None] | None = None,
+    on_progress: Progress | None = None,
 ) -> CheckResult:
     """Check ``backends`` against the in-house core on sampled configurations.
 
@@ -313,6 +319,8 @@ def run_check(
         tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
         timeout_s: Time limit per backend, seconds.
         on_done: Called with each backend's result as it finishes.
+        on_progress: Called as ``(backend name, configurations done, total)`` after
+            each chunk a backend finishes (from that backend's thread).
 
     Returns:
         The check result.
@@ -342,7 +350,7 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        outcome = _run_one(backend, model, q.q, pair, tol, timeout_s)
+        outcome = _run_one(backend, model, q.q, pair, tol, timeout_s, on_progress)
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 from typing import NoReturn
 
@@ -67,8 +69,18 @@ def _join_negative_values(argv: list[str]) -> list[str]:
     return out
 
 
+class _Terminated(Exception):
+    """SIGTERM, turned into an exception so the run unwinds and says so."""
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise _Terminated
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line and return the exit code."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _on_sigterm)
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     parser = build_parser()
     if not args_list:  # the main job: check the bundled UR5 against every default backend
@@ -87,7 +99,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"fkcheck: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        print("fkcheck: interrupted", file=sys.stderr)
+        print(
+            "fkcheck: interrupted (Ctrl-C): results incomplete, no report written", file=sys.stderr
+        )
         return 130
+    except _Terminated:
+        print(
+            "fkcheck: terminated (SIGTERM): results incomplete, no report written", file=sys.stderr
+        )
+        return 143
     except BrokenPipeError:
         return EXIT_OK

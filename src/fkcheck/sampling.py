@@ -26,6 +26,8 @@ MAX_CORNERS = 256
 #: Range used for a joint that declares no limits.
 UNLIMITED_REVOLUTE_RAD = math.pi
 UNLIMITED_PRISMATIC_M = 1.0
+#: Random samples are drawn this many at a time (a power of two, for Sobol).
+_CHUNK = 1 << 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,15 +58,27 @@ def sampling_box(model: Model) -> tuple[Float, Float]:
 
 
 def _random(n_samples: int, dof: int, seed: int, sampler: Sampler) -> Float:
+    """``(n_samples, dof)`` points in the unit cube, generated in bounded chunks."""
+    out = np.empty((max(n_samples, 0), dof))
     if n_samples <= 0:
-        return np.zeros((0, dof))
+        return out
     if sampler == "uniform":
-        return np.random.default_rng(seed).random((n_samples, dof))
+        rng = np.random.default_rng(seed)
+        for start in range(0, n_samples, _CHUNK):
+            stop = min(start + _CHUNK, n_samples)
+            out[start:stop] = rng.random((stop - start, dof))
+        return out
     from scipy.stats import qmc
 
-    m = max(0, math.ceil(math.log2(n_samples)))
-    unit: Float = qmc.Sobol(d=dof, scramble=True, seed=seed).random_base2(m)[:n_samples]
-    return unit
+    engine = qmc.Sobol(d=dof, scramble=True, seed=seed)
+    if n_samples <= _CHUNK:
+        # One power-of-two draw keeps the sequence's balance properties.
+        out[:] = engine.random_base2(max(0, math.ceil(math.log2(n_samples))))[:n_samples]
+        return out
+    for start in range(0, n_samples, _CHUNK):  # _CHUNK is a power of two
+        stop = min(start + _CHUNK, n_samples)
+        out[start:stop] = engine.random(_CHUNK)[: stop - start]
+    return out
 
 
 def sample_configurations(
