@@ -35,3 +35,11 @@ def typecheck(session: nox.Session) -> None:
     """Mypy (strict) on src/."""
     _install(session, "typecheck")
     session.run("mypy")
+
+
+@nox.session(default=False)
+def fuzz(session: nox.Session) -> None:
+    """Property-based tests with 10x the examples of the default session."""
+    _install(session, "test")
+    session.env["FKCHECK_HYPOTHESIS_PROFILE"] = "fuzz"
+    session.run("pytest", "-k", "property", "--hypothesis-show-statistics", *session.posargs)

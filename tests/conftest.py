@@ -2,17 +2,33 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, settings
 
 sys.path.insert(0, str(Path(__file__).parent))  # for `import helpers`
 
 from fkcheck.model import Model, bundled_model_paths
 
 BUNDLED = sorted(bundled_model_paths())
+
+# Property-based tests: a bounded, reproducible run by default; `nox -s fuzz` runs
+# the "fuzz" profile (10x the examples, fresh randomness each run).
+settings.register_profile(
+    "default",
+    max_examples=60,
+    derandomize=True,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+settings.register_profile(
+    "fuzz", max_examples=600, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
+settings.load_profile(os.environ.get("FKCHECK_HYPOTHESIS_PROFILE", "default"))
 
 
 @pytest.fixture
