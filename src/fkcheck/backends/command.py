@@ -1,0 +1,290 @@
+"""An external FK program as a reference backend (``--against "cmd:./build/fk_tool"``).
+
+Any language works: the program talks to fkcheck over stdin and stdout.
+
+Protocol:
+
+* The command line after ``cmd:`` is split with :func:`shlex.split` (POSIX
+  quoting) and run **without a shell**, in the current directory. A program
+  name without a ``/`` is looked up on ``PATH``; ``./fk`` or ``build/fk`` is
+  relative to the current directory.
+* fkcheck writes one configuration per line to the program's stdin: ``n``
+  comma-separated joint values in radians / metres, DH joint order, each as
+  Python's ``repr`` of the float (the shortest decimal that reads back as the
+  same double: at most 17 significant digits, e.g. ``0.5235987755982988``),
+  then closes stdin.
+* For each input line, in order, the program writes one line to stdout: 16
+  numbers separated by whitespace and/or commas, the 4×4 ``world_T_tcp``
+  row-major (the pose :meth:`fkcheck.model.Model.fk` returns: base and tool
+  included). Blank output lines are ignored; anything else must parse as a
+  finite float (``%.17g`` in C, ``repr`` in Python keep every bit).
+* The program exits with status 0. On bad input it should print a message on
+  stderr and exit non-zero; fkcheck reports the last line of stderr.
+* Configurations are sent in batches of :data:`BATCH_SIZE`, one process run
+  per batch: a stateless program that reads to end of input is all that is
+  needed, and no run holds more than one batch in its pipes.
+* The whole backend run (all batches) has a time limit,
+  :attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`. When it is
+  reached the program — its whole process group on POSIX — is killed and the
+  backend fails with "timed out after X s".
+
+The program gives only the TCP, so named frames come from
+:func:`fkcheck.frames.frame_poses_from_tcp`. Every failure (program not found,
+non-zero exit, wrong number of lines or numbers, non-numeric or non-finite
+output, time-out) raises :class:`CommandError`, which the check reports as this
+backend's *error*.
+"""
+
+from __future__ import annotations
+
+import os
+import shlex
+import signal
+import subprocess
+import time
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from fkcheck.backends.registry import BackendOptions
+from fkcheck.errors import FkcheckError
+from fkcheck.frames import frame_poses_from_tcp
+from fkcheck.model import Model
+
+__all__ = ["BATCH_SIZE", "CommandBackend", "CommandError", "CommandSpecError"]
+
+Float = NDArray[np.float64]
+
+#: Configurations sent to one run of the program.
+BATCH_SIZE = 4096
+
+#: Longest piece of the program's output quoted in an error message.
+_QUOTE_CHARS = 120
+
+
+class CommandError(RuntimeError):
+    """The external program failed or printed something that is not poses.
+
+    Not an :class:`~fkcheck.errors.FkcheckError`: the check reports it as the
+    backend's *error* (exit 1), not as bad input.
+
+    Attributes:
+        command: The command line as given after ``cmd:``.
+        problem: What went wrong.
+    """
+
+    def __init__(self, command: str, problem: str) -> None:
+        self.command = command
+        self.problem = problem
+        super().__init__(f"cmd:{command}: {problem}")
+
+
+class CommandSpecError(FkcheckError, ValueError):
+    """A ``cmd:`` command line that cannot be split into arguments (bad input, exit 2)."""
+
+
+class CommandBackend:
+    """FK from an external program speaking the stdin/stdout protocol above.
+
+    Attributes:
+        name: ``cmd:<command line>``.
+        method: ``"external program <command line> (CSV on stdin, 16 numbers per line out)"``.
+        command: The command line as given.
+        argv: The command line split into arguments.
+        timeout_s: Time limit for all runs of one :meth:`frame_poses` call, seconds.
+    """
+
+    def __init__(self, spec: str, options: BackendOptions) -> None:
+        """Split the command line; nothing is run yet.
+
+        Args:
+            spec: The command line after ``cmd:``, e.g. ``./build/fk_tool --ur5``.
+            options: Backend options; ``timeout_s`` is the time limit.
+
+        Raises:
+            CommandSpecError: Unbalanced quotes, or an empty command line.
+        """
+        self.command = spec.strip()
+        try:
+            self.argv = shlex.split(self.command)
+        except ValueError as exc:
+            raise CommandSpecError(
+                f"cmd:{self.command}: cannot split command line: {exc}"
+            ) from None
+        if not self.argv:
+            raise CommandSpecError("cmd:: empty command line; expected e.g. cmd:./build/fk_tool")
+        self.name = f"cmd:{self.command}"
+        self.method = f"external program {self.command} (CSV on stdin, 16 numbers per line out)"
+        self.timeout_s = options.timeout_s
+
+    def unavailable_reason(self, model: Model) -> str | None:
+        """Always ``None``: a program asked for explicitly that does not run is an error."""
+        return None
+
+    def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
+        """Run the program over the batch and map its TCP poses onto named frames.
+
+        Args:
+            model: The model being checked.
+            q: Joint values, shape ``(N, n)``, radians / metres, DH joint order.
+            frames: Names from ``model.frames``.
+
+        Returns:
+            ``(len(frames), N, 4, 4)`` world_T_frame.
+
+        Raises:
+            FrameUnavailable: A requested frame sits mid-chain (checked before
+                the program is run).
+            FrameError: A frame name the model does not define.
+            ValueError: ``q`` is not ``(N, model.dof)``.
+            CommandError: The program is missing, fails, times out, or prints
+                something other than one finite 4×4 per configuration.
+        """
+        q = np.asarray(q, dtype=np.float64)
+        if q.ndim != 2 or q.shape[1] != model.dof:
+            raise ValueError(f"q must have shape (N, {model.dof}), got {q.shape}")
+        # Fail on a frame this black box cannot give before running anything.
+        frame_poses_from_tcp(model, np.empty((0, 4, 4)), frames)
+        deadline = time.monotonic() + self.timeout_s
+        world_T_tcp = np.empty((q.shape[0], 4, 4))
+        for start in range(0, q.shape[0], BATCH_SIZE):
+            batch = q[start : start + BATCH_SIZE]
+            stdout = self._run(_format_input(batch), deadline)
+            world_T_tcp[start : start + len(batch)] = self._parse(stdout, batch, start)
+        return frame_poses_from_tcp(model, world_T_tcp, frames)
+
+    # ------------------------------------------------------------------ running
+
+    def _fail(self, problem: str) -> CommandError:
+        return CommandError(self.command, problem)
+
+    def _run(self, stdin: bytes, deadline: float) -> bytes:
+        """One run of the program: feed ``stdin``, return its stdout."""
+        try:
+            proc = subprocess.Popen(
+                self.argv,
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE,
+                start_new_session=os.name == "posix",  # its own group, to kill it whole
+            )
+        except FileNotFoundError:
+            where = "on PATH" if os.sep not in self.argv[0] else f"(from {os.getcwd()})"
+            raise self._fail(f"program {self.argv[0]!r} not found {where}") from None
+        except PermissionError:
+            raise self._fail(f"program {self.argv[0]!r} is not executable") from None
+        except OSError as exc:
+            raise self._fail(f"cannot run {self.argv[0]!r}: {exc.strerror or exc}") from None
+        try:
+            out, err = proc.communicate(stdin, timeout=max(deadline - time.monotonic(), 0.0))
+        except subprocess.TimeoutExpired:
+            _kill(proc)
+            raise self._fail(
+                f"timed out after {self.timeout_s:g} s (the program was killed)"
+            ) from None
+        except BaseException:
+            _kill(proc)
+            raise
+        if proc.returncode != 0:
+            raise self._fail(_exit_problem(proc.returncode, err))
+        return out
+
+    # ------------------------------------------------------------------ parsing
+
+    def _parse(self, stdout: bytes, batch: Float, start: int) -> Float:
+        """Poses ``(len(batch), 4, 4)`` from one run's stdout."""
+        try:
+            text = stdout.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise self._fail(
+                f"output is not UTF-8 text ({exc.reason} at byte {exc.start})"
+            ) from None
+        lines = [line for line in text.splitlines() if line.strip()]
+        if len(lines) != len(batch):
+            raise self._fail(
+                f"printed {len(lines)} pose lines for {len(batch)} configurations "
+                f"(configurations {start}…{start + len(batch) - 1}); expected one line "
+                "of 16 numbers per input line"
+            )
+        tokens: list[str] = []
+        for k, line in enumerate(lines):
+            fields = line.replace(",", " ").split()
+            if len(fields) != 16:
+                raise self._fail(
+                    f"configuration {start + k}: expected 16 numbers (row-major 4×4), "
+                    f"got {len(fields)}: {_quote(line)}"
+                )
+            tokens.extend(fields)
+        try:
+            values = np.array([float(t) for t in tokens], dtype=np.float64)
+        except ValueError:
+            k, token = next((i // 16, t) for i, t in enumerate(tokens) if not _is_float(t))
+            raise self._fail(
+                f"configuration {start + k}: {_quote(token)} is not a number "
+                f"in line {_quote(lines[k])}"
+            ) from None
+        poses = values.reshape(len(batch), 4, 4)
+        bad = ~np.isfinite(poses).all(axis=(1, 2))
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise self._fail(
+                f"printed NaN or inf for {int(bad.sum())} of {len(batch)} configurations "
+                f"(first: configuration {start + k}, q = {batch[k].tolist()})"
+            )
+        return poses
+
+
+def _format_input(batch: Float) -> bytes:
+    """CSV lines, one configuration each, every value as its exact ``repr``."""
+    return "".join(",".join(map(repr, row)) + "\n" for row in batch.tolist()).encode("ascii")
+
+
+def _kill(proc: subprocess.Popen[bytes]) -> None:
+    """Kill the program (its whole process group on POSIX) and reap it."""
+    # Not reaped yet, so its pid (= its group id) cannot have been reused. The group
+    # is killed even if the program itself has exited: a child it left behind may
+    # still hold the pipes open.
+    try:
+        if os.name == "posix":
+            os.killpg(proc.pid, signal.SIGKILL)
+        else:
+            proc.kill()
+    except ProcessLookupError:
+        pass
+    proc.communicate()
+
+
+def _exit_problem(returncode: int, stderr: bytes) -> str:
+    """Describe a failed run: exit status or signal, and the last line of stderr."""
+    if returncode < 0:
+        try:
+            what = f"was killed by {signal.Signals(-returncode).name}"
+        except ValueError:
+            what = f"was killed by signal {-returncode}"
+    else:
+        what = f"exited with status {returncode}"
+    last = next(
+        (
+            ln.strip()
+            for ln in reversed(stderr.decode("utf-8", "replace").splitlines())
+            if ln.strip()
+        ),
+        "",
+    )
+    return f"{what}: {last}" if last else f"{what} (nothing on stderr)"
+
+
+def _is_float(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def _quote(text: str) -> str:
+    """``repr`` of ``text``, shortened to a readable length."""
+    if len(text) > _QUOTE_CHARS:
+        text = text[:_QUOTE_CHARS] + "…"
+    return repr(text)
