@@ -1,0 +1,203 @@
+"""The ``pinocchio-dh`` backend: a Pinocchio model built by hand from the DH table.
+
+Each DH row becomes one Pinocchio joint that moves about (or along) the z axis
+of DH frame ``i-1`` — ``JointModelRZ`` / ``JointModelPZ``, or the ``…Unaligned``
+joint with axis ``(0, 0, -1)`` for a flipped joint, so ``q`` reaches Pinocchio
+unchanged and the flip lives in the model. Every DH link transform is split
+around its joint motion into a fixed part *before* it (which goes into the
+joint's placement) and a fixed part *after* it (which goes into the next
+joint's placement, and into the operational frame of DH frame ``i``):
+
+=========================  ================================  ==============  ====================
+convention, joint type     before the motion                 motion          after the motion
+=========================  ================================  ==============  ====================
+standard, revolute         ``Rz(θ_off)``                     ``Rz(±q)``      ``Tz(d) Tx(a) Rx(α)``
+standard, prismatic        ``Rz(θ) Tz(d_off)``               ``Tz(±q)``      ``Tx(a) Rx(α)``
+modified, revolute         ``Rx(α) Tx(a) Rz(θ_off)``         ``Rz(±q)``      ``Tz(d)``
+modified, prismatic        ``Rx(α) Tx(a) Rz(θ) Tz(d_off)``   ``Tz(±q)``      identity
+=========================  ================================  ==============  ====================
+
+So the placement of joint ``i`` is ``after_{i-1} · before_i`` (with
+``after_0`` the model's base), DH frame ``i`` is an operational frame on joint
+``i`` placed at ``after_i``, DH frame 0 is an operational frame on the universe
+placed at the base, and the TCP is an operational frame on joint ``n`` placed
+at ``after_n · tool``. The base and tool are rebuilt from their ``xyz``/``rpy``
+with Pinocchio's own ``rpyToMatrix``, not taken from fkcheck's matrices.
+
+Pinocchio has no batched FK: :meth:`PinocchioDH.frame_poses` loops in Python
+over configurations, calling ``forwardKinematics`` and
+``updateFramePlacements`` once each and reading only the frames asked for
+(about 1.6 µs per configuration for the TCP of a UR5 on the project machine).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.registry import BackendOptions
+from fkcheck.dh import joint_values
+from fkcheck.frames import frame_poses_from_dh, resolve_frame
+from fkcheck.model import Joint, Model, Offset
+
+__all__ = ["PinocchioDH"]
+
+Float = NDArray[np.float64]
+
+_INSTALL_HINT = "pinocchio is not installed (pip install pin)"
+
+
+class PinocchioDH:
+    """Reference FK from a Pinocchio model assembled from the DH table.
+
+    Attributes:
+        name: ``"pinocchio-dh"``.
+        method: The Pinocchio call path used per configuration.
+        options: The options the backend was built with.
+    """
+
+    name = "pinocchio-dh"
+    method = "forwardKinematics + updateFramePlacements (loop)"
+
+    def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
+        """Build the backend; ``arg`` is unused (built-in backends take none)."""
+        self.options = options or BackendOptions()
+
+    def unavailable_reason(self, model: Model) -> str | None:
+        """``None`` when Pinocchio is importable; every DH model can be built."""
+        if importlib.util.find_spec("pinocchio") is None:
+            return _INSTALL_HINT
+        return None
+
+    def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
+        """World poses of named frames, ``(len(frames), N, 4, 4)``, root = DH world.
+
+        Raises:
+            BackendUnavailable: Pinocchio is not installed.
+            FrameError: A name is not a frame of the model.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        specs = [resolve_frame(model, name) for name in frames]
+        dh_indices = sorted({s.dh for s in specs if isinstance(s.dh, int)})
+        want_tcp = any(s.dh == "tcp" for s in specs)
+        q2 = joint_values(model.chain, q)
+        world_T_dh, world_T_tcp = _PinocchioChain(model).poses(q2, dh_indices, want_tcp)
+        return frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
+
+    def dh_frames(self, model: Model, q: Float) -> Float:
+        """``world_T_i`` for DH frames ``0…n``: shape ``(N, n+1, 4, 4)``, base included.
+
+        Raises:
+            BackendUnavailable: Pinocchio is not installed.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        q2 = joint_values(model.chain, q)
+        world_T_dh, _ = _PinocchioChain(model).poses(q2, list(range(model.dof + 1)), False)
+        return world_T_dh
+
+
+def _import_pinocchio() -> Any:
+    try:
+        import pinocchio
+    except ImportError as exc:
+        raise BackendUnavailable(f"{_INSTALL_HINT}: {exc}") from None
+    return pinocchio
+
+
+class _PinocchioChain:
+    """The Pinocchio model of one DH table, with a frame id per DH frame and the TCP."""
+
+    def __init__(self, model: Model) -> None:
+        pin = self.pin = _import_pinocchio()
+        pmodel = pin.Model()
+        pmodel.name = model.name
+        op = pin.FrameType.OP_FRAME
+        modified = model.convention == "modified"
+        after = _se3(pin, model.base)
+        self.dh_frame_ids = [pmodel.addFrame(pin.Frame("dh0", 0, after, op), False)]
+        parent = 0
+        for i, joint in enumerate(model.joints, start=1):
+            before, joint_model, after_i = _split(pin, joint, modified)
+            parent = pmodel.addJoint(parent, joint_model, after * before, joint.name)
+            after = after_i
+            frame = pin.Frame(f"dh{i}", parent, after, op)
+            self.dh_frame_ids.append(pmodel.addFrame(frame, False))
+        tcp = pin.Frame("tcp", parent, after * _se3(pin, model.tool), op)
+        self.tcp_frame_id = pmodel.addFrame(tcp, False)
+        self.pmodel = pmodel
+        self.data = pmodel.createData()
+
+    def poses(self, q: Float, dh_indices: Sequence[int], want_tcp: bool) -> tuple[Float, Float]:
+        """Run FK for every row of ``q`` and read the requested frames.
+
+        Returns:
+            ``world_T_dh`` ``(N, n+1, 4, 4)`` with only ``dh_indices`` filled (the
+            other entries are zero), and ``world_T_tcp`` ``(N, 4, 4)`` (zero unless
+            ``want_tcp``).
+        """
+        N, n = q.shape
+        world_T_dh = np.zeros((N, n + 1, 4, 4))
+        world_T_tcp = np.zeros((N, 4, 4))
+        fids = [self.dh_frame_ids[i] for i in dh_indices]
+        if want_tcp:
+            fids.append(self.tcp_frame_id)
+        if not fids or N == 0:
+            return world_T_dh, world_T_tcp
+        out = np.empty((N, len(fids), 4, 4))
+        pin, pmodel, data = self.pin, self.pmodel, self.data
+        forward, update, oMf = pin.forwardKinematics, pin.updateFramePlacements, data.oMf
+        if len(fids) == 1:
+            fid = fids[0]
+            for k in range(N):
+                forward(pmodel, data, q[k])
+                update(pmodel, data)
+                out[k, 0] = oMf[fid].homogeneous
+        else:
+            for k in range(N):
+                forward(pmodel, data, q[k])
+                update(pmodel, data)
+                out[k] = [oMf[fid].homogeneous for fid in fids]
+        world_T_dh[:, list(dh_indices)] = out[:, : len(dh_indices)]
+        if want_tcp:
+            world_T_tcp[:] = out[:, -1]
+        return world_T_dh, world_T_tcp
+
+
+def _split(pin: Any, joint: Joint, modified: bool) -> tuple[Any, Any, Any]:
+    """One DH row as (fixed part before the motion, Pinocchio joint, fixed part after)."""
+    zero = np.zeros(3)
+    eye = np.eye(3)
+    rot_z = pin.SE3(pin.utils.rotate("z", joint.theta), zero)
+    tz_d = pin.SE3(eye, np.array([0.0, 0.0, joint.d]))
+    tx_a = pin.SE3(eye, np.array([joint.a, 0.0, 0.0]))
+    rot_x = pin.SE3(pin.utils.rotate("x", joint.alpha), zero)
+    prismatic = joint.type == "prismatic"
+    if joint.flip:
+        axis = np.array([0.0, 0.0, -1.0])
+        joint_model = (
+            pin.JointModelPrismaticUnaligned(axis)
+            if prismatic
+            else pin.JointModelRevoluteUnaligned(axis)
+        )
+    else:
+        joint_model = pin.JointModelPZ() if prismatic else pin.JointModelRZ()
+    # Rz(θ) and Tz(d) commute, so a revolute joint's Rz(θ_off)·Rz(q) and a
+    # prismatic joint's Tz(d_off)·Tz(q) keep the offset on the fixed side.
+    if modified:
+        before = rot_x * tx_a * rot_z * (tz_d if prismatic else pin.SE3.Identity())
+        after = pin.SE3.Identity() if prismatic else tz_d
+    else:
+        before = rot_z * tz_d if prismatic else rot_z
+        after = tx_a * rot_x if prismatic else tz_d * tx_a * rot_x
+    return before, joint_model, after
+
+
+def _se3(pin: Any, offset: Offset) -> Any:
+    """A model's base/tool offset as a Pinocchio SE3, rotation from Pinocchio's rpyToMatrix."""
+    rotation = pin.rpy.rpyToMatrix(*(float(v) for v in offset.rpy))
+    return pin.SE3(rotation, np.array(offset.xyz, dtype=np.float64))

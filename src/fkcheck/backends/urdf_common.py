@@ -1,0 +1,66 @@
+"""What the URDF backends share: their cheap availability test and the frame → link mapping.
+
+Every URDF backend compares the poses of the URDF *links* that named frames
+name as their twin (``[frames.NAME] urdf = "…"``); a frame without a twin
+cannot be computed from a URDF.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Sequence
+
+from fkcheck.backends.base import FrameUnavailable
+from fkcheck.frames import resolve_frame
+from fkcheck.model import Model
+from fkcheck.urdf_source import ERD_PREFIX
+
+__all__ = ["urdf_twins", "urdf_unavailable_reason"]
+
+
+def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str | None:
+    """Why a URDF backend cannot check ``model`` here, without importing anything heavy.
+
+    Args:
+        model: The model to check.
+        module: The backend's library as imported (``"pinocchio"``, ``"yourdfpy"``).
+        install_hint: The reason to give when that library is missing.
+
+    Returns:
+        ``None`` when the library is importable and the model names a URDF whose
+        source package (example-robot-data) is installed; otherwise the reason.
+    """
+    if importlib.util.find_spec(module) is None:
+        return install_hint
+    if model.urdf is None:
+        return "model has no [urdf]"
+    if model.urdf.path.startswith(ERD_PREFIX) and (
+        importlib.util.find_spec("example_robot_data") is None
+    ):
+        return "its URDF comes from example-robot-data, which is not installed"
+    return None
+
+
+def urdf_twins(model: Model, frames: Sequence[str], backend: str) -> list[str]:
+    """The URDF link names of named frames, in order.
+
+    Args:
+        model: The model.
+        frames: Names from ``model.frames``.
+        backend: The asking backend's name, for the message.
+
+    Raises:
+        FrameError: A name is not a frame of the model.
+        FrameUnavailable: A frame has no ``urdf`` twin.
+    """
+    twins: list[str] = []
+    for name in frames:
+        spec = resolve_frame(model, name)
+        if spec.urdf is None:
+            mapped = [s.name for s in model.frames.values() if s.urdf is not None]
+            raise FrameUnavailable(
+                f'frame {name!r} has no URDF twin (no urdf = "…" in [frames.{name}]), so '
+                f"{backend} cannot compute it; frames with a twin: {', '.join(mapped) or '(none)'}"
+            )
+        twins.append(spec.urdf)
+    return twins
