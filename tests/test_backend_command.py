@@ -160,6 +160,37 @@ def test_hanging_program_is_killed_with_its_children_at_the_time_limit(
     assert not any(_alive(p) for p in pids), f"still running: {pids}"
 
 
+ABANDON = """
+import sys, threading, time
+from pathlib import Path
+import numpy as np
+from fkcheck.backends.command import CommandBackend
+from fkcheck.backends.registry import BackendOptions
+from fkcheck.model import load_model
+
+spec, pidfile = sys.argv[1], Path(sys.argv[2])
+backend = CommandBackend(spec, BackendOptions(timeout_s=300.0))
+args = (load_model("ur5"), np.zeros((1, 6)), ["tcp"])
+threading.Thread(target=backend.frame_poses, args=args, daemon=True).start()
+while not pidfile.exists():
+    time.sleep(0.02)
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="reads /proc to see the processes died")
+def test_program_abandoned_by_an_exiting_interpreter_is_killed(tmp_path: Path) -> None:
+    # The check gives up on a backend thread at its time limit and may exit first.
+    pidfile = tmp_path / "pids"
+    spec = shlex.join([sys.executable, str(SCRIPT), "hang", str(pidfile)])
+    subprocess.run([sys.executable, "-c", ABANDON, spec, str(pidfile)], check=True, timeout=60)
+    pids = [int(p) for p in pidfile.read_text().split()]
+    assert len(pids) == 2
+    deadline = time.monotonic() + 5.0
+    while any(_alive(p) for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(_alive(p) for p in pids), f"still running: {pids}"
+
+
 def test_unbalanced_quotes_are_bad_input() -> None:
     with pytest.raises(CommandSpecError, match="cannot split command line: No closing quotation"):
         CommandBackend("./fk 'oops", BackendOptions())

@@ -30,7 +30,9 @@ def main() -> int:
         # A grandchild holding stdout open too: the backend must kill the group.
         # Both pids go to the file named by the second argument.
         child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(600)"])
-        Path(sys.argv[2]).write_text(f"{os.getpid()} {child.pid}\n")
+        tmp = Path(sys.argv[2] + ".tmp")
+        tmp.write_text(f"{os.getpid()} {child.pid}\n")
+        tmp.replace(sys.argv[2])  # atomic: readers never see a half-written file
         time.sleep(600)
     if mode == "echo-argv":
         print("argv=" + "|".join(sys.argv[1:]), file=sys.stderr)

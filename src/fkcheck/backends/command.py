@@ -26,7 +26,9 @@ Protocol:
 * The whole backend run (all batches) has a time limit,
   :attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`. When it is
   reached the program — its whole process group on POSIX — is killed and the
-  backend fails with "timed out after X s".
+  backend fails with "timed out after X s". The program runs in its own
+  session, so any still running when the Python interpreter exits (e.g. after
+  the check gave up on this backend) are killed by an :mod:`atexit` hook.
 
 The program gives only the TCP, so named frames come from
 :func:`fkcheck.frames.frame_poses_from_tcp`. Every failure (program not found,
@@ -37,10 +39,12 @@ backend's *error*.
 
 from __future__ import annotations
 
+import atexit
 import os
 import shlex
 import signal
 import subprocess
+import threading
 import time
 from collections.abc import Sequence
 
@@ -176,6 +180,7 @@ class CommandBackend:
             raise self._fail(f"program {self.argv[0]!r} is not executable") from None
         except OSError as exc:
             raise self._fail(f"cannot run {self.argv[0]!r}: {exc.strerror or exc}") from None
+        _track(proc)
         try:
             out, err = proc.communicate(stdin, timeout=max(deadline - time.monotonic(), 0.0))
         except subprocess.TimeoutExpired:
@@ -186,6 +191,8 @@ class CommandBackend:
         except BaseException:
             _kill(proc)
             raise
+        finally:
+            _untrack(proc)
         if proc.returncode != 0:
             raise self._fail(_exit_problem(proc.returncode, err))
         return out
@@ -242,17 +249,54 @@ def _format_input(batch: Float) -> bytes:
 
 def _kill(proc: subprocess.Popen[bytes]) -> None:
     """Kill the program (its whole process group on POSIX) and reap it."""
-    # Not reaped yet, so its pid (= its group id) cannot have been reused. The group
-    # is killed even if the program itself has exited: a child it left behind may
-    # still hold the pipes open.
+    _signal_group(proc)
+    proc.communicate()
+
+
+def _signal_group(proc: subprocess.Popen[bytes]) -> None:
+    """SIGKILL the program's process group (POSIX) or the program, unless already reaped."""
+    # Until reaped (returncode set) its pid, which is also its group id, cannot be
+    # reused. The group is killed even if the program itself has exited: a child
+    # it left behind may still hold the pipes open.
+    if proc.returncode is not None:
+        return
     try:
         if os.name == "posix":
             os.killpg(proc.pid, signal.SIGKILL)
         else:
             proc.kill()
-    except ProcessLookupError:
+    except (ProcessLookupError, PermissionError):
         pass
-    proc.communicate()
+
+
+# Programs still running. The check abandons a backend thread at its time limit
+# and may exit before that thread kills its program; the program runs in its own
+# session (so a terminal's Ctrl-C does not reach it), so kill what is left at exit.
+_live: set[subprocess.Popen[bytes]] = set()
+_live_lock = threading.Lock()
+_atexit_hook_registered = False
+
+
+def _track(proc: subprocess.Popen[bytes]) -> None:
+    global _atexit_hook_registered
+    with _live_lock:
+        _live.add(proc)
+        if not _atexit_hook_registered:
+            atexit.register(_kill_live)
+            _atexit_hook_registered = True
+
+
+def _untrack(proc: subprocess.Popen[bytes]) -> None:
+    with _live_lock:
+        _live.discard(proc)
+
+
+def _kill_live() -> None:
+    """At interpreter exit: kill every program a backend thread left running."""
+    with _live_lock:
+        procs = list(_live)
+    for proc in procs:
+        _signal_group(proc)
 
 
 def _exit_problem(returncode: int, stderr: bytes) -> str:
