@@ -30,6 +30,14 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--deg", action="store_true", help="revolute joint values are in degrees")
     p.add_argument("--all-frames", action="store_true", help="print every DH frame T_0_i")
     p.add_argument("--json", action="store_true", help="print JSON")
+    p.add_argument(
+        "--format",
+        choices=("matrix", "quat", "rpy", "rotvec", "zyx"),
+        default="matrix",
+        help="pose as a 4x4 matrix (default), xyz + quaternion (qx qy qz qw), xyz + URDF "
+        "roll/pitch/yaw, xyz + rotation vector (UR pendant) or xyz + Z-Y'-X'' Euler A, B, C "
+        "(angles in degrees with --deg)",
+    )
     p.add_argument("--ignore-limits", action="store_true", help="allow values beyond joint limits")
     p.set_defaults(run=run)
 
@@ -76,6 +84,8 @@ def run(args: argparse.Namespace) -> int:
         check_limits(q, model)
 
     T = model.fk(q, all_frames=args.all_frames)
+    if args.format != "matrix":
+        return _print_formatted(model.name, q, T, args)
     if q.ndim == 1:
         if args.json:
             print(json.dumps(_record(model.name, q, T)))
@@ -90,4 +100,39 @@ def run(args: argparse.Namespace) -> int:
         # One line per configuration: the row-major 4x4 (or every frame's, in order).
         lines = (" ".join(repr(float(v)) for v in Ti.reshape(-1)) for Ti in T)
         sys.stdout.write("\n".join(lines) + "\n")
+    return 0
+
+
+def _print_formatted(
+    model_name: str, q: NDArray[np.float64], T: NDArray[np.float64], args: argparse.Namespace
+) -> int:
+    """Print poses in a controller's format (``--format``) instead of matrices."""
+    from fkcheck.pose_formats import format_pose, pose_from_matrix, pose_record
+
+    fmt = args.format
+    if q.ndim == 1:
+        poses = T if args.all_frames else T[None]
+        if args.json:
+            record = _record(model_name, q, T)
+            record.update(pose_record(poses[-1], fmt))
+            print(json.dumps(record))
+        else:
+            lines = [format_pose(Ti, fmt, degrees=args.deg) for Ti in poses]
+            if args.all_frames:
+                lines = [f"T_0_{i}: {line}" for i, line in enumerate(lines)]
+            print("\n".join(lines))
+        return 0
+    last = T[:, -1] if args.all_frames else T
+    if args.json:
+        records = []
+        for qi, Ti, Tl in zip(q, T, last, strict=True):
+            record = _record(model_name, qi, Ti)
+            record.update(pose_record(Tl, fmt))
+            records.append(record)
+        print(json.dumps(records))
+    else:
+        # One line per configuration: x y z and the rotation numbers (radians).
+        numbers = pose_from_matrix(last, fmt)
+        sys.stdout.write("\n".join(" ".join(repr(float(v)) for v in row) for row in numbers))
+        sys.stdout.write("\n")
     return 0
