@@ -1,0 +1,156 @@
+"""The ``rtb-dh`` backend: the model's own DH table as a Robotics Toolbox ``DHRobot``.
+
+The table is rebuilt link by link with Robotics Toolbox's classes —
+``RevoluteDH``/``PrismaticDH`` for a standard table, ``RevoluteMDH``/
+``PrismaticMDH`` for a modified one — so a disagreement with the in-house core
+is a bug in one of the two implementations, not in the table. The mapping
+(checked against ``DHLink.A`` and ``DHLink._to_ets`` in roboticstoolbox-python
+1.5.0):
+
+* revolute: ``d``, ``a``, ``alpha`` as they are, ``offset = theta``; RTB's
+  ``flip`` gives ``θ = −q + offset``, our flipped joint exactly;
+* prismatic: ``theta`` (the fixed angle), ``a``, ``alpha``, ``offset = d``;
+  ``flip`` gives ``d = −q + offset``;
+* ``robot.base`` = the model's base, ``robot.tool`` = the model's tool.
+
+Poses come from ``ETS.eval``, Robotics Toolbox's C forward kinematics, over the
+whole batch: ``robot.ets()`` (base, links, tool) for the TCP, and for DH frame
+``k`` the base followed by the first ``k`` links' ETS (exactly the pieces
+``DHRobot.ets()`` strings together). ``DHRobot.fkine`` and ``DHRobot.fkine_all``
+loop in Python, one 4×4 ``SE3`` product at a time; for 10 000 UR5
+configurations they took 0.5–0.7 s each against about 0.04 s for all seven DH
+frames by ``ETS.eval``. ``fkine_all`` returns the same ``n + 1`` frames (frame 0
+is ``robot.base``, the tool is not applied, for standard and modified tables
+alike); the tests check the two paths agree.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from fkcheck.backends.registry import BackendOptions
+from fkcheck.backends.rtb_common import eval_batch, import_rtb, padded_q, rtb_unavailable_reason
+from fkcheck.dh import joint_values
+from fkcheck.frames import frame_poses_from_dh, resolve_frame
+from fkcheck.model import Model
+
+__all__ = ["RtbDH", "dh_robot"]
+
+Float = NDArray[np.float64]
+
+
+def dh_robot(model: Model) -> Any:
+    """The model's DH table, base and tool as a Robotics Toolbox ``DHRobot``.
+
+    Raises:
+        BackendUnavailable: Robotics Toolbox is not installed.
+    """
+    rtb = import_rtb()
+    from spatialmath import SE3
+
+    if model.convention == "standard":
+        revolute, prismatic = rtb.RevoluteDH, rtb.PrismaticDH
+    else:
+        revolute, prismatic = rtb.RevoluteMDH, rtb.PrismaticMDH
+    links = []
+    for j in model.joints:
+        if j.type == "revolute":
+            links.append(revolute(d=j.d, a=j.a, alpha=j.alpha, offset=j.theta, flip=j.flip))
+        else:
+            links.append(prismatic(theta=j.theta, a=j.a, alpha=j.alpha, offset=j.d, flip=j.flip))
+    robot = rtb.DHRobot(links, name=model.name)
+    robot.base = SE3(model.base.matrix)
+    robot.tool = SE3(model.tool.matrix)
+    return robot
+
+
+class _Built:
+    """A model's robot and the ETS of each DH frame, built once per model."""
+
+    def __init__(self, model: Model) -> None:
+        from roboticstoolbox.ets.ET import ET
+        from roboticstoolbox.ets.ETS import ETS
+
+        self.model = model
+        self.robot = dh_robot(model)
+        self.base = np.asarray(self.robot.base.A, dtype=np.float64)
+        self.tcp_ets = self.robot.ets()
+        prefix = ETS([ET.SE3(self.base)])
+        self.frame_ets: list[Any] = [None]  # frame 0 is the base itself
+        for link in self.robot.links:
+            prefix = prefix * link.ets
+            self.frame_ets.append(prefix)
+
+
+class RtbDH:
+    """Reference FK from the model's DH table run by Robotics Toolbox.
+
+    Attributes:
+        name: ``"rtb-dh"``.
+        method: The Robotics Toolbox call used.
+        options: The options the backend was built with.
+    """
+
+    name = "rtb-dh"
+    method = "DHRobot.ets().eval (C fknm, batched); DH frame k: base + first k links' ETS"
+
+    def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
+        """Build the backend; ``arg`` is unused (built-in backends take none)."""
+        self.options = options or BackendOptions()
+        self._built: _Built | None = None
+
+    def unavailable_reason(self, model: Model) -> str | None:
+        """Why this backend cannot run here: only if Robotics Toolbox is missing."""
+        return rtb_unavailable_reason()
+
+    def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
+        """``world_T_frame`` for each named frame, ``(len(frames), N, 4, 4)``.
+
+        Only the DH frames the named frames sit on are computed.
+
+        Raises:
+            BackendUnavailable: Robotics Toolbox is not installed.
+            FrameError: A name is not a frame of the model.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        q2 = joint_values(model.chain, q)
+        specs = [resolve_frame(model, name) for name in frames]
+        built = self._build(model)
+        needed = sorted({s.dh for s in specs if isinstance(s.dh, int)})
+        qp = padded_q(q2, model.dof)
+        N = q2.shape[0]
+        world_T_dh = np.full((N, model.dof + 1, 4, 4), np.nan)  # NaN where not needed
+        for k in needed:
+            world_T_dh[:, k] = self._frame(built, k, qp)
+        world_T_tcp = eval_batch(built.tcp_ets, qp)
+        return frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
+
+    def dh_frames(self, model: Model, q: Float) -> Float:
+        """``world_T_i`` for DH frames ``0…n`` (base included, tool not): ``(N, n+1, 4, 4)``.
+
+        Raises:
+            BackendUnavailable: Robotics Toolbox is not installed.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        q2 = joint_values(model.chain, q)
+        built = self._build(model)
+        qp = padded_q(q2, model.dof)
+        out = np.empty((q2.shape[0], model.dof + 1, 4, 4))
+        for k in range(model.dof + 1):
+            out[:, k] = self._frame(built, k, qp)
+        return out
+
+    def _build(self, model: Model) -> _Built:
+        if self._built is None or self._built.model is not model:
+            self._built = _Built(model)
+        return self._built
+
+    @staticmethod
+    def _frame(built: _Built, k: int, qp: Float) -> Float:
+        if k == 0:
+            return np.broadcast_to(built.base, (qp.shape[0], 4, 4))
+        return eval_batch(built.frame_ets[k], qp)

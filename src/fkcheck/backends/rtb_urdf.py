@@ -1,0 +1,230 @@
+"""The ``rtb-urdf`` backend: the model's reference URDF read by Robotics Toolbox's own reader.
+
+A third URDF parser, independent of urdfdom (Pinocchio) and yourdfpy: the
+screened URDF text from :func:`fkcheck.urdf_source.load_urdf` goes through
+Robotics Toolbox's ``URDF_file`` (xacrodoc expansion, then RTB's URDF classes)
+and becomes an ETS robot (``roboticstoolbox.Robot``).
+
+Robotics Toolbox resolves every ``<mesh filename="package://…">`` through
+xacrodoc and, while parsing, checks that each mesh *file exists* (a stat; no
+mesh file is opened or loaded — the tests watch every ``open``). So before
+parsing, this backend:
+
+* registers the packages the URDF names, found next to the model's URDF
+  (:attr:`~fkcheck.urdf_source.UrdfInfo.package_dirs` and the URDF's own
+  ancestors), through ``URDF_file(extra_packages=…)`` — RTB hands these to
+  ``xacrodoc.packages.update_package_cache`` after its own rtb-data packages,
+  so ours take precedence; no file is edited;
+* checks that every mesh file exists, and if one does not, reports the backend
+  as unavailable (skipped) with the missing file, instead of letting RTB fail
+  (which also leaves an expanded copy of the URDF in the temp directory).
+
+Each DH joint's value goes to the RTB joint of the URDF joint named in
+``[urdf].joints`` (found through that joint's child link), unchanged; every
+other URDF joint (e.g. the Panda's fingers) stays at 0. Poses are those of each
+named frame's URDF twin (``urdf = …``) in the URDF's root link, from
+``Robot.ets(start=root, end=link).eval`` (RTB's C forward kinematics, batched).
+"""
+
+from __future__ import annotations
+
+import re
+import xml.etree.ElementTree as ET
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.registry import BackendOptions
+from fkcheck.backends.rtb_common import INSTALL_HINT, eval_batch, import_rtb, padded_q
+from fkcheck.backends.urdf_common import urdf_twins, urdf_unavailable_reason
+from fkcheck.dh import joint_values
+from fkcheck.errors import FrameError, UrdfError
+from fkcheck.model import Model
+from fkcheck.urdf_source import UrdfInfo, load_urdf
+
+__all__ = ["RtbUrdf", "package_map"]
+
+Float = NDArray[np.float64]
+
+_PACKAGE = re.compile(r"package://([^/\s\"'<>]+)/")
+
+
+def package_map(info: UrdfInfo) -> dict[str, Path]:
+    """Directories of the ``package://`` packages the URDF names, where they can be found.
+
+    A package ``NAME`` is looked for as ``D/NAME`` or ``D`` itself for each
+    directory ``D`` of ``info.package_dirs``, then among the ancestors of those
+    directories and of the URDF file (e.g. example-robot-data's URDFs name
+    ``package://example-robot-data/robots/…``, and the ``robots`` directory's
+    parent is that package).
+
+    Returns:
+        Package name → directory, for the packages found (others are left out).
+    """
+    found: dict[str, Path] = {}
+    for name in sorted(set(_PACKAGE.findall(info.text))):
+        candidates = [d / name for d in info.package_dirs]
+        for start in (*info.package_dirs, info.path.parent):
+            candidates += [p for p in (start, *start.parents) if p.name == name]
+        for candidate in candidates:
+            if candidate.is_dir():
+                found[name] = candidate.resolve()
+                break
+    return found
+
+
+def _missing_mesh(info: UrdfInfo, packages: dict[str, Path]) -> str | None:
+    """The first mesh file RTB's reader would not find, or ``None`` (stats files only)."""
+    root = ET.fromstring(info.text)
+    for mesh in root.iter("mesh"):
+        filename = mesh.get("filename")
+        if not filename:
+            continue
+        match = _PACKAGE.match(filename)
+        if match:
+            name = match.group(1)
+            if name not in packages:
+                dirs = ", ".join(str(d) for d in info.package_dirs) or "(none)"
+                return f"{filename} (package {name!r} not found near the URDF or in {dirs})"
+            path = packages[name] / filename[match.end() :]
+        else:
+            path = Path(filename.removeprefix("file://"))
+            if not path.is_absolute():
+                path = info.path.parent / path
+        if not path.is_file():
+            return f"{filename} ({path} does not exist)"
+    return None
+
+
+class _Built:
+    """A URDF read by RTB, with the joint columns and per-link ETS cached."""
+
+    def __init__(self, model: Model, info: UrdfInfo, robot: Any, columns: NDArray[np.intp]):
+        self.model = model
+        self.info = info
+        self.robot = robot
+        self.columns = columns
+        self.ets: dict[str, Any] = {}
+
+
+class RtbUrdf:
+    """Reference FK from the model's URDF parsed by Robotics Toolbox.
+
+    Attributes:
+        name: ``"rtb-urdf"``.
+        method: The Robotics Toolbox calls used.
+        options: The options the backend was built with.
+    """
+
+    name = "rtb-urdf"
+    method = "URDF_file + Robot.ets(start=root, end=link).eval (C fknm, batched)"
+
+    def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
+        """Build the backend; ``arg`` is unused (built-in backends take none)."""
+        self.options = options or BackendOptions()
+        self._built: _Built | None = None
+
+    def unavailable_reason(self, model: Model) -> str | None:
+        """Why this backend cannot run: no ``[urdf]`` in the model, or a library missing."""
+        return urdf_unavailable_reason(model, "roboticstoolbox", INSTALL_HINT)
+
+    def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
+        """``root_T_link`` of each frame's URDF twin, ``(len(frames), N, 4, 4)``.
+
+        Raises:
+            BackendUnavailable: Robotics Toolbox is missing, the model has no
+                ``[urdf]``, or a mesh file RTB's reader insists on is missing.
+            FrameError: A name is not a frame of the model.
+            FrameUnavailable: A frame has no ``urdf`` twin.
+            UrdfError: The URDF is missing, unsafe or does not fit the model
+                (from :func:`~fkcheck.urdf_source.load_urdf`), or RTB rejects it.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        if model.urdf is None:
+            raise BackendUnavailable("model has no [urdf]")
+        info = load_urdf(model)
+        q2 = joint_values(model.chain, q)
+        twins = urdf_twins(model, frames, self.name)
+        built = self._build(model, info)
+        qp = padded_q(q2, int(built.robot.n), built.columns)
+        out = np.empty((len(twins), q2.shape[0], 4, 4))
+        for k, link in enumerate(twins):
+            if link == built.robot.base_link.name:
+                out[k] = np.eye(4)
+                continue
+            ets = built.ets.get(link)
+            if ets is None:
+                ets = built.ets[link] = built.robot.ets(start=built.robot.base_link, end=link)
+            out[k] = eval_batch(ets, qp)
+        return out
+
+    def _build(self, model: Model, info: UrdfInfo) -> _Built:
+        built = self._built
+        if built is None or built.model is not model or built.info is not info:
+            robot = _read_robot(info)
+            built = self._built = _Built(model, info, robot, _columns(model, info, robot))
+        return built
+
+
+def _read_robot(info: UrdfInfo) -> Any:
+    """Parse the screened URDF text with RTB's reader into a ``roboticstoolbox.Robot``.
+
+    Raises:
+        BackendUnavailable: A mesh file (or its package) cannot be found.
+        UrdfError: RTB's reader rejects the URDF.
+    """
+    rtb = import_rtb()
+    from roboticstoolbox.models.URDF.URDFRobot import URDF_file
+    from roboticstoolbox.tools.urdf import URDFError
+
+    packages = package_map(info)
+    missing = _missing_mesh(info, packages)
+    if missing is not None:
+        raise BackendUnavailable(
+            f"Robotics Toolbox's URDF reader needs every mesh file to exist; missing: {missing}"
+        )
+    try:
+        elinks, name, _ = URDF_file(
+            info.path.resolve(),
+            patch=lambda _text: info.text,  # parse the screened text, not a second read
+            extra_packages={k: str(v) for k, v in packages.items()},  # absolute: kept as is
+        )
+        robot = rtb.Robot(elinks, name=name)
+    except (URDFError, ValueError) as exc:
+        first_line = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise UrdfError(
+            info.path, f"Robotics Toolbox's URDF reader rejects it: {first_line}"
+        ) from None
+    if robot.base_link.name != info.root:
+        raise UrdfError(
+            info.path, f"RTB's root link is {robot.base_link.name!r}, expected {info.root!r}"
+        )
+    return robot
+
+
+def _columns(model: Model, info: UrdfInfo, robot: Any) -> NDArray[np.intp]:
+    """RTB's joint index (``jindex``) for each DH joint, through the URDF joint's child link.
+
+    Raises:
+        UrdfError: A mapped joint did not become a moving joint in RTB's robot.
+        FrameError: RTB's robot lacks the joint's child link.
+    """
+    assert model.urdf is not None
+    columns = []
+    for urdf_name in model.urdf.joints:
+        child = info.joints[urdf_name].child
+        link = robot.link_dict.get(child)
+        if link is None:
+            raise FrameError(
+                child, f"Robotics Toolbox's robot of {info.path.name}", robot.link_dict
+            )
+        if not link.isjoint or link.jindex is None:
+            raise UrdfError(
+                info.path, f"joint {urdf_name!r} is not a moving joint in Robotics Toolbox's robot"
+            )
+        columns.append(int(link.jindex))
+    return np.array(columns, dtype=np.intp)
