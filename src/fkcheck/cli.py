@@ -23,10 +23,10 @@ from fkcheck.errors import FkcheckError
 __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
 #: Subcommand modules under fkcheck.commands, in the order ``--help`` lists them.
-COMMANDS = ("check", "fk", "models")
+COMMANDS = ("check", "fk", "models", "convert")
 
 #: What plain ``fkcheck`` runs.
-MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json")
+MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
 
 EXIT_OK = 0
 EXIT_FAIL = 1
