@@ -26,7 +26,7 @@ __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 COMMANDS = ("check", "fk", "models", "convert")
 
 #: What plain ``fkcheck`` runs.
-MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
+MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json")
 
 EXIT_OK = 0
 EXIT_FAIL = 1
