@@ -275,7 +275,7 @@ _URDF = """<?xml version="1.0"?>
   </joint>
   <joint name="j2" type="revolute">
     <parent link="l1"/><child link="l2"/><origin xyz="0.5 0 0" rpy="0 0 0"/>
-    <axis xyz="0 0 -1"/><limit lower="-3" upper="3" effort="1" velocity="1"/>
+    <axis xyz="{j2_axis}"/><limit lower="-3" upper="3" effort="1" velocity="1"/>
   </joint>
   <joint name="j1" type="continuous">
     <parent link="base"/><child link="l1"/><origin xyz="0 0 0" rpy="0 0 0"/>
@@ -286,10 +286,10 @@ _URDF = """<?xml version="1.0"?>
 """
 
 
-def _two_r(tmp_path: Path, *, mesh: bool = True, extra: str = "") -> Model:
+def _two_r(tmp_path: Path, *, mesh: bool = True, extra: str = "", j2_axis: str = "0 0 -1") -> Model:
     urdf = tmp_path / "robot" / "urdf" / "two_r.urdf"
     urdf.parent.mkdir(parents=True)
-    urdf.write_text(_URDF.replace("{extra}", extra))
+    urdf.write_text(_URDF.replace("{extra}", extra).replace("{j2_axis}", j2_axis))
     if mesh:
         (tmp_path / "meshpkg" / "meshes").mkdir(parents=True)
         (tmp_path / "meshpkg" / "meshes" / "l1.stl").write_text("solid l1\nendsolid l1\n")
@@ -343,6 +343,19 @@ def test_rtb_urdf_reader_rejection_is_a_urdf_error(tmp_path: Path) -> None:
     model = _two_r(tmp_path, extra=extra)
     with pytest.raises(UrdfError, match=r"two_r\.urdf: Robotics Toolbox's URDF reader rejects it"):
         RtbUrdf().frame_poses(model, np.zeros((1, 2)), ["base", "tip"])
+
+
+def test_rtb_urdf_refuses_links_below_a_crooked_axis(tmp_path: Path) -> None:
+    # RTB's reader turns axis v = (0, 0.6, 0.8) into a fixed rotation by |v| = 1 rad
+    # about v followed by a z joint: wrong even at q = 0 (upstream limitation).
+    model = _two_r(tmp_path, j2_axis="0 0.6 0.8")
+    q = np.array([[0.4, 0.0]])
+    with pytest.raises(BackendUnavailable, match=r"joint 'j2' has axis \(0 0\.6 0\.8\).*'tip'"):
+        RtbUrdf().frame_poses(model, q, ["base", "tip"])
+    # Links above that joint are still computed: l1 = Rz(0.4).
+    base, l1 = RtbUrdf().frame_poses(model, q, ["base", "l1"])
+    np.testing.assert_allclose(relative_pose(base, l1)[0, :2, 0], [np.cos(0.4), np.sin(0.4)],
+                               rtol=0, atol=SAME_CHAIN)  # fmt: skip
 
 
 # --------------------------------------------------------------------------- rtb-model

@@ -19,6 +19,10 @@ parsing, this backend:
   as unavailable (skipped) with the missing file, instead of letting RTB fail
   (which also leaves an expanded copy of the URDF in the temp directory).
 
+RTB's reader gets a joint axis that is not along x, y or z wrong (a known
+upstream limitation, see ``_refuse_crooked_axes``); links below such a joint
+are reported as unavailable.
+
 Each DH joint's value goes to the RTB joint of the URDF joint named in
 ``[urdf].joints`` (found through that joint's child link), unchanged; every
 other URDF joint (e.g. the Panda's fingers) stays at 0. Poses are those of each
@@ -109,6 +113,7 @@ class _Built:
         self.robot = robot
         self.columns = columns
         self.ets: dict[str, Any] = {}
+        self.crooked = _crooked_axes(info)
 
 
 class RtbUrdf:
@@ -137,7 +142,9 @@ class RtbUrdf:
 
         Raises:
             BackendUnavailable: Robotics Toolbox is missing, the model has no
-                ``[urdf]``, or a mesh file RTB's reader insists on is missing.
+                ``[urdf]``, a mesh file RTB's reader insists on is missing, or a
+                joint on the way to a twin has an axis RTB's reader gets wrong
+                (not along x, y or z).
             FrameError: A name is not a frame of the model.
             FrameUnavailable: A frame has no ``urdf`` twin.
             UrdfError: The URDF is missing, unsafe or does not fit the model
@@ -152,6 +159,8 @@ class RtbUrdf:
         built = self._build(model, info)
         qp = padded_q(q2, int(built.robot.n), built.columns)
         out = np.empty((len(twins), q2.shape[0], 4, 4))
+        for link in twins:
+            _refuse_crooked_axes(built, link)
         for k, link in enumerate(twins):
             if link == built.robot.base_link.name:
                 out[k] = np.eye(4)
@@ -204,6 +213,48 @@ def _read_robot(info: UrdfInfo) -> Any:
             info.path, f"RTB's root link is {robot.base_link.name!r}, expected {info.root!r}"
         )
     return robot
+
+
+def _crooked_axes(info: UrdfInfo) -> dict[str, str]:
+    """Joints whose ``<axis xyz>`` has two or more non-zero components, as RTB counts them."""
+    crooked: dict[str, str] = {}
+    for joint in ET.fromstring(info.text).iter("joint"):
+        axis = joint.find("axis")
+        name = joint.get("name")
+        if axis is None or name is None or joint.find("parent") is None:
+            continue
+        text = axis.get("xyz", "1 0 0")
+        try:
+            nonzero = sum(float(v) != 0.0 for v in text.split())
+        except ValueError:
+            continue  # RTB's reader reports a malformed axis itself
+        if nonzero >= 2:
+            crooked[name] = text
+    return crooked
+
+
+def _refuse_crooked_axes(built: _Built, link: str) -> None:
+    """Skip links below a joint whose axis is not along x, y or z.
+
+    RTB's URDF reader (roboticstoolbox-python 1.5.0, ``_links_from_urdf``) turns
+    such an axis ``v`` into a fixed rotation by ``|v|`` radians *about* ``v``
+    (``angvec2r(norm, unit)``) followed by a z-axis joint, which is not the
+    joint the URDF describes: poses below it are wrong even at ``q = 0``. A
+    known upstream limitation ("crooked" axes), so it is reported as
+    unavailable rather than as a disagreement.
+
+    Raises:
+        BackendUnavailable: A joint between the root and ``link`` has such an axis.
+    """
+    if not built.crooked:
+        return
+    for joint in built.info.chain(built.info.root, link):
+        if joint.name in built.crooked:
+            raise BackendUnavailable(
+                f"Robotics Toolbox's URDF reader mishandles joint axes that are not along "
+                f"x, y or z: joint {joint.name!r} has axis ({built.crooked[joint.name]}), "
+                f"so it cannot compute link {link!r}"
+            )
 
 
 def _columns(model: Model, info: UrdfInfo, robot: Any) -> NDArray[np.intp]:
