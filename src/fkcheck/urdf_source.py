@@ -33,6 +33,7 @@ __all__ = [
     "UrdfJoint",
     "example_robot_data_dir",
     "load_urdf",
+    "read_urdf",
     "resolve_urdf_path",
 ]
 
@@ -145,7 +146,7 @@ def load_urdf(model: Model) -> UrdfInfo:
         FrameError: A ``[frames.*].urdf`` name is not a link of the URDF.
     """
     path, package_dirs = resolve_urdf_path(model)
-    info = _read(path, package_dirs)
+    info = read_urdf(path, package_dirs)
     assert model.urdf is not None
     for name, joint in zip(model.urdf.joints, model.joints, strict=True):
         found = info.joints.get(name)
@@ -167,9 +168,20 @@ def load_urdf(model: Model) -> UrdfInfo:
     return info
 
 
+def read_urdf(path: Path, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
+    """Screen and summarise a URDF file (no model mapping checks).
+
+    Raises:
+        UrdfError: Missing, too large, not XML, or has a DTD.
+    """
+    if not path.is_file():
+        raise UrdfError(path, "URDF file not found")
+    stat = path.stat()  # part of the cache key: a file edited in place is read again
+    return _read(path, package_dirs, stat.st_mtime_ns, stat.st_size)
+
+
 @lru_cache(maxsize=32)
-def _read(path: Path, package_dirs: tuple[Path, ...]) -> UrdfInfo:
-    size = path.stat().st_size
+def _read(path: Path, package_dirs: tuple[Path, ...], mtime_ns: int, size: int) -> UrdfInfo:
     if size > MAX_URDF_BYTES:
         raise UrdfError(path, f"{size} bytes is larger than the {MAX_URDF_BYTES} byte limit")
     raw = path.read_bytes()
