@@ -7,6 +7,7 @@ import importlib.util
 import itertools
 import math
 import sys
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +20,7 @@ from fkcheck.backends.registry import BackendOptions, make_backend
 from fkcheck.backends.rtb_common import INSTALL_HINT
 from fkcheck.backends.rtb_dh import RtbDH, dh_robot
 from fkcheck.backends.rtb_model import RtbModel
-from fkcheck.backends.rtb_urdf import RtbUrdf
+from fkcheck.backends.rtb_urdf import RtbUrdf, kinematic_text
 from fkcheck.cli import main
 from fkcheck.errors import BackendNotFoundError, FkcheckError, UrdfError
 from fkcheck.frames import frame_poses_from_dh, relative_pose
@@ -327,10 +328,36 @@ def test_rtb_urdf_maps_joints_by_name_and_leaves_others_at_zero(
     assert [p for p in opened_files if p.endswith(".stl")] == []
 
 
-def test_rtb_urdf_missing_mesh_skips_with_the_file_named(tmp_path: Path) -> None:
+def test_rtb_urdf_needs_no_mesh_file(tmp_path: Path, opened_files: list[str]) -> None:
+    # Geometry never reaches RTB's reader: a URDF whose meshes are absent — a
+    # package nobody can find, a path that does not exist — is read all the same.
     model = _two_r(tmp_path, mesh=False)
-    with pytest.raises(BackendUnavailable, match=r"mesh file.*package://meshpkg/meshes/l1\.stl"):
-        RtbUrdf().frame_poses(model, np.zeros((1, 2)), ["base", "tip"])
+    urdf = tmp_path / "robot" / "urdf" / "two_r.urdf"
+    urdf.write_text(
+        urdf.read_text().replace(
+            '<link name="l2"/>',
+            '<link name="l2"><collision><geometry><mesh filename="/no/such/l2.stl"/>'
+            "</geometry></collision></link>",
+        )
+    )
+    opened_files.clear()
+    q = np.array([[0.3, -0.2]])
+    base, tip = RtbUrdf().frame_poses(model, q, ["base", "tip"])
+    expected = [0.5 * np.cos(0.3) + 0.3 * np.cos(0.5), 0.5 * np.sin(0.3) + 0.3 * np.sin(0.5)]
+    np.testing.assert_allclose(
+        relative_pose(base, tip)[0, :2, 3], expected, rtol=0, atol=SAME_CHAIN
+    )
+    assert [p for p in opened_files if p.endswith(".stl")] == []
+
+
+def test_kinematic_text_keeps_links_and_joints_verbatim(tmp_path: Path) -> None:
+    model = _two_r(tmp_path)
+    text = kinematic_text(load_urdf(model))
+    assert "<mesh" not in text
+    assert "<visual" not in text
+    assert '<link name="l1">' in text
+    assert '<axis xyz="0 0 -1" />' in text
+    assert '<origin xyz="0.5 0 0" rpy="0 0 0" />' in text
 
 
 def test_rtb_urdf_reader_rejection_is_a_urdf_error(tmp_path: Path) -> None:
@@ -341,8 +368,11 @@ def test_rtb_urdf_reader_rejection_is_a_urdf_error(tmp_path: Path) -> None:
         '<origin xyz="0 0 0" rpy="0 0 0"/></joint>'
     )
     model = _two_r(tmp_path, extra=extra)
+    before = set(Path(tempfile.gettempdir()).glob("rtb-expanded-*"))
     with pytest.raises(UrdfError, match=r"two_r\.urdf: Robotics Toolbox's URDF reader rejects it"):
         RtbUrdf().frame_poses(model, np.zeros((1, 2)), ["base", "tip"])
+    # RTB saves the text it failed on in the temp directory; the backend removes it.
+    assert set(Path(tempfile.gettempdir()).glob("rtb-expanded-*")) <= before
 
 
 def test_rtb_urdf_refuses_links_below_a_crooked_axis(tmp_path: Path) -> None:

@@ -5,19 +5,17 @@ screened URDF text from :func:`fkcheck.urdf_source.load_urdf` goes through
 Robotics Toolbox's ``URDF_file`` (xacrodoc expansion, then RTB's URDF classes)
 and becomes an ETS robot (``roboticstoolbox.Robot``).
 
-Robotics Toolbox resolves every ``<mesh filename="package://…">`` through
-xacrodoc and, while parsing, checks that each mesh *file exists* (a stat; no
-mesh file is opened or loaded — the tests watch every ``open``). So before
-parsing, this backend:
-
-* registers the packages the URDF names, found next to the model's URDF
-  (:attr:`~fkcheck.urdf_source.UrdfInfo.package_dirs` and the URDF's own
-  ancestors), through ``URDF_file(extra_packages=…)`` — RTB hands these to
-  ``xacrodoc.packages.update_package_cache`` after its own rtb-data packages,
-  so ours take precedence; no file is edited;
-* checks that every mesh file exists, and if one does not, reports the backend
-  as unavailable (skipped) with the missing file, instead of letting RTB fail
-  (which also leaves an expanded copy of the URDF in the temp directory).
+Geometry is left out: every ``<visual>`` and ``<collision>`` (and the
+top-level ``<material>`` list) is removed from the in-memory text before RTB
+sees it, and the file on disk is not touched. RTB's reader would otherwise
+resolve each ``<mesh filename>`` — ``package://`` ones through xacrodoc's
+package cache — and refuse the whole URDF unless every mesh is an existing
+regular file (``os.path.isfile`` in ``spatialgeometry.Mesh``; roboticstoolbox-
+python 1.5.0). Forward kinematics needs none of it; this way no mesh path is
+resolved, looked at or opened, no package has to be registered in xacrodoc's
+process-wide cache, and a URDF whose meshes are absent (or are named pipes)
+is checked like any other. Links, joints, origins, axes and limits reach RTB
+as written.
 
 RTB's reader gets a joint axis that is not along x, y or z wrong (a known
 upstream limitation, see ``_refuse_crooked_axes``); links below such a joint
@@ -32,7 +30,7 @@ named frame's URDF twin (``urdf = …``) in the URDF's root link, from
 
 from __future__ import annotations
 
-import re
+import io
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
@@ -50,58 +48,27 @@ from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model import Model
 from fkcheck.urdf_source import UrdfInfo, load_urdf
 
-__all__ = ["RtbUrdf", "package_map"]
+__all__ = ["RtbUrdf", "kinematic_text"]
 
 Float = NDArray[np.float64]
 
-_PACKAGE = re.compile(r"package://([^/\s\"'<>]+)/")
+_GEOMETRY = ("visual", "collision")
 
 
-def package_map(info: UrdfInfo) -> dict[str, Path]:
-    """Directories of the ``package://`` packages the URDF names, where they can be found.
+def kinematic_text(info: UrdfInfo) -> str:
+    """The screened URDF without its geometry: no ``<visual>``, ``<collision>`` or ``<material>``.
 
-    A package ``NAME`` is looked for as ``D/NAME`` or ``D`` itself for each
-    directory ``D`` of ``info.package_dirs``, then among the ancestors of those
-    directories and of the URDF file (e.g. example-robot-data's URDFs name
-    ``package://example-robot-data/robots/…``, and the ``robots`` directory's
-    parent is that package).
-
-    Returns:
-        Package name → directory, for the packages found (others are left out).
+    Everything else (links, joints and their attributes, as strings) is kept
+    as written; XML comments are dropped.
     """
-    found: dict[str, Path] = {}
-    for name in sorted(set(_PACKAGE.findall(info.text))):
-        candidates = [d / name for d in info.package_dirs]
-        for start in (*info.package_dirs, info.path.parent):
-            candidates += [p for p in (start, *start.parents) if p.name == name]
-        for candidate in candidates:
-            if candidate.is_dir():
-                found[name] = candidate.resolve()
-                break
-    return found
-
-
-def _missing_mesh(info: UrdfInfo, packages: dict[str, Path]) -> str | None:
-    """The first mesh file RTB's reader would not find, or ``None`` (stats files only)."""
     root = ET.fromstring(info.text)
-    for mesh in root.iter("mesh"):
-        filename = mesh.get("filename")
-        if not filename:
-            continue
-        match = _PACKAGE.match(filename)
-        if match:
-            name = match.group(1)
-            if name not in packages:
-                dirs = ", ".join(str(d) for d in info.package_dirs) or "(none)"
-                return f"{filename} (package {name!r} not found near the URDF or in {dirs})"
-            path = packages[name] / filename[match.end() :]
-        else:
-            path = Path(filename.removeprefix("file://"))
-            if not path.is_absolute():
-                path = info.path.parent / path
-        if not path.is_file():
-            return f"{filename} ({path} does not exist)"
-    return None
+    for link in root.iter("link"):
+        for child in list(link):
+            if child.tag in _GEOMETRY:
+                link.remove(child)
+    for material in root.findall("material"):
+        root.remove(material)
+    return ET.tostring(root, encoding="unicode")
 
 
 class _Built:
@@ -142,9 +109,8 @@ class RtbUrdf:
 
         Raises:
             BackendUnavailable: Robotics Toolbox is missing, the model has no
-                ``[urdf]``, a mesh file RTB's reader insists on is missing, or a
-                joint on the way to a twin has an axis RTB's reader gets wrong
-                (not along x, y or z).
+                ``[urdf]``, or a joint on the way to a twin has an axis RTB's
+                reader gets wrong (not along x, y or z).
             FrameError: A name is not a frame of the model.
             FrameUnavailable: A frame has no ``urdf`` twin.
             UrdfError: The URDF is missing, unsafe or does not fit the model
@@ -180,31 +146,26 @@ class RtbUrdf:
 
 
 def _read_robot(info: UrdfInfo) -> Any:
-    """Parse the screened URDF text with RTB's reader into a ``roboticstoolbox.Robot``.
+    """Parse the screened, geometry-free URDF text with RTB's reader into a ``Robot``.
 
     Raises:
-        BackendUnavailable: A mesh file (or its package) cannot be found.
         UrdfError: RTB's reader rejects the URDF.
     """
     rtb = import_rtb()
     from roboticstoolbox.models.URDF.URDFRobot import URDF_file
     from roboticstoolbox.tools.urdf import URDFError
 
-    packages = package_map(info)
-    missing = _missing_mesh(info, packages)
-    if missing is not None:
-        raise BackendUnavailable(
-            f"Robotics Toolbox's URDF reader needs every mesh file to exist; missing: {missing}"
-        )
+    stream = io.StringIO(kinematic_text(info))
+    stream.name = str(info.path)  # what RTB's messages call the source
     try:
-        elinks, name, _ = URDF_file(
-            info.path.resolve(),
-            patch=lambda _text: info.text,  # parse the screened text, not a second read
-            extra_packages={k: str(v) for k, v in packages.items()},  # absolute: kept as is
-        )
+        elinks, name, _ = URDF_file(stream)
         robot = rtb.Robot(elinks, name=name)
     except (URDFError, ValueError) as exc:
-        first_line = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        expanded = getattr(exc, "expanded_file", None)
+        if expanded:  # RTB saves the text it failed on in the temp directory
+            Path(expanded).unlink(missing_ok=True)
+        lines = str(exc).strip().splitlines()
+        first_line = lines[0] if lines else type(exc).__name__
         raise UrdfError(
             info.path, f"Robotics Toolbox's URDF reader rejects it: {first_line}"
         ) from None
