@@ -1,18 +1,35 @@
-"""``fkcheck check``: compare the in-house core with reference backends."""
+"""``fkcheck check``: compare the in-house core with reference backends.
+
+``fkcheck check MODEL`` checks one model and writes whichever of ``--json``,
+``--junit``, ``--html`` and ``--summary`` it is given. ``fkcheck check --all``
+checks every bundled model and writes, into ``--out-dir`` (default
+``reports/``), each model's ``<model>.json``, ``<model>.html`` and
+``<model>.junit.xml`` plus ``index.html``, the dashboard linking them. Either
+way, when the environment variable ``GITHUB_STEP_SUMMARY`` names a file (as on
+GitHub Actions), the Markdown summary is appended to it.
+"""
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import shlex
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-if TYPE_CHECKING:
-    from fkcheck.check import BackendResult, CheckResult
+from fkcheck.errors import FkcheckError
 
-__all__ = ["add_parser", "format_m", "format_rad", "run"]
+if TYPE_CHECKING:
+    from fkcheck.backends.base import Backend
+    from fkcheck.check import BackendResult, CheckResult
+    from fkcheck.model import Model
+
+__all__ = ["DEFAULT_OUT_DIR", "add_parser", "format_m", "format_rad", "run"]
+
+#: Where ``--all`` writes its reports unless ``--out-dir`` says otherwise.
+DEFAULT_OUT_DIR = Path("reports")
 
 
 def add_parser(sub: Any) -> None:
@@ -24,7 +41,24 @@ def add_parser(sub: Any) -> None:
         "reference backend. Exit 0: every backend that ran agrees; 1: a backend disagrees "
         "or errors, or none ran; 2: bad input.",
     )
-    p.add_argument("model", metavar="MODEL", help="bundled model name (ur5) or a .toml/.csv file")
+    p.add_argument(
+        "model",
+        metavar="MODEL",
+        nargs="?",
+        help="bundled model name (ur5) or a .toml/.csv file; omit with --all",
+    )
+    p.add_argument(
+        "--all",
+        action="store_true",
+        help="check every bundled model; write <model>.json/.html/.junit.xml and index.html "
+        "into --out-dir",
+    )
+    p.add_argument(
+        "--out-dir",
+        type=Path,
+        metavar="DIR",
+        help=f"with --all: where to write the reports (default {DEFAULT_OUT_DIR}/)",
+    )
     p.add_argument(
         "--against",
         action="append",
@@ -43,6 +77,13 @@ def add_parser(sub: Any) -> None:
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
     p.add_argument("--junit", type=Path, metavar="PATH", help="write JUnit XML here")
+    p.add_argument("--html", type=Path, metavar="PATH", help="write the HTML report here")
+    p.add_argument(
+        "--summary",
+        type=Path,
+        metavar="PATH",
+        help="write a Markdown summary here (also appended to $GITHUB_STEP_SUMMARY when set)",
+    )
     p.set_defaults(run=run)
 
 
@@ -121,16 +162,8 @@ def print_summary(check: CheckResult) -> None:
         console.print(f"[{style}]verdict: {check.verdict}[/] ({ran} backend(s) cross-checked)")
 
 
-def run(args: argparse.Namespace) -> int:
-    """Run the check, print, write the requested files."""
-    from dataclasses import replace
-
-    from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
-    from fkcheck.check import run_check
+def _validate(args: argparse.Namespace) -> None:
     from fkcheck.errors import JointInputError
-    from fkcheck.model import load_model
-    from fkcheck.report.json_report import write_json
-    from fkcheck.report.junit import write_junit
 
     if args.samples < 0:
         raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
@@ -138,13 +171,39 @@ def run(args: argparse.Namespace) -> int:
                         ("--timeout", args.timeout)):  # fmt: skip
         if value is not None and not (math.isfinite(value) and value > 0):
             raise JointInputError(f"{flag} must be a positive number, got {value}")
-    model = load_model(args.model)
-    for warning in model.warnings:
-        print(f"fkcheck: warning: {warning}", file=sys.stderr)
-    options = BackendOptions(timeout_s=args.timeout)
-    backends = parse_against(args.against, options) if args.against else default_backends(options)
+    if args.all:
+        if args.model is not None:
+            raise FkcheckError(f"--all checks every bundled model: drop MODEL ({args.model!r})")
+        for flag, value in (
+            ("--json", args.json),
+            ("--junit", args.junit),
+            ("--html", args.html),
+            ("--from", args.frame_from),
+            ("--to", args.frame_to),
+        ):
+            if value is not None:
+                raise FkcheckError(
+                    f"{flag} does not go with --all (each model's files go to --out-dir; "
+                    "frames are per model)"
+                )
+    else:
+        if args.model is None:
+            raise FkcheckError("give a MODEL (e.g. ur5) or --all")
+        if args.out_dir is not None:
+            raise FkcheckError("--out-dir goes with --all; for one model use --json/--html/--junit")
 
-    check = run_check(
+
+def _backends(args: argparse.Namespace) -> list[Backend]:
+    from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
+
+    options = BackendOptions(timeout_s=args.timeout)
+    return parse_against(args.against, options) if args.against else default_backends(options)
+
+
+def _check(args: argparse.Namespace, model: Model, backends: list[Backend]) -> CheckResult:
+    from fkcheck.check import run_check
+
+    return run_check(
         model,
         backends,
         samples=args.samples,
@@ -156,10 +215,107 @@ def run(args: argparse.Namespace) -> int:
         tol_rot_rad=args.tol_rot,
         timeout_s=args.timeout,
     )
+
+
+def _summaries(args: argparse.Namespace, checks: list[CheckResult]) -> None:
+    """The Markdown summary: to ``--summary`` and appended to ``$GITHUB_STEP_SUMMARY``."""
+    from fkcheck.report.markdown import append_summary, markdown_summary, write_summary
+
+    text = markdown_summary(checks)
+    if args.summary is not None:
+        write_summary(args.summary, text)
+    step_summary = os.environ.get("GITHUB_STEP_SUMMARY")
+    if step_summary:
+        append_summary(step_summary, text)
+
+
+def _model_command(args: argparse.Namespace, model: str) -> str:
+    """The command line that reproduces one model's check of an ``--all`` run."""
+    argv = [
+        "check",
+        model,
+        "--samples",
+        str(args.samples),
+        "--seed",
+        str(args.seed),
+        "--sampler",
+        args.sampler,
+        "--timeout",
+        f"{args.timeout:g}",
+    ]
+    for value in args.against or ():
+        argv += ["--against", value]
+    if args.tol_pos is not None:
+        argv += ["--tol-pos", f"{args.tol_pos:g}"]
+    if args.tol_rot is not None:
+        argv += ["--tol-rot", f"{args.tol_rot:g}"]
+    return "fkcheck " + shlex.join(argv)
+
+
+def _run_all(args: argparse.Namespace) -> int:
+    """``--all``: every bundled model, each model's files, the index and the summary."""
+    import datetime as _dt
+    from dataclasses import replace
+
+    from fkcheck.model import bundled_model_paths, load_model
+    from fkcheck.report.build import IndexEntry, build_index_page
+    from fkcheck.report.html import write_html, write_index
+    from fkcheck.report.json_report import write_json
+    from fkcheck.report.junit import write_junit
+
+    created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    out_dir: Path = args.out_dir or DEFAULT_OUT_DIR
+    entries: list[IndexEntry] = []
+    checks: list[CheckResult] = []
+    for stem, path in bundled_model_paths().items():
+        model = load_model(path)
+        for warning in model.warnings:
+            print(f"fkcheck: warning: {stem}: {warning}", file=sys.stderr)
+        backends = _backends(args)
+        check = replace(_check(args, model, backends), command=_model_command(args, stem))
+        print_summary(check)
+        # File names come from the bundled file's name, never from text inside it.
+        names = (f"{stem}.html", f"{stem}.json", f"{stem}.junit.xml")
+        write_html(check, out_dir / names[0], backends)
+        write_json(check, out_dir / names[1])
+        write_junit(check, out_dir / names[2])
+        entries.append(IndexEntry(check, *names))
+        checks.append(check)
+    command = "fkcheck " + shlex.join(getattr(args, "argv", []))
+    write_index(build_index_page(entries, command=command, created=created), out_dir / "index.html")
+    _summaries(args, checks)
+    failed = [c.model.name for c in checks if c.verdict != "pass"]
+    print(
+        f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; reports in "
+        f"{out_dir}/ (index.html)"
+    )
+    return 0 if not failed else 1
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the check, print, write the requested files."""
+    from dataclasses import replace
+
+    from fkcheck.model import load_model
+    from fkcheck.report.html import write_html
+    from fkcheck.report.json_report import write_json
+    from fkcheck.report.junit import write_junit
+
+    _validate(args)
+    if args.all:
+        return _run_all(args)
+    model = load_model(args.model)
+    for warning in model.warnings:
+        print(f"fkcheck: warning: {warning}", file=sys.stderr)
+    backends = _backends(args)
+    check = _check(args, model, backends)
     check = replace(check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
     print_summary(check)
     if args.json is not None:
         write_json(check, args.json)
     if args.junit is not None:
         write_junit(check, args.junit)
+    if args.html is not None:
+        write_html(check, args.html, backends)
+    _summaries(args, [check])
     return 0 if check.verdict == "pass" else 1

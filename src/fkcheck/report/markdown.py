@@ -1,0 +1,111 @@
+"""A short Markdown summary for CI pages (GitHub's job summary and the like).
+
+The verdict and one table, so a CI page shows which backend disagrees and by
+how much without opening an artifact. Text from model files is escaped: HTML
+special characters become entities and Markdown's own (``|``, backticks,
+brackets, emphasis marks) are backslash-escaped, so a model name cannot break
+the table or inject markup.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from fkcheck.check import CheckResult
+from fkcheck.report.format import format_deg, format_m, format_mm, format_rad
+
+__all__ = ["append_summary", "escape_markdown", "markdown_summary", "write_summary"]
+
+_ICON = {"pass": "✅", "fail": "❌", "error": "⚠️", "skipped": "⏭️"}
+_MARKDOWN_SPECIAL = re.compile(r"([\\`*_\[\]|#~])")
+
+
+def escape_markdown(text: str) -> str:
+    """Text safe inside a Markdown table cell: one line, no markup, no HTML."""
+    one_line = " ".join(text.split())
+    return _MARKDOWN_SPECIAL.sub(r"\\\1", html.escape(one_line, quote=False))
+
+
+def _length(value: float | None) -> str:
+    return "–" if value is None else f"{format_mm(value)} ({format_m(value)})"
+
+
+def _angle(value: float | None) -> str:
+    return "–" if value is None else f"{format_rad(value)} ({format_deg(value)})"
+
+
+def _overall(checks: Sequence[CheckResult]) -> str:
+    verdicts = [c.verdict for c in checks]
+    if "fail" in verdicts:
+        return "fail"
+    if "error" in verdicts or not verdicts:
+        return "error"
+    return "pass"
+
+
+def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | None = None) -> str:
+    """The summary of one check or of a run over several models.
+
+    Args:
+        checks: One result per model.
+        links: Model name → link to its HTML report (relative or absolute), optional.
+
+    Returns:
+        Markdown text ending in a newline.
+    """
+    from fkcheck.report.build import verdict_line
+
+    links = links or {}
+    lines: list[str] = []
+    overall = _overall(checks)
+    if len(checks) == 1:
+        (check,) = checks
+        name = escape_markdown(check.model.name)
+        lines.append(f"## fkcheck {name}: {_ICON[overall]} {overall.upper()}")
+        lines.append("")
+        lines.append(escape_markdown(verdict_line(check)))
+        lines.append("")
+        lines.append(
+            f"{escape_markdown(check.frame_from)} → {escape_markdown(check.frame_to)}, "
+            f"{check.q.shape[0]} configurations (seed {check.seed}), tolerance "
+            f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
+        )
+    else:
+        n_fail = sum(c.verdict != "pass" for c in checks)
+        lines.append(f"## fkcheck: {len(checks)} models, {_ICON[overall]} {overall.upper()}")
+        lines.append("")
+        lines.append(f"{len(checks) - n_fail} of {len(checks)} models pass.")
+    lines.append("")
+    lines.append("| model | backend | status | max position error | max rotation error | message |")
+    lines.append("|---|---|---|---|---|---|")
+    for check in checks:
+        name = escape_markdown(check.model.name)
+        link = links.get(check.model.name)
+        shown = f"[{name}]({link})" if link else name
+        if not check.backends:
+            lines.append(f"| {shown} | – | {_ICON['error']} error | – | – | no backends |")
+        for r in check.backends:
+            lines.append(
+                f"| {shown} | {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
+                f"{_length(r.max_position_error_m)} | {_angle(r.max_rotation_error_rad)} | "
+                f"{escape_markdown(r.message)} |"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def write_summary(path: Path | str, text: str) -> Path:
+    """Write the summary, atomically (replacing the file)."""
+    from fkcheck.report.atomic import write_text_atomic
+
+    return write_text_atomic(path, text)
+
+
+def append_summary(path: Path | str, text: str) -> Path:
+    """Append the summary to a file (as GitHub's ``GITHUB_STEP_SUMMARY`` expects)."""
+    target = Path(path)
+    with target.open("a", encoding="utf-8") as handle:
+        handle.write(text + "\n")
+    return target

@@ -1,0 +1,499 @@
+"""View models of the HTML pages: everything the templates show, already formatted.
+
+Built by :mod:`fkcheck.report.build` from a check result; rendered by the
+Jinja2 templates in ``fkcheck/report/templates`` (autoescaped), which only lay
+them out. Every field is plain text, numbers or nested view models: no NumPy
+arrays and no markup reach a template, so all text from a model file or URDF is
+escaped on output.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "ArmDrawing",
+    "BackendDetail",
+    "BackendRow",
+    "DhRow",
+    "Fact",
+    "FrameRow",
+    "FrameSide",
+    "Image",
+    "IndexModel",
+    "IndexPage",
+    "IndexRow",
+    "JointValue",
+    "MatrixCell",
+    "MatrixView",
+    "Measure",
+    "ModelView",
+    "PartingRow",
+    "PartingView",
+    "PoseForms",
+    "ReportPage",
+    "TransformView",
+    "WorstCase",
+]
+
+
+@dataclass(frozen=True)
+class Measure:
+    """A number shown two ways, with its exact value kept for machines.
+
+    Attributes:
+        value: The exact value in SI units (m or rad), or ``None`` when absent.
+        primary: The main reading, e.g. ``"0.300 mm"`` or ``"1.2e-16 rad"``.
+        secondary: The other unit, e.g. ``"3.00e-04 m"`` or ``"6.88e-15°"``.
+    """
+
+    value: float | None
+    primary: str
+    secondary: str
+
+
+@dataclass(frozen=True)
+class Fact:
+    """One line of a key/value list.
+
+    Attributes:
+        label: What it is.
+        value: The value as text.
+        volatile: Non-empty when the value changes from run to run or machine to
+            machine (``"date"``, ``"version"``, ``"path"``, ``"duration"``); the
+            template marks it ``data-volatile`` so gold tests can scrub it.
+        code: Show the value as code.
+    """
+
+    label: str
+    value: str
+    volatile: str = ""
+    code: bool = False
+
+
+@dataclass(frozen=True)
+class FrameSide:
+    """One side of the compared frame pair and what it means.
+
+    Attributes:
+        role: ``"from"`` or ``"to"``.
+        name: The named frame.
+        placement: Where it sits on the DH chain, e.g. ``"DH frame 0"``.
+        offset: Its fixed offset from there, or ``"none"``.
+        urdf: Its URDF twin, e.g. ``"link base"``, or a note that it has none.
+    """
+
+    role: str
+    name: str
+    placement: str
+    offset: str
+    urdf: str
+
+
+@dataclass(frozen=True)
+class BackendRow:
+    """One backend's line in the summary table.
+
+    Attributes:
+        name: Backend name.
+        anchor: HTML id of its detail section (empty when it has none).
+        status: ``pass``, ``fail``, ``error``, ``skipped``.
+        method: The library call it used.
+        duration: Wall time, formatted.
+        message: Why it was skipped or errored, or the failure summary, in full.
+        pos_max: Largest position error.
+        pos_p99: 99th percentile of the position error.
+        pos_median: Median position error.
+        rot_max: Largest rotation error.
+        rot_p99: 99th percentile of the rotation error.
+        rot_median: Median rotation error.
+        worst_q: The worst configuration, formatted (empty when it did not run).
+        worst_origin: Where the worst configuration came from (``random``, ``pose:home`` …).
+    """
+
+    name: str
+    anchor: str
+    status: str
+    method: str
+    duration: str
+    message: str
+    pos_max: Measure
+    pos_p99: Measure
+    pos_median: Measure
+    rot_max: Measure
+    rot_p99: Measure
+    rot_median: Measure
+    worst_q: str
+    worst_origin: str
+
+
+@dataclass(frozen=True)
+class Image:
+    """A picture embedded in the page.
+
+    Attributes:
+        src: A ``data:`` URI (PNG, base64): no file or network access is needed.
+        alt: Text alternative.
+        caption: What is drawn and how to read it.
+    """
+
+    src: str
+    alt: str
+    caption: str
+
+
+@dataclass(frozen=True)
+class MatrixCell:
+    """One entry of a 4×4 matrix.
+
+    Attributes:
+        text: The value as shown.
+        marked: The two matrices differ here by more than the tolerance.
+    """
+
+    text: str
+    marked: bool = False
+
+
+@dataclass(frozen=True)
+class MatrixView:
+    """A 4×4 matrix: four rows of four cells."""
+
+    rows: tuple[tuple[MatrixCell, ...], ...]
+
+
+@dataclass(frozen=True)
+class PoseForms:
+    """A pose as a matrix and in compact forms.
+
+    Attributes:
+        matrix: The 4×4 homogeneous transform.
+        xyz: Translation, metres.
+        quaternion: Unit quaternion ``(x, y, z, w)`` (scalar last, w ≥ 0).
+        rpy: Fixed-axis roll, pitch, yaw (URDF convention), degrees.
+    """
+
+    matrix: MatrixView
+    xyz: str
+    quaternion: str
+    rpy: str
+
+
+@dataclass(frozen=True)
+class JointValue:
+    """One joint value of a configuration.
+
+    Attributes:
+        joint: Joint name.
+        rad: The value in radians (or metres for a prismatic joint).
+        deg: The value in degrees (empty for a prismatic joint).
+    """
+
+    joint: str
+    rad: str
+    deg: str
+
+
+@dataclass(frozen=True)
+class WorstCase:
+    """One of a backend's worst configurations, both poses side by side.
+
+    Attributes:
+        rank: 1 for the worst.
+        index: Index of the configuration in the check.
+        origin: Where it came from (``random``, ``corner``, ``pose:home`` …).
+        q: The joint values.
+        position_error: Position error at this configuration.
+        rotation_error: Rotation error at this configuration.
+        ours: The in-house ``from_T_to``.
+        theirs: The backend's ``from_T_to``, or ``None`` when it could not be recomputed.
+        difference: ``theirs − ours``, or ``None``.
+        note: Why ``theirs`` is missing, if it is.
+    """
+
+    rank: int
+    index: int
+    origin: str
+    q: tuple[JointValue, ...]
+    position_error: Measure
+    rotation_error: Measure
+    ours: PoseForms
+    theirs: PoseForms | None
+    difference: MatrixView | None
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class PartingRow:
+    """One DH frame compared between two chains at one configuration.
+
+    Attributes:
+        frame: Label, e.g. ``"DH frame 2 (after joint shoulder_lift)"``.
+        position_error: Distance between the two frames' origins.
+        rotation_error: Angle between the two frames' orientations.
+        differs: Beyond tolerance.
+        first: This is the first frame that differs.
+    """
+
+    frame: str
+    position_error: Measure
+    rotation_error: Measure
+    differs: bool
+    first: bool
+
+
+@dataclass(frozen=True)
+class PartingView:
+    """Where two chains part: every DH frame (or joint axis) compared at one configuration.
+
+    Attributes:
+        title: What is compared, e.g. ``"rtb-dh: DH frames T_0_i"``.
+        verdict: One sentence naming the first frame that differs (or saying none does).
+        parted: Some frame differs.
+        short: Where they part, in a few words, for the page's first screen
+            (empty when they do not).
+        what: How the comparison is made.
+        rows: One row per frame.
+    """
+
+    title: str
+    verdict: str
+    parted: bool
+    short: str
+    what: str
+    rows: tuple[PartingRow, ...]
+
+
+@dataclass(frozen=True)
+class ArmDrawing:
+    """The 3D stick drawing of the arm at a backend's worst configuration."""
+
+    image: Image
+
+
+@dataclass(frozen=True)
+class BackendDetail:
+    """Everything about one disagreeing backend.
+
+    Attributes:
+        name: Backend name.
+        anchor: HTML id.
+        summary: One line: how many configurations differ and by how much.
+        worst_q: The worst configuration, formatted.
+        arm: The stick drawing at the worst configuration.
+        worst_cases: The worst few configurations with both poses.
+    """
+
+    name: str
+    anchor: str
+    summary: str
+    worst_q: str
+    arm: ArmDrawing | None
+    worst_cases: tuple[WorstCase, ...]
+
+
+@dataclass(frozen=True)
+class DhRow:
+    """One row of the DH table as shown (lengths m, angles degrees).
+
+    Attributes:
+        index: Row number, 1-based.
+        joint: Joint name.
+        type: ``revolute`` or ``prismatic``.
+        a: Link length.
+        alpha: Link twist.
+        d: Link offset.
+        theta: Joint angle offset.
+        flip: ``yes`` when the joint turns the other way.
+        limits: Joint limits.
+        urdf_joint: The URDF joint mapped to it, if any.
+        variable: Which of θ or d the joint value drives.
+    """
+
+    index: int
+    joint: str
+    type: str
+    a: str
+    alpha: str
+    d: str
+    theta: str
+    flip: str
+    limits: str
+    urdf_joint: str
+    variable: str
+
+
+@dataclass(frozen=True)
+class TransformView:
+    """A fixed transform (the base or tool).
+
+    Attributes:
+        label: ``"base (world → DH frame 0)"`` or similar.
+        summary: xyz (m) and rpy (degrees), or ``"identity"``.
+        matrix: The 4×4 matrix.
+    """
+
+    label: str
+    summary: str
+    matrix: MatrixView
+
+
+@dataclass(frozen=True)
+class FrameRow:
+    """One named frame of the model's mapping.
+
+    Attributes:
+        name: Frame name.
+        placement: DH frame it is attached to.
+        offset: Fixed offset from there.
+        urdf: URDF twin, if any.
+        compared: ``from`` / ``to`` when this check compares it.
+    """
+
+    name: str
+    placement: str
+    offset: str
+    urdf: str
+    compared: str
+
+
+@dataclass(frozen=True)
+class ModelView:
+    """The model as the report shows it.
+
+    Attributes:
+        name: Model name.
+        description: Free text from the model file.
+        source: Where its numbers come from.
+        path: The model file.
+        convention: ``standard`` or ``modified``.
+        convention_formula: ``A_i`` as a product of elementary motions.
+        a_matrix: ``A_i`` written out, 4 rows of 4 symbolic entries.
+        variable_note: How θ and d depend on the joint value.
+        rows: The DH table.
+        base: Base transform.
+        tool: Tool transform.
+        frames: Named frames.
+        urdf: The reference URDF as written in the model file, or empty.
+    """
+
+    name: str
+    description: str
+    source: str
+    path: str
+    convention: str
+    convention_formula: str
+    a_matrix: tuple[tuple[str, ...], ...]
+    variable_note: str
+    rows: tuple[DhRow, ...]
+    base: TransformView
+    tool: TransformView
+    frames: tuple[FrameRow, ...]
+    urdf: str
+
+
+@dataclass(frozen=True)
+class ReportPage:
+    """One model's report page.
+
+    Attributes:
+        title: Page title.
+        model: Model name.
+        verdict: ``pass``, ``fail`` or ``error``.
+        verdict_line: The verdict as a sentence, e.g. "3 of 5 backends disagree".
+        disagreeing: Names of the backends that fail.
+        headline: The largest errors among the disagreeing backends.
+        facts: What was checked and how (key/value list).
+        sides: The two compared frames and what they mean.
+        versions: Library versions (key/value list).
+        command: The command line that reproduces the check.
+        backends: One row per backend.
+        plots: Error distribution and error against each joint.
+        partings: Where the chains part: DH frames of backends built from the
+            table, and the table's joint axes against the URDF's.
+        details: One section per disagreeing backend.
+        model_view: The model.
+        generator: ``fkcheck <version>``.
+    """
+
+    title: str
+    model: str
+    verdict: str
+    verdict_line: str
+    disagreeing: tuple[str, ...]
+    headline: tuple[str, ...]
+    facts: tuple[Fact, ...]
+    sides: tuple[FrameSide, ...]
+    versions: tuple[Fact, ...]
+    command: str
+    backends: tuple[BackendRow, ...]
+    plots: tuple[Image, ...]
+    partings: tuple[PartingView, ...]
+    details: tuple[BackendDetail, ...]
+    model_view: ModelView
+    generator: str
+
+
+@dataclass(frozen=True)
+class IndexRow:
+    """One model × backend line of the index.
+
+    Attributes:
+        backend: Backend name.
+        status: Its status.
+        pos_max: Largest position error.
+        rot_max: Largest rotation error.
+        message: Skip/error reason or failure summary.
+    """
+
+    backend: str
+    status: str
+    pos_max: Measure
+    rot_max: Measure
+    message: str
+
+
+@dataclass(frozen=True)
+class IndexModel:
+    """One model on the index page.
+
+    Attributes:
+        name: Model name.
+        verdict: Its verdict.
+        report: Relative link to its HTML report.
+        json: Relative link to its JSON result.
+        junit: Relative link to its JUnit XML.
+        pair: The compared frame pair, e.g. ``"base → tool0"``.
+        configurations: Number of configurations checked.
+        rows: One row per backend.
+    """
+
+    name: str
+    verdict: str
+    report: str
+    json: str
+    junit: str
+    pair: str
+    configurations: int
+    rows: tuple[IndexRow, ...]
+
+
+@dataclass(frozen=True)
+class IndexPage:
+    """The dashboard: every model × backend.
+
+    Attributes:
+        title: Page title.
+        verdict: ``pass`` when every model passes, else ``fail`` or ``error``.
+        verdict_line: The verdict as a sentence.
+        facts: Run facts (date, versions, command).
+        models: One entry per model.
+        generator: ``fkcheck <version>``.
+    """
+
+    title: str
+    verdict: str
+    verdict_line: str
+    facts: tuple[Fact, ...]
+    models: tuple[IndexModel, ...]
+    generator: str
