@@ -26,7 +26,7 @@ __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf")
 
 #: What plain ``fkcheck`` runs.
-MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json")
+MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
 
 EXIT_OK = 0
 EXIT_FAIL = 1
