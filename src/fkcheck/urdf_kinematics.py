@@ -302,7 +302,7 @@ def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
         UrdfError: Missing, too large, has a DTD, or not a valid URDF.
         BackendUnavailable: ``example-robot-data:`` is used but not installed.
     """
-    from fkcheck.urdf_source import ERD_PREFIX, example_robot_data_dir
+    from fkcheck.urdf_source import ERD_PREFIX, example_robot_data_dir, read_urdf
 
     text_spec = str(spec)
     if text_spec.startswith(ERD_PREFIX):
@@ -312,7 +312,5 @@ def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
     if not path.is_file():
         raise UrdfError(text_spec, f"URDF file not found ({path})")
     # The one screening every URDF goes through (size limit, no DTD, one root).
-    from fkcheck.urdf_source import read_urdf
-
     info = read_urdf(path.resolve(), (path.resolve().parent.parent,))
     return info.path, info.text, urdf_kinematics(info.path, info.text)
