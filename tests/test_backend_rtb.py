@@ -88,6 +88,12 @@ def test_rtb_dh_agrees_with_core_on_every_named_frame(name: str, rng: np.random.
         assert_pose_close(got, want, SAME_CHAIN, what=f"{name} {frame}")
     (tcp,) = RtbDH().frame_poses(model, q, ["tcp"])
     assert_pose_close(tcp, model.fk(q), SAME_CHAIN, what=f"{name} tcp")
+    # Without "tcp" the backend skips the TCP (and unused DH frames): same answers.
+    rest = [frame for frame in names if frame != "tcp"]
+    for frame, got, want in zip(
+        rest, RtbDH().frame_poses(model, q, rest), core_frames(model, q, rest), strict=True
+    ):
+        assert_pose_close(got, want, SAME_CHAIN, what=f"{name} {frame} without tcp")
 
 
 def _synthetic(convention: str, rows: list[dict[str, Any]]) -> Model:

@@ -110,7 +110,7 @@ class RtbDH:
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """``world_T_frame`` for each named frame, ``(len(frames), N, 4, 4)``.
 
-        Only the DH frames the named frames sit on are computed.
+        Only the DH frames (and the TCP) the named frames sit on are computed.
 
         Raises:
             BackendUnavailable: Robotics Toolbox is not installed.
@@ -123,10 +123,14 @@ class RtbDH:
         needed = sorted({s.dh for s in specs if isinstance(s.dh, int)})
         qp = padded_q(q2, model.dof)
         N = q2.shape[0]
-        world_T_dh = np.full((N, model.dof + 1, 4, 4), np.nan)  # NaN where not needed
+        # Only what the frames sit on is computed; NaN marks what is not needed.
+        world_T_dh = np.full((N, model.dof + 1, 4, 4), np.nan)
         for k in needed:
             world_T_dh[:, k] = self._frame(built, k, qp)
-        world_T_tcp = eval_batch(built.tcp_ets, qp)
+        if any(s.dh == "tcp" for s in specs):
+            world_T_tcp = eval_batch(built.tcp_ets, qp)
+        else:
+            world_T_tcp = np.full((N, 4, 4), np.nan)
         return frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
 
     def dh_frames(self, model: Model, q: Float) -> Float:
