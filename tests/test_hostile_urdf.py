@@ -81,6 +81,17 @@ def test_external_entity_is_refused_and_never_read(tmp_path, capsys):
     assert "root:" not in out + err  # /etc/passwd's first line never shows up
 
 
+@pytest.mark.parametrize(
+    "payload", ["${__import__('os').system('touch PWNED')}", "$(find ur_description)"]
+)
+def test_xacro_expressions_are_refused_never_evaluated(tmp_path, capsys, monkeypatch, payload):
+    monkeypatch.chdir(tmp_path)
+    text = UR5_URDF.read_text().replace('name="ur5"', f'name="{payload}"', 1)
+    code, out, err = check(capsys, model_with_urdf(tmp_path, text))
+    assert_one_line_exit_2(code, out, err, r"contains xacro")
+    assert not (tmp_path / "PWNED").exists()
+
+
 def test_missing_urdf_file(tmp_path, capsys):
     code, out, err = check(capsys, model_with_urdf(tmp_path, None))
     assert_one_line_exit_2(code, out, err, r"robot\.urdf: URDF file not found")

@@ -8,6 +8,8 @@ Toolbox's reader); this module runs first, for all of them:
 * refuses any DTD (``<!DOCTYPE``/``<!ENTITY``): a URDF never needs one, and it is
   how entity expansion ("billion laughs") and external entities
   (``SYSTEM "file:///etc/passwd"``) get in — no parser ever sees such a file;
+* refuses xacro (``${…}``, ``$(…)``): one reader runs xacro, which evaluates
+  expressions as Python — a plain URDF never has them;
 * parses the joints and links once and checks the model's mapping against them
   (joint names, joint types, frame names), so a mismatch is one clear error.
 
@@ -41,6 +43,10 @@ __all__ = [
 MAX_URDF_BYTES = 32 * 1024 * 1024
 ERD_PREFIX = "example-robot-data:"
 _DTD = re.compile(rb"<!\s*(DOCTYPE|ENTITY)", re.IGNORECASE)
+#: xacro substitutions: Robotics Toolbox's reader runs xacro, which evaluates
+#: ``${…}`` as Python and ``$(…)`` as substitution args. A plain URDF has neither
+#: outside comments (which are skipped: some published URDFs keep xacro there).
+_XACRO = re.compile(rb"\$[{(]")
 
 
 @dataclass(frozen=True)
@@ -193,6 +199,15 @@ def _read(path: Path, package_dirs: tuple[Path, ...], mtime_ns: int, size: int) 
         root = ET.fromstring(raw)
     except ET.ParseError as exc:
         raise UrdfError(path, f"not valid XML: {exc}") from None
+    if any(
+        _XACRO.search(text.encode())
+        for el in root.iter()
+        for text in (el.text or "", *el.attrib.values())
+    ):
+        raise UrdfError(
+            path,
+            "contains xacro substitutions (${...} or $(...)): expand it to a plain URDF first",
+        )
     if root.tag != "robot":
         raise UrdfError(path, f"root element is <{root.tag}>, expected <robot>")
     links = tuple(str(link.get("name")) for link in root.iter("link") if link.get("name"))
