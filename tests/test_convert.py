@@ -38,11 +38,16 @@ def test_written_model_reads_back_as_the_same_model(name, rng):
     assert list(back.frames) == list(model.frames)
     for a, b in zip(back.joints, model.joints, strict=True):
         assert (a.type, a.flip) == (b.type, b.flip)
-        np.testing.assert_allclose([a.a, a.alpha, a.d, a.theta], [b.a, b.alpha, b.d, b.theta],
-                                   rtol=0, atol=1e-15)  # fmt: skip
+        np.testing.assert_allclose(
+            [a.a, a.alpha, a.d, a.theta], [b.a, b.alpha, b.d, b.theta], rtol=0, atol=1e-15
+        )
     q = random_q(model, rng, 50)
-    assert_pose_close(reference_poses(back, q, list(model.frames)),
-                      reference_poses(model, q, list(model.frames)), SAME_CHAIN, name)  # fmt: skip
+    assert_pose_close(
+        reference_poses(back, q, list(model.frames)),
+        reference_poses(model, q, list(model.frames)),
+        SAME_CHAIN,
+        name,
+    )
 
 
 def test_radians_are_written_exactly():
@@ -132,18 +137,26 @@ def test_ur5_as_modified_dh_moves_nothing_into_the_tool():
     assert mod.frames["tool0"].offset.is_identity
 
 
-@pytest.mark.parametrize(("name", "pair"), [
-    ("panda", ("panda_link0", "panda_link3")),
-    ("panda", ("panda_link2", "panda_hand")),
-    ("ur5", ("base_link", "flange")),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    ("name", "pair"),
+    [
+        ("panda", ("panda_link0", "panda_link3")),
+        ("panda", ("panda_link2", "panda_hand")),
+        ("ur5", ("base_link", "flange")),
+    ],
+)
 def test_converted_model_passes_the_check_against_its_urdf_mid_chain(name, pair):
     from fkcheck.backends.registry import make_backend
 
     model = load_model(name)
     converted = convert_model(model, "modified" if model.convention == "standard" else "standard")
-    result = run_check(converted, [make_backend("pinocchio-urdf")], samples=200,
-                       frame_from=pair[0], frame_to=pair[1])  # fmt: skip
+    result = run_check(
+        converted,
+        [make_backend("pinocchio-urdf")],
+        samples=200,
+        frame_from=pair[0],
+        frame_to=pair[1],
+    )
     assert result.verdict == "pass", result.backends[0].message
     assert result.backends[0].max_position_error_m < ROUNDED_URDF
 
@@ -152,8 +165,11 @@ def test_relocated_urdf_path_points_at_the_same_file(tmp_path):
     (tmp_path / "robots" / "urdf").mkdir(parents=True)
     urdf = tmp_path / "robots" / "urdf" / "arm.urdf"
     urdf.write_text("<robot name='arm'/>")
-    model = replace(load_model("ur5"), path=tmp_path / "robots" / "arm.toml",
-                    urdf=UrdfSpec("urdf/arm.urdf", load_model("ur5").urdf.joints))  # fmt: skip
+    model = replace(
+        load_model("ur5"),
+        path=tmp_path / "robots" / "arm.toml",
+        urdf=UrdfSpec("urdf/arm.urdf", load_model("ur5").urdf.joints),
+    )
     moved = relocate_urdf_path(model, tmp_path / "out" / "deep" / "arm_mod.toml")
     assert moved.urdf.path == "../../robots/urdf/arm.urdf"
     assert (tmp_path / "out" / "deep" / moved.urdf.path).resolve() == urdf.resolve()

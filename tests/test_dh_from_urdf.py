@@ -61,11 +61,27 @@ def extract(spec, base, tip, convention):
 
 @pytest.mark.parametrize("convention", ["standard", "modified"])
 @pytest.mark.parametrize(("spec", "base", "tip"), ARMS, ids=[a[0].split("/")[-1] for a in ARMS])
-def test_extracted_table_passes_the_check_in_every_urdf_backend(spec, base, tip, convention,
-                                                                  tmp_path):  # fmt: skip
+def test_extracted_table_passes_the_check_in_every_urdf_backend(
+    spec, base, tip, convention, tmp_path
+):
     out = tmp_path / "arm.toml"
-    assert main(["dh-from-urdf", "example-robot-data:" + spec, "--base", base, "--tip", tip,
-                 "--convention", convention, "-o", str(out)]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "dh-from-urdf",
+                "example-robot-data:" + spec,
+                "--base",
+                base,
+                "--tip",
+                tip,
+                "--convention",
+                convention,
+                "-o",
+                str(out),
+            ]
+        )
+        == 0
+    )
     model = load_model(out)  # the written file follows the model schema
     assert model.convention == convention
     assert not any(j.flip for j in model.joints)
@@ -90,16 +106,19 @@ def test_every_chain_link_agrees_mid_chain(spec, base, tip):
 def test_ur5_table_has_the_published_lengths():
     ex = extract("ur_description/urdf/ur5_robot.urdf", "base_link", "tool0", "standard")
     model = ex.model
-    assert ex.relations == ("intersecting", "parallel", "parallel", "intersecting",
-                            "intersecting")  # fmt: skip
+    assert ex.relations == ("intersecting", "parallel", "parallel", "intersecting", "intersecting")
     # UR's published d and |a| (the signs of a and α depend on the x directions chosen).
-    np.testing.assert_allclose([j.d for j in model.joints],
-                               [0.089159, 0, 0, 0.10915, 0.09465, 0.0823], atol=1e-12)  # fmt: skip
-    np.testing.assert_allclose([abs(j.a) for j in model.joints],
-                               [0, 0.425, 0.39225, 0, 0, 0], atol=1e-12)  # fmt: skip
-    np.testing.assert_allclose([abs(j.alpha) for j in model.joints],
-                               [math.pi / 2, 0, 0, math.pi / 2, math.pi / 2, 0],
-                               atol=1e-11)  # fmt: skip
+    np.testing.assert_allclose(
+        [j.d for j in model.joints], [0.089159, 0, 0, 0.10915, 0.09465, 0.0823], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        [abs(j.a) for j in model.joints], [0, 0.425, 0.39225, 0, 0, 0], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        [abs(j.alpha) for j in model.joints],
+        [math.pi / 2, 0, 0, math.pi / 2, math.pi / 2, 0],
+        atol=1e-11,
+    )
     # θ offsets within ±90° by construction, except where the tip's x decides (the last).
     assert all(abs(j.theta) <= math.pi / 2 + 1e-9 for j in model.joints[:-1])
     assert model.urdf.path == "example-robot-data:ur_description/urdf/ur5_robot.urdf"
@@ -110,19 +129,23 @@ def test_ur5_table_has_the_published_lengths():
 
 
 def test_panda_modified_table_matches_franka_up_to_frame_choices():
-    model = extract("panda_description/urdf/panda.urdf", "panda_link0", "panda_link8",
-                    "modified").model  # fmt: skip
+    model = extract(
+        "panda_description/urdf/panda.urdf", "panda_link0", "panda_link8", "modified"
+    ).model
     # Franka publishes a = [0, 0, 0, 0.0825, -0.0825, 0, 0.088], d = [0.333, 0, 0.316, 0,
     # 0.384, 0, 0] and a 0.107 flange; lengths agree up to the signs of the chosen x.
-    np.testing.assert_allclose([abs(j.a) for j in model.joints],
-                               [0, 0, 0, 0.0825, 0.0825, 0, 0.088], atol=1e-12)  # fmt: skip
-    np.testing.assert_allclose([abs(j.d) for j in model.joints],
-                               [0.333, 0, 0.316, 0, 0.384, 0, 0.107], atol=1e-12)  # fmt: skip
+    np.testing.assert_allclose(
+        [abs(j.a) for j in model.joints], [0, 0, 0, 0.0825, 0.0825, 0, 0.088], atol=1e-12
+    )
+    np.testing.assert_allclose(
+        [abs(j.d) for j in model.joints], [0.333, 0, 0.316, 0, 0.384, 0, 0.107], atol=1e-12
+    )
 
 
 def test_prismatic_joint_is_extracted_as_prismatic():
-    model = extract("tiago_description/robots/tiago.urdf", "base_footprint", "arm_tool_link",
-                    "standard").model  # fmt: skip
+    model = extract(
+        "tiago_description/robots/tiago.urdf", "base_footprint", "arm_tool_link", "standard"
+    ).model
     assert model.joints[0].type == "prismatic"
     assert model.joints[0].name == "torso_lift_joint"
     assert all(j.type == "revolute" for j in model.joints[1:])
@@ -199,8 +222,9 @@ def test_urdf_fk_matches_pinocchio(rng):
 
 def test_axis_rotation_is_rodrigues():
     axis = np.array([0.0, 0.0, 1.0])
-    np.testing.assert_allclose(axis_rotation(axis, math.pi / 2)[:3, :3],
-                               [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-16)  # fmt: skip
+    np.testing.assert_allclose(
+        axis_rotation(axis, math.pi / 2)[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-16
+    )
 
 
 @pytest.mark.parametrize(("stem", "backend"), sorted(REFUSED))

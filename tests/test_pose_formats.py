@@ -47,8 +47,9 @@ def paper_abc(T):
     n, o, a = T[:3, 0], T[:3, 1], T[:3, 2]
     A = math.atan2(n[1], n[0])
     B = math.atan2(-n[2], n[0] * math.cos(A) + n[1] * math.sin(A))
-    C = math.atan2(a[0] * math.sin(A) - a[1] * math.cos(A),
-                   -o[0] * math.sin(A) + o[1] * math.cos(A))  # fmt: skip
+    C = math.atan2(
+        a[0] * math.sin(A) - a[1] * math.cos(A), -o[0] * math.sin(A) + o[1] * math.cos(A)
+    )
     return A, B, C
 
 
@@ -100,8 +101,9 @@ def test_quaternion_is_xyzw_with_nonnegative_w(rng):
     np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-15)
     # Rotation by 90° about z: (0, 0, sin 45°, cos 45°).
     Rz = matrix_from_xyz_rpy([0, 0, 0], [0, 0, math.pi / 2])
-    np.testing.assert_allclose(pose_from_matrix(Rz, "quat")[3:], [0, 0, 0.5**0.5, 0.5**0.5],
-                               atol=1e-15)  # fmt: skip
+    np.testing.assert_allclose(
+        pose_from_matrix(Rz, "quat")[3:], [0, 0, 0.5**0.5, 0.5**0.5], atol=1e-15
+    )
 
 
 @pytest.mark.parametrize("fmt", POSE_FORMATS)

@@ -83,8 +83,23 @@ def test_flipped_prismatic_and_unlimited_joints(tmp_path):
 def test_urdf_from_a_urdf_extracted_table_round_trips(tmp_path):
     spec = "example-robot-data:kinova_description/robots/kinova.urdf"
     extracted = tmp_path / "kinova.toml"
-    assert main(["dh-from-urdf", spec, "--base", "base", "--tip", "j2s6s200_end_effector",
-                 "--convention", "modified", "-o", str(extracted)]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "dh-from-urdf",
+                spec,
+                "--base",
+                "base",
+                "--tip",
+                "j2s6s200_end_effector",
+                "--convention",
+                "modified",
+                "-o",
+                str(extracted),
+            ]
+        )
+        == 0
+    )
     _, model = export(str(extracted), tmp_path)
     assert_passes(model, ("base", "j2s6s200_link_4"))
 
@@ -104,8 +119,11 @@ def test_limits_are_written_in_radians(tmp_path):
 
 
 def test_single_joint_model(tmp_path):
-    model = replace(load_model("planar2"), joints=(Joint("only", a=0.5, alpha=0.0, d=0.1),),
-                    poses={}, frames={"world": FrameSpec("world", "world"),
-                                      "tcp": FrameSpec("tcp", "tcp")})  # fmt: skip
+    model = replace(
+        load_model("planar2"),
+        joints=(Joint("only", a=0.5, alpha=0.0, d=0.1),),
+        poses={},
+        frames={"world": FrameSpec("world", "world"), "tcp": FrameSpec("tcp", "tcp")},
+    )
     _, mapped = export(model, tmp_path)
     assert_passes(mapped)

@@ -62,8 +62,9 @@ def _to_modified(model: Model) -> Model:
     # Standard frame i = modified frame i · Tx(a_i)Rx(α_i) for i = 1…n; frame 0 is shared.
     factors = [np.eye(4)] + [_tx_rx(j.a, j.alpha) for j in js]
     assert len(factors) == n + 1
-    return replace(model, convention="modified", joints=tuple(rows), tool=tool,
-                   frames=_reframe(model, factors))  # fmt: skip
+    return replace(
+        model, convention="modified", joints=tuple(rows), tool=tool, frames=_reframe(model, factors)
+    )
 
 
 def _to_standard(model: Model) -> Model:
@@ -78,8 +79,9 @@ def _to_standard(model: Model) -> Model:
     # Modified frame j = standard frame j · (Tx(a'_j)Rx(α'_j))⁻¹ with a'_j, α'_j the
     # modified row j+1's values (0-based row j), for j = 0…n-1; frame n is shared.
     factors = [invert(_tx_rx(js[j].a, js[j].alpha)) for j in range(n)] + [np.eye(4)]
-    return replace(model, convention="standard", joints=tuple(rows), base=base,
-                   frames=_reframe(model, factors))  # fmt: skip
+    return replace(
+        model, convention="standard", joints=tuple(rows), base=base, frames=_reframe(model, factors)
+    )
 
 
 def convert_model(model: Model, to: Convention) -> Model:

@@ -270,8 +270,11 @@ def dh_from_urdf(
     movable = [j for j in chain if j.type != "fixed"]
     for j in movable:
         if j.mimic is not None:
-            raise UrdfError(kin.path, f"joint {j.name!r} mimics {j.mimic!r}: a DH table has "
-                            "one independent variable per joint")  # fmt: skip
+            raise UrdfError(
+                kin.path,
+                f"joint {j.name!r} mimics {j.mimic!r}: a DH table has "
+                "one independent variable per joint",
+            )
     if not movable:
         raise UrdfError(kin.path, f"no movable joint between {base!r} and {tip!r}")
     n = len(movable)
@@ -288,16 +291,20 @@ def dh_from_urdf(
     notes: list[str] = []
     for i, joint in enumerate(movable):
         A = invert(frames[i]) @ frames[i + 1]
-        a, alpha, d, theta = (snap(v, angle=ang) for v, ang in
-                              zip(row_of(A), (False, True, False, True), strict=True))  # fmt: skip
+        a, alpha, d, theta = (
+            snap(v, angle=ang) for v, ang in zip(row_of(A), (False, True, False, True), strict=True)
+        )
         structure = float(np.abs(dh_matrix(convention, a, alpha, d, theta) - A).max())
         if structure > SELF_CHECK_TOL:
             raise RuntimeError(f"frame {i}→{i + 1} is not a DH step (defect {structure:.3g})")
         jtype: Literal["revolute", "prismatic"] = (
             "prismatic" if joint.type == "prismatic" else "revolute"
         )
-        joints.append(Joint(name=joint.name, a=a, alpha=alpha, d=d, theta=theta, type=jtype,
-                            limits=joint.limits))  # fmt: skip
+        joints.append(
+            Joint(
+                name=joint.name, a=a, alpha=alpha, d=d, theta=theta, type=jtype, limits=joint.limits
+            )
+        )
         notes.append(_row_note(i, joint, relations, convention, n))
 
     base_offset = offset_from_matrix(frames[0])

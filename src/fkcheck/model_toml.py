@@ -169,8 +169,9 @@ def model_to_toml(
         out.append("")
         out.append(frame_toml(spec, unit, frame_comments.get(name)).rstrip("\n"))
     check = model.check
-    out.extend(["", "[check]", f"from = {_string(check.frame_from)}",
-                f"to = {_string(check.frame_to)}"])  # fmt: skip
+    out.extend(
+        ["", "[check]", f"from = {_string(check.frame_from)}", f"to = {_string(check.frame_to)}"]
+    )
     out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
     out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
     return "\n".join(out) + "\n"

@@ -161,8 +161,12 @@ def pose_record(T: ArrayLike, fmt: PoseFormat) -> dict[str, list[float]]:
     numbers = pose_from_matrix(T, fmt)
     if numbers.ndim != 1:
         raise ValueError("pose_record takes one pose (4, 4)")
-    key = {"quat": "quaternion_xyzw", "rpy": "rpy_rad", "rotvec": "rotvec_rad",
-           "zyx": "zyx_abc_rad"}[fmt]  # fmt: skip
+    key = {
+        "quat": "quaternion_xyzw",
+        "rpy": "rpy_rad",
+        "rotvec": "rotvec_rad",
+        "zyx": "zyx_abc_rad",
+    }[fmt]
     return {"position_m": numbers[:3].tolist(), key: numbers[3:].tolist()}
 
 

@@ -61,8 +61,12 @@ def _num(value: float) -> str:
 
 
 def _origin(parent: ET.Element, offset: Offset) -> None:
-    ET.SubElement(parent, "origin", xyz=" ".join(_num(v) for v in offset.xyz),
-                  rpy=" ".join(_num(v) for v in offset.rpy))  # fmt: skip
+    ET.SubElement(
+        parent,
+        "origin",
+        xyz=" ".join(_num(v) for v in offset.xyz),
+        rpy=" ".join(_num(v) for v in offset.rpy),
+    )
 
 
 def _fixed(robot: ET.Element, name: str, parent: str, child: str, offset: Offset) -> None:
@@ -85,11 +89,13 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     """
     n = model.dof
     robot = ET.Element("robot", name=robot_name or model.name)
-    robot.append(ET.Comment(
-        f" Written by fkcheck urdf from the {model.convention} DH model {model.name!r}. "
-        "Kinematics only: no inertia, no geometry; effort and velocity limits are unknown "
-        "to a DH table and written as 0. "
-    ))  # fmt: skip
+    robot.append(
+        ET.Comment(
+            f" Written by fkcheck urdf from the {model.convention} DH model {model.name!r}. "
+            "Kinematics only: no inertia, no geometry; effort and velocity limits are unknown "
+            "to a DH table and written as 0. "
+        )
+    )
     generated = {"world", "tcp"} | {f"dh_frame_{i}" for i in range(n + 1)}
     if model.convention == "standard":
         generated |= {f"dh_joint_{i}" for i in range(1, n + 1)}
@@ -117,8 +123,12 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     _fixed(robot, "world_to_dh_frame_0", "world", "dh_frame_0", model.base)
     for i, joint in enumerate(model.joints, start=1):
         if model.convention == "modified":
-            placement = (rot_x(joint.alpha) @ translation(joint.a, 0.0, 0.0)
-                         @ rot_z(joint.theta) @ translation(0.0, 0.0, joint.d))  # fmt: skip
+            placement = (
+                rot_x(joint.alpha)
+                @ translation(joint.a, 0.0, 0.0)
+                @ rot_z(joint.theta)
+                @ translation(0.0, 0.0, joint.d)
+            )
             child = f"dh_frame_{i}"
         else:
             placement = translation(0.0, 0.0, joint.d) @ rot_z(joint.theta)

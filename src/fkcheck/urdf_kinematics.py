@@ -124,8 +124,11 @@ class UrdfKinematics:
         while shared < min(len(up_base), len(up_tip)) and up_base[shared] is up_tip[shared]:
             shared += 1
         if (shared == len(up_tip) and len(up_base) > len(up_tip)) or base == tip:
-            raise UrdfError(self.path, f"link {tip!r} is not below link {base!r}: no chain "
-                            f"leads from {base!r} down to {tip!r}")  # fmt: skip
+            raise UrdfError(
+                self.path,
+                f"link {tip!r} is not below link {base!r}: no chain "
+                f"leads from {base!r} down to {tip!r}",
+            )
         climb = up_base[shared:][::-1]  # from base up to the common ancestor
         for joint in climb:
             if joint.type != "fixed":
@@ -136,10 +139,18 @@ class UrdfKinematics:
                     "choose a base link the tip hangs below",
                 )
         inverted = [
-            JointGeometry(name=f"{j.name}^-1", type="fixed", parent=j.child, child=j.parent,
-                          origin=invert(j.origin), axis=j.axis, limits=None, mimic=None)
+            JointGeometry(
+                name=f"{j.name}^-1",
+                type="fixed",
+                parent=j.child,
+                child=j.parent,
+                origin=invert(j.origin),
+                axis=j.axis,
+                limits=None,
+                mimic=None,
+            )
             for j in climb
-        ]  # fmt: skip
+        ]
         return inverted + up_tip[shared:]
 
     def _path_from_root(self, link: str) -> list[JointGeometry]:
@@ -216,8 +227,9 @@ class UrdfKinematics:
         return np.array(points).reshape(-1, 3), np.array(directions).reshape(-1, 3)
 
 
-def _numbers(text: str | None, count: int, default: tuple[float, ...], where: str,
-             path: Path) -> tuple[float, ...]:  # fmt: skip
+def _numbers(
+    text: str | None, count: int, default: tuple[float, ...], where: str, path: Path
+) -> tuple[float, ...]:
     if text is None:
         return default
     parts = text.split()
@@ -253,13 +265,30 @@ def urdf_kinematics(path: Path, text: str) -> UrdfKinematics:
             continue  # <joint> inside <transmission>
         where = f"joint {name!r}"
         origin_el = el.find("origin")
-        xyz = _numbers(origin_el.get("xyz") if origin_el is not None else None, 3,
-                       (0.0, 0.0, 0.0), f"{where} origin xyz", path)  # fmt: skip
-        rpy = _numbers(origin_el.get("rpy") if origin_el is not None else None, 3,
-                       (0.0, 0.0, 0.0), f"{where} origin rpy", path)  # fmt: skip
+        xyz = _numbers(
+            origin_el.get("xyz") if origin_el is not None else None,
+            3,
+            (0.0, 0.0, 0.0),
+            f"{where} origin xyz",
+            path,
+        )
+        rpy = _numbers(
+            origin_el.get("rpy") if origin_el is not None else None,
+            3,
+            (0.0, 0.0, 0.0),
+            f"{where} origin rpy",
+            path,
+        )
         axis_el = el.find("axis")
-        axis = np.array(_numbers(axis_el.get("xyz") if axis_el is not None else None, 3,
-                                 (1.0, 0.0, 0.0), f"{where} axis", path))  # fmt: skip
+        axis = np.array(
+            _numbers(
+                axis_el.get("xyz") if axis_el is not None else None,
+                3,
+                (1.0, 0.0, 0.0),
+                f"{where} axis",
+                path,
+            )
+        )
         jtype = str(el.get("type", ""))
         norm = float(np.linalg.norm(axis))
         if jtype in MOVABLE and norm < 1e-12:

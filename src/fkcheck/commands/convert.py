@@ -22,8 +22,13 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("model", metavar="MODEL", help="bundled model name (ur5) or a .toml/.csv file")
     p.add_argument("--to", required=True, choices=("standard", "modified"), help="convention")
-    p.add_argument("-o", "--output", type=Path, metavar="OUT",
-                   help="write the model file here (default: print it)")  # fmt: skip
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="OUT",
+        help="write the model file here (default: print it)",
+    )
     p.add_argument("--samples", type=int, default=1000, help="random samples (default 1000)")
     p.add_argument("--seed", type=int, default=0, help="seed of the samples (default 0)")
     p.set_defaults(run=run)

@@ -23,11 +23,20 @@ def add_parser(sub: Any) -> None:
     p.add_argument("urdf", metavar="URDF", help="a URDF file, or example-robot-data:<subpath>")
     p.add_argument("--base", required=True, metavar="FRAME", help="base link of the chain")
     p.add_argument("--tip", required=True, metavar="FRAME", help="tip link of the chain")
-    p.add_argument("--convention", choices=("standard", "modified"), default="standard",
-                   help="DH convention of the table (default standard)")  # fmt: skip
+    p.add_argument(
+        "--convention",
+        choices=("standard", "modified"),
+        default="standard",
+        help="DH convention of the table (default standard)",
+    )
     p.add_argument("--name", help="model name (default: the URDF's robot name)")
-    p.add_argument("-o", "--output", type=Path, metavar="MODEL.toml",
-                   help="write the model file here (default: print it)")  # fmt: skip
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="MODEL.toml",
+        help="write the model file here (default: print it)",
+    )
     p.set_defaults(run=run)
 
 
@@ -40,8 +49,7 @@ def run(args: argparse.Namespace) -> int:
 
     path, _text, kin = read_urdf_file(args.urdf)
     spec = urdf_spec_for(path, args.output)
-    result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name,
-                          urdf_spec=spec)  # fmt: skip
+    result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name, urdf_spec=spec)
     model = result.model
     header = [
         f"{model.name}: {args.base} → {args.tip} of {path.name}, {model.convention} DH.",

@@ -22,10 +22,15 @@ def add_parser(sub: Any) -> None:
         "`fkcheck check` compares the DH table with the new URDF.",
     )
     p.add_argument("model", metavar="MODEL", help="bundled model name (ur5) or a .toml/.csv file")
-    p.add_argument("-o", "--output", type=Path, required=True, metavar="ROBOT.urdf",
-                   help="the URDF to write")  # fmt: skip
-    p.add_argument("--write-model", type=Path, metavar="MODEL.toml",
-                   help="also write the model mapped onto the new URDF")  # fmt: skip
+    p.add_argument(
+        "-o", "--output", type=Path, required=True, metavar="ROBOT.urdf", help="the URDF to write"
+    )
+    p.add_argument(
+        "--write-model",
+        type=Path,
+        metavar="MODEL.toml",
+        help="also write the model mapped onto the new URDF",
+    )
     p.add_argument("--name", help="<robot name> (default: the model's name)")
     p.set_defaults(run=run)
 

@@ -1,0 +1,174 @@
+"""fkcheck lint: each rule on a table written to show it, and the bundled tables clean."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+
+import pytest
+
+from conftest import BUNDLED
+from fkcheck import load_model
+from fkcheck.cli import main
+from fkcheck.known_tables import KNOWN_VARIANTS
+from fkcheck.lint import lint_model
+from fkcheck.model_toml import model_to_toml
+
+
+def with_joint(model, index, **changes):
+    joints = list(model.joints)
+    joints[index] = replace(joints[index], **changes)
+    return replace(model, joints=tuple(joints))
+
+
+def write(tmp_path, model, *, angle_unit=None, text_edit=None):
+    text = model_to_toml(model, angle_unit=angle_unit)
+    if text_edit is not None:
+        text = text_edit(text)
+    path = tmp_path / "m.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def lint(capsys, path):
+    code = main(["lint", str(path), "--json"])
+    return code, json.loads(capsys.readouterr().out)["findings"]
+
+
+@pytest.mark.parametrize("name", BUNDLED)
+def test_bundled_models_are_clean(name, capsys):
+    assert main(["lint", name]) == 0
+    assert "clean" in capsys.readouterr().out
+
+
+def test_rtb_d1_is_flagged_as_a_variant_of_the_published_ur5(tmp_path, capsys):
+    path = write(tmp_path, with_joint(load_model("ur5"), 0, d=0.089459))
+    code, findings = lint(capsys, path)
+    assert code == 1
+    assert [f["rule"] for f in findings] == ["published"]
+    assert findings[0]["field"] == "joint[0].d"
+    message = findings[0]["message"]
+    assert "d1 (joint[0].d, shoulder_pan) = 0.089459 is +0.300 mm from 0.089159" in message
+    assert "published table ur5" in message
+    assert "Robotics Toolbox for Python's packaged UR5" in message
+
+
+def test_older_d1_without_a_known_source_is_flagged_too(tmp_path, capsys):
+    path = write(tmp_path, with_joint(load_model("ur5"), 0, d=0.08946))
+    code, findings = lint(capsys, path)
+    assert code == 1
+    assert "+0.301 mm from 0.089159" in findings[0]["message"]
+    assert "Robotics Toolbox" not in findings[0]["message"]
+
+
+def test_degrees_declared_as_radians(tmp_path, capsys):
+    path = write(
+        tmp_path,
+        load_model("ur5"),
+        angle_unit="deg",
+        text_edit=lambda t: t.replace('angle_unit = "deg"', 'angle_unit = "rad"'),
+    )
+    code, findings = lint(capsys, path)
+    assert code == 1
+    degrees = [f for f in findings if f["rule"] == "degrees"]
+    assert {f["field"] for f in degrees} == {
+        "joint[0].alpha",
+        "joint[3].alpha",
+        "joint[4].alpha",  # 90, 90, -90
+        "frames.base_link.rpy[2]",
+        "frames.flange.rpy[0]",
+        "frames.flange.rpy[1]",
+    }
+    assert "looks like degrees" in degrees[0]["message"]
+    assert any(f["rule"] == "limits" and "degrees in a file" in f["message"] for f in findings)
+
+
+def test_radians_declared_as_degrees(tmp_path, capsys):
+    path = write(
+        tmp_path,
+        load_model("panda"),
+        text_edit=lambda t: t.replace('angle_unit = "rad"', 'angle_unit = "deg"'),
+    )
+    code, findings = lint(capsys, path)
+    assert code == 1
+    assert any(
+        f["rule"] == "degrees" and "reads like π/2 in radians" in f["message"] for f in findings
+    )
+
+
+def test_rounded_and_odd_twists(tmp_path, capsys):
+    model = with_joint(with_joint(load_model("ur5"), 0, alpha=1.5708), 3, alpha=0.3)
+    code, findings = lint(capsys, write(tmp_path, model, angle_unit="rad"))
+    assert code == 1
+    by_field = {f["field"]: f for f in findings}
+    assert by_field["joint[0].alpha"]["rule"] == "rounded-angle"
+    assert "1.5707963267948966" in by_field["joint[0].alpha"]["message"]
+    assert by_field["joint[3].alpha"]["rule"] == "twist"
+
+
+def test_millimetres_in_a_metre_file(tmp_path, capsys):
+    code, findings = lint(capsys, write(tmp_path, with_joint(load_model("ur5"), 1, a=-425.0)))
+    assert code == 1
+    assert findings[0]["rule"] == "length"
+    assert findings[0]["field"] == "joint[1].a"
+    assert "millimetres" in findings[0]["message"]
+
+
+def test_limits_beyond_a_full_turn(tmp_path, capsys):
+    model = with_joint(load_model("ur5"), 2, limits=(-math.radians(400), math.radians(400)))
+    code, findings = lint(capsys, write(tmp_path, model))
+    assert code == 1
+    assert [(f["rule"], f["field"]) for f in findings] == [("limits", "joint[2].limits")]
+
+
+def test_modified_table_declared_standard(tmp_path, capsys):
+    path = write(
+        tmp_path,
+        load_model("panda"),
+        text_edit=lambda t: t.replace('convention = "modified"', 'convention = "standard"'),
+    )
+    code, findings = lint(capsys, path)
+    assert code == 1
+    assert [f["rule"] for f in findings] == ["convention"]
+    assert "shaped like a modified (Craig) one" in findings[0]["message"]
+
+
+def test_standard_table_declared_modified(tmp_path, capsys):
+    path = write(
+        tmp_path,
+        load_model("ur5"),
+        text_edit=lambda t: t.replace('convention = "standard"', 'convention = "modified"'),
+    )
+    code, findings = lint(capsys, path)
+    assert code == 1
+    assert findings[0]["rule"] == "convention"
+    assert "first row has a0 = 0, α0 = 90°" in findings[0]["message"]
+
+
+def test_unreadable_model_is_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("name = \n")
+    assert main(["lint", str(bad)]) == 2
+    assert "not valid TOML" in capsys.readouterr().err
+
+
+def test_lint_model_returns_findings_in_memory():
+    findings = lint_model(with_joint(load_model("ur10"), 3, d=0.1639))  # 0.163941 rounded
+    assert [(f.rule, f.field) for f in findings] == [("published", "joint[3].d")]
+
+
+def test_known_variants_are_what_robotics_toolbox_ships():
+    import roboticstoolbox as rtb
+
+    for variant in KNOWN_VARIANTS:
+        assert variant.model == "ur5"
+        robot = rtb.models.DH.UR5()
+        link = robot.links[variant.joint]
+        assert getattr(link, variant.param) == variant.value
+        # ...and that is the only number in which it differs from the published table.
+        published = load_model("ur5")
+        for i, (ours, theirs) in enumerate(zip(published.joints, robot.links, strict=True)):
+            for param in ("a", "alpha", "d"):
+                if (i, param) != (variant.joint, variant.param):
+                    assert getattr(ours, param) == pytest.approx(getattr(theirs, param), abs=1e-15)
