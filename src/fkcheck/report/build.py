@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -53,6 +53,7 @@ from fkcheck.report.views import (
     TransformView,
     WorstCase,
 )
+from fkcheck.tolerances import SAME_CHAIN
 
 __all__ = [
     "IndexEntry",
@@ -117,12 +118,24 @@ def _xyz_rpy(offset: Offset) -> str:
     return f"xyz ({xyz}) m, rpy ({rpy})°"
 
 
-def _matrix(T: Float, marked: NDArray[np.bool_] | None = None, fmt: str = "{: .9f}") -> MatrixView:
+def _fixed(value: float, digits: int) -> str:
+    """Fixed-point text without a minus sign on zero (round-off must not flip the text)."""
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
+
+
+def _difference_entry(value: float) -> str:
+    """An entry of ``theirs − ours``; round-off (≤ SAME_CHAIN) reads as 0."""
+    return "0" if abs(value) <= SAME_CHAIN else f"{value:.2e}"
+
+
+def _matrix(
+    T: Float, marked: NDArray[np.bool_] | None = None, fmt: Callable[[float], str] | None = None
+) -> MatrixView:
+    show = fmt or (lambda v: _fixed(v, 9))
     rows = tuple(
         tuple(
-            MatrixCell(
-                fmt.format(float(T[i, j])), bool(marked[i, j]) if marked is not None else False
-            )
+            MatrixCell(show(float(T[i, j])), bool(marked[i, j]) if marked is not None else False)
             for j in range(4)
         )
         for i in range(4)
@@ -145,12 +158,12 @@ def pose_forms(T: Float, marked: NDArray[np.bool_] | None = None) -> PoseForms:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)  # gimbal lock: one solution is fine
         rpy = rotation.as_euler("xyz", degrees=True)
-    xyz = ", ".join(f"{v:.9f}" for v in T[:3, 3])
+    xyz = ", ".join(_fixed(v, 9) for v in T[:3, 3])
     return PoseForms(
         matrix=_matrix(T, marked),
         xyz=f"({xyz}) m",
-        quaternion="(" + ", ".join(f"{v:.9f}" for v in quat) + ")",
-        rpy="(" + ", ".join(f"{v:.6f}" for v in rpy) + ")°",
+        quaternion="(" + ", ".join(_fixed(v, 9) for v in quat) + ")",
+        rpy="(" + ", ".join(_fixed(v, 6) for v in rpy) + ")°",
     )
 
 
@@ -165,9 +178,9 @@ def _joint_values(model: Model, q: Float) -> tuple[JointValue, ...]:
     out = []
     for v, joint in zip(q, model.joints, strict=True):
         if joint.type == "prismatic":
-            out.append(JointValue(joint.name, f"{v:.9f} m", ""))
+            out.append(JointValue(joint.name, f"{_fixed(v, 9)} m", ""))
         else:
-            out.append(JointValue(joint.name, f"{v:.9f}", f"{math.degrees(v):.6f}°"))
+            out.append(JointValue(joint.name, _fixed(v, 9), f"{_fixed(math.degrees(v), 6)}°"))
     return tuple(out)
 
 
@@ -252,7 +265,7 @@ def _worst_cases(check: CheckResult, r: BackendResult, worst: WorstPoses) -> tup
             tol[:, 3] = check.tol_pos_m
             marked = np.abs(delta) > tol
             theirs_forms = pose_forms(theirs, marked)
-            difference = _matrix(delta, marked, "{: .2e}")
+            difference = _matrix(delta, marked, _difference_entry)
         out.append(
             WorstCase(
                 rank=rank,
@@ -443,7 +456,7 @@ def _detail(
 
 def _transform_view(label: str, offset: Offset) -> TransformView:
     summary = "identity" if offset.is_identity else _xyz_rpy(offset)
-    return TransformView(label, summary, _matrix(offset.matrix, fmt="{: .6f}"))
+    return TransformView(label, summary, _matrix(offset.matrix, fmt=lambda v: _fixed(v, 6)))
 
 
 def _limits(model: Model, i: int) -> str:

@@ -79,17 +79,19 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
         lines.append("")
         lines.append(f"{len(checks) - n_fail} of {len(checks)} models pass.")
     lines.append("")
-    lines.append("| model | backend | status | max position error | max rotation error | message |")
-    lines.append("|---|---|---|---|---|---|")
+    many = len(checks) > 1
+    head = "| backend | status | max position error | max rotation error | message |"
+    lines.append(("| model " if many else "") + head)
+    lines.append("|---" * (6 if many else 5) + "|")
     for check in checks:
         name = escape_markdown(check.model.name)
         link = links.get(check.model.name)
-        shown = f"[{name}]({link})" if link else name
+        model_cell = (f"| [{name}]({link}) " if link else f"| {name} ") if many else ""
         if not check.backends:
-            lines.append(f"| {shown} | – | {_ICON['error']} error | – | – | no backends |")
+            lines.append(f"{model_cell}| – | {_ICON['error']} error | – | – | no backends |")
         for r in check.backends:
             lines.append(
-                f"| {shown} | {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
+                f"{model_cell}| {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
                 f"{_length(r.max_position_error_m)} | {_angle(r.max_rotation_error_rad)} | "
                 f"{escape_markdown(r.message)} |"
             )

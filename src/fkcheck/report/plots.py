@@ -61,6 +61,11 @@ _PALETTE = (
 )
 
 
+def _text(value: str) -> str:
+    """Text from a model or a backend name, shown literally (``$`` would start mathtext)."""
+    return value.replace("$", r"\$")
+
+
 def png_data_uri(fig: Figure) -> str:
     """Render a figure to a ``data:image/png;base64,…`` URI."""
     buffer = io.BytesIO()
@@ -77,6 +82,16 @@ def _new_figure(width_in: float, height_in: float) -> Figure:
     from matplotlib.figure import Figure
 
     return Figure(figsize=(width_in, height_in), layout="constrained")
+
+
+def _layered(k: int, count: int, thinnest: float, thickest: float) -> float:
+    """Line width or marker size for the k-th of ``count`` series, earlier ones wider.
+
+    Identical results (three URDF backends agreeing) then stay visible one behind another.
+    """
+    if count <= 1:
+        return thinnest
+    return thickest - (thickest - thinnest) * k / (count - 1)
 
 
 def _floor(values: Float) -> Float:
@@ -120,14 +135,14 @@ def error_distribution(check: CheckResult) -> Image | None:
         low = min(float(v.min()) for v in values)
         high = max(float(v.max()) for v in [*values, np.array([tol])])
         edges = np.logspace(math.log10(low) - 0.5, math.log10(high) + 0.5, 61)
-        for result, v in zip(ran, values, strict=True):
+        for k, (result, v) in enumerate(zip(ran, values, strict=True)):
             ax.hist(
                 v,
                 bins=edges,
                 histtype="step",
-                linewidth=1.6,
+                linewidth=_layered(k, len(ran), 1.4, 4.0),
                 color=colors[result.name],
-                label=result.name,
+                label=_text(result.name),
             )
         ax.axvline(tol, color="black", linestyle="--", linewidth=1.0, label="tolerance")
         ax.set_xscale("log")
@@ -142,7 +157,8 @@ def error_distribution(check: CheckResult) -> Image | None:
         caption=(
             f"Error distribution over the {n} configurations, per backend, against "
             f"{REFERENCE_NAME} (log scale; dashed: tolerance). Errors of exactly 0 are drawn "
-            f"at {LOG_FLOOR:g}. A backend to the right of the dashed line disagrees."
+            f"at {LOG_FLOOR:g}. A backend to the right of the dashed line disagrees. Backends "
+            "listed first are drawn wider, so identical distributions show one behind another."
         ),
     )
 
@@ -175,17 +191,17 @@ def error_against_joints(check: CheckResult) -> Image | None:
             (("position_error_m", check.tol_pos_m), ("rotation_error_rad", check.tol_rot_rad))
         ):
             ax = axes[row, j]
-            for result in ran:
+            for k, result in enumerate(ran):
                 values = np.asarray(getattr(result, attr))
                 keep = _subset(values.size, result.worst_index)
                 ax.plot(
                     x_all[keep],
                     _floor(values[keep]),
                     ".",
-                    markersize=2.0,
+                    markersize=_layered(k, len(ran), 2.0, 5.0),
                     alpha=0.5,
                     color=colors[result.name],
-                    label=result.name,
+                    label=_text(result.name),
                     rasterized=True,
                 )
                 if result.status == "fail" and result.worst_index is not None:
@@ -204,7 +220,7 @@ def error_against_joints(check: CheckResult) -> Image | None:
             ax.grid(True, which="major", alpha=0.3)
             ax.tick_params(labelsize=7)
             if row == 0:
-                ax.set_title(f"J{j + 1} {joint.name}", fontsize=8)
+                ax.set_title(f"J{j + 1} {_text(joint.name)}", fontsize=8)
             else:
                 ax.set_xlabel(f"q{j + 1} [{'m' if prismatic else '°'}]", fontsize=8)
         axes[0, 0].set_ylabel("position error [m]", fontsize=8)
@@ -298,13 +314,17 @@ def arm_drawing(
         ax.text(*(origin + axis_len * z), f"J{j + 1}", fontsize=7, color="#444444")
     _triad(ax, world_T_from, triad_len, "-", 2.0, 0.9)
     _triad(ax, world_T_to, triad_len, "-", 2.0, 0.9)
-    ax.text(*world_T_from[:3, 3], f" {check.frame_from}", fontsize=8)
-    ax.text(*world_T_to[:3, 3], f" {check.frame_to}", fontsize=8)
+    ax.text(*world_T_from[:3, 3], f" {_text(check.frame_from)}", fontsize=8)
+    ax.text(*world_T_to[:3, 3], f" {_text(check.frame_to)}", fontsize=8)
     drawn = "in-house chain and frames"
     if result.worst_dh_frames is not None:
         theirs = np.asarray(result.worst_dh_frames)
         ax.plot(
-            *theirs[:, :3, 3].T, "--", color=color, linewidth=2.0, label=f"{result.name} DH chain"
+            *theirs[:, :3, 3].T,
+            "--",
+            color=color,
+            linewidth=2.0,
+            label=f"{_text(result.name)} DH chain",
         )
         drawn += f"; {result.name}'s DH chain (dashed)"
     if urdf_axes is not None and urdf_axes.first is not None:
@@ -327,7 +347,7 @@ def arm_drawing(
             "s",
             color=color,
             markersize=6,
-            label=f"{result.name}: {check.frame_to}",
+            label=f"{_text(result.name)}: {_text(check.frame_to)}",
         )
         drawn += f"; {result.name}'s {check.frame_to} frame (dashed triad, square)"
     center = points.mean(axis=0)

@@ -24,9 +24,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.check import CheckResult, reference_poses
+from fkcheck.model import Model
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
 
-__all__ = ["AxisParting", "UrdfJointGeometry", "parse_joint_geometry", "urdf_axis_parting"]
+__all__ = [
+    "AxisParting",
+    "UrdfJointGeometry",
+    "compare_joint_axes",
+    "parse_joint_geometry",
+    "urdf_axis_parting",
+]
 
 Float = NDArray[np.float64]
 
@@ -57,7 +64,7 @@ class AxisParting:
     """Each joint's axis from the DH table and from the URDF, at one configuration.
 
     Attributes:
-        index: Configuration index in ``CheckResult.q``.
+        index: Configuration index in ``CheckResult.q`` (−1 outside a check).
         urdf_joints: URDF joint names, DH order.
         angle_rad: Angle between the two axis directions, per joint (π: opposite).
         offset_m: Distance of the URDF joint's origin from the DH axis line, per joint.
@@ -162,22 +169,49 @@ def _angle(u: Float, v: Float) -> float:
 
 
 def urdf_axis_parting(check: CheckResult, index: int) -> AxisParting | None:
-    """Compare every joint axis of the DH table with the URDF's at one configuration.
+    """Compare every joint axis of the DH table with the URDF's at one configuration of a check.
 
     Args:
         check: The check (its model must have a ``[urdf]`` table and its ``from``
             frame a URDF twin).
-        index: Which configuration.
+        index: Which configuration of ``check.q``.
 
     Returns:
         The comparison, or ``None`` when the model has no URDF, the ``from``
         frame has no URDF twin, or the URDF cannot be read here.
     """
+    return compare_joint_axes(
+        check.model, check.q[index], check.frame_from, check.tol_pos_m, check.tol_rot_rad, index
+    )
+
+
+def compare_joint_axes(
+    model: Model,
+    q: Float,
+    frame_from: str,
+    tol_pos_m: float,
+    tol_rot_rad: float,
+    index: int = -1,
+) -> AxisParting | None:
+    """Compare every joint axis of the DH table with the URDF's at one configuration.
+
+    Args:
+        model: The model (with a ``[urdf]`` table).
+        q: One configuration, shape ``(n,)``, radians / metres.
+        frame_from: The named frame both sets of axes are expressed in; it must
+            have a URDF twin.
+        tol_pos_m: Distance beyond which an axis differs, metres.
+        tol_rot_rad: Angle beyond which an axis differs, radians.
+        index: The configuration's index in a check, for display.
+
+    Returns:
+        The comparison, or ``None`` when the model has no URDF, ``frame_from``
+        has no URDF twin, or the URDF cannot be read here.
+    """
     from fkcheck.errors import FkcheckError
     from fkcheck.urdf_source import load_urdf
 
-    model = check.model
-    from_spec = model.frames[check.frame_from]
+    from_spec = model.frames[frame_from]
     if model.urdf is None or from_spec.urdf is None:
         return None
     try:
@@ -185,11 +219,10 @@ def urdf_axis_parting(check: CheckResult, index: int) -> AxisParting | None:
         joints = parse_joint_geometry(info.text)
     except (FkcheckError, ValueError, ET.ParseError):
         return None
-    q = check.q[index]
     tree = _Tree(joints, dict(zip(model.urdf.joints, (float(v) for v in q), strict=True)))
     urdf_from_T_root = invert(tree.link(from_spec.urdf))
 
-    world_T_from = reference_poses(model, q[None], (check.frame_from,))[0, 0]
+    world_T_from = reference_poses(model, q[None], (frame_from,))[0, 0]
     from_T_world = invert(world_T_from)
     dh_frames = np.asarray(model.fk(q, all_frames=True))
     n = model.dof
@@ -207,6 +240,6 @@ def urdf_axis_parting(check: CheckResult, index: int) -> AxisParting | None:
         angle[i] = _angle(dh_dir, urdf_dir)
         offset[i] = float(np.linalg.norm(np.cross(urdf_point - dh_point, dh_dir)))
         lines[i] = (urdf_point, urdf_dir)
-    beyond = np.flatnonzero((offset > check.tol_pos_m) | (angle > check.tol_rot_rad))
+    beyond = np.flatnonzero((offset > tol_pos_m) | (angle > tol_rot_rad))
     first = int(beyond[0]) if beyond.size else None
     return AxisParting(index, tuple(model.urdf.joints), angle, offset, first, lines)

@@ -1,0 +1,119 @@
+"""The report opened in a real headless browser (Debian's chromium), as a person would.
+
+Checks that the page loads without a console message (a blocked resource, a
+Content-Security-Policy violation or a script error would each log one), that
+the verdict and every number the browser shows equal the JSON, and saves
+screenshots under ``reports/screenshots/`` (git-ignored) for a person to look at.
+Skipped, with the reason, where no chromium is installed; ``.ci/run`` installs it.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from fkcheck.cli import main
+from fkcheck.report.format import format_deg, format_mm, format_rad
+from report_cases import page_numbers
+from test_report_cli import URDF_BACKENDS, ur5_variant
+
+SCREENSHOTS = Path(__file__).resolve().parents[1] / "reports" / "screenshots"
+BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
+
+pytestmark = pytest.mark.skipif(
+    BROWSER is None,
+    reason="no chromium on PATH (apt-get install chromium; .ci/run installs it)",
+)
+
+
+@pytest.fixture(autouse=True)
+def _no_ci_summary(monkeypatch):
+    monkeypatch.delenv("GITHUB_STEP_SUMMARY", raising=False)
+
+
+def chromium(tmp_path: Path, url: str, *args: str) -> subprocess.CompletedProcess[str]:
+    """Run headless chromium on a page with a throw-away profile; fail on a non-zero exit."""
+    assert BROWSER is not None
+    command = [
+        BROWSER, "--headless", "--no-sandbox", "--disable-gpu",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        "--no-first-run", "--hide-scrollbars", f"--user-data-dir={tmp_path / 'profile'}",
+        "--enable-logging=stderr", "--v=0", *args, url,
+    ]  # fmt: skip
+    done = subprocess.run(command, capture_output=True, text=True, timeout=180, check=False)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return done
+
+
+def console_messages(stderr: str) -> list[str]:
+    """Lines chromium logs for the page's console (errors, CSP violations, blocked loads)."""
+    return [line for line in stderr.splitlines() if ":CONSOLE" in line]
+
+
+@pytest.fixture(scope="module")
+def d1_report(tmp_path_factory):
+    """The UR5 with the older d1 = 0.08946 checked against the URDF: a FAIL report + JSON."""
+    tmp = tmp_path_factory.mktemp("d1")
+    model = ur5_variant(tmp, "d = 0.089159", "d = 0.08946", name="ur5-d1")
+    html, js = tmp / "ur5-d1.html", tmp / "ur5-d1.json"
+    argv = ["check", str(model), "--samples", "256", "--against", f"rtb-dh,{URDF_BACKENDS}",
+            "--html", str(html), "--json", str(js)]  # fmt: skip
+    assert main(argv) == 1
+    return html, json.loads(js.read_text(encoding="utf-8"))
+
+
+def test_browser_shows_the_json_verdict_and_numbers(d1_report, tmp_path):
+    html, doc = d1_report
+    done = chromium(tmp_path, html.as_uri(), "--dump-dom")
+    assert console_messages(done.stderr) == []
+    dom = done.stdout
+    found = page_numbers(dom)
+    assert found.verdict == doc["verdict"] == "fail"
+    assert found.status == {b["name"]: b["status"] for b in doc["backends"]}
+    for b in doc["backends"]:
+        for key in ("max_position_error_m", "p99_position_error_m", "median_position_error_m",
+                    "max_rotation_error_rad", "p99_rotation_error_rad",
+                    "median_rotation_error_rad"):  # fmt: skip
+            assert float(found.values[(b["name"], key)]) == b[key], (b["name"], key)
+    # What a person reads: the numbers as shown, formatted from the JSON's values.
+    for b in doc["backends"]:
+        pos, rot = b["max_position_error_m"], b["max_rotation_error_rad"]
+        assert f">{format_mm(pos)}<" in dom
+        assert f">{format_rad(rot)}<" in dom
+        assert f">{format_deg(rot)}<" in dom
+    assert "pinocchio-urdf: max position error 0.301 mm" in dom
+
+
+def test_browser_screenshots(d1_report, tmp_path):
+    html, _ = d1_report
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+    for name, size in (("ur5-d1-first-screen.png", "1280,900"),
+                       ("ur5-d1-full.png", "1280,6000")):  # fmt: skip
+        target = SCREENSHOTS / name
+        target.unlink(missing_ok=True)
+        done = chromium(tmp_path, html.as_uri(), f"--screenshot={target}", f"--window-size={size}")
+        assert console_messages(done.stderr) == []
+        data = target.read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n"
+        width, height = int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+        assert (width, height) == tuple(int(v) for v in size.split(","))
+        assert len(data) > 20_000  # a rendered page, not a blank one
+
+
+def test_browser_reports_a_console_message_when_there_is_one(tmp_path):
+    """The console check works: a page that loads a remote image logs a CSP violation."""
+    page = tmp_path / "bad.html"
+    page.write_text(
+        "<!DOCTYPE html><html><head><meta http-equiv='Content-Security-Policy' "
+        "content=\"default-src 'none'\"></head><body><img src='https://example.invalid/x.png'>"
+        "</body></html>",
+        encoding="utf-8",
+    )
+    done = chromium(tmp_path, page.as_uri(), "--dump-dom")
+    messages = console_messages(done.stderr)
+    assert len(messages) == 1
+    assert "violates the following Content Security Policy directive" in messages[0]

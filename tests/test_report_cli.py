@@ -1,0 +1,159 @@
+"""``fkcheck check --html/--summary/--all`` and the main job, with real backends."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+from fkcheck import load_model
+from fkcheck.cli import MAIN_JOB, main
+from fkcheck.model import bundled_model_paths
+from report_cases import page_numbers
+
+UR5 = Path(load_model("ur5").path or "")
+DH_BACKENDS = "rtb-dh,pinocchio-dh"
+URDF_BACKENDS = "pinocchio-urdf,yourdfpy-urdf"
+
+
+@pytest.fixture(autouse=True)
+def _no_ci_summary(monkeypatch):
+    """Never append to a real CI job summary from a test."""
+    monkeypatch.delenv("GITHUB_STEP_SUMMARY", raising=False)
+
+
+def ur5_variant(tmp_path: Path, old: str, new: str, after: str = "", name: str = "") -> Path:
+    """The bundled UR5 file with one value changed (the first match after ``after``)."""
+    text = UR5.read_text(encoding="utf-8")
+    at = text.index(old, text.index(after) if after else 0)
+    text = text[:at] + new + text[at + len(old) :]
+    if name:
+        text = text.replace('name = "ur5"', f'name = "{name}"', 1)
+    path = tmp_path / f"{name or 'ur5_variant'}.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def first_screen(page: str) -> str:
+    """The verdict header: what a person sees before scrolling."""
+    return page[page.index('id="verdict"') : page.index('id="summary"')]
+
+
+def test_html_summary_and_step_summary_are_written(tmp_path, monkeypatch, capsys):
+    step = tmp_path / "step_summary.md"
+    step.write_text("earlier step\n", encoding="utf-8")
+    monkeypatch.setenv("GITHUB_STEP_SUMMARY", str(step))
+    html, summary, js = tmp_path / "r.html", tmp_path / "s.md", tmp_path / "r.json"
+    argv = ["check", "ur5", "--samples", "16", "--against", DH_BACKENDS, "--html", str(html),
+            "--summary", str(summary), "--json", str(js)]  # fmt: skip
+    assert main(argv) == 0
+    page = html.read_text(encoding="utf-8")
+    doc = json.loads(js.read_text(encoding="utf-8"))
+    found = page_numbers(page)
+    assert found.verdict == doc["verdict"] == "pass"
+    assert found.status == {b["name"]: b["status"] for b in doc["backends"]}
+    assert "fkcheck check ur5 --samples 16 --against rtb-dh,pinocchio-dh" in page
+    text = summary.read_text(encoding="utf-8")
+    assert text.startswith("## fkcheck ur5: ✅ PASS\n")
+    assert "| rtb-dh | ✅ pass |" in text
+    assert step.read_text(encoding="utf-8") == "earlier step\n" + text + "\n"
+
+
+def test_older_d1_report_says_fail_names_backends_and_shows_0_3_mm(tmp_path):
+    model = ur5_variant(tmp_path, "d = 0.089159", "d = 0.08946", name="ur5-d1")
+    html, js = tmp_path / "d1.html", tmp_path / "d1.json"
+    argv = ["check", str(model), "--samples", "64", "--against", f"{DH_BACKENDS},{URDF_BACKENDS}",
+            "--html", str(html), "--json", str(js)]  # fmt: skip
+    assert main(argv) == 1
+    page = html.read_text(encoding="utf-8")
+    head = first_screen(page)
+    assert 'data-verdict="fail">FAIL<' in head
+    assert "2 of 4 backends that ran disagree with the in-house core: pinocchio-urdf, " in head
+    assert "yourdfpy-urdf" in head
+    for backend in ("pinocchio-urdf", "yourdfpy-urdf"):
+        assert f"{backend}: max position error 0.301 mm (3.01e-04 m)" in head
+    # The table's joint axes against the URDF: joint 2's axis sits Δd1 = 0.301 mm off.
+    assert "the DH table parts from the URDF at DH frame 1 (after joint 1, shoulder_pan)" in head
+    # A constant error: every configuration is off by the same 0.301 mm, whatever the joints.
+    doc = json.loads(js.read_text(encoding="utf-8"))
+    urdf = next(b for b in doc["backends"] if b["name"] == "pinocchio-urdf")
+    assert urdf["median_position_error_m"] == pytest.approx(urdf["max_position_error_m"], rel=1e-6)
+    assert "A flat band across every panel is a constant error" in page
+
+
+def test_flipped_alpha_report_names_the_first_frame_that_differs(tmp_path):
+    model = ur5_variant(tmp_path, "alpha = 90", "alpha = -90", after='name = "wrist_1"')
+    html = tmp_path / "alpha.html"
+    argv = ["check", str(model), "--samples", "16", "--against", URDF_BACKENDS,
+            "--html", str(html)]  # fmt: skip
+    assert main(argv) == 1
+    page = html.read_text(encoding="utf-8")
+    assert "the DH table parts from the URDF at DH frame 4 (after joint 4, wrist_1)" in (
+        first_screen(page)
+    )
+    assert re.search(
+        r"The DH table parts from the URDF at DH frame 4 \(after joint 4, wrist_1\): the axis of "
+        r"joint 5 \(wrist_2, URDF wrist_2_joint\) is [0-9.e-]+ mm off and turned 180° from the "
+        r"URDF&#39;s; the axes of joints 1–4 agree\. Look at row 4 of the DH table\.",
+        page,
+    )
+
+
+def test_all_writes_every_model_and_the_index(tmp_path, capsys):
+    out = tmp_path / "reports"
+    summary = tmp_path / "all.md"
+    argv = ["check", "--all", "--samples", "4", "--against", "pinocchio-dh",
+            "--out-dir", str(out), "--summary", str(summary)]  # fmt: skip
+    assert main(argv) == 0
+    names = sorted(bundled_model_paths())
+    expected = {"index.html"} | {f"{n}{ext}" for n in names
+                                 for ext in (".html", ".json", ".junit.xml")}  # fmt: skip
+    assert {p.name for p in out.iterdir()} == expected
+    index = (out / "index.html").read_text(encoding="utf-8")
+    for n in names:
+        assert f'<a href="{n}.html"><strong>{n}</strong></a>' in index
+        doc = json.loads((out / f"{n}.json").read_text(encoding="utf-8"))
+        assert doc["verdict"] == "pass"
+        assert f"fkcheck check {n} --samples 4 --seed 0" in (out / f"{n}.html").read_text()
+    assert f"{len(names)} models checked: {len(names)} pass." in index
+    text = summary.read_text(encoding="utf-8")
+    assert text.startswith(f"## fkcheck: {len(names)} models, ✅ PASS\n")
+    assert text.count("| pinocchio-dh | ✅ pass |") == len(names)
+    assert f"{len(names)} of {len(names)} models pass; reports in {out}/" in capsys.readouterr().out
+
+
+def test_all_fails_when_one_model_disagrees(tmp_path):
+    out = tmp_path / "reports"
+    argv = ["check", "--all", "--samples", "2", "--against", "pinocchio-dh", "--tol-pos",
+            "1e-30", "--tol-rot", "1e-30", "--out-dir", str(out)]  # fmt: skip
+    assert main(argv) == 1
+    assert "FAIL" in (out / "index.html").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["check", "--all", "ur5"], r"--all checks every bundled model: drop MODEL \('ur5'\)"),
+        (["check"], r"give a MODEL \(e\.g\. ur5\) or --all"),
+        (["check", "--all", "--json", "x.json"], r"--json does not go with --all"),
+        (["check", "--all", "--from", "base"], r"--from does not go with --all"),
+        (["check", "ur5", "--out-dir", "x"], r"--out-dir goes with --all"),
+    ],
+)
+def test_bad_combinations_are_bad_input(argv, message, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert re.search(message, err), err
+    assert err.count("\n") == 1
+
+
+def test_main_job_writes_the_ur5_report(tmp_path, monkeypatch):
+    assert MAIN_JOB == ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
+    monkeypatch.chdir(tmp_path)
+    assert main([]) == 0
+    page = (tmp_path / "reports" / "ur5.html").read_text(encoding="utf-8")
+    doc = json.loads((tmp_path / "reports" / "ur5.json").read_text(encoding="utf-8"))
+    assert page_numbers(page).verdict == doc["verdict"] == "pass"
+    assert "fkcheck check ur5 --json reports/ur5.json --html reports/ur5.html" in page
