@@ -43,3 +43,19 @@ def fuzz(session: nox.Session) -> None:
     _install(session, "test")
     session.env["FKCHECK_HYPOTHESIS_PROFILE"] = "fuzz"
     session.run("pytest", "-k", "property", "--hypothesis-show-statistics", *session.posargs)
+
+
+@nox.session(default=False)
+def crossval(session: nox.Session) -> None:
+    """Check every bundled model against every default backend; fail when any disagrees.
+
+    Writes reports/: per model <model>.json, <model>.html and <model>.junit.xml,
+    plus index.html (every model x backend) and summary.md (also appended to
+    $GITHUB_STEP_SUMMARY on GitHub Actions). Extra arguments go to
+    `fkcheck check --all`, e.g. `nox -s crossval -- --samples 10000`.
+    """
+    _install(session)
+    session.run(
+        "fkcheck", "check", "--all", "--out-dir", "reports",
+        "--summary", "reports/summary.md", *session.posargs,
+    )  # fmt: skip
