@@ -12,7 +12,7 @@ import pytest
 from conftest import BUNDLED, random_q
 from fkcheck import load_model
 from fkcheck.backends.base import BackendUnavailable
-from fkcheck.report.urdf_axes import compare_joint_axes, parse_joint_geometry
+from fkcheck.report.urdf_axes import compare_joint_axes
 from fkcheck.tolerances import ROUNDED_URDF
 from fkcheck.urdf_source import example_robot_data_dir
 
@@ -89,35 +89,3 @@ def test_no_urdf_or_no_urdf_twin_means_no_comparison():
     assert compare_joint_axes(puma, np.zeros(puma.dof), "world", 1e-6, 1e-6) is None
     ur5 = load_model("ur5")
     assert compare_joint_axes(ur5, np.zeros(6), "world", 1e-6, 1e-6) is None  # world: no twin
-
-
-def test_joint_geometry_follows_the_urdf_defaults():
-    joints = parse_joint_geometry(
-        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
-        '<joint name="j1" type="revolute"><parent link="a"/><child link="b"/></joint>'
-        '<joint name="j2" type="prismatic"><parent link="b"/><child link="c"/>'
-        '<origin xyz="1 2 3" rpy="0 0 1.5707963267948966"/><axis xyz="0 0 2"/></joint>'
-        "</robot>"
-    )
-    assert joints["j1"].axis == (1.0, 0.0, 0.0)  # URDF default axis
-    assert np.array_equal(np.array(joints["j1"].origin), np.eye(4))
-    assert joints["j2"].axis == (0.0, 0.0, 1.0)  # normalised
-    np.testing.assert_allclose(np.array(joints["j2"].origin)[:3, 3], [1.0, 2.0, 3.0])
-    np.testing.assert_allclose(np.array(joints["j2"].origin)[0, 1], -1.0)
-
-
-@pytest.mark.parametrize(
-    ("xml", "match"),
-    [
-        ('<origin xyz="1 2"/>', r"expected three finite numbers, got '1 2'"),
-        ('<origin xyz="1 nan 2"/>', r"expected three finite numbers"),
-        ('<axis xyz="0 0 0"/>', r"joint 'j' has a zero axis"),
-    ],
-)
-def test_bad_geometry_is_refused(xml, match):
-    text = (
-        '<robot name="r"><link name="a"/><link name="b"/><joint name="j" type="revolute">'
-        f'<parent link="a"/><child link="b"/>{xml}</joint></robot>'
-    )
-    with pytest.raises(ValueError, match=match):
-        parse_joint_geometry(text)

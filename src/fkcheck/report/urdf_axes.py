@@ -9,15 +9,14 @@ joint frame. Expressed in the compared ``from`` frame (whose URDF twin the model
 names), the two lines must coincide. The first joint whose axis does not sits on
 the first DH frame that is wrong, which names the row of the table to look at.
 
-This module reads the screened URDF text (:func:`fkcheck.urdf_source.load_urdf`)
-with the standard library and walks the tree with NumPy; it is evidence for a
-report, not a backend, and the check's verdict never depends on it.
+The URDF side comes from :mod:`fkcheck.urdf_kinematics` (the screened URDF text,
+NumPy only); this is evidence for a report, not a backend, and the check's
+verdict never depends on it.
 """
 
 from __future__ import annotations
 
 import math
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,38 +24,11 @@ from numpy.typing import NDArray
 
 from fkcheck.check import CheckResult, reference_poses
 from fkcheck.model import Model
-from fkcheck.transforms import invert, matrix_from_xyz_rpy
+from fkcheck.transforms import invert
 
-__all__ = [
-    "AxisParting",
-    "UrdfJointGeometry",
-    "compare_joint_axes",
-    "parse_joint_geometry",
-    "urdf_axis_parting",
-]
+__all__ = ["AxisParting", "compare_joint_axes", "urdf_axis_parting"]
 
 Float = NDArray[np.float64]
-
-
-@dataclass(frozen=True)
-class UrdfJointGeometry:
-    """A URDF joint's fixed geometry.
-
-    Attributes:
-        name: Joint name.
-        type: ``revolute``, ``continuous``, ``prismatic``, ``fixed`` …
-        parent: Parent link.
-        child: Child link.
-        origin: ``parent_T_joint`` (4×4) from ``<origin xyz rpy>``.
-        axis: Unit axis in the joint frame (``<axis xyz>``, default ``1 0 0``).
-    """
-
-    name: str
-    type: str
-    parent: str
-    child: str
-    origin: tuple[tuple[float, ...], ...]
-    axis: tuple[float, float, float]
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,89 +53,6 @@ class AxisParting:
     urdf_lines: Float
 
 
-def _floats(text: str | None, default: tuple[float, float, float]) -> tuple[float, float, float]:
-    if text is None:
-        return default
-    parts = [float(v) for v in text.split()]
-    if len(parts) != 3 or not all(math.isfinite(v) for v in parts):
-        raise ValueError(f"expected three finite numbers, got {text!r}")
-    return (parts[0], parts[1], parts[2])
-
-
-def parse_joint_geometry(text: str) -> dict[str, UrdfJointGeometry]:
-    """Every ``<joint>`` of a URDF with its origin and axis.
-
-    Args:
-        text: The URDF, already screened (no DTD) by :func:`fkcheck.urdf_source.load_urdf`.
-
-    Raises:
-        ValueError: An origin or axis that is not three finite numbers, or a zero axis.
-    """
-    root = ET.fromstring(text)
-    out: dict[str, UrdfJointGeometry] = {}
-    for el in root.iter("joint"):
-        parent, child, name = el.find("parent"), el.find("child"), el.get("name")
-        if name is None or parent is None or child is None:
-            continue  # a <joint> inside <transmission>
-        origin = el.find("origin")
-        xyz = _floats(origin.get("xyz") if origin is not None else None, (0.0, 0.0, 0.0))
-        rpy = _floats(origin.get("rpy") if origin is not None else None, (0.0, 0.0, 0.0))
-        axis_el = el.find("axis")
-        axis = np.array(
-            _floats(axis_el.get("xyz") if axis_el is not None else None, (1.0, 0.0, 0.0))
-        )
-        norm = float(np.linalg.norm(axis))
-        if norm == 0.0:
-            raise ValueError(f"joint {name!r} has a zero axis")
-        unit = axis / norm
-        out[name] = UrdfJointGeometry(
-            name=name,
-            type=el.get("type", ""),
-            parent=str(parent.get("link")),
-            child=str(child.get("link")),
-            origin=tuple(tuple(float(v) for v in row) for row in matrix_from_xyz_rpy(xyz, rpy)),
-            axis=(float(unit[0]), float(unit[1]), float(unit[2])),
-        )
-    return out
-
-
-def _motion(joint: UrdfJointGeometry, value: float) -> Float:
-    """The joint's own motion for a joint value (rotation about / slide along its axis)."""
-    T = np.eye(4)
-    u = np.array(joint.axis)
-    if joint.type in ("revolute", "continuous"):
-        K = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
-        T[:3, :3] = np.eye(3) + math.sin(value) * K + (1.0 - math.cos(value)) * (K @ K)
-    elif joint.type == "prismatic":
-        T[:3, 3] = value * u
-    return T
-
-
-class _Tree:
-    """Link and joint-frame poses of a URDF for one configuration."""
-
-    def __init__(self, joints: dict[str, UrdfJointGeometry], values: dict[str, float]) -> None:
-        self.by_child = {j.child: j for j in joints.values()}
-        self.values = values
-        self.cache: dict[str, Float] = {}
-
-    def link(self, name: str) -> Float:
-        """``root_T_link``."""
-        if name not in self.cache:
-            joint = self.by_child.get(name)
-            if joint is None:  # the root
-                self.cache[name] = np.eye(4)
-            else:
-                value = self.values.get(joint.name, 0.0)
-                self.cache[name] = self.joint_frame(joint) @ _motion(joint, value)
-        return self.cache[name]
-
-    def joint_frame(self, joint: UrdfJointGeometry) -> Float:
-        """``root_T_joint`` before the joint's own motion (its axis does not depend on it)."""
-        frame: Float = self.link(joint.parent) @ np.array(joint.origin)
-        return frame
-
-
 def _angle(u: Float, v: Float) -> float:
     return math.atan2(float(np.linalg.norm(np.cross(u, v))), float(np.dot(u, v)))
 
@@ -183,6 +72,28 @@ def urdf_axis_parting(check: CheckResult, index: int) -> AxisParting | None:
     return compare_joint_axes(
         check.model, check.q[index], check.frame_from, check.tol_pos_m, check.tol_rot_rad, index
     )
+
+
+def _urdf_axes(model: Model, q: Float, from_link: str) -> tuple[Float, Float] | None:
+    """The URDF's axes of the mapped joints, DH order, in ``from_link``: points, directions."""
+    from fkcheck.errors import FkcheckError
+    from fkcheck.urdf_kinematics import urdf_kinematics
+    from fkcheck.urdf_source import load_urdf
+
+    assert model.urdf is not None
+    try:
+        info = load_urdf(model)
+        kin = urdf_kinematics(info.path, info.text)
+        chain = kin.chain(from_link, kin.joints[model.urdf.joints[-1]].child)
+        movable = [j.name for j in chain if j.type != "fixed"]
+        values = dict(zip(model.urdf.joints, (float(v) for v in q), strict=True))
+        points, directions = kin.axes_at(chain, np.array([values.get(n, 0.0) for n in movable]))
+    except (FkcheckError, KeyError, ValueError):
+        return None
+    if not set(model.urdf.joints) <= set(movable):
+        return None
+    order = [movable.index(name) for name in model.urdf.joints]
+    return points[order], directions[order]
 
 
 def compare_joint_axes(
@@ -206,40 +117,28 @@ def compare_joint_axes(
 
     Returns:
         The comparison, or ``None`` when the model has no URDF, ``frame_from``
-        has no URDF twin, or the URDF cannot be read here.
+        has no URDF twin, or the URDF cannot be read here (or its mapped joints
+        do not hang below that frame's link).
     """
-    from fkcheck.errors import FkcheckError
-    from fkcheck.urdf_source import load_urdf
-
     from_spec = model.frames[frame_from]
     if model.urdf is None or from_spec.urdf is None:
         return None
-    try:
-        info = load_urdf(model)
-        joints = parse_joint_geometry(info.text)
-    except (FkcheckError, ValueError, ET.ParseError):
+    urdf = _urdf_axes(model, q, from_spec.urdf)
+    if urdf is None:
         return None
-    tree = _Tree(joints, dict(zip(model.urdf.joints, (float(v) for v in q), strict=True)))
-    urdf_from_T_root = invert(tree.link(from_spec.urdf))
-
-    world_T_from = reference_poses(model, q[None], (frame_from,))[0, 0]
-    from_T_world = invert(world_T_from)
+    urdf_points, urdf_dirs = urdf
+    from_T_world = invert(reference_poses(model, q[None], (frame_from,))[0, 0])
     dh_frames = np.asarray(model.fk(q, all_frames=True))
     n = model.dof
     angle = np.empty(n)
     offset = np.empty(n)
-    lines = np.empty((n, 2, 3))
-    for i, (joint, urdf_name) in enumerate(zip(model.joints, model.urdf.joints, strict=True)):
-        on = dh_frames[i] if model.convention == "standard" else dh_frames[i + 1]
-        sign = -1.0 if joint.flip else 1.0
-        dh_point = (from_T_world @ on)[:3, 3]
-        dh_dir = (from_T_world @ on)[:3, 2] * sign
-        J = urdf_from_T_root @ tree.joint_frame(joints[urdf_name])
-        urdf_point = J[:3, 3]
-        urdf_dir = J[:3, :3] @ np.array(joints[urdf_name].axis)
-        angle[i] = _angle(dh_dir, urdf_dir)
-        offset[i] = float(np.linalg.norm(np.cross(urdf_point - dh_point, dh_dir)))
-        lines[i] = (urdf_point, urdf_dir)
+    for i, joint in enumerate(model.joints):
+        on = from_T_world @ (dh_frames[i] if model.convention == "standard" else dh_frames[i + 1])
+        dh_point = on[:3, 3]
+        dh_dir = on[:3, 2] * (-1.0 if joint.flip else 1.0)
+        angle[i] = _angle(dh_dir, urdf_dirs[i])
+        offset[i] = float(np.linalg.norm(np.cross(urdf_points[i] - dh_point, dh_dir)))
     beyond = np.flatnonzero((offset > tol_pos_m) | (angle > tol_rot_rad))
     first = int(beyond[0]) if beyond.size else None
+    lines = np.stack([urdf_points, urdf_dirs], axis=1)
     return AxisParting(index, tuple(model.urdf.joints), angle, offset, first, lines)
