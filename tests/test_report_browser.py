@@ -117,3 +117,21 @@ def test_browser_reports_a_console_message_when_there_is_one(tmp_path):
     messages = console_messages(done.stderr)
     assert len(messages) == 1
     assert "violates the following Content Security Policy directive" in messages[0]
+
+
+def test_browser_shows_where_a_flipped_alpha_parts(tmp_path):
+    model = ur5_variant(tmp_path, "alpha = 90", "alpha = -90", after='name = "wrist_1"',
+                        name="ur5-alpha4-flipped")  # fmt: skip
+    html = tmp_path / "ur5-alpha4-flipped.html"
+    argv = ["check", str(model), "--samples", "64", "--against", f"rtb-dh,{URDF_BACKENDS}",
+            "--html", str(html)]  # fmt: skip
+    assert main(argv) == 1
+    done = chromium(tmp_path, html.as_uri(), "--dump-dom")
+    assert console_messages(done.stderr) == []
+    head = done.stdout[done.stdout.index('id="verdict"') : done.stdout.index('id="summary"')]
+    assert "the DH table parts from the URDF at DH frame 4 (after joint 4, wrist_1)" in head
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+    target = SCREENSHOTS / "ur5-alpha4-flipped-first-screen.png"
+    target.unlink(missing_ok=True)
+    chromium(tmp_path, html.as_uri(), f"--screenshot={target}", "--window-size=1280,900")
+    assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

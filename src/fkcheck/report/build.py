@@ -635,6 +635,8 @@ def build_report_page(
         ),
         Fact("checked at", check.created or "–", volatile="date"),
         Fact("took", format_seconds(check.duration_s), volatile="duration"),
+        Fact("versions", " · ".join(f"{k} {v}" for k, v in versions.items()), volatile="version"),
+        Fact("reproduce", check.command or "(run from Python: no command line)", code=True),
     )
     partings = _partings(check)
     headline = _headline(check) + tuple(
@@ -649,8 +651,6 @@ def build_report_page(
         headline=headline,
         facts=facts,
         sides=_sides(check),
-        versions=tuple(Fact(k, v, volatile="version") for k, v in versions.items()),
-        command=check.command,
         backends=rows,
         plots=tuple(images),
         partings=partings,

@@ -403,10 +403,9 @@ class ReportPage:
         verdict_line: The verdict as a sentence, e.g. "3 of 5 backends disagree".
         disagreeing: Names of the backends that fail.
         headline: The largest errors among the disagreeing backends.
-        facts: What was checked and how (key/value list).
+        facts: What was checked and how (key/value list), library versions and
+            the command line that reproduces the check.
         sides: The two compared frames and what they mean.
-        versions: Library versions (key/value list).
-        command: The command line that reproduces the check.
         backends: One row per backend.
         plots: Error distribution and error against each joint.
         partings: Where the chains part: DH frames of backends built from the
@@ -424,8 +423,6 @@ class ReportPage:
     headline: tuple[str, ...]
     facts: tuple[Fact, ...]
     sides: tuple[FrameSide, ...]
-    versions: tuple[Fact, ...]
-    command: str
     backends: tuple[BackendRow, ...]
     plots: tuple[Image, ...]
     partings: tuple[PartingView, ...]
