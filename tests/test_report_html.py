@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 import re
+import subprocess
+import sys
 from importlib import resources
 from pathlib import Path
 
@@ -290,3 +292,14 @@ def test_write_html_is_atomic_and_complete(tmp_path):
 )
 def test_number_formats(value, mm, rad, deg):
     assert (format_mm(value), format_rad(value), format_deg(value)) == (mm, rad, deg)
+
+
+def test_importing_the_report_modules_loads_no_heavy_library():
+    code = (
+        "import sys, fkcheck.report.html, fkcheck.report.build, fkcheck.report.plots, "
+        "fkcheck.report.markdown, fkcheck.commands.check; "
+        "print(sorted(m for m in ('matplotlib', 'jinja2', 'scipy', 'pinocchio', "
+        "'roboticstoolbox') if m in sys.modules))"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "[]"
