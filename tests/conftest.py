@@ -31,6 +31,12 @@ settings.register_profile(
 settings.load_profile(os.environ.get("FKCHECK_HYPOTHESIS_PROFILE", "default"))
 
 
+@pytest.fixture(autouse=True)
+def _no_ci_step_summary(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Tests never append to a real CI page's step summary."""
+    monkeypatch.delenv("GITHUB_STEP_SUMMARY", raising=False)
+
+
 @pytest.fixture
 def rng() -> np.random.Generator:
     """A seeded generator: every test run draws the same numbers."""

@@ -253,3 +253,12 @@ def test_samples_cover_poses_zero_corners_and_limits(ur5):
     assert not np.array_equal(s.q, sample_configurations(ur5, 64, seed=4).q)
     uniform = sample_configurations(ur5, 10, seed=3, sampler="uniform")
     assert uniform.origin.count("random") == 10
+
+
+def test_reports_are_written_readable_by_others(ur5, tmp_path):
+    import os
+    import stat
+
+    path = write_json(run_check(ur5, [ReferenceChain()], samples=5), tmp_path / "r.json")
+    assert stat.S_IMODE(os.stat(path).st_mode) == 0o644
+    assert [p.name for p in tmp_path.iterdir()] == ["r.json"]  # no temporary file left

@@ -9,6 +9,9 @@ from pathlib import Path
 
 __all__ = ["write_bytes_atomic", "write_text_atomic"]
 
+#: Permissions of written files: readable by everyone, like a plain ``open(…, "w")``.
+_FILE_MODE = 0o644
+
 
 def write_bytes_atomic(path: Path | str, data: bytes) -> Path:
     """Write ``data`` to ``path`` so that readers see the old file or the whole new one.
@@ -24,6 +27,7 @@ def write_bytes_atomic(path: Path | str, data: bytes) -> Path:
             handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
+        os.chmod(tmp, _FILE_MODE)  # mkstemp makes 0600; reports are meant to be shared
         os.replace(tmp, target)
     except BaseException:
         with contextlib.suppress(OSError):
