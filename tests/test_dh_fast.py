@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from conftest import BUNDLED, random_q
 from fkcheck import JointInputError, dh, load_model
 from fkcheck.dh import fk, fk_numpy, fk_reference
+from fkcheck.model import model_from_dict
 from fkcheck.tolerances import FAST_CORE
 from helpers import assert_se3
 from strategies import dh_models
@@ -154,16 +155,44 @@ def test_jit_batch_matches_reference_on_random_tables(kernels, model, seed, n):
     assert_entries_close(out, fk_reference(chain, q), tol=FAST_CORE * max(1.0, reach))
 
 
-def test_jit_batch_result_does_not_depend_on_the_task_split(kernels, rng):
+def test_jit_batch_result_does_not_depend_on_the_threads(kernels, rng):
     model = load_model("panda")
-    q = random_q(model, rng, 7 * kernels.BLOCK + 3)
+    # Enough blocks for the parallel loop, and a partial last block.
+    q = wide_q(model, rng, kernels.PARALLEL_MIN_BLOCKS * kernels.BLOCK + 77, 1e3)
     results = []
-    for tasks in (1, 2, 3, 64):
+    for workers in (1, 2, 3, 64):
         out = np.empty((q.shape[0], 4, 4))
-        kernels.fk_tcp(q, model.chain.program, True, out, tasks)
+        assert kernels.fk_tcp(q, model.chain.program, True, out, workers)
         results.append(out)
+    assert_entries_close(results[0], fk_reference(model.chain, q))
     for out in results[1:]:
         np.testing.assert_array_equal(out, results[0])
+
+
+def test_jit_batch_reports_non_finite_values_in_any_block(kernels):
+    model = load_model("ur5")
+    n = kernels.PARALLEL_MIN_BLOCKS * kernels.BLOCK + 5
+    for row, value in [(0, math.nan), (n - 1, math.inf), (n // 2, -math.inf)]:
+        q = np.zeros((n, 6))
+        q[row, row % 6] = value
+        for workers in (1, 2):
+            assert not kernels.fk_tcp(q, model.chain.program, False, np.empty((n, 4, 4)), workers)
+
+
+def test_jit_batch_angle_overflow_gives_the_references_nans(jit_batches):
+    model = model_from_dict(
+        {"name": "offset", "convention": "standard",
+         "joint": [{"a": 0.5, "alpha": 0.3, "d": 0.1, "theta": 1e308}] * 2}
+    )  # fmt: skip
+    q = np.zeros((20, 2))
+    q[7, 1] = 1e308  # finite, but q + θ0 overflows to inf
+    with np.errstate(over="ignore", invalid="ignore"):  # as NumPy warns for the reference
+        T, ref = fk(model.chain, q), fk_reference(model.chain, q)
+    # NaN where the reference has NaN (its last row too, from the matrix product: ours
+    # stays 0 0 0 1), and the other poses as usual.
+    np.testing.assert_array_equal(np.isnan(T[:, :3]), np.isnan(ref[:, :3]))
+    assert np.isnan(T[7, :3]).all()
+    assert_entries_close(np.delete(T, 7, axis=0), np.delete(ref, 7, axis=0))
 
 
 @pytest.mark.parametrize("name", BUNDLED)

@@ -40,6 +40,7 @@ from numpy.typing import NDArray
 __all__ = [
     "BLOCK",
     "CODY_WAITE_LIMIT",
+    "PARALLEL_MIN_BLOCKS",
     "fk_one",
     "fk_tcp",
     "sincos",
@@ -56,12 +57,22 @@ Float = NDArray[np.float64]
 
 #: Poses per block of the batched kernel: 12 columns + 3 per-joint rows of
 #: 256 float64 each are 30 KiB of scratch, which stays in a core's L1/L2 cache.
-#: A compile-time constant, so the column offsets inside the scratch are too.
+#: A compile-time constant, so the row offsets inside the scratch are too.
 BLOCK = 256
 
-# Rows of the scratch array: X0..X2, Y0..Y2, Z0..Z2, P0..P2, then per joint C, S, D, Q.
+#: Fewer blocks than this (16 384 poses, ~0.3 ms of work) run on the calling
+#: thread: waking the other threads costs more than they would save, and far
+#: more when the machine is busy and they have to wait for a core.
+PARALLEL_MIN_BLOCKS = 64
+
+# Rows of the scratch array: X0..X2, Y0..Y2, Z0..Z2, P0..P2, then per joint
+# C, S, D (cos θ, sin θ, d) and Q (the joint's angle, copied out of q's strided column).
 _X, _Y, _Z, _P, _C, _S, _D, _Q = 0, 3, 6, 9, 12, 13, 14, 15
 _ROWS = 16
+# Row stride: one cache line more than a block. With exactly 256 floats (2 KiB),
+# all fifteen rows fall into the same two L1 cache sets and evict each other in
+# the fused loops (measured: 6× slower).
+_STRIDE = BLOCK + 8
 
 # π/2 split into three 33-bit parts (fdlibm's pio2_1, pio2_2, pio2_3) and the
 # remainder's leading part. For |k| < 2**20, k·_PIO2_1, k·_PIO2_2 and k·_PIO2_3
@@ -148,90 +159,181 @@ def _start(w: Float, m: int, base: Float) -> None:  # pragma: no cover - compile
     for r in range(3):
         for col in range(4):
             v = base[r, col]
-            o = (3 * col + r) * BLOCK
+            o = (3 * col + r) * _STRIDE
             for j in range(m):
                 w[o + j] = v
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH)
-def _revolute(
-    q: Float, start: int, m: int, i: int, sign: float, theta: float, d: float, w: Float
+# --------------------------------------------------------------------------- joints
+# One joint, one pose: the column arithmetic of fkcheck.dh, on scratch columns.
+# Inlined into the loops below (numba IR inlining), where `twist` is a literal.
+# Scratch indices are unsigned (`_U`): numba then leaves out its negative-index
+# wraparound, which would otherwise hide the access pattern from LLVM's
+# vectoriser (measured: these loops run scalar with signed indices).
+
+_U = np.uint64
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _standard_step(
+    w: Float, j: int, c: float, s: float, d: float, a: float, ca: float, sa: float, twist: bool
 ) -> None:  # pragma: no cover - compiled
-    """Rows C, S, D for revolute joint ``i``: cos θ, sin θ (θ = s·q + θ0) and the fixed d."""
-    q_i = q[start : start + m, i]
-    for j in range(m):
-        w[_Q * BLOCK + j] = q_i[j] * sign + theta
-    far = False
-    for j in range(m):
-        x = w[_Q * BLOCK + j]
-        s, c = sincos(x)
-        w[_S * BLOCK + j] = s
-        w[_C * BLOCK + j] = c
-        w[_D * BLOCK + j] = d
-        far |= abs(x) > CODY_WAITE_LIMIT
-    if far:
-        for j in range(m):
-            x = w[_Q * BLOCK + j]
-            if abs(x) > CODY_WAITE_LIMIT:
-                w[_S * BLOCK + j] = math.sin(x)
-                w[_C * BLOCK + j] = math.cos(x)
+    """Pose ``j`` times ``Rz(θ) · Tz(d) · Tx(a) · Rx(α)``; ``twist=False`` when α = 0."""
+    for r in range(3):
+        ox, oy = _U((_X + r) * _STRIDE) + j, _U((_Y + r) * _STRIDE) + j
+        oz, op = _U((_Z + r) * _STRIDE) + j, _U((_P + r) * _STRIDE) + j
+        x, y, z = w[ox], w[oy], w[oz]
+        xn = c * x + s * y
+        y1 = c * y - s * x
+        w[op] = w[op] + d * z + a * xn
+        w[ox] = xn
+        if twist:
+            w[oy] = ca * y1 + sa * z
+            w[oz] = ca * z - sa * y1
+        else:
+            w[oy] = y1
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH)
-def _prismatic(
-    q: Float, start: int, m: int, i: int, sign: float, d: float, ct: float, st: float, w: Float
+@nb.njit(cache=True, fastmath=_FASTMATH, inline="always")
+def _modified_step(
+    w: Float, j: int, c: float, s: float, d: float, a: float, ca: float, sa: float, twist: bool
 ) -> None:  # pragma: no cover - compiled
-    """Rows C, S, D for prismatic joint ``i``: the fixed angle's cos and sin, d = s·q + d0."""
-    q_i = q[start : start + m, i]
-    for j in range(m):
-        w[_D * BLOCK + j] = q_i[j] * sign + d
-        w[_C * BLOCK + j] = ct
-        w[_S * BLOCK + j] = st
-
-
-@nb.njit(cache=True, fastmath=_FASTMATH)
-def _standard(w: Float, m: int, a: float, ca: float, sa: float) -> None:  # pragma: no cover
-    """Right-multiply every pose by ``Rz(θ) · Tz(d) · Tx(a) · Rx(α)``."""
+    """Pose ``j`` times ``Rx(α) · Tx(a) · Rz(θ) · Tz(d)``; ``twist=False`` when α = 0."""
     for r in range(3):
-        ox = (_X + r) * BLOCK
-        oy = (_Y + r) * BLOCK
-        oz = (_Z + r) * BLOCK
-        op = (_P + r) * BLOCK
-        for j in range(m):
-            c = w[_C * BLOCK + j]
-            s = w[_S * BLOCK + j]
-            x = w[ox + j]
-            y = w[oy + j]
-            z = w[oz + j]
-            xn = c * x + s * y
-            y1 = c * y - s * x
-            w[op + j] = w[op + j] + w[_D * BLOCK + j] * z + a * xn
-            w[oy + j] = ca * y1 + sa * z
-            w[oz + j] = ca * z - sa * y1
-            w[ox + j] = xn
-
-
-@nb.njit(cache=True, fastmath=_FASTMATH)
-def _modified(w: Float, m: int, a: float, ca: float, sa: float) -> None:  # pragma: no cover
-    """Right-multiply every pose by ``Rx(α) · Tx(a) · Rz(θ) · Tz(d)``."""
-    for r in range(3):
-        ox = (_X + r) * BLOCK
-        oy = (_Y + r) * BLOCK
-        oz = (_Z + r) * BLOCK
-        op = (_P + r) * BLOCK
-        for j in range(m):
-            c = w[_C * BLOCK + j]
-            s = w[_S * BLOCK + j]
-            x = w[ox + j]
-            y = w[oy + j]
-            z = w[oz + j]
+        ox, oy = _U((_X + r) * _STRIDE) + j, _U((_Y + r) * _STRIDE) + j
+        oz, op = _U((_Z + r) * _STRIDE) + j, _U((_P + r) * _STRIDE) + j
+        x, y, z = w[ox], w[oy], w[oz]
+        if twist:
             y1 = ca * y + sa * z
-            zn = ca * z - sa * y
-            p = w[op + j] + a * x
-            w[ox + j] = c * x + s * y1
-            w[oy + j] = c * y1 - s * x
-            w[oz + j] = zn
-            w[op + j] = p + w[_D * BLOCK + j] * zn
+            z = ca * z - sa * y
+            w[oz] = z
+        else:
+            y1 = y
+        w[ox] = c * x + s * y1
+        w[oy] = c * y1 - s * x
+        w[op] = w[op] + a * x + d * z
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
+def _revolute_fused(
+    q: Float, start: int, m: int, i: int, modified: bool, joint: Float, w: Float
+) -> bool:  # pragma: no cover - compiled
+    """Revolute joint ``i`` for poses ``start … start+m-1``, sin/cos computed in the loop.
+
+    Returns ``False`` if an angle is beyond :data:`CODY_WAITE_LIMIT` or not
+    finite; the columns are then wrong and the block must take :func:`_chain_rows`.
+    """
+    sign, theta, d, a, ca, sa = joint[1], joint[2], joint[3], joint[4], joint[5], joint[6]
+    # A contiguous copy first: the loops below vectorise only over unit-stride data.
+    q_i = q[start : start + m, i]
+    for j in range(m):
+        w[_Q * _STRIDE + j] = q_i[j] * sign + theta
+    far = False
+    twist = not (ca == 1.0 and sa == 0.0)
+    if modified and twist:
+        for j in range(_U(m)):
+            x = w[_U(_Q * _STRIDE) + j]
+            far |= not abs(x) <= CODY_WAITE_LIMIT
+            s, c = sincos(x)
+            _modified_step(w, j, c, s, d, a, ca, sa, True)
+    elif modified:
+        for j in range(_U(m)):
+            x = w[_U(_Q * _STRIDE) + j]
+            far |= not abs(x) <= CODY_WAITE_LIMIT
+            s, c = sincos(x)
+            _modified_step(w, j, c, s, d, a, ca, sa, False)
+    elif twist:
+        for j in range(_U(m)):
+            x = w[_U(_Q * _STRIDE) + j]
+            far |= not abs(x) <= CODY_WAITE_LIMIT
+            s, c = sincos(x)
+            _standard_step(w, j, c, s, d, a, ca, sa, True)
+    else:
+        for j in range(_U(m)):
+            x = w[_U(_Q * _STRIDE) + j]
+            far |= not abs(x) <= CODY_WAITE_LIMIT
+            s, c = sincos(x)
+            _standard_step(w, j, c, s, d, a, ca, sa, False)
+    return not far
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
+def _joint_rows(
+    q: Float, start: int, m: int, i: int, joint: Float, w: Float
+) -> bool:  # pragma: no cover - compiled
+    """Rows C, S, D of joint ``i``: cos θ, sin θ and d for each pose, any finite q.
+
+    Revolute: θ = s·q + θ0, with the polynomial and libm beyond its range;
+    prismatic: the fixed angle, d = s·q + d0. Returns ``False`` if a value is not
+    finite.
+    """
+    sign = joint[1]
+    q_i = q[start : start + m, i]
+    finite = True
+    if joint[0] != 0.0:
+        for j in range(m):
+            v = q_i[j] * sign + joint[3]
+            finite &= math.isfinite(v)
+            w[_D * _STRIDE + j] = v
+            w[_C * _STRIDE + j] = joint[7]
+            w[_S * _STRIDE + j] = joint[8]
+        return finite
+    for j in range(m):
+        x = q_i[j] * sign + joint[2]
+        finite &= math.isfinite(x)
+        if abs(x) <= CODY_WAITE_LIMIT:
+            s, c = sincos(x)
+        else:
+            s, c = math.sin(x), math.cos(x)
+        w[_S * _STRIDE + j] = s
+        w[_C * _STRIDE + j] = c
+        w[_D * _STRIDE + j] = joint[3]
+    return finite
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
+def _rows_step(w: Float, m: int, modified: bool, joint: Float) -> None:  # pragma: no cover
+    """Every pose times joint's transform, with cos θ, sin θ, d from rows C, S, D."""
+    a, ca, sa = joint[4], joint[5], joint[6]
+    if modified:
+        for j in range(_U(m)):
+            c, s, d = w[_U(_C * _STRIDE) + j], w[_U(_S * _STRIDE) + j], w[_U(_D * _STRIDE) + j]
+            _modified_step(w, j, c, s, d, a, ca, sa, True)
+    else:
+        for j in range(_U(m)):
+            c, s, d = w[_U(_C * _STRIDE) + j], w[_U(_S * _STRIDE) + j], w[_U(_D * _STRIDE) + j]
+            _standard_step(w, j, c, s, d, a, ca, sa, True)
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
+def _chain_fused(
+    q: Float, start: int, m: int, prog: Float, modified: bool, w: Float
+) -> bool:  # pragma: no cover - compiled
+    """The whole chain for one block, revolute joints fused; ``False``: take the rows path."""
+    n = q.shape[1]
+    _start(w, m, prog[n : n + 4, :4])
+    for i in range(n):
+        if prog[i, 0] != 0.0:
+            if not _joint_rows(q, start, m, i, prog[i], w):
+                return False
+            _rows_step(w, m, modified, prog[i])
+        elif not _revolute_fused(q, start, m, i, modified, prog[i], w):
+            return False
+    return True
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
+def _chain_rows(
+    q: Float, start: int, m: int, prog: Float, modified: bool, w: Float
+) -> bool:  # pragma: no cover - compiled
+    """The whole chain for one block, any finite q; ``False`` if a value is not finite."""
+    n = q.shape[1]
+    _start(w, m, prog[n : n + 4, :4])
+    for i in range(n):
+        if not _joint_rows(q, start, m, i, prog[i], w):
+            return False
+        _rows_step(w, m, modified, prog[i])
+    return True
 
 
 @nb.njit(cache=True)
@@ -248,10 +350,10 @@ def _is_identity(T: Float) -> bool:  # pragma: no cover - compiled
 def _tool(w: Float, m: int, tool: Float) -> None:  # pragma: no cover - compiled
     """Right-multiply every pose by ``flange_T_tool``."""
     for r in range(3):
-        ox = (_X + r) * BLOCK
-        oy = (_Y + r) * BLOCK
-        oz = (_Z + r) * BLOCK
-        op = (_P + r) * BLOCK
+        ox = (_X + r) * _STRIDE
+        oy = (_Y + r) * _STRIDE
+        oz = (_Z + r) * _STRIDE
+        op = (_P + r) * _STRIDE
         for j in range(m):
             x = w[ox + j]
             y = w[oy + j]
@@ -315,7 +417,7 @@ def _store8_typer(typingctx: Any, w: Any, j: Any, flat: Any, k: Any) -> Any:  # 
         intp = context.get_value_type(types.intp)
 
         def load(row: int) -> ir.Value:
-            idx = builder.add(args[1], ir.Constant(intp, row * BLOCK))
+            idx = builder.add(args[1], ir.Constant(intp, row * _STRIDE))
             ptr = builder.gep(w_arr.data, [idx], inbounds=True)
             return builder.load(builder.bitcast(ptr, _V8.as_pointer()), align=8)
 
@@ -350,7 +452,7 @@ def _store(w: Float, m: int, flat: Float, start: int) -> None:  # pragma: no cov
         o = 16 * (start + jj)
         for r in range(3):
             for col in range(4):
-                flat[o + 4 * r + col] = w[(3 * col + r) * BLOCK + jj]
+                flat[o + 4 * r + col] = w[(3 * col + r) * _STRIDE + jj]
         flat[o + 12] = 0.0
         flat[o + 13] = 0.0
         flat[o + 14] = 0.0
@@ -360,44 +462,73 @@ def _store(w: Float, m: int, flat: Float, start: int) -> None:  # pragma: no cov
 @nb.njit(cache=True, fastmath=_FASTMATH)
 def _block(
     q: Float, start: int, m: int, prog: Float, modified: bool, out: Float, w: Float
-) -> None:  # pragma: no cover - compiled
-    """Poses ``start … start+m-1`` (``m <= BLOCK``) into ``out``, using scratch ``w``."""
+) -> bool:  # pragma: no cover - compiled
+    """Poses ``start … start+m-1`` (``m <= BLOCK``) into ``out``, using scratch ``w``.
+
+    Returns ``False`` (``out`` unwritten) if a joint value is not finite.
+    """
+    fast = _chain_fused(q, start, m, prog, modified, w)  # false if an angle is beyond ~1.6e6 rad
+    if not fast and not _chain_rows(q, start, m, prog, modified, w):
+        return False
     n = q.shape[1]
-    _start(w, m, prog[n : n + 4, :4])
-    for i in range(n):
-        sign = prog[i, 1]
-        if prog[i, 0] != 0.0:
-            _prismatic(q, start, m, i, sign, prog[i, 3], prog[i, 7], prog[i, 8], w)
-        else:
-            _revolute(q, start, m, i, sign, prog[i, 2], prog[i, 3], w)
-        if modified:
-            _modified(w, m, prog[i, 4], prog[i, 5], prog[i, 6])
-        else:
-            _standard(w, m, prog[i, 4], prog[i, 5], prog[i, 6])
     tool = prog[n + 4 : n + 8, :4]
     if not _is_identity(tool):
         _tool(w, m, tool)
     _store(w, m, out.reshape(-1), start)
+    return True
+
+
+def _fetch_add_typer(typingctx: Any, counter: Any) -> Any:  # pragma: no cover
+    """Typing and code of ``_fetch_add(counter)``: atomically ``counter[0] += 1``.
+
+    Returns the value before the increment (LLVM ``atomicrmw add``).
+    """
+    sig = types.int64(counter)
+
+    def codegen(context: Any, builder: ir.IRBuilder, signature: Any, args: Any) -> Any:
+        arr = context.make_array(signature.args[0])(context, builder, args[0])
+        one = ir.Constant(ir.IntType(64), 1)
+        return builder.atomic_rmw("add", arr.data, one, "monotonic")
+
+    return sig, codegen
+
+
+_fetch_add: Any = intrinsic(_fetch_add_typer)
 
 
 @nb.njit(cache=True, parallel=True, fastmath=_FASTMATH)
 def fk_tcp(
-    q: Float, prog: Float, modified: bool, out: Float, tasks: int
-) -> None:  # pragma: no cover - compiled
+    q: Float, prog: Float, modified: bool, out: Float, workers: int
+) -> bool:  # pragma: no cover - compiled
     """``world_T_tcp`` for every row of ``q`` (``(N, n)``) into ``out`` (``(N, 4, 4)``).
 
-    The blocks are split into ``tasks`` contiguous runs shared among numba's
-    threads; each run allocates its scratch once (16 KiB·2), so memory beyond
-    ``out`` stays bounded whatever ``N``.
+    ``workers`` tasks run in parallel (one per numba thread) and take blocks from
+    a shared atomic counter until none is left: a thread slowed down by other
+    programs on the machine just takes fewer blocks, instead of holding up the
+    batch with a fixed share. Each worker allocates its scratch once (33 KiB),
+    so memory beyond ``out`` stays bounded whatever ``N``. Returns ``False`` if
+    a joint value is not finite (then ``out`` is partly written).
     """
     N = q.shape[0]
     nblocks = (N + BLOCK - 1) // BLOCK
-    ntasks = max(1, min(nblocks, tasks))
-    for t in nb.prange(ntasks):
-        w = np.empty(_ROWS * BLOCK)
-        for b in range(t * nblocks // ntasks, (t + 1) * nblocks // ntasks):
+    bad = 0
+    if workers <= 1 or nblocks < PARALLEL_MIN_BLOCKS:
+        w = np.empty(_ROWS * _STRIDE)
+        for b in range(nblocks):
             start = b * BLOCK
-            _block(q, start, min(BLOCK, N - start), prog, modified, out, w)
+            if not _block(q, start, min(BLOCK, N - start), prog, modified, out, w):
+                bad += 1
+        return bad == 0
+    counter = np.zeros(1, dtype=np.int64)
+    for _ in nb.prange(min(nblocks, workers)):
+        w = np.empty(_ROWS * _STRIDE)
+        b = _fetch_add(counter)
+        while b < nblocks:
+            start = b * BLOCK
+            if not _block(q, start, min(BLOCK, N - start), prog, modified, out, w):
+                bad += 1
+            b = _fetch_add(counter)
+    return bad == 0
 
 
 @nb.njit(cache=True)
@@ -461,11 +592,8 @@ def fk_one(q: Float, prog: Float, modified: bool, out: Float) -> bool:  # pragma
 
 
 def tasks() -> int:
-    """Task count for :func:`fk_tcp`: several per thread.
-
-    Then a thread slowed by other work on the machine does not hold up the batch.
-    """
-    return 8 * int(nb.get_num_threads())
+    """Worker count for :func:`fk_tcp`: numba's thread count (``NUMBA_NUM_THREADS``)."""
+    return int(nb.get_num_threads())
 
 
 def warm_up() -> None:

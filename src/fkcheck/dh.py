@@ -159,6 +159,13 @@ def joint_values(chain: DHChain, q: ArrayLike) -> Float:
     Raises:
         JointInputError: Wrong shape, not numeric, or not finite.
     """
+    q_arr = _joint_array(chain, q)
+    _check_finite(q_arr)
+    return q_arr
+
+
+def _joint_array(chain: DHChain, q: ArrayLike) -> Float:
+    """:func:`joint_values` without the finiteness check (for callers that do it later)."""
     try:
         q_arr = np.asarray(q, dtype=np.float64)
     except (TypeError, ValueError) as exc:
@@ -171,13 +178,17 @@ def joint_values(chain: DHChain, q: ArrayLike) -> Float:
             f"expected {n} joint values per configuration (shape ({n},) or (N, {n})), "
             f"got shape {np.shape(q)}"
         )
-    if not np.isfinite(q_arr).all():
-        bad = np.argwhere(~np.isfinite(q_arr))[0]
+    return np.ascontiguousarray(q_arr)
+
+
+def _check_finite(q: Float) -> None:
+    """Raise :class:`JointInputError` naming the first non-finite value of ``(N, n)`` q."""
+    if not np.isfinite(q).all():
+        bad = np.argwhere(~np.isfinite(q))[0]
         raise JointInputError(
             f"joint values must be finite; configuration {bad[0]} joint {bad[1] + 1} "
-            f"is {q_arr[bad[0], bad[1]]}"
+            f"is {q[bad[0], bad[1]]}"
         )
-    return np.ascontiguousarray(q_arr)
 
 
 def fk(
@@ -209,20 +220,25 @@ def fk(
         T = _one_pose_fast(chain, q)
         if T is not None:
             return T
-    q2 = joint_values(chain, q)
-    if not q2.flags.writeable:  # numba compiles read-only arrays as another type
-        q2 = q2.copy()
+    q2 = _joint_array(chain, q)
     single = np.ndim(q) == 1
     N, n = q2.shape
     frame_shape: tuple[int, ...] = (n + 1, 4, 4) if all_frames else (4, 4)
     result = _output(out, frame_shape if single else (N, *frame_shape), q2)
     batch = result.reshape((N, *frame_shape))
-    if not all_frames and single and _jit is not None:
-        _jit.fk_one(q2[0], chain.program, chain.convention == "modified", batch[0])
-        return result
+    modified = chain.convention == "modified"
     if not all_frames and N >= JIT_MIN_POSES and load_jit():
         assert _jit is not None
-        _jit.fk_tcp(q2, chain.program, chain.convention == "modified", batch, _jit.tasks())
+        if not q2.flags.writeable:  # numba would compile read-only arrays as another type
+            q2 = q2.copy()
+        # The kernel checks finiteness on the way (saving a pass over q) and refuses
+        # non-finite angles: then either q is not finite (raised below) or only
+        # s·q + θ0 overflowed, and the NumPy path gives the reference's NaNs.
+        if _jit.fk_tcp(q2, chain.program, modified, batch, _jit.tasks()):
+            return result
+    _check_finite(q2)
+    if not all_frames and single and _jit is not None:
+        _jit.fk_one(np.array(q2[0]), chain.program, modified, batch[0])
         return result
     _fk_numpy_into(chain, q2, batch, all_frames)
     return result
