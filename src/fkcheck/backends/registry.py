@@ -60,6 +60,7 @@ DEFAULT = ("rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urd
 PREFIXED: dict[str, tuple[str, str]] = {
     "rtb-model:": ("fkcheck.backends.rtb_model", "RtbModel"),
     "cmd:": ("fkcheck.backends.command", "CommandBackend"),
+    "poses:": ("fkcheck.backends.measured", "MeasuredPoses"),
 }
 
 _PLUGIN = ("fkcheck.backends.plugin", "PluginBackend")

@@ -1,0 +1,13 @@
+"""Diagnose a disagreement: which frame, which parameter, which typical mistake.
+
+``fkcheck check`` says *that* a table and a reference disagree; this package
+says *why*, most likely explanation first, each with its evidence: constant
+frame offsets (``base_link`` vs ``base``), joint axes compared as lines, typical
+mistakes tested as hypotheses, single parameters and finally every parameter
+fitted to the reference.
+"""
+
+from fkcheck.diagnose.report import Diagnosis, Explanation, format_text, to_dict
+from fkcheck.diagnose.run import diagnose
+
+__all__ = ["Diagnosis", "Explanation", "diagnose", "format_text", "to_dict"]

@@ -1,0 +1,353 @@
+"""Typical mistakes, tested as hypotheses: re-run the comparison on modified copies of the table.
+
+Each hypothesis is one mistake people make when they type in a DH table. It
+is undone on a copy of the table (a new frozen :class:`~fkcheck.model.Model`,
+never a mutation), and the copy is compared with the reference poses the
+:class:`~fkcheck.diagnose.problem.Problem` already holds. Tried:
+
+* ``degrees``: the angles are degrees read as radians (or radians read as degrees);
+* ``convention``: the table is the other DH convention (standard ⇄ modified);
+* ``sign``: one α, a or d has the wrong sign;
+* ``theta-offset``: one θ is missing a +90°, −90° or 180° offset;
+* ``flip``: one joint turns the other way;
+* ``mapping``: two URDF joints are swapped in ``[urdf].joints`` (only against a URDF:
+  the reference itself is recomputed for each swap);
+* ``parameter``: one number is off — each a, α, d, θ in turn is fitted alone to the
+  reference (``d1 = 0.089459 here, 0.089159 would match, Δ = −0.300 mm``), and the
+  whole table is compared with the published tables fkcheck knows.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from fkcheck.dh import Convention
+from fkcheck.dh_names import PARAMS, Param, param_symbol
+from fkcheck.diagnose.problem import Problem, pose_residuals
+from fkcheck.diagnose.report import Change, Explanation, Kind
+from fkcheck.known_tables import published_tables, variant_note
+from fkcheck.model import Model, Offset
+
+__all__ = [
+    "Candidate",
+    "candidates",
+    "explain_hypotheses",
+    "explain_swapped_mapping",
+    "fit_single_parameters",
+]
+
+#: Two values closer than this are "the same number" when naming a published value.
+_SAME_VALUE = 1e-9
+
+
+@dataclass(frozen=True, eq=False)
+class Candidate:
+    """A modified copy of the table and what was modified.
+
+    Attributes:
+        kind: The kind of mistake it undoes.
+        title: What the mistake is, in one line.
+        model: The modified table.
+        changes: The parameters changed.
+        details: Extra evidence or caveats.
+    """
+
+    kind: Kind
+    title: str
+    model: Model
+    changes: tuple[Change, ...] = ()
+    details: tuple[str, ...] = ()
+
+
+def _with_joint(model: Model, index: int, **changes: object) -> Model:
+    joints = list(model.joints)
+    joints[index] = replace(joints[index], **changes)  # type: ignore[arg-type]
+    return replace(model, joints=tuple(joints))
+
+
+def _symbol(model: Model, i: int, param: str) -> str:
+    return f"{param_symbol(model, i, param)} ({model.joints[i].name})"
+
+
+def _change(model: Model, i: int, param: Param, new: float, note: str = "") -> Change:
+    return Change(
+        f"joint[{i}].{param}",
+        _symbol(model, i, param),
+        float(getattr(model.joints[i], param)),
+        float(new),
+        param in ("alpha", "theta"),
+        note,
+    )
+
+
+def _scale_angles(model: Model, factor: float) -> Model:
+    def offset(o: Offset) -> Offset:
+        r, p, y = (v * factor for v in o.rpy)
+        return Offset(o.xyz, (r, p, y))
+
+    joints = tuple(replace(j, alpha=j.alpha * factor, theta=j.theta * factor) for j in model.joints)
+    frames = {
+        name: replace(spec, offset=offset(spec.offset)) for name, spec in model.frames.items()
+    }
+    return replace(
+        model, joints=joints, base=offset(model.base), tool=offset(model.tool), frames=frames
+    )
+
+
+def _units(model: Model) -> Iterator[Candidate]:
+    angles = [v for j in model.joints for v in (j.alpha, j.theta)]
+    if model.angle_unit == "rad" and any(abs(v) > math.pi + 1e-9 for v in angles):
+        biggest = max(angles, key=abs)
+        yield Candidate(
+            "degrees",
+            f'the angles are degrees read as radians (angle_unit = "rad", yet an angle is '
+            f'{biggest:g}): set angle_unit = "deg"',
+            _scale_angles(model, math.pi / 180),
+        )
+    if (
+        model.angle_unit == "deg"
+        and any(v != 0 for v in angles)
+        and all(abs(math.degrees(v)) <= 2 * math.pi + 1e-9 for v in angles)
+    ):
+        yield Candidate(
+            "degrees",
+            'the angles are radians read as degrees (angle_unit = "deg", yet every angle is '
+            'within ±2π): set angle_unit = "rad"',
+            _scale_angles(model, 180 / math.pi),
+        )
+
+
+def _convention(model: Model) -> Iterator[Candidate]:
+    other: Convention = "modified" if model.convention == "standard" else "standard"
+    names = {"standard": "standard DH", "modified": "modified (Craig) DH"}
+    yield Candidate(
+        "convention",
+        f"the table is {names[other]}, run as {names[model.convention]}: set "
+        f'convention = "{other}"',
+        replace(model, convention=other),
+        details=("in modified DH, row i holds a(i-1) and α(i-1), the link before the joint",),
+    )
+
+
+def _signs(model: Model) -> Iterator[Candidate]:
+    for i, joint in enumerate(model.joints):
+        params: tuple[Param, ...] = ("alpha", "a", "d")
+        for param in params:
+            value = getattr(joint, param)
+            if value == 0:
+                continue
+            change = _change(model, i, param, -value)
+            shown = f"{math.degrees(value):g}°" if param == "alpha" else f"{value:g} m"
+            yield Candidate(
+                "sign",
+                f"{_symbol(model, i, param)} has the wrong sign: {shown} here, the opposite "
+                "matches",
+                _with_joint(model, i, **{param: -value}),
+                (change,),
+            )
+
+
+def _theta_offsets(model: Model) -> Iterator[Candidate]:
+    for i, joint in enumerate(model.joints):
+        for step, label in ((math.pi / 2, "+90°"), (-math.pi / 2, "-90°"), (math.pi, "180°")):
+            new = joint.theta + step
+            yield Candidate(
+                "theta-offset",
+                f"{_symbol(model, i, 'theta')} is missing a {label} offset",
+                _with_joint(model, i, theta=new),
+                (_change(model, i, "theta", new),),
+            )
+
+
+def _flips(model: Model) -> Iterator[Candidate]:
+    for i, joint in enumerate(model.joints):
+        state = "true" if not joint.flip else "false"
+        yield Candidate(
+            "flip",
+            f"joint {i + 1} ({joint.name}) turns the other way: set flip = {state}",
+            _with_joint(model, i, flip=not joint.flip),
+        )
+
+
+def _published(model: Model) -> Iterator[Candidate]:
+    for table in published_tables():
+        if table.dof != model.dof or table.convention != model.convention:
+            continue
+        changes = []
+        for i, (ours, theirs) in enumerate(zip(model.joints, table.joints, strict=True)):
+            for param in PARAMS:
+                a, b = getattr(ours, param), getattr(theirs, param)
+                if abs(a - b) > _SAME_VALUE:
+                    note = f"published table {table.name}"
+                    source = variant_note(table.name, i, param, a, tol=_SAME_VALUE)
+                    if source:
+                        note += f"; {a!r} is the value in {source}"
+                    changes.append(_change(model, i, param, b, note))
+        if not changes:
+            continue
+        joints = tuple(
+            replace(ours, a=theirs.a, alpha=theirs.alpha, d=theirs.d, theta=theirs.theta)
+            for ours, theirs in zip(model.joints, table.joints, strict=True)
+        )
+        yield Candidate(
+            "parameter",
+            f"the reference matches the published table {table.name} "
+            f"({table.description or table.name}); this table differs in "
+            + (
+                f"one number, {changes[0].symbol}"
+                if len(changes) == 1
+                else f"{len(changes)} numbers"
+            ),
+            replace(model, joints=joints),
+            tuple(changes),
+        )
+
+
+#: The generators, in the order they are listed in a diagnosis's "tried" line.
+GENERATORS: tuple[tuple[str, Callable[[Model], Iterator[Candidate]]], ...] = (
+    ("degrees read as radians (and the reverse)", _units),
+    ("standard ⇄ modified convention", _convention),
+    ("one α, a or d with the wrong sign", _signs),
+    ("a missing ±90° or 180° θ offset", _theta_offsets),
+    ("one joint reversed", _flips),
+    ("a published table", _published),
+)
+
+
+def candidates(model: Model) -> list[tuple[str, Candidate]]:
+    """Every modified copy of the table, with the name of the hypothesis it tests."""
+    return [(label, c) for label, gen in GENERATORS for c in gen(model)]
+
+
+def _known_note(model: Model, i: int, param: str, old: float, new: float) -> str:
+    """Where the fitted (or the table's) value is known from."""
+    notes = []
+    for table in published_tables():
+        if table.dof != model.dof or table.convention != model.convention:
+            continue
+        published = getattr(table.joints[i], param)
+        if abs(published - new) <= 1e-7 and abs(published - old) > _SAME_VALUE:
+            notes.append(f"{published!r} is the value in the published table {table.name}")
+            source = variant_note(table.name, i, param, old, tol=_SAME_VALUE)
+            if source:
+                notes.append(f"{old!r} is the value in {source}")
+    return "; ".join(notes)
+
+
+def fit_single_parameters(problem: Problem) -> list[Explanation]:
+    """Each a, α, d, θ fitted alone to the reference; the ones that explain (or halve) it.
+
+    A least-squares fit of one scalar (:func:`scipy.optimize.least_squares`) from the
+    table's value: "d1 = 0.089459 here, 0.089159 would match, Δ = −0.300 mm".
+    """
+    from scipy.optimize import least_squares
+
+    model = problem.model
+    before = problem.residual(model)
+    out: list[Explanation] = []
+    for i in range(model.dof):
+        for param in PARAMS:
+            old = float(getattr(model.joints[i], param))
+
+            def residuals(x: np.ndarray, i: int = i, param: str = param) -> np.ndarray:
+                trial = _with_joint(model, i, **{param: float(x[0])})
+                return pose_residuals(problem.poses(trial), problem.reference)
+
+            sol = least_squares(
+                residuals, [old], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200
+            )
+            new = float(sol.x[0])
+            fitted = _with_joint(model, i, **{param: new})
+            residual = problem.residual(fitted)
+            explains = problem.explained(residual)
+            halves = residual.position_m <= before.position_m / 2 and residual.rotation_rad <= max(
+                before.rotation_rad / 2, problem.tol_rot_rad
+            )
+            if not (explains or halves) or abs(new - old) <= _SAME_VALUE:
+                continue
+            note = _known_note(model, i, param, old, new)
+            change = _change(model, i, param, new, note)
+            title = f"one number differs: {change.symbol}"
+            out.append(
+                Explanation("parameter", title, residual, explains, changes=(change,), model=fitted)
+            )
+    return out
+
+
+def explain_hypotheses(problem: Problem) -> tuple[list[Explanation], list[str]]:
+    """Every hypothesis that explains (or halves) the disagreement, and what was tried.
+
+    Returns:
+        ``(explanations, tried)``: the explanations found, and one line per
+        hypothesis family with how many copies of the table it compared.
+    """
+    before = problem.residual(problem.model)
+    found: list[Explanation] = []
+    counts: dict[str, int] = {}
+    for label, cand in candidates(problem.model):
+        counts[label] = counts.get(label, 0) + 1
+        residual = problem.residual(cand.model)
+        explains = problem.explained(residual)
+        if label == "a published table" and not explains:
+            continue  # a different robot's table that happens to be closer says little
+        halves = residual.position_m <= before.position_m / 2 and residual.rotation_rad <= max(
+            before.rotation_rad / 2, problem.tol_rot_rad
+        )
+        if explains or halves:
+            found.append(
+                Explanation(
+                    cand.kind,
+                    cand.title,
+                    residual,
+                    explains,
+                    cand.details,
+                    cand.changes,
+                    model=cand.model,
+                )
+            )
+    singles = fit_single_parameters(problem)
+    counts["one parameter fitted alone"] = 4 * problem.model.dof
+    # A single-parameter fit that lands on a hypothesis already found says nothing new.
+    seen = {(c.field, round(c.new, 9)) for e in found for c in e.changes if len(e.changes) == 1}
+    found += [e for e in singles if (e.changes[0].field, round(e.changes[0].new, 9)) not in seen]
+    tried = [f"{label} ({n})" for label, n in counts.items()]
+    return found, tried
+
+
+def explain_swapped_mapping(problem: Problem) -> tuple[list[Explanation], int]:
+    """Two URDF joint names swapped in ``[urdf].joints``: the reference rerun per swap.
+
+    Returns:
+        ``(explanations, number of swaps tried)``.
+    """
+    model = problem.model
+    if model.urdf is None or problem.source is None:
+        return [], 0
+    names = model.urdf.joints
+    found: list[Explanation] = []
+    tried = 0
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            swapped = list(names)
+            swapped[i], swapped[j] = swapped[j], swapped[i]
+            cand = replace(model, urdf=replace(model.urdf, joints=tuple(swapped)))
+            tried += 1
+            residual = problem.verify(cand)
+            if problem.explained(residual):
+                listed = ", ".join(f'"{n}"' for n in swapped)
+                found.append(
+                    Explanation(
+                        "mapping",
+                        f"[urdf].joints has {names[i]!r} and {names[j]!r} swapped (DH joints "
+                        f"{i + 1} and {j + 1})",
+                        residual,
+                        True,
+                        (f"fix: joints = [{listed}]",),
+                        model=cand,
+                    )
+                )
+    return found, tried

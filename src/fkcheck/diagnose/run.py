@@ -1,0 +1,126 @@
+"""The diagnosis, end to end: reference poses once, then every step, ranked."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from fkcheck.backends.base import Backend
+from fkcheck.diagnose.axes import axes_note, compare_axes
+from fkcheck.diagnose.hypotheses import explain_hypotheses, explain_swapped_mapping
+from fkcheck.diagnose.offsets import explain_offsets
+from fkcheck.diagnose.paramfit import explain_parameter_fit
+from fkcheck.diagnose.problem import Problem, diagnosis_configurations
+from fkcheck.diagnose.report import AxisRow, Diagnosis, Explanation, rank
+from fkcheck.model import Model
+
+__all__ = ["URDF_BACKENDS", "diagnose"]
+
+Float = NDArray[np.float64]
+
+#: Reference backends that read the model's URDF (the joint axes are compared then).
+URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+
+
+def diagnose(
+    model: Model,
+    backend: Backend,
+    *,
+    frame_from: str | None = None,
+    frame_to: str | None = None,
+    samples: int = 200,
+    seed: int = 0,
+    q: Float | None = None,
+    tol_pos_m: float | None = None,
+    tol_rot_rad: float | None = None,
+) -> Diagnosis:
+    """Explain why the table disagrees with a reference backend.
+
+    Steps: constant frame offsets (:mod:`.offsets`), joint axes against the URDF
+    (:mod:`.axes`, only when the reference reads the URDF), typical mistakes as
+    hypotheses and single-parameter fits (:mod:`.hypotheses`), and a fit of every
+    parameter (:mod:`.paramfit`).
+
+    Args:
+        model: The model.
+        backend: The reference (e.g. ``make_backend("pinocchio-urdf")``).
+        frame_from: Frame the pose is expressed in (default: the model's ``[check]``).
+        frame_to: Frame whose pose is compared (default: the model's ``[check]``).
+        samples: Random configurations, on top of the named poses, zero and mid-range.
+        seed: Seed of the random configurations.
+        q: Use these configurations instead (e.g. a measured-poses backend's own).
+        tol_pos_m: Position tolerance (default: the model's ``[check]``).
+        tol_rot_rad: Rotation tolerance (default: the model's ``[check]``).
+
+    Returns:
+        The diagnosis, explanations ranked most likely first.
+
+    Raises:
+        FrameError: An unknown frame name.
+        BackendUnavailable, FrameUnavailable, FkcheckError: The reference cannot run.
+    """
+    start = time.perf_counter()
+    pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
+    tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
+    configs = q if q is not None else diagnosis_configurations(model, samples, seed)
+    problem = Problem.build(model, backend, configs, pair, tol)
+    before = problem.residual(model)
+    explanations: list[Explanation] = []
+    tried: list[str] = []
+    axes: tuple[AxisRow, ...] = ()
+    if not problem.explained(before):
+        explanations += explain_offsets(problem)
+        tried.append("constant base/tip frame offsets (least squares on SE(3))")
+        found, hypotheses_tried = explain_hypotheses(problem)
+        explanations += found
+        tried += hypotheses_tried
+        if backend.name in URDF_BACKENDS:
+            swaps, n_swaps = explain_swapped_mapping(problem)
+            explanations += swaps
+            tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
+        if not any(e.explains for e in explanations):  # the general form, when nothing simpler
+            explanations += explain_parameter_fit(problem)
+            tried.append("all DH parameters + base + tool fitted together")
+        if backend.name in URDF_BACKENDS:
+            axes = compare_axes(problem)
+            tried.append("joint axes against the URDF")
+    explanations = [_verified(problem, e) for e in explanations]
+    return Diagnosis(
+        model=model,
+        backend=backend.name,
+        frame_from=pair[0],
+        frame_to=pair[1],
+        configurations=int(configs.shape[0]),
+        before=before,
+        tol_pos_m=tol[0],
+        tol_rot_rad=tol[1],
+        explanations=rank(explanations, before),
+        axes=axes,
+        axes_note=axes_note(model, axes),
+        tried=tuple(tried),
+        duration_s=time.perf_counter() - start,
+    )
+
+
+def _verified(problem: Problem, e: Explanation) -> Explanation:
+    """An explaining explanation, re-checked against the reference run on its own model."""
+    if not e.explains or e.model is None:
+        return e
+    check = problem.verify(e.model)
+    if problem.explained(check):
+        return e
+    return replace(
+        e,
+        explains=False,
+        residual=check,
+        fix_toml="",
+        details=(
+            *e.details,
+            f"but the reference, run on the changed model, is still "
+            f"{check.text()} away: it computes these frames from the table's own base and "
+            "tool (a black box gives only the TCP), so this change cannot be the fix",
+        ),
+    )
