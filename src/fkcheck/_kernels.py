@@ -164,6 +164,16 @@ def _start(w: Float, m: int, base: Float) -> None:  # pragma: no cover - compile
                 w[o + j] = v
 
 
+@nb.njit(cache=True)
+def _is_identity(T: Float) -> bool:  # pragma: no cover - compiled
+    """Whether the 4×4 ``T`` is exactly the identity."""
+    for r in range(4):
+        for c in range(4):
+            if T[r, c] != (1.0 if r == c else 0.0):
+                return False
+    return True
+
+
 # --------------------------------------------------------------------------- joints
 # One joint, one pose: the column arithmetic of fkcheck.dh, on scratch columns.
 # Inlined into the loops below (numba IR inlining), where `twist` is a literal.
@@ -306,13 +316,51 @@ def _rows_step(w: Float, m: int, modified: bool, joint: Float) -> None:  # pragm
 
 
 @nb.njit(cache=True, fastmath=_FASTMATH)
+def _first_revolute(
+    q: Float, start: int, m: int, modified: bool, joint: Float, w: Float
+) -> bool:  # pragma: no cover - compiled
+    """Revolute joint 0 on an identity base: its transform ``A_1`` written straight in.
+
+    What :func:`_start` and :func:`_revolute_fused` would compute, with the
+    products by the identity's zeros and ones left out. Same return as the latter.
+    """
+    sign, theta, d, a, ca, sa = joint[1], joint[2], joint[3], joint[4], joint[5], joint[6]
+    q_0 = q[start : start + m, 0]
+    for j in range(m):
+        w[_Q * _STRIDE + j] = q_0[j] * sign + theta
+    far = False
+    for j in range(_U(m)):
+        x = w[_U(_Q * _STRIDE) + j]
+        far |= not abs(x) <= CODY_WAITE_LIMIT
+        s, c = sincos(x)
+        if modified:  # Rx(α) · Tx(a) · Rz(θ) · Tz(d)
+            col_x, col_y = (c, ca * s, sa * s), (-s, ca * c, sa * c)
+            col_z, col_p = (0.0, -sa, ca), (a, -sa * d, ca * d)
+        else:  # Rz(θ) · Tz(d) · Tx(a) · Rx(α)
+            col_x, col_y = (c, s, 0.0), (-ca * s, ca * c, sa)
+            col_z, col_p = (sa * s, -sa * c, ca), (a * c, a * s, d)
+        for r in range(3):
+            w[_U((_X + r) * _STRIDE) + j] = col_x[r]
+            w[_U((_Y + r) * _STRIDE) + j] = col_y[r]
+            w[_U((_Z + r) * _STRIDE) + j] = col_z[r]
+            w[_U((_P + r) * _STRIDE) + j] = col_p[r]
+    return not far
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
 def _chain_fused(
     q: Float, start: int, m: int, prog: Float, modified: bool, w: Float
 ) -> bool:  # pragma: no cover - compiled
     """The whole chain for one block, revolute joints fused; ``False``: take the rows path."""
     n = q.shape[1]
-    _start(w, m, prog[n : n + 4, :4])
-    for i in range(n):
+    first = 0
+    if prog[0, 0] == 0.0 and _is_identity(prog[n : n + 4, :4]):
+        if not _first_revolute(q, start, m, modified, prog[0], w):
+            return False
+        first = 1
+    else:
+        _start(w, m, prog[n : n + 4, :4])
+    for i in range(first, n):
         if prog[i, 0] != 0.0:
             if not _joint_rows(q, start, m, i, prog[i], w):
                 return False
@@ -333,16 +381,6 @@ def _chain_rows(
         if not _joint_rows(q, start, m, i, prog[i], w):
             return False
         _rows_step(w, m, modified, prog[i])
-    return True
-
-
-@nb.njit(cache=True)
-def _is_identity(T: Float) -> bool:  # pragma: no cover - compiled
-    """Whether the 4×4 ``T`` is exactly the identity."""
-    for r in range(4):
-        for c in range(4):
-            if T[r, c] != (1.0 if r == c else 0.0):
-                return False
     return True
 
 
