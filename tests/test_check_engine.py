@@ -262,3 +262,18 @@ def test_reports_are_written_readable_by_others(ur5, tmp_path):
     path = write_json(run_check(ur5, [ReferenceChain()], samples=5), tmp_path / "r.json")
     assert stat.S_IMODE(os.stat(path).st_mode) == 0o644
     assert [p.name for p in tmp_path.iterdir()] == ["r.json"]  # no temporary file left
+
+
+def test_measured_poses_become_the_configurations_of_the_check(capsys, tmp_path):
+    from fkcheck.cli import main
+
+    report = tmp_path / "r.json"
+    argv = ["check", "ur5", "--against", "poses:tests/data/ur5_pendant.csv,rtb-dh"]
+    code = main([*argv, "--tol-pos", "2e-6", "--tol-rot", "2e-6", "--json", str(report)])
+    out = capsys.readouterr().out
+    doc = json.loads(report.read_text())
+    assert code == 0, out
+    assert doc["configurations"] == 2
+    assert [b["status"] for b in doc["backends"]] == ["pass", "pass"]
+    # Printed to 6 decimals (m: 3 decimals of mm): agreement within half a unit.
+    assert doc["backends"][0]["max_position_error_m"] < 1e-6

@@ -24,12 +24,18 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import Backend, BackendUnavailable, FrameUnavailable, SharesDHFrames
+from fkcheck.backends.base import (
+    Backend,
+    BackendUnavailable,
+    FixedConfigurations,
+    FrameUnavailable,
+    SharesDHFrames,
+)
 from fkcheck.errors import FkcheckError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
 from fkcheck.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.model import Model
-from fkcheck.sampling import Sampler, sample_configurations
+from fkcheck.sampling import Sampler, Samples, sample_configurations
 from fkcheck.tolerances import ROUNDED_URDF
 
 __all__ = [
@@ -169,6 +175,21 @@ def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
     return out
 
 
+def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
+    """The configurations a measured-poses backend dictates, if one takes part."""
+    fixed = [b for b in backends if isinstance(b, FixedConfigurations)]
+    if not fixed:
+        return None
+    q = np.asarray(fixed[0].configurations(model), dtype=np.float64)
+    for other in fixed[1:]:
+        if not np.array_equal(np.asarray(other.configurations(model)), q):
+            raise FkcheckError(
+                f"{fixed[0].name} and {other.name} hold poses at different configurations; "
+                "check them one at a time"
+            )
+    return Samples(q=q, origin=(f"file:{fixed[0].name}",) * q.shape[0])
+
+
 def _verdict(results: Sequence[BackendResult]) -> Verdict:
     if not any(r.ran for r in results):
         return "error"
@@ -305,7 +326,9 @@ def run_check(
 ) -> CheckResult:
     """Check ``backends`` against the in-house core on sampled configurations.
 
-    Backends run concurrently (one thread each), each within ``timeout_s``.
+    Backends run concurrently (one thread each), each within ``timeout_s``. When a
+    backend holds poses only at fixed configurations (measured poses), the check
+    runs on those instead of sampling.
 
     Args:
         model: The model.
@@ -343,7 +366,9 @@ def run_check(
         # is not: each URDF backend then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
             load_urdf(model)
-    q = sample_configurations(model, samples, seed, sampler)
+    q = _fixed_configurations(model, backends) or sample_configurations(
+        model, samples, seed, sampler
+    )
 
     results: dict[int, BackendResult] = {}
     errors: list[FkcheckError] = []

@@ -22,7 +22,13 @@ from numpy.typing import NDArray
 from fkcheck.errors import FkcheckError
 from fkcheck.model import Model
 
-__all__ = ["Backend", "BackendUnavailable", "FrameUnavailable", "SharesDHFrames"]
+__all__ = [
+    "Backend",
+    "BackendUnavailable",
+    "FixedConfigurations",
+    "FrameUnavailable",
+    "SharesDHFrames",
+]
 
 Float = NDArray[np.float64]
 
@@ -85,4 +91,16 @@ class SharesDHFrames(Protocol):
 
     def dh_frames(self, model: Model, q: Float) -> Float:
         """``world_T_i`` for DH frames ``0…n``: shape ``(N, n+1, 4, 4)``."""
+        ...
+
+
+@runtime_checkable
+class FixedConfigurations(Protocol):
+    """A backend that only knows poses at given configurations (e.g. measured poses).
+
+    When one takes part, the check runs on its configurations instead of sampling.
+    """
+
+    def configurations(self, model: Model) -> Float:
+        """The configurations it has poses for, ``(N, n)``, radians / metres."""
         ...

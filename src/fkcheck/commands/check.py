@@ -252,6 +252,15 @@ def _model_command(args: argparse.Namespace, model: str) -> str:
     return "fkcheck " + shlex.join(argv)
 
 
+def _print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
+    """Offer ``fkcheck diagnose`` for the first backend that disagrees."""
+    failed = [r for r in check.backends if r.status == "fail"]
+    if failed:
+        argv = ["diagnose", model_arg, "--against", failed[0].name, "--from", check.frame_from,
+                "--to", check.frame_to]  # fmt: skip
+        print(f"hint: explain it: fkcheck {shlex.join(argv)}")
+
+
 def _run_all(args: argparse.Namespace) -> int:
     """``--all``: every bundled model, each model's files, the index and the summary."""
     import datetime as _dt
@@ -311,6 +320,7 @@ def run(args: argparse.Namespace) -> int:
     check = _check(args, model, backends)
     check = replace(check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
     print_summary(check)
+    _print_diagnose_hint(args.model, check)
     if args.json is not None:
         write_json(check, args.json)
     if args.junit is not None:
