@@ -13,6 +13,7 @@ import pytest
 
 import fkcheck.backends.registry as registry
 from fkcheck import load_model
+from fkcheck.backends.base import BackendUnavailable
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError
 from fkcheck.check import reference_poses, run_check
 from fkcheck.cli import main
@@ -326,14 +327,19 @@ def test_measured_pendant_poses_as_a_reference(tmp_path, rng, capsys):
     assert "d1 (shoulder_pan) = 0.089159 here, 0.089459 would match, Δ = +0.300 mm" in out
 
 
-def test_measured_poses_skip_other_configurations_and_pairs(tmp_path, rng):
+def test_measured_poses_drive_the_check_and_skip_other_configurations_and_pairs(tmp_path, rng):
     csv = tmp_path / "pendant.csv"
     write_pendant_csv(csv, load_model("ur5"), np.round(rng.uniform(-90, 90, size=(5, 6)), 1))
     backend = registry.make_backend(f"poses:{csv}")
     assert backend.name == f"poses:{csv}"
+    # The check runs on the file's configurations, whatever the sample count.
     result = run_check(load_model("ur5"), [backend], samples=4)
-    assert result.backends[0].status == "skipped"
-    assert "only at the file's configurations" in result.backends[0].message
+    assert result.q.shape == (5, 6)
+    assert result.backends[0].status == "pass"
+    # Anywhere else the file has no pose.
+    some_q = np.zeros((2, 6))
+    with pytest.raises(BackendUnavailable, match="only at the file's configurations"):
+        backend.frame_poses(load_model("ur5"), some_q, ("base", "tool0"))
     other = run_check(
         load_model("ur5"), [backend], samples=4, frame_from="base_link", frame_to="tool0"
     )
