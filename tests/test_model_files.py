@@ -248,3 +248,21 @@ def test_binary_file(tmp_path):
     path.write_bytes(b"\xff\xfe\x00garbage")
     with pytest.raises(ModelError, match="not UTF-8"):
         load_model(path)
+
+
+def test_degrees_in_radian_file_warn_then_the_check_fails(tmp_path, capsys):
+    # The UR5 file with its unit line changed: 90 and 180 are now read as radians.
+    from fkcheck.cli import main
+
+    text = (
+        bundled_model_paths()["ur5"].read_text().replace('angle_unit = "deg"', 'angle_unit = "rad"')
+    )
+    path = tmp_path / "ur5_units.toml"
+    path.write_text(text)
+    model = load_model(path)  # loads: a warning, not an error
+    assert any("joint[0].alpha = 90" in w and "looks like degrees" in w for w in model.warnings)
+    code = main(["check", str(path), "--samples", "50", "--against", "pinocchio-urdf"])
+    out, err = capsys.readouterr()
+    assert code == 1, out + err
+    assert "fkcheck: warning: joint[0].alpha = 90 is beyond ±2π" in err
+    assert "verdict: fail" in out
