@@ -110,3 +110,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 143
     except BrokenPipeError:
         return EXIT_OK
+
+
+if __name__ == "__main__":
+    sys.exit(main())
