@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -57,28 +58,41 @@ def sampling_box(model: Model) -> tuple[Float, Float]:
     return lo, hi
 
 
-def _random(n_samples: int, dof: int, seed: int, sampler: Sampler) -> Float:
-    """``(n_samples, dof)`` points in the unit cube, generated in bounded chunks."""
-    out = np.empty((max(n_samples, 0), dof))
-    if n_samples <= 0:
-        return out
+def _fill_random(out: Float, lo: Float, hi: Float, seed: int, sampler: Sampler) -> None:
+    """Fill ``out`` (``(N, n)``) with seeded samples in the box, in bounded chunks.
+
+    Writes in place, a chunk at a time: peak memory is ``out`` plus one chunk.
+    """
+    n_samples, dof = out.shape
+    if n_samples == 0:
+        return
+    span = hi - lo
+    draw: Callable[[int], Float]
     if sampler == "uniform":
         rng = np.random.default_rng(seed)
-        for start in range(0, n_samples, _CHUNK):
-            stop = min(start + _CHUNK, n_samples)
-            out[start:stop] = rng.random((stop - start, dof))
-        return out
-    from scipy.stats import qmc
 
-    engine = qmc.Sobol(d=dof, scramble=True, seed=seed)
-    if n_samples <= _CHUNK:
-        # One power-of-two draw keeps the sequence's balance properties.
-        out[:] = engine.random_base2(max(0, math.ceil(math.log2(n_samples))))[:n_samples]
-        return out
-    for start in range(0, n_samples, _CHUNK):  # _CHUNK is a power of two
+        def draw(count: int) -> Float:
+            return rng.random((count, dof))
+    else:
+        from scipy.stats import qmc
+
+        engine = qmc.Sobol(d=dof, scramble=True, seed=seed)
+        if n_samples <= _CHUNK:
+            # One power-of-two draw keeps the sequence's balance properties.
+            m = max(0, math.ceil(math.log2(n_samples)))
+            out[:] = lo + engine.random_base2(m)[:n_samples] * span
+            return
+
+        def draw(count: int) -> Float:
+            # Always a power-of-two draw (_CHUNK), for the sequence's balance.
+            return engine.random(_CHUNK)[:count]  # type: ignore[no-any-return]
+
+    for start in range(0, n_samples, _CHUNK):
         stop = min(start + _CHUNK, n_samples)
-        out[start:stop] = engine.random(_CHUNK)[: stop - start]
-    return out
+        block = out[start:stop]
+        block[:] = draw(stop - start)
+        block *= span
+        block += lo
 
 
 def sample_configurations(
@@ -122,8 +136,9 @@ def sample_configurations(
             edge[j] = bound
             rows.append(edge)
             origin.append("edge")
-    unit = _random(n_samples, n, seed, sampler)
-    structured = np.array(rows).reshape(-1, n)
-    q = np.concatenate([structured, lo + unit * (hi - lo)])
-    origin.extend(["random"] * unit.shape[0])
+    count = max(n_samples, 0)
+    q = np.empty((len(rows) + count, n))
+    q[: len(rows)] = np.array(rows).reshape(-1, n)
+    _fill_random(q[len(rows) :], lo, hi, seed, sampler)
+    origin.extend(["random"] * count)
     return Samples(q=q, origin=tuple(origin))
