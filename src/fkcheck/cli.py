@@ -23,7 +23,7 @@ from fkcheck.errors import FkcheckError
 __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
 #: Subcommand modules under fkcheck.commands, in the order ``--help`` lists them.
-COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "urdf", "lint", "diagnose")
+COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "urdf", "lint", "diagnose", "bench")
 
 #: What plain ``fkcheck`` runs.
 MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")

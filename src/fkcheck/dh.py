@@ -316,7 +316,7 @@ def load_jit() -> bool:
 def jit_status() -> str:
     """One line: whether the JIT kernels are loaded, not yet loaded, or unavailable and why."""
     if _jit is not None:
-        return f"loaded (numba {_jit.nb.__version__}, {_jit.tasks()} tasks per batch)"
+        return f"loaded (numba {_jit.nb.__version__}, {_jit.tasks()} threads)"
     if _jit_error is not None:
         return f"unavailable: {_jit_error}"
     return "not loaded"

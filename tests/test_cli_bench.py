@@ -1,0 +1,110 @@
+"""`fkcheck bench` as a user runs it: the table, the JSON, agreement, skipped peers.
+
+No timing is asserted (times depend on the machine); what is asserted is what was
+timed, on how many poses, whether the results agree, and how the numbers are written.
+"""
+
+from __future__ import annotations
+
+import json
+import stat
+import sys
+
+import pytest
+
+from fkcheck import benchmark, load_model
+from fkcheck.cli import main
+from fkcheck.commands.bench import write_json
+from fkcheck.model import model_from_dict
+
+
+def bench(capsys, tmp_path, *argv):
+    path = tmp_path / "out" / "bench.json"
+    code = main(["bench", *argv, "--repeat", "1", "--json", str(path)])
+    out, err = capsys.readouterr()
+    return code, out, err, json.loads(path.read_text()) if path.exists() else None
+
+
+def test_bench_times_every_contender_on_the_same_poses(capsys, tmp_path):
+    code, out, err, data = bench(capsys, tmp_path, "panda", "--n", "600")
+    assert code == 0, err
+    assert (data["model"], data["n"], data["repeat"]) == ("panda", 600, 1)
+    rows = {t["name"]: t for t in data["timings"]}
+    for name in ("in-house batch, NumPy path", "fk_reference (4×4 @ chain)",
+                 "RTB ETS.eval (C batch)", "RTB DHRobot.fkine", "Pinocchio FK loop",
+                 "yourdfpy loop (URDF)", "memory bound: np.copyto"):  # fmt: skip
+        assert name in rows, sorted(rows)
+        assert rows[name]["skipped"] == "", rows[name]["skipped"]
+        assert rows[name]["seconds"] > 0
+        assert rows[name]["us_per_pose"] > 0
+        assert rows[name]["n"] == min(600, benchmark.PEER_POSES.get(_key(name), 600))
+    peers = [t for t in data["timings"] if t["kind"] == "peer"]
+    assert all(t["max_pos_err_m"] <= data["tol_pos_m"] for t in peers)
+    assert data["disagree"] == []
+    fastest = min(peers, key=lambda t: t["us_per_pose"])
+    assert data["fastest_peer"] == fastest["name"]
+    assert rows[fastest["name"]]["speedup_vs_fastest_peer"] == pytest.approx(1.0)
+    # The table names every contender and the facts needed to read it.
+    for name in rows:
+        assert name in out
+    assert "load average" in out
+    assert "seed 0" in out
+
+
+def _key(name: str) -> str:
+    return {
+        "in-house batch, NumPy path": "numpy",
+        "fk_reference (4×4 @ chain)": "reference",
+        "RTB ETS.eval (C batch)": "rtb-eval",
+        "RTB DHRobot.fkine": "rtb-fkine",
+        "Pinocchio FK loop": "pinocchio",
+        "yourdfpy loop (URDF)": "yourdfpy",
+    }.get(name, "")
+
+
+def test_bench_reports_a_missing_peer_as_skipped(capsys, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pinocchio", None)  # as if not installed
+    code, out, err, data = bench(capsys, tmp_path, "planar2", "--n", "50")
+    assert code == 0, err
+    rows = {t["name"]: t for t in data["timings"]}
+    assert rows["Pinocchio FK loop"]["skipped"].startswith("not installed")
+    assert rows["Pinocchio FK loop"]["seconds"] is None
+    # planar2 has no URDF: yourdfpy is skipped, saying so.
+    assert "no [urdf]" in rows["yourdfpy loop (URDF)"]["skipped"]
+    assert "skipped, not installed" in out
+
+
+def test_bench_exits_1_when_a_peer_disagrees(capsys, tmp_path, monkeypatch):
+    model = load_model("planar2")
+    wrong = model_from_dict(
+        {"name": "planar2", "convention": "standard",
+         "joint": [{"a": 1.0, "alpha": 0, "d": 0}, {"a": 0.8001, "alpha": 0, "d": 0}]}
+    )  # fmt: skip
+    assert model.joints[1].a == 0.8
+    monkeypatch.setattr(benchmark, "rtb_robot", lambda _model: _real_rtb_robot(wrong))
+    code, _, err, data = bench(capsys, tmp_path, "planar2", "--n", "50")
+    assert code == 1
+    assert set(data["disagree"]) == {"RTB ETS.eval (C batch)", "RTB DHRobot.fkine"}
+    assert "RTB ETS.eval (C batch)" in err
+
+
+_real_rtb_robot = benchmark.rtb_robot
+
+
+@pytest.mark.parametrize("bad", ["0", "-3", "many"])
+def test_bench_refuses_a_bad_n(capsys, bad):
+    assert main(["bench", "ur5", "--n", bad]) == 2
+    assert "--n" in capsys.readouterr().err
+
+
+def test_json_is_written_atomically_and_readable(tmp_path):
+    path = tmp_path / "bench.json"
+    path.write_text("old")
+    write_json(path, {"a": 1})
+    assert json.loads(path.read_text()) == {"a": 1}
+    assert stat.S_IMODE(path.stat().st_mode) == 0o644
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.json"]  # no temp file left
+    with pytest.raises(TypeError):
+        write_json(path, {"a": object()})  # not JSON: the old file stays, no temp file
+    assert json.loads(path.read_text()) == {"a": 1}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.json"]
