@@ -59,3 +59,20 @@ def crossval(session: nox.Session) -> None:
         "fkcheck", "check", "--all", "--out-dir", "reports",
         "--summary", "reports/summary.md", *session.posargs,
     )  # fmt: skip
+
+
+@nox.session(default=False)
+def bench(session: nox.Session) -> None:
+    """Time the in-house core against its peers: reports/bench.json and reports/bench.png.
+
+    Runs `fkcheck bench ur5 --n 1000000` (the table is printed; exit 1 if a peer
+    disagrees), then plots the JSON. Extra arguments go to `fkcheck bench`, e.g.
+    `nox -s bench -- --repeat 9`. The pytest-benchmark suite is separate:
+    `python -m pytest benchmarks`.
+    """
+    _install(session, "bench")
+    session.run(
+        "fkcheck", "bench", "ur5", "--n", "1000000", "--json", "reports/bench.json",
+        *session.posargs,
+    )  # fmt: skip
+    session.run("python", "benchmarks/plot_bench.py", "reports/bench.json", "reports/bench.png")
