@@ -7,12 +7,18 @@ frame ``i`` in modified DH, reversed for a flipped joint) and from the URDF
 (``<axis>`` in the joint frame) must be the same line — as Plücker coordinates
 ``(d, p × d)`` — at every configuration. For each joint this module reports the
 largest angle between the directions and the largest distance between the lines
-over a few configurations, and names the first joint whose axis disagrees.
+over a few configurations and names the first joint whose axis disagrees
+(:func:`compare_axes`, for the diagnosis). The HTML report's "where the chains
+part" uses the same pieces at one configuration, a backend's worst
+(:func:`axis_lines`, :func:`axis_rows`, :func:`first_difference`), and draws
+the URDF's lines.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,7 +30,17 @@ from fkcheck.model import Model
 from fkcheck.transforms import invert
 from fkcheck.urdf_kinematics import UrdfKinematics, urdf_kinematics
 
-__all__ = ["axes_note", "compare_axes", "line_distance", "plucker"]
+__all__ = [
+    "AXIS_CONFIGURATIONS",
+    "AxisLines",
+    "axes_note",
+    "axis_lines",
+    "axis_rows",
+    "compare_axes",
+    "first_difference",
+    "line_distance",
+    "plucker",
+]
 
 Float = NDArray[np.float64]
 
@@ -87,55 +103,124 @@ def _urdf_axes(model: Model, kin: UrdfKinematics, q: Float, from_link: str) -> t
     return np.array(points), np.array(dirs)
 
 
-def compare_axes(problem: Problem) -> tuple[AxisRow, ...]:
-    """Each joint's axis from the table and from the model's URDF, compared.
+@dataclass(frozen=True, eq=False)
+class AxisLines:
+    """Every joint's axis at one configuration, from the table and from the URDF.
 
-    Returns an empty tuple when the model has no URDF or the ``from`` frame has no
-    URDF twin (the axes then cannot be put in a common frame).
+    All in the compared ``from`` frame, DH joint order; a line is a point on it
+    and its unit direction (each array ``(n, 3)``).
+
+    Attributes:
+        dh_points: The DH frame's origin the joint turns about.
+        dh_directions: Its ``z`` axis, reversed for a flipped joint.
+        urdf_points: The URDF joint frame's origin.
+        urdf_directions: The URDF joint's ``<axis>``.
     """
+
+    dh_points: Float
+    dh_directions: Float
+    urdf_points: Float
+    urdf_directions: Float
+
+
+def _kinematics(model: Model) -> UrdfKinematics:
     from fkcheck.urdf_source import load_urdf
 
-    model = problem.model
-    spec = model.frames[problem.frame_from]
-    if model.urdf is None or spec.urdf is None:
-        return ()
     info = load_urdf(model)
-    kin = urdf_kinematics(info.path, info.text)
-    step = max(1, problem.q.shape[0] // AXIS_CONFIGURATIONS)
-    qs = problem.q[::step][:AXIS_CONFIGURATIONS]
+    return urdf_kinematics(info.path, info.text)
+
+
+def axis_lines(
+    model: Model, q: Float, frame_from: str, kin: UrdfKinematics | None = None
+) -> AxisLines | None:
+    """Each joint's axis from the table and from the model's URDF at one configuration.
+
+    Args:
+        model: The model.
+        q: One configuration, ``(n,)``, radians / metres.
+        frame_from: The named frame both are expressed in; its URDF twin anchors
+            the URDF side.
+        kin: The model's URDF, already read (default: read it now).
+
+    Returns:
+        The lines, or ``None`` when the model has no URDF or ``frame_from`` has no
+        URDF twin (the axes then cannot be put in a common frame).
+
+    Raises:
+        UrdfError, FrameError: The URDF cannot be read or does not fit the mapping.
+    """
+    spec = model.frames[frame_from]
+    if model.urdf is None or spec.urdf is None:
+        return None
+    kin = kin if kin is not None else _kinematics(model)
+    p_dh, d_dh = _dh_axes(model, q, frame_from)
+    p_u, d_u = _urdf_axes(model, kin, q, spec.urdf)
+    return AxisLines(p_dh, d_dh, p_u, d_u)
+
+
+def axis_rows(
+    model: Model, lines: Sequence[AxisLines], tol_pos_m: float, tol_rot_rad: float
+) -> tuple[AxisRow, ...]:
+    """Per joint, the largest angle and line distance over configurations, and whether it agrees.
+
+    A prismatic joint's line has no position (only its direction matters), so
+    its distance is ``None`` and only the angle decides.
+    """
     n = model.dof
     angles = np.zeros(n)
     distances = np.zeros(n)
-    for q in qs:
-        p_dh, d_dh = _dh_axes(model, q, problem.frame_from)
-        p_u, d_u = _urdf_axes(model, kin, q, spec.urdf)
+    for at in lines:
         for i in range(n):
-            cos = float(np.clip(d_dh[i] @ d_u[i], -1.0, 1.0))
-            sin = float(np.linalg.norm(np.cross(d_dh[i], d_u[i])))
+            u, v = at.dh_directions[i], at.urdf_directions[i]
+            cos = float(np.clip(u @ v, -1.0, 1.0))
+            sin = float(np.linalg.norm(np.cross(u, v)))
             angles[i] = max(angles[i], math.atan2(sin, cos))
-            distances[i] = max(distances[i], line_distance(p_dh[i], d_dh[i], p_u[i], d_u[i]))
+            gap = line_distance(at.dh_points[i], u, at.urdf_points[i], v)
+            distances[i] = max(distances[i], gap)
     rows = []
     for i, joint in enumerate(model.joints):
         prismatic = joint.type == "prismatic"
         distance = None if prismatic else float(distances[i])
-        agrees = angles[i] <= problem.tol_rot_rad and (
-            prismatic or distances[i] <= problem.tol_pos_m
-        )
+        agrees = angles[i] <= tol_rot_rad and (prismatic or distances[i] <= tol_pos_m)
         rows.append(AxisRow(i, joint.name, float(angles[i]), distance, bool(agrees)))
     return tuple(rows)
+
+
+def first_difference(rows: Sequence[AxisRow]) -> AxisRow | None:
+    """The first joint whose axis differs, or ``None`` when every axis agrees."""
+    return next((r for r in rows if not r.agrees), None)
+
+
+def compare_axes(problem: Problem) -> tuple[AxisRow, ...]:
+    """Each joint's axis from the table and from the model's URDF, compared.
+
+    Over up to :data:`AXIS_CONFIGURATIONS` of the problem's configurations, evenly
+    spaced. Returns an empty tuple when the model has no URDF or the ``from``
+    frame has no URDF twin (the axes then cannot be put in a common frame).
+    """
+    model = problem.model
+    if model.urdf is None or model.frames[problem.frame_from].urdf is None:
+        return ()
+    kin = _kinematics(model)
+    step = max(1, problem.q.shape[0] // AXIS_CONFIGURATIONS)
+    lines = []
+    for q in problem.q[::step][:AXIS_CONFIGURATIONS]:
+        at = axis_lines(model, q, problem.frame_from, kin)
+        assert at is not None  # the URDF and the twin were checked above
+        lines.append(at)
+    return axis_rows(model, lines, problem.tol_pos_m, problem.tol_rot_rad)
 
 
 def axes_note(model: Model, rows: tuple[AxisRow, ...]) -> str:
     """What the axis comparison points at, in one line."""
     if not rows:
         return ""
-    bad = [r for r in rows if not r.agrees]
-    if not bad:
+    first = first_difference(rows)
+    if first is None:
         return (
             "every joint axis agrees with the URDF: the tables differ only in the frames "
             "at the ends (base, tool, the frame mapping) or along the last axis"
         )
-    first = bad[0]
     k = first.joint + 1
     if first.reversed and all(r.agrees for r in rows if r.joint != first.joint):
         return f"joint {k} ({first.name}) is the only axis that differs, and it is reversed: flip?"

@@ -6,9 +6,9 @@
   :mod:`~fkcheck.report.build` turns results into the view models of
   :mod:`~fkcheck.report.views`, which the Jinja2 templates in ``templates/``
   lay out; :mod:`~fkcheck.report.plots` draws the pictures,
-  :mod:`~fkcheck.report.evidence` and :mod:`~fkcheck.report.urdf_axes` gather
-  what the page shows beyond the check's numbers (both matrices at the worst
-  configurations, where the chains part);
+  :mod:`~fkcheck.report.evidence` gathers what the page shows beyond the
+  check's numbers (both matrices at the worst configurations, where the chains
+  part; the joint axes against the URDF come from :mod:`fkcheck.diagnose.axes`);
 * :mod:`~fkcheck.report.markdown` — the short summary for CI pages.
 
 Every writer writes atomically (:func:`fkcheck.report.atomic.write_text_atomic`):

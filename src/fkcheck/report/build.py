@@ -12,6 +12,7 @@ import warnings
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,7 +29,6 @@ from fkcheck.report.format import (
     format_seconds,
     format_value,
 )
-from fkcheck.report.urdf_axes import AxisParting
 from fkcheck.report.views import (
     ArmDrawing,
     BackendDetail,
@@ -54,6 +54,10 @@ from fkcheck.report.views import (
     WorstCase,
 )
 from fkcheck.tolerances import SAME_CHAIN
+
+if TYPE_CHECKING:
+    from fkcheck.diagnose.axes import AxisLines
+    from fkcheck.diagnose.report import AxisRow
 
 __all__ = [
     "IndexEntry",
@@ -340,22 +344,58 @@ def _parting_view(check: CheckResult, r: BackendResult, parting: DhParting) -> P
     )
 
 
-def _axis_parting_view(check: CheckResult, r: BackendResult, parting: AxisParting) -> PartingView:
+@dataclass(frozen=True, eq=False)
+class _UrdfAxes:
+    """The table's joint axes against the URDF's at one configuration of the check."""
+
+    index: int
+    lines: AxisLines
+    rows: tuple[AxisRow, ...]
+    urdf_joints: tuple[str, ...]
+
+    @property
+    def first(self) -> int | None:
+        """0-based index of the first joint whose axis differs, or ``None``."""
+        return next((r.joint for r in self.rows if not r.agrees), None)
+
+
+def _urdf_axes(check: CheckResult, r: BackendResult) -> _UrdfAxes | None:
+    """Joint axes against the URDF at a backend's worst configuration.
+
+    Computed by :mod:`fkcheck.diagnose.axes`. ``None`` when there is no worst
+    configuration, the model has no URDF, the ``from`` frame has no URDF twin,
+    or the URDF cannot be read here: this is evidence for the page, never part
+    of the verdict.
+    """
+    from fkcheck.diagnose.axes import axis_lines, axis_rows
+    from fkcheck.errors import FkcheckError
+
+    model = check.model
+    if r.worst_index is None or model.urdf is None:
+        return None
+    try:
+        lines = axis_lines(model, check.q[r.worst_index], check.frame_from)
+    except (FkcheckError, KeyError, ValueError):
+        return None
+    if lines is None:
+        return None
+    rows = axis_rows(model, [lines], check.tol_pos_m, check.tol_rot_rad)
+    return _UrdfAxes(r.worst_index, lines, rows, tuple(model.urdf.joints))
+
+
+def _axis_parting_view(check: CheckResult, r: BackendResult, parting: _UrdfAxes) -> PartingView:
     model = check.model
     standard = model.convention == "standard"
     rows = []
-    for i, joint in enumerate(model.joints):
+    for i, (joint, axis) in enumerate(zip(model.joints, parting.rows, strict=True)):
         frame = i if standard else i + 1
-        differs = bool(
-            parting.offset_m[i] > check.tol_pos_m or parting.angle_rad[i] > check.tol_rot_rad
-        )
         rows.append(
             PartingRow(
                 frame=f"joint {i + 1}, {joint.name} (URDF {parting.urdf_joints[i]}): "
                 f"z of DH frame {frame}",
-                position_error=measure_m(float(parting.offset_m[i])),
-                rotation_error=measure_rad(float(parting.angle_rad[i])),
-                differs=differs,
+                position_error=measure_m(axis.distance_m),
+                rotation_error=measure_rad(axis.angle_rad),
+                differs=not axis.agrees,
                 first=i == parting.first,
             )
         )
@@ -368,6 +408,7 @@ def _axis_parting_view(check: CheckResult, r: BackendResult, parting: AxisPartin
     else:
         i = parting.first
         frame = i if standard else i + 1
+        axis = parting.rows[i]
         agree = (
             f"the axes of joints 1–{i} agree"
             if i > 1
@@ -378,11 +419,15 @@ def _axis_parting_view(check: CheckResult, r: BackendResult, parting: AxisPartin
             if frame > 0
             else f"Look at the base transform and the mapping of {check.frame_from}."
         )
+        off = (
+            f"{format_mm(axis.distance_m)} off and turned"
+            if axis.distance_m is not None
+            else "turned"  # a sliding joint's axis is a direction only
+        )
         verdict = (
             f"The DH table parts from the URDF at {_dh_frame_label(model, frame)}: the axis of "
             f"joint {i + 1} ({model.joints[i].name}, URDF {parting.urdf_joints[i]}) is "
-            f"{format_mm(float(parting.offset_m[i]))} off and turned "
-            f"{format_deg(float(parting.angle_rad[i]))} from the URDF's; {agree}. {look}"
+            f"{off} {format_deg(axis.angle_rad)} from the URDF's; {agree}. {look}"
         )
     return PartingView(
         title=f"DH table against the URDF: joint axes in {check.frame_from}",
@@ -397,20 +442,20 @@ def _axis_parting_view(check: CheckResult, r: BackendResult, parting: AxisPartin
             f"Each joint's axis as a line in {check.frame_from}, at configuration "
             f"#{parting.index} ({r.name}'s worst): from the DH table (z of the DH frame the "
             "joint turns about, reversed for a flipped joint) and from the URDF (the joint's "
-            "<axis> in its joint frame). Position: distance of the URDF joint's origin from "
-            "the DH axis line; rotation: angle between the two directions (180° = the joint "
-            "turns the other way). DH frames and URDF links are different frames, but each "
-            "joint's axis is one physical line. Computed by the report from the URDF text, "
-            "apart from the backends."
+            "<axis> in its joint frame). Position: distance between the two lines (none for "
+            "a prismatic joint, whose axis is a direction only); rotation: angle between the "
+            "two directions (180° = the joint turns the other way). DH frames and URDF links "
+            "are different frames, but each joint's axis is one physical line. Computed by "
+            "fkcheck.diagnose.axes from the URDF text, apart from the backends."
         ),
         rows=tuple(rows),
     )
 
 
-def _partings(check: CheckResult) -> tuple[PartingView, ...]:
-    """DH frames of failing DH backends; joint axes against the URDF for the others."""
-    from fkcheck.report.urdf_axes import urdf_axis_parting
-
+def _partings(
+    check: CheckResult, urdf_axes: dict[str, _UrdfAxes | None]
+) -> tuple[PartingView, ...]:
+    """DH frames of failing DH backends; joint axes against the URDF for the first other one."""
     out = []
     urdf_done = False
     for r in check.backends:
@@ -419,8 +464,8 @@ def _partings(check: CheckResult) -> tuple[PartingView, ...]:
         parting = dh_parting(check, r)
         if parting is not None:
             out.append(_parting_view(check, r, parting))
-        elif not urdf_done and r.worst_index is not None:
-            axes = urdf_axis_parting(check, r.worst_index)
+        elif not urdf_done:
+            axes = urdf_axes.get(r.name)
             if axes is not None:
                 out.append(_axis_parting_view(check, r, axes))
                 urdf_done = True
@@ -428,17 +473,19 @@ def _partings(check: CheckResult) -> tuple[PartingView, ...]:
 
 
 def _detail(
-    check: CheckResult, r: BackendResult, worst: WorstPoses | None, plots: bool
+    check: CheckResult,
+    r: BackendResult,
+    worst: WorstPoses | None,
+    plots: bool,
+    urdf_axes: _UrdfAxes | None,
 ) -> BackendDetail:
     from fkcheck.report.plots import arm_drawing
-    from fkcheck.report.urdf_axes import urdf_axis_parting
 
     arm = None
     if plots:
-        axes = None
-        if r.worst_dh_frames is None and r.worst_index is not None:
-            axes = urdf_axis_parting(check, r.worst_index)
-        image = arm_drawing(check, r, worst, axes)
+        differing = urdf_axes is not None and urdf_axes.first is not None
+        lines = urdf_axes.lines if urdf_axes is not None and differing else None
+        image = arm_drawing(check, r, worst, lines)
         arm = ArmDrawing(image) if image is not None else None
     worst_q = _q_text(check.model, check.q[r.worst_index]) if r.worst_index is not None else ""
     return BackendDetail(
@@ -605,7 +652,13 @@ def build_report_page(
     failing = [
         (r, w) for r, w in zip(check.backends, worst_list, strict=True) if r.status == "fail"
     ]
-    details = tuple(_detail(check, r, w, plots) for r, w in failing)
+    # Joint axes against the URDF at each failing backend's worst configuration: where
+    # the chains part when the backend has no DH frames to compare, and the arm drawing.
+    urdf_axes = {r.name: _urdf_axes(check, r) for r, _ in failing}
+    details = tuple(
+        _detail(check, r, w, plots, urdf_axes[r.name] if r.worst_dh_frames is None else None)
+        for r, w in failing
+    )
     rows = tuple(_backend_row(check, r, r.status == "fail") for r in check.backends)
     images: list[Image] = []
     if plots:
@@ -638,7 +691,7 @@ def build_report_page(
         Fact("versions", " · ".join(f"{k} {v}" for k, v in versions.items()), volatile="version"),
         Fact("reproduce", check.command or "(run from Python: no command line)", code=True),
     )
-    partings = _partings(check)
+    partings = _partings(check, urdf_axes)
     headline = _headline(check) + tuple(
         f"Where the chains part: {p.short}." for p in partings if p.short
     )

@@ -22,11 +22,12 @@ from numpy.typing import NDArray
 
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.report.evidence import WorstPoses
-from fkcheck.report.urdf_axes import AxisParting
 from fkcheck.report.views import Image
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from fkcheck.diagnose.axes import AxisLines
 
 __all__ = [
     "LOG_FLOOR",
@@ -264,7 +265,7 @@ def arm_drawing(
     check: CheckResult,
     result: BackendResult,
     worst: WorstPoses | None,
-    urdf_axes: AxisParting | None = None,
+    urdf_axes: AxisLines | None = None,
 ) -> Image | None:
     """A 3D stick drawing of the arm at a backend's worst configuration.
 
@@ -275,9 +276,9 @@ def arm_drawing(
     ``from`` frame times the backend's ``from_T_to`` (every backend has its own
     root, so ``from`` is where the two are made to coincide). For a backend built
     from the DH table, its whole chain is overlaid too (dashed, in its colour).
-    When the table's joint axes disagree with the URDF's (``urdf_axes``), the
-    URDF's axes are overlaid (dotted, in the backend's colour) so a flipped or
-    shifted axis shows.
+    When given ``urdf_axes`` (the caller passes them when the table's joint axes
+    disagree with the URDF's at this configuration), the URDF's axes are overlaid
+    (dotted, in the backend's colour) so a flipped or shifted axis shows.
 
     Returns:
         The picture, or ``None`` when there is no worst configuration.
@@ -327,8 +328,9 @@ def arm_drawing(
             label=f"{_text(result.name)} DH chain",
         )
         drawn += f"; {result.name}'s DH chain (dashed)"
-    if urdf_axes is not None and urdf_axes.first is not None:
-        for j, (point, direction) in enumerate(urdf_axes.urdf_lines):
+    if urdf_axes is not None:
+        urdf_lines = zip(urdf_axes.urdf_points, urdf_axes.urdf_directions, strict=True)
+        for j, (point, direction) in enumerate(urdf_lines):
             start = (world_T_from @ np.append(point, 1.0))[:3]
             end = start + axis_len * (world_T_from[:3, :3] @ direction)
             ax.plot(
