@@ -655,4 +655,7 @@ def warm_up() -> None:
     out = np.empty((1, 4, 4))
     fk_tcp(q, prog, False, out, 1)
     fk_one(q[0], prog, False, out[0])
+    q_read_only = q[0].copy()
+    q_read_only.flags.writeable = False  # numba types these apart: compile both now
+    fk_one(q_read_only, prog, False, out[0])
     sincos_array(q[0], out[0, 0, :1], out[0, 1, :1])

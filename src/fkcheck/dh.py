@@ -108,10 +108,15 @@ class DHChain:
     world_T_base: Float
     flange_T_tool: Float
 
-    @property
+    @cached_property
     def dof(self) -> int:
         """Number of joints."""
         return int(self.a.shape[0])
+
+    @cached_property
+    def _one_pose(self) -> tuple[tuple[int], Float, bool]:
+        """What a one-pose call needs, looked up once: q's shape, the program, modified?"""
+        return (self.dof,), self.program, self.convention == "modified"
 
     @cached_property
     def program(self) -> Float:
@@ -331,24 +336,30 @@ def _one_pose_fast(chain: DHChain, q: object) -> Float | None:
     Handles a 1-D float64 array or a list/tuple of n numbers, finite; returns
     ``None`` for anything else, which the general path then handles (or rejects).
     """
+    shape, program, modified = chain._one_pose
     if type(q) is np.ndarray:
-        if q.shape != (chain.dof,) or q.dtype != np.float64:
+        # Checked in order of cost. Strides (8,): C-contiguous, as the kernel was
+        # compiled for (read-only arrays have their own compiled version, see warm_up).
+        if q.shape != shape or q.dtype is not _FLOAT64:
             return None
         if _jit is None:
             return _fk_one_python(chain, q.tolist())
-        flags = q.flags
-        if not (flags.c_contiguous and flags.writeable):
+        if q.strides != _UNIT_STRIDE:
             return None
         q_arr = q
     elif type(q) is list or type(q) is tuple:
-        values = _floats(q, chain.dof)
+        values = _floats(q, shape[0])
         if values is None or _jit is None:
             return None if values is None else _fk_one_python(chain, values)
         q_arr = np.array(values)
     else:
         return None
     T = np.empty((4, 4))
-    return T if _jit.fk_one(q_arr, chain.program, chain.convention == "modified", T) else None
+    return T if _jit.fk_one(q_arr, program, modified, T) else None
+
+
+_FLOAT64 = np.dtype(np.float64)
+_UNIT_STRIDE = (8,)
 
 
 def _floats(q: list[object] | tuple[object, ...], n: int) -> list[float] | None:
