@@ -199,27 +199,15 @@ def run_bench(
     # One pose on the scalar Python path: only measurable before the JIT is loaded.
     k = part("one-pose-python")
     say("in-house, one pose, Python")
+    python_one = Timing("in-house one pose, Python", "in-house", k)
     if dh.jit_status() == "not loaded":
         rows = list(q[:k])
-        seconds = _median_seconds(lambda: [model.fk(r) for r in rows], repeat)
-        timings.append(
-            Timing(
-                "in-house one pose, Python",
-                "in-house",
-                k,
-                seconds,
-                note="model.fk(q) in a loop, JIT not loaded (math module)",
-            )
-        )
+        python_one.seconds = _median_seconds(lambda: [model.fk(r) for r in rows], repeat)
+        python_one.note = "model.fk(q) in a loop, JIT not loaded (math module)"
+        python_poses = np.array([model.fk(r) for r in rows])
     else:
-        timings.append(
-            Timing(
-                "in-house one pose, Python",
-                "in-house",
-                k,
-                skipped="the JIT was already loaded in this process",
-            )
-        )
+        python_one.skipped = "the JIT was already loaded in this process"
+    timings.append(python_one)
 
     say("in-house, batched")
     jit = dh.load_jit() and n >= dh.JIT_MIN_POSES
@@ -242,14 +230,17 @@ def run_bench(
     if jit:
         timings.append(_one_thread(chain, q, out, repeat))
     ours = dh.fk(chain, q, out=out)
+    if python_one.seconds is not None:
+        python_one.max_pos_err_m = _max_pos_err(python_poses, ours[:k])
 
     k = part("one-pose")
     say("in-house, one pose")
     rows = list(q[:k])
     seconds = _median_seconds(lambda: [model.fk(r) for r in rows], repeat)
     path = "JIT" if dh.jit_status().startswith("loaded") else "Python"
+    err = _max_pos_err(np.array([model.fk(r) for r in rows]), ours[:k])
     timings.append(
-        Timing(f"in-house one pose, {path}", "in-house", k, seconds, note="model.fk(q) in a loop")
+        Timing(f"in-house one pose, {path}", "in-house", k, seconds, err, "model.fk(q) in a loop")
     )
 
     k = part("numpy")
