@@ -18,11 +18,13 @@ values, C-contiguous float64 arrays, and a chain *program* (see
 Why the batched kernel looks the way it does: it works on blocks of
 :data:`BLOCK` poses held as twelve contiguous columns (x, y, z axes and origin,
 three rows each) in one scratch array, joint by joint, so that every inner loop
-runs over poses with no data-dependent branch and LLVM vectorises it. The
-cosine and sine of revolute joint angles come from :func:`sincos`, a branch-free
-polynomial with Cody–Waite range reduction; the rare angles beyond
-:data:`CODY_WAITE_LIMIT` are recomputed with libm in a scalar second pass. Each
-step is its own compiled function, so numba optimises each loop on its own.
+runs over poses with no data-dependent branch and LLVM vectorises it (AVX-512
+here). For each revolute joint, one loop computes the angle's cosine and sine
+with :func:`sincos` — a branch-free polynomial with Cody–Waite range reduction —
+and applies the joint to the columns. A block with an angle beyond
+:data:`CODY_WAITE_LIMIT` (or a non-finite one) is redone on a slower path that
+uses libm for those angles. Each step is its own compiled function, so numba
+optimises each loop on its own; an LLVM shuffle transpose writes the 4×4 results.
 """
 
 from __future__ import annotations
@@ -64,9 +66,9 @@ if nb.config.DISABLE_JIT:  # type: ignore[attr-defined]  # numba.config sets it 
 
 Float = NDArray[np.float64]
 
-#: Poses per block of the batched kernel: 12 columns + 3 per-joint rows of
-#: 256 float64 each are 30 KiB of scratch, which stays in a core's L1/L2 cache.
-#: A compile-time constant, so the row offsets inside the scratch are too.
+#: Poses per block of the batched kernel: 16 scratch rows (12 columns, 4 per-joint
+#: rows) of 264 float64 are 33 KiB, which stay in a core's L1/L2 cache. A
+#: compile-time constant, so the row offsets inside the scratch are too.
 BLOCK = 256
 
 #: Fewer blocks than this (16 384 poses, ~0.3 ms of work) run on the calling
@@ -79,15 +81,15 @@ PARALLEL_MIN_BLOCKS = 64
 _X, _Y, _Z, _P, _C, _S, _D, _Q = 0, 3, 6, 9, 12, 13, 14, 15
 _ROWS = 16
 # Row stride: one cache line more than a block. With exactly 256 floats (2 KiB),
-# all fifteen rows fall into the same two L1 cache sets and evict each other in
-# the fused loops (measured: 6× slower).
+# the rows fall into the same two L1 cache sets and evict each other in the
+# fused loops (measured: 6× slower).
 _STRIDE = BLOCK + 8
 
-# π/2 split into three 33-bit parts (fdlibm's pio2_1, pio2_2, pio2_3) and the
-# remainder's leading part. For |k| < 2**20, k·_PIO2_1, k·_PIO2_2 and k·_PIO2_3
-# are exact products (20 + 33 bits ≤ 53), x − k·_PIO2_1 is exact (Sterbenz), and
-# the reduced angle carries an absolute error of about two half-ulps of π/4
-# (~1.1e-16 rad); the truncation of π/2 after ~99 bits adds < 2**20 · 2**-100.
+# π/2 split into three 33-bit parts (fdlibm's pio2_1, pio2_2, pio2_3). For
+# |k| <= 2**20, k·_PIO2_1, k·_PIO2_2 and k·_PIO2_3 are exact products (at most
+# 20 + 33 bits), x − k·_PIO2_1 is exact (Sterbenz), and the reduced angle
+# carries an absolute error of about two half-ulps of π/4 (~1.1e-16 rad); the
+# truncation of π/2 after ~99 bits adds < 2**20 · 2**-100.
 _PIO2_1 = 1.57079632673412561417e00
 _PIO2_2 = 6.07710050630396597660e-11
 _PIO2_3 = 2.02226624871116645580e-21
