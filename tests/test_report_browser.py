@@ -86,6 +86,8 @@ def test_browser_shows_the_json_verdict_and_numbers(d1_report, tmp_path):
         assert f">{format_rad(rot)}<" in dom
         assert f">{format_deg(rot)}<" in dom
     assert "pinocchio-urdf: max position error 0.301 mm" in dom
+    # The diagnosis, as the browser shows it: the one number that differs, and by how much.
+    assert "d1 (shoulder_pan) = 0.08946 here, 0.089159 would match, Δ = -0.301 mm" in dom
 
 
 def test_browser_screenshots(d1_report, tmp_path):

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from fkcheck.report.build import IndexEntry, build_index_page, build_report_page
+from fkcheck.report.diagnosis import diagnosis_view
 from fkcheck.report.evidence import collect_worst_poses, dh_parting, worst_indices
 from fkcheck.report.format import format_deg, format_mm, format_rad
 from fkcheck.report.html import render_index, render_report, write_html
@@ -23,6 +24,7 @@ from report_cases import (
     SPEC,
     backends,
     golden_check,
+    golden_diagnoses,
     golden_model,
     page_numbers,
     scrub,
@@ -53,7 +55,8 @@ def _compare_with_gold(actual: str, name: str) -> None:
 def golden_page() -> str:
     check = golden_check()
     worst = collect_worst_poses(check, backends())
-    return render_report(build_report_page(check, worst))
+    diagnoses = [diagnosis_view(d) for d in golden_diagnoses(check)]
+    return render_report(build_report_page(check, worst, diagnoses=diagnoses))
 
 
 def test_report_matches_the_gold_file(golden_page):
@@ -297,7 +300,7 @@ def test_number_formats(value, mm, rad, deg):
 def test_importing_the_report_modules_loads_no_heavy_library():
     code = (
         "import sys, fkcheck.report.html, fkcheck.report.build, fkcheck.report.plots, "
-        "fkcheck.report.markdown, fkcheck.commands.check; "
+        "fkcheck.report.markdown, fkcheck.report.diagnosis, fkcheck.commands.check; "
         "print(sorted(m for m in ('matplotlib', 'jinja2', 'scipy', 'pinocchio', "
         "'roboticstoolbox') if m in sys.modules))"
     )

@@ -6,7 +6,10 @@ checks every bundled model and writes, into ``--out-dir`` (default
 ``reports/``), each model's ``<model>.json``, ``<model>.html`` and
 ``<model>.junit.xml`` plus ``index.html``, the dashboard linking them. Either
 way, when the environment variable ``GITHUB_STEP_SUMMARY`` names a file (as on
-GitHub Actions), the Markdown summary is appended to it.
+GitHub Actions), the Markdown summary is appended to it. The HTML report of a
+failing check has a Diagnosis section (``fkcheck diagnose`` run against the
+disagreeing backends) unless ``--no-diagnose`` is given; the JSON is the same
+with or without it.
 """
 
 from __future__ import annotations
@@ -83,6 +86,13 @@ def add_parser(sub: Any) -> None:
         type=Path,
         metavar="PATH",
         help="write a Markdown summary here (also appended to $GITHUB_STEP_SUMMARY when set)",
+    )
+    p.add_argument(
+        "--no-diagnose",
+        dest="diagnose",
+        action="store_false",
+        help="HTML report of a failing check: leave out the Diagnosis section (it runs "
+        "fkcheck diagnose against each distinct disagreeing backend, about a second each)",
     )
     p.set_defaults(run=run)
 
@@ -285,7 +295,7 @@ def _run_all(args: argparse.Namespace) -> int:
         print_summary(check)
         # File names come from the bundled file's name, never from text inside it.
         names = (f"{stem}.html", f"{stem}.json", f"{stem}.junit.xml")
-        write_html(check, out_dir / names[0], backends)
+        write_html(check, out_dir / names[0], backends, diagnose=args.diagnose)
         write_json(check, out_dir / names[1])
         write_junit(check, out_dir / names[2])
         entries.append(IndexEntry(check, *names))
@@ -326,6 +336,6 @@ def run(args: argparse.Namespace) -> int:
     if args.junit is not None:
         write_junit(check, args.junit)
     if args.html is not None:
-        write_html(check, args.html, backends)
+        write_html(check, args.html, backends, diagnose=args.diagnose)
     _summaries(args, [check])
     return 0 if check.verdict == "pass" else 1

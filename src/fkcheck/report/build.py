@@ -34,6 +34,7 @@ from fkcheck.report.views import (
     BackendDetail,
     BackendRow,
     DhRow,
+    DiagnosisView,
     Fact,
     FrameRow,
     FrameSide,
@@ -610,6 +611,11 @@ def _headline(check: CheckResult) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _with_also(d: DiagnosisView) -> str:
+    """``pinocchio-urdf`` or ``pinocchio-urdf (and yourdfpy-urdf, rtb-urdf)``."""
+    return d.backend + (f" (and {', '.join(d.also)})" if d.also else "")
+
+
 def _configurations(check: CheckResult) -> str:
     counts = Counter(o.split(":")[0] for o in check.origin)
     names = {
@@ -630,6 +636,7 @@ def build_report_page(
     *,
     versions: dict[str, str] | None = None,
     plots: bool = True,
+    diagnoses: Sequence[DiagnosisView] = (),
 ) -> ReportPage:
     """The report page of one check.
 
@@ -641,6 +648,9 @@ def build_report_page(
             page has no side-by-side matrices.
         versions: Library versions to show (default: the installed ones).
         plots: Draw the pictures (Matplotlib); off, the page has none.
+        diagnoses: The Diagnosis section (see
+            :func:`fkcheck.report.diagnosis.diagnosis_section`); each also gets a
+            line on the first screen.
 
     Returns:
         The page's view model.
@@ -692,8 +702,10 @@ def build_report_page(
         Fact("reproduce", check.command or "(run from Python: no command line)", code=True),
     )
     partings = _partings(check, urdf_axes)
-    headline = _headline(check) + tuple(
-        f"Where the chains part: {p.short}." for p in partings if p.short
+    headline = (
+        _headline(check)
+        + tuple(f"Diagnosis against {_with_also(d)}: {d.short}" for d in diagnoses)
+        + tuple(f"Where the chains part: {p.short}." for p in partings if p.short)
     )
     return ReportPage(
         title=f"fkcheck {model.name}: {check.verdict.upper()}",
@@ -710,6 +722,7 @@ def build_report_page(
         details=details,
         model_view=_model_view(check),
         generator=f"fkcheck {__version__}",
+        diagnoses=tuple(diagnoses),
     )
 
 

@@ -56,6 +56,7 @@ def write_html(
     backends: Sequence[Backend] | None = None,
     *,
     plots: bool = True,
+    diagnose: bool = True,
 ) -> Path:
     """Build, render and write a check's report, atomically.
 
@@ -66,15 +67,21 @@ def write_html(
             failing backend is run again on its few worst configurations so the
             page can show both matrices side by side.
         plots: Draw the pictures.
+        diagnose: When the check failed and ``backends`` are given, run
+            ``fkcheck diagnose`` against the disagreeing backends for the page's
+            Diagnosis section (see :mod:`fkcheck.report.diagnosis`); a diagnosis
+            that raises is shown as its error, the page is written anyway.
 
     Returns:
         The path written.
     """
     from fkcheck.report.build import build_report_page
+    from fkcheck.report.diagnosis import diagnosis_section
     from fkcheck.report.evidence import collect_worst_poses
 
     worst = collect_worst_poses(check, backends) if backends is not None else None
-    page = build_report_page(check, worst, plots=plots)
+    diagnoses = diagnosis_section(check, backends) if diagnose and backends is not None else ()
+    page = build_report_page(check, worst, plots=plots, diagnoses=diagnoses)
     return write_text_atomic(path, render_report(page))
 
 
