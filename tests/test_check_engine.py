@@ -9,7 +9,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from fkcheck import FrameError, load_model
+from fkcheck import FkcheckError, FrameError, load_model
 from fkcheck.backends.base import Backend, BackendUnavailable
 from fkcheck.check import run_check
 from fkcheck.dh import fk_reference
@@ -277,3 +277,59 @@ def test_measured_poses_become_the_configurations_of_the_check(capsys, tmp_path)
     assert [b["status"] for b in doc["backends"]] == ["pass", "pass"]
     # Printed to 6 decimals (m: 3 decimals of mm): agreement within half a unit.
     assert doc["backends"][0]["max_position_error_m"] < 1e-6
+
+
+class IsolatedChain(ReferenceChain):
+    name = "isolated-chain"
+    isolated = True
+
+
+class IsolatedCrash(ReferenceChain):
+    name = "isolated-crash"
+    isolated = True
+
+    def frame_poses(self, model, q, frames):
+        import os
+
+        os._exit(3)  # dies like a C extension that segfaults: no exception, no reply
+
+
+class IsolatedHang(Hanging):
+    name = "isolated-hang"
+    isolated = True
+
+
+class IsolatedBadInput(ReferenceChain):
+    name = "isolated-bad-input"
+    isolated = True
+
+    def frame_poses(self, model, q, frames):
+        raise FrameError("nope", "URDF x.urdf", ["a", "b"])
+
+
+def test_isolated_backend_runs_in_its_own_process_with_the_same_result(ur5):
+    check = run_check(ur5, [IsolatedChain(), ReferenceChain()], samples=100)
+    isolated, threaded = check.backends
+    assert isolated.status == threaded.status == "pass"
+    np.testing.assert_array_equal(isolated.position_error_m, threaded.position_error_m)
+    np.testing.assert_array_equal(isolated.rotation_error_rad, threaded.rotation_error_rad)
+
+
+def test_isolated_backend_that_dies_is_an_error_not_a_crash(ur5):
+    check = run_check(ur5, [IsolatedCrash(), ReferenceChain()], samples=10)
+    crashed, good = check.backends
+    assert (crashed.status, crashed.message) == ("error", "its process died (exit code 3)")
+    assert good.status == "pass"
+    assert check.verdict == "error"
+
+
+def test_isolated_backend_that_hangs_is_killed(ur5):
+    start = time.perf_counter()
+    check = run_check(ur5, [IsolatedHang()], samples=10, timeout_s=3)
+    assert time.perf_counter() - start < 20
+    assert check.backends[0].message == "timed out after 3 s"
+
+
+def test_isolated_backend_bad_input_is_still_bad_input(ur5):
+    with pytest.raises(FkcheckError, match=r"frame 'nope' not in URDF x\.urdf; frames are: a, b"):
+        run_check(ur5, [IsolatedBadInput()], samples=10)

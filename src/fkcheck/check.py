@@ -14,11 +14,13 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
+import multiprocessing
 import threading
 import time
 import traceback
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from multiprocessing.connection import Connection
 from typing import Literal
 
 import numpy as np
@@ -279,23 +281,13 @@ def _run_one(
     if reason is not None:
         return BackendResult(name, "skipped", reason, backend.method)
 
+    if getattr(backend, "isolated", False):
+        return _run_in_process(backend, model, q, pair, tol, timeout_s)
+
     box: list[BackendResult | FkcheckError] = []
-    start = time.perf_counter()
 
     def target() -> None:
-        try:
-            box.append(_compare(backend, model, q, pair, tol, on_progress))
-        except (BackendUnavailable, FrameUnavailable) as exc:
-            box.append(BackendResult(name, "skipped", str(exc), backend.method))
-        except FkcheckError as exc:
-            box.append(exc)
-        except Exception as exc:
-            where = traceback.extract_tb(exc.__traceback__)[-1]
-            detail = (
-                f"{type(exc).__name__}: {exc} ({where.filename.rsplit('/', 1)[-1]}:{where.lineno})"
-            )
-            box.append(BackendResult(name, "error", detail, backend.method,
-                                     time.perf_counter() - start))  # fmt: skip
+        box.append(_outcome(backend, model, q, pair, tol, on_progress))
 
     # A daemon thread: a backend that hangs is abandoned at the time limit and
     # does not keep the process alive.
@@ -307,6 +299,99 @@ def _run_one(
             name, "error", f"timed out after {timeout_s:g} s", backend.method, timeout_s
         )
     return box[0]
+
+
+def _outcome(
+    backend: Backend,
+    model: Model,
+    q: Float,
+    pair: tuple[str, str],
+    tol: tuple[float, float],
+    on_progress: Progress | None = None,
+) -> BackendResult | FkcheckError:
+    """Compare one backend; any exception becomes a result (or bad input to re-raise)."""
+    start = time.perf_counter()
+    try:
+        return _compare(backend, model, q, pair, tol, on_progress)
+    except (BackendUnavailable, FrameUnavailable) as exc:
+        return BackendResult(backend.name, "skipped", str(exc), backend.method)
+    except FkcheckError as exc:
+        return exc
+    except Exception as exc:
+        where = traceback.extract_tb(exc.__traceback__)[-1]
+        detail = f"{type(exc).__name__}: {exc} ({where.filename.rsplit('/', 1)[-1]}:{where.lineno})"
+        return BackendResult(
+            backend.name, "error", detail, backend.method, time.perf_counter() - start
+        )
+
+
+def _child_main(
+    conn: Connection,
+    backend: Backend,
+    model: Model,
+    q: Float,
+    pair: tuple[str, str],
+    tol: tuple[float, float],
+) -> None:
+    """Entry point of an isolated backend's process: send back one outcome."""
+    outcome = _outcome(backend, model, q, pair, tol)
+    # Exceptions with their own constructors do not round-trip through pickle:
+    # bad input travels as its message.
+    conn.send(("bad-input", str(outcome)) if isinstance(outcome, FkcheckError) else outcome)
+    conn.close()
+
+
+def _run_in_process(
+    backend: Backend,
+    model: Model,
+    q: Float,
+    pair: tuple[str, str],
+    tol: tuple[float, float],
+    timeout_s: float,
+) -> BackendResult | FkcheckError:
+    """Run a backend in its own process (``isolated = True``).
+
+    For slow, pure-Python backends that hold the GIL: in a process of their own
+    they use the second core instead of queueing behind the others. A crash of
+    the process (e.g. a segfault in a C extension) is that backend's error; at
+    the time limit the process is killed.
+    """
+    ctx = multiprocessing.get_context("spawn")
+    receive, send = ctx.Pipe(duplex=False)
+    proc = ctx.Process(
+        target=_child_main,
+        args=(send, backend, model, q, pair, tol),
+        name=f"fkcheck-{backend.name}",
+        daemon=True,
+    )
+    start = time.perf_counter()
+    proc.start()
+    send.close()
+    try:
+        if not receive.poll(timeout_s):
+            return BackendResult(
+                backend.name, "error", f"timed out after {timeout_s:g} s", backend.method, timeout_s
+            )
+        try:
+            outcome = receive.recv()
+        except EOFError:
+            proc.join(5)
+            return BackendResult(
+                backend.name,
+                "error",
+                f"its process died (exit code {proc.exitcode})",
+                backend.method,
+                time.perf_counter() - start,
+            )
+    finally:
+        if proc.is_alive():
+            proc.kill()
+        proc.join(5)
+        receive.close()
+    if isinstance(outcome, tuple):
+        return FkcheckError(outcome[1])
+    result: BackendResult = outcome
+    return replace(result, duration_s=time.perf_counter() - start)
 
 
 def run_check(

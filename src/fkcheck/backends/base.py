@@ -48,6 +48,10 @@ class Backend(Protocol):
     Attributes:
         name: The backend's name as shown in results (``"rtb-dh"``, ``"cmd:./fk"``).
         method: The library call used, for the report (``"DHRobot.fkine_all"``).
+
+    A backend may also set a class attribute ``isolated = True``: the engine then
+    runs it in a process of its own (for slow pure-Python backends that hold the
+    GIL; the object, the model and ``q`` must pickle).
     """
 
     name: str
