@@ -52,7 +52,8 @@ def test_registry_builds_the_backend() -> None:
     assert isinstance(backend, Backend)
     assert not isinstance(backend, SharesDHFrames)
     assert backend.name == "yourdfpy-urdf"
-    assert backend.method == "URDF.update_cfg + URDF.get_transform (loop)"
+    assert backend.method == "URDF.update_cfg + URDF.get_transform (loop, own process)"
+    assert backend.isolated
 
 
 def test_availability_is_decided_without_importing_yourdfpy() -> None:
