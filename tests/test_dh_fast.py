@@ -391,6 +391,22 @@ def test_numba_disabled_falls_back_to_numpy():
     assert out == "False unavailable: ImportError: NUMBA_DISABLE_JIT is set", out
 
 
+def test_no_writable_numba_cache_falls_back_to_numpy():
+    out = run_python(
+        """
+        import numba.core.caching
+        numba.core.caching.CacheImpl._locator_classes = []  # no cache directory fits
+        import numpy as np
+        from fkcheck import dh, load_model
+        chain = load_model("ur5").chain
+        q = np.random.default_rng(0).uniform(-3, 3, (dh.JIT_MIN_POSES, 6))
+        err = np.abs(dh.fk(chain, q) - dh.fk_reference(chain, q)).max()
+        print(dh.load_jit(), err <= 1e-14, dh.jit_status())
+        """
+    )
+    assert out.startswith("False True unavailable: RuntimeError: cannot cache function"), out
+
+
 def test_import_and_one_pose_and_cli_help_do_not_import_numba():
     out = run_python(
         """
