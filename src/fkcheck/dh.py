@@ -27,8 +27,8 @@ result never depends on what ran before it:
   :data:`fkcheck.tolerances.FAST_CORE`, tested). Loads numba on first use;
   compiled code is cached on disk, so compiling happens once per machine.
 * **one pose**: scalar code with libm's ``cos``/``sin``: the JIT's ``fk_one``
-  (~1 µs a call) once the JIT is loaded — by a large batch or by
-  :func:`load_jit` — else the same arithmetic in Python (~4 µs). The two give
+  (~1.3 µs a call) once the JIT is loaded — by a large batch or by
+  :func:`load_jit` — else the same arithmetic in Python (~6 µs). The two give
   the same bits, and the same bits as the NumPy path where NumPy's ``cos``/``sin``
   are libm's. One pose never loads numba itself: importing it costs ~0.3–0.5 s,
   more than a one-shot ``fkcheck fk ur5 --q …`` should pay.
@@ -295,7 +295,7 @@ def load_jit() -> bool:
     """Load the numba kernels now (compiling them on the first run on a machine).
 
     :func:`fk` loads them by itself for its first large batch; call this first to
-    make one-pose calls fast from the start (~1 µs instead of ~4 µs, same result).
+    make one-pose calls fast from the start (~1.3 µs instead of ~6 µs, same bits).
 
     Returns:
         Whether the JIT is usable. When it is not (numba missing, ``NUMBA_DISABLE_JIT``
@@ -375,7 +375,7 @@ def _floats(q: list[object] | tuple[object, ...], n: int) -> list[float] | None:
 def _fk_one_python(chain: DHChain, q: list[float]) -> Float | None:
     """``world_T_tcp`` for one configuration with the ``math`` module.
 
-    The same column arithmetic as the kernels, on Python floats: ~4 µs for six
+    The same column arithmetic as the kernels, on Python floats: ~6 µs for six
     joints, against ~80 µs for NumPy on ``(3, 1)`` arrays. Returns ``None`` for
     non-finite input, which the caller sends down the general path to be rejected.
     """
