@@ -121,7 +121,11 @@ def test_d1_diagnosis_names_d1_and_its_0_301_mm(d1_pages):
     angle, distance = data_values(rows[1][2])
     assert distance == pytest.approx(0.08946 - 0.089159, abs=1e-9)
     assert angle <= ROUNDED_URDF
-    assert "look at row 1" in text
+    assert re.search(
+        r'<p class="axes-note">First axis that differs: joint 2 \(shoulder_lift\); in standard '
+        r"DH it is z1, .*: look at row 1\.</p>",
+        section,
+    )
     assert "Hypotheses tried" in text
     assert "a published table" in text
     assert "two URDF joints swapped in [urdf].joints" in text

@@ -9,6 +9,8 @@
   :mod:`~fkcheck.report.evidence` gathers what the page shows beyond the
   check's numbers (both matrices at the worst configurations, where the chains
   part; the joint axes against the URDF come from :mod:`fkcheck.diagnose.axes`);
+  :mod:`~fkcheck.report.diagnosis` runs :func:`fkcheck.diagnose.diagnose`
+  against a failed check's disagreeing backends for the page's Diagnosis section;
 * :mod:`~fkcheck.report.markdown` — the short summary for CI pages.
 
 Every writer writes atomically (:func:`fkcheck.report.atomic.write_text_atomic`):

@@ -190,6 +190,14 @@ def _axes(d: Diagnosis) -> tuple[AxisView, ...]:
     )
 
 
+def _sentence(text: str) -> str:
+    """``first axis that differs: …`` as a sentence: capital first letter, full stop."""
+    if not text:
+        return ""
+    text = text[0].upper() + text[1:]
+    return text if text.endswith((".", "?", "!")) else text + "."
+
+
 def _verdict(d: Diagnosis) -> tuple[str, str]:
     """The sentence for the section and the few words for the first screen."""
     best = d.best
@@ -250,7 +258,7 @@ def diagnosis_view(outcome: BackendDiagnosis) -> DiagnosisView:
         rotation_before=measure_deg(d.before.rotation_rad),
         explanations=tuple(_explanation_view(k, e) for k, e in enumerate(d.explanations, start=1)),
         axes=_axes(d),
-        axes_note=d.axes_note,
+        axes_note=_sentence(d.axes_note),
         tried=d.tried,
         command=outcome.command,
         duration=format_seconds(d.duration_s),
