@@ -333,3 +333,22 @@ def test_isolated_backend_that_hangs_is_killed(ur5):
 def test_isolated_backend_bad_input_is_still_bad_input(ur5):
     with pytest.raises(FkcheckError, match=r"frame 'nope' not in URDF x\.urdf; frames are: a, b"):
         run_check(ur5, [IsolatedBadInput()], samples=10)
+
+
+def test_scripts_need_no_main_guard_for_isolated_backends(tmp_path):
+    import subprocess
+    import sys
+
+    script = tmp_path / "script.py"
+    script.write_text(
+        "from fkcheck import load_model\n"
+        "from fkcheck.backends.registry import make_backend\n"
+        "from fkcheck.check import run_check\n"
+        "check = run_check(load_model('ur5'), [make_backend('yourdfpy-urdf')], samples=5)\n"
+        "print('VERDICT', check.verdict, check.backends[0].status)\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "VERDICT pass pass"

@@ -10,8 +10,10 @@ import time
 import pytest
 
 
-@pytest.mark.parametrize(("sig", "code", "word"), [(signal.SIGTERM, 143, "terminated"),
-                                                    (signal.SIGINT, 130, "interrupted")])  # fmt: skip
+@pytest.mark.parametrize(
+    ("sig", "code", "word"),
+    [(signal.SIGTERM, 143, "terminated"), (signal.SIGINT, 130, "interrupted")],
+)
 def test_signal_during_a_check_leaves_no_report(tmp_path, sig, code, word):
     report = tmp_path / "ur5.json"
     proc = subprocess.Popen(

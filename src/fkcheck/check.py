@@ -14,13 +14,12 @@ from __future__ import annotations
 
 import contextlib
 import datetime as _dt
-import multiprocessing
+import functools
 import threading
 import time
 import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from multiprocessing.connection import Connection
 from typing import Literal
 
 import numpy as np
@@ -35,6 +34,7 @@ from fkcheck.backends.base import (
 )
 from fkcheck.errors import FkcheckError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
+from fkcheck.isolation import IsolatedDied, IsolatedTimeout, run_isolated
 from fkcheck.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.model import Model
 from fkcheck.sampling import Sampler, Samples, sample_configurations
@@ -325,20 +325,20 @@ def _outcome(
         )
 
 
-def _child_main(
-    conn: Connection,
+def _isolated_outcome(
     backend: Backend,
     model: Model,
     q: Float,
     pair: tuple[str, str],
     tol: tuple[float, float],
-) -> None:
-    """Entry point of an isolated backend's process: send back one outcome."""
+) -> BackendResult | tuple[str, str]:
+    """What an isolated backend's process sends back.
+
+    Exceptions with their own constructors do not round-trip through pickle:
+    bad input travels as ``("bad-input", message)``.
+    """
     outcome = _outcome(backend, model, q, pair, tol)
-    # Exceptions with their own constructors do not round-trip through pickle:
-    # bad input travels as its message.
-    conn.send(("bad-input", str(outcome)) if isinstance(outcome, FkcheckError) else outcome)
-    conn.close()
+    return ("bad-input", str(outcome)) if isinstance(outcome, FkcheckError) else outcome
 
 
 def _run_in_process(
@@ -356,38 +356,18 @@ def _run_in_process(
     the process (e.g. a segfault in a C extension) is that backend's error; at
     the time limit the process is killed.
     """
-    ctx = multiprocessing.get_context("spawn")
-    receive, send = ctx.Pipe(duplex=False)
-    proc = ctx.Process(
-        target=_child_main,
-        args=(send, backend, model, q, pair, tol),
-        name=f"fkcheck-{backend.name}",
-        daemon=True,
-    )
     start = time.perf_counter()
-    proc.start()
-    send.close()
+    job = functools.partial(_isolated_outcome, backend, model, q, pair, tol)
     try:
-        if not receive.poll(timeout_s):
-            return BackendResult(
-                backend.name, "error", f"timed out after {timeout_s:g} s", backend.method, timeout_s
-            )
-        try:
-            outcome = receive.recv()
-        except EOFError:
-            proc.join(5)
-            return BackendResult(
-                backend.name,
-                "error",
-                f"its process died (exit code {proc.exitcode})",
-                backend.method,
-                time.perf_counter() - start,
-            )
-    finally:
-        if proc.is_alive():
-            proc.kill()
-        proc.join(5)
-        receive.close()
+        outcome = run_isolated(job, timeout_s)
+    except IsolatedTimeout:
+        return BackendResult(
+            backend.name, "error", f"timed out after {timeout_s:g} s", backend.method, timeout_s
+        )
+    except IsolatedDied as exc:
+        return BackendResult(
+            backend.name, "error", str(exc), backend.method, time.perf_counter() - start
+        )
     if isinstance(outcome, tuple):
         return FkcheckError(outcome[1])
     result: BackendResult = outcome
