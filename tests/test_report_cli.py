@@ -10,6 +10,7 @@ import pytest
 
 from fkcheck import load_model
 from fkcheck.cli import MAIN_JOB, main
+from fkcheck.commands._console import PIPE_WIDTH
 from fkcheck.model import bundled_model_paths
 from report_cases import page_numbers
 
@@ -130,6 +131,32 @@ def test_all_fails_when_one_model_disagrees(tmp_path):
             "1e-30", "--tol-rot", "1e-30", "--out-dir", str(out)]  # fmt: skip
     assert main(argv) == 1
     assert "FAIL" in (out / "index.html").read_text(encoding="utf-8")
+
+
+def test_check_help_names_every_kind_of_backend(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "400")  # argparse wraps at hyphens otherwise
+    assert main(["check", "--help"]) == 0
+    out = capsys.readouterr().out
+    for name in ("rtb-model:NAME", "poses:FILE.csv", "cmd:PROGRAM", "module:function"):
+        assert name in out
+
+
+@pytest.mark.parametrize(("columns", "width"), [(None, PIPE_WIDTH), ("80", 80)])
+def test_terminal_table_in_a_ci_log_keeps_backend_names_whole(columns, width, capsys, monkeypatch):
+    """Stdout is a pipe (a CI log): the table is PIPE_WIDTH wide, or $COLUMNS; names never wrap."""
+    monkeypatch.delenv("FORCE_COLOR", raising=False)
+    if columns is None:
+        monkeypatch.delenv("COLUMNS", raising=False)
+    else:
+        monkeypatch.setenv("COLUMNS", columns)
+    assert main(["check", "ur5", "--samples", "2", "--against", URDF_BACKENDS]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    widest = max(len(line) for line in lines)
+    assert widest <= width
+    if columns is None:  # rich's own fallback would be 80 columns
+        assert widest > 80
+    for backend in URDF_BACKENDS.split(","):
+        assert [line for line in lines if line.startswith(f"│ {backend} ")], backend
 
 
 @pytest.mark.parametrize(

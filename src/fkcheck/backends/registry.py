@@ -8,6 +8,8 @@ Names:
 * built-ins: ``rtb-dh``, ``pinocchio-dh``, ``pinocchio-urdf``, ``yourdfpy-urdf``,
   ``rtb-urdf`` (the default set);
 * ``rtb-model:<Name>`` — a model Robotics Toolbox ships (``rtb-model:UR5``);
+* ``poses:<file.csv>`` — measured poses (a robot's pendant log, say); the check
+  runs at their configurations;
 * ``cmd:<command line>`` — an external FK program (stdin/stdout protocol);
 * ``<module>:<function>`` — a Python callable (plugin).
 """

@@ -61,14 +61,12 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the benchmark, print the table, write the JSON; 1 if a peer disagrees."""
-    from rich.console import Console
-
     from fkcheck.benchmark import run_bench
+    from fkcheck.commands._console import console
     from fkcheck.model import load_model
 
     model = load_model(args.model)
-    console = Console(stderr=True)
-    with console.status("timing…") as status:
+    with console(stderr=True).status("timing…") as status:
         result = run_bench(
             model,
             args.n,
@@ -80,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     disagree = [
         t.name for t in result.timings if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol
     ]
-    Console().print(_table(result, tol))
+    console().print(_table(result, tol))
     if args.json is not None:
         write_json(args.json, {**result.to_dict(), "tol_pos_m": tol, "disagree": disagree})
     if disagree:
@@ -103,7 +101,7 @@ def _table(result: Any, tol: float) -> Any:
     table = Table(
         title=f"fkcheck bench {result.model}: N = {result.n:,}, median of {result.repeat} runs"
     )
-    table.add_column("implementation")
+    table.add_column("implementation", no_wrap=True)
     table.add_column("n", justify="right")
     table.add_column("µs/pose", justify="right")
     table.add_column("poses/s", justify="right")

@@ -67,7 +67,8 @@ def add_parser(sub: Any) -> None:
         action="append",
         metavar="LIST",
         help="backends, comma-separated or repeated: rtb-dh, pinocchio-dh, pinocchio-urdf, "
-        "yourdfpy-urdf, rtb-urdf (the default set), rtb-model:NAME, cmd:PROGRAM, module:function",
+        "yourdfpy-urdf, rtb-urdf (the default set), rtb-model:NAME, poses:FILE.csv (measured "
+        "poses: the check runs at their configurations), cmd:PROGRAM, module:function",
     )
     p.add_argument("--samples", type=int, default=1000, help="random samples (default 1000)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
@@ -131,10 +132,11 @@ def _worst_q(result: BackendResult, check: CheckResult) -> str:
 
 def print_summary(check: CheckResult) -> None:
     """The terminal table and verdict line."""
-    from rich.console import Console
     from rich.table import Table
 
-    console = Console(highlight=False)
+    from fkcheck.commands._console import console as make_console
+
+    console = make_console(highlight=False)
     title = (
         f"fkcheck {check.model.name}: {check.frame_from} → {check.frame_to}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
@@ -149,7 +151,8 @@ def print_summary(check: CheckResult) -> None:
         "worst q",
         "time",
     ):
-        table.add_column(column, overflow="fold")
+        # Backend names and statuses never wrap; long messages fold.
+        table.add_column(column, overflow="fold", no_wrap=column in ("backend", "status"))
     table.add_row("fkcheck-dh", "reference", "", "", "", "")
     for r in check.backends:
         if r.ran:

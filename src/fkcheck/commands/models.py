@@ -16,17 +16,17 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print name, DOF, convention, URDF and source of every bundled model."""
-    from rich.console import Console
     from rich.table import Table
 
+    from fkcheck.commands._console import console
     from fkcheck.model import bundled_model_paths, load_model
 
     table = Table(title="bundled models", title_justify="left")
     for column in ("model", "DOF", "convention", "URDF", "source"):
-        table.add_column(column, overflow="fold")
+        table.add_column(column, overflow="fold", no_wrap=column == "model")
     for name, path in bundled_model_paths().items():
         model = load_model(path)
         urdf = model.urdf.path.split(":")[-1].rsplit("/", 1)[-1] if model.urdf else "-"
         table.add_row(name, str(model.dof), model.convention, urdf, model.source)
-    Console(width=160).print(table)
+    console().print(table)
     return 0
