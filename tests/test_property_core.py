@@ -1,5 +1,5 @@
-"""Property-based: random DH tables through the in-house core (and, where installed, the
-DH reference backends) agree with the plain chain product and are valid SE(3)."""
+"""Property-based: random DH tables through the in-house core agree with the plain chain
+product and are valid SE(3) (the reference backends: test_property_backends.py)."""
 
 from __future__ import annotations
 
