@@ -104,7 +104,7 @@ def test_json_is_written_atomically_and_readable(tmp_path):
     assert json.loads(path.read_text()) == {"a": 1}
     assert stat.S_IMODE(path.stat().st_mode) == 0o644
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.json"]  # no temp file left
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="not JSON serializable"):
         write_json(path, {"a": object()})  # not JSON: the old file stays, no temp file
     assert json.loads(path.read_text()) == {"a": 1}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.json"]
