@@ -7,12 +7,13 @@ time is the median of ``repeat`` runs after one warm-up run, and every peer's
 result is compared with the in-house core's on the same poses (largest
 position difference).
 
-The peers are built here from the model's DH table, independently of
-:mod:`fkcheck.backends`, so that what is timed is the library call and nothing
-else: Robotics Toolbox (``DHRobot.fkine`` and the C path ``ETS.eval`` behind
-it), Pinocchio (``forwardKinematics`` + ``updateFramePlacements`` per pose on
-revolute/prismatic z joints with SE(3) placements) and yourdfpy (``update_cfg``
-+ ``get_transform`` per pose, on the model's URDF). A peer whose library is not
+What is timed is the library call and nothing else: Robotics Toolbox
+(``DHRobot.fkine`` and the C path ``ETS.eval`` behind it, on the ``DHRobot`` the
+``rtb-dh`` backend builds), Pinocchio (``forwardKinematics`` +
+``updateFramePlacements`` per pose on revolute/prismatic z joints with SE(3)
+placements, built here with only a ``tcp`` frame so no other frame is updated)
+and yourdfpy (``update_cfg`` + ``get_transform`` per pose, on the model's URDF
+loaded as the ``yourdfpy-urdf`` backend loads it). A peer whose library is not
 installed is reported as skipped, with the reason.
 
 This module imports no peer library at import time.
@@ -31,9 +32,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck import dh
+from fkcheck.backends.base import BackendUnavailable
 from fkcheck.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model import Model
 from fkcheck.sampling import sampling_box
+from fkcheck.transforms import rot_x, rot_z, translation
 
 __all__ = [
     "OUTPUT_BYTES_PER_POSE",
@@ -276,7 +279,7 @@ def run_bench(
         k = part(key)
         try:
             timings.append(measure(model, q[:k], ours[:k], repeat))
-        except ImportError as exc:
+        except (ImportError, BackendUnavailable) as exc:
             timings.append(Timing(name, "peer", k, skipped=f"not installed: {exc}"))
         except Exception as exc:  # a peer that fails is reported, not fatal
             timings.append(Timing(name, "peer", k, skipped=f"{type(exc).__name__}: {exc}"))
@@ -345,51 +348,28 @@ def _pre_motion_post(model: Model, i: int) -> tuple[Float, Float, bool, float]:
     """Joint ``i`` as ``pre · motion(q) · post``: fixed parts, prismatic?, sign."""
     j = model.joints[i]
     eye = np.eye(4)
-
-    def rot(axis: int, angle: float) -> Float:
-        T = eye.copy()
-        c, s = np.cos(angle), np.sin(angle)
-        a, b = (axis + 1) % 3, (axis + 2) % 3
-        T[a, a], T[a, b], T[b, a], T[b, b] = c, -s, s, c
-        return T
-
-    def trans(axis: int, length: float) -> Float:
-        T = eye.copy()
-        T[axis, 3] = length
-        return T
-
     prismatic = j.type == "prismatic"
     sign = -1.0 if j.flip else 1.0
+    tz_d, tx_a = translation(0.0, 0.0, j.d), translation(j.a, 0.0, 0.0)
     if model.convention == "standard":  # Rz(θ) Tz(d) Tx(a) Rx(α)
-        pre = rot(2, j.theta) @ (trans(2, j.d) if prismatic else eye)
-        post = (eye if prismatic else trans(2, j.d)) @ trans(0, j.a) @ rot(0, j.alpha)
+        pre = rot_z(j.theta) @ (tz_d if prismatic else eye)
+        post = (eye if prismatic else tz_d) @ tx_a @ rot_x(j.alpha)
     else:  # Rx(α) Tx(a) Rz(θ) Tz(d)
-        pre = rot(0, j.alpha) @ trans(0, j.a) @ rot(2, j.theta)
-        pre = pre @ trans(2, j.d) if prismatic else pre
-        post = eye if prismatic else trans(2, j.d)
+        pre = rot_x(j.alpha) @ tx_a @ rot_z(j.theta)
+        pre = pre @ tz_d if prismatic else pre
+        post = eye if prismatic else tz_d
     return pre, post, prismatic, sign
 
 
 def rtb_robot(model: Model) -> Any:
-    """A Robotics Toolbox ``DHRobot`` from the model's table, base and tool."""
-    import roboticstoolbox as rtb
-    from spatialmath import SE3
+    """A Robotics Toolbox ``DHRobot`` from the model's table, base and tool (``rtb-dh``'s).
 
-    standard = model.convention == "standard"
-    links = []
-    for j in model.joints:
-        if j.type == "prismatic":  # q adds to d: the offset is d, θ is fixed
-            slider = rtb.PrismaticDH if standard else rtb.PrismaticMDH
-            links.append(slider(theta=j.theta, a=j.a, alpha=j.alpha, offset=j.d, flip=j.flip))
-        else:
-            hinge = rtb.RevoluteDH if standard else rtb.RevoluteMDH
-            links.append(hinge(d=j.d, a=j.a, alpha=j.alpha, offset=j.theta, flip=j.flip))
-    return rtb.DHRobot(
-        links,
-        name=model.name,
-        base=SE3(model.base.matrix, check=False),
-        tool=SE3(model.tool.matrix, check=False),
-    )
+    Raises:
+        BackendUnavailable: Robotics Toolbox is not installed.
+    """
+    from fkcheck.backends.rtb_dh import dh_robot
+
+    return dh_robot(model)
 
 
 def pinocchio_model(model: Model) -> Any:
@@ -473,27 +453,12 @@ def _pinocchio(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
 
 
 def _yourdfpy(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
-    import io
-
-    import yourdfpy
-
+    from fkcheck.backends.yourdfpy_urdf import _load  # the backend's loader: no meshes
     from fkcheck.urdf_source import load_urdf
 
     if model.urdf is None:
         raise LookupError("the model has no [urdf]")
-    info = load_urdf(model)
-
-    def no_meshes(fname: str) -> str:
-        raise RuntimeError(f"benchmark does not load meshes ({fname})")
-
-    robot = yourdfpy.URDF.load(
-        io.BytesIO(info.text.encode("utf-8")),
-        build_scene_graph=True,
-        build_collision_scene_graph=False,
-        load_meshes=False,
-        load_collision_meshes=False,
-        filename_handler=no_meshes,
-    )
+    robot = _load(load_urdf(model))
     frames = (model.check.frame_from, model.check.frame_to)
     twin_from, twin_to = (model.frames[f].urdf for f in frames)
     if twin_from is None or twin_to is None:
