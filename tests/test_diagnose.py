@@ -20,12 +20,12 @@ from fkcheck.cli import main
 from fkcheck.diagnose import diagnose, format_text, to_dict
 from fkcheck.diagnose.axes import line_distance, plucker
 from fkcheck.diagnose.offsets import fit_offsets
-from fkcheck.frames import relative_pose
+from fkcheck.frames import frame_poses_from_tcp, relative_pose
 from fkcheck.model import Offset
 from fkcheck.model_toml import model_to_toml
 from fkcheck.pose_formats import pose_from_matrix
 from fkcheck.tolerances import ROUNDED_URDF
-from fkcheck.transforms import matrix_from_xyz_rpy
+from fkcheck.transforms import matrix_from_xyz_rpy, translation
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 
@@ -372,3 +372,38 @@ def test_fixed_models_are_within_rounded_urdf_accuracy(reference):
     bad = with_joint(load_model("ur5"), 0, d=0.08946)
     best = run_diagnose(bad, reference).best
     assert best.residual.position_m < ROUNDED_URDF
+
+
+class OwnTableBlackBox:
+    """A plugin-like black box: its own copy of a table, the TCP moved by ``tip_T`` after
+    the tool; frames at DH 0 and n placed with the *checked* model's base and tool."""
+
+    name = "own-table-black-box"
+
+    def __init__(self, table, tip_T):
+        self.table = table
+        self.tip_T = tip_T
+
+    def unavailable_reason(self, model):
+        return None
+
+    def frame_poses(self, model, q, frames):
+        return frame_poses_from_tcp(model, self.table.fk(q) @ self.tip_T, frames)
+
+
+def test_fit_is_tried_when_the_black_box_rules_out_the_frame_offset():
+    # The tip is 0.2 mm along x6 and 0.3 mm along z6 further out: a constant tool0 offset
+    # matches the poses computed once, but the black box applies any [frames.tool0] offset
+    # too, so re-run on the changed model it is still 0.36 mm off. Only a6 and d6 together
+    # (not one of them alone) explain it, which the full fit must then find.
+    ur5 = load_model("ur5")
+    result = run_diagnose(ur5, OwnTableBlackBox(ur5, translation(0.0002, 0.0, 0.0003)))
+    assert result.before.position_m == pytest.approx(math.hypot(0.2e-3, 0.3e-3), abs=1e-12)
+    assert "all DH parameters + base + tool fitted together" in result.tried
+    assert not any(e.explains for e in result.explanations if e.kind in ("frames", "offset"))
+    best = result.best
+    assert best is not None
+    assert best.kind == "fit"
+    assert {c.field: c.delta for c in best.changes} == pytest.approx(
+        {"joint[5].a": 0.0002, "joint[5].d": 0.0003}, abs=1e-9
+    )

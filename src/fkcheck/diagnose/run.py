@@ -81,13 +81,15 @@ def diagnose(
             swaps, n_swaps = explain_swapped_mapping(problem)
             explanations += swaps
             tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
+        # Re-checked against the backend before deciding on the fit: a black box can rule
+        # out a fix (a frame offset) that looked like it explained everything.
+        explanations = [_verified(problem, e) for e in explanations]
         if not any(e.explains for e in explanations):  # the general form, when nothing simpler
-            explanations += explain_parameter_fit(problem)
+            explanations += [_verified(problem, e) for e in explain_parameter_fit(problem)]
             tried.append("all DH parameters + base + tool fitted together")
         if backend.name in URDF_BACKENDS:
             axes = compare_axes(problem)
             tried.append("joint axes against the URDF")
-    explanations = [_verified(problem, e) for e in explanations]
     return Diagnosis(
         model=model,
         backend=backend.name,
