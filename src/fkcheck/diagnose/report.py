@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 from fkcheck.diagnose.problem import Residual
 from fkcheck.model import Model
@@ -27,6 +27,12 @@ __all__ = [
     "to_dict",
 ]
 
+#: What kind of mistake an explanation names, most plausible first among
+#: explanations that make the disagreement vanish: a frame-naming difference
+#: (base_link vs base, flange vs tool0) or two URDF joints swapped in the mapping
+#: before a whole-table mistake (units, convention), before a one-character typo (a
+#: sign, a flip, a missing θ offset), before a different number (one parameter),
+#: before unexplained constant offsets, before a fit of everything.
 Kind = Literal[
     "frames",
     "mapping",
@@ -40,24 +46,8 @@ Kind = Literal[
     "fit",
 ]
 
-#: Most plausible first, among explanations that make the disagreement vanish: a
-#: frame-naming difference (base_link vs base, flange vs tool0) or two URDF joints
-#: swapped in the mapping before a whole-table
-#: mistake (units, convention), before a one-character typo (a sign, a flip, a
-#: missing θ offset), before a different number (one parameter), before unexplained
-#: constant offsets, before a fit of everything.
-KIND_ORDER: tuple[Kind, ...] = (
-    "frames",
-    "mapping",
-    "degrees",
-    "convention",
-    "sign",
-    "flip",
-    "theta-offset",
-    "parameter",
-    "offset",
-    "fit",
-)
+#: The kinds in :data:`Kind`'s order, the order :func:`rank` sorts them in.
+KIND_ORDER: tuple[Kind, ...] = get_args(Kind)
 
 
 @dataclass(frozen=True)
