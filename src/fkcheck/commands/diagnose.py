@@ -43,6 +43,7 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
+    from fkcheck.backends.base import BackendUnavailable, FixedConfigurations
     from fkcheck.backends.registry import make_backend
     from fkcheck.diagnose import diagnose, format_text, to_dict
     from fkcheck.errors import BackendNotFoundError, JointInputError
@@ -67,11 +68,9 @@ def run(args: argparse.Namespace) -> int:
     backend = make_backend(name)
     reason = backend.unavailable_reason(model)
     if reason is not None:
-        from fkcheck.backends.base import BackendUnavailable
-
         raise BackendUnavailable(f"{backend.name} cannot run here: {reason}")
-    configurations = getattr(backend, "configurations", None)
-    q = configurations(model) if callable(configurations) else None
+    # A measured-poses backend only has poses at its own configurations.
+    q = backend.configurations(model) if isinstance(backend, FixedConfigurations) else None
     result = diagnose(
         model,
         backend,
