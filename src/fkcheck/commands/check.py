@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from fkcheck.check import BackendResult, CheckResult
     from fkcheck.model import Model
 
-__all__ = ["DEFAULT_OUT_DIR", "add_parser", "format_m", "format_rad", "run"]
+__all__ = ["DEFAULT_OUT_DIR", "add_parser", "print_summary", "run"]
 
 #: Where ``--all`` writes its reports unless ``--out-dir`` says otherwise.
 DEFAULT_OUT_DIR = Path("reports")
@@ -98,22 +98,23 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(run=run)
 
 
-def format_m(value: float | None) -> str:
+def _with_larger_unit(value: float | None, unit: str, scale: float, larger: str) -> str:
+    """``value`` in ``unit``, and times ``scale`` in ``larger`` when it is 1e-5 or more."""
+    if value is None:
+        return "-"
+    if value >= 1e-5:
+        return f"{value:.3g} {unit} ({value * scale:.3f}{larger})"
+    return f"{value:.2g} {unit}"
+
+
+def _length(value_m: float | None) -> str:
     """A length in metres, with millimetres when large enough to matter."""
-    if value is None:
-        return "-"
-    if value >= 1e-5:
-        return f"{value:.3g} m ({value * 1e3:.3f} mm)"
-    return f"{value:.2g} m"
+    return _with_larger_unit(value_m, "m", 1e3, " mm")
 
 
-def format_rad(value: float | None) -> str:
+def _angle(value_rad: float | None) -> str:
     """An angle in radians, with degrees when large enough to matter."""
-    if value is None:
-        return "-"
-    if value >= 1e-5:
-        return f"{value:.3g} rad ({math.degrees(value):.3f}°)"
-    return f"{value:.2g} rad"
+    return _with_larger_unit(value_rad, "rad", 180.0 / math.pi, "°")  # as math.degrees
 
 
 _STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow"}
@@ -157,8 +158,8 @@ def print_summary(check: CheckResult) -> None:
     for r in check.backends:
         if r.ran:
             table.add_row(
-                r.name, f"[{_STYLE[r.status]}]{r.status}[/]", format_m(r.max_position_error_m),
-                format_rad(r.max_rotation_error_rad), _worst_q(r, check), f"{r.duration_s:.2f} s",
+                r.name, f"[{_STYLE[r.status]}]{r.status}[/]", _length(r.max_position_error_m),
+                _angle(r.max_rotation_error_rad), _worst_q(r, check), f"{r.duration_s:.2f} s",
             )  # fmt: skip
         else:
             table.add_row(r.name, f"[{_STYLE[r.status]}]{r.status}[/]", r.message, "", "", "")
