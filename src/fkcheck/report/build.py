@@ -66,6 +66,7 @@ __all__ = [
     "build_report_page",
     "measure_m",
     "measure_rad",
+    "overall_verdict",
     "pose_forms",
     "verdict_line",
 ]
@@ -746,7 +747,12 @@ class IndexEntry:
     junit: str
 
 
-def _overall(verdicts: Sequence[str]) -> str:
+def overall_verdict(verdicts: Sequence[str]) -> str:
+    """The verdict of a run over several models.
+
+    ``fail`` when any model fails; else ``error`` when any errors or there are
+    none; else ``pass``.
+    """
     if any(v == "fail" for v in verdicts):
         return "fail"
     if any(v == "error" for v in verdicts) or not verdicts:
@@ -794,7 +800,7 @@ def build_index_page(
         for e in entries
     )
     verdicts = [m.verdict for m in models]
-    overall = _overall(verdicts)
+    overall = overall_verdict(verdicts)
     counts = Counter(verdicts)
     line = ", ".join(f"{counts[v]} {v}" for v in ("pass", "fail", "error") if counts.get(v))
     versions = library_versions() if versions is None else versions

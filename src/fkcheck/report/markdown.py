@@ -37,15 +37,6 @@ def _angle(value: float | None) -> str:
     return "–" if value is None else f"{format_rad(value)} ({format_deg(value)})"
 
 
-def _overall(checks: Sequence[CheckResult]) -> str:
-    verdicts = [c.verdict for c in checks]
-    if "fail" in verdicts:
-        return "fail"
-    if "error" in verdicts or not verdicts:
-        return "error"
-    return "pass"
-
-
 def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | None = None) -> str:
     """The summary of one check or of a run over several models.
 
@@ -56,11 +47,11 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
     Returns:
         Markdown text ending in a newline.
     """
-    from fkcheck.report.build import verdict_line
+    from fkcheck.report.build import overall_verdict, verdict_line
 
     links = links or {}
     lines: list[str] = []
-    overall = _overall(checks)
+    overall = overall_verdict([c.verdict for c in checks])
     if len(checks) == 1:
         (check,) = checks
         name = escape_markdown(check.model.name)
