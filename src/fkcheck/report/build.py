@@ -64,6 +64,7 @@ __all__ = [
     "IndexEntry",
     "build_index_page",
     "build_report_page",
+    "measure_deg",
     "measure_m",
     "measure_rad",
     "overall_verdict",
@@ -108,6 +109,11 @@ def measure_m(value: float | None) -> Measure:
 def measure_rad(value: float | None) -> Measure:
     """An angle: radians first, degrees second."""
     return Measure(value, format_rad(value), format_deg(value))
+
+
+def measure_deg(value: float | None) -> Measure:
+    """An angle: degrees first, radians second (the diagnosis speaks in degrees)."""
+    return Measure(value, format_deg(value), format_rad(value))
 
 
 def _num(value: float) -> str:

@@ -19,9 +19,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from fkcheck.report.build import measure_m
-from fkcheck.report.format import format_deg, format_rad, format_seconds
-from fkcheck.report.views import AxisView, DiagnosisView, ExplanationView, Measure
+from fkcheck.report.build import measure_deg, measure_m
+from fkcheck.report.evidence import require_aligned
+from fkcheck.report.format import format_seconds
+from fkcheck.report.views import AxisView, DiagnosisView, ExplanationView
 
 if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
@@ -56,11 +57,6 @@ class BackendDiagnosis:
     error: str = ""
     also: tuple[str, ...] = ()
     command: str = ""
-
-
-def measure_deg(value: float | None) -> Measure:
-    """An angle: degrees first, radians second (the diagnosis speaks in degrees)."""
-    return Measure(value, format_deg(value), format_rad(value))
 
 
 def same_disagreement(check: CheckResult, a: BackendResult, b: BackendResult) -> bool:
@@ -137,11 +133,7 @@ def diagnose_failures(
     Raises:
         ValueError: ``backends`` does not match ``check.backends``.
     """
-    if len(backends) != len(check.backends):
-        raise ValueError(
-            f"{len(backends)} backend objects for {len(check.backends)} results: pass the "
-            "backends the check ran, in order"
-        )
+    require_aligned(check, backends)
     diagnosed: list[tuple[BackendResult, BackendDiagnosis, list[str]]] = []
     for result, backend in zip(check.backends, backends, strict=True):
         if result.status != "fail":

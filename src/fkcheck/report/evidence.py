@@ -28,6 +28,7 @@ __all__ = [
     "WorstPoses",
     "collect_worst_poses",
     "dh_parting",
+    "require_aligned",
     "worst_indices",
 ]
 
@@ -91,6 +92,19 @@ def worst_indices(check: CheckResult, result: BackendResult, k: int = WORST_CASE
     return [int(i) for i in order[:k]]
 
 
+def require_aligned(check: CheckResult, backends: Sequence[Backend]) -> None:
+    """Check that ``backends`` can be the objects behind ``check.backends``, one each.
+
+    Raises:
+        ValueError: Their counts differ.
+    """
+    if len(backends) != len(check.backends):
+        raise ValueError(
+            f"{len(backends)} backend objects for {len(check.backends)} results: "
+            "pass the backends the check ran, in order"
+        )
+
+
 def _in_house_relative(check: CheckResult, q: Float) -> Float:
     ref = reference_poses(check.model, q, (check.frame_from, check.frame_to))
     return relative_pose(ref[0], ref[1])
@@ -115,11 +129,7 @@ def collect_worst_poses(
     Raises:
         ValueError: ``backends`` does not match ``check.backends``.
     """
-    if len(backends) != len(check.backends):
-        raise ValueError(
-            f"{len(backends)} backend objects for {len(check.backends)} results: "
-            "pass the backends the check ran, in order"
-        )
+    require_aligned(check, backends)
     out: list[WorstPoses | None] = []
     pair = (check.frame_from, check.frame_to)
     for backend, result in zip(backends, check.backends, strict=True):
