@@ -28,7 +28,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.diagnose.problem import Problem, Residual, pose_residuals
+from fkcheck.diagnose.problem import (
+    Problem,
+    Residual,
+    pose_residuals,
+    se3_from_rotvec_translation,
+)
 from fkcheck.diagnose.report import Explanation, Kind
 from fkcheck.model import Model, Offset
 from fkcheck.model_toml import frame_toml, toml_number
@@ -57,15 +62,6 @@ class OffsetFit:
     X: Float
     Y: Float
     residual: Residual
-
-
-def _se3(xi: Float) -> Float:
-    from scipy.spatial.transform import Rotation
-
-    T = np.eye(4)
-    T[:3, :3] = Rotation.from_rotvec(xi[:3]).as_matrix()
-    T[:3, 3] = xi[3:]
-    return T
 
 
 def _project_rotation(M: Float) -> Float:
@@ -126,8 +122,6 @@ def fit_offsets(T_dh: Float, T_ref: Float, seed: int = 0) -> OffsetFit:
     """
     from scipy.optimize import least_squares
 
-    from fkcheck.metrics import position_error_m, rotation_error_rad
-
     rng = np.random.default_rng(seed)
     starts: list[tuple[Float, Float]] = [
         (np.eye(4), np.eye(4)),
@@ -139,7 +133,14 @@ def fit_offsets(T_dh: Float, T_ref: Float, seed: int = 0) -> OffsetFit:
         starts.append(hand_eye)
 
     def residuals(xi: Float, X0: Float, Y0: Float) -> Float:
-        return pose_residuals(X0 @ _se3(xi[:6]) @ T_dh @ Y0 @ _se3(xi[6:]), T_ref)
+        return pose_residuals(
+            X0
+            @ se3_from_rotvec_translation(xi[:6])
+            @ T_dh
+            @ Y0
+            @ se3_from_rotvec_translation(xi[6:]),
+            T_ref,
+        )
 
     best: tuple[float, Float, Float] | None = None
     for X0, Y0 in starts:
@@ -156,18 +157,16 @@ def fit_offsets(T_dh: Float, T_ref: Float, seed: int = 0) -> OffsetFit:
             gtol=1e-15,
             max_nfev=2000,
         )
-        X, Y = X0 @ _se3(sol.x[:6]), Y0 @ _se3(sol.x[6:])
+        X, Y = (
+            X0 @ se3_from_rotvec_translation(sol.x[:6]),
+            Y0 @ se3_from_rotvec_translation(sol.x[6:]),
+        )
         cost = float(np.sum(residuals(np.zeros(12), X, Y) ** 2))
         if best is None or cost < best[0]:
             best = (cost, X, Y)
     assert best is not None
     _, X, Y = best
-    fitted = X @ T_dh @ Y
-    residual = Residual(
-        float(position_error_m(fitted, T_ref).max()),
-        float(rotation_error_rad(fitted, T_ref).max()),
-    )
-    return OffsetFit(X, Y, residual)
+    return OffsetFit(X, Y, Problem.errors_against(X @ T_dh @ Y, T_ref))
 
 
 def _snap_rotation(R: Float, tol: float) -> Float | None:

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.dh_names import PARAMS, param_symbol
-from fkcheck.diagnose.problem import Problem, pose_residuals
+from fkcheck.diagnose.problem import Problem, pose_residuals, se3_from_rotvec_translation
 from fkcheck.diagnose.report import Change, Explanation
 from fkcheck.model import Model, Offset
 from fkcheck.se3 import offset_from_matrix
@@ -38,15 +38,6 @@ _TIE_DH = 1e-6
 _TIE_OFFSET = 1e-4
 
 
-def _se3(xi: Float) -> Float:
-    from scipy.spatial.transform import Rotation
-
-    T = np.eye(4)
-    T[:3, :3] = Rotation.from_rotvec(xi[:3]).as_matrix()
-    T[:3, 3] = xi[3:]
-    return T
-
-
 def _model_from(model: Model, x: Float) -> Model:
     n = model.dof
     table = x[: 4 * n].reshape(n, 4)
@@ -54,8 +45,8 @@ def _model_from(model: Model, x: Float) -> Model:
         replace(j, a=float(r[0]), alpha=float(r[1]), d=float(r[2]), theta=float(r[3]))
         for j, r in zip(model.joints, table, strict=True)
     )
-    base = Offset(*_parts(model.base.matrix @ _se3(x[4 * n : 4 * n + 6])))
-    tool = Offset(*_parts(model.tool.matrix @ _se3(x[4 * n + 6 :])))
+    base = Offset(*_parts(model.base.matrix @ se3_from_rotvec_translation(x[4 * n : 4 * n + 6])))
+    tool = Offset(*_parts(model.tool.matrix @ se3_from_rotvec_translation(x[4 * n + 6 :])))
     return replace(model, joints=joints, base=base, tool=tool)
 
 

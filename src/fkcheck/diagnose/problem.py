@@ -21,7 +21,13 @@ from fkcheck.metrics import position_error_m, rotation_error_rad
 from fkcheck.model import Model
 from fkcheck.sampling import sample_configurations
 
-__all__ = ["Problem", "Residual", "diagnosis_configurations", "pose_residuals"]
+__all__ = [
+    "Problem",
+    "Residual",
+    "diagnosis_configurations",
+    "pose_residuals",
+    "se3_from_rotvec_translation",
+]
 
 Float = NDArray[np.float64]
 
@@ -71,6 +77,20 @@ def pose_residuals(T: Float, T_ref: Float) -> Float:
     dR = np.swapaxes(T_ref[:, :3, :3], -1, -2) @ T[:, :3, :3]
     dr = Rotation.from_matrix(dR).as_rotvec() * ROTATION_WEIGHT_M
     return np.concatenate([dp, dr], axis=1).reshape(-1)
+
+
+def se3_from_rotvec_translation(xi: Float) -> Float:
+    """The 4×4 transform of ``xi = (rotation vector (rad), translation (m))``, shape ``(6,)``.
+
+    How the least-squares fits parametrise a small SE(3) increment: no gimbal lock,
+    no constraint.
+    """
+    from scipy.spatial.transform import Rotation
+
+    T = np.eye(4)
+    T[:3, :3] = Rotation.from_rotvec(xi[:3]).as_matrix()
+    T[:3, 3] = xi[3:]
+    return T
 
 
 def diagnosis_configurations(model: Model, samples: int, seed: int) -> Float:
@@ -146,10 +166,7 @@ class Problem:
 
     def errors(self, poses: Float) -> Residual:
         """Largest errors of ``poses`` against the reference."""
-        return Residual(
-            float(position_error_m(poses, self.reference).max()),
-            float(rotation_error_rad(poses, self.reference).max()),
-        )
+        return self.errors_against(poses, self.reference)
 
     def residual(self, model: Model) -> Residual:
         """Largest errors of a (modified) table against the reference."""
