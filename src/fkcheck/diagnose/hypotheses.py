@@ -27,7 +27,7 @@ import numpy as np
 
 from fkcheck.dh import Convention
 from fkcheck.dh_names import PARAMS, Param, param_symbol
-from fkcheck.diagnose.problem import Problem, pose_residuals
+from fkcheck.diagnose.problem import Problem, Residual, pose_residuals
 from fkcheck.diagnose.report import Change, Explanation, Kind
 from fkcheck.known_tables import published_tables, variant_note
 from fkcheck.model import Model, Offset
@@ -238,6 +238,13 @@ def _known_note(model: Model, i: int, param: str, old: float, new: float) -> str
     return "; ".join(notes)
 
 
+def _halves(problem: Problem, residual: Residual, before: Residual) -> bool:
+    """At most half the position error left, and half the rotation error (or within tolerance)."""
+    return residual.position_m <= before.position_m / 2 and residual.rotation_rad <= max(
+        before.rotation_rad / 2, problem.tol_rot_rad
+    )
+
+
 def fit_single_parameters(problem: Problem) -> list[Explanation]:
     """Each a, α, d, θ fitted alone to the reference; the ones that explain (or halve) it.
 
@@ -264,10 +271,10 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
             fitted = _with_joint(model, i, **{param: new})
             residual = problem.residual(fitted)
             explains = problem.explained(residual)
-            halves = residual.position_m <= before.position_m / 2 and residual.rotation_rad <= max(
-                before.rotation_rad / 2, problem.tol_rot_rad
-            )
-            if not (explains or halves) or abs(new - old) <= _SAME_VALUE:
+            if (
+                not (explains or _halves(problem, residual, before))
+                or abs(new - old) <= _SAME_VALUE
+            ):
                 continue
             note = _known_note(model, i, param, old, new)
             change = _change(model, i, param, new, note)
@@ -294,10 +301,7 @@ def explain_hypotheses(problem: Problem) -> tuple[list[Explanation], list[str]]:
         explains = problem.explained(residual)
         if label == "a published table" and not explains:
             continue  # a different robot's table that happens to be closer says little
-        halves = residual.position_m <= before.position_m / 2 and residual.rotation_rad <= max(
-            before.rotation_rad / 2, problem.tol_rot_rad
-        )
-        if explains or halves:
+        if explains or _halves(problem, residual, before):
             found.append(
                 Explanation(
                     cand.kind,
