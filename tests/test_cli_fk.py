@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 
@@ -119,7 +120,7 @@ def test_bad_input_exits_2_with_one_line(capsys, argv, match):
     assert code == 2
     assert out == ""
     assert len(err.strip().splitlines()) == 1, err
-    assert __import__("re").search(match, err), err
+    assert re.search(match, err), err
 
 
 def test_ignore_limits_allows_out_of_range(capsys):
