@@ -145,6 +145,21 @@ def _signed(x: Float, previous_x: Float) -> Float:
     return -x if x @ previous_x < 0 else x
 
 
+def _common_normal(
+    p1: Float, u1: Float, p2: Float, u2: Float, rel: AxisRelation, previous_x: Float
+) -> tuple[Float, Float, Float]:
+    """Where the common normal of two non-parallel axes leaves axis 1 and meets axis 2, and x.
+
+    Intersecting axes (``rel``, from :func:`_relate`) have no normal: both points are
+    the intersection and x is along ``u1 × u2``. x is signed by :func:`_signed`.
+    """
+    c1, c2 = _closest_points(p1, u1, p2, u2)
+    if rel == "intersecting":
+        mid = (c1 + c2) / 2.0
+        return mid, mid, _signed(_unit(np.cross(u1, u2)), previous_x)
+    return c1, c2, _signed(_unit(c2 - c1), previous_x)
+
+
 def _standard_frames(
     points: Float, dirs: Float, tip: Float
 ) -> tuple[list[Float], list[AxisRelation]]:
@@ -164,12 +179,8 @@ def _standard_frames(
         elif rel == "parallel":
             offset = _perp(p2 - prev_o, u1)  # the normal through the previous origin: d = 0
             o, x = prev_o + offset, _signed(_unit(offset), prev_x)
-        elif rel == "intersecting":
-            c1, c2 = _closest_points(p1, u1, p2, u2)
-            o, x = (c1 + c2) / 2.0, _signed(_unit(np.cross(u1, u2)), prev_x)
         else:
-            c1, c2 = _closest_points(p1, u1, p2, u2)
-            o, x = c2, _signed(_unit(c2 - c1), prev_x)
+            _, o, x = _common_normal(p1, u1, p2, u2, rel, prev_x)
         frames.append(_frame(o, x, u2))
     # Last frame: z along the last axis, origin = the tip origin projected onto it.
     o = _project_on_line(tip[:3, 3], points[-1], dirs[-1])
@@ -203,12 +214,8 @@ def _modified_frames(
         elif rel == "parallel":
             offset = _perp(p2 - foot, u1)  # the normal through the foot: d = 0
             o, x = foot, _signed(_unit(offset), prev_x)
-        elif rel == "intersecting":
-            c1, c2 = _closest_points(p1, u1, p2, u2)
-            o, x = (c1 + c2) / 2.0, _signed(_unit(np.cross(u1, u2)), prev_x)
         else:
-            c1, c2 = _closest_points(p1, u1, p2, u2)
-            o, x = c1, _signed(_unit(c2 - c1), prev_x)
+            o, _, x = _common_normal(p1, u1, p2, u2, rel, prev_x)
         frames.append(_frame(o, x, u1))
     return frames, relations
 
