@@ -13,6 +13,7 @@ from fkcheck import load_model
 from fkcheck.cli import main
 from fkcheck.known_tables import KNOWN_VARIANTS
 from fkcheck.lint import lint_model
+from fkcheck.model import Offset
 from fkcheck.model_toml import model_to_toml
 
 
@@ -113,6 +114,19 @@ def test_millimetres_in_a_metre_file(tmp_path, capsys):
     assert findings[0]["rule"] == "length"
     assert findings[0]["field"] == "joint[1].a"
     assert "millimetres" in findings[0]["message"]
+
+
+def test_long_base_tool_and_frame_offsets_are_named_by_field():
+    ur5 = load_model("ur5")
+    frames = dict(ur5.frames)
+    frames["flange"] = replace(frames["flange"], offset=Offset((-7.0, 0.0, 0.0)))
+    model = replace(
+        ur5, base=Offset((0.0, 0.0, 89.159)), tool=Offset((0.0, 6.0, 0.0)), frames=frames
+    )
+    lengths = [f for f in lint_model(model) if f.rule == "length"]
+    assert [f.field for f in lengths] == ["base.xyz[2]", "tool.xyz[1]", "frames.flange.xyz[0]"]
+    assert "millimetres" in lengths[0].message
+    assert "millimetres" not in lengths[1].message
 
 
 def test_limits_beyond_a_full_turn(tmp_path, capsys):

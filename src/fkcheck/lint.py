@@ -64,17 +64,24 @@ def _angle_text(model: Model, value: float) -> str:
     return f"{math.degrees(value):g}°" if model.angle_unit == "deg" else f"{value:g} rad"
 
 
+def _offset_fields(model: Model, part: Literal["xyz", "rpy"]) -> list[tuple[str, float]]:
+    """Every ``xyz`` or ``rpy`` entry of the base, the tool and the named frames, by file field."""
+    offsets = [("base", model.base), ("tool", model.tool)]
+    offsets += [(f"frames.{name}", spec.offset) for name, spec in model.frames.items()]
+    return [
+        (f"{label}.{part}[{k}]", v)
+        for label, offset in offsets
+        for k, v in enumerate(getattr(offset, part))
+    ]
+
+
 def _angles(model: Model) -> list[Finding]:
     out: list[Finding] = []
     if model.angle_unit == "rad":
         written: list[tuple[str, float]] = []
         for i, joint in enumerate(model.joints):
             written += [(f"joint[{i}].alpha", joint.alpha), (f"joint[{i}].theta", joint.theta)]
-        for label, offset in (("base", model.base), ("tool", model.tool)):
-            written += [(f"{label}.rpy[{k}]", v) for k, v in enumerate(offset.rpy)]
-        for name, spec in model.frames.items():
-            written += [(f"frames.{name}.rpy[{k}]", v) for k, v in enumerate(spec.offset.rpy)]
-        for field, value in written:
+        for field, value in written + _offset_fields(model, "rpy"):
             if abs(value) > 2 * math.pi + 1e-9:
                 out.append(
                     Finding(
@@ -130,11 +137,7 @@ def _lengths(model: Model) -> list[Finding]:
     values: list[tuple[str, float]] = []
     for i, joint in enumerate(model.joints):
         values += [(f"joint[{i}].a", joint.a), (f"joint[{i}].d", joint.d)]
-    for label, offset in (("base", model.base), ("tool", model.tool)):
-        values += [(f"{label}.xyz[{k}]", v) for k, v in enumerate(offset.xyz)]
-    for name, spec in model.frames.items():
-        values += [(f"frames.{name}.xyz[{k}]", v) for k, v in enumerate(spec.offset.xyz)]
-    for field, value in values:
+    for field, value in values + _offset_fields(model, "xyz"):
         if abs(value) > LONG_M:
             hint = " — millimetres in a file that must be in metres?" if abs(value) > 50 else ""
             out.append(Finding("length", field, f"{value:g} m is beyond {LONG_M:g} m{hint}"))
