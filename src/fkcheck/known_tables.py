@@ -10,13 +10,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Literal
 
+from fkcheck.dh_names import Param
 from fkcheck.model import Model, bundled_model_paths, load_model
 
 __all__ = ["KNOWN_VARIANTS", "KnownVariant", "published_tables", "variant_note"]
-
-Param = Literal["a", "alpha", "d", "theta"]
 
 
 @dataclass(frozen=True)
