@@ -52,7 +52,6 @@ def _reframe(model: Model, factors: Sequence[Float]) -> dict[str, FrameSpec]:
 
 def _to_modified(model: Model) -> Model:
     js = model.joints
-    n = len(js)
     rows: list[Joint] = []
     for i, joint in enumerate(js):
         prev_a, prev_alpha = (0.0, 0.0) if i == 0 else (js[i - 1].a, js[i - 1].alpha)
@@ -61,7 +60,6 @@ def _to_modified(model: Model) -> Model:
     tool = offset_from_matrix(_tx_rx(last.a, last.alpha) @ model.tool.matrix)
     # Standard frame i = modified frame i · Tx(a_i)Rx(α_i) for i = 1…n; frame 0 is shared.
     factors = [np.eye(4)] + [_tx_rx(j.a, j.alpha) for j in js]
-    assert len(factors) == n + 1
     return replace(
         model, convention="modified", joints=tuple(rows), tool=tool, frames=_reframe(model, factors)
     )
