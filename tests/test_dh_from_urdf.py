@@ -201,7 +201,7 @@ def test_urdf_fk_matches_pinocchio(rng):
     for spec, base, tip in ARMS:
         _, text, kin = read_urdf_file("example-robot-data:" + spec)
         chain = kin.chain(base, tip)
-        movable = [j for j in chain if j.type != "fixed"]
+        movable = kin.movable(chain)
         pmodel = pin.buildModelFromXML(text)
         data = pmodel.createData()
         for _ in range(5):
@@ -225,6 +225,12 @@ def test_axis_rotation_is_rodrigues():
     np.testing.assert_allclose(
         axis_rotation(axis, math.pi / 2)[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-16
     )
+    # Batched: one 4×4 per angle; about x, a quarter turn takes y to z.
+    batch = axis_rotation(np.array([1.0, 0.0, 0.0]), np.array([0.0, math.pi / 2, math.pi]))
+    assert batch.shape == (3, 4, 4)
+    np.testing.assert_allclose(batch[0], np.eye(4), atol=1e-16)
+    np.testing.assert_allclose(batch[1, :3, 1], [0, 0, 1], atol=1e-16)
+    np.testing.assert_allclose(batch[2], np.diag([1.0, -1.0, -1.0, 1.0]), atol=1e-15)
 
 
 @pytest.mark.parametrize(("stem", "backend"), sorted(REFUSED))

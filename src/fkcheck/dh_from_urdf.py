@@ -274,7 +274,7 @@ def dh_from_urdf(
         RuntimeError: The extracted table does not reproduce the URDF (a bug).
     """
     chain = kin.chain(base, tip)
-    movable = [j for j in chain if j.type != "fixed"]
+    movable = kin.movable(chain)
     for j in movable:
         if j.mimic is not None:
             raise UrdfError(
@@ -285,9 +285,9 @@ def dh_from_urdf(
     if not movable:
         raise UrdfError(kin.path, f"no movable joint between {base!r} and {tip!r}")
     n = len(movable)
-    zero = np.zeros((1, n))
-    points, dirs = kin.axes_at(chain, zero[0])
-    tip_T = kin.chain_poses(chain, zero)[0, -1]
+    points, dirs = kin.axes_at(chain, np.zeros(n))
+    zero_poses = kin.chain_poses(chain, np.zeros((1, n)))[0]  # every link of the chain at q = 0
+    tip_T = zero_poses[-1]
     if convention == "standard":
         frames, relations = _standard_frames(points, dirs, tip_T)
     else:
@@ -316,7 +316,7 @@ def dh_from_urdf(
 
     base_offset = offset_from_matrix(frames[0])
     tool_offset = offset_from_matrix(invert(frames[-1]) @ tip_T)
-    named = _named_frames(kin, chain, frames, base, tip)
+    named = _named_frames(chain, zero_poses, frames, base, tip)
     robot = name or kin.name
     model = Model(
         name=robot,
@@ -357,16 +357,22 @@ def _row_note(
 
 
 def _named_frames(
-    kin: UrdfKinematics, chain: list[JointGeometry], frames: list[Float], base: str, tip: str
+    chain: list[JointGeometry], poses: Float, frames: list[Float], base: str, tip: str
 ) -> dict[str, FrameSpec]:
-    """Every link of the chain as a named frame on the DH frame of its body."""
+    """Every link of the chain as a named frame on the DH frame of its body.
+
+    Args:
+        chain: The URDF chain, base to tip.
+        poses: ``(len(chain), 4, 4)`` each joint's child link in the base link at q = 0.
+        frames: The DH frames at q = 0, in the base link.
+        base: The base link (the model's world).
+        tip: The tip link (the model's TCP).
+    """
     out: dict[str, FrameSpec] = {
         "world": FrameSpec("world", "world"),
         "tcp": FrameSpec("tcp", "tcp"),
     }
     out[base] = FrameSpec(base, "world", Offset(), base)
-    zero = np.zeros((1, sum(1 for j in chain if j.type != "fixed")))
-    poses = kin.chain_poses(chain, zero)[0]
     body = 0  # DH frame index of the body a link belongs to
     for joint, pose in zip(chain, poses, strict=True):
         if joint.type != "fixed":

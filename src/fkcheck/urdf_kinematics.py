@@ -71,17 +71,23 @@ class JointGeometry:
         return self.type in MOVABLE
 
 
-def axis_rotation(axis: Float, angle: float) -> Float:
-    """4×4 rotation by ``angle`` (rad) about the unit ``axis`` (Rodrigues)."""
+def axis_rotation(axis: Float, angle: float | Float) -> Float:
+    """4×4 rotations by ``angle`` (rad) about the unit ``axis`` (Rodrigues).
+
+    Args:
+        axis: ``(3,)`` unit axis.
+        angle: A scalar, or an array of angles of shape ``S``.
+
+    Returns:
+        ``(*S, 4, 4)``: ``cos·I + sin·[axis]× + (1 − cos)·axis·axisᵀ`` in the rotation block.
+    """
     x, y, z = axis
-    c, s = math.cos(angle), math.sin(angle)
-    C = 1.0 - c
-    T = np.eye(4)
-    T[:3, :3] = [
-        [c + x * x * C, x * y * C - z * s, x * z * C + y * s],
-        [y * x * C + z * s, c + y * y * C, y * z * C - x * s],
-        [z * x * C - y * s, z * y * C + x * s, c + z * z * C],
-    ]
+    angle = np.asarray(angle, dtype=np.float64)
+    c, s = np.cos(angle)[..., None, None], np.sin(angle)[..., None, None]
+    skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    T = np.zeros((*angle.shape, 4, 4))
+    T[..., :3, :3] = c * np.eye(3) + s * skew + (1.0 - c) * np.outer(axis, axis)
+    T[..., 3, 3] = 1.0
     return T
 
 
@@ -178,6 +184,33 @@ class UrdfKinematics:
             UrdfError: A joint on the chain is not fixed/revolute/continuous/prismatic.
         """
         q = np.atleast_2d(np.asarray(q, dtype=np.float64))
+        movable = self.movable(chain)
+        if q.shape[1] != len(movable):
+            raise ValueError(f"expected {len(movable)} joint values, got {q.shape[1]}")
+        N = q.shape[0]
+        out = np.empty((N, len(chain), 4, 4))
+        T = np.broadcast_to(np.eye(4), (N, 4, 4))
+        col = 0
+        for i, joint in enumerate(chain):
+            T = T @ joint.origin
+            if joint.type != "fixed":
+                value = q[:, col]
+                col += 1
+                if joint.type == "prismatic":
+                    step = np.tile(np.eye(4), (N, 1, 1))
+                    step[:, :3, 3] = value[:, None] * joint.axis
+                else:
+                    step = axis_rotation(joint.axis, value)
+                T = T @ step
+            out[:, i] = T
+        return out
+
+    def movable(self, chain: Sequence[JointGeometry]) -> list[JointGeometry]:
+        """The joints of ``chain`` that move (all but ``fixed``), in chain order.
+
+        Raises:
+            UrdfError: A joint on the chain is not fixed/revolute/continuous/prismatic.
+        """
         movable = [j for j in chain if j.type != "fixed"]
         for j in movable:
             if j.type not in MOVABLE:
@@ -186,26 +219,7 @@ class UrdfKinematics:
                     f"joint {j.name!r} is {j.type}: only fixed, revolute, continuous and "
                     "prismatic joints can be followed",
                 )
-        if q.shape[1] != len(movable):
-            raise ValueError(f"expected {len(movable)} joint values, got {q.shape[1]}")
-        N = q.shape[0]
-        out = np.empty((N, len(chain), 4, 4))
-        for k in range(N):
-            T = np.eye(4)
-            col = 0
-            for i, joint in enumerate(chain):
-                T = T @ joint.origin
-                if joint.type != "fixed":
-                    value = float(q[k, col])
-                    col += 1
-                    if joint.type == "prismatic":
-                        step = np.eye(4)
-                        step[:3, 3] = joint.axis * value
-                        T = T @ step
-                    else:
-                        T = T @ axis_rotation(joint.axis, value)
-                out[k, i] = T
-        return out
+        return movable
 
     def axes_at(self, chain: Sequence[JointGeometry], q: Float) -> tuple[Float, Float]:
         """Each movable joint's axis as a line in the chain's base frame, for one ``q``.
