@@ -202,15 +202,32 @@ def _verdict(results: Sequence[BackendResult]) -> Verdict:
     return "pass"
 
 
-def _compare(
-    backend: Backend,
-    model: Model,
-    q: Float,
-    pair: tuple[str, str],
-    tol: tuple[float, float],
-    on_progress: Progress | None = None,
-) -> BackendResult:
+@dataclass(frozen=True, eq=False)
+class _Job:
+    """One backend's comparison (pickled whole to an isolated backend's process).
+
+    Attributes:
+        backend: The backend to run.
+        model: The model checked.
+        q: ``(N, n)`` configurations, radians / metres.
+        pair: ``(frame_from, frame_to)`` of the compared pose.
+        tol: ``(position m, rotation rad)`` tolerances.
+    """
+
+    backend: Backend
+    model: Model
+    q: Float
+    pair: tuple[str, str]
+    tol: tuple[float, float]
+
+
+def _error(backend: Backend, message: str, duration_s: float = 0.0) -> BackendResult:
+    return BackendResult(backend.name, "error", message, backend.method, duration_s)
+
+
+def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
     """Run one backend over all configurations and compare with the reference."""
+    backend, model, q, pair = job.backend, job.model, job.q, job.pair
     start = time.perf_counter()
     pos = np.empty(q.shape[0])
     rot = np.empty(q.shape[0])
@@ -236,7 +253,7 @@ def _compare(
         rot[first : first + CHUNK] = rotation_error_rad(ours, theirs)
         if on_progress is not None:
             on_progress(backend.name, first + chunk.shape[0], q.shape[0])
-    tol_pos, tol_rot = tol
+    tol_pos, tol_rot = job.tol
     score = np.maximum(pos / tol_pos, rot / tol_rot)
     worst = int(np.argmax(score)) if score.size else None
     failed = bool(score.size and score.max() > 1.0)
@@ -264,55 +281,41 @@ def _compare(
 
 
 def _run_one(
-    backend: Backend,
-    model: Model,
-    q: Float,
-    pair: tuple[str, str],
-    tol: tuple[float, float],
-    timeout_s: float,
-    on_progress: Progress | None = None,
+    job: _Job, timeout_s: float, on_progress: Progress | None = None
 ) -> BackendResult | FkcheckError:
     """Run one backend with a time limit; returns a result, or bad input to re-raise."""
-    name = backend.name
+    backend = job.backend
     try:
-        reason = backend.unavailable_reason(model)
+        reason = backend.unavailable_reason(job.model)
     except Exception as exc:  # a broken availability probe is that backend's error
-        return BackendResult(name, "error", f"{type(exc).__name__}: {exc}", backend.method)
+        return _error(backend, f"{type(exc).__name__}: {exc}")
     if reason is not None:
-        return BackendResult(name, "skipped", reason, backend.method)
+        return BackendResult(backend.name, "skipped", reason, backend.method)
 
     if getattr(backend, "isolated", False):
-        return _run_in_process(backend, model, q, pair, tol, timeout_s)
+        return _run_in_process(job, timeout_s)
 
     box: list[BackendResult | FkcheckError] = []
 
     def target() -> None:
-        box.append(_outcome(backend, model, q, pair, tol, on_progress))
+        box.append(_outcome(job, on_progress))
 
     # A daemon thread: a backend that hangs is abandoned at the time limit and
     # does not keep the process alive.
-    thread = threading.Thread(target=target, name=f"fkcheck-{name}", daemon=True)
+    thread = threading.Thread(target=target, name=f"fkcheck-{backend.name}", daemon=True)
     thread.start()
     thread.join(timeout_s)
     if thread.is_alive() or not box:
-        return BackendResult(
-            name, "error", f"timed out after {timeout_s:g} s", backend.method, timeout_s
-        )
+        return _error(backend, f"timed out after {timeout_s:g} s", timeout_s)
     return box[0]
 
 
-def _outcome(
-    backend: Backend,
-    model: Model,
-    q: Float,
-    pair: tuple[str, str],
-    tol: tuple[float, float],
-    on_progress: Progress | None = None,
-) -> BackendResult | FkcheckError:
+def _outcome(job: _Job, on_progress: Progress | None = None) -> BackendResult | FkcheckError:
     """Compare one backend; any exception becomes a result (or bad input to re-raise)."""
+    backend = job.backend
     start = time.perf_counter()
     try:
-        return _compare(backend, model, q, pair, tol, on_progress)
+        return _compare(job, on_progress)
     except (BackendUnavailable, FrameUnavailable) as exc:
         return BackendResult(backend.name, "skipped", str(exc), backend.method)
     except FkcheckError as exc:
@@ -320,35 +323,20 @@ def _outcome(
     except Exception as exc:
         where = traceback.extract_tb(exc.__traceback__)[-1]
         detail = f"{type(exc).__name__}: {exc} ({where.filename.rsplit('/', 1)[-1]}:{where.lineno})"
-        return BackendResult(
-            backend.name, "error", detail, backend.method, time.perf_counter() - start
-        )
+        return _error(backend, detail, time.perf_counter() - start)
 
 
-def _isolated_outcome(
-    backend: Backend,
-    model: Model,
-    q: Float,
-    pair: tuple[str, str],
-    tol: tuple[float, float],
-) -> BackendResult | tuple[str, str]:
+def _isolated_outcome(job: _Job) -> BackendResult | tuple[str, str]:
     """What an isolated backend's process sends back.
 
     Exceptions with their own constructors do not round-trip through pickle:
     bad input travels as ``("bad-input", message)``.
     """
-    outcome = _outcome(backend, model, q, pair, tol)
+    outcome = _outcome(job)
     return ("bad-input", str(outcome)) if isinstance(outcome, FkcheckError) else outcome
 
 
-def _run_in_process(
-    backend: Backend,
-    model: Model,
-    q: Float,
-    pair: tuple[str, str],
-    tol: tuple[float, float],
-    timeout_s: float,
-) -> BackendResult | FkcheckError:
+def _run_in_process(job: _Job, timeout_s: float) -> BackendResult | FkcheckError:
     """Run a backend in its own process (``isolated = True``).
 
     For slow, pure-Python backends that hold the GIL: in a process of their own
@@ -357,17 +345,12 @@ def _run_in_process(
     the time limit the process is killed.
     """
     start = time.perf_counter()
-    job = functools.partial(_isolated_outcome, backend, model, q, pair, tol)
     try:
-        outcome = run_isolated(job, timeout_s)
+        outcome = run_isolated(functools.partial(_isolated_outcome, job), timeout_s)
     except IsolatedTimeout:
-        return BackendResult(
-            backend.name, "error", f"timed out after {timeout_s:g} s", backend.method, timeout_s
-        )
+        return _error(job.backend, f"timed out after {timeout_s:g} s", timeout_s)
     except IsolatedDied as exc:
-        return BackendResult(
-            backend.name, "error", str(exc), backend.method, time.perf_counter() - start
-        )
+        return _error(job.backend, str(exc), time.perf_counter() - start)
     if isinstance(outcome, tuple):
         return FkcheckError(outcome[1])
     result: BackendResult = outcome
@@ -440,7 +423,7 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        outcome = _run_one(backend, model, q.q, pair, tol, timeout_s, on_progress)
+        outcome = _run_one(_Job(backend, model, q.q, pair, tol), timeout_s, on_progress)
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)
