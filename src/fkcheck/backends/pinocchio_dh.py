@@ -46,11 +46,12 @@ from fkcheck.dh import joint_values
 from fkcheck.frames import frame_poses_from_dh, resolve_frame
 from fkcheck.model import Joint, Model, Offset
 
-__all__ = ["PinocchioDH"]
+__all__ = ["INSTALL_HINT", "PinocchioDH", "import_pinocchio"]
 
 Float = NDArray[np.float64]
 
-_INSTALL_HINT = "pinocchio is not installed (pip install pin)"
+#: The reason given when Pinocchio is not installed (both Pinocchio backends).
+INSTALL_HINT = "pinocchio is not installed (pip install pin)"
 
 
 class PinocchioDH:
@@ -72,7 +73,7 @@ class PinocchioDH:
     def unavailable_reason(self, model: Model) -> str | None:
         """``None`` when Pinocchio is importable; every DH model can be built."""
         if importlib.util.find_spec("pinocchio") is None:
-            return _INSTALL_HINT
+            return INSTALL_HINT
         return None
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
@@ -102,11 +103,16 @@ class PinocchioDH:
         return world_T_dh
 
 
-def _import_pinocchio() -> Any:
+def import_pinocchio() -> Any:
+    """Import and return :mod:`pinocchio`.
+
+    Raises:
+        BackendUnavailable: It is not installed or fails to import.
+    """
     try:
         import pinocchio
     except ImportError as exc:
-        raise BackendUnavailable(f"{_INSTALL_HINT}: {exc}") from None
+        raise BackendUnavailable(f"{INSTALL_HINT}: {exc}") from None
     return pinocchio
 
 
@@ -114,7 +120,7 @@ class _PinocchioChain:
     """The Pinocchio model of one DH table, with a frame id per DH frame and the TCP."""
 
     def __init__(self, model: Model) -> None:
-        pin = self.pin = _import_pinocchio()
+        pin = self.pin = import_pinocchio()
         pmodel = pin.Model()
         pmodel.name = model.name
         op = pin.FrameType.OP_FRAME

@@ -25,19 +25,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.pinocchio_dh import INSTALL_HINT, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import urdf_twins, urdf_unavailable_reason
-from fkcheck.dh import joint_values
+from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model import Model
-from fkcheck.urdf_source import UrdfInfo, load_urdf
+from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["PinocchioUrdf"]
 
 Float = NDArray[np.float64]
-
-_INSTALL_HINT = "pinocchio is not installed (pip install pin)"
 
 
 class PinocchioUrdf:
@@ -58,7 +55,7 @@ class PinocchioUrdf:
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run: Pinocchio missing, or no ``[urdf]`` in the model."""
-        return urdf_unavailable_reason(model, "pinocchio", _INSTALL_HINT)
+        return urdf_unavailable_reason(model, "pinocchio", INSTALL_HINT)
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """``root_T_link`` of each frame's URDF twin, ``(len(frames), N, 4, 4)``.
@@ -72,12 +69,8 @@ class PinocchioUrdf:
                 Pinocchio cannot parse it.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        if model.urdf is None:
-            raise BackendUnavailable("model has no [urdf]")
-        info = load_urdf(model)
-        pin = _import_pinocchio()
-        q2 = joint_values(model.chain, q)
-        twins = urdf_twins(model, frames, self.name)
+        info, q2, twins = urdf_inputs(model, q, frames, self.name)
+        pin = import_pinocchio()
         pmodel = _build(pin, info)
         fids = [_frame_id(pin, pmodel, twin, info) for twin in twins]
         q_pin = _pinocchio_q(pin, pmodel, model, info, q2)
@@ -96,14 +89,6 @@ class PinocchioUrdf:
                 fk(pmodel, data, q_pin[k])
                 out[k] = [oMf[fid].homogeneous for fid in fids]
         return np.ascontiguousarray(out.transpose(1, 0, 2, 3))
-
-
-def _import_pinocchio() -> Any:
-    try:
-        import pinocchio
-    except ImportError as exc:
-        raise BackendUnavailable(f"{_INSTALL_HINT}: {exc}") from None
-    return pinocchio
 
 
 def _build(pin: Any, info: UrdfInfo) -> Any:

@@ -42,11 +42,10 @@ from numpy.typing import NDArray
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, eval_batch, import_rtb, padded_q
-from fkcheck.backends.urdf_common import urdf_twins, urdf_unavailable_reason
-from fkcheck.dh import joint_values
+from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model import Model
-from fkcheck.urdf_source import UrdfInfo, load_urdf
+from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["RtbUrdf", "kinematic_text"]
 
@@ -117,11 +116,7 @@ class RtbUrdf:
                 (from :func:`~fkcheck.urdf_source.load_urdf`), or RTB rejects it.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        if model.urdf is None:
-            raise BackendUnavailable("model has no [urdf]")
-        info = load_urdf(model)
-        q2 = joint_values(model.chain, q)
-        twins = urdf_twins(model, frames, self.name)
+        info, q2, twins = urdf_inputs(model, q, frames, self.name)
         built = self._build(model, info)
         qp = padded_q(q2, int(built.robot.n), built.columns)
         out = np.empty((len(twins), q2.shape[0], 4, 4))

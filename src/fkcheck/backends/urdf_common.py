@@ -1,4 +1,4 @@
-"""What the URDF backends share: their cheap availability test and the frame → link mapping.
+"""What the URDF backends share: their cheap availability test, inputs and the frame → link mapping.
 
 Every URDF backend compares the poses of the URDF *links* that named frames
 name as their twin (``[frames.NAME] urdf = "…"``); a frame without a twin
@@ -10,12 +10,18 @@ from __future__ import annotations
 import importlib.util
 from collections.abc import Sequence
 
-from fkcheck.backends.base import FrameUnavailable
+import numpy as np
+from numpy.typing import NDArray
+
+from fkcheck.backends.base import BackendUnavailable, FrameUnavailable
+from fkcheck.dh import joint_values
 from fkcheck.frames import resolve_frame
 from fkcheck.model import Model
-from fkcheck.urdf_source import ERD_PREFIX
+from fkcheck.urdf_source import ERD_PREFIX, UrdfInfo, load_urdf
 
-__all__ = ["urdf_twins", "urdf_unavailable_reason"]
+__all__ = ["urdf_inputs", "urdf_twins", "urdf_unavailable_reason"]
+
+Float = NDArray[np.float64]
 
 
 def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str | None:
@@ -64,3 +70,31 @@ def urdf_twins(model: Model, frames: Sequence[str], backend: str) -> list[str]:
             )
         twins.append(spec.urdf)
     return twins
+
+
+def urdf_inputs(
+    model: Model, q: Float, frames: Sequence[str], backend: str
+) -> tuple[UrdfInfo, Float, list[str]]:
+    """What every URDF backend's ``frame_poses`` starts from.
+
+    Args:
+        model: The model.
+        q: Joint values, ``(N, n)``, radians / metres, DH joint order.
+        frames: Names from ``model.frames``.
+        backend: The asking backend's name, for messages.
+
+    Returns:
+        ``(info, q, twins)``: the screened URDF (:func:`~fkcheck.urdf_source.load_urdf`),
+        ``q`` validated as C-contiguous float64 ``(N, n)``, and the frames' URDF links.
+
+    Raises:
+        BackendUnavailable: The model has no ``[urdf]``.
+        UrdfError: The URDF is missing, unsafe or does not fit the model.
+        FrameError: A name is not a frame of the model, or a twin is not a URDF link.
+        FrameUnavailable: A frame has no ``urdf`` twin.
+        JointInputError: ``q`` has the wrong shape or non-finite values.
+    """
+    if model.urdf is None:
+        raise BackendUnavailable("model has no [urdf]")
+    info = load_urdf(model)
+    return info, joint_values(model.chain, q), urdf_twins(model, frames, backend)

@@ -43,11 +43,10 @@ from numpy.typing import NDArray
 
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import urdf_twins, urdf_unavailable_reason
-from fkcheck.dh import joint_values
+from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model import Model
-from fkcheck.urdf_source import UrdfInfo, load_urdf
+from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["MeshAccessError", "YourdfpyUrdf"]
 
@@ -100,11 +99,8 @@ class YourdfpyUrdf:
                 mapped joint is absent or a mimic joint).
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        if model.urdf is None:
-            raise BackendUnavailable("model has no [urdf]")
-        info = load_urdf(model)
-        q2 = joint_values(model.chain, q)
-        twins = urdf_twins(model, frames, self.name)
+        info, q2, twins = urdf_inputs(model, q, frames, self.name)
+        assert model.urdf is not None  # urdf_inputs refuses a model without one
         robot = _load(info)
         nodes = robot.scene.graph.nodes
         for twin in twins:
