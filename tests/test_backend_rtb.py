@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import dataclasses
 import importlib.util
-import itertools
 import math
 import sys
 import tempfile
@@ -14,6 +13,7 @@ from typing import Any
 import numpy as np
 import pytest
 
+from backend_cases import URDF_MODELS, assert_every_pair_agrees, core_frame_poses, mapped_frames
 from conftest import BUNDLED, random_q
 from fkcheck.backends.base import Backend, BackendUnavailable, FrameUnavailable, SharesDHFrames
 from fkcheck.backends.registry import BackendOptions, make_backend
@@ -23,7 +23,7 @@ from fkcheck.backends.rtb_model import RtbModel
 from fkcheck.backends.rtb_urdf import RtbUrdf, kinematic_text
 from fkcheck.cli import main
 from fkcheck.errors import BackendNotFoundError, FkcheckError, UrdfError
-from fkcheck.frames import frame_poses_from_dh, relative_pose
+from fkcheck.frames import relative_pose
 from fkcheck.model import Model, Offset, load_model, model_from_dict
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
@@ -33,15 +33,6 @@ from helpers import assert_pose_close, assert_se3
 pytest.importorskip("roboticstoolbox")
 
 MESH_SUFFIXES = (".stl", ".dae", ".obj")
-
-
-def core_frames(model: Model, q: np.ndarray, frames: list[str]) -> np.ndarray:
-    """Named frames from the in-house core's DH-frame path."""
-    return frame_poses_from_dh(model, model.fk(q, all_frames=True), model.fk(q), frames)
-
-
-def mapped_frames(model: Model) -> list[str]:
-    return [name for name, spec in model.frames.items() if spec.urdf is not None]
 
 
 # --------------------------------------------------------------------------- rtb-dh
@@ -84,14 +75,14 @@ def test_rtb_dh_agrees_with_core_on_every_named_frame(name: str, rng: np.random.
     names = list(model.frames)
     poses = RtbDH().frame_poses(model, q, names)
     assert poses.shape == (len(names), 300, 4, 4)
-    for frame, got, want in zip(names, poses, core_frames(model, q, names), strict=True):
+    for frame, got, want in zip(names, poses, core_frame_poses(model, q, names), strict=True):
         assert_pose_close(got, want, SAME_CHAIN, what=f"{name} {frame}")
     (tcp,) = RtbDH().frame_poses(model, q, ["tcp"])
     assert_pose_close(tcp, model.fk(q), SAME_CHAIN, what=f"{name} tcp")
     # Without "tcp" the backend skips the TCP (and unused DH frames): same answers.
     rest = [frame for frame in names if frame != "tcp"]
     for frame, got, want in zip(
-        rest, RtbDH().frame_poses(model, q, rest), core_frames(model, q, rest), strict=True
+        rest, RtbDH().frame_poses(model, q, rest), core_frame_poses(model, q, rest), strict=True
     ):
         assert_pose_close(got, want, SAME_CHAIN, what=f"{name} {frame} without tcp")
 
@@ -136,7 +127,7 @@ def test_rtb_dh_handles_flips_offsets_prismatic_base_and_tool(
     assert_pose_close(backend.dh_frames(model, q), model.fk(q, all_frames=True), SAME_CHAIN)
     names = ["world", "tcp", "mid"]
     poses = backend.frame_poses(model, q, names)
-    for frame, got, want in zip(names, poses, core_frames(model, q, names), strict=True):
+    for frame, got, want in zip(names, poses, core_frame_poses(model, q, names), strict=True):
         assert_pose_close(got, want, SAME_CHAIN, what=frame)
 
 
@@ -197,7 +188,7 @@ def test_rtb_dh_one_joint_chain_over_a_batch(n_samples: int) -> None:
 # --------------------------------------------------------------------------- rtb-urdf
 
 
-@pytest.mark.parametrize("name", ["ur5", "ur3", "ur10", "panda"])
+@pytest.mark.parametrize("name", URDF_MODELS)
 def test_rtb_urdf_agrees_with_core_on_every_pair_of_mapped_frames(
     name: str, rng: np.random.Generator
 ) -> None:
@@ -209,14 +200,7 @@ def test_rtb_urdf_agrees_with_core_on_every_pair_of_mapped_frames(
     q = random_q(model, rng, 200)
     theirs = backend.frame_poses(model, q, names)
     assert theirs.shape == (len(names), 200, 4, 4)
-    ours = core_frames(model, q, names)
-    for i, j in itertools.permutations(range(len(names)), 2):
-        assert_pose_close(
-            relative_pose(theirs[i], theirs[j]),
-            relative_pose(ours[i], ours[j]),
-            ROUNDED_URDF,
-            what=f"{name}: {names[i]} → {names[j]}",
-        )
+    assert_every_pair_agrees(model, q, names, theirs, ROUNDED_URDF)
 
 
 def test_rtb_urdf_frame_without_twin_is_unavailable() -> None:
@@ -329,7 +313,7 @@ def test_rtb_urdf_maps_joints_by_name_and_leaves_others_at_zero(
     np.testing.assert_allclose(tip[:, 0, 0], np.cos(q1 - q2), rtol=0, atol=SAME_CHAIN)
     np.testing.assert_allclose(l1[:, 0, 0], np.cos(q1), rtol=0, atol=SAME_CHAIN)
     assert_pose_close(finger, tip, SAME_CHAIN, what="unmapped finger joint at 0")
-    ours = core_frames(model, q, ["base", "tip"])
+    ours = core_frame_poses(model, q, ["base", "tip"])
     assert_pose_close(relative_pose(base, tip), relative_pose(ours[0], ours[1]), SAME_CHAIN)
     assert [p for p in opened_files if p.endswith(".stl")] == []
 
