@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from fkcheck.model import Model
 
-__all__ = ["MAX_CORNERS", "Samples", "sample_configurations", "sampling_box"]
+__all__ = ["MAX_CORNERS", "Sampler", "Samples", "sample_configurations", "sampling_box"]
 
 Float = NDArray[np.float64]
 Sampler = Literal["sobol", "uniform"]

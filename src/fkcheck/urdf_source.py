@@ -108,14 +108,12 @@ def example_robot_data_dir() -> Path:
             then report themselves skipped, not failed).
     """
     spec = importlib.util.find_spec("example_robot_data")
-    candidates: list[Path] = []
     if spec is not None and spec.origin:
         # <prefix>/lib/pythonX.Y/site-packages/example_robot_data/__init__.py
         prefix = Path(spec.origin).resolve().parents[4]
-        candidates.append(prefix / "share" / "example-robot-data" / "robots")
-    for candidate in candidates:
-        if candidate.is_dir():
-            return candidate
+        robots = prefix / "share" / "example-robot-data" / "robots"
+        if robots.is_dir():
+            return robots
     raise BackendUnavailable("example-robot-data is not installed (pip install example-robot-data)")
 
 
@@ -137,7 +135,7 @@ def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
         path = Path(spec)
         if not path.is_absolute() and model.path is not None:
             path = model.path.parent / path
-        package_dirs = tuple(p for p in (path.parent.parent, path.parent.parent.parent) if p)
+        package_dirs = (path.parent.parent, path.parent.parent.parent)
     if not path.is_file():
         raise UrdfError(spec, f"URDF file not found ({path})")
     return path, package_dirs
