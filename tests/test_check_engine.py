@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import time
 import xml.etree.ElementTree as ET
 
@@ -170,7 +171,7 @@ def test_bad_backend_output_is_an_error(ur5, fn, match):
     check = run_check(ur5, [Returns("bad", fn)], samples=10)
     (r,) = check.backends
     assert r.status == "error"
-    assert __import__("re").search(match, r.message), r.message
+    assert re.search(match, r.message), r.message
     assert check.verdict == "error"
 
 
