@@ -19,7 +19,7 @@ import threading
 import time
 import traceback
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -158,7 +158,6 @@ class CheckResult:
     created: str = ""
     duration_s: float = 0.0
     command: str = ""
-    extra: dict[str, object] = field(default_factory=dict)
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:
