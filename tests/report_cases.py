@@ -73,6 +73,7 @@ class Agrees:
 
     name = "agrees"
     method = "model.fk"
+    evidence = "implementation"
 
     def unavailable_reason(self, model: Model) -> str | None:
         return None
@@ -86,6 +87,7 @@ class Shifted(Agrees):
 
     name = "shifted"
     method = "pose @ Tz(0.3 mm)"
+    evidence = "implementation"
 
     def frame_poses(self, model: Model, q: np.ndarray, frames: Any) -> np.ndarray:
         poses = super().frame_poses(model, q, frames)
@@ -98,6 +100,7 @@ class TwistedDH(Agrees):
 
     name = "twisted-dh"
     method = "flipped alpha_2"
+    evidence = "implementation"
 
     def frame_poses(self, model: Model, q: np.ndarray, frames: Any) -> np.ndarray:
         twisted = twisted_model(model)

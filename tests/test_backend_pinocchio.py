@@ -21,11 +21,11 @@ from backend_cases import (
     urdf_origin_rpy,
 )
 from conftest import BUNDLED, random_q
-from fkcheck.backends.base import Backend, BackendUnavailable, FrameUnavailable, SharesDHFrames
+from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
 from fkcheck.backends.pinocchio_dh import PinocchioDH
 from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
 from fkcheck.backends.registry import make_backend
-from fkcheck.errors import JointInputError
+from fkcheck.errors import JointInputError, UnmappedFrameError
 from fkcheck.frames import relative_pose
 from fkcheck.model import Model, load_model, model_from_dict
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
@@ -286,9 +286,11 @@ def test_urdf_continuous_flipped_and_prismatic_joints(
     assert_every_pair_agrees(model, q, frames, urdf_backend.frame_poses(model, q, frames), 1e-12)
 
 
-def test_urdf_frame_without_twin_is_unavailable(urdf_backend: PinocchioUrdf) -> None:
+def test_urdf_frame_without_twin_is_an_unmapped_frame_error(urdf_backend: PinocchioUrdf) -> None:
     ur5 = load_model("ur5")
-    with pytest.raises(FrameUnavailable, match=r"frame 'tcp' has no URDF twin.*base, base_link"):
+    with pytest.raises(
+        UnmappedFrameError, match=r"frame 'tcp' \(at the tcp\) has no URDF twin.*base, base_link"
+    ):
         urdf_backend.frame_poses(ur5, np.zeros((1, 6)), ["base", "tcp"])
 
 

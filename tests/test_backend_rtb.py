@@ -22,7 +22,7 @@ from fkcheck.backends.rtb_dh import RtbDH, dh_robot
 from fkcheck.backends.rtb_model import RtbModel
 from fkcheck.backends.rtb_urdf import RtbUrdf, kinematic_text
 from fkcheck.cli import main
-from fkcheck.errors import BackendNotFoundError, FkcheckError, UrdfError
+from fkcheck.errors import BackendNotFoundError, FkcheckError, UnmappedFrameError, UrdfError
 from fkcheck.frames import relative_pose
 from fkcheck.model import Model, Offset, load_model, model_from_dict
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
@@ -203,9 +203,11 @@ def test_rtb_urdf_agrees_with_core_on_every_pair_of_mapped_frames(
     assert_every_pair_agrees(model, q, names, theirs, ROUNDED_URDF)
 
 
-def test_rtb_urdf_frame_without_twin_is_unavailable() -> None:
+def test_rtb_urdf_frame_without_twin_is_an_unmapped_frame_error() -> None:
     model = load_model("ur5")
-    with pytest.raises(FrameUnavailable, match=r"frame 'tcp' has no URDF twin.*base_link"):
+    with pytest.raises(
+        UnmappedFrameError, match=r"frame 'tcp' \(at the tcp\) has no URDF twin.*base_link"
+    ):
         RtbUrdf().frame_poses(model, np.zeros((1, 6)), ["base", "tcp"])
 
 

@@ -12,9 +12,10 @@ import pytest
 
 from fkcheck import FkcheckError, FrameError, load_model
 from fkcheck.backends.base import Backend, BackendUnavailable
+from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.check import run_check
 from fkcheck.dh import fk_reference
-from fkcheck.frames import frame_poses_from_dh, frame_poses_from_tcp
+from fkcheck.frames import frame_poses_from_dh
 from fkcheck.metrics import rotation_error_rad
 from fkcheck.report.json_report import TIME_FIELDS, result_to_dict, write_json
 from fkcheck.report.junit import junit_xml
@@ -27,6 +28,7 @@ class ReferenceChain:
 
     name = "reference-chain"
     method = "fk_reference"
+    evidence = "implementation"
 
     def unavailable_reason(self, model):
         return None
@@ -159,20 +161,34 @@ def test_no_backends_at_all_is_an_error_verdict(ur5):
     assert run_check(ur5, [], samples=10).verdict == "error"
 
 
+def test_output_of_the_wrong_shape_is_an_error_no_answer(ur5):
+    check = run_check(ur5, [Returns("bad", lambda p: p[:, :5])], samples=10)
+    (r,) = check.backends
+    assert r.status == "error"
+    assert re.search(r"returned shape \(2, 5, 4, 4\)", r.message), r.message
+    assert not r.ran
+    assert check.verdict == "error"
+
+
 @pytest.mark.parametrize(
     ("fn", "match"),
     [
-        (lambda p: p[:, :5], r"returned shape \(2, 5, 4, 4\)"),
-        (lambda p: np.where(p == p[0, 0, 0, 0], np.nan, p), r"non-finite"),
-        (lambda p: p * 1.01, r"not a rigid transform"),
+        (lambda p: np.where(p == p[0, 0, 0, 0], np.nan, p), r"returned NaN or inf at \d+ of"),
+        (lambda p: p * 1.01, r"not a rigid transform: defect 0\.0\d+ at q = \["),
     ],
 )
-def test_bad_backend_output_is_an_error(ur5, fn, match):
-    check = run_check(ur5, [Returns("bad", fn)], samples=10)
-    (r,) = check.backends
-    assert r.status == "error"
-    assert re.search(match, r.message), r.message
-    assert check.verdict == "error"
+def test_a_wrong_answer_is_a_failure_with_its_reason_and_errors(ur5, fn, match):
+    """It answered, and the answer is wrong: fail (not error), numbers still shown."""
+    check = run_check(ur5, [Returns("bad", fn), ReferenceChain()], samples=10)
+    bad, good = check.backends
+    assert bad.status == "fail"
+    assert re.search(match, bad.message), bad.message
+    assert bad.ran
+    assert bad.max_position_error_m is not None
+    assert bad.max_position_error_m > 0
+    assert good.status == "pass"
+    assert check.verdict == "fail"
+    assert "nothing was cross-checked" not in check.evidence.implementation.status
 
 
 def test_hanging_backend_is_stopped_at_the_time_limit(ur5):

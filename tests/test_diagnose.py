@@ -14,13 +14,14 @@ import pytest
 import fkcheck.backends.registry as registry
 from fkcheck import load_model
 from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError
 from fkcheck.check import reference_poses, run_check
 from fkcheck.cli import main
 from fkcheck.diagnose import diagnose, format_text, to_dict
 from fkcheck.diagnose.axes import line_distance, plucker
 from fkcheck.diagnose.offsets import fit_offsets
-from fkcheck.frames import frame_poses_from_tcp, relative_pose
+from fkcheck.frames import relative_pose
 from fkcheck.model import Offset
 from fkcheck.model_toml import model_to_toml
 from fkcheck.pose_formats import pose_from_matrix

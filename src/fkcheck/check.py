@@ -4,10 +4,15 @@
 in-house DH core (the reference row) and with each backend, and turns the
 differences into :class:`BackendResult` rows and a :class:`CheckResult` verdict.
 
-A backend that cannot run is *skipped* with its reason; one that raises, times
-out or returns something that is not a pose is an *error* with the message; only
-a backend that ran and agreed within tolerance is a *pass*. A run where no
-backend ran is never a pass (verdict ``error``).
+Status words mean one thing each: ``pass`` — it answered and agrees within
+tolerance; ``fail`` — it answered and the answer is wrong (disagrees beyond
+tolerance, is not a rigid transform, or is NaN/inf: the message says which, where
+and by how much, and the errors are still reported); ``error`` — it could not
+answer (import failed, crashed, timed out, returned no poses of the right
+shape, or a URDF it should compare was never mapped); ``skipped`` — it does not
+apply here (library missing, frame out of its reach), with the reason. What the
+run proved — implementation and table evidence — and the verdict are in
+:mod:`fkcheck.verdict`. A run where no backend ran is never a pass.
 """
 
 from __future__ import annotations
@@ -15,9 +20,9 @@ from __future__ import annotations
 import contextlib
 import datetime as _dt
 import functools
+import importlib
 import threading
 import time
-import traceback
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Literal
@@ -25,20 +30,15 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import (
-    Backend,
-    BackendUnavailable,
-    FixedConfigurations,
-    FrameUnavailable,
-    SharesDHFrames,
-)
-from fkcheck.errors import FkcheckError
+from fkcheck.backends.base import Backend, Evidence, FixedConfigurations, SharesDHFrames
+from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
 from fkcheck.isolation import IsolatedDied, IsolatedTimeout, run_isolated
 from fkcheck.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.model import Model
 from fkcheck.sampling import Sampler, Samples, sample_configurations
 from fkcheck.tolerances import ROUNDED_URDF
+from fkcheck.verdict import KINDS, EvidenceSummary, Kind, Verdict, summarize, verdict_of
 
 __all__ = [
     "CHUNK",
@@ -54,13 +54,12 @@ __all__ = [
 Float = NDArray[np.float64]
 Status = Literal["pass", "fail", "error", "skipped"]
 Progress = Callable[[str, int, int], None]
-Verdict = Literal["pass", "fail", "error"]
 
 #: Name of the reference row: the in-house DH core.
 REFERENCE_NAME = "fkcheck-dh"
 #: Configurations handed to a backend per call: bounds memory for large runs.
 CHUNK = 65_536
-#: A backend's output must be a rigid transform to this accuracy; worse is an error.
+#: A backend's output must be a rigid transform to this accuracy; worse is a failure.
 #: Looser than any round-off (1e-15) and than a URDF's rounded π/2 (1e-11), tight
 #: enough to catch a scaled, sheared or transposed "rotation".
 SE3_TOLERANCE = 1e3 * ROUNDED_URDF
@@ -74,6 +73,7 @@ class BackendResult:
         name: Backend name.
         status: ``pass``, ``fail``, ``error`` or ``skipped``.
         message: Why it was skipped or errored, or a summary of the failure.
+        evidence: ``implementation`` or ``table``: what its agreement proves.
         method: The library call it used.
         duration_s: Wall time of its run, seconds (import included).
         position_error_m: Per-configuration position error against the reference, metres.
@@ -88,6 +88,7 @@ class BackendResult:
     message: str = ""
     method: str = ""
     duration_s: float = 0.0
+    evidence: Evidence = "implementation"
     position_error_m: Float | None = None
     rotation_error_rad: Float | None = None
     worst_index: int | None = None
@@ -101,6 +102,8 @@ class BackendResult:
     def _stat(self, values: Float | None, q: float | None) -> float | None:
         if values is None or values.size == 0:
             return None
+        if np.isnan(values).any():  # never hide a NaN behind a max or percentile
+            return float("nan")
         if q is None:
             return float(values.max())
         return float(np.percentile(values, q))
@@ -137,7 +140,8 @@ class CheckResult:
         q: ``(N, n)`` configurations checked (radians / metres).
         origin: Where each configuration came from (see :mod:`fkcheck.sampling`).
         backends: One result per backend, in the order asked.
-        verdict: ``pass``, ``fail`` or ``error``.
+        verdict: ``pass``, ``fail``, ``error`` or ``unverified`` (see :mod:`fkcheck.verdict`).
+        required: Kinds of evidence that had to be verified (``--require``).
         created: ISO 8601 UTC time the check started.
         duration_s: Wall time of the check, seconds.
         command: The command line that reproduces it (set by the CLI).
@@ -155,6 +159,7 @@ class CheckResult:
     origin: tuple[str, ...]
     backends: tuple[BackendResult, ...]
     verdict: Verdict
+    required: tuple[Kind, ...] = ()
     created: str = ""
     duration_s: float = 0.0
     command: str = ""
@@ -163,6 +168,11 @@ class CheckResult:
     def ran(self) -> tuple[BackendResult, ...]:
         """The backends that produced poses."""
         return tuple(b for b in self.backends if b.ran)
+
+    @property
+    def evidence(self) -> EvidenceSummary:
+        """What the run proved, by kind (implementation, table), and what was required."""
+        return summarize(self.backends, self.required)
 
 
 def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
@@ -191,16 +201,6 @@ def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples 
     return Samples(q=q, origin=(f"file:{fixed[0].name}",) * q.shape[0])
 
 
-def _verdict(results: Sequence[BackendResult]) -> Verdict:
-    if not any(r.ran for r in results):
-        return "error"
-    if any(r.status == "fail" for r in results):
-        return "fail"
-    if any(r.status == "error" for r in results):
-        return "error"
-    return "pass"
-
-
 @dataclass(frozen=True, eq=False)
 class _Job:
     """One backend's comparison (pickled whole to an isolated backend's process).
@@ -220,58 +220,116 @@ class _Job:
     tol: tuple[float, float]
 
 
+def _evidence(backend: Backend) -> Evidence:
+    """What a backend's agreement proves; one that does not say proves only the implementation."""
+    kind = getattr(backend, "evidence", "implementation")
+    return "table" if kind == "table" else "implementation"
+
+
 def _error(backend: Backend, message: str, duration_s: float = 0.0) -> BackendResult:
-    return BackendResult(backend.name, "error", message, backend.method, duration_s)
+    return BackendResult(
+        backend.name, "error", message, backend.method, duration_s, _evidence(backend)
+    )
+
+
+def _skipped(backend: Backend, reason: str) -> BackendResult:
+    return BackendResult(backend.name, "skipped", reason, backend.method, 0.0, _evidence(backend))
+
+
+def _q_text(q: Float) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in q) + "]"
+
+
+class NoAnswerError(RuntimeError):
+    """A backend's output cannot be compared (wrong shape), or the reference is not finite."""
 
 
 def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
-    """Run one backend over all configurations and compare with the reference."""
+    """Run one backend over all configurations and compare with the reference.
+
+    A wrong answer is a failure that keeps its numbers: rows that are NaN/inf
+    count as infinitely wrong, and a matrix that is not a rigid transform is
+    named with its defect and configuration, its position and rotation errors
+    still measured.
+
+    Raises:
+        NoAnswerError: The backend returned the wrong shape (it gave no answer to
+            compare), or the reference itself is not finite.
+    """
     backend, model, q, pair = job.backend, job.model, job.q, job.pair
     start = time.perf_counter()
     pos = np.empty(q.shape[0])
     rot = np.empty(q.shape[0])
+    defect_max, defect_at = 0.0, -1
+    non_finite = 0
+    first_non_finite = -1
     for first in range(0, q.shape[0], CHUNK):
         chunk = q[first : first + CHUNK]
         poses = np.asarray(backend.frame_poses(model, chunk, pair), dtype=np.float64)
         expected_shape = (2, chunk.shape[0], 4, 4)
         if poses.shape != expected_shape:
-            raise RuntimeError(f"returned shape {poses.shape}, expected {expected_shape}")
-        if not np.isfinite(poses).all():
-            raise RuntimeError("returned non-finite values (NaN or inf) in poses")
-        defect = se3_defect(poses)
-        if defect.max() > SE3_TOLERANCE:
-            k = int(np.unravel_index(np.argmax(defect), defect.shape)[1])
-            raise RuntimeError(
-                f"returned a matrix that is not a rigid transform (defect {defect.max():.3g}) "
-                f"at configuration {first + k}"
-            )
-        theirs = relative_pose(poses[0], poses[1])
+            raise NoAnswerError(f"returned shape {poses.shape}, expected {expected_shape}")
         ref = reference_poses(model, chunk, pair)
+        if not np.isfinite(ref).all():
+            k = int(np.argmax(~np.isfinite(ref).all(axis=(0, 2, 3))))
+            raise NoAnswerError(
+                f"the reference ({REFERENCE_NAME}) is not finite at q = {_q_text(chunk[k])}: "
+                "the model's numbers overflow; nothing can be compared"
+            )
+        finite = np.isfinite(poses).all(axis=(0, 2, 3))
+        if not finite.all():
+            bad = np.flatnonzero(~finite)
+            if first_non_finite < 0:
+                first_non_finite = first + int(bad[0])
+            non_finite += bad.size
+            poses = poses.copy()
+            poses[:, bad] = np.eye(4)  # placeholders; their errors are set to inf below
+        defect = se3_defect(poses).max(axis=0)
+        k = int(np.argmax(defect))
+        if defect[k] > defect_max:
+            defect_max, defect_at = float(defect[k]), first + k
+        theirs = relative_pose(poses[0], poses[1])
         ours = relative_pose(ref[0], ref[1])
-        pos[first : first + CHUNK] = position_error_m(ours, theirs)
-        rot[first : first + CHUNK] = rotation_error_rad(ours, theirs)
+        pos_chunk = position_error_m(ours, theirs)
+        rot_chunk = rotation_error_rad(ours, theirs)
+        pos_chunk[~finite] = np.inf
+        rot_chunk[~finite] = np.inf
+        pos[first : first + CHUNK] = pos_chunk
+        rot[first : first + CHUNK] = rot_chunk
         if on_progress is not None:
             on_progress(backend.name, first + chunk.shape[0], q.shape[0])
     tol_pos, tol_rot = job.tol
     score = np.maximum(pos / tol_pos, rot / tol_rot)
+    score[np.isnan(score)] = np.inf
     worst = int(np.argmax(score)) if score.size else None
-    failed = bool(score.size and score.max() > 1.0)
-    worst_frames = None
-    message = ""
-    if failed and worst is not None:
-        n_bad = int((score > 1.0).sum())
-        message = (
+    reasons = []
+    if non_finite:
+        reasons.append(
+            f"returned NaN or inf at {non_finite} of {q.shape[0]} configurations "
+            f"(first at q = {_q_text(q[first_non_finite])})"
+        )
+    if defect_max > SE3_TOLERANCE:
+        reasons.append(
+            f"not a rigid transform: defect {defect_max:.3g} at q = {_q_text(q[defect_at])}"
+        )
+        worst = defect_at
+    n_bad = int((score > 1.0).sum())
+    if n_bad:
+        reasons.append(
             f"{n_bad} of {q.shape[0]} configurations differ: max position error "
             f"{pos.max():.3g} m, max rotation error {rot.max():.3g} rad"
         )
-        if isinstance(backend, SharesDHFrames):
-            worst_frames = np.asarray(backend.dh_frames(model, q[worst : worst + 1]))[0]
+    failed = bool(reasons)
+    worst_frames = None
+    if failed and worst is not None and isinstance(backend, SharesDHFrames):
+        worst_frames = np.asarray(backend.dh_frames(model, q[worst : worst + 1]))[0]
     return BackendResult(
         name=backend.name,
         status="fail" if failed else "pass",
-        message=message,
+        message="; ".join(reasons),
         method=backend.method,
         duration_s=time.perf_counter() - start,
+        evidence=_evidence(backend),
         position_error_m=pos,
         rotation_error_rad=rot,
         worst_index=worst,
@@ -289,7 +347,7 @@ def _run_one(
     except Exception as exc:  # a broken availability probe is that backend's error
         return _error(backend, f"{type(exc).__name__}: {exc}")
     if reason is not None:
-        return BackendResult(backend.name, "skipped", reason, backend.method)
+        return _skipped(backend, reason)
 
     if getattr(backend, "isolated", False):
         return _run_in_process(job, timeout_s)
@@ -315,13 +373,14 @@ def _outcome(job: _Job, on_progress: Progress | None = None) -> BackendResult | 
     start = time.perf_counter()
     try:
         return _compare(job, on_progress)
-    except (BackendUnavailable, FrameUnavailable) as exc:
-        return BackendResult(backend.name, "skipped", str(exc), backend.method)
+    except Skip as exc:
+        return _skipped(backend, str(exc))
     except FkcheckError as exc:
         return exc
     except Exception as exc:
-        where = traceback.extract_tb(exc.__traceback__)[-1]
-        detail = f"{type(exc).__name__}: {exc} ({where.filename.rsplit('/', 1)[-1]}:{where.lineno})"
+        # fkcheck's own messages are sentences; a library's exception keeps its type name.
+        own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
+        detail = str(exc) if own else f"{type(exc).__name__}: {exc}"
         return _error(backend, detail, time.perf_counter() - start)
 
 
@@ -356,6 +415,27 @@ def _run_in_process(job: _Job, timeout_s: float) -> BackendResult | FkcheckError
     return replace(result, duration_s=time.perf_counter() - start)
 
 
+def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
+    """Import what in-process backends import lazily, once, before their threads start.
+
+    Two threads importing one heavy library for the first time at the same time
+    can end in ``_DeadlockError`` (seen with ``roboticstoolbox.ets``); importing
+    here, in one thread, makes the later imports dictionary look-ups. A library
+    that fails to import is left to its backend, which reports it.
+    """
+    for backend in backends:
+        if getattr(backend, "isolated", False):
+            continue
+        try:
+            if backend.unavailable_reason(model) is not None:
+                continue
+        except Exception:  # reported by the backend's own run
+            continue
+        for module in getattr(backend, "imports", ()):
+            with contextlib.suppress(Exception):
+                importlib.import_module(module)
+
+
 def run_check(
     model: Model,
     backends: Sequence[Backend],
@@ -368,6 +448,7 @@ def run_check(
     tol_pos_m: float | None = None,
     tol_rot_rad: float | None = None,
     timeout_s: float = 120.0,
+    require: Sequence[Kind] = (),
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
 ) -> CheckResult:
@@ -388,6 +469,9 @@ def run_check(
         tol_pos_m: Position tolerance, metres (default: the model's ``[check]``).
         tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
         timeout_s: Time limit per backend, seconds.
+        require: Kinds of evidence (``"table"``, ``"implementation"``) that must be
+            verified, on top of the model's ``[check] require``; when one is not,
+            the verdict is ``unverified``.
         on_done: Called with each backend's result as it finishes.
         on_progress: Called as ``(backend name, configurations done, total)`` after
             each chunk a backend finishes (from that backend's thread).
@@ -416,6 +500,8 @@ def run_check(
     q = _fixed_configurations(model, backends) or sample_configurations(
         model, samples, seed, sampler
     )
+    required = tuple(k for k in KINDS if k in (*model.check.require, *require))
+    _import_libraries(model, backends)
 
     results: dict[int, BackendResult] = {}
     errors: list[FkcheckError] = []
@@ -454,7 +540,8 @@ def run_check(
         q=q.q,
         origin=q.origin,
         backends=ordered,
-        verdict=_verdict(ordered),
+        verdict=verdict_of(ordered, summarize(ordered, required)),
+        required=required,
         created=created,
         duration_s=time.perf_counter() - t0,
     )

@@ -1,8 +1,13 @@
-"""The exceptions fkcheck raises: one base class, a few subclasses with fields.
+"""The exceptions fkcheck raises: two families that never mix.
 
-Every error's ``str()`` is one line that names where the problem is (file and
-field, or argument) and what is wrong, and where there is a closed set of valid
-values, lists them. The CLI prints that line and exits with status 2.
+* :class:`FkcheckError` and its subclasses mean *bad input*: every error's
+  ``str()`` is one line that names where the problem is (file and field, or
+  argument) and what is wrong, and where there is a closed set of valid values,
+  lists them. The CLI prints that line and exits with status 2.
+* :class:`Skip` and its subclasses mean *a backend does not apply here* (its
+  library is missing, or it cannot compute a frame): the check reports that
+  backend as ``skipped`` with the reason. A ``Skip`` is not an ``FkcheckError``
+  and vice versa, so no ``except`` order can turn one into the other.
 """
 
 from __future__ import annotations
@@ -12,10 +17,14 @@ from pathlib import Path
 
 __all__ = [
     "BackendNotFoundError",
+    "BackendUnavailable",
     "FkcheckError",
     "FrameError",
+    "FrameUnavailable",
     "JointInputError",
     "ModelError",
+    "Skip",
+    "UnmappedFrameError",
     "UrdfError",
 ]
 
@@ -95,3 +104,24 @@ class BackendNotFoundError(FkcheckError):
         self.name = name
         self.valid = tuple(valid)
         super().__init__(f"unknown backend {name!r}; backends are: {_alternatives(self.valid)}")
+
+
+class Skip(Exception):
+    """Base class of the reasons a backend does not apply here (→ status ``skipped``)."""
+
+
+class BackendUnavailable(Skip):
+    """A backend cannot run here: its library (or a package its input names) is missing."""
+
+
+class FrameUnavailable(Skip):
+    """A backend cannot provide a named frame (e.g. a mid-chain frame from a black box)."""
+
+
+class UnmappedFrameError(Exception):
+    """A URDF backend was asked for a frame that has no URDF twin.
+
+    Not a skip: a model that declares a URDF and then never compares it must not
+    stay green. The check reports the backend as ``error`` with this message,
+    which names the frames to map and the URDF links to map them onto.
+    """

@@ -21,9 +21,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from fkcheck import dh
-from fkcheck.errors import ModelError
+from fkcheck.errors import FrameError, ModelError
 from fkcheck.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.transforms import matrix_from_xyz_rpy
+from fkcheck.verdict import parse_require
 
 __all__ = [
     "MAX_JOINTS",
@@ -36,6 +37,7 @@ __all__ = [
     "bundled_model_paths",
     "load_model",
     "model_from_dict",
+    "resolve_frame",
 ]
 
 Float = NDArray[np.float64]
@@ -54,7 +56,7 @@ _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
 _URDF_KEYS = {"path", "joints"}
 _FRAME_KEYS = {"dh", "xyz", "rpy", "urdf"}
-_CHECK_KEYS = {"from", "to", "tol_pos_m", "tol_rot_rad"}
+_CHECK_KEYS = {"from", "to", "tol_pos_m", "tol_rot_rad", "require"}
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
 _ANGLE_UNITS = ("rad", "deg")
@@ -143,12 +145,15 @@ class CheckSpec:
         frame_to: Name of the frame whose pose is compared.
         tol_pos_m: Position tolerance, metres.
         tol_rot_rad: Rotation tolerance, radians.
+        require: Kinds of evidence a check must verify (``"table"``,
+            ``"implementation"``; see :mod:`fkcheck.verdict`).
     """
 
     frame_from: str = "world"
     frame_to: str = "tcp"
     tol_pos_m: float = DEFAULT_TOL_POS_M
     tol_rot_rad: float = DEFAULT_TOL_ROT_RAD
+    require: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -236,6 +241,14 @@ class Model:
             JointInputError: Wrong shape or non-finite values.
         """
         return dh.fk(self.chain, q, all_frames=all_frames)
+
+
+def resolve_frame(model: Model, name: str) -> FrameSpec:
+    """The named frame, or :class:`~fkcheck.errors.FrameError` listing the model's frames."""
+    try:
+        return model.frames[name]
+    except KeyError:
+        raise FrameError(name, f"model {model.name}", model.frames) from None
 
 
 # --------------------------------------------------------------------------- loading
@@ -536,7 +549,16 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                 tols[key] = r.number(c[key], f"check.{key}")
                 if tols[key] <= 0:
                     raise r.fail(f"check.{key}", "must be positive")
-        check = CheckSpec(frame_from, frame_to, **tols)
+        require: tuple[str, ...] = ()
+        if "require" in c:
+            raw_req = c["require"]
+            if not isinstance(raw_req, list) or not all(isinstance(x, str) for x in raw_req):
+                raise r.fail("check.require", 'expected a list such as ["table"]')
+            try:
+                require = parse_require(raw_req, "check.require")
+            except ValueError as exc:
+                raise r.fail("check.require", str(exc).split(": ", 1)[1]) from None
+        check = CheckSpec(frame_from, frame_to, require=require, **tols)
 
     return Model(
         name=name,

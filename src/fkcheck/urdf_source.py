@@ -25,8 +25,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-from fkcheck.backends.base import BackendUnavailable
-from fkcheck.errors import FrameError, UrdfError
+from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model import Model
 
 __all__ = [

@@ -9,36 +9,51 @@ has to agree between them.
 Backends live one per module under :mod:`fkcheck.backends`, import their library
 inside their methods (never at module import), and are registered in
 :mod:`fkcheck.backends.registry`. Adding one touches no other backend.
+
+Every backend declares which question its agreement answers (:data:`Evidence`):
+
+* ``"implementation"`` — *is the in-house core right, given the table?* The
+  backend computes FK from the model's own DH table (``rtb-dh``,
+  ``pinocchio-dh``), or is the user's code running that table (plugins,
+  ``cmd:`` programs). Agreement proves the arithmetic, not the numbers: a wrong
+  d1 is wrong in both.
+* ``"table"`` — *is the table right, for the robot?* The backend's poses do not
+  come from the table: the robot's URDF read by its parsers, measured or
+  pendant poses, a table published elsewhere (``rtb-model:``).
+
+Independence is a rule: no backend uses fkcheck's own kinematics (the DH core,
+its rotation helpers, its frame offsets, its URDF export) for anything it is
+compared on. Base, tool and named-frame offsets are built with each library's
+own constructs from the model's ``xyz``/``rpy`` numbers. The import contract in
+``pyproject.toml`` (``[tool.importlinter]``) and ``tests/test_independence.py``
+enforce it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Protocol, runtime_checkable
+from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.errors import FkcheckError
+from fkcheck.errors import BackendUnavailable, FrameUnavailable, JointInputError
 from fkcheck.model import Model
 
 __all__ = [
     "Backend",
     "BackendUnavailable",
+    "Evidence",
     "FixedConfigurations",
     "FrameUnavailable",
     "SharesDHFrames",
+    "validated_q",
 ]
 
 Float = NDArray[np.float64]
 
-
-class BackendUnavailable(FkcheckError):
-    """Raised by a backend that cannot run here; the check reports it as *skipped*."""
-
-
-class FrameUnavailable(FkcheckError):
-    """A backend cannot provide a named frame (e.g. a mid-chain frame from a black box)."""
+#: Which question a backend's agreement answers (see the module docstring).
+Evidence = Literal["implementation", "table"]
 
 
 @runtime_checkable
@@ -48,14 +63,19 @@ class Backend(Protocol):
     Attributes:
         name: The backend's name as shown in results (``"rtb-dh"``, ``"cmd:./fk"``).
         method: The library call used, for the report (``"DHRobot.fkine_all"``).
+        evidence: ``"implementation"`` or ``"table"``: what its agreement proves.
 
-    A backend may also set a class attribute ``isolated = True``: the engine then
-    runs it in a process of its own (for slow pure-Python backends that hold the
-    GIL; the object, the model and ``q`` must pickle).
+    A backend may also set class attributes ``isolated = True`` (the engine then
+    runs it in a process of its own: for slow pure-Python backends that hold the
+    GIL and for user code; the object, the model and ``q`` must pickle) and
+    ``imports`` (a tuple of module names the engine imports once, in the main
+    thread, before backends start: two threads importing one heavy library
+    lazily at the same time can hit Python's import-deadlock detection).
     """
 
     name: str
     method: str
+    evidence: Evidence
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot check ``model`` here, or ``None`` if it can.
@@ -108,3 +128,24 @@ class FixedConfigurations(Protocol):
     def configurations(self, model: Model) -> Float:
         """The configurations it has poses for, ``(N, n)``, radians / metres."""
         ...
+
+
+def validated_q(model: Model, q: Float) -> Float:
+    """``q`` as a C-contiguous float64 ``(N, n)`` array, checked but not computed on.
+
+    Raises:
+        JointInputError: Wrong shape, not numeric, or not finite.
+    """
+    try:
+        q_arr = np.asarray(q, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise JointInputError(f"joint values are not numbers: {exc}") from None
+    if q_arr.ndim == 1:
+        q_arr = q_arr.reshape(1, -1)
+    if q_arr.ndim != 2 or q_arr.shape[1] != model.dof:
+        raise JointInputError(
+            f"expected {model.dof} joint values per configuration, got shape {np.shape(q)}"
+        )
+    if not np.isfinite(q_arr).all():
+        raise JointInputError("joint values must be finite")
+    return np.ascontiguousarray(q_arr)

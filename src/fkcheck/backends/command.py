@@ -31,7 +31,7 @@ Protocol:
   the check gave up on this backend) are killed by an :mod:`atexit` hook.
 
 The program gives only the TCP, so named frames come from
-:func:`fkcheck.frames.frame_poses_from_tcp`. Every failure (program not found,
+:func:`fkcheck.backends.blackbox.frame_poses_from_tcp`. Every failure (program not found,
 non-zero exit, wrong number of lines or numbers, non-numeric or non-finite
 output, time-out) raises :class:`CommandError`, which the check reports as this
 backend's *error*.
@@ -51,9 +51,10 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.backends.base import Evidence
+from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import FkcheckError
-from fkcheck.frames import frame_poses_from_tcp
 from fkcheck.model import Model
 
 __all__ = ["BATCH_SIZE", "CommandBackend", "CommandError", "CommandSpecError"]
@@ -97,7 +98,10 @@ class CommandBackend:
         command: The command line as given.
         argv: The command line split into arguments.
         timeout_s: Time limit for all runs of one :meth:`frame_poses` call, seconds.
+        evidence: ``"implementation"``: the user's program runs the model's table.
     """
+
+    evidence: Evidence = "implementation"
 
     def __init__(self, spec: str, options: BackendOptions) -> None:
         """Split the command line; nothing is run yet.

@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable, FrameUnavailable
+from fkcheck.backends.base import BackendUnavailable, Evidence, FrameUnavailable
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import FkcheckError
 from fkcheck.model import Model
@@ -169,6 +169,7 @@ class MeasuredPoses:
     """
 
     method = "measured poses (CSV)"
+    evidence: Evidence = "table"
 
     def __init__(self, arg: str, options: BackendOptions | None = None) -> None:
         """Build the backend for the CSV file ``arg``."""

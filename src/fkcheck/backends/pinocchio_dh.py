@@ -21,8 +21,11 @@ So the placement of joint ``i`` is ``after_{i-1} · before_i`` (with
 ``after_0`` the model's base), DH frame ``i`` is an operational frame on joint
 ``i`` placed at ``after_i``, DH frame 0 is an operational frame on the universe
 placed at the base, and the TCP is an operational frame on joint ``n`` placed
-at ``after_n · tool``. The base and tool are rebuilt from their ``xyz``/``rpy``
-with Pinocchio's own ``rpyToMatrix``, not taken from fkcheck's matrices.
+at ``after_n · tool``. Every named frame (``[frames.NAME]``) is one more
+operational frame, on the joint of the DH frame it sits on, placed at that DH
+frame's placement times its offset. The base, tool and frame offsets are built
+from their ``xyz``/``rpy`` with Pinocchio's own ``rpy.rpyToMatrix`` and ``SE3``,
+never taken from fkcheck's matrices or frame helpers.
 
 Pinocchio has no batched FK: :meth:`PinocchioDH.frame_poses` loops in Python
 over configurations, calling ``forwardKinematics`` and
@@ -40,11 +43,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.dh import joint_values
-from fkcheck.frames import frame_poses_from_dh, resolve_frame
-from fkcheck.model import Joint, Model, Offset
+from fkcheck.errors import BackendUnavailable
+from fkcheck.model import Joint, Model, Offset, resolve_frame
 
 __all__ = ["INSTALL_HINT", "PinocchioDH", "import_pinocchio"]
 
@@ -65,6 +67,8 @@ class PinocchioDH:
 
     name = "pinocchio-dh"
     method = "forwardKinematics + updateFramePlacements (loop)"
+    evidence: Evidence = "implementation"
+    imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
@@ -84,12 +88,12 @@ class PinocchioDH:
             FrameError: A name is not a frame of the model.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        specs = [resolve_frame(model, name) for name in frames]
-        dh_indices = sorted({s.dh for s in specs if isinstance(s.dh, int)})
-        want_tcp = any(s.dh == "tcp" for s in specs)
-        q2 = joint_values(model.chain, q)
-        world_T_dh, world_T_tcp = _PinocchioChain(model).poses(q2, dh_indices, want_tcp)
-        return frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
+        for name in frames:
+            resolve_frame(model, name)
+        q2 = validated_q(model, q)
+        chain = _PinocchioChain(model)
+        ids = [chain.named_frame_ids[name] for name in frames]
+        return np.moveaxis(chain.poses(q2, ids), 1, 0)
 
     def dh_frames(self, model: Model, q: Float) -> Float:
         """``world_T_i`` for DH frames ``0…n``: shape ``(N, n+1, 4, 4)``, base included.
@@ -98,9 +102,9 @@ class PinocchioDH:
             BackendUnavailable: Pinocchio is not installed.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        q2 = joint_values(model.chain, q)
-        world_T_dh, _ = _PinocchioChain(model).poses(q2, list(range(model.dof + 1)), False)
-        return world_T_dh
+        q2 = validated_q(model, q)
+        chain = _PinocchioChain(model)
+        return chain.poses(q2, chain.dh_frame_ids)
 
 
 def import_pinocchio() -> Any:
@@ -117,7 +121,7 @@ def import_pinocchio() -> Any:
 
 
 class _PinocchioChain:
-    """The Pinocchio model of one DH table, with a frame id per DH frame and the TCP."""
+    """One DH table as a Pinocchio model: frame ids of DH frames, the TCP and named frames."""
 
     def __init__(self, model: Model) -> None:
         pin = self.pin = import_pinocchio()
@@ -126,40 +130,41 @@ class _PinocchioChain:
         op = pin.FrameType.OP_FRAME
         modified = model.convention == "modified"
         after = _se3(pin, model.base)
+        # (parent joint, placement) of DH frames 0…n, then of the TCP.
+        anchors = [(0, after)]
         self.dh_frame_ids = [pmodel.addFrame(pin.Frame("dh0", 0, after, op), False)]
         parent = 0
         for i, joint in enumerate(model.joints, start=1):
             before, joint_model, after_i = _split(pin, joint, modified)
             parent = pmodel.addJoint(parent, joint_model, after * before, joint.name)
             after = after_i
+            anchors.append((parent, after))
             frame = pin.Frame(f"dh{i}", parent, after, op)
             self.dh_frame_ids.append(pmodel.addFrame(frame, False))
-        tcp = pin.Frame("tcp", parent, after * _se3(pin, model.tool), op)
-        self.tcp_frame_id = pmodel.addFrame(tcp, False)
+        tcp_anchor = (parent, after * _se3(pin, model.tool))
+        self.named_frame_ids: dict[str, int] = {}
+        for name, spec in model.frames.items():
+            if spec.dh == "world":
+                joint_id, placement = 0, pin.SE3.Identity()
+            elif spec.dh == "tcp":
+                joint_id, placement = tcp_anchor
+            else:
+                joint_id, placement = anchors[spec.dh]
+            frame = pin.Frame(f"named:{name}", joint_id, placement * _se3(pin, spec.offset), op)
+            self.named_frame_ids[name] = pmodel.addFrame(frame, False)
         self.pmodel = pmodel
         self.data = pmodel.createData()
 
-    def poses(self, q: Float, dh_indices: Sequence[int], want_tcp: bool) -> tuple[Float, Float]:
-        """Run FK for every row of ``q`` and read the requested frames.
-
-        Returns:
-            ``world_T_dh`` ``(N, n+1, 4, 4)`` with only ``dh_indices`` filled (the
-            other entries are zero), and ``world_T_tcp`` ``(N, 4, 4)`` (zero unless
-            ``want_tcp``).
-        """
-        N, n = q.shape
-        world_T_dh = np.zeros((N, n + 1, 4, 4))
-        world_T_tcp = np.zeros((N, 4, 4))
-        fids = [self.dh_frame_ids[i] for i in dh_indices]
-        if want_tcp:
-            fids.append(self.tcp_frame_id)
-        if not fids or N == 0:
-            return world_T_dh, world_T_tcp
-        out = np.empty((N, len(fids), 4, 4))
+    def poses(self, q: Float, frame_ids: Sequence[int]) -> Float:
+        """Run FK for every row of ``q`` and read the given frames: ``(N, len(ids), 4, 4)``."""
+        N = q.shape[0]
+        out = np.empty((N, len(frame_ids), 4, 4))
+        if not frame_ids or N == 0:
+            return out
         pin, pmodel, data = self.pin, self.pmodel, self.data
         forward, update, oMf = pin.forwardKinematics, pin.updateFramePlacements, data.oMf
-        if len(fids) == 1:
-            fid = fids[0]
+        if len(frame_ids) == 1:
+            fid = frame_ids[0]
             for k in range(N):
                 forward(pmodel, data, q[k])
                 update(pmodel, data)
@@ -168,11 +173,8 @@ class _PinocchioChain:
             for k in range(N):
                 forward(pmodel, data, q[k])
                 update(pmodel, data)
-                out[k] = [oMf[fid].homogeneous for fid in fids]
-        world_T_dh[:, list(dh_indices)] = out[:, : len(dh_indices)]
-        if want_tcp:
-            world_T_tcp[:] = out[:, -1]
-        return world_T_dh, world_T_tcp
+                out[k] = [oMf[fid].homogeneous for fid in frame_ids]
+        return out
 
 
 def _split(pin: Any, joint: Joint, modified: bool) -> tuple[Any, Any, Any]:

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.backends.base import Evidence
 from fkcheck.backends.pinocchio_dh import INSTALL_HINT, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
@@ -48,6 +49,8 @@ class PinocchioUrdf:
 
     name = "pinocchio-urdf"
     method = "buildModelFromXML + framesForwardKinematics (loop)"
+    evidence: Evidence = "table"
+    imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""

@@ -5,7 +5,7 @@ The callable is your own FK: it receives joint values ``q`` of shape ``(N, n)``
 ``(N, 4, 4)`` — the same pose :meth:`fkcheck.model.Model.fk` returns, the
 model's base and tool included. Being a black box, it gives only the TCP, so the
 named frames it can be compared on are those rigidly attached to the world or to
-the TCP (:func:`fkcheck.frames.frame_poses_from_tcp`).
+the TCP (:func:`fkcheck.backends.blackbox.frame_poses_from_tcp`).
 
 The module is imported when poses are first asked for, not when the backend is
 built, so a plugin that cannot be imported shows up as this backend's *error*
@@ -23,9 +23,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.backends.base import Evidence
+from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import BackendNotFoundError
-from fkcheck.frames import frame_poses_from_tcp
 from fkcheck.model import Model
 
 __all__ = ["PluginBackend", "PluginError"]
@@ -62,7 +63,10 @@ class PluginBackend:
         method: ``"python callable module:function"``.
         module: The module's dotted name.
         function: The callable's name in that module.
+        evidence: ``"implementation"``: the user's code runs the model's table.
     """
+
+    evidence: Evidence = "implementation"
 
     def __init__(self, spec: str, options: BackendOptions) -> None:
         """Remember the callable's location; nothing is imported yet.

@@ -24,11 +24,29 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable
+from fkcheck.errors import BackendUnavailable
 
-__all__ = ["INSTALL_HINT", "eval_batch", "import_rtb", "padded_q", "rtb_unavailable_reason"]
+__all__ = [
+    "INSTALL_HINT",
+    "RTB_IMPORTS",
+    "eval_batch",
+    "import_rtb",
+    "padded_q",
+    "rtb_unavailable_reason",
+]
 
 Float = NDArray[np.float64]
+
+#: What the Robotics Toolbox backends import lazily; the engine imports these once,
+#: in the main thread, before backends start (concurrent first imports of
+#: ``roboticstoolbox.ets`` from two threads could end in ``_DeadlockError``).
+RTB_IMPORTS = (
+    "spatialmath",
+    "roboticstoolbox",
+    "roboticstoolbox.ets.ET",
+    "roboticstoolbox.ets.ETS",
+    "roboticstoolbox.tools.urdf",
+)
 
 #: The reason given when Robotics Toolbox is not installed.
 INSTALL_HINT = "Robotics Toolbox for Python is not installed (pip install roboticstoolbox-python)"

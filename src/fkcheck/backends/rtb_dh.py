@@ -11,7 +11,10 @@ is a bug in one of the two implementations, not in the table. The mapping
   ``flip`` gives ``θ = −q + offset``, our flipped joint exactly;
 * prismatic: ``theta`` (the fixed angle), ``a``, ``alpha``, ``offset = d``;
   ``flip`` gives ``d = −q + offset``;
-* ``robot.base`` = the model's base, ``robot.tool`` = the model's tool.
+* ``robot.base`` and ``robot.tool`` are built by Spatial Maths from the
+  model's numbers, ``SE3.Trans(xyz) * SE3.RPY(rpy, order="zyx")`` (URDF rpy:
+  ``Rz(yaw)·Ry(pitch)·Rx(roll)``), and so is each named frame's offset: nothing
+  here uses fkcheck's own rotations or frame placement.
 
 Poses come from ``ETS.eval``, Robotics Toolbox's C forward kinematics, over the
 whole batch: ``robot.ets()`` (base, links, tool) for the TCP, and for DH frame
@@ -32,15 +35,27 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.rtb_common import eval_batch, import_rtb, padded_q, rtb_unavailable_reason
-from fkcheck.dh import joint_values
-from fkcheck.frames import frame_poses_from_dh, resolve_frame
-from fkcheck.model import Model
+from fkcheck.backends.rtb_common import (
+    RTB_IMPORTS,
+    eval_batch,
+    import_rtb,
+    padded_q,
+    rtb_unavailable_reason,
+)
+from fkcheck.model import Model, Offset, resolve_frame
 
-__all__ = ["RtbDH", "dh_robot"]
+__all__ = ["RtbDH", "dh_robot", "se3_from_offset"]
 
 Float = NDArray[np.float64]
+
+
+def se3_from_offset(offset: Offset) -> Any:
+    """A model's fixed offset as a Spatial Maths ``SE3`` (``Trans(xyz) * RPY(rpy, "zyx")``)."""
+    from spatialmath import SE3
+
+    return SE3.Trans(*offset.xyz) * SE3.RPY(offset.rpy, order="zyx")
 
 
 def dh_robot(model: Model) -> Any:
@@ -50,8 +65,6 @@ def dh_robot(model: Model) -> Any:
         BackendUnavailable: Robotics Toolbox is not installed.
     """
     rtb = import_rtb()
-    from spatialmath import SE3
-
     if model.convention == "standard":
         revolute, prismatic = rtb.RevoluteDH, rtb.PrismaticDH
     else:
@@ -63,8 +76,8 @@ def dh_robot(model: Model) -> Any:
         else:
             links.append(prismatic(theta=j.theta, a=j.a, alpha=j.alpha, offset=j.d, flip=j.flip))
     robot = rtb.DHRobot(links, name=model.name)
-    robot.base = SE3(model.base.matrix)
-    robot.tool = SE3(model.tool.matrix)
+    robot.base = se3_from_offset(model.base)
+    robot.tool = se3_from_offset(model.tool)
     return robot
 
 
@@ -97,6 +110,8 @@ class RtbDH:
 
     name = "rtb-dh"
     method = "DHRobot.ets().eval (C fknm, batched); DH frame k: base + first k links' ETS"
+    evidence: Evidence = "implementation"
+    imports = RTB_IMPORTS
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
@@ -110,28 +125,32 @@ class RtbDH:
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """``world_T_frame`` for each named frame, ``(len(frames), N, 4, 4)``.
 
-        Only the DH frames (and the TCP) the named frames sit on are computed.
+        Only the DH frames (and the TCP) the named frames sit on are computed;
+        each frame's offset is a Spatial Maths ``SE3`` applied after its anchor.
 
         Raises:
             BackendUnavailable: Robotics Toolbox is not installed.
             FrameError: A name is not a frame of the model.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        q2 = joint_values(model.chain, q)
+        q2 = validated_q(model, q)
         specs = [resolve_frame(model, name) for name in frames]
         built = self._build(model)
-        needed = sorted({s.dh for s in specs if isinstance(s.dh, int)})
         qp = padded_q(q2, model.dof)
         N = q2.shape[0]
-        # Only what the frames sit on is computed; NaN marks what is not needed.
-        world_T_dh = np.full((N, model.dof + 1, 4, 4), np.nan)
-        for k in needed:
-            world_T_dh[:, k] = self._frame(built, k, qp)
-        if any(s.dh == "tcp" for s in specs):
-            world_T_tcp = eval_batch(built.tcp_ets, qp)
-        else:
-            world_T_tcp = np.full((N, 4, 4), np.nan)
-        return frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
+        anchors: dict[int | str, Float] = {}
+        out = np.empty((len(specs), N, 4, 4))
+        for k, spec in enumerate(specs):
+            if spec.dh not in anchors:
+                if spec.dh == "world":
+                    anchors[spec.dh] = np.broadcast_to(np.eye(4), (N, 4, 4))
+                elif spec.dh == "tcp":
+                    anchors[spec.dh] = eval_batch(built.tcp_ets, qp)
+                else:
+                    anchors[spec.dh] = self._frame(built, spec.dh, qp)
+            offset = np.asarray(se3_from_offset(spec.offset).A, dtype=np.float64)
+            out[k] = anchors[spec.dh] @ offset
+        return out
 
     def dh_frames(self, model: Model, q: Float) -> Float:
         """``world_T_i`` for DH frames ``0…n`` (base included, tool not): ``(N, n+1, 4, 4)``.
@@ -140,7 +159,7 @@ class RtbDH:
             BackendUnavailable: Robotics Toolbox is not installed.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        q2 = joint_values(model.chain, q)
+        q2 = validated_q(model, q)
         built = self._build(model)
         qp = padded_q(q2, model.dof)
         out = np.empty((q2.shape[0], model.dof + 1, 4, 4))

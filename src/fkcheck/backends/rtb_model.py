@@ -5,7 +5,7 @@
 itself: a transcription error in either table shows up as a difference.
 It gives only ``world_T_tcp`` of RTB's model (with RTB's base and tool), so
 only frames rigidly attached to the world or to the TCP can be compared
-(:func:`~fkcheck.frames.frame_poses_from_tcp`); for DH frames 0 and ``n`` that
+(:func:`~fkcheck.backends.blackbox.frame_poses_from_tcp`); for DH frames 0 and ``n`` that
 helper uses *our* base and tool.
 
 The comparison is honest about what differs, including conventions, e.g.
@@ -29,16 +29,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import (
+    RTB_IMPORTS,
     eval_batch,
     import_rtb,
     padded_q,
     rtb_unavailable_reason,
 )
-from fkcheck.dh import joint_values
 from fkcheck.errors import BackendNotFoundError, FkcheckError
-from fkcheck.frames import frame_poses_from_tcp
 from fkcheck.model import Model
 
 __all__ = ["RtbModel", "rtb_dh_model_names"]
@@ -74,7 +75,11 @@ class RtbModel:
         name: ``"rtb-model:<Name>"``.
         method: The Robotics Toolbox call used.
         options: The options the backend was built with.
+        evidence: ``"table"``: a table published elsewhere, not the model's.
     """
+
+    evidence: Evidence = "table"
+    imports = RTB_IMPORTS
 
     def __init__(self, arg: str, options: BackendOptions | None = None) -> None:
         """Build the backend for RTB's DH model ``arg`` (``"UR5"``).
@@ -106,7 +111,7 @@ class RtbModel:
             FrameUnavailable: A requested frame sits mid-chain.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
-        q2 = joint_values(model.chain, q)
+        q2 = validated_q(model, q)
         robot = self._get_robot()
         _check_joints(self.name, robot, model)
         world_T_tcp = eval_batch(robot.ets(), padded_q(q2, model.dof))

@@ -39,11 +39,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.rtb_common import INSTALL_HINT, eval_batch, import_rtb, padded_q
+from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
-from fkcheck.errors import FrameError, UrdfError
+from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model import Model
 from fkcheck.urdf_source import UrdfInfo
 
@@ -93,6 +93,8 @@ class RtbUrdf:
 
     name = "rtb-urdf"
     method = "URDF_file + Robot.ets(start=root, end=link).eval (C fknm, batched)"
+    evidence: Evidence = "table"
+    imports = RTB_IMPORTS
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""

@@ -13,10 +13,9 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable, FrameUnavailable
-from fkcheck.dh import joint_values
-from fkcheck.frames import resolve_frame
-from fkcheck.model import Model
+from fkcheck.backends.base import validated_q
+from fkcheck.errors import BackendUnavailable, UnmappedFrameError
+from fkcheck.model import Model, resolve_frame
 from fkcheck.urdf_source import ERD_PREFIX, UrdfInfo, load_urdf
 
 __all__ = ["urdf_inputs", "urdf_twins", "urdf_unavailable_reason"]
@@ -47,26 +46,33 @@ def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str
     return None
 
 
-def urdf_twins(model: Model, frames: Sequence[str], backend: str) -> list[str]:
+def urdf_twins(
+    model: Model, frames: Sequence[str], backend: str, links: Sequence[str] = ()
+) -> list[str]:
     """The URDF link names of named frames, in order.
 
     Args:
         model: The model.
         frames: Names from ``model.frames``.
         backend: The asking backend's name, for the message.
+        links: The URDF's link names, listed in the message when a twin is missing.
 
     Raises:
         FrameError: A name is not a frame of the model.
-        FrameUnavailable: A frame has no ``urdf`` twin.
+        UnmappedFrameError: A frame has no ``urdf`` twin: the URDF the model
+            declares would go unread, which is the backend's error, not a skip.
     """
     twins: list[str] = []
     for name in frames:
         spec = resolve_frame(model, name)
         if spec.urdf is None:
             mapped = [s.name for s in model.frames.values() if s.urdf is not None]
-            raise FrameUnavailable(
-                f'frame {name!r} has no URDF twin (no urdf = "…" in [frames.{name}]), so '
-                f"{backend} cannot compute it; frames with a twin: {', '.join(mapped) or '(none)'}"
+            where = f"DH frame {spec.dh}" if isinstance(spec.dh, int) else f"the {spec.dh}"
+            raise UnmappedFrameError(
+                f"frame {name!r} (at {where}) has no URDF twin, so {backend} cannot compare the "
+                f'model with its URDF: add urdf = "<link>" to [frames.{name}] (or check a pair '
+                f"of mapped frames with --from/--to); mapped frames: "
+                f"{', '.join(mapped) or '(none)'}; URDF links: {', '.join(links) or '(none)'}"
             )
         twins.append(spec.urdf)
     return twins
@@ -91,10 +97,10 @@ def urdf_inputs(
         BackendUnavailable: The model has no ``[urdf]``.
         UrdfError: The URDF is missing, unsafe or does not fit the model.
         FrameError: A name is not a frame of the model, or a twin is not a URDF link.
-        FrameUnavailable: A frame has no ``urdf`` twin.
+        UnmappedFrameError: A frame has no ``urdf`` twin.
         JointInputError: ``q`` has the wrong shape or non-finite values.
     """
     if model.urdf is None:
         raise BackendUnavailable("model has no [urdf]")
     info = load_urdf(model)
-    return info, joint_values(model.chain, q), urdf_twins(model, frames, backend)
+    return info, validated_q(model, q), urdf_twins(model, frames, backend, info.links)

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
     from fkcheck.check import BackendResult, CheckResult
     from fkcheck.model import Model
+    from fkcheck.verdict import Kind
 
 __all__ = ["DEFAULT_OUT_DIR", "add_parser", "print_summary", "run"]
 
@@ -69,6 +70,15 @@ def add_parser(sub: Any) -> None:
         help="backends, comma-separated or repeated: rtb-dh, pinocchio-dh, pinocchio-urdf, "
         "yourdfpy-urdf, rtb-urdf (the default set), rtb-model:NAME, poses:FILE.csv (measured "
         "poses: the check runs at their configurations), cmd:PROGRAM, module:function",
+    )
+    p.add_argument(
+        "--require",
+        action="append",
+        metavar="KIND",
+        help="evidence that must be verified, else the verdict is 'unverified' (exit 1): "
+        "'table' (checked against something independent of the table: a URDF, measured "
+        "poses, a published table) or 'implementation'; comma-separated or repeated; adds "
+        "to the model's [check] require",
     )
     p.add_argument("--samples", type=int, default=1000, help="random samples (default 1000)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
@@ -133,9 +143,11 @@ def _worst_q(result: BackendResult, check: CheckResult) -> str:
 
 def print_summary(check: CheckResult) -> None:
     """The terminal table and verdict line."""
+    from rich.markup import escape
     from rich.table import Table
 
     from fkcheck.commands._console import console as make_console
+    from fkcheck.verdict import evidence_sentences, headline
 
     console = make_console(highlight=False)
     title = (
@@ -143,9 +155,10 @@ def print_summary(check: CheckResult) -> None:
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
     )
-    table = Table(title=title, title_justify="left")
+    table = Table(title=escape(title), title_justify="left")
     for column in (
         "backend",
+        "evidence",
         "status",
         "max position error",
         "max rotation error",
@@ -153,27 +166,36 @@ def print_summary(check: CheckResult) -> None:
         "time",
     ):
         # Backend names and statuses never wrap; long messages fold.
-        table.add_column(column, overflow="fold", no_wrap=column in ("backend", "status"))
-    table.add_row("fkcheck-dh", "reference", "", "", "", "")
+        table.add_column(
+            column, overflow="fold", no_wrap=column in ("backend", "evidence", "status")
+        )
+    table.add_row("fkcheck-dh", "", "reference", "", "", "", "")
     for r in check.backends:
         if r.ran:
             table.add_row(
-                r.name, f"[{_STYLE[r.status]}]{r.status}[/]", _length(r.max_position_error_m),
-                _angle(r.max_rotation_error_rad), _worst_q(r, check), f"{r.duration_s:.2f} s",
+                escape(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                _length(r.max_position_error_m), _angle(r.max_rotation_error_rad),
+                escape(_worst_q(r, check)), f"{r.duration_s:.2f} s",
             )  # fmt: skip
         else:
-            table.add_row(r.name, f"[{_STYLE[r.status]}]{r.status}[/]", r.message, "", "", "")
+            table.add_row(escape(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                          escape(r.message), "", "", "")  # fmt: skip
     console.print(table)
     for r in check.backends:
         if r.status == "fail":
-            console.print(f"[bold red]{r.name}[/]: {r.message}")
-    ran = len(check.ran)
-    if not ran:
-        console.print("[bold red]verdict: error[/] — no reference backend ran: nothing was "
-                      "cross-checked")  # fmt: skip
-    else:
-        style = "bold green" if check.verdict == "pass" else "bold red"
-        console.print(f"[{style}]verdict: {check.verdict}[/] ({ran} backend(s) cross-checked)")
+            console.print(f"[bold red]{escape(r.name)}[/]: {escape(r.message)}")
+    evidence = check.evidence
+    implementation, table_text = evidence_sentences(evidence)
+    table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow"}
+    console.print(
+        f"evidence: [{table_style[evidence.implementation.status]}]{escape(implementation)}[/]"
+    )
+    console.print(f"          [{table_style[evidence.table.status]}]{escape(table_text)}[/]")
+    line = headline(check.verdict, evidence, len(check.ran))
+    style = "bold green" if check.verdict == "pass" else "bold red"
+    if check.verdict == "pass" and evidence.table.status != "verified":
+        style = "bold yellow"
+    console.print(f"[{style}]verdict: {escape(line)}[/] ({len(check.ran)} backend(s) answered)")
 
 
 def _validate(args: argparse.Namespace) -> None:
@@ -214,6 +236,17 @@ def _backends(args: argparse.Namespace) -> list[Backend]:
     return parse_against(args.against, options) if args.against else default_backends(options)
 
 
+def _require(args: argparse.Namespace) -> tuple[Kind, ...]:
+    """``--require`` values, validated (comma-separated and repeatable)."""
+    from fkcheck.verdict import parse_require
+
+    values = [v.strip() for item in args.require or () for v in item.split(",") if v.strip()]
+    try:
+        return parse_require(values, "--require")
+    except ValueError as exc:
+        raise FkcheckError(str(exc)) from None
+
+
 def _check(args: argparse.Namespace, model: Model, backends: list[Backend]) -> CheckResult:
     from fkcheck.check import run_check
 
@@ -228,6 +261,7 @@ def _check(args: argparse.Namespace, model: Model, backends: list[Backend]) -> C
         tol_pos_m=args.tol_pos,
         tol_rot_rad=args.tol_rot,
         timeout_s=args.timeout,
+        require=_require(args),
     )
 
 
@@ -263,6 +297,8 @@ def _model_command(args: argparse.Namespace, model: str) -> str:
         argv += ["--tol-pos", f"{args.tol_pos:g}"]
     if args.tol_rot is not None:
         argv += ["--tol-rot", f"{args.tol_rot:g}"]
+    for value in args.require or ():
+        argv += ["--require", value]
     return "fkcheck " + shlex.join(argv)
 
 
@@ -308,9 +344,16 @@ def _run_all(args: argparse.Namespace) -> int:
     write_index(build_index_page(entries, command=command, created=created), out_dir / "index.html")
     _summaries(args, checks)
     failed = [c.model.name for c in checks if c.verdict != "pass"]
+    verified = [c.model.name for c in checks if c.evidence.table.status == "verified"]
+    unchecked = [c.model.name for c in checks if c.evidence.table.status == "not-checked"]
     print(
         f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; reports in "
         f"{out_dir}/ (index.html)"
+    )
+    print(f"fkcheck: table verified independently: {len(verified)} ({', '.join(verified)})")
+    print(
+        f"fkcheck: implementation only, table not checked: {len(unchecked)} "
+        f"({', '.join(unchecked)})"
     )
     return 0 if not failed else 1
 
@@ -325,6 +368,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.report.junit import write_junit
 
     _validate(args)
+    _require(args)  # bad --require is exit 2 before anything runs
     if args.all:
         return _run_all(args)
     model = load_model(args.model)
