@@ -73,7 +73,6 @@ class BackendResult:
         name: Backend name.
         status: ``pass``, ``fail``, ``error`` or ``skipped``.
         message: Why it was skipped or errored, or a summary of the failure.
-        evidence: ``implementation`` or ``table``: what its agreement proves.
         method: The library call it used.
         duration_s: Wall time of its run, seconds (import included).
         position_error_m: Per-configuration position error against the reference, metres.
@@ -81,6 +80,7 @@ class BackendResult:
         worst_index: Index of the worst configuration (largest error relative to tolerance).
         worst_dh_frames: For backends built from the DH table that failed: their DH
             frames ``(n+1, 4, 4)`` at the worst configuration, to find where chains part.
+        evidence: ``implementation`` or ``table``: what its agreement proves.
     """
 
     name: str
@@ -88,11 +88,11 @@ class BackendResult:
     message: str = ""
     method: str = ""
     duration_s: float = 0.0
-    evidence: Evidence = "implementation"
     position_error_m: Float | None = None
     rotation_error_rad: Float | None = None
     worst_index: int | None = None
     worst_dh_frames: Float | None = None
+    evidence: Evidence = "implementation"
 
     @property
     def ran(self) -> bool:
@@ -228,12 +228,14 @@ def _evidence(backend: Backend) -> Evidence:
 
 def _error(backend: Backend, message: str, duration_s: float = 0.0) -> BackendResult:
     return BackendResult(
-        backend.name, "error", message, backend.method, duration_s, _evidence(backend)
+        backend.name, "error", message, backend.method, duration_s, evidence=_evidence(backend)
     )
 
 
 def _skipped(backend: Backend, reason: str) -> BackendResult:
-    return BackendResult(backend.name, "skipped", reason, backend.method, 0.0, _evidence(backend))
+    return BackendResult(
+        backend.name, "skipped", reason, backend.method, evidence=_evidence(backend)
+    )
 
 
 def _q_text(q: Float) -> str:

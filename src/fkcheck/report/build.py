@@ -35,6 +35,7 @@ from fkcheck.report.views import (
     BackendRow,
     DhRow,
     DiagnosisView,
+    EvidenceLine,
     Fact,
     FrameRow,
     FrameSide,
@@ -55,6 +56,8 @@ from fkcheck.report.views import (
     WorstCase,
 )
 from fkcheck.tolerances import SAME_CHAIN
+from fkcheck.verdict import KINDS, evidence_sentences
+from fkcheck.verdict import headline as verdict_headline
 
 if TYPE_CHECKING:
     from fkcheck.diagnose.axes import AxisLines
@@ -714,11 +717,17 @@ def build_report_page(
         + tuple(f"Diagnosis against {_with_also(d)}: {d.short}" for d in diagnoses)
         + tuple(f"Where the chains part: {p.short}." for p in partings if p.short)
     )
+    evidence = check.evidence
     return ReportPage(
         title=f"fkcheck {model.name}: {check.verdict.upper()}",
         model=model.name,
         verdict=check.verdict,
         verdict_line=verdict_line(check),
+        verdict_headline=verdict_headline(check.verdict, evidence, len(check.ran)),
+        evidence=tuple(
+            EvidenceLine(kind, evidence.of(kind).status, text)
+            for kind, text in zip(KINDS, evidence_sentences(evidence), strict=True)
+        ),
         disagreeing=tuple(r.name for r, _ in failing),
         headline=headline,
         facts=facts,
@@ -757,12 +766,14 @@ def overall_verdict(verdicts: Sequence[str]) -> str:
     """The verdict of a run over several models.
 
     ``fail`` when any model fails; else ``error`` when any errors or there are
-    none; else ``pass``.
+    none; else ``unverified`` when any lacks required evidence; else ``pass``.
     """
     if any(v == "fail" for v in verdicts):
         return "fail"
     if any(v == "error" for v in verdicts) or not verdicts:
         return "error"
+    if any(v == "unverified" for v in verdicts):
+        return "unverified"
     return "pass"
 
 
@@ -792,6 +803,8 @@ def build_index_page(
             junit=e.junit,
             pair=f"{e.check.frame_from} → {e.check.frame_to}",
             configurations=int(e.check.q.shape[0]),
+            table_evidence=e.check.evidence.table.status,
+            evidence_text=evidence_sentences(e.check.evidence)[1],
             rows=tuple(
                 IndexRow(
                     backend=r.name,
@@ -808,7 +821,10 @@ def build_index_page(
     verdicts = [m.verdict for m in models]
     overall = overall_verdict(verdicts)
     counts = Counter(verdicts)
-    line = ", ".join(f"{counts[v]} {v}" for v in ("pass", "fail", "error") if counts.get(v))
+    verdict_words = ("pass", "fail", "error", "unverified")
+    line = ", ".join(f"{counts[v]} {v}" for v in verdict_words if counts.get(v))
+    verified = sum(m.table_evidence == "verified" for m in models)
+    line += f"; table verified independently for {verified} of {len(models)}"
     versions = library_versions() if versions is None else versions
     facts = [Fact("checked at", created or "–", volatile="date")]
     facts += [Fact(k, v, volatile="version") for k, v in versions.items()]

@@ -13,6 +13,7 @@ from typing import Any
 from fkcheck import __version__
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.report.atomic import write_text_atomic
+from fkcheck.verdict import evidence_sentences, headline
 
 __all__ = ["TIME_FIELDS", "result_to_dict", "write_json"]
 
@@ -34,9 +35,31 @@ def _backend(result: BackendResult, check: CheckResult) -> dict[str, Any]:
         "median_position_error_m": result.percentile("position", 50),
         "median_rotation_error_rad": result.percentile("rotation", 50),
         "worst_q": worst_q,
+        "evidence": result.evidence,
         "message": result.message,
         "method": result.method,
         "duration_s": round(result.duration_s, 6),
+    }
+
+
+def _evidence(check: CheckResult) -> dict[str, Any]:
+    evidence = check.evidence
+    implementation, table = evidence_sentences(evidence)
+    kinds: dict[str, dict[str, Any]] = {
+        kind.kind: {
+            "status": kind.status,
+            "agreed": list(kind.agreed),
+            "disagreed": list(kind.disagreed),
+            "unanswered": list(kind.unanswered),
+        }
+        for kind in (evidence.implementation, evidence.table)
+    }
+    kinds["implementation"]["summary"] = implementation
+    kinds["table"]["summary"] = table
+    return {
+        **kinds,
+        "required": list(evidence.required),
+        "unmet": list(evidence.unmet),
     }
 
 
@@ -54,6 +77,8 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "reference": REFERENCE_NAME,
         "backends": [_backend(b, check) for b in check.backends],
         "verdict": check.verdict,
+        "headline": headline(check.verdict, check.evidence, len(check.ran)),
+        "evidence": _evidence(check),
         "cross_checked": len(check.ran),
         "fkcheck_version": __version__,
         "command": check.command,

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from fkcheck.check import CheckResult
 from fkcheck.report.atomic import write_bytes_atomic
+from fkcheck.verdict import evidence_sentences
 
 __all__ = ["junit_xml", "write_junit"]
 
@@ -15,8 +16,12 @@ def junit_xml(check: CheckResult) -> bytes:
     """The JUnit document: a suite per check, a case per backend.
 
     ``fail`` → ``<failure>``, ``error`` → ``<error>``, ``skipped`` → ``<skipped>``.
-    A run where nothing was cross-checked gets an extra erroring case, so the
-    suite is red.
+    Two more cases say what the run proved, one per kind of evidence
+    (implementation, table): passed when verified, ``<failure>`` when it
+    disagrees or is required and missing, ``<skipped>`` (with the reason) when
+    not checked — so a table nothing independent looked at never shows as a
+    green test. A run where nothing was cross-checked gets an extra erroring
+    case, so the suite is red.
     """
     name = f"fkcheck.{check.model.name}"
     suite = ET.Element("testsuite", name=name, timestamp=check.created,
@@ -47,6 +52,26 @@ def junit_xml(check: CheckResult) -> bytes:
             counts["skipped"] += 1
         else:
             ET.SubElement(case, "system-out").text = detail
+    evidence = check.evidence
+    for kind, sentence in zip(
+        ("implementation", "table"), evidence_sentences(evidence), strict=True
+    ):
+        case = ET.SubElement(
+            suite, "testcase", classname=name, name=f"evidence: {kind} verified independently"
+        )
+        counts["tests"] += 1
+        status = evidence.of(kind).status  # type: ignore[arg-type]
+        if status == "failed":
+            ET.SubElement(case, "failure", message=sentence, type="disagreement").text = sentence
+            counts["failures"] += 1
+        elif status == "not-checked" and kind in evidence.unmet:
+            ET.SubElement(case, "failure", message=sentence, type="required").text = sentence
+            counts["failures"] += 1
+        elif status == "not-checked":
+            ET.SubElement(case, "skipped", message=sentence)
+            counts["skipped"] += 1
+        else:
+            ET.SubElement(case, "system-out").text = sentence
     if not check.ran:
         case = ET.SubElement(suite, "testcase", classname=name, name="cross-check ran")
         text = "no reference backend ran: nothing was cross-checked"

@@ -16,10 +16,20 @@ from pathlib import Path
 
 from fkcheck.check import CheckResult
 from fkcheck.report.format import format_deg, format_m, format_mm, format_rad
+from fkcheck.verdict import KINDS, evidence_sentences
 
 __all__ = ["append_summary", "escape_markdown", "markdown_summary", "write_summary"]
 
-_ICON = {"pass": "✅", "fail": "❌", "error": "⚠️", "skipped": "⏭️"}
+_ICON = {
+    "pass": "✅",
+    "fail": "❌",
+    "error": "⚠️",
+    "skipped": "⏭️",
+    "unverified": "❔",
+    "verified": "✅",
+    "failed": "❌",
+    "not-checked": "❔",
+}
 _MARKDOWN_SPECIAL = re.compile(r"([\\`*_\[\]|#~])")
 
 
@@ -59,6 +69,10 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
         lines.append("")
         lines.append(escape_markdown(verdict_line(check)))
         lines.append("")
+        evidence = check.evidence
+        for kind, text in zip(KINDS, evidence_sentences(evidence), strict=True):
+            lines.append(f"- {_ICON[evidence.of(kind).status]} {escape_markdown(text)}")
+        lines.append("")
         lines.append(
             f"{escape_markdown(check.frame_from)} → {escape_markdown(check.frame_to)}, "
             f"{check.q.shape[0]} configurations (seed {check.seed}), tolerance "
@@ -69,6 +83,13 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
         lines.append(f"## fkcheck: {len(checks)} models, {_ICON[overall]} {overall.upper()}")
         lines.append("")
         lines.append(f"{len(checks) - n_fail} of {len(checks)} models pass.")
+        lines.append("")
+        for check in checks:
+            status = check.evidence.table.status
+            text = evidence_sentences(check.evidence)[1]
+            lines.append(
+                f"- {escape_markdown(check.model.name)}: {_ICON[status]} {escape_markdown(text)}"
+            )
     lines.append("")
     many = len(checks) > 1
     head = "| backend | status | max position error | max rotation error | message |"

@@ -488,14 +488,32 @@ class ModelView:
 
 
 @dataclass(frozen=True)
+class EvidenceLine:
+    """What the check proved of one kind of evidence.
+
+    Attributes:
+        kind: ``implementation`` or ``table``.
+        status: ``verified``, ``failed`` or ``not-checked``.
+        text: The sentence (see :func:`fkcheck.verdict.evidence_sentences`).
+    """
+
+    kind: str
+    status: str
+    text: str
+
+
+@dataclass(frozen=True)
 class ReportPage:
     """One model's report page.
 
     Attributes:
         title: Page title.
         model: Model name.
-        verdict: ``pass``, ``fail`` or ``error``.
+        verdict: ``pass``, ``fail``, ``error`` or ``unverified``.
         verdict_line: The verdict as a sentence, e.g. "3 of 5 backends disagree".
+        verdict_headline: The verdict with what it proved, e.g. "pass — implementation
+            only; table not checked against anything independent".
+        evidence: One line per kind of evidence (implementation, table).
         disagreeing: Names of the backends that fail.
         headline: The largest errors among the disagreeing backends.
         facts: What was checked and how (key/value list), library versions and
@@ -516,6 +534,8 @@ class ReportPage:
     model: str
     verdict: str
     verdict_line: str
+    verdict_headline: str
+    evidence: tuple[EvidenceLine, ...]
     disagreeing: tuple[str, ...]
     headline: tuple[str, ...]
     facts: tuple[Fact, ...]
@@ -561,6 +581,8 @@ class IndexModel:
         pair: The compared frame pair, e.g. ``"base → tool0"``.
         configurations: Number of configurations checked.
         rows: One row per backend.
+        table_evidence: ``verified``, ``failed`` or ``not-checked``.
+        evidence_text: What verified the table, or why nothing did.
     """
 
     name: str
@@ -571,6 +593,8 @@ class IndexModel:
     pair: str
     configurations: int
     rows: tuple[IndexRow, ...]
+    table_evidence: str = "not-checked"
+    evidence_text: str = ""
 
 
 @dataclass(frozen=True)
@@ -579,7 +603,7 @@ class IndexPage:
 
     Attributes:
         title: Page title.
-        verdict: ``pass`` when every model passes, else ``fail`` or ``error``.
+        verdict: ``pass`` when every model passes, else ``fail``, ``error`` or ``unverified``.
         verdict_line: The verdict as a sentence.
         facts: Run facts (date, versions, command).
         models: One entry per model.
