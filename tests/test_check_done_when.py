@@ -103,8 +103,8 @@ def test_tool0_mapped_onto_ee_link_fails_on_rotation_alone(capsys, tmp_path):
 
 def test_every_mapped_frame_pair_passes(capsys, tmp_path):
     for frame_from, frame_to in [
-        ("base_link", "flange"),
-        ("base", "flange"),
+        ("base_link", "ee_link"),
+        ("base", "ee_link"),
         ("base_link", "tool0"),
     ]:
         code, doc, out = check(capsys, tmp_path, "ur5", "--from", frame_from, "--to", frame_to)

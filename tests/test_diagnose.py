@@ -115,14 +115,14 @@ def test_base_link_vs_base_is_named_and_the_printed_fix_passes(tmp_path, referen
 
 
 def test_flange_vs_tool0_is_a_tip_rotation_with_its_fix(reference):
-    bad = with_frame(load_model("ur5"), "flange", offset=Offset())  # ee_link mapped as tool0
-    result = run_diagnose(bad, reference, frame_from="base", frame_to="flange")
+    bad = with_frame(load_model("ur5"), "ee_link", offset=Offset())  # ee_link mapped as tool0
+    result = run_diagnose(bad, reference, frame_from="base", frame_to="ee_link")
     best = result.best
     assert best.kind == "frames"
     assert "flange/ee_link vs tool0" in best.title
-    fix = tomllib.loads(best.fix_toml)["frames"]["flange"]
-    assert fix["rpy"] == [90.0, -90.0, 0.0]  # ur5.toml's documented flange mapping
-    check = run_check(best.model, [reference], samples=32, frame_from="base", frame_to="flange")
+    fix = tomllib.loads(best.fix_toml)["frames"]["ee_link"]
+    assert fix["rpy"] == [90.0, -90.0, 0.0]  # ur5.toml's documented ee_link mapping
+    check = run_check(best.model, [reference], samples=32, frame_from="base", frame_to="ee_link")
     assert check.verdict == "pass"
 
 

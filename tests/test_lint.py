@@ -78,6 +78,8 @@ def test_degrees_declared_as_radians(tmp_path, capsys):
         "joint[3].alpha",
         "joint[4].alpha",  # 90, 90, -90
         "frames.base_link.rpy[2]",
+        "frames.ee_link.rpy[0]",
+        "frames.ee_link.rpy[1]",
         "frames.flange.rpy[0]",
         "frames.flange.rpy[1]",
     }

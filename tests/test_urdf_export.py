@@ -57,7 +57,7 @@ def test_urdf_of_every_bundled_model_passes_in_all_urdf_backends(name, tmp_path)
 
 def test_ur5_named_frames_all_agree(tmp_path):
     _, model = export("ur5", tmp_path)
-    assert_passes(model, ("base_link", "flange"))
+    assert_passes(model, ("base_link", "ee_link"))
     assert_passes(model, ("base", "tool0"))
     assert model.urdf.path == "out/robot.urdf"  # relative to the model file
 
