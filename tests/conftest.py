@@ -14,6 +14,9 @@ sys.path.insert(0, str(Path(__file__).parent))  # for `import helpers`
 
 from fkcheck.model import Model, bundled_model_paths
 
+# In CI (FKCHECK_REQUIRE_BACKENDS=1, set by .ci/run) a skipped test is a failure.
+pytest_plugins = ["ci_require"]
+
 BUNDLED = sorted(bundled_model_paths())
 
 # Property-based tests: a bounded, reproducible run by default; `nox -s fuzz` runs

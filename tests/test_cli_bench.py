@@ -108,3 +108,41 @@ def test_json_is_written_atomically_and_readable(tmp_path):
         write_json(path, {"a": object()})  # not JSON: the old file stays, no temp file
     assert json.loads(path.read_text()) == {"a": 1}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.json"]
+
+
+def test_the_headline_ratio_is_like_for_like(capsys, tmp_path):
+    """Same N, one thread, a new array each call: the in-house row and RTB's ETS.eval."""
+    code, out, err, data = bench(capsys, tmp_path, "ur5", "--n", "20000")
+    assert code == 0, err
+    rows = {t["name"]: t for t in data["timings"]}
+    ours, peer = rows["in-house batch, JIT, like for like"], rows["RTB ETS.eval (C batch)"]
+    assert ours["mode"] == peer["mode"] == benchmark.LIKE_FOR_LIKE
+    assert ours["n"] == peer["n"] == 20000
+    headline = data["headline"]
+    assert (headline["in_house"], headline["peer"], headline["n"]) == (
+        "in-house batch, JIT, like for like", "RTB ETS.eval (C batch)", 20000
+    )  # fmt: skip
+    assert headline["speedup"] == pytest.approx(peer["us_per_pose"] / ours["us_per_pose"])
+    # Faster modes are extra rows, labelled as such.
+    assert rows["in-house batch, JIT, out="]["mode"].startswith(("extra:", "1 thread"))
+    assert "Headline, like for like (1 thread, new array, N = 20,000)" in " ".join(out.split())
+
+
+def test_a_peer_that_crashes_fails_the_bench(capsys, tmp_path, monkeypatch):
+    def crash(model, q, ours, repeat):
+        raise RuntimeError("segfault-like failure inside the peer")
+
+    peers = [(name, key, crash if key == "pinocchio" else fn)
+             for name, key, fn in benchmark._PEERS]  # fmt: skip
+    monkeypatch.setattr(benchmark, "_PEERS", peers)
+    code, _, err, data = bench(capsys, tmp_path, "planar2", "--n", "200")
+    assert code == 1
+    rows = {t["name"]: t for t in data["timings"]}
+    assert (
+        rows["Pinocchio FK loop"]["error"] == "RuntimeError: segfault-like failure inside the peer"
+    )
+    assert rows["Pinocchio FK loop"]["skipped"] == ""
+    assert data["failed"] == [
+        "Pinocchio FK loop (RuntimeError: segfault-like failure inside the peer)"
+    ]
+    assert "peers failed: Pinocchio FK loop" in err

@@ -14,7 +14,15 @@ What is timed is the library call and nothing else: Robotics Toolbox
 placements, built here with only a ``tcp`` frame so no other frame is updated)
 and yourdfpy (``update_cfg`` + ``get_transform`` per pose, on the model's URDF
 loaded as the ``yourdfpy-urdf`` backend loads it). A peer whose library is not
-installed is reported as skipped, with the reason.
+installed is reported as skipped, with the reason; a peer that is installed but
+fails is an error, and the bench fails (exit 1): a crash must not read as
+"not measured".
+
+Ratios are like for like. The headline compares the in-house batch with
+Robotics Toolbox's ``ETS.eval`` under the same conditions: one thread (RTB's C
+loop is single-threaded), a new result array each call (as RTB allocates one),
+the same N. Faster modes — numba's threads, writing into a reused ``out=``
+buffer, a larger N — are extra rows, labelled as such in their ``mode``.
 
 This module imports no peer library at import time.
 """
@@ -51,6 +59,11 @@ __all__ = [
 Float = NDArray[np.float64]
 Kind = Literal["in-house", "peer", "bound"]
 
+#: The peers' conditions: one thread, a new result array per call.
+LIKE_FOR_LIKE = "1 thread, new array"
+#: The peer the headline ratio is taken against (the fastest batched peer).
+HEADLINE_PEER = "RTB ETS.eval (C batch)"
+
 #: A pose is a 4×4 float64 matrix: the least a batched FK writes per pose.
 OUTPUT_BYTES_PER_POSE = 128
 
@@ -80,7 +93,10 @@ class Timing:
         max_pos_err_m: Largest position difference from the in-house core on the
             same poses (``None`` where not compared).
         note: How it was called, and why ``n`` is smaller than asked.
-        skipped: Why it did not run (library missing, no URDF, error).
+        skipped: Why it did not run (library missing, no URDF).
+        mode: Threads and allocation, e.g. ``"1 thread, new array"``; in-house rows
+            that differ from the peers' conditions say ``"extra: …"``.
+        error: The peer is installed but failed (the bench then fails).
     """
 
     name: str
@@ -90,6 +106,8 @@ class Timing:
     max_pos_err_m: float | None = None
     note: str = ""
     skipped: str = ""
+    mode: str = ""
+    error: str = ""
 
     @property
     def us_per_pose(self) -> float | None:
@@ -117,6 +135,16 @@ class BenchResult:
     versions: dict[str, str] = field(default_factory=dict)
 
     @property
+    def headline(self) -> tuple[Timing, Timing, float] | None:
+        """``(in-house like-for-like row, RTB ETS.eval row, speedup)``, if both ran."""
+        ours = next((t for t in self.timings if t.mode == LIKE_FOR_LIKE and t.kind == "in-house"
+                     and t.seconds is not None), None)  # fmt: skip
+        peer = next((t for t in self.timings if t.name == HEADLINE_PEER and t.seconds), None)
+        if ours is None or peer is None or ours.us_per_pose is None or peer.us_per_pose is None:
+            return None
+        return ours, peer, peer.us_per_pose / ours.us_per_pose
+
+    @property
     def fastest_peer(self) -> Timing | None:
         """The peer (another library) with the lowest time per pose."""
         ran = [t for t in self.timings if t.kind == "peer" and t.us_per_pose is not None]
@@ -142,6 +170,15 @@ class BenchResult:
             "machine": self.machine,
             "versions": self.versions,
             "fastest_peer": None if best is None else best.name,
+            "headline": None
+            if self.headline is None
+            else {
+                "in_house": self.headline[0].name,
+                "peer": self.headline[1].name,
+                "n": self.headline[0].n,
+                "mode": LIKE_FOR_LIKE,
+                "speedup": self.headline[2],
+            },
             "timings": [
                 {
                     **asdict(t),
@@ -216,10 +253,13 @@ def run_bench(
     jit = dh.load_jit() and n >= dh.JIT_MIN_POSES
     path = "JIT" if jit else "NumPy path"
     out = np.empty((n, 4, 4))
+    threads = _numba_threads() if jit else 1
+    extra = f"extra: {threads} thread{'s' if threads > 1 else ''}"
     seconds = _median_seconds(lambda: dh.fk(chain, q, out=out), repeat)
     timings.append(
-        Timing(f"in-house batch, {path}", "in-house", n, seconds, note="fk(chain, Q, out=buffer)")
-    )
+        Timing(f"in-house batch, {path}, out=", "in-house", n, seconds,
+               note="fk(chain, Q, out=buffer)", mode=f"{extra}, out=")
+    )  # fmt: skip
     seconds = _median_seconds(lambda: dh.fk(chain, q), repeat)
     timings.append(
         Timing(
@@ -228,13 +268,16 @@ def run_bench(
             n,
             seconds,
             note="fk(chain, Q): a new (N, 4, 4) result each call",
+            mode=extra if threads > 1 else LIKE_FOR_LIKE,
         )
     )
-    if jit:
-        timings.append(_one_thread(chain, q, out, repeat))
     ours = dh.fk(chain, q, out=out)
     if python_one.seconds is not None:
         python_one.max_pos_err_m = _max_pos_err(python_poses, ours[:k])
+    k = part("rtb-eval")
+    if jit and k >= dh.JIT_MIN_POSES:
+        say("in-house, like for like")
+        timings.append(_like_for_like(chain, q[:k], repeat))
 
     k = part("one-pose")
     say("in-house, one pose")
@@ -281,8 +324,10 @@ def run_bench(
             timings.append(measure(model, q[:k], ours[:k], repeat))
         except (ImportError, BackendUnavailable) as exc:
             timings.append(Timing(name, "peer", k, skipped=f"not installed: {exc}"))
-        except Exception as exc:  # a peer that fails is reported, not fatal
-            timings.append(Timing(name, "peer", k, skipped=f"{type(exc).__name__}: {exc}"))
+        except LookupError as exc:  # the model lacks what the peer needs (no URDF)
+            timings.append(Timing(name, "peer", k, skipped=str(exc)))
+        except Exception as exc:  # installed but failed: an error, and the bench fails
+            timings.append(Timing(name, "peer", k, error=f"{type(exc).__name__}: {exc}"))
 
     say("memory bound")
     timings.append(_memory_bound(n, repeat))
@@ -299,22 +344,24 @@ def run_bench(
     )
 
 
-def _one_thread(chain: dh.DHChain, q: Float, out: Float, repeat: int) -> Timing:
-    """The JIT batch on one thread (what a single core does; peers are single-threaded)."""
+def _like_for_like(chain: dh.DHChain, q: Float, repeat: int) -> Timing:
+    """The JIT batch as the peers run: one thread, a new result array, the peer's N."""
     import numba
 
     before = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        seconds = _median_seconds(lambda: dh.fk(chain, q, out=out), repeat)
+        seconds = _median_seconds(lambda: dh.fk(chain, q), repeat)
     finally:
         numba.set_num_threads(before)
     return Timing(
-        "in-house batch, JIT, 1 thread",
+        "in-house batch, JIT, like for like",
         "in-house",
         q.shape[0],
         seconds,
-        note="fk(chain, Q, out=buffer) with numba.set_num_threads(1)",
+        note="fk(chain, Q) with numba.set_num_threads(1): same N, threads and allocation "
+        "as RTB ETS.eval",
+        mode=LIKE_FOR_LIKE,
     )
 
 
@@ -409,6 +456,7 @@ def _rtb_eval(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
         seconds,
         _max_pos_err(poses, ours),
         note="robot.ets().eval(Q): the fastest RTB path (its C fknm)",
+        mode=LIKE_FOR_LIKE,
     )
 
 
@@ -423,6 +471,7 @@ def _rtb_fkine(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
         seconds,
         _max_pos_err(poses.reshape(-1, 4, 4), ours),
         note="robot.fkine(Q): an SE3 of N poses",
+        mode=LIKE_FOR_LIKE,
     )
 
 
@@ -449,6 +498,7 @@ def _pinocchio(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
         seconds,
         _max_pos_err(poses, ours),
         note="forwardKinematics + updateFramePlacements per pose",
+        mode="1 thread, loop",
     )
 
 
@@ -482,6 +532,7 @@ def _yourdfpy(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
         seconds,
         _max_pos_err(poses, expected),
         note=f"update_cfg + get_transform({twin_to}, {twin_from}) per pose",
+        mode="1 thread, loop",
     )
 
 

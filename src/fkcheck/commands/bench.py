@@ -58,7 +58,7 @@ def add_parser(sub: Any) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the benchmark, print the table, write the JSON; 1 if a peer disagrees."""
+    """Run the benchmark, print the table, write the JSON; 1 if a peer disagrees or fails."""
     from fkcheck.benchmark import run_bench
     from fkcheck.commands._console import console
     from fkcheck.model import load_model
@@ -77,8 +77,15 @@ def run(args: argparse.Namespace) -> int:
         t.name for t in result.timings if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol
     ]
     console().print(_table(result, tol))
+    failed = [f"{t.name} ({t.error})" for t in result.timings if t.error]
     if args.json is not None:
-        write_json(args.json, {**result.to_dict(), "tol_pos_m": tol, "disagree": disagree})
+        write_json(
+            args.json,
+            {**result.to_dict(), "tol_pos_m": tol, "disagree": disagree, "failed": failed},
+        )
+    if failed:
+        print(f"fkcheck bench: peers failed: {'; '.join(failed)}", file=sys.stderr)
+        return 1
     if disagree:
         print(
             f"fkcheck bench: disagree with the in-house core by more than {tol:g} m: "
@@ -101,6 +108,7 @@ def _table(result: Any, tol: float) -> Any:
     )
     table.add_column("implementation", no_wrap=True)
     table.add_column("n", justify="right")
+    table.add_column("mode", no_wrap=True)
     table.add_column("µs/pose", justify="right")
     table.add_column("poses/s", justify="right")
     table.add_column("× peer", justify="right")
@@ -109,7 +117,11 @@ def _table(result: Any, tol: float) -> Any:
     for t in result.timings:
         notes.append(f"{t.name}: {f'skipped, {t.skipped}' if t.skipped else t.note}")
         if t.skipped:
-            table.add_row(t.name, f"{t.n:,}", "skipped", "", "", "", style="dim")
+            table.add_row(t.name, f"{t.n:,}", "", "skipped", "", "", "", style="dim")
+            continue
+        if t.error:
+            table.add_row(t.name, f"{t.n:,}", "", "[bold red]FAILED[/]", "", "", "")
+            notes[-1] = f"{t.name}: FAILED, {t.error}"
             continue
         speedup = result.speedup(t)
         err = "" if t.max_pos_err_m is None else f"{t.max_pos_err_m:.1e}"
@@ -118,13 +130,25 @@ def _table(result: Any, tol: float) -> Any:
         table.add_row(
             t.name,
             f"{t.n:,}",
+            t.mode,
             _us(t.us_per_pose),
             f"{t.poses_per_s:,.0f}",
             "" if speedup is None else f"{speedup:,.1f}" if speedup >= 1 else f"{speedup:.2g}",
             err,
         )
     load = ", ".join(f"{v:.2f}" for v in result.machine.get("load_average") or [])
+    headline = result.headline
     facts = [
+        (
+            f"Headline, like for like ({headline[0].mode}, N = {headline[0].n:,}): "
+            f"{headline[0].name} {_us(headline[0].us_per_pose or 0)} µs/pose vs "
+            f"{headline[1].name} {_us(headline[1].us_per_pose or 0)} µs/pose: "
+            f"{headline[2]:,.1f}× as fast."
+            if headline
+            else "Headline: no like-for-like pair ran (needs numba and Robotics Toolbox)."
+        ),
+        "Rows whose mode starts with 'extra:' use what the peers do not (threads, a reused "
+        "buffer): they are not like for like.",
         f"Configurations: seeded (seed {result.seed}), uniform within the joint limits; "
         "a smaller n runs on the first n of them.",
         "× peer: per-pose time of the fastest other library"
