@@ -162,24 +162,23 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
     imp, tab = evidence.implementation, evidence.table
     if imp.status == "verified":
         imp_text = (
-            f"implementation verified: {_names(imp.agreed)} (independent implementations of "
-            "this table) agree with the in-house core"
+            f"implementation verified: {_names(imp.agreed)} agree with the in-house core "
+            "(same table, independent code)"
         )
     elif imp.status == "failed":
         imp_text = f"implementation FAILED: {_names(imp.disagreed)} disagree with the in-house core"
     else:
         imp_text = "implementation not checked: no other implementation of this table answered"
     if tab.status == "verified":
-        tab_text = f"table verified: {_names(tab.agreed)} (evidence independent of the table) agree"
+        tab_text = f"table verified: {_names(tab.agreed)} agree (evidence independent of the table)"
     elif tab.status == "failed":
         tab_text = (
-            f"table FAILED: {_names(tab.disagreed)} (evidence independent of the table) "
-            "disagree with it"
+            f"table FAILED: {_names(tab.disagreed)} disagree (evidence independent of the table)"
         )
     else:
         tab_text = (
-            "table NOT CHECKED against anything independent (no URDF, measured poses or "
-            "published table answered): agreement proves the arithmetic, not the numbers"
+            "table NOT CHECKED: nothing independent of it (URDF, measured poses, published "
+            "table) answered; agreement proves the arithmetic, not the numbers"
         )
     if "table" in evidence.unmet:
         tab_text += " — required (require = table)"
