@@ -188,3 +188,19 @@ def test_ur_frames_are_named_as_their_descriptions_name_them():
         np.testing.assert_allclose(ee_link_T_flange[:3, :3], np.diag([1, -1, -1]), atol=1e-15)
         assert model.frames["ee_link"].urdf == "ee_link"
         assert model.frames["flange"].urdf is None  # the ROS 1 URDF has no flange link
+
+
+def test_a_urdf_link_names_the_frame_mapped_onto_it(capsys, tmp_path):
+    code, doc, out, _ = run(capsys, tmp_path, "ur5", "--from", "urdf:base_link", "--to",
+                            "urdf:ee_link")  # fmt: skip
+    assert code == 0, out
+    assert (doc["from"], doc["to"]) == ("base_link", "ee_link")
+    assert doc["evidence"]["table"]["status"] == "verified"
+
+
+def test_a_urdf_link_without_a_declared_frame_is_bad_input_listing_the_mapped_links(capsys):
+    assert main(["check", "ur5", "--to", "urdf:wrist_3_link"]) == 2
+    err = capsys.readouterr().err
+    assert "no declared frame has URDF twin 'wrist_3_link'" in err
+    assert "urdf:base_link (= base_link)" in err
+    assert err.count("\n") == 1

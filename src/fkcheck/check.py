@@ -490,9 +490,9 @@ def run_check(
 
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
-    pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
-    for name in pair:
-        resolve_frame(model, name)
+    asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
+    # ``urdf:LINK`` resolves to the declared frame mapped onto that link.
+    pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
     tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
     if model.urdf is not None:
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data

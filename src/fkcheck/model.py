@@ -28,6 +28,7 @@ from fkcheck.verdict import parse_require
 
 __all__ = [
     "MAX_JOINTS",
+    "URDF_FRAME_PREFIX",
     "CheckSpec",
     "FrameSpec",
     "Joint",
@@ -243,8 +244,27 @@ class Model:
         return dh.fk(self.chain, q, all_frames=all_frames)
 
 
+#: Prefix that names a frame by its URDF link: ``urdf:tool0``.
+URDF_FRAME_PREFIX = "urdf:"
+
+
 def resolve_frame(model: Model, name: str) -> FrameSpec:
-    """The named frame, or :class:`~fkcheck.errors.FrameError` listing the model's frames."""
+    """The named frame, or :class:`~fkcheck.errors.FrameError` listing the model's frames.
+
+    ``urdf:LINK`` names the declared frame whose URDF twin is ``LINK``.
+    """
+    if name.startswith(URDF_FRAME_PREFIX):
+        link = name[len(URDF_FRAME_PREFIX) :]
+        twins = [spec for spec in model.frames.values() if spec.urdf == link]
+        if twins:
+            return twins[0]
+        mapped = [f"urdf:{s.urdf} (= {s.name})" for s in model.frames.values() if s.urdf]
+        raise FrameError(
+            name,
+            f"model {model.name}: no declared frame has URDF twin {link!r}; to compare a "
+            f'link, declare [frames.NAME] with dh, its offset and urdf = "{link}"',
+            mapped,
+        )
     try:
         return model.frames[name]
     except KeyError:
