@@ -22,10 +22,10 @@ from backend_cases import (
     urdf_origin_rpy,
 )
 from conftest import random_q
-from fkcheck.backends.base import Backend, BackendUnavailable, FrameUnavailable, SharesDHFrames
+from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
 from fkcheck.backends.registry import make_backend
 from fkcheck.backends.yourdfpy_urdf import MeshAccessError, YourdfpyUrdf
-from fkcheck.errors import UrdfError
+from fkcheck.errors import UnmappedFrameError, UrdfError
 from fkcheck.model import load_model
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.urdf_source import load_urdf
@@ -115,9 +115,10 @@ def test_continuous_flipped_and_prismatic_joints(
     assert_every_pair_agrees(model, q, frames, backend.frame_poses(model, q, frames), SAME_CHAIN)
 
 
-def test_frame_without_twin_is_unavailable(backend: YourdfpyUrdf) -> None:
+def test_frame_without_twin_is_an_unmapped_frame_error(backend: YourdfpyUrdf) -> None:
     panda = load_model("panda")
-    with pytest.raises(FrameUnavailable, match=r"frame 'world' has no URDF twin.*panda_link0"):
+    match = r"frame 'world' \(at the world\) has no URDF twin.*panda_link0"
+    with pytest.raises(UnmappedFrameError, match=match):
         backend.frame_poses(panda, np.zeros((1, 7)), ["world", "panda_link8"])
 
 
