@@ -34,7 +34,7 @@ from fkcheck.backends.base import (
 )
 from fkcheck.errors import FkcheckError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
-from fkcheck.isolation import IsolatedDied, IsolatedTimeout, run_isolated
+from fkcheck.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
 from fkcheck.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.model import Model
 from fkcheck.sampling import Sampler, Samples, sample_configurations
@@ -340,12 +340,15 @@ def _run_in_process(job: _Job, timeout_s: float) -> BackendResult | FkcheckError
 
     For slow, pure-Python backends that hold the GIL: in a process of their own
     they use the second core instead of queueing behind the others. A crash of
-    the process (e.g. a segfault in a C extension) is that backend's error; at
-    the time limit the process is killed.
+    the process (e.g. a segfault in a C extension) or an answer larger than
+    :func:`~fkcheck.isolation.answer_limit` is that backend's error; at the time
+    limit the process is killed with all it started (:mod:`fkcheck.isolation`).
     """
     start = time.perf_counter()
     try:
-        outcome = run_isolated(functools.partial(_isolated_outcome, job), timeout_s)
+        outcome = run_isolated(
+            functools.partial(_isolated_outcome, job), timeout_s, answer_limit(job.q.shape[0])
+        )
     except IsolatedTimeout:
         return _error(job.backend, f"timed out after {timeout_s:g} s", timeout_s)
     except IsolatedDied as exc:
