@@ -44,6 +44,8 @@ import sys
 import time
 from typing import NoReturn
 
+__all__ = ["SWEEP_LIMIT_S", "main"]
+
 #: How long the sweep keeps killing descendants before giving up (processes in
 #: uninterruptible sleep may take a moment to die), seconds.
 SWEEP_LIMIT_S = 1.5
