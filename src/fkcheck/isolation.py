@@ -221,7 +221,8 @@ def run_supervised(
         IsolatedTimeout: It had not ended by ``timeout_s``; it and everything it
             started have been killed.
         IsolatedOutputLimit: It printed past a limit; it has been killed.
-        IsolatedDied: Its supervisor was stopped from outside (fkcheck exiting).
+        IsolatedDied: Its supervisor was stopped or killed from outside (fkcheck
+            exiting, or the program killing its own process group).
     """
     limits = _Limits(max_stdout_bytes, max_line_bytes, max_lines)
     deadline = time.monotonic() + timeout_s
@@ -372,8 +373,10 @@ def _finished(reader: _Reader) -> Finished:
     elif word == "spawn-error":
         errno_text, _, message = rest.partition(" ")
         raise SpawnError(int(errno_text), message)
-    else:  # "stopped", or nothing: stopped from outside
-        raise IsolatedDied("its process was stopped (fkcheck is exiting)")
+    elif word == "stopped":  # not by this run: fkcheck is exiting, or someone else
+        raise IsolatedDied("its process was stopped: its supervisor got SIGTERM from outside")
+    else:
+        raise IsolatedDied("its process was killed together with its supervisor")
     return Finished(bytes(reader.stdout), bytes(reader.stderr), code)
 
 
