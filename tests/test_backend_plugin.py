@@ -152,7 +152,7 @@ def test_q_of_the_wrong_width_is_refused(ur5: Model) -> None:
 
 # ---------------------------------------------------------------- hostile plugins (issue 15)
 
-HOSTILE = '''
+HOSTILE = """
 import ctypes, os, subprocess, sys, threading, time
 from pathlib import Path
 
@@ -210,7 +210,7 @@ def sleeps(q):
     child = subprocess.Popen(["sleep", "600"], start_new_session=True)
     _note(os.getpid(), child.pid)
     time.sleep(600)
-'''
+"""
 
 
 @pytest.fixture
