@@ -152,73 +152,12 @@ def test_q_of_the_wrong_width_is_refused(ur5: Model) -> None:
 
 # ---------------------------------------------------------------- hostile plugins (issue 15)
 
-HOSTILE = """
-import ctypes, os, subprocess, sys, threading, time
-from pathlib import Path
-
-from ur5_closed_form import forward
-
-PIDS = Path(__file__).with_name("pids")
-
-
-def _note(*pids):
-    tmp = PIDS.with_suffix(".tmp")
-    tmp.write_text(" ".join(map(str, pids)))
-    tmp.replace(PIDS)
-
-
-def exit_zero(q):
-    os._exit(0)
-
-
-def sys_exit(q):
-    sys.exit(0)
-
-
-def kills_itself(q):
-    print("about to die", file=sys.stderr)
-    os.kill(os.getpid(), 9)
-
-
-def prints(q):
-    print("not a pose " * 100)
-    sys.stdout.buffer.write(b"\\x80garbage")
-    return forward(q)
-
-
-def long_error(q):
-    raise ValueError("y" * 10_000_000)
-
-
-def thread_left(q):
-    threading.Thread(target=time.sleep, args=(600,), daemon=False).start()
-    return forward(q)
-
-
-def session_left(q):
-    child = subprocess.Popen(["sleep", "600"], start_new_session=True)
-    _note(os.getpid(), child.pid)
-    return forward(q)
-
-
-def holds_gil(q):
-    _note(os.getpid())
-    ctypes.PyDLL(None).sleep(600)  # a C call that keeps the GIL
-
-
-def sleeps(q):
-    child = subprocess.Popen(["sleep", "600"], start_new_session=True)
-    _note(os.getpid(), child.pid)
-    time.sleep(600)
-"""
-
 
 @pytest.fixture
 def hostile(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
-    """``hostile.py`` (the plugins above) importable; returns the pid file they write."""
-    (tmp_path / "hostile.py").write_text(HOSTILE)
+    """``plugins/hostile.py`` importable; returns the pid file its plugins write."""
     monkeypatch.syspath_prepend(PLUGINS)
-    monkeypatch.syspath_prepend(tmp_path)
+    monkeypatch.setenv("FKCHECK_TEST_PIDS", str(tmp_path / "pids"))
     return tmp_path / "pids"
 
 
