@@ -440,7 +440,7 @@ def run_isolated(job: Any, timeout_s: float, max_answer_bytes: int = ANSWER_BASE
     if out[: len(_ANSWER_MAGIC)] == _ANSWER_MAGIC and len(out) >= frame:
         (length,) = _LENGTH.unpack_from(out, len(_ANSWER_MAGIC))
         if len(out) == frame + length:
-            return pickle.loads(out[frame:])
+            return pickle.loads(memoryview(out)[frame:])
     what = "without an answer" if not out else "with a truncated or garbled answer"
     last = last_stderr_line(done.stderr_tail)
     raise IsolatedDied(
