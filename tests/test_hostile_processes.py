@@ -257,3 +257,16 @@ def test_the_supervisor_itself_is_gone_after_a_run() -> None:
     assert done.stdout == b"started\n"
     left = [p for p in descendants(os.getpid()) if p not in before and alive(p)]
     assert not left
+
+
+def test_a_module_in_the_current_directory_is_not_imported_by_the_child(tmp_path: Path) -> None:
+    # fkcheck run without the current directory on sys.path (as the `fkcheck` script
+    # is): its child processes must not pick up a numpy.py lying there either.
+    (tmp_path / "numpy.py").write_text("open('pwned', 'w').close()\nraise SystemExit(9)\n")
+    argv = [sys.executable, "-P", "-m", "fkcheck.cli", "check", "ur5", "--samples", "5",
+            "--against", "ur5_closed_form:forward"]  # fmt: skip
+    run = subprocess.run(
+        argv, cwd=tmp_path, env=_env(tmp_path), capture_output=True, text=True, timeout=60
+    )
+    assert run.returncode == 0, (run.stdout, run.stderr)
+    assert not (tmp_path / "pwned").exists()

@@ -24,13 +24,14 @@ non-daemon thread running, starts children that leave the session with
   Of stderr only the last :data:`STDERR_TAIL_BYTES` are kept.
 
 :func:`run_isolated` builds on this to run a pickled Python job: the parent
-starts ``python -c 'from fkcheck.isolation import main; main()'`` (with this
-fkcheck's directory first on ``sys.path``), writes the pickled job and this
-process's ``sys.path`` on its stdin and reads back one framed, pickled answer,
-of at most the size the caller allows. The job's own prints go to stderr, so
-they can never be mistaken for the answer. Unlike ``multiprocessing``'s spawn,
-the child never imports the caller's ``__main__``, so scripts that call
-:func:`fkcheck.check.run_check` need no ``if __name__ == "__main__":`` guard.
+starts ``python -P -c 'from fkcheck.isolation import main; main()'`` (this
+fkcheck's directory first on ``sys.path``, the current directory not on it),
+writes the pickled job and this process's ``sys.path`` on its stdin and reads
+back one framed, pickled answer, of at most the size the caller allows. The
+job's own prints go to stderr, so they can never be mistaken for the answer.
+Unlike ``multiprocessing``'s spawn, the child never imports the caller's
+``__main__``, so scripts that call :func:`fkcheck.check.run_check` need no
+``if __name__ == "__main__":`` guard.
 
 POSIX only (the supervisor relies on sessions, process groups and signals).
 """
@@ -419,13 +420,14 @@ def run_isolated(job: Any, timeout_s: float, max_answer_bytes: int = ANSWER_BASE
             exit code or signal and the last line of its stderr.
     """
     payload = pickle.dumps((list(sys.path), pickle.dumps(job)))
-    # This very fkcheck first on sys.path; main() then takes this process's sys.path.
+    # This very fkcheck first on sys.path, and not the current directory (-P): nothing
+    # there is imported before main() takes this process's sys.path.
     boot = f"import sys; sys.path.insert(0, {_PACKAGE_ROOT!r}); from fkcheck.isolation import main"
     boot += "; main()"
     frame = len(_ANSWER_MAGIC) + _LENGTH.size
     try:
         done = run_supervised(
-            [sys.executable, "-c", boot],
+            [sys.executable, "-P", "-c", boot],
             payload,
             timeout_s,
             max_stdout_bytes=frame + max_answer_bytes,
