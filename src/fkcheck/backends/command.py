@@ -39,7 +39,8 @@ Protocol:
   program exits, whatever it left running is killed. Programs still running
   when fkcheck exits (it gave up on this backend, or was stopped by SIGTERM or
   Ctrl-C) are killed too, and so are they if fkcheck itself is killed.
-  A crashing program writes no core file (the core size limit is 0).
+  A crashing program writes no ``core`` file into the current directory (its
+  core size limit is 0).
 
 The program gives only the TCP, so named frames come from
 :func:`fkcheck.frames.frame_poses_from_tcp`. Every failure (program not found,
