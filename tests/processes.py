@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -45,12 +48,15 @@ def descendants(root: int) -> list[int]:
 
 
 def assert_gone(pids: list[int], within_s: float) -> None:
-    """Every process in ``pids`` ends within ``within_s`` seconds."""
+    """Every process in ``pids`` ends within ``within_s`` seconds (else: killed, and fail)."""
     deadline = time.monotonic() + within_s
     while any(alive(p) for p in pids) and time.monotonic() < deadline:
         time.sleep(0.02)
     left = [p for p in pids if alive(p)]
-    assert not left, f"still running: {left} of {pids}"
+    for pid in left:  # a failing test still cleans up after itself
+        with contextlib.suppress(OSError):
+            os.kill(pid, signal.SIGKILL)
+    assert not left, f"still running: {left} of {pids} (now killed)"
 
 
 def wait_for_pids(path: Path, timeout_s: float = 30.0) -> list[int]:
