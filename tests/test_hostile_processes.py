@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from fkcheck.backends.command import CommandBackend
 from fkcheck.backends.plugin import PluginBackend
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.check import run_check
@@ -270,3 +271,16 @@ def test_a_module_in_the_current_directory_is_not_imported_by_the_child(tmp_path
     )
     assert run.returncode == 0, (run.stdout, run.stderr)
     assert not (tmp_path / "pwned").exists()
+
+
+def test_a_time_limit_too_large_for_the_clock_means_no_limit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # 1e10 s overflows thread joins and select(); it must simply never fire.
+    monkeypatch.syspath_prepend(PLUGINS)
+    options = BackendOptions(timeout_s=1e10)
+    program = shlex.join([sys.executable, str(PLUGINS / "fk_stdio.py"), "ok"])
+    backends = [PluginBackend("ur5_closed_form:forward", options), CommandBackend(program, options)]
+    check = run_check(load_model("ur5"), backends, samples=5, timeout_s=1e10)
+    assert [b.status for b in check.backends] == ["pass", "pass"]
+    assert check.verdict == "pass"

@@ -303,7 +303,7 @@ def _run_one(
     # does not keep the process alive.
     thread = threading.Thread(target=target, name=f"fkcheck-{backend.name}", daemon=True)
     thread.start()
-    thread.join(timeout_s)
+    thread.join(min(timeout_s, threading.TIMEOUT_MAX))  # 1e10 s: as good as no limit
     if thread.is_alive() or not box:
         return _error(backend, f"timed out after {timeout_s:g} s", timeout_s)
     return box[0]

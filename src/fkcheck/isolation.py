@@ -89,6 +89,8 @@ _ANSWER_MAGIC = b"fkcheck-answer\n"
 _LENGTH = struct.Struct(">Q")
 _READ_CHUNK = 64 * 1024
 _WRITE_CHUNK = 64 * 1024
+#: Longest single wait in the select loop, s (a time limit of 1e10 s overflows select).
+_MAX_WAIT_S = 3600.0
 #: Longest stderr line quoted in a message, characters.
 _QUOTE_CHARS = 300
 
@@ -335,7 +337,7 @@ def _collect(
                     sel.unregister(feed.fileno())
                     feed.close()
                 continue
-            for key, _ in sel.select(remaining):
+            for key, _ in sel.select(min(remaining, _MAX_WAIT_S)):
                 if key.data == "in":
                     try:
                         pending = pending[os.write(key.fd, pending[:_WRITE_CHUNK]) :]
