@@ -206,12 +206,13 @@ def test_run_check_returns_at_the_timeout_and_the_plugin_dies_right_after(
 ) -> None:
     monkeypatch.syspath_prepend(PLUGINS)
     monkeypatch.setenv("FKCHECK_TEST_PIDS", str(tmp_path / "pids"))
-    backend = PluginBackend("hostile:holds_gil", BackendOptions(timeout_s=2.0))
+    # The plugin's own limit is the default 120 s: the check's 2 s must win.
+    backend = PluginBackend("hostile:holds_gil", BackendOptions())
     start = time.monotonic()
     check = run_check(load_model("ur5"), [backend], samples=5, timeout_s=2.0)
     assert time.monotonic() - start < 2.0 + 3.0  # + loading the model, sampling
     assert (check.verdict, check.backends[0].message) == ("error", "timed out after 2 s")
-    assert_gone(wait_for_pids(tmp_path / "pids", 1.0), within_s=TERMINATE_GRACE_S + 1.0)
+    assert_gone(wait_for_pids(tmp_path / "pids", 1.0), within_s=0.5)
 
 
 def test_every_process_a_program_started_dies_with_it(tmp_path: Path) -> None:

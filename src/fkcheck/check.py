@@ -34,7 +34,13 @@ from fkcheck.backends.base import (
 )
 from fkcheck.errors import FkcheckError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
-from fkcheck.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
+from fkcheck.isolation import (
+    IsolatedDied,
+    IsolatedTimeout,
+    answer_limit,
+    run_isolated,
+    terminate_all,
+)
 from fkcheck.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.model import Model
 from fkcheck.sampling import Sampler, Samples, sample_configurations
@@ -300,11 +306,13 @@ def _run_one(
         box.append(_outcome(job, on_progress))
 
     # A daemon thread: a backend that hangs is abandoned at the time limit and
-    # does not keep the process alive.
+    # does not keep the process alive; the programs it runs (plugins, cmd:) are
+    # killed then, whatever their own time limit.
     thread = threading.Thread(target=target, name=f"fkcheck-{backend.name}", daemon=True)
     thread.start()
     thread.join(min(timeout_s, threading.TIMEOUT_MAX))  # 1e10 s: as good as no limit
     if thread.is_alive() or not box:
+        terminate_all(started_by=thread)
         return _error(backend, f"timed out after {timeout_s:g} s", timeout_s)
     return box[0]
 

@@ -143,7 +143,8 @@ class _Limits:
 
 # ---------------------------------------------------------------- live supervisors
 
-_live: set[subprocess.Popen[bytes]] = set()
+#: Running supervisors, with the thread that started each.
+_live: dict[subprocess.Popen[bytes], int] = {}
 _live_lock = threading.Lock()
 
 
@@ -169,14 +170,18 @@ def _reap(procs: list[subprocess.Popen[bytes]], deadline: float) -> None:
             proc.wait()
 
 
-def terminate_all() -> None:
+def terminate_all(started_by: threading.Thread | None = None) -> None:
     """Stop every supervised program still running (and all they started).
 
     Waits at most :data:`TERMINATE_GRACE_S` before SIGKILLing what is left.
-    Called at interpreter exit; safe to call at any time.
+    Called at interpreter exit, and by the check for a backend it gives up on;
+    safe to call at any time.
+
+    Args:
+        started_by: Only the programs this thread started (default: all).
     """
     with _live_lock:
-        procs = list(_live)
+        procs = [p for p, t in _live.items() if started_by is None or t == started_by.ident]
     for proc in procs:
         _send(proc, signal.SIGTERM)
     _reap(procs, time.monotonic() + TERMINATE_GRACE_S)
@@ -246,14 +251,14 @@ def run_supervised(
     finally:
         os.close(status_w)
     with _live_lock:
-        _live.add(proc)
+        _live[proc] = threading.get_ident()
     try:
         return _collect(proc, status_r, stdin, deadline, limits)
     finally:
         _send(proc, signal.SIGTERM)
         _reap([proc], time.monotonic() + TERMINATE_GRACE_S)
         with _live_lock:
-            _live.discard(proc)
+            _live.pop(proc, None)
         os.close(status_r)
         for pipe in (proc.stdin, proc.stdout, proc.stderr):
             if pipe is not None:
