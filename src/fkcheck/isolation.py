@@ -14,11 +14,12 @@ non-daemon thread running, starts children that leave the session with
   :data:`TERMINATE_GRACE_S` (after which the supervisor's whole process group is
   SIGKILLed as a last resort); the supervisor's own sweep takes milliseconds.
 * **Leftovers.** When the program ends, whatever it left running is killed too.
-  Supervisors still running when the interpreter exits (fkcheck gave up on a
-  backend at its time limit, or was stopped by SIGTERM or Ctrl-C) are stopped
-  by an :mod:`atexit` hook, :func:`terminate_all`; if fkcheck itself is
-  killed, each supervisor gets SIGTERM from the kernel (``PR_SET_PDEATHSIG``)
-  and cleans up the same way.
+  When the check gives up on a backend at its time limit it stops the programs
+  that backend started (:func:`terminate_all` with ``started_by``); those still
+  running when the interpreter exits (e.g. fkcheck was stopped by SIGTERM or
+  Ctrl-C) are stopped by an :mod:`atexit` hook; if fkcheck itself is killed,
+  each supervisor gets SIGTERM from the kernel (``PR_SET_PDEATHSIG``) and
+  cleans up the same way.
 * **Output.** stdout is read up to a limit the caller gives (bytes, and for
   line protocols bytes per line and lines); past it the program is stopped.
   Of stderr only the last :data:`STDERR_TAIL_BYTES` are kept.
