@@ -21,9 +21,11 @@ from fkcheck.backends.command import CommandBackend, CommandError, CommandSpecEr
 from fkcheck.backends.registry import BackendOptions, make_backend, parse_against
 from fkcheck.errors import FkcheckError
 from fkcheck.frames import frame_poses_from_dh
+from fkcheck.isolation import TERMINATE_GRACE_S
 from fkcheck.model import Model, load_model
 from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
 from helpers import assert_pose_close, assert_se3
+from processes import LINUX_ONLY, assert_gone, wait_for_pids
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = Path(__file__).parent / "plugins" / "fk_stdio.py"
@@ -294,3 +296,116 @@ def test_cpp_example_reports_a_bad_line_on_stderr(fk_tool: Path, line: str, prob
     assert run.returncode == 1
     assert run.stderr == f"fk_tool: line 3: {problem}: '{line}'\n"
     assert len(run.stdout.split()) == 16  # the good first line was answered
+
+
+# ---------------------------------------------------------------- hostile programs (issue 15)
+
+LEAVER = """
+import os, subprocess, sys, time
+from pathlib import Path
+
+mode, pidfile = sys.argv[1], Path(sys.argv[2])
+if mode.startswith("daemon"):  # double fork: the sleeper is orphaned in a session of its own
+    pid = os.fork()
+    if pid == 0:
+        os.setsid()
+        sleeper = subprocess.Popen(["sleep", "600"])
+        pidfile.with_suffix(".tmp").write_text(f"{os.getpid()} {sleeper.pid}")
+        pidfile.with_suffix(".tmp").replace(pidfile)
+        os._exit(0)
+    os.waitpid(pid, 0)
+else:  # setsid sleep 600 &, holding our stdout
+    sleeper = subprocess.Popen(["sleep", "600"], start_new_session=True)
+    pidfile.with_suffix(".tmp").write_text(f"{os.getpid()} {sleeper.pid}")
+    pidfile.with_suffix(".tmp").replace(pidfile)
+if mode.endswith("hang"):
+    time.sleep(600)
+os.execv(sys.executable, [sys.executable, sys.argv[3], "ok"])
+"""
+
+
+@LINUX_ONLY
+@pytest.mark.parametrize("mode", ["session-hang", "daemon-hang"])
+def test_hanging_program_is_killed_with_what_left_its_session(
+    ur5: Model, tmp_path: Path, mode: str
+) -> None:
+    program, pidfile = tmp_path / "leaver.py", tmp_path / "pids"
+    program.write_text(LEAVER)
+    spec = shlex.join([sys.executable, str(program), mode, str(pidfile), str(SCRIPT)])
+    backend = CommandBackend(spec, BackendOptions(timeout_s=2.0))
+    start = time.monotonic()
+    with pytest.raises(CommandError, match=r"timed out after 2 s \(the program was killed\)$"):
+        backend.frame_poses(ur5, np.zeros((3, 6)), ["tcp"])
+    assert time.monotonic() - start < 2.0 + TERMINATE_GRACE_S + 1.0
+    assert_gone(wait_for_pids(pidfile, 1.0), within_s=1.0)
+
+
+@LINUX_ONLY
+@pytest.mark.parametrize("mode", ["session", "daemon"])
+def test_program_that_answers_and_leaves_a_process_behind_passes_and_the_process_dies(
+    ur5: Model, tmp_path: Path, mode: str
+) -> None:
+    # The sleeper keeps the program's stdout open: the run must not wait for it.
+    program, pidfile = tmp_path / "leaver.py", tmp_path / "pids"
+    program.write_text(LEAVER)
+    spec = shlex.join([sys.executable, str(program), mode, str(pidfile), str(SCRIPT)])
+    q = np.full((5, 6), 0.7)
+    start = time.monotonic()
+    (tcp,) = CommandBackend(spec, BackendOptions(timeout_s=60.0)).frame_poses(ur5, q, ["tcp"])
+    assert time.monotonic() - start < 15.0
+    assert_pose_close(tcp, ur5.fk(q), SAME_CHAIN)
+    assert_gone(wait_for_pids(pidfile, 1.0), within_s=1.0)
+
+
+FLOODS = [
+    ("yes 0", f"printed more than {5 + command.EXTRA_LINES} lines for 5 configurations"),
+    (
+        "tr -d '\\n' < /dev/zero",
+        f"printed a line longer than {command.MAX_LINE_BYTES} bytes for 5 configurations",
+    ),
+]
+
+
+@pytest.mark.parametrize(("shell", "problem"), FLOODS, ids=["many-lines", "endless-line"])
+def test_program_flooding_stdout_is_stopped_at_the_output_limit(
+    ur5: Model, shell: str, problem: str
+) -> None:
+    backend = CommandBackend(shlex.join(["sh", "-c", shell]), BackendOptions(timeout_s=60.0))
+    start = time.monotonic()
+    with pytest.raises(CommandError) as caught:
+        backend.frame_poses(ur5, np.zeros((5, 6)), ["tcp"])
+    assert time.monotonic() - start < 10.0
+    assert str(caught.value) == f"{backend.name}: {problem} (the program was killed)"
+
+
+def test_program_flooding_stderr_keeps_only_the_tail(ur5: Model) -> None:
+    # 50 MB on one stderr line, then the line that says what went wrong.
+    shell = "head -c 50000000 /dev/zero | tr '\\0' x; echo; echo 'fk: the last word'"
+    shell = f"({shell}) >&2; exit 5"
+    backend = CommandBackend(shlex.join(["sh", "-c", shell]), BackendOptions(timeout_s=60.0))
+    with pytest.raises(CommandError) as caught:
+        backend.frame_poses(ur5, np.zeros((1, 6)), ["tcp"])
+    assert str(caught.value) == f"{backend.name}: exited with status 5: fk: the last word"
+
+
+def test_a_very_long_last_stderr_line_is_shortened(ur5: Model) -> None:
+    shell = "head -c 100000 /dev/zero | tr '\\0' x >&2; exit 1"
+    backend = CommandBackend(shlex.join(["sh", "-c", shell]), BackendOptions(timeout_s=60.0))
+    with pytest.raises(CommandError, match=r"exited with status 1: x{300}…$") as caught:
+        backend.frame_poses(ur5, np.zeros((1, 6)), ["tcp"])
+    assert len(str(caught.value)) < 400
+
+
+def test_program_killed_by_a_signal_says_which(ur5: Model) -> None:
+    backend = CommandBackend("sh -c 'kill -SEGV $$'", BackendOptions(timeout_s=60.0))
+    with pytest.raises(CommandError, match=r"was killed by SIGSEGV \(nothing on stderr\)$"):
+        backend.frame_poses(ur5, np.zeros((1, 6)), ["tcp"])
+
+
+def test_program_that_does_not_read_its_input_is_stopped_at_the_time_limit(ur5: Model) -> None:
+    # 4096 configurations (~500 kB) fill the pipe: writing must not block past the limit.
+    backend = CommandBackend("sleep 600", BackendOptions(timeout_s=1.0))
+    start = time.monotonic()
+    with pytest.raises(CommandError, match=r"timed out after 1 s"):
+        backend.frame_poses(ur5, np.zeros((4096, 6)), ["tcp"])
+    assert time.monotonic() - start < 1.0 + TERMINATE_GRACE_S + 1.0

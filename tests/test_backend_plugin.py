@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import time
 from pathlib import Path
 
 import numpy as np
@@ -15,9 +16,11 @@ from fkcheck.backends.plugin import PluginBackend, PluginError
 from fkcheck.backends.registry import BackendOptions, make_backend
 from fkcheck.errors import BackendNotFoundError, FkcheckError
 from fkcheck.frames import frame_poses_from_dh
+from fkcheck.isolation import TERMINATE_GRACE_S
 from fkcheck.model import Model, load_model
 from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
 from helpers import assert_pose_close, assert_se3
+from processes import LINUX_ONLY, assert_gone, wait_for_pids
 
 PLUGINS = Path(__file__).parent / "plugins"
 UR5_FRAMES = ["world", "tcp", "base", "base_link", "tool0", "flange"]
@@ -145,3 +148,83 @@ def test_mid_chain_frame_is_unavailable_before_the_plugin_is_imported() -> None:
 def test_q_of_the_wrong_width_is_refused(ur5: Model) -> None:
     with pytest.raises(ValueError, match=r"q must have shape \(N, 6\), got \(4, 5\)"):
         plugin("ur5_closed_form:forward").frame_poses(ur5, np.zeros((4, 5)), ["tcp"])
+
+
+# ---------------------------------------------------------------- hostile plugins (issue 15)
+
+
+@pytest.fixture
+def hostile(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    """``plugins/hostile.py`` importable; returns the pid file its plugins write."""
+    monkeypatch.syspath_prepend(PLUGINS)
+    monkeypatch.setenv("FKCHECK_TEST_PIDS", str(tmp_path / "pids"))
+    return tmp_path / "pids"
+
+
+DEATHS = [
+    ("exit_zero", "its process exited with code 0 without an answer"),
+    ("sys_exit", "its process exited with code 0 without an answer"),
+    ("kills_itself", "its process was killed by SIGKILL without an answer: about to die"),
+]
+
+
+@pytest.mark.usefixtures("hostile")
+@pytest.mark.parametrize(("function", "message"), DEATHS, ids=[f for f, _ in DEATHS])
+def test_plugin_that_ends_its_process_is_an_error_never_a_success(
+    ur5: Model, function: str, message: str
+) -> None:
+    with pytest.raises(PluginError) as caught:
+        plugin(f"hostile:{function}").frame_poses(ur5, np.zeros((3, 6)), ["tcp"])
+    assert str(caught.value) == f"plugin hostile:{function}: {message}"
+
+
+@pytest.mark.usefixtures("hostile")
+def test_what_a_plugin_prints_never_mixes_with_its_answer(ur5: Model) -> None:
+    q = np.full((4, ur5.dof), 0.3)
+    (tcp,) = plugin("hostile:prints").frame_poses(ur5, q, ["tcp"])
+    assert_pose_close(tcp, ur5.fk(q), SAME_CHAIN)
+
+
+@pytest.mark.usefixtures("hostile")
+def test_a_huge_exception_message_is_cut_to_one_readable_line(ur5: Model) -> None:
+    with pytest.raises(PluginError, match=r"raised ValueError: y{900,1000}…$") as caught:
+        plugin("hostile:long_error").frame_poses(ur5, np.zeros((1, 6)), ["tcp"])
+    assert len(str(caught.value)) < 1100
+
+
+@pytest.mark.usefixtures("hostile")
+def test_a_thread_the_plugin_leaves_running_does_not_hold_the_answer(ur5: Model) -> None:
+    q = np.full((2, ur5.dof), -0.2)
+    start = time.monotonic()
+    (tcp,) = plugin("hostile:thread_left").frame_poses(ur5, q, ["tcp"])
+    assert time.monotonic() - start < 20.0  # the thread sleeps 600 s
+    assert_pose_close(tcp, ur5.fk(q), SAME_CHAIN)
+
+
+@LINUX_ONLY
+def test_a_process_the_plugin_leaves_in_its_own_session_is_killed(
+    ur5: Model, hostile: Path
+) -> None:
+    q = np.full((2, ur5.dof), 0.1)
+    (tcp,) = plugin("hostile:session_left").frame_poses(ur5, q, ["tcp"])
+    assert_pose_close(tcp, ur5.fk(q), SAME_CHAIN)
+    pids = [int(p) for p in hostile.read_text().split()]
+    assert len(pids) == 2
+    assert_gone(pids, within_s=1.0)  # killed before the answer was handed over
+
+
+@LINUX_ONLY
+@pytest.mark.parametrize("function", ["holds_gil", "sleeps"])
+def test_plugin_that_never_returns_is_killed_at_its_time_limit(
+    ur5: Model, hostile: Path, function: str
+) -> None:
+    backend = PluginBackend(f"hostile:{function}", BackendOptions(timeout_s=2.0))
+    start = time.monotonic()
+    with pytest.raises(PluginError) as caught:
+        backend.frame_poses(ur5, np.zeros((1, 6)), ["tcp"])
+    elapsed = time.monotonic() - start
+    assert str(caught.value) == (
+        f"plugin hostile:{function}: timed out after 2 s (its process was killed)"
+    )
+    assert 2.0 <= elapsed < 2.0 + TERMINATE_GRACE_S + 1.0
+    assert_gone(wait_for_pids(hostile, 1.0), within_s=1.0)

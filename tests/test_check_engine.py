@@ -335,7 +335,10 @@ def test_isolated_backend_runs_in_its_own_process_with_the_same_result(ur5):
 def test_isolated_backend_that_dies_is_an_error_not_a_crash(ur5):
     check = run_check(ur5, [IsolatedCrash(), ReferenceChain()], samples=10)
     crashed, good = check.backends
-    assert (crashed.status, crashed.message) == ("error", "its process died (exit code 3)")
+    assert (crashed.status, crashed.message) == (
+        "error",
+        "its process exited with code 3 without an answer",
+    )
     assert good.status == "pass"
     assert check.verdict == "error"
 

@@ -33,7 +33,13 @@ from numpy.typing import NDArray
 from fkcheck.backends.base import Backend, Evidence, FixedConfigurations, SharesDHFrames
 from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
-from fkcheck.isolation import IsolatedDied, IsolatedTimeout, run_isolated
+from fkcheck.isolation import (
+    IsolatedDied,
+    IsolatedTimeout,
+    answer_limit,
+    run_isolated,
+    terminate_all,
+)
 from fkcheck.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.model import Model
 from fkcheck.sampling import Sampler, Samples, sample_configurations
@@ -360,11 +366,13 @@ def _run_one(
         box.append(_outcome(job, on_progress))
 
     # A daemon thread: a backend that hangs is abandoned at the time limit and
-    # does not keep the process alive.
+    # does not keep the process alive; the programs it runs (plugins, cmd:) are
+    # killed then, whatever their own time limit.
     thread = threading.Thread(target=target, name=f"fkcheck-{backend.name}", daemon=True)
     thread.start()
-    thread.join(timeout_s)
+    thread.join(min(timeout_s, threading.TIMEOUT_MAX))  # 1e10 s: as good as no limit
     if thread.is_alive() or not box:
+        terminate_all(started_by=thread)
         return _error(backend, f"timed out after {timeout_s:g} s", timeout_s)
     return box[0]
 
@@ -401,12 +409,15 @@ def _run_in_process(job: _Job, timeout_s: float) -> BackendResult | FkcheckError
 
     For slow, pure-Python backends that hold the GIL: in a process of their own
     they use the second core instead of queueing behind the others. A crash of
-    the process (e.g. a segfault in a C extension) is that backend's error; at
-    the time limit the process is killed.
+    the process (e.g. a segfault in a C extension) or an answer larger than
+    :func:`~fkcheck.isolation.answer_limit` is that backend's error; at the time
+    limit the process is killed with all it started (:mod:`fkcheck.isolation`).
     """
     start = time.perf_counter()
     try:
-        outcome = run_isolated(functools.partial(_isolated_outcome, job), timeout_s)
+        outcome = run_isolated(
+            functools.partial(_isolated_outcome, job), timeout_s, answer_limit(job.q.shape[0])
+        )
     except IsolatedTimeout:
         return _error(job.backend, f"timed out after {timeout_s:g} s", timeout_s)
     except IsolatedDied as exc:

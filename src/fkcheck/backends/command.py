@@ -19,32 +19,41 @@ Protocol:
   included). Blank output lines are ignored; anything else must parse as a
   finite float (``%.17g`` in C, ``repr`` in Python keep every bit).
 * The program exits with status 0. On bad input it should print a message on
-  stderr and exit non-zero; fkcheck reports the last line of stderr.
+  stderr and exit non-zero; fkcheck reports the last line of stderr (of which
+  it keeps only the last :data:`~fkcheck.isolation.STDERR_TAIL_BYTES`).
+* Output is bounded: a line may be at most :data:`MAX_LINE_BYTES` bytes, and a
+  run may print at most one line per configuration plus :data:`EXTRA_LINES`
+  (blank lines count). Past either limit fkcheck stops reading, kills the
+  program and the backend fails with "printed a line longer than …" or
+  "printed more than … lines".
 * Configurations are sent in batches of :data:`BATCH_SIZE`, one process run
   per batch: a stateless program that reads to end of input is all that is
   needed, and no run holds more than one batch in its pipes.
 * The whole backend run (all batches) has a time limit,
-  :attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`. When it is
-  reached the program — its whole process group on POSIX — is killed and the
-  backend fails with "timed out after X s". The program runs in its own
-  session, so any still running when the Python interpreter exits (e.g. after
-  the check gave up on this backend) are killed by an :mod:`atexit` hook.
+  :attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`. The program
+  runs under fkcheck's supervisor (:mod:`fkcheck.isolation`), in a session of
+  its own: when the time limit is reached, the program and every process it
+  started — on Linux even those that left its session with ``setsid`` — are
+  killed and the backend fails with "timed out after X s"; the run ends within
+  the time limit plus :data:`~fkcheck.isolation.TERMINATE_GRACE_S`. When the
+  program exits, whatever it left running is killed. Programs still running
+  when fkcheck exits (it gave up on this backend, or was stopped by SIGTERM or
+  Ctrl-C) are killed too, and so are they if fkcheck itself is killed.
+  A crashing program writes no ``core`` file into the current directory (its
+  core size limit is 0).
 
 The program gives only the TCP, so named frames come from
 :func:`fkcheck.backends.blackbox.frame_poses_from_tcp`. Every failure (program not found,
 non-zero exit, wrong number of lines or numbers, non-numeric or non-finite
-output, time-out) raises :class:`CommandError`, which the check reports as this
+output, too much output, time-out) raises :class:`CommandError`, which the check reports as this
 backend's *error*.
 """
 
 from __future__ import annotations
 
-import atexit
+import errno
 import os
 import shlex
-import signal
-import subprocess
-import threading
 import time
 from collections.abc import Sequence
 
@@ -55,14 +64,33 @@ from fkcheck.backends.base import Evidence
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import FkcheckError
+from fkcheck.isolation import (
+    IsolatedOutputLimit,
+    IsolatedTimeout,
+    SpawnError,
+    ended,
+    last_stderr_line,
+    run_supervised,
+)
 from fkcheck.model import Model
 
-__all__ = ["BATCH_SIZE", "CommandBackend", "CommandError", "CommandSpecError"]
+__all__ = [
+    "BATCH_SIZE",
+    "EXTRA_LINES",
+    "MAX_LINE_BYTES",
+    "CommandBackend",
+    "CommandError",
+    "CommandSpecError",
+]
 
 Float = NDArray[np.float64]
 
 #: Configurations sent to one run of the program.
 BATCH_SIZE = 4096
+#: Longest line the program may print, bytes (16 numbers at full precision take ~400).
+MAX_LINE_BYTES = 8192
+#: Lines the program may print beyond one per configuration (blank lines count).
+EXTRA_LINES = 1024
 
 #: Longest piece of the program's output quoted in an error message.
 _QUOTE_CHARS = 120
@@ -158,7 +186,7 @@ class CommandBackend:
         world_T_tcp = np.empty((q.shape[0], 4, 4))
         for start in range(0, q.shape[0], BATCH_SIZE):
             batch = q[start : start + BATCH_SIZE]
-            stdout = self._run(_format_input(batch), deadline)
+            stdout = self._run(_format_input(batch), deadline, len(batch))
             world_T_tcp[start : start + len(batch)] = self._parse(stdout, batch, start)
         return frame_poses_from_tcp(model, world_T_tcp, frames)
 
@@ -167,39 +195,38 @@ class CommandBackend:
     def _fail(self, problem: str) -> CommandError:
         return CommandError(self.command, problem)
 
-    def _run(self, stdin: bytes, deadline: float) -> bytes:
-        """One run of the program: feed ``stdin``, return its stdout."""
+    def _run(self, stdin: bytes, deadline: float, n_configs: int) -> bytes:
+        """One run of the program: feed ``stdin``, return its stdout (bounded)."""
+        max_lines = n_configs + EXTRA_LINES
         try:
-            proc = subprocess.Popen(
+            done = run_supervised(
                 self.argv,
-                stdin=subprocess.PIPE,
-                stdout=subprocess.PIPE,
-                stderr=subprocess.PIPE,
-                start_new_session=os.name == "posix",  # its own group, to kill it whole
+                stdin,
+                max(deadline - time.monotonic(), 0.0),
+                max_stdout_bytes=max_lines * (MAX_LINE_BYTES + 1),
+                max_line_bytes=MAX_LINE_BYTES,
+                max_lines=max_lines,
             )
-        except FileNotFoundError:
-            where = "on PATH" if os.sep not in self.argv[0] else f"(from {os.getcwd()})"
-            raise self._fail(f"program {self.argv[0]!r} not found {where}") from None
-        except PermissionError:
-            raise self._fail(f"program {self.argv[0]!r} is not executable") from None
-        except OSError as exc:
-            raise self._fail(f"cannot run {self.argv[0]!r}: {exc.strerror or exc}") from None
-        _track(proc)
-        try:
-            out, err = proc.communicate(stdin, timeout=max(deadline - time.monotonic(), 0.0))
-        except subprocess.TimeoutExpired:
-            _kill(proc)
+        except SpawnError as exc:
+            if exc.errno == errno.ENOENT:
+                where = "on PATH" if os.sep not in self.argv[0] else f"(from {os.getcwd()})"
+                raise self._fail(f"program {self.argv[0]!r} not found {where}") from None
+            if exc.errno == errno.EACCES:
+                raise self._fail(f"program {self.argv[0]!r} is not executable") from None
+            raise self._fail(f"cannot run {self.argv[0]!r}: {exc.strerror}") from None
+        except IsolatedTimeout:
             raise self._fail(
                 f"timed out after {self.timeout_s:g} s (the program was killed)"
             ) from None
-        except BaseException:
-            _kill(proc)
-            raise
-        finally:
-            _untrack(proc)
-        if proc.returncode != 0:
-            raise self._fail(_exit_problem(proc.returncode, err))
-        return out
+        except IsolatedOutputLimit as exc:
+            raise self._fail(
+                f"{exc.problem} for {n_configs} configurations (the program was killed)"
+            ) from None
+        if done.returncode != 0:
+            last = last_stderr_line(done.stderr_tail)
+            what = ended(done.returncode, "status")
+            raise self._fail(f"{what}: {last}" if last else f"{what} (nothing on stderr)")
+        return done.stdout
 
     # ------------------------------------------------------------------ parsing
 
@@ -249,78 +276,6 @@ class CommandBackend:
 def _format_input(batch: Float) -> bytes:
     """CSV lines, one configuration each, every value as its exact ``repr``."""
     return "".join(",".join(map(repr, row)) + "\n" for row in batch.tolist()).encode("ascii")
-
-
-def _kill(proc: subprocess.Popen[bytes]) -> None:
-    """Kill the program (its whole process group on POSIX) and reap it."""
-    _signal_group(proc)
-    proc.communicate()
-
-
-def _signal_group(proc: subprocess.Popen[bytes]) -> None:
-    """SIGKILL the program's process group (POSIX) or the program, unless already reaped."""
-    # Until reaped (returncode set) its pid, which is also its group id, cannot be
-    # reused. The group is killed even if the program itself has exited: a child
-    # it left behind may still hold the pipes open.
-    if proc.returncode is not None:
-        return
-    try:
-        if os.name == "posix":
-            os.killpg(proc.pid, signal.SIGKILL)
-        else:
-            proc.kill()
-    except (ProcessLookupError, PermissionError):
-        pass
-
-
-# Programs still running. The check abandons a backend thread at its time limit
-# and may exit before that thread kills its program; the program runs in its own
-# session (so a terminal's Ctrl-C does not reach it), so kill what is left at exit.
-_live: set[subprocess.Popen[bytes]] = set()
-_live_lock = threading.Lock()
-_atexit_hook_registered = False
-
-
-def _track(proc: subprocess.Popen[bytes]) -> None:
-    global _atexit_hook_registered
-    with _live_lock:
-        _live.add(proc)
-        if not _atexit_hook_registered:
-            atexit.register(_kill_live)
-            _atexit_hook_registered = True
-
-
-def _untrack(proc: subprocess.Popen[bytes]) -> None:
-    with _live_lock:
-        _live.discard(proc)
-
-
-def _kill_live() -> None:
-    """At interpreter exit: kill every program a backend thread left running."""
-    with _live_lock:
-        procs = list(_live)
-    for proc in procs:
-        _signal_group(proc)
-
-
-def _exit_problem(returncode: int, stderr: bytes) -> str:
-    """Describe a failed run: exit status or signal, and the last line of stderr."""
-    if returncode < 0:
-        try:
-            what = f"was killed by {signal.Signals(-returncode).name}"
-        except ValueError:
-            what = f"was killed by signal {-returncode}"
-    else:
-        what = f"exited with status {returncode}"
-    last = next(
-        (
-            ln.strip()
-            for ln in reversed(stderr.decode("utf-8", "replace").splitlines())
-            if ln.strip()
-        ),
-        "",
-    )
-    return f"{what}: {last}" if last else f"{what} (nothing on stderr)"
 
 
 def _is_float(token: str) -> bool:

@@ -7,15 +7,27 @@ model's base and tool included. Being a black box, it gives only the TCP, so the
 named frames it can be compared on are those rigidly attached to the world or to
 the TCP (:func:`fkcheck.backends.blackbox.frame_poses_from_tcp`).
 
-The module is imported when poses are first asked for, not when the backend is
-built, so a plugin that cannot be imported shows up as this backend's *error*
-in the check (like every other failure of the callable: it raises, returns the
-wrong shape or dtype, or returns NaN/inf), with a :class:`PluginError` message
-naming the plugin and the problem.
+The callable runs in a process of its own (:mod:`fkcheck.isolation`), never in
+fkcheck's: a plugin that loops forever (even holding the GIL in C), calls
+``os._exit`` or ``sys.exit``, crashes, or leaves threads or processes running
+cannot stop or hang the check. Its process gets this process's ``sys.path``,
+current directory and environment, so the module is found exactly as an
+``import`` here would find it. At the time limit
+(:attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`, per call) the
+process and all it started are killed. What the plugin prints goes to its
+stderr, never into its answer.
+
+The module is imported (in that process) when poses are first asked for, not
+when the backend is built, so a plugin that cannot be imported shows up as this
+backend's *error* in the check (like every other failure of the callable: it
+raises, returns the wrong shape or dtype, or returns NaN/inf; its process ends
+without an answer; it times out), with a :class:`PluginError` message naming
+the plugin and the problem.
 """
 
 from __future__ import annotations
 
+import functools
 import importlib
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -27,6 +39,7 @@ from fkcheck.backends.base import Evidence
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import BackendNotFoundError
+from fkcheck.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
 from fkcheck.model import Model
 
 __all__ = ["PluginBackend", "PluginError"]
@@ -36,6 +49,8 @@ Float = NDArray[np.float64]
 #: Output dtypes accepted as they are (converted to float64 exactly).
 _EXACT_KINDS = ("i", "u")
 _EXACT_FLOATS = (np.dtype(np.float64), np.dtype(np.longdouble))
+#: Longest problem (e.g. the plugin's exception message) reported, characters.
+_PROBLEM_CHARS = 1000
 
 
 class PluginError(RuntimeError):
@@ -64,6 +79,7 @@ class PluginBackend:
         module: The module's dotted name.
         function: The callable's name in that module.
         evidence: ``"implementation"``: the user's code runs the model's table.
+        timeout_s: Time limit of one :meth:`frame_poses` call, seconds.
     """
 
     evidence: Evidence = "implementation"
@@ -73,8 +89,7 @@ class PluginBackend:
 
         Args:
             spec: ``module:function``, e.g. ``mypkg.fk:forward``.
-            options: Backend options (unused: a Python call cannot be timed out
-                safely from the same process).
+            options: Backend options; ``timeout_s`` is the time limit of each call.
 
         Raises:
             BackendNotFoundError: ``spec`` is not of the form ``module:function``.
@@ -86,7 +101,7 @@ class PluginBackend:
         self.function = function
         self.name = f"{module}:{function}"
         self.method = f"python callable {self.name}"
-        self._options = options
+        self.timeout_s = options.timeout_s
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Always ``None``: whether the plugin works is only known by calling it."""
@@ -109,80 +124,103 @@ class PluginBackend:
             FrameError: A frame name the model does not define.
             ValueError: ``q`` is not ``(N, model.dof)``.
             PluginError: The plugin cannot be imported or found, is not
-                callable, raises, or returns something other than finite
-                ``(N, 4, 4)`` real numbers.
+                callable, raises, returns something other than finite
+                ``(N, 4, 4)`` real numbers, its process ends without an answer
+                (``os._exit``, ``sys.exit``, a crash) or answers with more than
+                :func:`~fkcheck.isolation.answer_limit` bytes, or it has not
+                answered within the time limit.
         """
         q = np.asarray(q, dtype=np.float64)
         if q.ndim != 2 or q.shape[1] != model.dof:
             raise ValueError(f"q must have shape (N, {model.dof}), got {q.shape}")
         # Fail on a frame this black box cannot give before running anything.
         frame_poses_from_tcp(model, np.empty((0, 4, 4)), frames)
-        forward = self._load()
+        job = functools.partial(_call, self.name, self.module, self.function, q.copy())
         try:
-            result = forward(q.copy())
-        except Exception as exc:
-            raise PluginError(self.name, f"raised {type(exc).__name__}: {exc}") from exc
-        world_T_tcp = self._validated(result, q)
+            kind, value = run_isolated(job, self.timeout_s, answer_limit(q.shape[0]))
+        except IsolatedTimeout:
+            raise PluginError(
+                self.name, f"timed out after {self.timeout_s:g} s (its process was killed)"
+            ) from None
+        except IsolatedDied as exc:
+            raise PluginError(self.name, str(exc)) from None
+        if kind != "ok":
+            raise PluginError(self.name, str(value))
+        world_T_tcp: Float = value
         return frame_poses_from_tcp(model, world_T_tcp, frames)
 
-    def _load(self) -> Callable[[Float], Any]:
-        """Import the module and return the callable."""
-        try:
-            mod = importlib.import_module(self.module)
-        except ImportError as exc:
-            raise PluginError(self.name, f"cannot import module {self.module!r}: {exc}") from exc
-        except Exception as exc:
-            raise PluginError(
-                self.name,
-                f"importing module {self.module!r} raised {type(exc).__name__}: {exc}",
-            ) from exc
-        if not hasattr(mod, self.function):
-            found = sorted(k for k, v in vars(mod).items() if callable(v) and not k.startswith("_"))
-            raise PluginError(
-                self.name,
-                f"module {self.module!r} has no attribute {self.function!r}; "
-                f"its public callables are: {', '.join(found) or '(none)'}",
-            )
-        forward = getattr(mod, self.function)
-        if not callable(forward):
-            raise PluginError(
-                self.name,
-                f"{self.module}.{self.function} is a {type(forward).__name__}, not callable",
-            )
-        checked: Callable[[Float], Any] = forward
-        return checked
 
-    def _validated(self, result: Any, q: Float) -> Float:
-        """The plugin's return value as finite float64 ``(N, 4, 4)``, or PluginError."""
-        n_configs = q.shape[0]
+def _call(spec: str, module: str, function: str, q: Float) -> tuple[str, Any]:
+    """In the plugin's own process: import, call, check; ``("ok", poses)`` or ``("error", why)``."""
+    try:
+        forward = _load(spec, module, function)
         try:
-            arr = np.asarray(result)
+            result = forward(q)
         except Exception as exc:
-            raise PluginError(
-                self.name,
-                f"returned a {type(result).__name__} that is not an array "
-                f"({type(exc).__name__}: {exc}); expected shape ({n_configs}, 4, 4)",
-            ) from exc
-        if arr.shape != (n_configs, 4, 4):
-            raise PluginError(
-                self.name,
-                f"returned shape {arr.shape}; expected ({n_configs}, 4, 4) for q of "
-                f"shape ({n_configs}, n): one world_T_tcp per configuration",
-            )
-        if arr.dtype.kind not in _EXACT_KINDS and arr.dtype not in _EXACT_FLOATS:
-            hint = (
-                ": too coarse for a comparison at 1e-12, return float64"
-                if arr.dtype.kind == "f"
-                else "; expected real numbers (float64)"
-            )
-            raise PluginError(self.name, f"returned dtype {arr.dtype}{hint}")
-        out = arr.astype(np.float64)
-        bad = ~np.isfinite(out).all(axis=(1, 2))
-        if bad.any():
-            first = int(np.flatnonzero(bad)[0])
-            raise PluginError(
-                self.name,
-                f"returned NaN or inf for {int(bad.sum())} of {n_configs} configurations "
-                f"(first at index {first}, q = {q[first].tolist()})",
-            )
-        return out
+            raise PluginError(spec, f"raised {type(exc).__name__}: {exc}") from exc
+        return ("ok", _validated(spec, result, q))
+    except PluginError as exc:
+        problem = exc.problem
+        if len(problem) > _PROBLEM_CHARS:
+            problem = problem[:_PROBLEM_CHARS] + "…"
+        return ("error", problem)
+
+
+def _load(spec: str, module: str, function: str) -> Callable[[Float], Any]:
+    """Import the module and return the callable."""
+    try:
+        mod = importlib.import_module(module)
+    except ImportError as exc:
+        raise PluginError(spec, f"cannot import module {module!r}: {exc}") from exc
+    except Exception as exc:
+        raise PluginError(
+            spec, f"importing module {module!r} raised {type(exc).__name__}: {exc}"
+        ) from exc
+    if not hasattr(mod, function):
+        found = sorted(k for k, v in vars(mod).items() if callable(v) and not k.startswith("_"))
+        raise PluginError(
+            spec,
+            f"module {module!r} has no attribute {function!r}; "
+            f"its public callables are: {', '.join(found) or '(none)'}",
+        )
+    forward = getattr(mod, function)
+    if not callable(forward):
+        raise PluginError(spec, f"{module}.{function} is a {type(forward).__name__}, not callable")
+    checked: Callable[[Float], Any] = forward
+    return checked
+
+
+def _validated(spec: str, result: Any, q: Float) -> Float:
+    """The plugin's return value as finite float64 ``(N, 4, 4)``, or PluginError."""
+    n_configs = q.shape[0]
+    try:
+        arr = np.asarray(result)
+    except Exception as exc:
+        raise PluginError(
+            spec,
+            f"returned a {type(result).__name__} that is not an array "
+            f"({type(exc).__name__}: {exc}); expected shape ({n_configs}, 4, 4)",
+        ) from exc
+    if arr.shape != (n_configs, 4, 4):
+        raise PluginError(
+            spec,
+            f"returned shape {arr.shape}; expected ({n_configs}, 4, 4) for q of "
+            f"shape ({n_configs}, n): one world_T_tcp per configuration",
+        )
+    if arr.dtype.kind not in _EXACT_KINDS and arr.dtype not in _EXACT_FLOATS:
+        hint = (
+            ": too coarse for a comparison at 1e-12, return float64"
+            if arr.dtype.kind == "f"
+            else "; expected real numbers (float64)"
+        )
+        raise PluginError(spec, f"returned dtype {arr.dtype}{hint}")
+    out = arr.astype(np.float64)
+    bad = ~np.isfinite(out).all(axis=(1, 2))
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        raise PluginError(
+            spec,
+            f"returned NaN or inf for {int(bad.sum())} of {n_configs} configurations "
+            f"(first at index {first}, q = {q[first].tolist()})",
+        )
+    return out
