@@ -398,8 +398,11 @@ def _check_tree(path: Path, links: dict[str, int], joints: dict[str, UrdfJoint])
             seen[link] = None
             link = by_child[link].parent
         seen_list = list(seen)
-        cycle = seen_list[seen_list.index(link) :]
-        down = [*reversed(cycle), cycle[-1]]  # parent → child → … → back to the first
+        cycle = seen_list[seen_list.index(link) :][::-1]  # each link's parent, then it
+        order = {name: i for i, name in enumerate(links)}
+        first = min(range(len(cycle)), key=lambda i: order[cycle[i]])  # earliest in the file
+        cycle = cycle[first:] + cycle[:first]
+        down = [*cycle, cycle[0]]  # parent → child → … → back to the first
         names = [by_child[c].name for c in down[1:]]
         path_text = " → ".join(down)
         raise UrdfError(
