@@ -12,12 +12,10 @@ changed (reports included); and the run ended within its time bound.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import re
-import signal
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,6 +32,7 @@ from fkcheck.errors import UrdfError
 from fkcheck.model import bundled_model_paths
 from fkcheck.urdf_screen import MAX_XML_DEPTH, MAX_XML_ELEMENTS
 from fkcheck.urdf_source import MAX_URDF_DEPTH, MAX_URDF_LINKS, example_robot_data_dir, read_urdf
+from helpers import deadline
 
 UR5_URDF = example_robot_data_dir() / "ur_description" / "urdf" / "ur5_robot.urdf"
 UR5_TEXT = UR5_URDF.read_text()
@@ -48,25 +47,6 @@ RCE = f"__import__('os').system('touch {MARKER}')"
 
 
 # --------------------------------------------------------------------------- helpers
-
-
-@contextlib.contextmanager
-def deadline(seconds: float) -> Iterator[None]:
-    """Fail the test if the block runs longer than ``seconds`` (SIGALRM, main thread).
-
-    A blocking ``open`` of a FIFO is interrupted too: the handler raises.
-    """
-
-    def expire(signum: int, frame: object) -> None:
-        raise TimeoutError(f"still running after {seconds} s")
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
 
 
 def snapshot(root: Path) -> dict[str, tuple[int, int]]:
