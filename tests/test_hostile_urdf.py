@@ -733,3 +733,31 @@ def test_read_urdf_errors_are_urdf_errors(tmp_path):
     path.write_text(extra(joint("back", "tool0", "world")))
     with pytest.raises(UrdfError, match=r"r\.urdf: joints .* form a cycle"):
         read_urdf(path)
+
+
+def test_bounds_are_inclusive_and_parsers_survive_them(tmp_path):
+    # A robot exactly at the link and depth limits is read, and Pinocchio (whose
+    # urdfdom recursion overflows the C stack at about 3,700 nested links) builds it.
+    import pinocchio as pin
+
+    wide, deep = tmp_path / "wide.urdf", tmp_path / "deep.urdf"
+    wide.write_text(wide_robot(MAX_URDF_LINKS))
+    deep.write_text(deep_robot(MAX_URDF_DEPTH))
+    assert len(read_urdf(wide).links) == MAX_URDF_LINKS
+    info = read_urdf(deep)
+    assert len(info.chain(info.root, f"l{MAX_URDF_DEPTH}")) == MAX_URDF_DEPTH
+    assert pin.buildModelFromXML(info.text).nframes > MAX_URDF_DEPTH
+
+
+def test_xacro_message_quotes_a_snippet_on_one_line(tmp_path):
+    path = tmp_path / "r.urdf"
+    path.write_text(after_first("</link>", "\n  ${1 +\n 2} and then a long tail of text " * 2))
+    with pytest.raises(UrdfError) as caught:
+        read_urdf(path)
+    message = str(caught.value)
+    assert "\n" not in message
+    expected = repr("\n  ${1 +\n 2} and then a long tail of text \n…")  # 10 before, 40 after
+    assert message.endswith(
+        "r.urdf: line 58: contains a xacro expression ${…} in the text after </link>: "
+        f"{expected}; fkcheck never runs xacro: expand it to a plain URDF first and check that"
+    ), message

@@ -206,10 +206,11 @@ def _local(name: str) -> str:
     return name.rpartition("}")[2]
 
 
-def _snippet(text: str, match: re.Match[str]) -> str:
-    start = max(0, match.start() - 10)
-    piece = text[start : match.start() + 40]
-    return repr(piece if len(piece) < 50 else piece + "…")
+def _snippet(text: str, found: re.Match[str]) -> str:
+    """A few characters of ``text`` around ``found``, quoted (``repr``: one line, escapes shown)."""
+    start, end = max(0, found.start() - 10), found.start() + 40
+    piece = ("…" if start > 0 else "") + text[start:end] + ("…" if end < len(text) else "")
+    return repr(piece)
 
 
 def _forbidden_namespace(name: str) -> str | None:

@@ -130,7 +130,10 @@ class UrdfInfo:
 
     Attributes:
         path: The URDF file.
-        text: Its content (screened: no DTD).
+        text: The screened document re-serialised (:meth:`ScreenedUrdf.text
+            <fkcheck.urdf_screen.ScreenedUrdf.text>`): elements, attributes and
+            text only, no DTD, comment or processing instruction. The only form
+            in which any parser gets the URDF.
         package_dirs: Directories that contain the ``package://`` packages it names.
         joints: Joints by name.
         links: Link names.
