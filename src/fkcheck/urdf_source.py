@@ -406,13 +406,10 @@ def _check_tree(path: Path, links: dict[str, int], joints: dict[str, UrdfJoint])
         first = min(range(len(cycle)), key=lambda i: order[cycle[i]])  # earliest in the file
         cycle = cycle[first:] + cycle[:first]
         down = [*cycle, cycle[0]]  # parent → child → … → back to the first
-        names = [by_child[c].name for c in down[1:]]
-        path_text = " → ".join(down)
-        raise UrdfError(
-            path,
-            f"joints {', '.join(repr(n) for n in names)} form a cycle ({path_text}); "
-            "a URDF is a tree",
-        )
+        names = _listed((repr(by_child[c].name) for c in down[1:]), limit=8)
+        if len(down) > 9:  # a long cycle: its start and how it closes
+            down = [*down[:8], "…", down[-1]]
+        raise UrdfError(path, f"joints {names} form a cycle ({' → '.join(down)}); a URDF is a tree")
     if len(roots) != 1:
         raise UrdfError(path, f"expected one root link, found {len(roots)}: {_listed(roots)}")
     return roots[0]
