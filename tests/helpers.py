@@ -1,6 +1,10 @@
-"""Shared assertions for poses: one place that knows the maths."""
+"""Shared assertions for poses (one place that knows the maths), and a time bound."""
 
 from __future__ import annotations
+
+import contextlib
+import signal
+from collections.abc import Iterator
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -40,3 +44,22 @@ def assert_se3(T: ArrayLike, tol: float) -> None:
     np.testing.assert_allclose(np.linalg.det(R), 1.0, rtol=0, atol=tol)
     last = np.broadcast_to(np.array([0.0, 0.0, 0.0, 1.0]), T[..., 3, :].shape)
     np.testing.assert_array_equal(T[..., 3, :], last)
+
+
+@contextlib.contextmanager
+def deadline(seconds: float) -> Iterator[None]:
+    """Fail (TimeoutError) if the block runs longer than ``seconds``: SIGALRM, main thread only.
+
+    A blocking system call (opening a FIFO, reading a pipe) is interrupted too.
+    """
+
+    def expire(signum: int, frame: object) -> None:
+        raise TimeoutError(f"still running after {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)

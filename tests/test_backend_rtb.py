@@ -353,17 +353,21 @@ def test_kinematic_text_keeps_links_and_joints_verbatim(tmp_path: Path) -> None:
 
 
 def test_rtb_urdf_reader_rejection_is_a_urdf_error(tmp_path: Path) -> None:
-    # A joint naming a child link that is not defined: screening lets it through
-    # (the mapped joints are fine), RTB's reader refuses it.
+    # A <mimic> without the joint it mimics: the screen does not require mimic's
+    # attributes (the tree is fine), RTB's reader refuses it.
     extra = (
-        '<joint name="dangling" type="fixed"><parent link="tip"/><child link="ghost"/>'
-        '<origin xyz="0 0 0" rpy="0 0 0"/></joint>'
+        '<link name="ghost"/><joint name="dangling" type="fixed"><parent link="tip"/>'
+        '<child link="ghost"/><origin xyz="0 0 0" rpy="0 0 0"/><mimic/></joint>'
     )
     model = _two_r(tmp_path, extra=extra)
     before = set(Path(tempfile.gettempdir()).glob("rtb-expanded-*"))
-    with pytest.raises(UrdfError, match=r"two_r\.urdf: Robotics Toolbox's URDF reader rejects it"):
+    with pytest.raises(
+        UrdfError,
+        match=r"two_r\.urdf: Robotics Toolbox's URDF reader rejects it: "
+        r'missing required attribute "joint"',
+    ):
         RtbUrdf().frame_poses(model, np.zeros((1, 2)), ["base", "tip"])
-    # RTB saves the text it failed on in the temp directory; the backend removes it.
+    # URDF_file would save the text it failed on in the temp directory; it is never used.
     assert set(Path(tempfile.gettempdir()).glob("rtb-expanded-*")) <= before
 
 

@@ -160,10 +160,19 @@ class UrdfKinematics:
         return inverted + up_tip[shared:]
 
     def _path_from_root(self, link: str) -> list[JointGeometry]:
+        """The joints from the root link down to ``link``.
+
+        Raises:
+            UrdfError: ``link`` does not hang below the root (a text that did not
+                go through :mod:`fkcheck.urdf_source`'s tree check).
+        """
         by_child = {j.child: j for j in self.joints.values()}
         out: list[JointGeometry] = []
+        start = link
         while link != self.root:
-            joint = by_child[link]
+            joint = by_child.get(link)
+            if joint is None or len(out) > len(by_child):  # detached, or a cycle
+                raise UrdfError(self.path, f"link {start!r} does not hang below the root link")
             out.append(joint)
             link = joint.parent
         return out[::-1]
@@ -261,7 +270,7 @@ def urdf_kinematics(path: Path, text: str) -> UrdfKinematics:
 
     Args:
         path: The file (for messages).
-        text: Its content, screened by :mod:`fkcheck.urdf_source` (no DTD).
+        text: Its content as :mod:`fkcheck.urdf_source` re-serialised it after screening.
 
     Raises:
         UrdfError: Not XML, a bad number, a zero axis, or not exactly one root link.
@@ -270,13 +279,13 @@ def urdf_kinematics(path: Path, text: str) -> UrdfKinematics:
         root = ET.fromstring(text)
     except ET.ParseError as exc:
         raise UrdfError(path, f"not valid XML: {exc}") from None
-    links = tuple(str(el.get("name")) for el in root.iter("link") if el.get("name"))
+    links = tuple(str(el.get("name")) for el in root.findall("link") if el.get("name"))
     joints: dict[str, JointGeometry] = {}
-    for el in root.iter("joint"):
+    for el in root.findall("joint"):  # the robot's own: not those in <transmission>
         parent, child = el.find("parent"), el.find("child")
         name = el.get("name")
         if name is None or parent is None or child is None:
-            continue  # <joint> inside <transmission>
+            continue
         where = f"joint {name!r}"
         origin_el = el.find("origin")
         xyz = _numbers(
@@ -342,9 +351,11 @@ def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
         ``(path, screened text, kinematics)``.
 
     Raises:
-        UrdfError: Missing, too large, has a DTD, or not a valid URDF.
+        UrdfError: Missing, not a regular file, too large, refused by the screen
+            (:mod:`fkcheck.urdf_screen`), or not a valid URDF tree.
         BackendUnavailable: ``example-robot-data:`` is used but not installed.
     """
+    from fkcheck.urdf_screen import check_urdf_path
     from fkcheck.urdf_source import ERD_PREFIX, example_robot_data_dir, read_urdf
 
     text_spec = str(spec)
@@ -352,8 +363,7 @@ def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
         path = example_robot_data_dir() / text_spec[len(ERD_PREFIX) :]
     else:
         path = Path(spec)
-    if not path.is_file():
-        raise UrdfError(text_spec, f"URDF file not found ({path})")
-    # The one screening every URDF goes through (size limit, no DTD, one root).
+    check_urdf_path(path, text_spec)
+    # The one screening every URDF goes through (fkcheck.urdf_screen and the tree checks).
     info = read_urdf(path.resolve(), (path.resolve().parent.parent,))
     return info.path, info.text, urdf_kinematics(info.path, info.text)

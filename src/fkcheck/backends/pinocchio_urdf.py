@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.pinocchio_dh import INSTALL_HINT, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import captured_stderr, urdf_inputs, urdf_unavailable_reason
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model import Model
 from fkcheck.urdf_source import UrdfInfo
@@ -95,11 +95,27 @@ class PinocchioUrdf:
 
 
 def _build(pin: Any, info: UrdfInfo) -> Any:
-    """Pinocchio's kinematic model of the screened URDF text."""
-    try:
-        return pin.buildModelFromXML(info.text)
-    except (RuntimeError, ValueError) as exc:
-        raise UrdfError(info.path, f"Pinocchio cannot build a model from it: {exc}") from None
+    """Pinocchio's kinematic model of the screened URDF text.
+
+    urdfdom prints why it refuses a URDF on the process's standard error
+    (``Error: … at line … in joint.cpp``) and Pinocchio then raises a generic
+    "does not contain a valid URDF model"; the print is captured, and its first
+    ``Error:`` line becomes the message. On success, what it printed is dropped.
+
+    Raises:
+        UrdfError: urdfdom or Pinocchio refuses the URDF.
+    """
+    failure: str | None = None
+    with captured_stderr() as native:
+        try:
+            model = pin.buildModelFromXML(info.text)
+        except (RuntimeError, ValueError) as exc:
+            failure = " ".join(str(exc).split()) or type(exc).__name__
+    if failure is None:
+        return model
+    said = native.first_error()
+    reason = f"urdfdom says: {said} ({failure})" if said else failure
+    raise UrdfError(info.path, f"Pinocchio cannot build a model from it: {reason}")
 
 
 def _frame_id(pin: Any, pmodel: Any, link: str, info: UrdfInfo) -> int:

@@ -46,6 +46,7 @@ RTB_IMPORTS = (
     "roboticstoolbox.ets.ET",
     "roboticstoolbox.ets.ETS",
     "roboticstoolbox.tools.urdf",
+    "roboticstoolbox.models.URDF.URDFRobot",
 )
 
 #: The reason given when Robotics Toolbox is not installed.

@@ -2,20 +2,27 @@
 
 A third URDF parser, independent of urdfdom (Pinocchio) and yourdfpy: the
 screened URDF text from :func:`fkcheck.urdf_source.load_urdf` goes through
-Robotics Toolbox's ``URDF_file`` (xacrodoc expansion, then RTB's URDF classes)
-and becomes an ETS robot (``roboticstoolbox.Robot``).
+Robotics Toolbox's URDF classes (``URDF.loadstr``, the standard library's XML
+parser) and its URDF-to-links conversion (``_links_from_urdf``, the second half
+of ``URDF_file``), and becomes an ETS robot (``roboticstoolbox.Robot``).
+
+``URDF_file`` itself is never called: it runs every input through xacro
+(xacrodoc) first, and xacro evaluates ``${…}`` as Python and ``$(…)`` as
+substitutions that read files and the environment — code execution from a
+downloaded URDF. Only text, never a path, reaches RTB, and no xacro processing
+happens at all (the screen refuses xacro anyway). ``_links_from_urdf`` is a
+private function of roboticstoolbox-python 1.5.0, pinned by a test.
 
 Geometry is left out: every ``<visual>`` and ``<collision>`` (and the
 top-level ``<material>`` list) is removed from the in-memory text before RTB
 sees it, and the file on disk is not touched. RTB's reader would otherwise
-resolve each ``<mesh filename>`` — ``package://`` ones through xacrodoc's
-package cache — and refuse the whole URDF unless every mesh is an existing
-regular file (``os.path.isfile`` in ``spatialgeometry.Mesh``; roboticstoolbox-
-python 1.5.0). Forward kinematics needs none of it; this way no mesh path is
-resolved, looked at or opened, no package has to be registered in xacrodoc's
-process-wide cache, and a URDF whose meshes are absent (or are named pipes)
-is checked like any other. Links, joints, origins, axes and limits reach RTB
-as written.
+resolve each ``<mesh filename>`` (``rtb_path_to_datafile``, which looks in the
+current directory, the home directory and its data package) and refuse the
+whole URDF unless every mesh is an existing regular file (``os.path.isfile`` in
+``spatialgeometry.Mesh``; roboticstoolbox-python 1.5.0). Forward kinematics
+needs none of it; this way no mesh path is resolved, looked at or opened, and a
+URDF whose meshes are absent (or are named pipes) is checked like any other.
+Links, joints, origins, axes and limits reach RTB as written.
 
 RTB's reader gets a joint axis that is not along x, y or z wrong (a known
 upstream limitation, see ``_refuse_crooked_axes``); links below such a joint
@@ -30,10 +37,8 @@ named frame's URDF twin (``urdf = …``) in the URDF's root link, from
 
 from __future__ import annotations
 
-import io
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -92,7 +97,7 @@ class RtbUrdf:
     """
 
     name = "rtb-urdf"
-    method = "URDF_file + Robot.ets(start=root, end=link).eval (C fknm, batched)"
+    method = "URDF.loadstr + Robot.ets(start=root, end=link).eval (C fknm, batched)"
     evidence: Evidence = "table"
     imports = RTB_IMPORTS
 
@@ -145,22 +150,21 @@ class RtbUrdf:
 def _read_robot(info: UrdfInfo) -> Any:
     """Parse the screened, geometry-free URDF text with RTB's reader into a ``Robot``.
 
+    No xacro, no file: ``URDF.loadstr`` parses the text and ``_links_from_urdf``
+    turns it into links (``URDF_file`` without its xacro step and its saved
+    copies of failing text).
+
     Raises:
         UrdfError: RTB's reader rejects the URDF.
     """
     rtb = import_rtb()
-    from roboticstoolbox.models.URDF.URDFRobot import URDF_file
-    from roboticstoolbox.tools.urdf import URDFError
+    from roboticstoolbox.models.URDF.URDFRobot import _links_from_urdf
+    from roboticstoolbox.tools.urdf import URDF, URDFError
 
-    stream = io.StringIO(kinematic_text(info))
-    stream.name = str(info.path)  # what RTB's messages call the source
     try:
-        elinks, name, _ = URDF_file(stream)
+        elinks, name = _links_from_urdf(URDF.loadstr(kinematic_text(info), None))
         robot = rtb.Robot(elinks, name=name)
     except (URDFError, ValueError) as exc:
-        expanded = getattr(exc, "expanded_file", None)
-        if expanded:  # RTB saves the text it failed on in the temp directory
-            Path(expanded).unlink(missing_ok=True)
         lines = str(exc).strip().splitlines()
         first_line = lines[0] if lines else type(exc).__name__
         raise UrdfError(

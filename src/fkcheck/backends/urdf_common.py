@@ -2,13 +2,21 @@
 
 Every URDF backend compares the poses of the URDF *links* that named frames
 name as their twin (``[frames.NAME] urdf = "…"``); a frame without a twin
-cannot be computed from a URDF.
+cannot be computed from a URDF. Native parsers that print their complaints on
+the process's standard error (urdfdom's ``Error:`` lines) run inside
+:func:`captured_stderr`, so that a bad URDF still ends in one line.
 """
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
-from collections.abc import Sequence
+import os
+import sys
+import tempfile
+import threading
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,9 +26,71 @@ from fkcheck.errors import BackendUnavailable, UnmappedFrameError
 from fkcheck.model import Model, resolve_frame
 from fkcheck.urdf_source import ERD_PREFIX, UrdfInfo, load_urdf
 
-__all__ = ["urdf_inputs", "urdf_twins", "urdf_unavailable_reason"]
+__all__ = [
+    "CapturedStderr",
+    "captured_stderr",
+    "urdf_inputs",
+    "urdf_twins",
+    "urdf_unavailable_reason",
+]
 
 Float = NDArray[np.float64]
+
+#: Most of a native library's standard error kept for the message.
+_CAPTURE_LIMIT = 64 * 1024
+#: One redirection of file descriptor 2 at a time in this process.
+_STDERR_LOCK = threading.Lock()
+
+
+@dataclass
+class CapturedStderr:
+    """What native code wrote to file descriptor 2 inside :func:`captured_stderr`.
+
+    Attributes:
+        text: The first 64 KiB of it, decoded (filled in when the block ends).
+    """
+
+    text: str = ""
+
+    def first_error(self) -> str | None:
+        """The first ``Error:`` line (urdfdom's first complaint), without that prefix."""
+        for line in self.text.splitlines():
+            head, sep, rest = line.strip().partition("Error:")
+            if sep and not head and rest.strip():
+                return rest.strip()
+        return None
+
+
+@contextlib.contextmanager
+def captured_stderr() -> Iterator[CapturedStderr]:
+    """Send what is written to file descriptor 2 to a temporary file while the block runs.
+
+    For native parsers that print to the process's standard error (urdfdom's
+    ``Error: … at line … in joint.cpp``) instead of raising with the message.
+    The redirection is process-wide: anything another thread writes to stderr
+    in the meantime (a few milliseconds: one parse) lands in the capture too,
+    so it is kept to the native call. If file descriptor 2 cannot be
+    duplicated (it is closed), the block runs without capture.
+    """
+    captured = CapturedStderr()
+    with _STDERR_LOCK, tempfile.TemporaryFile() as tmp:
+        try:
+            saved = os.dup(2)
+        except OSError:
+            saved = -1
+        if saved < 0:
+            yield captured
+            return
+        with contextlib.suppress(ValueError, OSError):
+            sys.stderr.flush()  # Python's own buffered text goes out first
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield captured
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            captured.text = tmp.read(_CAPTURE_LIMIT).decode("utf-8", errors="replace")
 
 
 def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str | None:
