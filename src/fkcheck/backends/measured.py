@@ -118,7 +118,7 @@ def _read_header(text: str, lineno: int, path: Path) -> list[str]:
         if name in seen:
             raise PosesFileError(
                 path,
-                f"{where}: column {_show(name)} is named twice (also field {seen[name] + 1}); "
+                f"{where}: column {show_text(name)} is named twice (also field {seen[name] + 1}); "
                 "each column needs its own name",
             )
         seen[name] = len(seen)
@@ -162,7 +162,8 @@ class _Layout:
             + [MAX_LENGTH_M] * 3
             + [MAX_ROTATION_NUMBER] * len(r_cols)
         )
-        self.unit = ["rad" if rev else "m" for rev in revolute] + ["m"] * 3 + [""] * len(r_cols)
+        units = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3
+        self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(r_cols)
 
 
 def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | None]:
@@ -212,8 +213,8 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
         name = _show(layout.header[layout.columns[k]])
         raise PosesFileError(
             path,
-            f"line {linenos[row]} ({name}): {values[row, k]:g} {layout.unit[k]} is beyond "
-            f"±{layout.bound[k]:g} {layout.unit[k]}".rstrip(),
+            f"line {linenos[row]} ({name}): {values[row, k]:g}{layout.unit[k]} is beyond "
+            f"±{layout.bound[k]:g}{layout.unit[k]}",
         )
     q = values[:, : layout.n].copy()
     try:
