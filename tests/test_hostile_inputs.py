@@ -325,6 +325,11 @@ POSES = {
         ["check", "ur5", "--against", "poses:p.csv"],
         r"p\.csv: is a directory, not a regular file",
     ),
+    "diagnose_poses_is_a_directory": (
+        {"p.csv": "DIR"},
+        ["diagnose", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: is a directory, not a regular file",
+    ),
     "poses_is_dev_zero": (
         {},
         ["check", "ur5", "--against", "poses:/dev/zero"],
@@ -440,6 +445,11 @@ HANGING = {
     "poses_is_a_fifo": (
         {"p.csv": "FIFO"},
         ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: is a FIFO \(named pipe\), not a regular file",
+    ),
+    "diagnose_poses_is_a_fifo": (
+        {"p.csv": "FIFO"},
+        ["diagnose", "ur5", "--against", "poses:p.csv"],
         r"p\.csv: is a FIFO \(named pipe\), not a regular file",
     ),
 }

@@ -91,26 +91,31 @@ def _read_or_refuse(read, path: Path):
     try:
         result = read(path)
     except FkcheckError as exc:
-        message = str(exc)
-        assert "\n" not in message and "\r" not in message, message
-        assert message, type(exc)
-        event(f"refused: {type(exc).__name__}")
-        return None
-    event("read")
-    return result
+        refused = exc
+    else:
+        event("read")
+        return result
+    message = str(refused)
+    assert message, type(refused)
+    assert "\n" not in message, message
+    assert "\r" not in message, message
+    event(f"refused: {type(refused).__name__}")
+    return None
 
 
 def _assert_model_bounded(model: Model) -> None:
     for joint in model.joints:
-        assert abs(joint.a) <= MAX_LENGTH_M and abs(joint.d) <= MAX_LENGTH_M
-        assert math.isfinite(joint.alpha) and math.isfinite(joint.theta)
+        assert abs(joint.a) <= MAX_LENGTH_M
+        assert abs(joint.d) <= MAX_LENGTH_M
+        assert math.isfinite(joint.alpha)
+        assert math.isfinite(joint.theta)
         if joint.limits is not None:
             bound = MAX_LENGTH_M if joint.type == "prismatic" else MAX_JOINT_RAD
             assert all(abs(v) <= bound for v in joint.limits)
     assert np.isfinite(model.fk(np.zeros(model.dof))).all()
 
 
-BUNDLED_TOML = [bundled_model_paths()[name].read_text(encoding="utf-8") for name in ("ur5", "panda")]
+BUNDLED_TOML = [bundled_model_paths()[m].read_text(encoding="utf-8") for m in ("ur5", "panda")]
 SEED_CSV = (DATA / "ur5_seed001.csv").read_text(encoding="utf-8")
 Q_FILE = "# logged joint states\n0.1,-0.5,1.0,-1.2,-1.5,0.7\n0,0,0,0,0,0\n-3e-1;2.5e0;.1;0.;-0;1\n"
 PENDANT = (DATA / "ur5_pendant.csv").read_text(encoding="utf-8")
@@ -141,7 +146,8 @@ def test_property_q_file_reader_loads_or_refuses(workdir, content):
     path.write_bytes(content)
     q = _read_or_refuse(lambda p: read_q_file(p, UR5), path)
     if q is not None:
-        assert q.ndim == 2 and q.shape[1] == 6 and q.shape[0] >= 1
+        assert q.shape == (q.shape[0], 6)
+        assert q.shape[0] >= 1
         assert np.isfinite(q).all()
 
 
@@ -153,7 +159,8 @@ def test_property_poses_csv_reader_loads_or_refuses(workdir, content):
     if table is not None:
         q, poses, _ = table
         assert q.shape == (poses.shape[0], 6)
-        assert np.isfinite(q).all() and np.isfinite(poses).all()
+        assert np.isfinite(q).all()
+        assert np.isfinite(poses).all()
         assert (np.abs(q) <= MAX_JOINT_RAD).all()
         # Every row's own configuration finds a pose: the one of that row, or of an
         # identical configuration, which then has the same pose (else it was refused).
@@ -169,12 +176,16 @@ def test_property_number_parser_is_strict_and_agrees_with_float(text):
     try:
         value = parse_number(text)
     except NumberError as exc:
-        assert "\n" not in exc.problem
+        problem = exc.problem
+    else:
+        token = text.strip(" \t")
+        assert token.isascii()
+        assert "_" not in token
+        assert len(token) <= MAX_NUMBER_CHARS
+        assert math.isfinite(value)
+        assert value == float(token)
         return
-    token = text.strip(" \t")
-    assert token.isascii() and "_" not in token and len(token) <= MAX_NUMBER_CHARS
-    assert math.isfinite(value)
-    assert value == float(token)
+    assert "\n" not in problem
 
 
 @given(
@@ -196,7 +207,8 @@ def test_property_line_parser_fast_path_agrees_with_field_by_field(fields, separ
     except NumberError:
         with pytest.raises(NumberError) as info:
             parse_numbers(line, ",;")
-        assert info.value.index is not None and info.value.column is not None
+        assert info.value.index is not None
+        assert info.value.column is not None
         return
     assert parse_numbers(line, ",;") == expected
 

@@ -39,6 +39,7 @@ tens of thousands of rows is matched in well under a second.
 from __future__ import annotations
 
 import math
+import os
 import re
 from array import array
 from collections.abc import Sequence
@@ -336,8 +337,8 @@ class MeasuredPoses:
         return self._read[1]
 
     def unavailable_reason(self, model: Model) -> str | None:
-        """``None`` when the file exists; it is read (and validated) when used."""
-        return None if self.path.is_file() else f"no such file: {self.path}"
+        """``None`` when the path exists; it is read (and validated: a regular file) when used."""
+        return None if os.path.lexists(self.path) else f"no such file: {self.path}"
 
     def configurations(self, model: Model) -> Float:
         """The file's joint values, ``(N, n)``: the check must run on these."""
