@@ -10,12 +10,14 @@ duplicate rows, 64- and 256-joint models, a 40 000-row poses file, chunked fk ou
 
 from __future__ import annotations
 
+import io
 import json
 import os
 import re
 import subprocess
 import sys
 import time
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -679,8 +681,11 @@ def test_fk_output_in_chunks_is_the_one_call_output(monkeypatch, rng):
     chunks = list(fk_command._fk_chunks(model, q, all_frames=False))
     # 16 + 16 + 5: the short last chunk joins the one before, so every chunk is a JIT batch.
     assert [len(c) for c, _ in chunks] == [16, 21]
-    assert all(len(c) >= 10 for c, _ in chunks)
     np.testing.assert_array_equal(np.concatenate([T for _, T in chunks]), model.fk(q))
+    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 20)  # chunks never below the JIT's size
+    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [37]
+    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 40)  # the whole batch on the NumPy path
+    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [16, 16, 5]
     frames = list(fk_command._fk_chunks(model, q, all_frames=True))
     assert [len(c) for c, _ in frames] == [2] * 18 + [1]  # 16 // 7 configurations a chunk
     np.testing.assert_array_equal(
@@ -702,3 +707,45 @@ def test_fk_q_file_json_is_byte_for_byte_one_json_array(tmp_path, capsys, monkey
     assert out == json.dumps(records) + "\n"
     assert len(records) == 11
     np.testing.assert_array_equal([r["q_rad"] for r in records], q)
+
+
+class _CountingSink(io.TextIOBase):
+    """Stands in for stdout: counts what is written, keeps nothing."""
+
+    def __init__(self) -> None:
+        self.chars = 0
+        self.tail = ""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        self.chars += len(text)
+        self.tail = (self.tail + text)[-8:]
+        return len(text)
+
+
+def test_fk_q_file_json_memory_is_the_configurations_and_one_chunk(tmp_path, monkeypatch, rng):
+    # A million lines peaked at 4.1 GB: every record and the whole JSON string at once.
+    # Here 6 000 lines in chunks of 1 000: all at once held ~20 MB of Python objects;
+    # streaming holds q (0.3 MB), one chunk of poses (0.1 MB) and one chunk's records.
+    import fkcheck.commands.fk as fk_command
+
+    monkeypatch.setattr(fk_command, "_CHUNK", 1000)
+    path = tmp_path / "q.csv"
+    q = rng.uniform(-1, 1, (6000, 6))
+    path.write_text("\n".join(",".join(repr(float(v)) for v in row) for row in q) + "\n")
+    warm = tmp_path / "warm.csv"
+    warm.write_text("0,0,0,0,0,0\n0,0,0,0,0,0\n")
+    sink = _CountingSink()
+    monkeypatch.setattr(sys, "stdout", sink)
+    assert main(["fk", "ur5", "--q-file", str(warm), "--json"]) == 0  # imports done
+    tracemalloc.start()
+    try:
+        assert main(["fk", "ur5", "--q-file", str(path), "--json"]) == 0
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert sink.tail.endswith("]]}]\n")
+    assert sink.chars > 6000 * 500  # every record was written
+    assert peak < 5e6, f"peak {peak / 1e6:.1f} MB"

@@ -78,9 +78,13 @@ def _fk_chunks(
     from fkcheck.dh import JIT_MIN_POSES
 
     total = q.shape[0]
-    size = max(1, _CHUNK // (model.dof + 1)) if all_frames else _CHUNK
+    jit = not all_frames and total >= JIT_MIN_POSES
+    if all_frames:
+        size = max(1, _CHUNK // (model.dof + 1))
+    else:
+        size = max(_CHUNK, JIT_MIN_POSES) if jit else _CHUNK
     bounds = [*range(0, total, size), total]
-    if not all_frames and total >= JIT_MIN_POSES and bounds[-1] - bounds[-2] < JIT_MIN_POSES:
+    if jit and bounds[-1] - bounds[-2] < JIT_MIN_POSES:
         del bounds[-2]
     for start, stop in itertools.pairwise(bounds):
         yield q[start:stop], model.fk(q[start:stop], all_frames=all_frames)
