@@ -353,7 +353,7 @@ def test_measured_poses_file_errors(tmp_path):
     with pytest.raises(PosesFileError, match="header needs a rotation"):
         MeasuredPoses(str(bad)).configurations(load_model("ur5"))
     bad.write_text("q1,q2,q3,q4,q5,q6,x,y,z,rx,ry,rz\n0,0,0,0,0,zero,1,2,3,0,0,0\n")
-    with pytest.raises(PosesFileError, match="line 2: not all numbers"):
+    with pytest.raises(PosesFileError, match=r"line 2, column 11 \(q6\): not a number: .zero."):
         MeasuredPoses(str(bad)).configurations(load_model("ur5"))
     assert MeasuredPoses(str(tmp_path / "none.csv")).unavailable_reason(load_model("ur5")) == (
         f"no such file: {tmp_path / 'none.csv'}"

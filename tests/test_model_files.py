@@ -220,8 +220,8 @@ def test_bad_model_file_is_one_clear_error(tmp_path, case):
     ("text", "match"),
     [
         ("j1,0.1,0.0,0.2\n", r"line 1: expected 5 comma-separated fields"),
-        ("# header\nj1,0.1,abc,0.2,0\n", r"line 2\.alpha: not a number: 'abc'"),
-        ("j1,0.1,0.0,inf,0\n", r"line 1\.d: must be finite"),
+        ("# header\nj1,0.1,abc,0.2,0\n", r"line 2\.alpha \(column 8\): not a number: 'abc'"),
+        ("j1,0.1,0.0,inf,0\n", r"line 1\.d \(column 12\): must be finite"),
         ("# only a comment\n", r"joint: no joints"),
     ],
 )

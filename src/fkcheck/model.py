@@ -5,11 +5,22 @@ poses, the reference URDF with its joint order, named frames that tie DH frames
 to URDF frames, and the default check. Everything is validated on load; a bad
 file raises :class:`~fkcheck.errors.ModelError` naming the file, the field and
 the problem. Angles are stored in radians whatever the file's ``angle_unit``.
+
+Files are read by :mod:`fkcheck.input_files` (a regular file of at most 1 MiB,
+UTF-8, a leading byte-order mark skipped), the CSV's numbers by
+:func:`fkcheck.numbers.parse_number` (plain ASCII decimals only). Numbers are
+bounded by what an arm can be, so that the forward kinematics of a valid model
+never overflows: every length (``a``, ``d``, ``xyz``, prismatic limits and pose
+values) is within ±:data:`MAX_LENGTH_M` (1 km), every revolute limit and pose
+value within ±:data:`MAX_JOINT_RAD` (1000 rad, 159 turns). Fixed angles
+(``alpha``, ``theta``, ``rpy``) only enter sines and cosines (and ``θ + q``, with
+``q`` bounded), so they need to be finite only.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -22,12 +33,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from fkcheck import dh
 from fkcheck.errors import FrameError, ModelError
+from fkcheck.input_files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
+from fkcheck.numbers import NumberError, parse_number, show_text, split_fields
 from fkcheck.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.transforms import matrix_from_xyz_rpy
 from fkcheck.verdict import parse_require
 
 __all__ = [
     "MAX_JOINTS",
+    "MAX_JOINT_RAD",
+    "MAX_LENGTH_M",
     "URDF_FRAME_PREFIX",
     "CheckSpec",
     "FrameSpec",
@@ -48,6 +63,13 @@ DhIndex = int | Literal["world", "tcp"]
 #: Larger tables are refused: no real arm has them, and a typo-generated file
 #: with 10 000 rows should fail fast rather than build a huge chain.
 MAX_JOINTS = 256
+#: Largest length a model may hold, metres (``a``, ``d``, ``xyz``, prismatic limits
+#: and pose values). No arm is a kilometre long; 256 joints this long still keep
+#: every pose far from float overflow (``a = 1e308`` made the reference NaN).
+MAX_LENGTH_M = 1e3
+#: Largest revolute limit or pose value, radians (159 turns). Limits make the
+#: sampling box, whose width must stay finite.
+MAX_JOINT_RAD = 1e3
 
 _TOP_KEYS = {
     "name", "description", "source", "convention", "angle_unit",
@@ -61,6 +83,8 @@ _CHECK_KEYS = {"from", "to", "tol_pos_m", "tol_rot_rad", "require"}
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
 _ANGLE_UNITS = ("rad", "deg")
+_INT_DIGITS = sys.get_int_max_str_digits()
+_CSV_COLUMNS = ("a", "alpha", "d", "theta_offset")
 
 
 @dataclass(frozen=True)
@@ -306,22 +330,22 @@ def load_model(name_or_path: str | Path) -> Model:
                 f"bundled models are: {', '.join(bundled)}",
             )
         path = bundled[text]
-    if not path.is_file():
-        raise ModelError(path, "", "no such file")
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
-        raise ModelError(path, "", f"cannot read: {exc.strerror}") from None
-    try:
-        content = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise ModelError(path, "", "not UTF-8 text") from None
+        content = read_text(path, MAX_MODEL_FILE_BYTES)
+    except InputFileError as exc:
+        raise ModelError(path, "", exc.problem) from None
     if path.suffix.lower() == ".csv":
         return _model_from_csv(content, path)
     try:
         data = tomllib.loads(content)
     except tomllib.TOMLDecodeError as exc:
         raise ModelError(path, "", f"not valid TOML: {exc}") from None
+    except ValueError:  # tomllib's int() of more than sys.get_int_max_str_digits() digits
+        raise ModelError(
+            path, "", f"number too large: an integer of more than {_INT_DIGITS} digits"
+        ) from None
+    except RecursionError:  # arrays or inline tables nested thousands deep
+        raise ModelError(path, "", "not valid TOML: arrays or tables nested too deeply") from None
     return model_from_dict(data, path)
 
 
@@ -332,26 +356,23 @@ def _model_from_csv(content: str, path: Path) -> Model:
         stripped = line.strip()
         if not stripped or stripped.startswith("#"):
             continue
-        parts = [p.strip() for p in stripped.split(",")]
+        fields = split_fields(line)
         where = f"line {lineno}"
-        if len(parts) != 5:
+        if len(fields) != 5:
             raise ModelError(
                 path,
                 where,
                 "expected 5 comma-separated fields (name,a,alpha,d,theta_offset), "
-                f"got {len(parts)}",
+                f"got {len(fields)}",
             )
         values = []
-        for label, text in zip(("a", "alpha", "d", "theta_offset"), parts[1:], strict=True):
+        for label, (column, text) in zip(_CSV_COLUMNS, fields[1:], strict=True):
             try:
-                value = float(text)
-            except ValueError:
-                raise ModelError(path, f"{where}.{label}", f"not a number: {text!r}") from None
-            if not math.isfinite(value):
-                raise ModelError(path, f"{where}.{label}", f"must be finite, got {text}")
-            values.append(value)
-        joints.append({"name": parts[0], "a": values[0], "alpha": values[1], "d": values[2],
-                       "theta": values[3]})  # fmt: skip
+                values.append(parse_number(text))
+            except NumberError as exc:
+                raise ModelError(path, f"{where}.{label} (column {column})", exc.problem) from None
+        joints.append({"name": fields[0][1].strip(), "a": values[0], "alpha": values[1],
+                       "d": values[2], "theta": values[3]})  # fmt: skip
     data: dict[str, Any] = {"name": path.stem, "convention": "standard", "joint": joints,
                             "source": f"DH CSV {path.name}"}  # fmt: skip
     return model_from_dict(data, path)
@@ -372,7 +393,7 @@ class _Reader:
         unknown = sorted(set(value) - allowed)
         if unknown:
             raise self.fail(
-                f"{field_}.{unknown[0]}" if field_ else unknown[0],
+                f"{field_}.{_key(unknown[0])}" if field_ else _key(unknown[0]),
                 f"unknown key; allowed keys are: {', '.join(sorted(allowed))}",
             )
         return value
@@ -380,10 +401,24 @@ class _Reader:
     def number(self, value: Any, field_: str) -> float:
         if isinstance(value, bool) or not isinstance(value, int | float):
             raise self.fail(field_, f"expected a number, got {_kind(value)}")
-        result = float(value)
+        try:
+            result = float(value)
+        except OverflowError:  # a TOML integer of hundreds of digits
+            digits = _digits(int(value))
+            raise self.fail(field_, f"number too large: an integer of {digits} digits") from None
         if not math.isfinite(result):
             raise self.fail(field_, f"must be a finite number, got {value}")
         return result
+
+    def bounded(self, value: float, field_: str, bound: float, unit: str) -> float:
+        if abs(value) > bound:
+            raise self.fail(
+                field_, f"{value:g} {unit} is beyond ±{bound:g} {unit}, more than any arm needs"
+            )
+        return value
+
+    def length(self, value: Any, field_: str) -> float:
+        return self.bounded(self.number(value, field_), field_, MAX_LENGTH_M, "m")
 
     def string(self, value: Any, field_: str) -> str:
         if not isinstance(value, str):
@@ -393,7 +428,7 @@ class _Reader:
     def choice(self, value: Any, field_: str, choices: tuple[str, ...]) -> str:
         text = self.string(value, field_)
         if text not in choices:
-            raise self.fail(field_, f"{text!r} is not one of: {', '.join(choices)}")
+            raise self.fail(field_, f"{show_text(text)} is not one of: {', '.join(choices)}")
         return text
 
     def numbers(self, value: Any, field_: str, length: int | None) -> list[float]:
@@ -402,6 +437,25 @@ class _Reader:
         if length is not None and len(value) != length:
             raise self.fail(field_, f"expected {length} numbers, got {len(value)}")
         return [self.number(v, f"{field_}[{i}]") for i, v in enumerate(value)]
+
+
+def _key(name: str) -> str:
+    """A key or name from the file as it goes into a message: as is when short and printable."""
+    return name if name.isprintable() and len(name) <= 64 else show_text(name)
+
+
+def _value(value: Any) -> str:
+    """A scalar from the file as it goes into a message (short, one line); else its kind."""
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 64:
+        return f"an integer of {_digits(value)} digits"
+    if isinstance(value, str):
+        return show_text(value)
+    return repr(value) if isinstance(value, int | float) else _kind(value)
+
+
+def _digits(value: int) -> str:
+    """How many decimal digits ``value`` has, without converting it to text."""
+    return f"about {int(abs(value).bit_length() * math.log10(2)) + 1}"
 
 
 def _kind(value: Any) -> str:
@@ -444,6 +498,12 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
     if len(raw_joints) > MAX_JOINTS:
         raise r.fail("joint", f"{len(raw_joints)} joints is more than the limit of {MAX_JOINTS}")
 
+    def joint_value(value: float, field_: str, jtype: str) -> float:
+        """A limit or pose value in radians / metres, within the physical bound."""
+        if jtype == "prismatic":
+            return r.bounded(value, field_, MAX_LENGTH_M, "m")
+        return r.bounded(value, field_, MAX_JOINT_RAD, "rad")
+
     joints: list[Joint] = []
     seen: dict[str, int] = {}
     warnings: list[str] = []
@@ -456,7 +516,8 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         jname = r.string(row.get("name", f"joint{i + 1}"), f"{where}.name")
         if jname in seen:
             raise r.fail(
-                f"{where}.name", f"duplicate joint name {jname!r} (also joint[{seen[jname]}])"
+                f"{where}.name",
+                f"duplicate joint name {show_text(jname)} (also joint[{seen[jname]}])",
             )
         seen[jname] = i
         jtype = r.choice(row.get("type", "revolute"), f"{where}.type", _JOINT_TYPES)
@@ -471,7 +532,10 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             if lo > hi:
                 raise r.fail(f"{where}.limits", f"lower {lo} is greater than upper {hi}")
             scale = to_rad if jtype == "revolute" else 1.0
-            limits = (lo * scale, hi * scale)
+            limits = (
+                joint_value(lo * scale, f"{where}.limits[0]", jtype),
+                joint_value(hi * scale, f"{where}.limits[1]", jtype),
+            )
         if unit == "rad":
             for label, value in (("alpha", alpha), ("theta", theta)):
                 if abs(value) > 2 * math.pi + 1e-9:
@@ -483,9 +547,9 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             Joint(
                 name=jname,
                 type=jtype,  # type: ignore[arg-type]
-                a=r.number(row["a"], f"{where}.a"),
+                a=r.length(row["a"], f"{where}.a"),
                 alpha=alpha * to_rad,
-                d=r.number(row["d"], f"{where}.d"),
+                d=r.length(row["d"], f"{where}.d"),
                 theta=theta * to_rad,
                 flip=flip,
                 limits=limits,
@@ -496,6 +560,8 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
     def offset(value: Any, where: str) -> Offset:
         tbl = r.table(value, where, _OFFSET_KEYS)
         xyz = r.numbers(tbl.get("xyz", [0.0, 0.0, 0.0]), f"{where}.xyz", 3)
+        for i, v in enumerate(xyz):
+            r.bounded(v, f"{where}.xyz[{i}]", MAX_LENGTH_M, "m")
         rpy = r.numbers(tbl.get("rpy", [0.0, 0.0, 0.0]), f"{where}.rpy", 3)
         return Offset(xyz=(xyz[0], xyz[1], xyz[2]),
                       rpy=(rpy[0] * to_rad, rpy[1] * to_rad, rpy[2] * to_rad))  # fmt: skip
@@ -509,11 +575,12 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         if not isinstance(raw_poses, dict):
             raise r.fail("poses", f"expected a table, got {_kind(raw_poses)}")
         for pname, values in raw_poses.items():
-            nums = r.numbers(values, f"poses.{pname}", n)
+            nums = r.numbers(values, f"poses.{_key(pname)}", n)
             poses[pname] = tuple(
-                v * (to_rad if j.type == "revolute" else 1.0)
-                for v, j in zip(nums, joints, strict=True)
-            )
+                joint_value(v * (to_rad if j.type == "revolute" else 1.0),
+                            f"poses.{_key(pname)}[{k}]", j.type)
+                for k, (v, j) in enumerate(zip(nums, joints, strict=True))
+            )  # fmt: skip
 
     urdf = None
     if "urdf" in top:
@@ -539,7 +606,7 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         if not isinstance(raw_frames, dict):
             raise r.fail("frames", f"expected tables [frames.NAME], got {_kind(raw_frames)}")
         for fname, raw in raw_frames.items():
-            where = f"frames.{fname}"
+            where = f"frames.{_key(fname)}"
             tbl = r.table(raw, where, _FRAME_KEYS)
             if "dh" not in tbl:
                 raise r.fail(f"{where}.dh", 'missing: the DH frame index 0…n, "tcp" or "world"')
@@ -547,7 +614,7 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             if isinstance(idx, bool) or not (
                 (isinstance(idx, int) and 0 <= idx <= n) or idx in ("tcp", "world")
             ):
-                raise r.fail(f"{where}.dh", f'expected 0…{n}, "tcp" or "world", got {idx!r}')
+                raise r.fail(f"{where}.dh", f'expected 0…{n}, "tcp" or "world", got {_value(idx)}')
             off = offset({k: tbl[k] for k in ("xyz", "rpy") if k in tbl}, where)
             twin = r.string(tbl["urdf"], f"{where}.urdf") if "urdf" in tbl else None
             frames[fname] = FrameSpec(fname, idx, off, twin)
@@ -561,7 +628,8 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             if frame_name not in frames:
                 raise r.fail(
                     f"check.{side}",
-                    f"frame {frame_name!r} is not defined; frames are: {', '.join(frames)}",
+                    f"frame {show_text(frame_name)} is not defined; frames are: "
+                    f"{', '.join(_key(f) for f in frames)}",
                 )
         tols: dict[str, float] = {}
         for key in ("tol_pos_m", "tol_rot_rad"):

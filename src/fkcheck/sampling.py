@@ -2,6 +2,12 @@
 
 Named poses, zero, the mid-range configuration, the joint-limit corners and
 edges, and seeded random samples within limits.
+
+A model has ``2^n`` limit corners: all of them are tried up to ``n = 8``
+(:data:`MAX_CORNERS` = 256), beyond that a seeded subset of 256 distinct ones,
+for any ``n`` up to :data:`fkcheck.model.MAX_JOINTS` (256 joints). Up to
+``n = 62`` the subset is drawn as corner numbers ``0 … 2^n − 1``; from 63 joints
+on, where ``2^n`` no longer fits NumPy's 64-bit integers, as random rows of bits.
 """
 
 from __future__ import annotations
@@ -17,13 +23,29 @@ from numpy.typing import NDArray
 
 from fkcheck.model import Model
 
-__all__ = ["MAX_CORNERS", "Sampler", "Samples", "sample_configurations", "sampling_box"]
+__all__ = [
+    "MAX_CORNERS",
+    "MAX_SAMPLES",
+    "MAX_SEED",
+    "Sampler",
+    "Samples",
+    "check_sampling_options",
+    "sample_configurations",
+    "sampling_box",
+]
 
 Float = NDArray[np.float64]
 Sampler = Literal["sobol", "uniform"]
 
+#: Most random samples one check draws (``--samples``): ten million configurations
+#: are 0.5 GB of joint values alone for six joints; more is a typo, not a check.
+MAX_SAMPLES = 10_000_000
+#: Largest seed (``--seed``): seeds are 0 … 2^64 − 1.
+MAX_SEED = 2**64 - 1
 #: At most this many of the 2^n limit corners are used (all of them up to n = 8).
 MAX_CORNERS = 256
+#: Corners are numbered 0 … 2^n − 1 up to this n (numbers within NumPy's int64).
+_MAX_NUMBERED_CORNER_BITS = 62
 #: Range used for a joint that declares no limits.
 UNLIMITED_REVOLUTE_RAD = math.pi
 UNLIMITED_PRISMATIC_M = 1.0
@@ -95,6 +117,38 @@ def _fill_random(out: Float, lo: Float, hi: Float, seed: int, sampler: Sampler) 
         block += lo
 
 
+def check_sampling_options(samples: int, seed: int, *, min_samples: int = 0) -> None:
+    """Refuse a ``--samples`` or ``--seed`` out of range, before anything is allocated.
+
+    Raises:
+        JointInputError: ``samples`` not in ``min_samples …`` :data:`MAX_SAMPLES`, or
+            ``seed`` not in ``0 …`` :data:`MAX_SEED`.
+    """
+    from fkcheck.errors import JointInputError
+
+    if not min_samples <= samples <= MAX_SAMPLES:
+        raise JointInputError(
+            f"--samples must be from {min_samples} to {MAX_SAMPLES:_}, got {samples}"
+        )
+    if not 0 <= seed <= MAX_SEED:
+        raise JointInputError(f"--seed must be from 0 to 2**64 - 1, got {seed}")
+
+
+def _corners(n: int, seed: int) -> list[tuple[int, ...]]:
+    """The limit corners tried, as bits (1: upper limit): all, or a seeded subset."""
+    if 2**n <= MAX_CORNERS:
+        return list(itertools.product((0, 1), repeat=n))
+    rng = np.random.default_rng(seed)
+    if n <= _MAX_NUMBERED_CORNER_BITS:
+        pick = rng.choice(2**n, MAX_CORNERS, replace=False)
+        return [tuple(int(b) for b in np.binary_repr(int(k), n)) for k in pick]
+    corners: dict[tuple[int, ...], None] = {}  # distinct, in the order drawn
+    while len(corners) < MAX_CORNERS:  # one round, unless two of 2^n rows collide
+        for row in rng.integers(0, 2, size=(MAX_CORNERS, n)):
+            corners.setdefault(tuple(int(b) for b in row))
+    return list(corners)[:MAX_CORNERS]
+
+
 def sample_configurations(
     model: Model, n_samples: int, seed: int = 0, sampler: Sampler = "sobol"
 ) -> Samples:
@@ -123,11 +177,7 @@ def sample_configurations(
     mid = (lo + hi) / 2.0
     rows.append(mid)
     origin.append("mid")
-    corners = list(itertools.islice(itertools.product((0, 1), repeat=n), MAX_CORNERS))
-    if 2**n > MAX_CORNERS:  # a seeded subset instead of the first ones only
-        pick = np.random.default_rng(seed).choice(2**n, MAX_CORNERS, replace=False)
-        corners = [tuple(int(b) for b in np.binary_repr(int(k), n)) for k in pick]
-    for bits in corners:
+    for bits in _corners(n, seed):
         rows.append(np.where(np.array(bits, dtype=bool), hi, lo))
         origin.append("corner")
     for j in range(n):  # each joint at its limits with the others mid-range

@@ -22,14 +22,29 @@ configurations, so this backend answers for exactly those: the check must run on
 them (``configurations()``), and any other configuration makes it *skipped*
 with that reason. Measured poses are noisy: compare them with a tolerance that
 fits the measurement (``--tol-pos 1e-3``).
+
+The file is read as other tables are (:mod:`fkcheck.input_files`: a regular
+file of at most 256 MiB, lines of at most 64 KiB, UTF-8 with or without a
+byte-order mark; numbers by :func:`fkcheck.numbers.parse_number`), and refused
+with the line, column and header name of the first problem: a column named
+twice, an empty field, a value beyond the model files' bounds (joint values
+within ±1000 rad / ±1000 m, positions within ±1000 m, rotation numbers within
+±1000). The same configuration (within :data:`MATCH_TOL`) may appear on several
+lines only with the same pose (within :data:`MATCH_TOL` m and rad): the file
+cannot hold two answers for one question. Matching configurations to rows is a
+hash lookup (a k-d tree for ones that are not bit for bit a row), so a file of
+tens of thousands of rows is matched in well under a second.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import re
+from array import array
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,14 +52,19 @@ from numpy.typing import NDArray
 from fkcheck.backends.base import BackendUnavailable, Evidence, FrameUnavailable
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import FkcheckError
-from fkcheck.model import Model
+from fkcheck.input_files import InputFileError, read_lines
+from fkcheck.model import MAX_JOINT_RAD, MAX_LENGTH_M, Model
+from fkcheck.numbers import NumberError, parse_numbers, show_text, split_fields
 
 __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
 
 Float = NDArray[np.float64]
 
-#: Joint values within this of a file row (radians / metres) are that row.
+#: Joint values within this of a file row (radians / metres) are that row; two rows
+#: this close must have poses this close (metres and radians).
 MATCH_TOL = 1e-9
+#: Largest rotation number (a quaternion component or an angle in radians).
+MAX_ROTATION_NUMBER = 1e3
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
 _ROTATIONS: dict[str, tuple[str, ...]] = {
     "quat": ("qx", "qy", "qz", "qw"),
@@ -76,8 +96,75 @@ def _column(header: list[str], names: Sequence[str], path: Path) -> tuple[list[i
             return [header.index(w) for w in wanted], factor
     raise PosesFileError(
         path,
-        f"header needs columns {', '.join(names)} (or with _deg/_mm); it has: {', '.join(header)}",
+        f"header needs columns {', '.join(names)} (or with _deg/_mm); it has: {_names(header)}",
     )
+
+
+def _show(name: str) -> str:
+    """A header name as it goes into a message: as is when short and printable."""
+    return name if name.isprintable() and len(name) <= 40 else show_text(name)
+
+
+def _names(header: list[str]) -> str:
+    return ", ".join(_show(h) for h in header)
+
+
+def _read_header(text: str, lineno: int, path: Path) -> list[str]:
+    seen: dict[str, int] = {}
+    for column, raw in split_fields(text):
+        name = raw.strip()
+        where = f"line {lineno}, column {column}"
+        if not name:
+            raise PosesFileError(path, f"{where}: a header field without a name")
+        if name in seen:
+            raise PosesFileError(
+                path,
+                f"{where}: column {show_text(name)} is named twice (also field {seen[name] + 1}); "
+                "each column needs its own name",
+            )
+        seen[name] = len(seen)
+    return list(seen)
+
+
+class _Layout:
+    """Which header columns hold what, and their factors to metres / radians."""
+
+    def __init__(self, header: list[str], model: Model, path: Path) -> None:
+        self.header = header
+        q_cols, q_factor = _column(header, [f"q{i + 1}" for i in range(model.dof)], path)
+        p_cols, p_factor = _column(header, ["x", "y", "z"], path)
+        found = None
+        for fmt, names in _ROTATIONS.items():
+            try:
+                found = fmt, *_column(header, names, path)
+            except PosesFileError:
+                continue
+            break
+        if found is None:
+            raise PosesFileError(
+                path,
+                "header needs a rotation: qx,qy,qz,qw or rx,ry,rz or "
+                f"roll,pitch,yaw or A,B,C; it has: {_names(header)}",
+            )
+        self.fmt, r_cols, r_factor = found
+        if self.fmt == "quat":
+            r_factor = 1.0
+        revolute = [j.type == "revolute" for j in model.joints]
+        self.columns = [*q_cols, *p_cols, *r_cols]
+        self.n = model.dof
+        # Per kept column: factor to SI and the bound after it.
+        self.factor = np.array(
+            [q_factor if rev else 1.0 for rev in revolute]
+            + [p_factor] * 3
+            + [r_factor] * len(r_cols)
+        )
+        self.bound = np.array(
+            [MAX_JOINT_RAD if rev else MAX_LENGTH_M for rev in revolute]
+            + [MAX_LENGTH_M] * 3
+            + [MAX_ROTATION_NUMBER] * len(r_cols)
+        )
+        units = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3
+        self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(r_cols)
 
 
 def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | None]:
@@ -92,71 +179,137 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
         poses ``from_T_to`` and the frame pair the file declares, if it does.
 
     Raises:
-        PosesFileError: Unreadable, a missing column, a bad number, or no rows.
+        PosesFileError: Not a regular file, too large, not UTF-8, a missing or
+            repeated column, a bad or out-of-bounds number (with its line and
+            column), no rows, or one configuration with two different poses.
     """
     from fkcheck.pose_formats import matrix_from_pose
 
-    try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PosesFileError(path, f"cannot read: {exc}") from None
     pair = None
-    rows: list[tuple[int, list[str]]] = []
-    header: list[str] | None = None
-    for lineno, line in enumerate(lines, start=1):
-        text = line.strip()
-        match = _PAIR.match(text)
-        if match:
-            pair = (match.group(1), match.group(2))
-            continue
-        if not text or text.startswith("#"):
-            continue
-        cells = [c.strip() for c in text.split(",")]
-        if header is None:
-            header = cells
-        else:
-            rows.append((lineno, cells))
-    if header is None or not rows:
+    layout: _Layout | None = None
+    kept = array("d")
+    linenos = array("q")
+    try:
+        for lineno, line in read_lines(path):
+            text = line.strip()
+            match = _PAIR.match(text)
+            if match:
+                pair = (match.group(1), match.group(2))
+                continue
+            if not text or text.startswith("#"):
+                continue
+            if layout is None:
+                layout = _Layout(_read_header(line, lineno, path), model, path)
+                continue
+            kept.extend(_row(line, lineno, layout, path))
+            linenos.append(lineno)
+    except InputFileError as exc:
+        raise PosesFileError(path, exc.problem) from None
+    if layout is None or not linenos:
         raise PosesFileError(path, "no header line and data rows")
-    n = model.dof
-    q_cols, q_factor = _column(header, [f"q{i + 1}" for i in range(n)], path)
-    p_cols, p_factor = _column(header, ["x", "y", "z"], path)
-    found = None
-    for fmt, names in _ROTATIONS.items():
-        try:
-            found = fmt, *_column(header, names, path)
-        except PosesFileError:
-            continue
-        break
-    if found is None:
+    values = np.frombuffer(kept, dtype=np.float64).reshape(len(linenos), -1) * layout.factor
+    bad = np.argwhere(np.abs(values) > layout.bound)
+    if bad.size:
+        row, k = (int(v) for v in bad[0])
+        name = _show(layout.header[layout.columns[k]])
         raise PosesFileError(
             path,
-            "header needs a rotation: qx,qy,qz,qw or rx,ry,rz or "
-            f"roll,pitch,yaw or A,B,C; it has: {', '.join(header)}",
+            f"line {linenos[row]} ({name}): {values[row, k]:g}{layout.unit[k]} is beyond "
+            f"±{layout.bound[k]:g}{layout.unit[k]}",
         )
-    fmt, r_cols, r_factor = found
-    if fmt == "quat":
-        r_factor = 1.0
-    q = np.empty((len(rows), n))
-    values = np.empty((len(rows), 3 + len(r_cols)))
-    for k, (lineno, cells) in enumerate(rows):
-        try:
-            numbers = [float(c) for c in cells]
-        except ValueError:
-            raise PosesFileError(path, f"line {lineno}: not all numbers") from None
-        if len(numbers) != len(header) or not all(math.isfinite(v) for v in numbers):
-            raise PosesFileError(path, f"line {lineno}: expected {len(header)} finite numbers")
-        q[k] = [numbers[c] for c in q_cols]
-        values[k, :3] = [numbers[c] * p_factor for c in p_cols]
-        values[k, 3:] = [numbers[c] * r_factor for c in r_cols]
-    if q_factor != 1.0:  # degrees apply to revolute joints only
-        revolute = np.array([j.type == "revolute" for j in model.joints])
-        q[:, revolute] *= q_factor
+    q = values[:, : layout.n].copy()
     try:
-        poses = matrix_from_pose(values, fmt)  # type: ignore[arg-type]
+        poses = matrix_from_pose(values[:, layout.n :], layout.fmt)  # type: ignore[arg-type]
     except ValueError as exc:
         raise PosesFileError(path, str(exc)) from None
+    _check_duplicates(q, poses, linenos, path)
     return q, poses, pair
+
+
+def _row(line: str, lineno: int, layout: _Layout, path: Path) -> list[float]:
+    """The kept numbers of one data line, in file units."""
+    try:
+        numbers = parse_numbers(line)
+    except NumberError as exc:
+        header = layout.header
+        name = (
+            f" ({_show(header[exc.index - 1])})" if exc.index and exc.index <= len(header) else ""
+        )
+        raise PosesFileError(
+            path, f"line {lineno}, column {exc.column}{name}: {exc.problem}"
+        ) from None
+    if len(numbers) != len(layout.header):
+        raise PosesFileError(
+            path,
+            f"line {lineno}: {len(numbers)} fields, but the header names {len(layout.header)}",
+        )
+    return [numbers[c] for c in layout.columns]
+
+
+def _check_duplicates(q: Float, poses: Float, linenos: array[int], path: Path) -> None:
+    """Refuse two rows with the same configuration (within MATCH_TOL) but different poses."""
+    from scipy.spatial import cKDTree
+
+    from fkcheck.metrics import position_error_m, rotation_error_rad
+
+    def refuse_if_different(a: NDArray[np.intp], b: NDArray[np.intp], same: str) -> None:
+        pos = position_error_m(poses[a], poses[b])
+        rot = rotation_error_rad(poses[a], poses[b])
+        bad = np.flatnonzero((pos > MATCH_TOL) | (rot > MATCH_TOL))
+        if bad.size:
+            k = int(bad[0])
+            first, second = sorted((linenos[int(a[k])], linenos[int(b[k])]))
+            raise PosesFileError(
+                path,
+                f"lines {first} and {second} have the same configuration{same} but poses "
+                f"differing by {pos[k]:.3g} m and {rot[k]:.3g} rad; keep one of them",
+            )
+
+    # Identical configurations: each row against the first row like it.
+    _, first, inverse = np.unique(_key_values(q), axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    rows = np.flatnonzero(first[inverse] != np.arange(q.shape[0]))
+    refuse_if_different(rows, first[inverse[rows]], "")
+    # Configurations within MATCH_TOL but not identical: each against its nearest other.
+    unique = np.sort(first)
+    if unique.size > 1:
+        dist, near = cKDTree(q[unique]).query(
+            q[unique], k=2, p=np.inf, distance_upper_bound=MATCH_TOL
+        )
+        close = np.flatnonzero(np.isfinite(dist[:, 1]))
+        refuse_if_different(unique[close], unique[near[close, 1]], f" (within {MATCH_TOL:g})")
+
+
+def _key_values(q: Float) -> Float:
+    """``q`` as a C-contiguous copy with -0.0 made 0.0: equal rows have equal bytes."""
+    return np.ascontiguousarray(q, dtype=np.float64) + 0.0
+
+
+class _Table:
+    """A read poses file, with a lookup from configurations to its rows."""
+
+    def __init__(self, q: Float, poses: Float, pair: tuple[str, str] | None) -> None:
+        self.q = q
+        self.poses = poses
+        self.pair = pair
+        keys = _key_values(q)
+        self._index = {keys[k].tobytes(): k for k in range(keys.shape[0] - 1, -1, -1)}
+        self._tree: Any = None
+
+    def rows_of(self, q: Float) -> NDArray[np.intp]:
+        """The file row of each configuration (within MATCH_TOL), ``-1`` where none is."""
+        q = _key_values(q)
+        rows = np.array([self._index.get(row.tobytes(), -1) for row in q], dtype=np.intp)
+        inexact = np.flatnonzero(rows < 0)
+        if inexact.size:
+            from scipy.spatial import cKDTree
+
+            if self._tree is None:
+                self._tree = cKDTree(self.q)
+            dist, near = self._tree.query(q[inexact], p=np.inf, distance_upper_bound=MATCH_TOL)
+            found = np.isfinite(dist)
+            rows[inexact[found]] = near[found]
+        return rows
 
 
 class MeasuredPoses:
@@ -176,14 +329,21 @@ class MeasuredPoses:
         self.path = Path(arg)
         self.name = f"poses:{arg}"
         self.options = options or BackendOptions()
+        self._read: tuple[Model, _Table] | None = None
+
+    def _table(self, model: Model) -> _Table:
+        """The file, read once per model (the check asks for it chunk by chunk)."""
+        if self._read is None or self._read[0] is not model:
+            self._read = model, _Table(*read_poses_file(self.path, model))
+        return self._read[1]
 
     def unavailable_reason(self, model: Model) -> str | None:
-        """``None`` when the file exists; it is read (and validated) when used."""
-        return None if self.path.is_file() else f"no such file: {self.path}"
+        """``None`` when the path exists; it is read (and validated: a regular file) when used."""
+        return None if os.path.lexists(self.path) else f"no such file: {self.path}"
 
     def configurations(self, model: Model) -> Float:
         """The file's joint values, ``(N, n)``: the check must run on these."""
-        return read_poses_file(self.path, model)[0]
+        return self._table(model).q
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """``[identity, from_T_to]`` for the file's pair, at the file's configurations.
@@ -193,23 +353,22 @@ class MeasuredPoses:
             FrameUnavailable: ``frames`` is not the file's pair.
             BackendUnavailable: A configuration is not in the file.
         """
-        file_q, poses, pair = read_poses_file(self.path, model)
-        pair = pair or (model.check.frame_from, model.check.frame_to)
+        table = self._table(model)
+        pair = table.pair or (model.check.frame_from, model.check.frame_to)
         if tuple(frames) != pair:
             raise FrameUnavailable(
                 f"{self.path.name} holds poses of {pair[1]} in {pair[0]}, not "
                 f"{' → '.join(frames)} (declare the pair with '# fkcheck poses: from=… to=…')"
             )
-        q = np.asarray(q, dtype=np.float64)
-        out = np.empty((2, q.shape[0], 4, 4))
+        rows = table.rows_of(np.asarray(q, dtype=np.float64))
+        missing = np.flatnonzero(rows < 0)
+        if missing.size:
+            raise BackendUnavailable(
+                f"{self.path.name} has no pose for configuration {int(missing[0])} (measured "
+                "poses exist only at the file's configurations: run on them, e.g. fkcheck "
+                "diagnose)"
+            )
+        out = np.empty((2, rows.size, 4, 4))
         out[0] = np.eye(4)
-        for k, row in enumerate(q):
-            diff = np.abs(file_q - row).max(axis=1)
-            match = int(np.argmin(diff))
-            if diff[match] > MATCH_TOL:
-                raise BackendUnavailable(
-                    f"{self.path.name} has no pose for configuration {k} (measured poses exist "
-                    "only at the file's configurations: run on them, e.g. fkcheck diagnose)"
-                )
-            out[1, k] = poses[match]
+        out[1] = table.poses[rows]
         return out

@@ -27,12 +27,18 @@ from fkcheck.errors import BackendNotFoundError
 __all__ = [
     "BUILTIN",
     "DEFAULT",
+    "MAX_TIMEOUT_S",
     "PREFIXED",
     "BackendOptions",
     "default_backends",
     "make_backend",
     "parse_against",
 ]
+
+
+#: Longest time limit per backend, seconds (a day: longer than any CI job runs;
+#: a far larger one overflows the thread and process waits).
+MAX_TIMEOUT_S = 86_400.0
 
 
 @dataclass(frozen=True)

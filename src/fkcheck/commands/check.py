@@ -199,14 +199,19 @@ def print_summary(check: CheckResult) -> None:
 
 
 def _validate(args: argparse.Namespace) -> None:
+    from fkcheck.backends.registry import MAX_TIMEOUT_S
     from fkcheck.errors import JointInputError
+    from fkcheck.sampling import check_sampling_options
 
-    if args.samples < 0:
-        raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
+    check_sampling_options(args.samples, args.seed)
     for flag, value in (("--tol-pos", args.tol_pos), ("--tol-rot", args.tol_rot),
                         ("--timeout", args.timeout)):  # fmt: skip
         if value is not None and not (math.isfinite(value) and value > 0):
             raise JointInputError(f"{flag} must be a positive number, got {value}")
+    if args.timeout > MAX_TIMEOUT_S:
+        raise JointInputError(
+            f"--timeout must be at most {MAX_TIMEOUT_S:g} s, got {args.timeout:g}"
+        )
     if args.all:
         if args.model is not None:
             raise FkcheckError(f"--all checks every bundled model: drop MODEL ({args.model!r})")

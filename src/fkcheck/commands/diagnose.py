@@ -49,9 +49,9 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.errors import BackendNotFoundError, JointInputError
     from fkcheck.model import load_model
     from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.sampling import check_sampling_options
 
-    if args.samples < 1:
-        raise JointInputError(f"--samples must be 1 or more, got {args.samples}")
+    check_sampling_options(args.samples, args.seed, min_samples=1)
     for flag, value in (("--tol-pos", args.tol_pos), ("--tol-rot", args.tol_rot)):
         if value is not None and not (math.isfinite(value) and value > 0):
             raise JointInputError(f"{flag} must be a positive number, got {value}")

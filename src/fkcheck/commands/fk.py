@@ -1,17 +1,30 @@
-"""``fkcheck fk``: print the pose (or every DH frame) for given joint values."""
+"""``fkcheck fk``: print the pose (or every DH frame) for given joint values.
+
+Many configurations (``--q-file``) are computed and printed a chunk at a time,
+so memory holds the configurations and one chunk of poses, not every pose and
+its JSON record at once (a million-line file with ``--json`` peaked at 4 GB).
+"""
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import sys
+from collections.abc import Iterable, Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+if TYPE_CHECKING:
+    from fkcheck.model import Model
+
 __all__ = ["add_parser", "run"]
+
+#: Configurations computed and printed at a time (times ``n + 1`` with --all-frames).
+_CHUNK = 65_536
 
 
 def add_parser(sub: Any) -> None:
@@ -53,6 +66,40 @@ def _record(model_name: str, q: NDArray[np.float64], T: NDArray[np.float64]) -> 
     return record
 
 
+def _fk_chunks(
+    model: Model, q: NDArray[np.float64], all_frames: bool
+) -> Iterator[tuple[NDArray[np.float64], NDArray[np.float64]]]:
+    """``(q chunk, poses)`` for ``(N, n)`` configurations, a bounded chunk at a time.
+
+    Each pose comes out bit for bit as from one call on the whole batch: the core
+    picks its path (JIT or NumPy) by batch size, so when the whole batch would take
+    the JIT path, a short last chunk is merged into the one before it.
+    """
+    from fkcheck.dh import JIT_MIN_POSES
+
+    total = q.shape[0]
+    jit = not all_frames and total >= JIT_MIN_POSES
+    if all_frames:
+        size = max(1, _CHUNK // (model.dof + 1))
+    else:
+        size = max(_CHUNK, JIT_MIN_POSES) if jit else _CHUNK
+    bounds = [*range(0, total, size), total]
+    if jit and bounds[-1] - bounds[-2] < JIT_MIN_POSES:
+        del bounds[-2]
+    for start, stop in itertools.pairwise(bounds):
+        yield q[start:stop], model.fk(q[start:stop], all_frames=all_frames)
+
+
+def _write_json_array(records: Iterable[dict[str, Any]]) -> None:
+    """Print ``json.dumps(list(records))``, byte for byte, one record at a time."""
+    separator = "["
+    for record in records:
+        sys.stdout.write(separator)
+        sys.stdout.write(json.dumps(record))
+        separator = ", "
+    sys.stdout.write("]\n")
+
+
 def _format_matrix(T: NDArray[np.float64]) -> str:
     T = np.where(np.abs(T) < 5e-7, 0.0, T)  # print -0.000000 as 0.000000
     return "\n".join(" ".join(f"{v:10.6f}" for v in row) for row in T)
@@ -61,7 +108,13 @@ def _format_matrix(T: NDArray[np.float64]) -> str:
 def run(args: argparse.Namespace) -> int:
     """Compute and print."""
     from fkcheck.errors import JointInputError
-    from fkcheck.joint_input import check_limits, parse_q, read_q_file, to_internal_units
+    from fkcheck.joint_input import (
+        check_bounds,
+        check_limits,
+        parse_q,
+        read_q_file,
+        to_internal_units,
+    )
     from fkcheck.model import load_model
 
     model = load_model(args.model)
@@ -82,24 +135,48 @@ def run(args: argparse.Namespace) -> int:
         raise JointInputError("give joint values with --q, --q-file or --pose")
     if not args.ignore_limits:
         check_limits(q, model)
+    check_bounds(q, model)
 
+    if q.ndim == 2:
+        return _print_batch(model, q, args)
     T = model.fk(q, all_frames=args.all_frames)
     if args.format != "matrix":
         return _print_formatted(model.name, q, T, args)
-    if q.ndim == 1:
-        if args.json:
-            print(json.dumps(_record(model.name, q, T)))
-        elif args.all_frames:
-            print("\n\n".join(f"T_0_{i} =\n{_format_matrix(Ti)}" for i, Ti in enumerate(T)))
-        else:
-            print(_format_matrix(T))
-        return 0
     if args.json:
-        print(json.dumps([_record(model.name, qi, Ti) for qi, Ti in zip(q, T, strict=True)]))
+        print(json.dumps(_record(model.name, q, T)))
+    elif args.all_frames:
+        print("\n\n".join(f"T_0_{i} =\n{_format_matrix(Ti)}" for i, Ti in enumerate(T)))
     else:
-        # One line per configuration: the row-major 4x4 (or every frame's, in order).
-        lines = (" ".join(repr(float(v)) for v in Ti.reshape(-1)) for Ti in T)
-        sys.stdout.write("\n".join(lines) + "\n")
+        print(_format_matrix(T))
+    return 0
+
+
+def _print_batch(model: Model, q: NDArray[np.float64], args: argparse.Namespace) -> int:
+    """Print the poses of ``(N, n)`` configurations, a chunk at a time."""
+    from fkcheck.pose_formats import pose_from_matrix, pose_record
+
+    chunks = _fk_chunks(model, q, args.all_frames)
+    fmt = args.format
+    if args.json:
+
+        def records() -> Iterator[dict[str, Any]]:
+            for q_chunk, T in chunks:
+                for qi, Ti in zip(q_chunk, T, strict=True):
+                    record = _record(model.name, qi, Ti)
+                    if fmt != "matrix":
+                        record.update(pose_record(Ti[-1] if args.all_frames else Ti, fmt))
+                    yield record
+
+        _write_json_array(records())
+        return 0
+    for _, T in chunks:
+        if fmt == "matrix":
+            # One line per configuration: the row-major 4x4 (or every frame's, in order).
+            rows: Iterable[Iterable[float]] = (Ti.reshape(-1) for Ti in T)
+        else:
+            # One line per configuration: x y z and the rotation numbers (radians).
+            rows = pose_from_matrix(T[:, -1] if args.all_frames else T, fmt)
+        sys.stdout.write("".join(" ".join(repr(float(v)) for v in row) + "\n" for row in rows))
     return 0
 
 
@@ -107,32 +184,17 @@ def _print_formatted(
     model_name: str, q: NDArray[np.float64], T: NDArray[np.float64], args: argparse.Namespace
 ) -> int:
     """Print poses in a controller's format (``--format``) instead of matrices."""
-    from fkcheck.pose_formats import format_pose, pose_from_matrix, pose_record
+    from fkcheck.pose_formats import format_pose, pose_record
 
     fmt = args.format
-    if q.ndim == 1:
-        poses = T if args.all_frames else T[None]
-        if args.json:
-            record = _record(model_name, q, T)
-            record.update(pose_record(poses[-1], fmt))
-            print(json.dumps(record))
-        else:
-            lines = [format_pose(Ti, fmt, degrees=args.deg) for Ti in poses]
-            if args.all_frames:
-                lines = [f"T_0_{i}: {line}" for i, line in enumerate(lines)]
-            print("\n".join(lines))
-        return 0
-    last = T[:, -1] if args.all_frames else T
+    poses = T if args.all_frames else T[None]
     if args.json:
-        records = []
-        for qi, Ti, Tl in zip(q, T, last, strict=True):
-            record = _record(model_name, qi, Ti)
-            record.update(pose_record(Tl, fmt))
-            records.append(record)
-        print(json.dumps(records))
+        record = _record(model_name, q, T)
+        record.update(pose_record(poses[-1], fmt))
+        print(json.dumps(record))
     else:
-        # One line per configuration: x y z and the rotation numbers (radians).
-        numbers = pose_from_matrix(last, fmt)
-        sys.stdout.write("\n".join(" ".join(repr(float(v)) for v in row) for row in numbers))
-        sys.stdout.write("\n")
+        lines = [format_pose(Ti, fmt, degrees=args.deg) for Ti in poses]
+        if args.all_frames:
+            lines = [f"T_0_{i}: {line}" for i, line in enumerate(lines)]
+        print("\n".join(lines))
     return 0

@@ -1,0 +1,751 @@
+"""Hostile and odd input to the readers of numbers and files (issue 15): model TOML and DH
+CSV, `fk --q` and `--q-file`, measured poses `poses:FILE.csv`, and `check`'s numeric options.
+
+Each case runs the command line and asserts exit 2, exactly one line on stderr naming the
+file/field and the problem, no traceback, no file changed, and a time bound. Cases that
+could hang if a reader opened what it was given (a FIFO, /dev/zero) run in a subprocess
+with a timeout. Then the other side: what must keep working (a byte-order mark, identical
+duplicate rows, 64- and 256-joint models, a 40 000-row poses file, chunked fk output).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fkcheck import load_model
+from fkcheck.backends.measured import MeasuredPoses, read_poses_file
+from fkcheck.check import reference_poses, run_check
+from fkcheck.cli import main
+from fkcheck.frames import relative_pose
+from fkcheck.joint_input import read_q_file
+from fkcheck.model import MAX_JOINT_RAD, MAX_LENGTH_M, model_from_dict
+from fkcheck.pose_formats import pose_from_matrix
+from fkcheck.sampling import MAX_CORNERS, sample_configurations, sampling_box
+
+#: Every case ends well within this (measured: under 0.5 s in-process, ~2 s in a subprocess).
+TIME_BOUND_S = 20.0
+
+HEAD = 'name = "m"\nconvention = "standard"\n'
+JOINT = "[[joint]]\na = 0.1\nalpha = 0.0\nd = 0.2\n"
+UR5_PENDANT = Path(__file__).parent / "data" / "ur5_pendant.csv"
+PENDANT_HEAD = (
+    "# fkcheck poses: from=base to=tool0\n"
+    "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,rx,ry,rz\n"
+)
+ZERO_ROW = "0,0,0,0,0,0,-817.250,-191.450,-5.491,1.570796,0.000000,0.000000\n"
+SEED_ROW = "30,-60,90,-120,-90,45,-505.612,-417.951,178.795,2.492393,1.912480,0.000000\n"
+
+
+def _joint(a: str = "0.1", extra: str = "") -> str:
+    return f"[[joint]]\na = {a}\nalpha = 0.0\nd = 0.2\n{extra}"
+
+
+def _deep_toml(depth: int) -> str:
+    return HEAD + "x = " + "[" * depth + "]" * depth + "\n"
+
+
+def _big_file(path: Path, size: int) -> None:
+    with path.open("wb") as f:  # sparse: no disk space used
+        f.truncate(size)
+
+
+# --------------------------------------------------------------------------- the cases
+# Each: id -> (files {name: text | bytes | "FIFO" | "DIR" | callable(path)}, argv, regex).
+# "{tmp}" in argv is the case's directory; a regex names the file/field and the problem.
+
+MODEL_TOML = {
+    "toml_400_digit_integer": (
+        {"m.toml": HEAD + _joint("9" * 400)},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: joint\[0\]\.a: number too large: an integer of about 40\d digits",
+    ),
+    "toml_5000_digit_integer": (
+        {"m.toml": HEAD + JOINT + "[frames.f]\ndh = " + "9" * 5000 + "\n"},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: number too large: an integer of more than \d+ digits",
+    ),
+    "toml_length_overflows_fk": (
+        {"m.toml": HEAD + _joint("1e308") + _joint("1e308")},
+        ["fk", "m.toml", "--q", "0,0"],
+        r"m\.toml: joint\[0\]\.a: 1e\+308 m is beyond ±1000 m",
+    ),
+    "toml_d_beyond_bound": (
+        {"m.toml": HEAD + "[[joint]]\na = 0.1\nalpha = 0.0\nd = -1000.5\n"},
+        ["fk", "m.toml", "--q", "0"],
+        r"joint\[0\]\.d: -1000\.5 m is beyond ±1000 m",
+    ),
+    "toml_limits_overflow_sampling_box": (
+        {"m.toml": HEAD + _joint(extra="limits = [-1.7e308, 1.7e308]\n")},
+        ["check", "m.toml", "--against", "rtb-dh"],
+        r"joint\[0\]\.limits\[0\]: -1\.7e\+308 rad is beyond ±1000 rad",
+    ),
+    "toml_prismatic_limit": (
+        {"m.toml": HEAD + _joint(extra='type = "prismatic"\nlimits = [0.0, 5e3]\n')},
+        ["fk", "m.toml", "--q", "0"],
+        r"joint\[0\]\.limits\[1\]: 5000 m is beyond ±1000 m",
+    ),
+    "toml_degree_limit_beyond_bound": (
+        {"m.toml": HEAD + 'angle_unit = "deg"\n' + _joint(extra="limits = [-1e5, 1e5]\n")},
+        ["fk", "m.toml", "--q", "0"],
+        r"joint\[0\]\.limits\[0\]: -1745\.33 rad is beyond ±1000 rad",
+    ),
+    "toml_base_xyz": (
+        {"m.toml": HEAD + JOINT + "[base]\nxyz = [0.0, 1e300, 0.0]\n"},
+        ["fk", "m.toml", "--q", "0"],
+        r"base\.xyz\[1\]: 1e\+300 m is beyond ±1000 m",
+    ),
+    "toml_frame_xyz": (
+        {"m.toml": HEAD + JOINT + "[frames.f]\ndh = 1\nxyz = [0.0, 0.0, 2e3]\n"},
+        ["fk", "m.toml", "--q", "0"],
+        r"frames\.f\.xyz\[2\]: 2000 m is beyond ±1000 m",
+    ),
+    "toml_pose_value": (
+        {"m.toml": HEAD + JOINT + "[poses]\nfar = [1e6]\n"},
+        ["fk", "m.toml", "--q", "0"],
+        r"poses\.far\[0\]: 1e\+06 rad is beyond ±1000 rad",
+    ),
+    "toml_nested_3000_deep": (
+        {"m.toml": _deep_toml(3000)},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: not valid TOML: arrays or tables nested too deeply",
+    ),
+    "toml_inline_tables_nested_deep": (
+        {"m.toml": HEAD + "x = " + "{a = " * 3000 + "1" + "}" * 3000 + "\n"},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: not valid TOML: arrays or tables nested too deeply",
+    ),
+    "toml_key_with_newline": (
+        {"m.toml": HEAD + '"x\\nverdict: pass" = 1\n' + JOINT},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: 'x\\nverdict: pass': unknown key",
+    ),
+    "toml_long_choice_value": (
+        {"m.toml": 'name = "m"\nconvention = "' + "x" * 100_000 + '"\n' + JOINT},
+        ["fk", "m.toml", "--q", "0"],
+        r"convention: 'x{40}'… \(100000 characters\) is not one of: standard, modified",
+    ),
+    "toml_not_utf8_line_3": (
+        {"m.toml": HEAD.encode() + b"description = '\xff'\n" + JOINT.encode()},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: line 3: not UTF-8 text",
+    ),
+    "toml_larger_than_1_mib": (
+        {"m.toml": lambda p: _big_file(p, (1 << 20) + 1)},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: file too large: 1048577 bytes \(at most 1 MiB\)",
+    ),
+    "model_is_a_directory": (
+        {"m.toml": "DIR"},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: is a directory, not a regular file",
+    ),
+    "model_is_dev_zero": (
+        {},
+        ["fk", "/dev/zero", "--q", "0"],
+        r"/dev/zero: is a character device, not a regular file",
+    ),
+}
+
+DH_CSV = {
+    "csv_empty_field": (
+        {"t.csv": "j1,0.1,,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"t\.csv: line 1\.alpha \(column 8\): empty field",
+    ),
+    "csv_missing_field_shifts_columns": (
+        {"t.csv": "j1,0.1,,0.2\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"t\.csv: line 1: expected 5 comma-separated fields .* got 4",
+    ),
+    "csv_underscore": (
+        {"t.csv": "j1,1_0,0,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.a \(column 4\): not a number: '1_0' \(no '_' in numbers\)",
+    ),
+    "csv_arabic_indic_digits": (
+        {"t.csv": "j1,٠٫١,0,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.a \(column 4\): not a number: '٠٫١' \(non-ASCII characters",
+    ),
+    "csv_fullwidth_digits": (
+        {"t.csv": "j1,0.1,0,０.２,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.d \(column 10\): not a number: '０\.２' \(non-ASCII",
+    ),
+    "csv_nan": (
+        {"t.csv": "j1,0.1,NaN,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.alpha \(column 8\): must be finite, got 'NaN'",
+    ),
+    "csv_hex_float": (
+        {"t.csv": "j1,0x1p-3,0,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.a \(column 4\): not a number: '0x1p-3' \(no hex numbers\)",
+    ),
+    "csv_400_digit_integer": (
+        {"t.csv": "j1," + "9" * 400 + ",0,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.a \(column 4\): number too long: 400 characters \(at most 100\)",
+    ),
+    "csv_beyond_float": (
+        {"t.csv": "j1,0.1,0,1e999,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"line 1\.d \(column 10\): number too large: '1e999'",
+    ),
+    "csv_length_beyond_bound": (
+        {"t.csv": "j1,1e308,0,0.2,0\n"},
+        ["fk", "t.csv", "--q", "0"],
+        r"t\.csv: joint\[0\]\.a: 1e\+308 m is beyond ±1000 m",
+    ),
+}
+
+Q_ARG = {
+    "q_empty_field": (
+        {},
+        ["fk", "ur5", "--q", "0.1,,0.2,0,0,0"],
+        r"--q: value 2: empty field",
+    ),
+    "q_trailing_separator": (
+        {},
+        ["fk", "ur5", "--q", "0,0,0,0,0,0,"],
+        r"--q: value 7: empty field",
+    ),
+    "q_underscore": (
+        {},
+        ["fk", "ur5", "--q", "1_0,0,0,0,0,0", "--ignore-limits"],
+        r"--q: value 1: not a number: '1_0' \(no '_' in numbers\)",
+    ),
+    "q_arabic_indic_digit": (
+        {},
+        ["fk", "ur5", "--q", "0,١,0,0,0,0"],
+        r"--q: value 2: not a number: '١' \(non-ASCII characters",
+    ),
+    "q_fullwidth_digit": (
+        {},
+        ["fk", "ur5", "--q", "0,0,１,0,0,0"],
+        r"--q: value 3: not a number: '１' \(non-ASCII",
+    ),
+    "q_infinity": (
+        {},
+        ["fk", "ur5", "--q", "0,0,0,-Infinity,0,0", "--ignore-limits"],
+        r"--q: value 4: must be finite, got '-Infinity'",
+    ),
+    "q_hex": (
+        {},
+        ["fk", "ur5", "--q", "0x10,0,0,0,0,0"],
+        r"--q: value 1: not a number: '0x10' \(no hex numbers\)",
+    ),
+    "q_400_digits": (
+        {},
+        ["fk", "ur5", "--q", "9" * 400 + ",0,0,0,0,0", "--ignore-limits"],
+        r"--q: value 1: number too long: 400 characters",
+    ),
+    "q_beyond_float": (
+        {},
+        ["fk", "ur5", "--q", "1e400,0,0,0,0,0", "--ignore-limits"],
+        r"--q: value 1: number too large: '1e400'",
+    ),
+    "q_beyond_bound_with_ignore_limits": (
+        {},
+        ["fk", "ur5", "--q", "1e300,0,0,0,0,0", "--ignore-limits"],
+        r"joint shoulder_pan = 1e\+300 rad is beyond ±1000 rad",
+    ),
+    "q_space_inside_number": (
+        {},
+        ["fk", "ur5", "--q", "0,0 0,0,0,0,0"],
+        r"--q: value 2: not a number: '0 0' \(a space inside a number, or a missing separator\)",
+    ),
+}
+
+Q_FILE = {
+    "qfile_is_a_directory": (
+        {"q": "DIR"},
+        ["fk", "ur5", "--q-file", "q"],
+        r"q: is a directory, not a regular file",
+    ),
+    "qfile_empty_field": (
+        {"q.csv": "0,0,0,0,0,0\n0,0,,0,0,0\n"},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: line 2: column 5 \(value 3\): empty field",
+    ),
+    "qfile_underscore": (
+        {"q.csv": "# radians\n0,0,0,0,0,1_0\n"},
+        ["fk", "ur5", "--q-file", "q.csv", "--ignore-limits"],
+        r"q\.csv: line 2: column 11 \(value 6\): not a number: '1_0'",
+    ),
+    "qfile_arabic_indic": (
+        {"q.csv": "0,0,0,0,٣,0\n"},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: line 1: column 9 \(value 5\): not a number: '٣'",
+    ),
+    "qfile_nan": (
+        {"q.csv": "0,0,0,0,0,nan\n"},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: line 1: column 11 \(value 6\): must be finite, got 'nan'",
+    ),
+    "qfile_line_longer_than_64_kib": (
+        {"q.csv": "0," * 40_000 + "0\n"},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: line 1: longer than 64 KiB \(the limit per line\)",
+    ),
+    "qfile_larger_than_256_mib": (
+        {"q.csv": lambda p: _big_file(p, (256 << 20) + 1)},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: file too large: 268435457 bytes \(at most 256 MiB\)",
+    ),
+    "qfile_not_utf8": (
+        {"q.csv": b"0,0,0,0,0,0\n0,0,\xe9,0,0,0\n"},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: line 2: not UTF-8 text",
+    ),
+    "qfile_missing": (
+        {},
+        ["fk", "ur5", "--q-file", "nope.csv"],
+        r"nope\.csv: no such file",
+    ),
+    "qfile_beyond_bound": (
+        {"q.csv": "0,0,0,0,0,0\n0,0,0,0,0,5e3\n"},
+        ["fk", "ur5", "--q-file", "q.csv", "--ignore-limits"],
+        r"configuration 2: joint wrist_3 = 5000 rad is beyond ±1000 rad",
+    ),
+}
+
+POSES = {
+    "poses_is_a_directory": (
+        {"p.csv": "DIR"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: is a directory, not a regular file",
+    ),
+    "diagnose_poses_is_a_directory": (
+        {"p.csv": "DIR"},
+        ["diagnose", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: is a directory, not a regular file",
+    ),
+    "poses_is_dev_zero": (
+        {},
+        ["check", "ur5", "--against", "poses:/dev/zero"],
+        r"/dev/zero: is a character device, not a regular file",
+    ),
+    "poses_duplicate_column": (
+        {"p.csv": "q1,q2,q3,q4,q5,q6,x,y,z,x,rx,ry,rz\n" + "0," * 12 + "0\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 1, column 25: column 'x' is named twice \(also field 7\)",
+    ),
+    "poses_unnamed_column": (
+        {"p.csv": "q1,q2,q3,q4,q5,q6,x,y,z,rx,,ry,rz\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 1, column 28: a header field without a name",
+    ),
+    "poses_same_q_two_poses": (
+        {"p.csv": PENDANT_HEAD + ZERO_ROW + SEED_ROW + SEED_ROW.replace("-505.612", "494.388")},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: lines 4 and 5 have the same configuration but poses differing by 1 m "
+        r"and 0 rad",
+    ),
+    "poses_same_q_within_tolerance_two_poses": (
+        {
+            "p.csv": PENDANT_HEAD
+            + SEED_ROW
+            + SEED_ROW.replace("30,", "30.00000000001,", 1).replace("2.492393", "2.5")
+        },
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"lines 3 and 4 have the same configuration \(within 1e-09\) but poses differing by "
+        r"0 m and 0\.0\d+ rad",
+    ),
+    "poses_empty_field": (
+        {"p.csv": PENDANT_HEAD + "30,-60,90,-120,-90,45,,-417.951,178.795,2.49,1.91,0\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 3, column 23 \(x_mm\): empty field",
+    ),
+    "poses_underscore": (
+        {"p.csv": PENDANT_HEAD + "3_0,-60,90,-120,-90,45,1,2,3,0,0,0\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 3, column 1 \(q1_deg\): not a number: '3_0'",
+    ),
+    "poses_arabic_indic": (
+        {"p.csv": PENDANT_HEAD + "30,-60,90,-120,-90,45,1,2,3,0,0,٠\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 3, column 33 \(rz\): not a number: '٠'",
+    ),
+    "poses_missing_field": (
+        {"p.csv": PENDANT_HEAD + "30,-60,90,-120,-90,45,1,2,3,0,0\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 3: 11 fields, but the header names 12",
+    ),
+    "poses_position_beyond_bound": (
+        {"p.csv": PENDANT_HEAD + "30,-60,90,-120,-90,45,1e300,2,3,0,0,0\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 3 \(x_mm\): 1e\+297 m is beyond ±1000 m",
+    ),
+    "poses_quaternion_beyond_bound": (
+        {"p.csv": "q1,q2,q3,q4,q5,q6,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,0,0,1e308,1e308,0,0\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 2 \(qx\): 1e\+308 is beyond ±1000$",
+    ),
+    "poses_not_utf8": (
+        {"p.csv": PENDANT_HEAD.encode() + b"\x80\n"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 3: not UTF-8 text",
+    ),
+}
+
+CHECK_OPTIONS = {
+    "seed_negative": ({}, ["check", "ur5", "--seed", "-1"], r"--seed must be from 0 to 2\*\*64"),
+    "seed_beyond_64_bits": (
+        {},
+        ["check", "ur5", "--seed", str(2**64)],
+        r"--seed must be from 0 to 2\*\*64 - 1, got 18446744073709551616",
+    ),
+    "samples_huge": (
+        {},
+        ["check", "ur5", "--samples", "10000000000000"],
+        r"--samples must be from 0 to 10_000_000, got 10000000000000",
+    ),
+    "samples_scientific": (
+        {},
+        ["check", "ur5", "--samples", "1e13"],
+        r"argument --samples: invalid int value: '1e13'",
+    ),
+    "samples_negative": ({}, ["check", "ur5", "--samples", "-1"], r"--samples must be from 0"),
+    "timeout_beyond_a_day": (
+        {},
+        ["check", "ur5", "--timeout", "1e10"],
+        r"--timeout must be at most 86400 s, got 1e\+10",
+    ),
+    "timeout_nan": ({}, ["check", "ur5", "--timeout", "nan"], r"--timeout must be a positive"),
+    "diagnose_seed_negative": (
+        {},
+        ["diagnose", "ur5", "--against", "rtb-dh", "--seed", "-1"],
+        r"--seed must be from 0 to 2\*\*64 - 1, got -1",
+    ),
+}
+
+#: Cases that would hang if a reader opened the file: run in a subprocess with a timeout.
+HANGING = {
+    "model_is_a_fifo": ({"m.toml": "FIFO"}, ["fk", "m.toml", "--q", "0"], r"m\.toml: is a FIFO"),
+    "qfile_is_a_fifo": (
+        {"q.csv": "FIFO"},
+        ["fk", "ur5", "--q-file", "q.csv"],
+        r"q\.csv: is a FIFO \(named pipe\), not a regular file",
+    ),
+    "qfile_is_dev_zero": (
+        {},
+        ["fk", "ur5", "--q-file", "/dev/zero"],
+        r"/dev/zero: is a character device, not a regular file",
+    ),
+    "poses_is_a_fifo": (
+        {"p.csv": "FIFO"},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: is a FIFO \(named pipe\), not a regular file",
+    ),
+    "diagnose_poses_is_a_fifo": (
+        {"p.csv": "FIFO"},
+        ["diagnose", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: is a FIFO \(named pipe\), not a regular file",
+    ),
+}
+
+FAMILIES = {
+    "model_toml": MODEL_TOML,
+    "dh_csv": DH_CSV,
+    "q_arg": Q_ARG,
+    "q_file": Q_FILE,
+    "poses_csv": POSES,
+    "check_options": CHECK_OPTIONS,
+}
+IN_PROCESS = [
+    pytest.param(*case, id=f"{family}-{name}")
+    for family, cases in FAMILIES.items()
+    for name, case in cases.items()
+]
+
+
+def _make_files(root: Path, files: dict) -> None:
+    for name, content in files.items():
+        path = root / name
+        if content == "FIFO":
+            os.mkfifo(path)
+        elif content == "DIR":
+            path.mkdir()
+        elif callable(content):
+            content(path)
+        elif isinstance(content, bytes):
+            path.write_bytes(content)
+        else:
+            path.write_text(content, encoding="utf-8")
+
+
+def _snapshot(root: Path) -> dict[str, tuple[int, int]]:
+    return {
+        str(p.relative_to(root)): (p.lstat().st_size, p.lstat().st_mtime_ns)
+        for p in sorted(root.rglob("*"))
+    }
+
+
+def _assert_one_clear_line(code: int, err: str, match: str) -> None:
+    assert code == 2, err
+    assert "Traceback" not in err, err
+    lines = err.strip("\n").split("\n")
+    assert len(lines) == 1, err
+    assert re.match(r"fkcheck( \w+)?: error: ", lines[0]), err
+    assert re.search(match, lines[0]), lines[0]
+
+
+@pytest.mark.parametrize(("files", "argv", "match"), IN_PROCESS)
+def test_hostile_input_is_one_line_and_exit_2(tmp_path, monkeypatch, capsys, files, argv, match):
+    _make_files(tmp_path, files)
+    monkeypatch.chdir(tmp_path)
+    before = _snapshot(tmp_path)
+    start = time.monotonic()
+    code = main(argv)
+    elapsed = time.monotonic() - start
+    out, err = capsys.readouterr()
+    _assert_one_clear_line(code, err, match)
+    assert out == ""
+    assert _snapshot(tmp_path) == before  # nothing written, nothing replaced
+    assert elapsed < TIME_BOUND_S
+
+
+@pytest.mark.parametrize(
+    ("files", "argv", "match"),
+    [pytest.param(*case, id=name) for name, case in HANGING.items()],
+)
+def test_hostile_file_kind_is_refused_unopened_in_a_subprocess(tmp_path, files, argv, match):
+    _make_files(tmp_path, files)
+    before = _snapshot(tmp_path)
+    start = time.monotonic()
+    proc = subprocess.run(
+        [sys.executable, "-c", "import sys; from fkcheck.cli import main; sys.exit(main())", *argv],
+        cwd=tmp_path, capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    elapsed = time.monotonic() - start
+    _assert_one_clear_line(proc.returncode, proc.stderr, match)
+    assert proc.stdout == ""
+    assert _snapshot(tmp_path) == before
+    assert elapsed < TIME_BOUND_S
+
+
+# --------------------------------------------------------------------------- what still works
+
+BOM = "\ufeff"
+
+
+def test_byte_order_mark_is_accepted_by_every_text_reader(tmp_path, capsys):
+    model_text = HEAD + JOINT + JOINT.replace("0.1", "0.3")
+    (tmp_path / "plain.toml").write_text(model_text, encoding="utf-8")
+    (tmp_path / "bom.toml").write_text(BOM + model_text, encoding="utf-8")
+    assert load_model(tmp_path / "bom.toml").joints == load_model(tmp_path / "plain.toml").joints
+    csv_text = "# name,a,alpha,d,theta_offset\nj1,0.1,0.5,0.2,0\n"
+    (tmp_path / "bom.csv").write_text(BOM + csv_text, encoding="utf-8")
+    assert load_model(tmp_path / "bom.csv").joints[0].a == 0.1
+    (tmp_path / "bom_first_row.csv").write_text(BOM + "j1,0.1,0.5,0.2,0\n", encoding="utf-8")
+    assert load_model(tmp_path / "bom_first_row.csv").joints[0].name == "j1"
+    ur5 = load_model("ur5")
+    q_file = tmp_path / "q.csv"
+    q_file.write_text(BOM + "0.1,0.2,0.3,0.4,0.5,0.6\n", encoding="utf-8")
+    np.testing.assert_array_equal(read_q_file(q_file, ur5), [[0.1, 0.2, 0.3, 0.4, 0.5, 0.6]])
+    poses = tmp_path / "poses.csv"
+    poses.write_text(BOM + PENDANT_HEAD + ZERO_ROW, encoding="utf-8")
+    q, _, pair = read_poses_file(poses, ur5)
+    assert pair == ("base", "tool0")
+    np.testing.assert_array_equal(q, np.zeros((1, 6)))
+    poses.write_text(BOM + PENDANT_HEAD.split("\n", 1)[1] + ZERO_ROW, encoding="utf-8")
+    assert read_poses_file(poses, ur5)[0].shape == (1, 6)  # the BOM before the header
+
+
+def test_plain_numbers_in_every_spelling_are_read(capsys):
+    code = main(["fk", "ur5", "--q", " +0.5 ;-.5, 3.e-1,1E-1 ,\t0 , 2.5e+0", "--json"])
+    assert code == 0, capsys.readouterr().err
+    assert json.loads(capsys.readouterr().out)["q_rad"] == [0.5, -0.5, 0.3, 0.1, 0.0, 2.5]
+
+
+def _check_poses(model, path: Path, tol: float):
+    backend = MeasuredPoses(str(path))
+    return run_check(model, [backend], samples=0, tol_pos_m=tol, tol_rot_rad=tol)
+
+
+def test_identical_duplicate_rows_are_fine(tmp_path):
+    poses = tmp_path / "p.csv"
+    # The same row twice, once with other spellings of the same numbers.
+    same = SEED_ROW.replace("30,", "30.0,", 1).replace("0.000000\n", "-0\n")
+    poses.write_text(PENDANT_HEAD + SEED_ROW + ZERO_ROW + same, encoding="utf-8")
+    ur5 = load_model("ur5")
+    result = _check_poses(ur5, poses, tol=1e-3)
+    assert result.q.shape == (3, 6)
+    assert result.backends[0].status == "pass", result.backends[0].message
+
+
+def _pendant_rows(model, q_deg: np.ndarray) -> list[str]:
+    q = np.radians(q_deg)
+    T = relative_pose(*reference_poses(model, q, ("base", "tool0")))
+    rows = np.hstack([q_deg, pose_from_matrix(T, "rotvec") * [1e3, 1e3, 1e3, 1, 1, 1]])
+    return [",".join(repr(float(v)) for v in row) for row in rows]
+
+
+def test_40k_row_poses_file_is_matched_in_near_linear_time(tmp_path, rng):
+    ur5 = load_model("ur5")
+    q_deg = np.round(rng.uniform(-170, 170, size=(40_000, 6)), 3)
+    poses = tmp_path / "p.csv"
+    poses.write_text(PENDANT_HEAD + "\n".join(_pendant_rows(ur5, q_deg)) + "\n", encoding="utf-8")
+    start = time.monotonic()
+    result = _check_poses(ur5, poses, tol=1e-6)
+    elapsed = time.monotonic() - start
+    assert result.q.shape == (40_000, 6)
+    assert result.backends[0].status == "pass", result.backends[0].message
+    assert elapsed < 15.0  # measured ~1.5 s on 2 busy cores; quadratic matching took 56 s
+
+
+def test_poses_matched_within_tolerance_and_missing_ones_named(tmp_path):
+    ur5 = load_model("ur5")
+    poses = tmp_path / "p.csv"
+    poses.write_text(PENDANT_HEAD + SEED_ROW + ZERO_ROW, encoding="utf-8")
+    backend = MeasuredPoses(str(poses))
+    q = backend.configurations(ur5)
+    nudged = q + np.array([[5e-10], [-5e-10]])  # not bit for bit a row, within MATCH_TOL
+    np.testing.assert_array_equal(
+        backend.frame_poses(ur5, nudged, ("base", "tool0")),
+        backend.frame_poses(ur5, q, ("base", "tool0")),
+    )
+    from fkcheck.backends.base import BackendUnavailable
+
+    with pytest.raises(BackendUnavailable, match="no pose for configuration 1"):
+        backend.frame_poses(ur5, q + np.array([[0.0], [2e-9]]), ("base", "tool0"))
+
+
+def _chain_model(n: int):
+    joints = [
+        {"name": f"j{i}", "a": 0.01, "alpha": 0.3, "d": 0.02, "limits": [-1.0, 2.0]}
+        for i in range(n)
+    ]
+    return model_from_dict({"name": f"arm{n}", "convention": "standard", "joint": joints})
+
+
+@pytest.mark.parametrize("n", [8, 9, 62, 63, 64, 256])
+def test_corner_sampling_works_up_to_256_joints(n):
+    model = _chain_model(n)
+    samples = sample_configurations(model, 5, seed=11)
+    corners = samples.q[np.array(samples.origin) == "corner"]
+    assert corners.shape == (min(2**n, MAX_CORNERS), n)
+    assert len(np.unique(corners, axis=0)) == corners.shape[0]  # distinct corners
+    lo, hi = sampling_box(model)
+    assert ((corners == lo) | (corners == hi)).all()
+    assert np.isfinite(samples.q).all()
+    again = sample_configurations(model, 5, seed=11)
+    np.testing.assert_array_equal(again.q, samples.q)  # seeded
+    other = sample_configurations(model, 5, seed=12)
+    if 2**n > MAX_CORNERS:
+        assert not np.array_equal(other.q, samples.q)
+
+
+def test_a_64_joint_model_is_checked(capsys):
+    model = _chain_model(64)
+    result = run_check(model, _dh_backends(), samples=20)
+    assert result.verdict == "pass", [b.message for b in result.backends]
+
+
+def _dh_backends():
+    from fkcheck.backends.registry import parse_against
+
+    return parse_against(["pinocchio-dh"])
+
+
+def test_model_bounds_are_the_documented_ones():
+    assert (MAX_LENGTH_M, MAX_JOINT_RAD) == (1e3, 1e3)
+    at_bound = HEAD + "[[joint]]\na = 1000.0\nalpha = 0.0\nd = -1000.0\nlimits = [-1000, 1000]\n"
+    import tomllib
+
+    model = model_from_dict(tomllib.loads(at_bound))
+    assert model.joints[0].a == 1000.0
+    assert np.isfinite(model.fk(np.array([1000.0]))).all()
+
+
+def test_fk_output_in_chunks_is_the_one_call_output(monkeypatch, rng):
+    import fkcheck.commands.fk as fk_command
+    import fkcheck.dh
+
+    model = load_model("ur5")
+    q = rng.uniform(-3, 3, (37, 6))
+    monkeypatch.setattr(fk_command, "_CHUNK", 16)
+    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 10)  # the whole batch "takes the JIT"
+    chunks = list(fk_command._fk_chunks(model, q, all_frames=False))
+    # 16 + 16 + 5: the short last chunk joins the one before, so every chunk is a JIT batch.
+    assert [len(c) for c, _ in chunks] == [16, 21]
+    np.testing.assert_array_equal(np.concatenate([T for _, T in chunks]), model.fk(q))
+    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 20)  # chunks never below the JIT's size
+    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [37]
+    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 40)  # the whole batch on the NumPy path
+    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [16, 16, 5]
+    frames = list(fk_command._fk_chunks(model, q, all_frames=True))
+    assert [len(c) for c, _ in frames] == [2] * 18 + [1]  # 16 // 7 configurations a chunk
+    np.testing.assert_array_equal(
+        np.concatenate([T for _, T in frames]), model.fk(q, all_frames=True)
+    )
+
+
+@pytest.mark.parametrize("fmt", ["matrix", "quat"])
+def test_fk_q_file_json_is_byte_for_byte_one_json_array(tmp_path, capsys, monkeypatch, rng, fmt):
+    import fkcheck.commands.fk as fk_command
+
+    monkeypatch.setattr(fk_command, "_CHUNK", 4)  # several chunks
+    q = rng.uniform(-1, 1, (11, 6))
+    path = tmp_path / "q.csv"
+    path.write_text("\n".join(",".join(repr(float(v)) for v in row) for row in q) + "\n")
+    assert main(["fk", "ur5", "--q-file", str(path), "--json", "--format", fmt]) == 0
+    out = capsys.readouterr().out
+    records = json.loads(out)
+    assert out == json.dumps(records) + "\n"
+    assert len(records) == 11
+    np.testing.assert_array_equal([r["q_rad"] for r in records], q)
+
+
+class _CountingSink(io.TextIOBase):
+    """Stands in for stdout: counts what is written, keeps nothing."""
+
+    def __init__(self) -> None:
+        self.chars = 0
+        self.tail = ""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, text: str) -> int:
+        self.chars += len(text)
+        self.tail = (self.tail + text)[-8:]
+        return len(text)
+
+
+def test_fk_q_file_json_memory_is_the_configurations_and_one_chunk(tmp_path, monkeypatch, rng):
+    # A million lines peaked at 4.1 GB: every record and the whole JSON string at once.
+    # Here 6 000 lines in chunks of 1 000: all at once held ~20 MB of Python objects;
+    # streaming holds q (0.3 MB), one chunk of poses (0.1 MB) and one chunk's records.
+    import fkcheck.commands.fk as fk_command
+
+    monkeypatch.setattr(fk_command, "_CHUNK", 1000)
+    path = tmp_path / "q.csv"
+    q = rng.uniform(-1, 1, (6000, 6))
+    path.write_text("\n".join(",".join(repr(float(v)) for v in row) for row in q) + "\n")
+    warm = tmp_path / "warm.csv"
+    warm.write_text("0,0,0,0,0,0\n0,0,0,0,0,0\n")
+    sink = _CountingSink()
+    monkeypatch.setattr(sys, "stdout", sink)
+    assert main(["fk", "ur5", "--q-file", str(warm), "--json"]) == 0  # imports done
+    tracemalloc.start()
+    try:
+        assert main(["fk", "ur5", "--q-file", str(path), "--json"]) == 0
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert sink.tail.endswith("]]}]\n")
+    assert sink.chars > 6000 * 500  # every record was written
+    assert peak < 5e6, f"peak {peak / 1e6:.1f} MB"
