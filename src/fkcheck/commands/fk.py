@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from fkcheck.report.strict_json import strict_json
 
 __all__ = ["add_parser", "run"]
 
@@ -63,10 +64,11 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.errors import JointInputError
     from fkcheck.joint_input import check_limits, parse_q, read_q_file, to_internal_units
     from fkcheck.model import load_model
+    from fkcheck.safe_text import terminal_text
 
     model = load_model(args.model)
     for warning in model.warnings:
-        print(f"fkcheck: warning: {warning}", file=sys.stderr)
+        print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     if args.q_file is not None:
         q = to_internal_units(read_q_file(args.q_file, model), model, degrees=args.deg)
     elif args.pose is not None:
@@ -88,14 +90,14 @@ def run(args: argparse.Namespace) -> int:
         return _print_formatted(model.name, q, T, args)
     if q.ndim == 1:
         if args.json:
-            print(json.dumps(_record(model.name, q, T)))
+            print(strict_json(_record(model.name, q, T)))
         elif args.all_frames:
             print("\n\n".join(f"T_0_{i} =\n{_format_matrix(Ti)}" for i, Ti in enumerate(T)))
         else:
             print(_format_matrix(T))
         return 0
     if args.json:
-        print(json.dumps([_record(model.name, qi, Ti) for qi, Ti in zip(q, T, strict=True)]))
+        print(strict_json([_record(model.name, qi, Ti) for qi, Ti in zip(q, T, strict=True)]))
     else:
         # One line per configuration: the row-major 4x4 (or every frame's, in order).
         lines = (" ".join(repr(float(v)) for v in Ti.reshape(-1)) for Ti in T)
@@ -115,7 +117,7 @@ def _print_formatted(
         if args.json:
             record = _record(model_name, q, T)
             record.update(pose_record(poses[-1], fmt))
-            print(json.dumps(record))
+            print(strict_json(record))
         else:
             lines = [format_pose(Ti, fmt, degrees=args.deg) for Ti in poses]
             if args.all_frames:
@@ -129,7 +131,7 @@ def _print_formatted(
             record = _record(model_name, qi, Ti)
             record.update(pose_record(Tl, fmt))
             records.append(record)
-        print(json.dumps(records))
+        print(strict_json(records))
     else:
         # One line per configuration: x y z and the rotation numbers (radians).
         numbers = pose_from_matrix(last, fmt)
