@@ -29,7 +29,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import IO, NoReturn
 
 from fkcheck import __version__
 from fkcheck.errors import FkcheckError
@@ -56,6 +56,11 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {terminal_text(message)}\n")
+
+    def _print_message(self, message: str, file: IO[str] | None = None) -> None:
+        """As argparse's, without swallowing a failed write (``--help > /dev/full``)."""
+        if message:
+            (file or sys.stderr).write(message)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -149,11 +154,13 @@ def _run(args_list: list[str]) -> int:
         args_list = list(MAIN_JOB)
     try:
         args = parser.parse_args(args_list)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_OK
     except SystemExit as exc:  # --help, --version, or a usage error (already printed)
         return int(exc.code or 0)
-    if args.command is None:
-        parser.print_help()
-        return EXIT_OK
+    except OSError as exc:  # --help on a stdout that cannot be written
+        return _os_error(exc)
     args.argv = args_list
     try:
         code = int(args.run(args))
@@ -168,20 +175,26 @@ def _run(args_list: list[str]) -> int:
         print(f"fkcheck: terminated (SIGTERM): results incomplete, {_written(args)}",
               file=sys.stderr)  # fmt: skip
         return 143
-    except BrokenPipeError:
+    except OSError as exc:  # BrokenPipeError included
+        return _os_error(exc)
+    return code
+
+
+def _os_error(exc: OSError) -> int:
+    """Stdout failing mid-run, or a file that vanished or filled up: one line, exit 2."""
+    if isinstance(exc, BrokenPipeError):
         _silence_stdout()
         return EXIT_OK
-    except OSError as exc:  # stdout failing mid-run, or a file that vanished or filled up
-        if exc.filename is not None:
-            where = f"{exc.filename}: "
-        elif exc.errno in _WRITE_ERRORS:  # files fkcheck writes name themselves; stdout does not
-            where = "cannot write standard output: "
-        else:
-            where = ""
-        print(f"fkcheck: error: {terminal_text(where)}{terminal_text(exc.strerror or exc)}",
-              file=sys.stderr)  # fmt: skip
-        return EXIT_BAD_INPUT
-    return code
+    if exc.filename is not None:
+        where = f"{exc.filename}: "
+    elif exc.errno in _WRITE_ERRORS:  # files fkcheck writes name themselves; stdout does not
+        _silence_stdout()
+        where = "cannot write standard output: "
+    else:
+        where = ""
+    print(f"fkcheck: error: {terminal_text(where)}{terminal_text(exc.strerror or exc)}",
+          file=sys.stderr)  # fmt: skip
+    return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":

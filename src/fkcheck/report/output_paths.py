@@ -313,23 +313,24 @@ def step_summary_problem(
     directory, that is neither an input nor an output of the run.
     """
     target = Path(path)
+    identity = _identity(target)
+    for output in plan.outputs if plan is not None else ():
+        same_file = identity is not None and output.before == identity
+        if same_file or os.path.realpath(output.path) == os.path.realpath(target):
+            return f"is also {output.flag}, an output of this run"
     try:
         st = os.stat(target)
     except FileNotFoundError:
         if not target.parent.is_dir():
-            return f"{target.parent} is not an existing directory"
+            return f"its directory {target.parent} does not exist"
         return None
     except (OSError, ValueError) as exc:
         return getattr(exc, "strerror", None) or str(exc)
     if not stat.S_ISREG(st.st_mode):
         return f"is {_kind(st.st_mode)}, not a regular file"
-    identity = (st.st_dev, st.st_ino)
-    label = _input_identities(inputs).get(identity)
+    label = _input_identities(inputs).get((st.st_dev, st.st_ino))
     if label is not None:
         return f"is {label}, an input of this run"
-    for output in plan.outputs if plan is not None else ():
-        if output.before == identity or os.path.realpath(output.path) == os.path.realpath(target):
-            return f"is also {output.flag}, an output of this run"
     return None
 
 
