@@ -29,11 +29,14 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
-from typing import IO, NoReturn
+from typing import TYPE_CHECKING, NoReturn
 
 from fkcheck import __version__
 from fkcheck.errors import FkcheckError
 from fkcheck.safe_text import terminal_text
+
+if TYPE_CHECKING:
+    from _typeshed import SupportsWrite
 
 __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
@@ -57,7 +60,7 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str) -> NoReturn:
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {terminal_text(message)}\n")
 
-    def _print_message(self, message: str, file: IO[str] | None = None) -> None:
+    def _print_message(self, message: str, file: SupportsWrite[str] | None = None) -> None:
         """As argparse's, without swallowing a failed write (``--help > /dev/full``)."""
         if message:
             (file or sys.stderr).write(message)
