@@ -176,8 +176,13 @@ def _existing_ancestor(flag: str, path: Path) -> tuple[Path, list[str]]:
         return current, missing[::-1]
 
 
-def _check_writable_location(flag: str, path: Path) -> None:
+def _check_writable_location(flag: str, path: Path, probed: set[Path] | None = None) -> None:
     """The directory of ``path`` exists or can be created, accepts files, and names fit.
+
+    Args:
+        flag: The option naming ``path``, for the message.
+        path: The output path.
+        probed: Directories already shown to accept a file in this plan (updated).
 
     Raises:
         OutputPathError: It does not.
@@ -191,6 +196,8 @@ def _check_writable_location(flag: str, path: Path) -> None:
             )
     if len(os.fsencode(os.path.abspath(path))) >= _limit(directory, "PC_PATH_MAX", _PATH_MAX):
         raise OutputPathError(flag, path, "the path is longer than the file system allows")
+    if probed is not None and directory in probed:
+        return
     try:  # the one test that is true for root, read-only mounts and /proc alike
         fd, probe = tempfile.mkstemp(prefix=".fkcheck-probe-", dir=directory)
     except OSError as exc:
@@ -200,6 +207,8 @@ def _check_writable_location(flag: str, path: Path) -> None:
     os.close(fd)
     with contextlib.suppress(OSError):
         os.unlink(probe)
+    if probed is not None:
+        probed.add(directory)
 
 
 def _input_identities(inputs: Iterable[tuple[str, Path | str | None]]) -> dict[_Identity, str]:
@@ -213,7 +222,9 @@ def _input_identities(inputs: Iterable[tuple[str, Path | str | None]]) -> dict[_
     return found
 
 
-def _check_one(flag: str, path: Path, inputs: dict[_Identity, str]) -> _Identity | None:
+def _check_one(
+    flag: str, path: Path, inputs: dict[_Identity, str], probed: set[Path]
+) -> _Identity | None:
     """Apply the policy to one output; its identity before the run (``None`` when new)."""
     try:
         st = os.stat(path)
@@ -235,7 +246,7 @@ def _check_one(flag: str, path: Path, inputs: dict[_Identity, str]) -> _Identity
             raise OutputPathError(
                 flag, path, f"is {inputs[identity]}, an input of this run: write elsewhere"
             )
-    _check_writable_location(flag, path)
+    _check_writable_location(flag, path, probed)
     return identity
 
 
@@ -263,11 +274,12 @@ def plan_outputs(
     planned: list[Output] = []
     seen: dict[str, str] = {}
     seen_ids: dict[_Identity, str] = {}
+    probed: set[Path] = set()
     for flag, raw in outputs:
         if raw is None:
             continue
         path = Path(raw)
-        identity = _check_one(flag, path, known)
+        identity = _check_one(flag, path, known, probed)
         key = os.path.realpath(path)
         other = seen.get(key) or (seen_ids.get(identity) if identity is not None else None)
         if other is not None:
