@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Literal
 
 from fkcheck.model import FrameSpec, Joint, Model, Offset
+from fkcheck.safe_text import terminal_text
 
 __all__ = ["frame_toml", "model_to_toml", "relocate_urdf_path", "toml_key", "toml_number"]
 
@@ -35,11 +36,12 @@ def toml_number(value: float) -> str:
 
 def toml_key(key: str) -> str:
     """A table key: bare when it can be, else a quoted string."""
-    return key if _BARE_KEY.match(key) else json.dumps(key, ensure_ascii=False)
+    return key if _BARE_KEY.match(key) else _string(key)
 
 
 def _string(text: str) -> str:
-    return json.dumps(text, ensure_ascii=False)
+    """A TOML basic string: JSON's escapes are TOML's, and TOML escapes DEL too."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
 
 
 def _numbers(values: Sequence[float]) -> str:
@@ -50,7 +52,8 @@ def _comment(lines: str | Sequence[str] | None) -> list[str]:
     if not lines:
         return []
     items = lines.splitlines() if isinstance(lines, str) else list(lines)
-    return [f"# {line}".rstrip() for line in items]
+    # A comment line holds no control character (TOML): names in it show them escaped.
+    return [f"# {terminal_text(line)}".rstrip() for line in items]
 
 
 def _angle(value: float, unit: Literal["rad", "deg"]) -> float:

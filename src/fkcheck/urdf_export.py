@@ -18,10 +18,16 @@ joint without limits is ``continuous``; a prismatic joint without limits gets
 ±1 m (the range fkcheck samples it over). ``effort`` and ``velocity`` are
 required by URDF readers but unknown to a DH table: they are written as 0.
 No inertia, no geometry — this is a kinematic description.
+
+The document is always well-formed XML: a name holding a character XML 1.0
+cannot carry (NUL and the other control characters but tab and newline) is
+refused with the field that holds it, since renaming it silently would break
+the mapping from the model to the URDF.
 """
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, replace
 
@@ -31,6 +37,7 @@ from numpy.typing import NDArray
 from fkcheck.errors import ModelError
 from fkcheck.model import FrameSpec, Model, Offset, UrdfSpec
 from fkcheck.model_toml import toml_number
+from fkcheck.safe_text import unsafe_xml_character
 from fkcheck.sampling import UNLIMITED_PRISMATIC_M
 from fkcheck.se3 import offset_from_matrix
 from fkcheck.transforms import rot_x, rot_z, translation
@@ -76,6 +83,26 @@ def _fixed(robot: ET.Element, name: str, parent: str, child: str, offset: Offset
     _origin(joint, offset)
 
 
+def _check_names(model: Model, robot_name: str | None) -> None:
+    """Refuse a name the URDF cannot carry as it is.
+
+    Raises:
+        ModelError: A model, joint or frame name (or ``--name``) holds a character
+            XML 1.0 cannot carry.
+    """
+    named = [("--name" if robot_name else "name", robot_name or model.name)]
+    named += [(f"joint[{i}].name", joint.name) for i, joint in enumerate(model.joints, start=1)]
+    named += [(f"frames.{name}", name) for name in model.frames]
+    for field, name in named:
+        bad = unsafe_xml_character(name)
+        if bad is not None:
+            raise ModelError(
+                model.path,
+                field,
+                f"{name!r} holds {bad}, which a URDF (XML) cannot carry; rename it",
+            )
+
+
 def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     """The model as a kinematic URDF.
 
@@ -85,17 +112,19 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
 
     Raises:
         ModelError: A named frame or joint name collides with a generated link
-            (``world``, ``tcp``, ``dh_frame_<i>``, ``dh_joint_<i>``).
+            (``world``, ``tcp``, ``dh_frame_<i>``, ``dh_joint_<i>``), or a name
+            holds a character XML cannot carry.
     """
+    _check_names(model, robot_name)
     n = model.dof
     robot = ET.Element("robot", name=robot_name or model.name)
-    robot.append(
-        ET.Comment(
-            f" Written by fkcheck urdf from the {model.convention} DH model {model.name!r}. "
-            "Kinematics only: no inertia, no geometry; effort and velocity limits are unknown "
-            "to a DH table and written as 0. "
-        )
+    comment = (
+        f" Written by fkcheck urdf from the {model.convention} DH model {model.name!r}. "
+        "Kinematics only: no inertia, no geometry; effort and velocity limits are unknown "
+        "to a DH table and written as 0. "
     )
+    # repr() escaped the name's control characters; "--" may not appear in a comment.
+    robot.append(ET.Comment(re.sub(r"-(?=-)", "- ", comment)))
     generated = {"world", "tcp"} | {f"dh_frame_{i}" for i in range(n + 1)}
     if model.convention == "standard":
         generated |= {f"dh_joint_{i}" for i in range(1, n + 1)}

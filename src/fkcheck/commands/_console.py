@@ -22,6 +22,8 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
     On a terminal rich follows the terminal's width; ``$COLUMNS``, when set,
     wins either way. The stream itself is asked, not rich: ``FORCE_COLOR``
     (set on many CI runners) makes rich treat a pipe as a terminal of 80 columns.
+    Emoji codes (``:warning:``) print as written: text from input stays literal
+    (its markup is escaped by :func:`fkcheck.safe_text.terminal_markup`).
     """
     from rich.console import Console
 
@@ -31,4 +33,4 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
     except (AttributeError, ValueError):  # replaced or closed stream
         tty = False
     width = None if tty or os.environ.get("COLUMNS") else PIPE_WIDTH
-    return Console(stderr=stderr, highlight=highlight, width=width)
+    return Console(stderr=stderr, highlight=highlight, width=width, emoji=False)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 from typing import Any
@@ -61,9 +60,12 @@ def run(args: argparse.Namespace) -> int:
     """Run the benchmark, print the table, write the JSON; 1 if a peer disagrees or fails."""
     from fkcheck.benchmark import run_bench
     from fkcheck.commands._console import console
+    from fkcheck.commands._outputs import model_inputs, plan
     from fkcheck.model import load_model
+    from fkcheck.safe_text import terminal_text
 
     model = load_model(args.model)
+    plan(args, [("--json", args.json)], model_inputs(model))
     with console(stderr=True).status("timing…") as status:
         result = run_bench(
             model,
@@ -89,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
     if disagree:
         print(
             f"fkcheck bench: disagree with the in-house core by more than {tol:g} m: "
-            f"{', '.join(disagree)}",
+            f"{terminal_text(', '.join(disagree))}",
             file=sys.stderr,
         )
         return 1
@@ -102,9 +104,12 @@ def _table(result: Any, tol: float) -> Any:
     from rich.table import Table
     from rich.text import Text
 
+    from fkcheck.safe_text import terminal_markup, terminal_text
+
     best = result.fastest_peer
     table = Table(
-        title=f"fkcheck bench {result.model}: N = {result.n:,}, median of {result.repeat} runs"
+        title=f"fkcheck bench {terminal_markup(result.model)}: N = {result.n:,}, median of "
+        f"{result.repeat} runs"
     )
     table.add_column("implementation", no_wrap=True)
     table.add_column("n", justify="right")
@@ -115,7 +120,7 @@ def _table(result: Any, tol: float) -> Any:
     table.add_column("max |Δp| m", justify="right")
     notes = []
     for t in result.timings:
-        notes.append(f"{t.name}: {f'skipped, {t.skipped}' if t.skipped else t.note}")
+        notes.append(terminal_text(f"{t.name}: {f'skipped, {t.skipped}' if t.skipped else t.note}"))
         if t.skipped:
             table.add_row(t.name, f"{t.n:,}", "", "skipped", "", "", "", style="dim")
             continue
@@ -169,11 +174,12 @@ def _us(value: float) -> str:
 
 
 def write_json(path: Path, data: dict[str, Any]) -> None:
-    """Write ``data`` as indented JSON, atomically (see :mod:`fkcheck.report.atomic`).
+    """Write ``data`` as indented strict JSON (:mod:`fkcheck.report.strict_json`), atomically.
 
     Raises:
         TypeError: ``data`` holds something JSON cannot encode (nothing is written).
     """
     from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.report.strict_json import strict_json
 
-    write_text_atomic(path, json.dumps(data, indent=2) + "\n")
+    write_text_atomic(path, strict_json(data, indent=2) + "\n")

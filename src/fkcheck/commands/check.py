@@ -6,7 +6,13 @@ checks every bundled model and writes, into ``--out-dir`` (default
 ``reports/``), each model's ``<model>.json``, ``<model>.html`` and
 ``<model>.junit.xml`` plus ``index.html``, the dashboard linking them. Either
 way, when the environment variable ``GITHUB_STEP_SUMMARY`` names a file (as on
-GitHub Actions), the Markdown summary is appended to it. The HTML report of a
+GitHub Actions), the Markdown summary is appended to it — if it is a regular
+file, or a new one in an existing directory, and neither an input nor an output
+of the run; otherwise a warning says why and the check goes on with its own
+exit code (the CI page's file is not the check's business). Every output path
+is checked before the check runs (:mod:`fkcheck.report.output_paths`): a path
+that is an input, shared by two outputs, not a regular file, or in a directory
+that cannot take it is bad input (exit 2). The HTML report of a
 failing check has a Diagnosis section (``fkcheck diagnose`` run against the
 disagreeing backends) unless ``--no-diagnose`` is given; the JSON is the same
 with or without it.
@@ -16,13 +22,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import os
 import shlex
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.errors import FkcheckError
+from fkcheck.safe_text import terminal_markup, terminal_text
 
 if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
@@ -143,7 +149,6 @@ def _worst_q(result: BackendResult, check: CheckResult) -> str:
 
 def print_summary(check: CheckResult) -> None:
     """The terminal table and verdict line."""
-    from rich.markup import escape
     from rich.table import Table
 
     from fkcheck.commands._console import console as make_console
@@ -151,11 +156,12 @@ def print_summary(check: CheckResult) -> None:
 
     console = make_console(highlight=False)
     title = (
-        f"fkcheck {check.model.name}: {check.frame_from} → {check.frame_to}, "
+        f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
+        f"{terminal_markup(check.frame_to)}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
     )
-    table = Table(title=escape(title), title_justify="left")
+    table = Table(title=title, title_justify="left")
     for column in (
         "backend",
         "evidence",
@@ -173,29 +179,33 @@ def print_summary(check: CheckResult) -> None:
     for r in check.backends:
         if r.ran:
             table.add_row(
-                escape(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
                 _length(r.max_position_error_m), _angle(r.max_rotation_error_rad),
-                escape(_worst_q(r, check)), f"{r.duration_s:.2f} s",
+                terminal_markup(_worst_q(r, check)), f"{r.duration_s:.2f} s",
             )  # fmt: skip
         else:
-            table.add_row(escape(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
-                          escape(r.message), "", "", "")  # fmt: skip
+            table.add_row(
+                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                terminal_markup(r.message), "", "", "",
+            )  # fmt: skip
     console.print(table)
     for r in check.backends:
         if r.status == "fail":
-            console.print(f"[bold red]{escape(r.name)}[/]: {escape(r.message)}")
+            name, message = terminal_markup(r.name), terminal_markup(r.message)
+            console.print(f"[bold red]{name}[/]: {message}")
     evidence = check.evidence
     implementation, table_text = evidence_sentences(evidence)
     table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow"}
-    console.print(
-        f"evidence: [{table_style[evidence.implementation.status]}]{escape(implementation)}[/]"
-    )
-    console.print(f"          [{table_style[evidence.table.status]}]{escape(table_text)}[/]")
+    imp_style = table_style[evidence.implementation.status]
+    tab_style = table_style[evidence.table.status]
+    console.print(f"evidence: [{imp_style}]{terminal_markup(implementation)}[/]")
+    console.print(f"          [{tab_style}]{terminal_markup(table_text)}[/]")
     line = headline(check.verdict, evidence, len(check.ran))
     style = "bold green" if check.verdict == "pass" else "bold red"
     if check.verdict == "pass" and evidence.table.status != "verified":
         style = "bold yellow"
-    console.print(f"[{style}]verdict: {escape(line)}[/] ({len(check.ran)} backend(s) answered)")
+    answered = len(check.ran)
+    console.print(f"[{style}]verdict: {terminal_markup(line)}[/] ({answered} backend(s) answered)")
 
 
 def _validate(args: argparse.Namespace) -> None:
@@ -270,16 +280,17 @@ def _check(args: argparse.Namespace, model: Model, backends: list[Backend]) -> C
     )
 
 
-def _summaries(args: argparse.Namespace, checks: list[CheckResult]) -> None:
-    """The Markdown summary: to ``--summary`` and appended to ``$GITHUB_STEP_SUMMARY``."""
-    from fkcheck.report.markdown import append_summary, markdown_summary, write_summary
+def _summaries(
+    args: argparse.Namespace, checks: list[CheckResult], step_summary: str | None
+) -> None:
+    """The Markdown summary: to ``--summary`` and appended to ``step_summary`` when given."""
+    from fkcheck.commands._outputs import append_to_step_summary
+    from fkcheck.report.markdown import markdown_summary, write_summary
 
     text = markdown_summary(checks)
     if args.summary is not None:
         write_summary(args.summary, text)
-    step_summary = os.environ.get("GITHUB_STEP_SUMMARY")
-    if step_summary:
-        append_summary(step_summary, text)
+    append_to_step_summary(step_summary, text)
 
 
 def _model_command(args: argparse.Namespace, model: str) -> str:
@@ -313,7 +324,7 @@ def _print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
     if failed:
         argv = ["diagnose", model_arg, "--against", failed[0].name, "--from", check.frame_from,
                 "--to", check.frame_to]  # fmt: skip
-        print(f"hint: explain it: fkcheck {shlex.join(argv)}")
+        print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
 
 
 def _run_all(args: argparse.Namespace) -> int:
@@ -321,25 +332,36 @@ def _run_all(args: argparse.Namespace) -> int:
     import datetime as _dt
     from dataclasses import replace
 
+    from fkcheck.commands._outputs import backend_inputs, model_inputs, plan, step_summary_target
     from fkcheck.model import bundled_model_paths, load_model
     from fkcheck.report.build import IndexEntry, build_index_page
     from fkcheck.report.html import write_html, write_index
     from fkcheck.report.json_report import write_json
     from fkcheck.report.junit import write_junit
+    from fkcheck.report.output_paths import check_output_dir
 
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     out_dir: Path = args.out_dir or DEFAULT_OUT_DIR
+    check_output_dir("--out-dir", out_dir)
+    models = {stem: load_model(path) for stem, path in bundled_model_paths().items()}
+    inputs = [item for model in models.values() for item in model_inputs(model)]
+    inputs += backend_inputs(_backends(args))
+    # File names come from the bundled file's name, never from text inside it.
+    files = {stem: (f"{stem}.html", f"{stem}.json", f"{stem}.junit.xml") for stem in models}
+    outputs = [("--out-dir", out_dir / name) for names in files.values() for name in names]
+    output_plan = plan(
+        args, [*outputs, ("--out-dir", out_dir / "index.html"), ("--summary", args.summary)], inputs
+    )
+    step_summary = step_summary_target(inputs, output_plan)
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
-    for stem, path in bundled_model_paths().items():
-        model = load_model(path)
+    for stem, model in models.items():
         for warning in model.warnings:
-            print(f"fkcheck: warning: {stem}: {warning}", file=sys.stderr)
+            print(f"fkcheck: warning: {stem}: {terminal_text(warning)}", file=sys.stderr)
         backends = _backends(args)
         check = replace(_check(args, model, backends), command=_model_command(args, stem))
         print_summary(check)
-        # File names come from the bundled file's name, never from text inside it.
-        names = (f"{stem}.html", f"{stem}.json", f"{stem}.junit.xml")
+        names = files[stem]
         write_html(check, out_dir / names[0], backends, diagnose=args.diagnose)
         write_json(check, out_dir / names[1])
         write_junit(check, out_dir / names[2])
@@ -347,7 +369,7 @@ def _run_all(args: argparse.Namespace) -> int:
         checks.append(check)
     command = "fkcheck " + shlex.join(getattr(args, "argv", []))
     write_index(build_index_page(entries, command=command, created=created), out_dir / "index.html")
-    _summaries(args, checks)
+    _summaries(args, checks, step_summary)
     failed = [c.model.name for c in checks if c.verdict != "pass"]
     verified = [c.model.name for c in checks if c.evidence.table.status == "verified"]
     unchecked = [c.model.name for c in checks if c.evidence.table.status == "not-checked"]
@@ -367,6 +389,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the check, print, write the requested files."""
     from dataclasses import replace
 
+    from fkcheck.commands._outputs import backend_inputs, model_inputs, plan, step_summary_target
     from fkcheck.model import load_model
     from fkcheck.report.html import write_html
     from fkcheck.report.json_report import write_json
@@ -378,8 +401,12 @@ def run(args: argparse.Namespace) -> int:
         return _run_all(args)
     model = load_model(args.model)
     for warning in model.warnings:
-        print(f"fkcheck: warning: {warning}", file=sys.stderr)
+        print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     backends = _backends(args)
+    inputs = [*model_inputs(model), *backend_inputs(backends)]
+    outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
+               ("--summary", args.summary)]  # fmt: skip
+    step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     check = _check(args, model, backends)
     check = replace(check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
     print_summary(check)
@@ -390,5 +417,5 @@ def run(args: argparse.Namespace) -> int:
         write_junit(check, args.junit)
     if args.html is not None:
         write_html(check, args.html, backends, diagnose=args.diagnose)
-    _summaries(args, [check])
+    _summaries(args, [check], step_summary)
     return 0 if check.verdict == "pass" else 1

@@ -38,16 +38,19 @@ def run(args: argparse.Namespace) -> int:
     """Convert, verify, write."""
     import tomllib
 
+    from fkcheck.commands._outputs import model_inputs, plan
     from fkcheck.dh_convert import convert_model, equivalence_error
     from fkcheck.errors import JointInputError
     from fkcheck.model import load_model, model_from_dict
     from fkcheck.model_toml import model_to_toml, relocate_urdf_path
     from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.safe_text import terminal_text
     from fkcheck.sampling import sample_configurations
 
     if args.samples < 0:
         raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
     model = load_model(args.model)
+    plan(args, [("-o", args.output)], model_inputs(model))
     converted = convert_model(model, args.to)
     if args.output is not None:
         converted = relocate_urdf_path(converted, args.output)
@@ -64,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     pos, rot = equivalence_error(model, written, q)
     ok = pos <= model.check.tol_pos_m and rot <= model.check.tol_rot_rad
     summary = (
-        f"fkcheck convert: {model.name} {model.convention} → {args.to}: "
+        f"fkcheck convert: {terminal_text(model.name)} {model.convention} → {args.to}: "
         f"{'equivalent' if ok else 'NOT equivalent'} over {q.shape[0]} configurations and "
         f"{len(model.frames)} named frames (max position error {pos:.3g} m, "
         f"max rotation error {rot:.3g} rad)"
@@ -75,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         write_text_atomic(args.output, text)
         print(summary)
-        print(f"wrote {args.output}")
+        print(f"wrote {terminal_text(args.output)}")
         if converted.urdf is not None:
-            print(f"cross-check it against its URDF: fkcheck check {args.output}")
+            print(f"cross-check it against its URDF: fkcheck check {terminal_text(args.output)}")
     return 0 if ok else 1

@@ -42,12 +42,15 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
+    from fkcheck.commands._outputs import plan
     from fkcheck.dh_from_urdf import dh_from_urdf, urdf_spec_for
     from fkcheck.model_toml import model_to_toml
     from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.safe_text import terminal_text
     from fkcheck.urdf_kinematics import read_urdf_file
 
     path, _text, kin = read_urdf_file(args.urdf)
+    plan(args, [("-o", args.output)], [("the URDF", path)])
     spec = urdf_spec_for(path, args.output)
     result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name, urdf_spec=spec)
     model = result.model
@@ -62,7 +65,8 @@ def run(args: argparse.Namespace) -> int:
     ]
     text = model_to_toml(model, header=header, joint_comments=dict(enumerate(result.notes)))
     summary = (
-        f"fkcheck dh-from-urdf: {len(model.joints)} joints ({', '.join(model.joint_names)}); "
+        f"fkcheck dh-from-urdf: {len(model.joints)} joints "
+        f"({terminal_text(', '.join(model.joint_names))}); "
         f"consecutive axes: {', '.join(result.relations) or '-'}; self-check "
         f"{result.self_check_error:.2g}"
     )
@@ -72,5 +76,6 @@ def run(args: argparse.Namespace) -> int:
         return 0
     write_text_atomic(args.output, text)
     print(summary)
-    print(f"wrote {args.output}; check it: fkcheck check {args.output}")
+    written = terminal_text(args.output)
+    print(f"wrote {written}; check it: fkcheck check {written}")
     return 0

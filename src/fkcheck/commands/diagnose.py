@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 from pathlib import Path
@@ -45,10 +44,13 @@ def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
     from fkcheck.backends.base import BackendUnavailable, FixedConfigurations
     from fkcheck.backends.registry import make_backend
+    from fkcheck.commands._outputs import backend_inputs, model_inputs, plan
     from fkcheck.diagnose import diagnose, format_text, to_dict
     from fkcheck.errors import BackendNotFoundError, JointInputError
     from fkcheck.model import load_model
     from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.report.strict_json import strict_json
+    from fkcheck.safe_text import terminal_lines, terminal_text
     from fkcheck.sampling import check_sampling_options
 
     check_sampling_options(args.samples, args.seed, min_samples=1)
@@ -57,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
             raise JointInputError(f"{flag} must be a positive number, got {value}")
     model = load_model(args.model)
     for warning in model.warnings:
-        print(f"fkcheck: warning: {warning}", file=sys.stderr)
+        print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     name = args.against
     if name is None:
         if model.urdf is None:
@@ -66,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
             )
         name = "pinocchio-urdf"
     backend = make_backend(name)
+    plan(args, [("--json", args.json)], [*model_inputs(model), *backend_inputs([backend])])
     reason = backend.unavailable_reason(model)
     if reason is not None:
         raise BackendUnavailable(f"{backend.name} cannot run here: {reason}")
@@ -82,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
         tol_pos_m=args.tol_pos,
         tol_rot_rad=args.tol_rot,
     )
-    sys.stdout.write(format_text(result))
+    sys.stdout.write(terminal_lines(format_text(result)))
     if args.json is not None:
-        write_text_atomic(args.json, json.dumps(to_dict(result), indent=2) + "\n")
+        write_text_atomic(args.json, strict_json(to_dict(result), indent=2) + "\n")
     return 0 if result.agrees or result.explained else 1

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import itertools
-import json
 import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
@@ -17,6 +16,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from fkcheck.report.strict_json import strict_json
 
 if TYPE_CHECKING:
     from fkcheck.model import Model
@@ -91,11 +92,11 @@ def _fk_chunks(
 
 
 def _write_json_array(records: Iterable[dict[str, Any]]) -> None:
-    """Print ``json.dumps(list(records))``, byte for byte, one record at a time."""
+    """Print ``strict_json(list(records))``, byte for byte, one record at a time."""
     separator = "["
     for record in records:
         sys.stdout.write(separator)
-        sys.stdout.write(json.dumps(record))
+        sys.stdout.write(strict_json(record))
         separator = ", "
     sys.stdout.write("]\n")
 
@@ -116,10 +117,11 @@ def run(args: argparse.Namespace) -> int:
         to_internal_units,
     )
     from fkcheck.model import load_model
+    from fkcheck.safe_text import terminal_text
 
     model = load_model(args.model)
     for warning in model.warnings:
-        print(f"fkcheck: warning: {warning}", file=sys.stderr)
+        print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     if args.q_file is not None:
         q = to_internal_units(read_q_file(args.q_file, model), model, degrees=args.deg)
     elif args.pose is not None:
@@ -143,7 +145,7 @@ def run(args: argparse.Namespace) -> int:
     if args.format != "matrix":
         return _print_formatted(model.name, q, T, args)
     if args.json:
-        print(json.dumps(_record(model.name, q, T)))
+        print(strict_json(_record(model.name, q, T)))
     elif args.all_frames:
         print("\n\n".join(f"T_0_{i} =\n{_format_matrix(Ti)}" for i, Ti in enumerate(T)))
     else:
@@ -191,7 +193,7 @@ def _print_formatted(
     if args.json:
         record = _record(model_name, q, T)
         record.update(pose_record(poses[-1], fmt))
-        print(json.dumps(record))
+        print(strict_json(record))
     else:
         lines = [format_pose(Ti, fmt, degrees=args.deg) for Ti in poses]
         if args.all_frames:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 __all__ = ["add_parser", "run"]
@@ -28,13 +27,15 @@ def run(args: argparse.Namespace) -> int:
     """Lint and print."""
     from fkcheck.lint import lint_model
     from fkcheck.model import load_model
+    from fkcheck.report.strict_json import strict_json
+    from fkcheck.safe_text import terminal_text
 
     model = load_model(args.model)
     findings = lint_model(model)
     where = str(model.path) if model.path is not None else model.name
     if args.json:
         print(
-            json.dumps(
+            strict_json(
                 {
                     "model": model.name,
                     "path": where,
@@ -46,7 +47,8 @@ def run(args: argparse.Namespace) -> int:
         )
     else:
         for f in findings:
-            print(f"{where}: {f.field + ': ' if f.field else ''}warning [{f.rule}]: {f.message}")
+            field = f"{f.field}: " if f.field else ""
+            print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
         if not findings:
-            print(f"{where}: clean ({model.dof} joints, {model.convention} DH)")
+            print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
     return 1 if findings else 0

@@ -20,6 +20,7 @@ def run(args: argparse.Namespace) -> int:
 
     from fkcheck.commands._console import console
     from fkcheck.model import bundled_model_paths, load_model
+    from fkcheck.safe_text import terminal_markup
 
     table = Table(title="bundled models", title_justify="left")
     for column in ("model", "DOF", "convention", "URDF", "source"):
@@ -27,6 +28,7 @@ def run(args: argparse.Namespace) -> int:
     for name, path in bundled_model_paths().items():
         model = load_model(path)
         urdf = model.urdf.path.split(":")[-1].rsplit("/", 1)[-1] if model.urdf else "-"
-        table.add_row(name, str(model.dof), model.convention, urdf, model.source)
+        cells = (name, str(model.dof), model.convention, urdf, model.source)
+        table.add_row(*map(terminal_markup, cells))
     console().print(table)
     return 0

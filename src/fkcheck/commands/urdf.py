@@ -37,19 +37,24 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Write the URDF (and the companion model)."""
+    from fkcheck.commands._outputs import model_inputs, plan
     from fkcheck.model import load_model
     from fkcheck.model_toml import model_to_toml
     from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.safe_text import terminal_text
     from fkcheck.urdf_export import model_for_urdf, urdf_from_model
 
     model = load_model(args.model)
+    plan(args, [("-o", args.output), ("--write-model", args.write_model)], model_inputs(model))
     export = urdf_from_model(model, args.name)
     write_text_atomic(args.output, export.text)
-    print(f"wrote {args.output}: {model.dof} joints, {len(export.frame_links)} frames")
+    shown = terminal_text(args.output)
+    print(f"wrote {shown}: {model.dof} joints, {len(export.frame_links)} frames")
     if args.write_model is not None:
         relative = os.path.relpath(args.output.resolve(), args.write_model.resolve().parent)
         mapped = model_for_urdf(model, export, Path(relative).as_posix())
         header = [f"{model.name} mapped onto {args.output.name}, written by fkcheck urdf."]
         write_text_atomic(args.write_model, model_to_toml(mapped, header=header))
-        print(f"wrote {args.write_model}; check it: fkcheck check {args.write_model}")
+        written = terminal_text(args.write_model)
+        print(f"wrote {written}; check it: fkcheck check {written}")
     return 0

@@ -14,6 +14,7 @@ from typing import Any, Literal, get_args
 
 from fkcheck.diagnose.problem import Residual
 from fkcheck.model import Model
+from fkcheck.safe_text import terminal_text
 
 __all__ = [
     "KIND_ORDER",
@@ -265,9 +266,13 @@ def to_dict(d: Diagnosis) -> dict[str, Any]:
 
 
 def format_text(d: Diagnosis) -> str:
-    """The terminal summary: the disagreement, explanations ranked, axes, what was tried."""
+    """The terminal summary: the disagreement, explanations ranked, axes, what was tried.
+
+    Names from input are shown on one line each (:func:`fkcheck.safe_text.terminal_text`).
+    """
+    name, frame_from, frame_to = map(terminal_text, (d.model.name, d.frame_from, d.frame_to))
     lines = [
-        f"fkcheck diagnose {d.model.name}: {d.frame_from} → {d.frame_to} against {d.backend}, "
+        f"fkcheck diagnose {name}: {frame_from} → {frame_to} against {terminal_text(d.backend)}, "
         f"{d.configurations} configurations",
         f"disagreement as given: {d.before.text()} (tolerance {d.tol_pos_m:g} m, "
         f"{d.tol_rot_rad:g} rad)",
@@ -293,7 +298,8 @@ def format_text(d: Diagnosis) -> str:
             dist = "-" if a.distance_m is None else f"{a.distance_m * 1e3:.3f} mm"
             mark = "ok" if a.agrees else ("REVERSED" if a.reversed else "DIFFERS")
             lines.append(
-                f"   joint {a.joint + 1} {a.name}: {math.degrees(a.angle_rad):.3f}°, {dist}  {mark}"
+                f"   joint {a.joint + 1} {terminal_text(a.name)}: "
+                f"{math.degrees(a.angle_rad):.3f}°, {dist}  {mark}"
             )
     if d.axes_note:
         lines.append(f"   {d.axes_note}")

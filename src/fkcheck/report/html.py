@@ -1,10 +1,13 @@
-"""HTML pages from view models: Jinja2 templates shipped in the package, autoescaped.
+r"""HTML pages from view models: Jinja2 templates shipped in the package, autoescaped.
 
 The pages are static and self-contained: CSS inline, pictures as PNG data URIs,
 no scripts, no fonts or anything else fetched from the network, so a report
 opens from disk or from a CI artifact store. Every value is escaped on output
 (``autoescape=True`` for every template), so a model whose name holds
-``<script>`` shows it as text.
+``<script>`` shows it as text, and every string goes through
+:func:`fkcheck.safe_text.document_text` first (the environment's
+``finalize``), so a control character from input shows as a visible escape
+(``\x1b``) instead of reaching the page.
 """
 
 from __future__ import annotations
@@ -12,10 +15,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from fkcheck.report.atomic import write_text_atomic
 from fkcheck.report.views import IndexPage, ReportPage
+from fkcheck.safe_text import document_text
 
 if TYPE_CHECKING:
     import jinja2
@@ -26,11 +30,23 @@ if TYPE_CHECKING:
 __all__ = ["render_index", "render_report", "write_html", "write_index"]
 
 
+def _finalize(value: Any) -> Any:
+    """Every ``{{ … }}`` value: strings without control characters (markup kept as markup)."""
+    from markupsafe import Markup
+
+    if isinstance(value, Markup):
+        return Markup(document_text(value))
+    if isinstance(value, str):
+        return document_text(value)
+    return value
+
+
 @lru_cache(maxsize=1)
 def _environment() -> jinja2.Environment:
     import jinja2
 
     return jinja2.Environment(
+        finalize=_finalize,
         loader=jinja2.PackageLoader("fkcheck.report", "templates"),
         autoescape=True,
         undefined=jinja2.StrictUndefined,

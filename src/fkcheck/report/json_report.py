@@ -1,18 +1,20 @@
 """The JSON result: a contract other tools read (documented in the README).
 
 Identical inputs and seed give identical JSON except ``created`` and the
-``duration_s`` fields.
+``duration_s`` fields. The JSON is strict (:mod:`fkcheck.report.strict_json`):
+a non-finite number is written as ``null``, and its object gets a
+``"non_finite"`` member naming what it was.
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 from fkcheck import __version__
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.report.atomic import write_text_atomic
+from fkcheck.report.strict_json import strict_json
 from fkcheck.verdict import evidence_sentences, headline
 
 __all__ = ["TIME_FIELDS", "result_to_dict", "write_json"]
@@ -89,4 +91,4 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
 
 def write_json(check: CheckResult, path: Path | str) -> Path:
     """Write the result as JSON, atomically."""
-    return write_text_atomic(path, json.dumps(result_to_dict(check), indent=2) + "\n")
+    return write_text_atomic(path, strict_json(result_to_dict(check), indent=2) + "\n")

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from fkcheck.check import CheckResult
 from fkcheck.report.atomic import write_bytes_atomic
+from fkcheck.safe_text import xml_safe_tree
 from fkcheck.verdict import evidence_sentences
 
 __all__ = ["junit_xml", "write_junit"]
@@ -82,6 +83,7 @@ def junit_xml(check: CheckResult) -> bytes:
         suite.set(key, str(value))
     suites = ET.Element("testsuites")
     suites.append(suite)
+    xml_safe_tree(suites)  # text from input: no character XML 1.0 cannot carry
     ET.indent(suites)
     data: bytes = ET.tostring(suites, encoding="utf-8", xml_declaration=True)
     return data

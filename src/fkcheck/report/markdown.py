@@ -1,24 +1,26 @@
 """A short Markdown summary for CI pages (GitHub's job summary and the like).
 
 The verdict and one table, so a CI page shows which backend disagrees and by
-how much without opening an artifact. Text from model files is escaped: HTML
-special characters become entities and Markdown's own (``|``, backticks,
-brackets, emphasis marks) are backslash-escaped, so a model name cannot break
-the table or inject markup.
+how much without opening an artifact. Text from input is escaped
+(:func:`escape_markdown`, which is :func:`fkcheck.safe_text.markdown_text`):
+control characters become visible escapes, HTML special characters become
+entities and Markdown's own (``|``, backticks, brackets, emphasis marks) are
+backslash-escaped, so a model name cannot break the table or inject markup.
+``$GITHUB_STEP_SUMMARY`` is appended to by
+:func:`fkcheck.report.output_paths.append_step_summary`.
 """
 
 from __future__ import annotations
 
-import html
-import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from fkcheck.check import CheckResult
 from fkcheck.report.format import format_deg, format_m, format_mm, format_rad
+from fkcheck.safe_text import markdown_text as escape_markdown
 from fkcheck.verdict import KINDS, evidence_sentences
 
-__all__ = ["append_summary", "escape_markdown", "markdown_summary", "write_summary"]
+__all__ = ["escape_markdown", "markdown_summary", "write_summary"]
 
 _ICON = {
     "pass": "✅",
@@ -30,13 +32,6 @@ _ICON = {
     "failed": "❌",
     "not-checked": "❔",
 }
-_MARKDOWN_SPECIAL = re.compile(r"([\\`*_\[\]|#~])")
-
-
-def escape_markdown(text: str) -> str:
-    """Text safe inside a Markdown table cell: one line, no markup, no HTML."""
-    one_line = " ".join(text.split())
-    return _MARKDOWN_SPECIAL.sub(r"\\\1", html.escape(one_line, quote=False))
 
 
 def _length(value: float | None) -> str:
@@ -115,11 +110,3 @@ def write_summary(path: Path | str, text: str) -> Path:
     from fkcheck.report.atomic import write_text_atomic
 
     return write_text_atomic(path, text)
-
-
-def append_summary(path: Path | str, text: str) -> Path:
-    """Append the summary to a file (as GitHub's ``GITHUB_STEP_SUMMARY`` expects)."""
-    target = Path(path)
-    with target.open("a", encoding="utf-8") as handle:
-        handle.write(text + "\n")
-    return target

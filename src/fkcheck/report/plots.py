@@ -23,6 +23,7 @@ from numpy.typing import NDArray
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.report.evidence import WorstPoses
 from fkcheck.report.views import Image
+from fkcheck.safe_text import terminal_text
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -63,8 +64,12 @@ _PALETTE = (
 
 
 def _text(value: str) -> str:
-    """Text from a model or a backend name, shown literally (``$`` would start mathtext)."""
-    return value.replace("$", r"\$")
+    """Text from a model or a backend name, shown literally.
+
+    One line, control characters as visible escapes
+    (:func:`fkcheck.safe_text.terminal_text`), ``$`` escaped (it would start mathtext).
+    """
+    return terminal_text(value).replace("$", r"\$")
 
 
 def png_data_uri(fig: Figure) -> str:
