@@ -46,6 +46,34 @@ def fuzz(session: nox.Session) -> None:
     session.run("pytest", "-k", "property", "--hypothesis-show-statistics", *session.posargs)
 
 
+#: Address-space limit of `nox -s bounded` (what `ulimit -v` sets), bytes.
+BOUNDED_AS_BYTES = 2 << 30
+
+_BOUNDED_PYTEST = (
+    "import resource, sys, pytest; "
+    "limit = int(sys.argv[1]); "
+    "resource.setrlimit(resource.RLIMIT_AS, (limit, limit)); "
+    "sys.exit(pytest.main(sys.argv[2:]))"
+)
+
+
+@nox.session(default=False)
+def bounded(session: nox.Session) -> None:
+    """The hostile-input suites and the big-input test under a 2 GiB address-space limit.
+
+    `ulimit -v` for the test process and every fkcheck it starts: a reader that
+    loads a whole hostile file, or a report built all at once, runs out of memory
+    here instead of passing.
+    """
+    _install(session, "test")
+    session.run(
+        "python", "-c", _BOUNDED_PYTEST, str(BOUNDED_AS_BYTES), "-p", "no:cacheprovider",
+        "tests/test_hostile_inputs.py", "tests/test_hostile_urdf.py",
+        "tests/test_hostile_outputs.py", "tests/test_hostile_processes.py",
+        "tests/test_bounded_memory.py", *session.posargs,
+    )  # fmt: skip
+
+
 @nox.session(default=False)
 def crossval(session: nox.Session) -> None:
     """Check every bundled model against every default backend; fail when any disagrees.

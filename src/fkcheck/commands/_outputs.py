@@ -47,17 +47,25 @@ STEP_SUMMARY = "GITHUB_STEP_SUMMARY"
 
 
 def model_inputs(model: Model) -> list[Input]:
-    """The model file and, when it has one that exists, its URDF."""
+    """The model file and, when it has one that exists, its URDF (screened).
+
+    The URDF is screened here (:func:`fkcheck.urdf_source.read_urdf`), before
+    any output path is planned: input is refused before anything, even a probe
+    of an output directory, touches the disk.
+
+    Raises:
+        UrdfError: The URDF is missing, not a regular file, unsafe or broken.
+    """
     from fkcheck.backends.base import BackendUnavailable
-    from fkcheck.errors import FkcheckError
-    from fkcheck.urdf_source import resolve_urdf_path
+    from fkcheck.urdf_source import read_urdf, resolve_urdf_path
 
     found: list[Input] = [(f"the model file of {model.name}", model.path)]
     if model.urdf is not None:
         try:
-            urdf, _packages = resolve_urdf_path(model)
-        except (FkcheckError, BackendUnavailable):  # no file there: nothing to overwrite
+            urdf, packages = resolve_urdf_path(model)
+        except BackendUnavailable:  # example-robot-data is not installed: no file here
             return found
+        read_urdf(urdf, packages)
         found.append((f"the URDF of {model.name}", urdf))
     return found
 
