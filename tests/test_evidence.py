@@ -80,6 +80,9 @@ def test_a_wrong_table_without_independent_evidence_never_reads_as_verified(caps
     html = html_path.read_text()
     assert 'data-kind="table" data-status="not-checked"' in html
     assert "table verified" not in html
+    # The badge itself is not a plain green PASS.
+    assert 'class="big-badge pass partial"' in html
+    assert '<small id="verdict-badge-note">implementation only</small>' in html
 
 
 @pytest.mark.parametrize("make", [ur5e_d1_10mm, ur5e_alpha4_flipped], ids=["d1+10mm", "alpha4"])
@@ -109,6 +112,12 @@ def test_require_table_passes_where_the_urdf_verifies_it(capsys, tmp_path):
     assert doc["evidence"]["table"]["status"] == "verified"
     assert doc["evidence"]["table"]["agreed"] == ["pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]
     assert doc["headline"].startswith("pass — table verified independently")
+    html_path = tmp_path / "r.html"
+    assert main(["check", "ur5", "--samples", "4", "--html", str(html_path)]) == 0
+    capsys.readouterr()
+    html = html_path.read_text()
+    assert 'class="big-badge pass"' in html
+    assert "verdict-badge-note" not in html
 
 
 def test_unknown_require_kind_is_bad_input(capsys):

@@ -9,7 +9,9 @@ Two kinds of test:
 * **Mutation**: fkcheck's own rpy → matrix, its named-frame offset and its DH
   link matrix are each broken on purpose; the check must then fail against every
   reference that covers what was broken. A reference that borrowed the broken
-  code would stay green and fail this test.
+  code would stay green and fail this test. (yourdfpy computes its poses in a
+  child process, which imports an unbroken fkcheck; the reference and the
+  comparison stay in this process, where the break is.)
 """
 
 from __future__ import annotations
@@ -65,19 +67,6 @@ def test_the_static_check_sees_a_door_when_there_is_one(tmp_path):
 
 
 # --------------------------------------------------------------------------- mutations
-
-
-@pytest.fixture(autouse=True)
-def _yourdfpy_in_process(monkeypatch):
-    """Run yourdfpy in this process, where the break is.
-
-    yourdfpy normally runs in a child process, which imports an unbroken fkcheck:
-    a monkeypatched break would not reach the child's reference and yourdfpy would
-    stay green for the wrong reason. In process, it is compared with the broken core.
-    """
-    from fkcheck.backends.yourdfpy_urdf import YourdfpyUrdf
-
-    monkeypatch.setattr(YourdfpyUrdf, "isolated", False, raising=False)
 
 
 def _statuses(model, names, pair, samples=8):

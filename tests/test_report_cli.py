@@ -119,8 +119,10 @@ def test_all_writes_every_model_and_the_index(tmp_path, capsys):
         assert doc["verdict"] == "pass"
         assert f"fkcheck check {n} --samples 4 --seed 0" in (out / f"{n}.html").read_text()
     # pinocchio-dh alone checks the implementation only: no model's table is verified.
-    assert f"{len(names)} models checked: {len(names)} pass; table verified independently " \
+    assert (
+        f"{len(names)} models checked: {len(names)} pass; table verified independently "
         f"for 0 of {len(names)}." in index
+    )
     assert index.count('data-table-evidence="not-checked"') == len(names)
     text = summary.read_text(encoding="utf-8")
     assert text.startswith(f"## fkcheck: {len(names)} models, ✅ PASS\n")

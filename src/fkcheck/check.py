@@ -25,7 +25,7 @@ import threading
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -358,7 +358,7 @@ def _run_one(
         return _skipped(backend, reason)
 
     if getattr(backend, "isolated", False):
-        return _run_in_process(job, timeout_s)
+        job = replace(job, backend=_InChild(backend, timeout_s))
 
     box: list[BackendResult | FkcheckError] = []
 
@@ -394,38 +394,66 @@ def _outcome(job: _Job, on_progress: Progress | None = None) -> BackendResult | 
         return _error(backend, detail, time.perf_counter() - start)
 
 
-def _isolated_outcome(job: _Job) -> BackendResult | tuple[str, str]:
-    """What an isolated backend's process sends back.
+def _poses_in_child(
+    backend: Backend, model: Model, q: Float, frames: tuple[str, ...]
+) -> tuple[str, Any]:
+    """In an isolated backend's own process: its poses, or why not.
 
-    Exceptions with their own constructors do not round-trip through pickle:
-    bad input travels as ``("bad-input", message)``.
+    Exceptions with their own constructors do not round-trip through pickle, so
+    the outcome travels as ``("ok", poses)``, ``("skip", reason)``,
+    ``("bad-input", message)`` or ``("error", message)``.
     """
-    outcome = _outcome(job)
-    return ("bad-input", str(outcome)) if isinstance(outcome, FkcheckError) else outcome
-
-
-def _run_in_process(job: _Job, timeout_s: float) -> BackendResult | FkcheckError:
-    """Run a backend in its own process (``isolated = True``).
-
-    For slow, pure-Python backends that hold the GIL: in a process of their own
-    they use the second core instead of queueing behind the others. A crash of
-    the process (e.g. a segfault in a C extension) or an answer larger than
-    :func:`~fkcheck.isolation.answer_limit` is that backend's error; at the time
-    limit the process is killed with all it started (:mod:`fkcheck.isolation`).
-    """
-    start = time.perf_counter()
     try:
-        outcome = run_isolated(
-            functools.partial(_isolated_outcome, job), timeout_s, answer_limit(job.q.shape[0])
-        )
-    except IsolatedTimeout:
-        return _error(job.backend, f"timed out after {timeout_s:g} s", timeout_s)
-    except IsolatedDied as exc:
-        return _error(job.backend, str(exc), time.perf_counter() - start)
-    if isinstance(outcome, tuple):
-        return FkcheckError(outcome[1])
-    result: BackendResult = outcome
-    return replace(result, duration_s=time.perf_counter() - start)
+        return "ok", np.asarray(backend.frame_poses(model, q, frames), dtype=np.float64)
+    except Skip as exc:
+        return "skip", str(exc)
+    except FkcheckError as exc:
+        return "bad-input", str(exc)
+    except Exception as exc:
+        own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
+        return "error", str(exc) if own else f"{type(exc).__name__}: {exc}"
+
+
+class _InChild:
+    """An isolated backend (``isolated = True``) as the engine sees it.
+
+    Only the backend's poses are computed in a process of its own
+    (:func:`~fkcheck.isolation.run_isolated`); the reference and the comparison
+    stay in this process, like every other backend's. A slow pure-Python backend
+    that holds the GIL then uses the second core; a crash of its process (e.g.
+    a segfault in a C extension) or an answer larger than
+    :func:`~fkcheck.isolation.answer_limit` is its error, and at the time limit
+    its process is killed with all it started.
+    """
+
+    def __init__(self, backend: Backend, timeout_s: float) -> None:
+        self.backend = backend
+        self.name = backend.name
+        self.method = backend.method
+        self.evidence = _evidence(backend)
+        self.timeout_s = timeout_s
+        self.deadline = time.monotonic() + min(timeout_s, threading.TIMEOUT_MAX)
+
+    def unavailable_reason(self, model: Model) -> str | None:
+        return self.backend.unavailable_reason(model)
+
+    def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
+        job = functools.partial(_poses_in_child, self.backend, model, q, tuple(frames))
+        remaining = max(0.0, self.deadline - time.monotonic())
+        try:
+            kind, value = run_isolated(job, remaining, answer_limit(q.shape[0]))
+        except IsolatedTimeout:
+            raise NoAnswerError(f"timed out after {self.timeout_s:g} s") from None
+        except IsolatedDied as exc:
+            raise NoAnswerError(str(exc)) from None
+        if kind == "ok":
+            poses: Float = value
+            return poses
+        if kind == "skip":
+            raise Skip(value)
+        if kind == "bad-input":
+            raise FkcheckError(value)
+        raise NoAnswerError(value)
 
 
 def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:

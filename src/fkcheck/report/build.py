@@ -728,6 +728,9 @@ def build_report_page(
             EvidenceLine(kind, evidence.of(kind).status, text)
             for kind, text in zip(KINDS, evidence_sentences(evidence), strict=True)
         ),
+        badge_note="implementation only"
+        if check.verdict == "pass" and evidence.table.status != "verified"
+        else "",
         disagreeing=tuple(r.name for r, _ in failing),
         headline=headline,
         facts=facts,

@@ -514,6 +514,8 @@ class ReportPage:
         verdict_headline: The verdict with what it proved, e.g. "pass — implementation
             only; table not checked against anything independent".
         evidence: One line per kind of evidence (implementation, table).
+        badge_note: Under the verdict badge: ``"implementation only"`` for a pass
+            whose table nothing independent checked (the badge is then not green).
         disagreeing: Names of the backends that fail.
         headline: The largest errors among the disagreeing backends.
         facts: What was checked and how (key/value list), library versions and
@@ -536,6 +538,7 @@ class ReportPage:
     verdict_line: str
     verdict_headline: str
     evidence: tuple[EvidenceLine, ...]
+    badge_note: str
     disagreeing: tuple[str, ...]
     headline: tuple[str, ...]
     facts: tuple[Fact, ...]
