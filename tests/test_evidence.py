@@ -140,7 +140,10 @@ def test_the_same_d1_change_fails_where_a_urdf_exists(capsys, tmp_path):
     assert rows["pinocchio-urdf"]["max_position_error_m"] == pytest.approx(0.010, rel=1e-6)
 
 
-def test_a_urdf_declared_but_not_mapped_is_an_error_naming_what_to_map(capsys, tmp_path):
+def test_a_urdf_declared_but_not_mapped_is_an_error_naming_what_to_map(
+    capsys, tmp_path, monkeypatch
+):
+    monkeypatch.setenv("COLUMNS", "1000")  # one line per row: the message is not folded
     text = bundled_model_paths()["ur5"].read_text()
     text = text[: text.index("# DH frame 0 is the controller")]  # no [frames], no [check]
     path = tmp_path / "ur5_unmapped.toml"
@@ -156,7 +159,7 @@ def test_a_urdf_declared_but_not_mapped_is_an_error_naming_what_to_map(capsys, t
         assert "URDF links: base_link, shoulder_link" in rows[name]["message"]
     assert doc["evidence"]["table"]["status"] == "not-checked"
     assert "(no urdf" not in out  # the old skip text with its hole is gone
-    assert "[frames.world]" in out  # printed literally, not eaten as markup
+    assert "[frames.world]" in out  # printed literally, not eaten as rich markup
 
 
 def test_a_non_rigid_answer_is_a_failure_with_reason_and_position_error(
