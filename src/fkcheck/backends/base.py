@@ -66,8 +66,9 @@ class Backend(Protocol):
         evidence: ``"implementation"`` or ``"table"``: what its agreement proves.
 
     A backend may also set class attributes ``isolated = True`` (the engine then
-    runs it in a process of its own: for slow pure-Python backends that hold the
-    GIL and for user code; the object, the model and ``q`` must pickle) and
+    calls its :meth:`frame_poses` in a process of its own, for slow pure-Python
+    backends that hold the GIL; the reference and the comparison stay in the
+    engine's process; the object, the model and ``q`` must pickle) and
     ``imports`` (a tuple of module names the engine imports once, in the main
     thread, before backends start: two threads importing one heavy library
     lazily at the same time can hit Python's import-deadlock detection).
