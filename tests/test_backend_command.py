@@ -96,11 +96,22 @@ def test_arguments_are_split_like_a_posix_shell_and_run_without_one(ur5: Model) 
 
 FAILURES = [
     ("garbage", "configuration 1: 'zero' is not a number in line"),
+    ("arabic-digits", "configuration 1: '\u0661.\u0660' is not a number in line"),
     ("short", "configuration 0: expected 16 numbers (row-major 4×4), got 15"),
     ("missing", "printed 4 pose lines for 5 configurations (configurations 0…4)"),
     ("exit", "exited with status 3: fk_stdio: cannot handle 5 lines"),
-    ("nan", "printed NaN or inf for 1 of 5 configurations (first: configuration 4, q = [0.4,"),
 ]
+
+
+def test_nan_printed_by_a_program_is_an_answer_the_engine_fails(ur5: Model) -> None:
+    """NaN is a wrong answer, not no answer: the poses reach the engine, which fails them."""
+    from fkcheck.check import run_check
+
+    check = run_check(ur5, [script("nan")], samples=2, frame_from="world", frame_to="tcp")
+    (row,) = check.backends
+    assert row.status == "fail"
+    assert re.search(r"returned NaN or inf at 1 of \d+ configurations", row.message), row.message
+    assert check.verdict == "fail"
 
 
 @pytest.mark.parametrize(("mode", "message"), FAILURES, ids=[m for m, _ in FAILURES])

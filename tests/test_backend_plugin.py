@@ -103,7 +103,6 @@ FAILURES = [
     ("bad_plugins:wrong_shape", "returned shape (5, 3, 4); expected (5, 4, 4)"),
     ("bad_plugins:single_pose", "returned shape (4, 4); expected (5, 4, 4)"),
     ("bad_plugins:ragged_output", "returned a list that is not an array"),
-    ("bad_plugins:nan_output", "returned NaN or inf for 1 of 5 configurations (first at index 2"),
     ("bad_plugins:float32_output", "returned dtype float32: too coarse for a comparison"),
     ("bad_plugins:complex_output", "returned dtype complex128; expected real numbers"),
 ]
@@ -117,6 +116,19 @@ def test_failing_plugin_raises_a_plugin_error_naming_plugin_and_problem(
     q = np.zeros((5, ur5.dof))
     with pytest.raises(PluginError, match=re.escape(f"plugin {spec}: {message}")):
         plugin(spec).frame_poses(ur5, q, ["tcp"])
+
+
+@pytest.mark.usefixtures("plugins_importable")
+def test_nan_from_a_plugin_is_an_answer_the_engine_fails(ur5: Model) -> None:
+    """NaN is a wrong answer, not no answer: status fail, with where it happened."""
+    from fkcheck.check import run_check
+
+    check = run_check(ur5, [plugin("bad_plugins:nan_output")], samples=2, frame_from="world",
+                      frame_to="tcp")  # fmt: skip
+    (row,) = check.backends
+    assert row.status == "fail"
+    assert re.search(r"returned NaN or inf at 1 of \d+ configurations", row.message), row.message
+    assert check.verdict == "fail"
 
 
 def test_plugin_errors_are_backend_errors_not_bad_input() -> None:

@@ -216,3 +216,31 @@ def test_a_urdf_link_without_a_declared_frame_is_bad_input_listing_the_mapped_li
     assert "no declared frame has URDF twin 'wrist_3_link'" in err
     assert "urdf:base_link (= base_link)" in err
     assert err.count("\n") == 1
+
+
+def test_the_headline_claims_no_implementation_check_that_did_not_run(capsys, tmp_path):
+    code, doc, out, _ = run(capsys, tmp_path, "ur5", "--against", "pinocchio-urdf")
+    assert code == 0, out
+    assert doc["evidence"]["implementation"]["status"] == "not-checked"
+    assert doc["headline"] == "pass — table verified independently; no second implementation ran"
+    assert "pinocchio-urdf agrees (evidence independent of the table)" in " ".join(out.split())
+
+
+def test_a_closed_stdout_neither_changes_the_exit_code_nor_loses_the_reports(tmp_path):
+    """`fkcheck check … | head -1`: the JSON is written and the exit code is the check's."""
+    import subprocess
+    import sys
+
+    report = tmp_path / "r.json"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "fkcheck", "check", "planar2", "--samples", "2", "--against",
+         "rtb-dh", "--json", str(report)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+    )  # fmt: skip
+    assert proc.stdout is not None
+    proc.stdout.readline()
+    proc.stdout.close()  # like `head -1`
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0, err
+    assert err == b""
+    assert json.loads(report.read_text())["verdict"] == "pass"

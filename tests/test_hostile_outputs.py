@@ -350,7 +350,7 @@ def test_a_regular_step_summary_is_appended_to(env, capsys, monkeypatch):
     assert run.code == 0
     assert run.err == ""
     text = step.read_text(encoding="utf-8")
-    assert text.startswith("earlier step\n## fkcheck planar2: ✅ PASS\n")
+    assert text.startswith("earlier step\n## fkcheck planar2: ❔ PASS (implementation only)\n")
 
 
 # --- an interrupted run says which files it wrote -----------------------------------------------

@@ -57,7 +57,8 @@ def test_html_summary_and_step_summary_are_written(tmp_path, monkeypatch, capsys
     assert found.status == {b["name"]: b["status"] for b in doc["backends"]}
     assert "fkcheck check ur5 --samples 16 --against rtb-dh,pinocchio-dh" in page
     text = summary.read_text(encoding="utf-8")
-    assert text.startswith("## fkcheck ur5: ✅ PASS\n")
+    # rtb-dh and pinocchio-dh only: the table was not checked, and the heading says so.
+    assert text.startswith("## fkcheck ur5: ❔ PASS (implementation only)\n")
     assert "| rtb-dh | ✅ pass |" in text
     assert step.read_text(encoding="utf-8") == "earlier step\n" + text + "\n"
 
@@ -124,6 +125,7 @@ def test_all_writes_every_model_and_the_index(tmp_path, capsys):
         f"for 0 of {len(names)}." in index
     )
     assert index.count('data-table-evidence="not-checked"') == len(names)
+    assert f'<small id="verdict-badge-note">table verified for 0 of {len(names)}</small>' in index
     text = summary.read_text(encoding="utf-8")
     assert text.startswith(f"## fkcheck: {len(names)} models, ✅ PASS\n")
     assert text.count("| pinocchio-dh | ✅ pass |") == len(names)

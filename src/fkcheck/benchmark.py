@@ -137,10 +137,12 @@ class BenchResult:
     @property
     def headline(self) -> tuple[Timing, Timing, float] | None:
         """``(in-house like-for-like row, RTB ETS.eval row, speedup)``, if both ran."""
-        ours = next((t for t in self.timings if t.mode == LIKE_FOR_LIKE and t.kind == "in-house"
-                     and t.seconds is not None), None)  # fmt: skip
         peer = next((t for t in self.timings if t.name == HEADLINE_PEER and t.seconds), None)
-        if ours is None or peer is None or ours.us_per_pose is None or peer.us_per_pose is None:
+        if peer is None:
+            return None
+        ours = next((t for t in self.timings if t.mode == LIKE_FOR_LIKE and t.kind == "in-house"
+                     and t.seconds is not None and t.n == peer.n), None)  # fmt: skip
+        if ours is None or ours.us_per_pose is None or peer.us_per_pose is None:
             return None
         return ours, peer, peer.us_per_pose / ours.us_per_pose
 
@@ -268,7 +270,7 @@ def run_bench(
             n,
             seconds,
             note="fk(chain, Q): a new (N, 4, 4) result each call",
-            mode=extra if threads > 1 else LIKE_FOR_LIKE,
+            mode=extra if threads > 1 or n != part("rtb-eval") else LIKE_FOR_LIKE,
         )
     )
     ours = dh.fk(chain, q, out=out)

@@ -209,7 +209,7 @@ def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples 
 
 @dataclass(frozen=True, eq=False)
 class _Job:
-    """One backend's comparison (pickled whole to an isolated backend's process).
+    """One backend's comparison (run in a thread of the engine's process).
 
     Attributes:
         backend: The backend to run.
@@ -363,7 +363,10 @@ def _run_one(
     box: list[BackendResult | FkcheckError] = []
 
     def target() -> None:
-        box.append(_outcome(job, on_progress))
+        try:
+            box.append(_outcome(job, on_progress))
+        except BaseException as exc:  # SystemExit and the like end no run: an error
+            box.append(_error(backend, f"{type(exc).__name__}: {exc} (ended its thread)"))
 
     # A daemon thread: a backend that hangs is abandoned at the time limit and
     # does not keep the process alive; the programs it runs (plugins, cmd:) are

@@ -1,7 +1,7 @@
 """Running code fkcheck does not trust in processes it can always kill.
 
-Every ``cmd:`` program, every Python plugin and every backend marked
-``isolated = True`` runs in a child process, under a small supervisor
+Every ``cmd:`` program, every Python plugin and the pose computation of every
+backend marked ``isolated = True`` runs in a child process, under a small supervisor
 (:mod:`fkcheck._supervisor`), never in fkcheck's own process. Whatever that code
 does — loops forever holding the GIL, calls ``os._exit(0)``, leaves a
 non-daemon thread running, starts children that leave the session with

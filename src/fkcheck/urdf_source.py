@@ -58,6 +58,7 @@ __all__ = [
     "UrdfInfo",
     "UrdfJoint",
     "example_robot_data_dir",
+    "listed",
     "load_urdf",
     "read_urdf",
     "resolve_urdf_path",
@@ -272,7 +273,7 @@ def _read(path: Path, package_dirs: tuple[Path, ...], mtime_ns: int, size: int) 
     )
 
 
-def _listed(names: Iterable[str], limit: int = 20) -> str:
+def listed(names: Iterable[str], limit: int = 20) -> str:
     """Names for a message: the first ``limit``, then how many more."""
     names = list(names)
     shown = ", ".join(names[:limit]) or "(none)"
@@ -344,7 +345,7 @@ def _links_and_joints(path: Path, doc: ScreenedUrdf) -> tuple[dict[str, int], di
                 raise UrdfError(
                     path,
                     f"{where}joint {name!r} names {role} link {link!r}, which is not a link; "
-                    f"links are: {_listed(links)}",
+                    f"links are: {listed(links)}",
                 )
             ends.append(link)
         parent, child = ends
@@ -405,12 +406,12 @@ def _check_tree(path: Path, links: dict[str, int], joints: dict[str, UrdfJoint])
         first = min(range(len(cycle)), key=lambda i: order[cycle[i]])  # earliest in the file
         cycle = cycle[first:] + cycle[:first]
         down = [*cycle, cycle[0]]  # parent → child → … → back to the first
-        names = _listed((repr(by_child[c].name) for c in down[1:]), limit=8)
+        names = listed((repr(by_child[c].name) for c in down[1:]), limit=8)
         if len(down) > 9:  # a long cycle: its start and how it closes
             down = [*down[:8], "…", down[-1]]
         raise UrdfError(path, f"joints {names} form a cycle ({' → '.join(down)}); a URDF is a tree")
     if len(roots) != 1:
-        raise UrdfError(path, f"expected one root link, found {len(roots)}: {_listed(roots)}")
+        raise UrdfError(path, f"expected one root link, found {len(roots)}: {listed(roots)}")
     return roots[0]
 
 

@@ -153,6 +153,11 @@ def _names(names: Sequence[str]) -> str:
     return ", ".join(names)
 
 
+def _agree(names: Sequence[str], prefix: str = "") -> str:
+    """``agrees`` for one backend, ``agree`` for several."""
+    return f"{prefix}agrees" if len(names) == 1 else f"{prefix}agree"
+
+
 def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
     """One plain sentence per kind, the same in every output format.
 
@@ -162,18 +167,25 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
     imp, tab = evidence.implementation, evidence.table
     if imp.status == "verified":
         imp_text = (
-            f"implementation verified: {_names(imp.agreed)} agree with the in-house core "
-            "(same table, independent code)"
+            f"implementation verified: {_names(imp.agreed)} {_agree(imp.agreed)} with the "
+            "in-house core (same table, independent code)"
         )
     elif imp.status == "failed":
-        imp_text = f"implementation FAILED: {_names(imp.disagreed)} disagree with the in-house core"
+        imp_text = (
+            f"implementation FAILED: {_names(imp.disagreed)} {_agree(imp.disagreed, 'dis')} "
+            "with the in-house core"
+        )
     else:
         imp_text = "implementation not checked: no other implementation of this table answered"
     if tab.status == "verified":
-        tab_text = f"table verified: {_names(tab.agreed)} agree (evidence independent of the table)"
+        tab_text = (
+            f"table verified: {_names(tab.agreed)} {_agree(tab.agreed)} "
+            "(evidence independent of the table)"
+        )
     elif tab.status == "failed":
         tab_text = (
-            f"table FAILED: {_names(tab.disagreed)} disagree (evidence independent of the table)"
+            f"table FAILED: {_names(tab.disagreed)} {_agree(tab.disagreed, 'dis')} "
+            "(evidence independent of the table)"
         )
     else:
         tab_text = (
@@ -195,7 +207,9 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
     """
     if verdict == "pass":
         if evidence.table.status == "verified":
-            return "pass — table verified independently, implementation agrees"
+            if evidence.implementation.status == "verified":
+                return "pass — table verified independently, implementation agrees"
+            return "pass — table verified independently; no second implementation ran"
         if evidence.implementation.status == "verified":
             return "pass — implementation only; table not checked against anything independent"
         return "pass"

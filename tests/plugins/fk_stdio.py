@@ -53,6 +53,8 @@ def main() -> int:
             values[5] = "zero"
         if mode == "short" and k == 0:
             values = values[:15]
+        if mode == "arabic-digits" and k == 1:
+            values[15] = "\u0661.\u0660"  # Arabic-Indic "1.0": not a number fkcheck reads
         out.append((", " if mode == "comma" else " ").join(values))
     if mode == "missing":
         out = out[:-1]

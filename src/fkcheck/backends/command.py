@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import shlex
 import time
 from collections.abc import Sequence
@@ -73,6 +74,7 @@ from fkcheck.isolation import (
     run_supervised,
 )
 from fkcheck.model import Model
+from fkcheck.numbers import NumberError, parse_number
 
 __all__ = [
     "BATCH_SIZE",
@@ -130,6 +132,8 @@ class CommandBackend:
     """
 
     evidence: Evidence = "implementation"
+    #: Imported by the engine before backend threads start (fixed frames use SciPy).
+    imports = ("scipy.spatial.transform",)
 
     def __init__(self, spec: str, options: BackendOptions) -> None:
         """Split the command line; nothing is run yet.
@@ -238,7 +242,9 @@ class CommandBackend:
             raise self._fail(
                 f"output is not UTF-8 text ({exc.reason} at byte {exc.start})"
             ) from None
-        lines = [line for line in text.splitlines() if line.strip()]
+        # Lines end in \n (or \r\n); fields are split at ASCII spaces, tabs and
+        # commas only: Unicode separators are not number separators.
+        lines = [line for line in text.split("\n") if line.strip(" \t\r")]
         if len(lines) != len(batch):
             raise self._fail(
                 f"printed {len(lines)} pose lines for {len(batch)} configurations "
@@ -247,30 +253,26 @@ class CommandBackend:
             )
         tokens: list[str] = []
         for k, line in enumerate(lines):
-            fields = line.replace(",", " ").split()
+            fields = [f for f in re.split(r"[ \t\r,]+", line) if f]
             if len(fields) != 16:
                 raise self._fail(
                     f"configuration {start + k}: expected 16 numbers (row-major 4×4), "
                     f"got {len(fields)}: {_quote(line)}"
                 )
             tokens.extend(fields)
-        try:
-            values = np.array([float(t) for t in tokens], dtype=np.float64)
-        except ValueError:
-            k, token = next((i // 16, t) for i, t in enumerate(tokens) if not _is_float(t))
-            raise self._fail(
-                f"configuration {start + k}: {_quote(token)} is not a number "
-                f"in line {_quote(lines[k])}"
-            ) from None
-        poses = values.reshape(len(batch), 4, 4)
-        bad = ~np.isfinite(poses).all(axis=(1, 2))
-        if bad.any():
-            k = int(np.flatnonzero(bad)[0])
-            raise self._fail(
-                f"printed NaN or inf for {int(bad.sum())} of {len(batch)} configurations "
-                f"(first: configuration {start + k}, q = {batch[k].tolist()})"
-            )
-        return poses
+        values = np.empty(len(tokens))
+        for i, token in enumerate(tokens):
+            value = _number(token)
+            if value is None:
+                k = i // 16
+                raise self._fail(
+                    f"configuration {start + k}: {_quote(token)} is not a number "
+                    f"in line {_quote(lines[k])}"
+                )
+            values[i] = value
+        # NaN or inf is an answer, and a wrong one: the engine reports it as a
+        # failure (how many configurations, and where), not as "no answer".
+        return values.reshape(len(batch), 4, 4)
 
 
 def _format_input(batch: Float) -> bytes:
@@ -278,12 +280,19 @@ def _format_input(batch: Float) -> bytes:
     return "".join(",".join(map(repr, row)) + "\n" for row in batch.tolist()).encode("ascii")
 
 
-def _is_float(token: str) -> bool:
+#: What a C or Python program prints for a non-finite value; read so the engine
+#: can report the answer as wrong.
+_NON_FINITE = {"nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "+infinity", "-infinity"}
+
+
+def _number(token: str) -> float | None:
+    """A printed number (fkcheck's strict ASCII decimal, or nan/inf), or ``None``."""
+    if token.lower() in _NON_FINITE:
+        return float(token.lower().replace("+", ""))
     try:
-        float(token)
-    except ValueError:
-        return False
-    return True
+        return parse_number(token)
+    except NumberError:
+        return None
 
 
 def _quote(text: str) -> str:

@@ -14,7 +14,8 @@ joints.
 Poses are ``universe_T_link`` for each named frame's URDF twin (``urdf = …``),
 the universe being the URDF's root link. A named frame without a twin (such as
 the always-present ``world`` and ``tcp``, unless mapped) raises
-:class:`~fkcheck.backends.base.FrameUnavailable`.
+:class:`~fkcheck.errors.UnmappedFrameError`: the backend's error, since the URDF
+the model declares would go unread.
 """
 
 from __future__ import annotations
@@ -67,7 +68,7 @@ class PinocchioUrdf:
             BackendUnavailable: Pinocchio is not installed or the model has no ``[urdf]``.
             FrameError: A name is not a frame of the model, or Pinocchio's model
                 lacks the twin link.
-            FrameUnavailable: A frame has no ``urdf`` twin.
+            UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
             UrdfError: The URDF is missing, unsafe, does not fit the model, or
                 Pinocchio cannot parse it.
             JointInputError: ``q`` has the wrong shape or non-finite values.

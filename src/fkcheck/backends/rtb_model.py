@@ -79,7 +79,7 @@ class RtbModel:
     """
 
     evidence: Evidence = "table"
-    imports = RTB_IMPORTS
+    imports = (*RTB_IMPORTS, "scipy.spatial.transform")
 
     def __init__(self, arg: str, options: BackendOptions | None = None) -> None:
         """Build the backend for RTB's DH model ``arg`` (``"UR5"``).

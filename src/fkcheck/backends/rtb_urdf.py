@@ -118,7 +118,7 @@ class RtbUrdf:
                 ``[urdf]``, or a joint on the way to a twin has an axis RTB's
                 reader gets wrong (not along x, y or z).
             FrameError: A name is not a frame of the model.
-            FrameUnavailable: A frame has no ``urdf`` twin.
+            UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
             UrdfError: The URDF is missing, unsafe or does not fit the model
                 (from :func:`~fkcheck.urdf_source.load_urdf`), or RTB rejects it.
             JointInputError: ``q`` has the wrong shape or non-finite values.

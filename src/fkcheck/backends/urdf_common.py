@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from fkcheck.backends.base import validated_q
 from fkcheck.errors import BackendUnavailable, UnmappedFrameError
 from fkcheck.model import Model, resolve_frame
-from fkcheck.urdf_source import ERD_PREFIX, UrdfInfo, load_urdf
+from fkcheck.urdf_source import ERD_PREFIX, UrdfInfo, listed, load_urdf
 
 __all__ = [
     "CapturedStderr",
@@ -142,7 +142,7 @@ def urdf_twins(
                 f"frame {name!r} (at {where}) has no URDF twin, so {backend} cannot compare the "
                 f'model with its URDF: add urdf = "<link>" to [frames.{name}] (or check a pair '
                 f"of mapped frames with --from/--to); mapped frames: "
-                f"{', '.join(mapped) or '(none)'}; URDF links: {', '.join(links) or '(none)'}"
+                f"{', '.join(mapped) or '(none)'}; URDF links: {listed(links)}"
             )
         twins.append(spec.urdf)
     return twins

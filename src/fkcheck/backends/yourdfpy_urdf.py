@@ -80,7 +80,7 @@ class YourdfpyUrdf:
     method = "URDF.update_cfg + URDF.get_transform (loop, own process)"
     evidence: Evidence = "table"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
-    #: the engine runs it in a process of its own, on the other core.
+    #: the engine computes its poses in a process of its own, on the other core.
     isolated = True
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
@@ -98,7 +98,7 @@ class YourdfpyUrdf:
             BackendUnavailable: yourdfpy is not installed or the model has no ``[urdf]``.
             FrameError: A name is not a frame of the model, or yourdfpy's scene
                 lacks the twin link.
-            FrameUnavailable: A frame has no ``urdf`` twin.
+            UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
             UrdfError: The URDF is missing, unsafe, or does not fit the model (a
                 mapped joint is absent or a mimic joint).
             JointInputError: ``q`` has the wrong shape or non-finite values.

@@ -27,10 +27,29 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
     """
     from rich.console import Console
 
+    class _Console(Console):
+        """rich's console, except that a closed pipe does not end the run.
+
+        rich raises ``SystemExit(1)`` on a broken pipe (``fkcheck check | head``),
+        which would skip the reports still to be written and turn a pass into
+        exit 1. Here the console goes quiet, stdout goes to ``/dev/null``, and
+        the run finishes with its own exit code.
+        """
+
+        def on_broken_pipe(self) -> None:
+            self.quiet = True
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            try:
+                os.dup2(devnull, (sys.stderr if stderr else sys.stdout).fileno())
+            except (OSError, ValueError):
+                pass
+            finally:
+                os.close(devnull)
+
     stream = sys.stderr if stderr else sys.stdout
     try:
         tty = stream.isatty()
     except (AttributeError, ValueError):  # replaced or closed stream
         tty = False
     width = None if tty or os.environ.get("COLUMNS") else PIPE_WIDTH
-    return Console(stderr=stderr, highlight=highlight, width=width, emoji=False)
+    return _Console(stderr=stderr, highlight=highlight, width=width, emoji=False)

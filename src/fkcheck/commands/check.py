@@ -205,7 +205,8 @@ def print_summary(check: CheckResult) -> None:
     if check.verdict == "pass" and evidence.table.status != "verified":
         style = "bold yellow"
     answered = len(check.ran)
-    console.print(f"[{style}]verdict: {terminal_markup(line)}[/] ({answered} backend(s) answered)")
+    count = f" ({answered} backend(s) answered)" if answered else ""
+    console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
 
 
 def _validate(args: argparse.Namespace) -> None:
@@ -360,11 +361,11 @@ def _run_all(args: argparse.Namespace) -> int:
             print(f"fkcheck: warning: {stem}: {terminal_text(warning)}", file=sys.stderr)
         backends = _backends(args)
         check = replace(_check(args, model, backends), command=_model_command(args, stem))
-        print_summary(check)
         names = files[stem]
         write_html(check, out_dir / names[0], backends, diagnose=args.diagnose)
         write_json(check, out_dir / names[1])
         write_junit(check, out_dir / names[2])
+        print_summary(check)
         entries.append(IndexEntry(check, *names))
         checks.append(check)
     command = "fkcheck " + shlex.join(getattr(args, "argv", []))
@@ -409,8 +410,7 @@ def run(args: argparse.Namespace) -> int:
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     check = _check(args, model, backends)
     check = replace(check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
-    print_summary(check)
-    _print_diagnose_hint(args.model, check)
+    # Files first: a closed or full stdout must not cost the run its reports.
     if args.json is not None:
         write_json(check, args.json)
     if args.junit is not None:
@@ -418,4 +418,6 @@ def run(args: argparse.Namespace) -> int:
     if args.html is not None:
         write_html(check, args.html, backends, diagnose=args.diagnose)
     _summaries(args, [check], step_summary)
+    print_summary(check)
+    _print_diagnose_hint(args.model, check)
     return 0 if check.verdict == "pass" else 1

@@ -837,6 +837,9 @@ def build_index_page(
         title=f"fkcheck: {len(models)} models, {overall.upper()}",
         verdict=overall,
         verdict_line=f"{len(models)} models checked: {line or 'none'}.",
+        badge_note=f"table verified for {verified} of {len(models)}"
+        if overall == "pass" and verified < len(models)
+        else "",
         facts=tuple(facts),
         models=models,
         generator=f"fkcheck {__version__}",

@@ -18,7 +18,7 @@ from pathlib import Path
 from fkcheck.check import CheckResult
 from fkcheck.report.format import format_deg, format_m, format_mm, format_rad
 from fkcheck.safe_text import markdown_text as escape_markdown
-from fkcheck.verdict import KINDS, evidence_sentences
+from fkcheck.verdict import KINDS, evidence_sentences, headline
 
 __all__ = ["escape_markdown", "markdown_summary", "write_summary"]
 
@@ -60,7 +60,15 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
     if len(checks) == 1:
         (check,) = checks
         name = escape_markdown(check.model.name)
-        lines.append(f"## fkcheck {name}: {_ICON[overall]} {overall.upper()}")
+        partial = overall == "pass" and check.evidence.table.status != "verified"
+        heading = (
+            f"{_ICON['not-checked']} PASS (implementation only)"
+            if partial
+            else (f"{_ICON[overall]} {overall.upper()}")
+        )
+        lines.append(f"## fkcheck {name}: {heading}")
+        lines.append("")
+        lines.append(escape_markdown(headline(check.verdict, check.evidence, len(check.ran))))
         lines.append("")
         lines.append(escape_markdown(verdict_line(check)))
         lines.append("")
@@ -75,9 +83,13 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
         )
     else:
         n_fail = sum(c.verdict != "pass" for c in checks)
+        verified = sum(c.evidence.table.status == "verified" for c in checks)
         lines.append(f"## fkcheck: {len(checks)} models, {_ICON[overall]} {overall.upper()}")
         lines.append("")
-        lines.append(f"{len(checks) - n_fail} of {len(checks)} models pass.")
+        lines.append(
+            f"{len(checks) - n_fail} of {len(checks)} models pass; the table is verified "
+            f"independently for {verified} of {len(checks)} (the others: implementation only)."
+        )
         lines.append("")
         for check in checks:
             status = check.evidence.table.status

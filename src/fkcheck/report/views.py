@@ -611,6 +611,8 @@ class IndexPage:
         facts: Run facts (date, versions, command).
         models: One entry per model.
         generator: ``fkcheck <version>``.
+        badge_note: Under a pass badge when some models' tables were checked for
+            implementation only (the badge is then not green).
     """
 
     title: str
@@ -619,3 +621,4 @@ class IndexPage:
     facts: tuple[Fact, ...]
     models: tuple[IndexModel, ...]
     generator: str
+    badge_note: str = ""
