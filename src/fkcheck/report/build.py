@@ -8,7 +8,6 @@ unchanged and is escaped by the template engine on output.
 from __future__ import annotations
 
 import math
-import warnings
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -56,6 +55,7 @@ from fkcheck.report.views import (
     WorstCase,
 )
 from fkcheck.tolerances import SAME_CHAIN
+from fkcheck.transforms import rpy_from_matrix
 from fkcheck.verdict import KINDS, evidence_sentences
 from fkcheck.verdict import headline as verdict_headline
 
@@ -162,17 +162,14 @@ def pose_forms(T: Float, marked: NDArray[np.bool_] | None = None) -> PoseForms:
     """A pose as a matrix, xyz + quaternion (x, y, z, w) and xyz + rpy (degrees).
 
     The quaternion is SciPy's, scalar last, with w ≥ 0; rpy is fixed-axis
-    roll-pitch-yaw as in URDF (``R = Rz(yaw) Ry(pitch) Rx(roll)``, SciPy's
-    extrinsic ``"xyz"``). At pitch ±90° roll and yaw are not unique; SciPy then
-    sets yaw to 0.
+    roll-pitch-yaw as in URDF (``R = Rz(yaw) Ry(pitch) Rx(roll)``) from
+    :func:`fkcheck.transforms.rpy_from_matrix`: at pitch ±90° yaw is 0 and roll
+    carries the rotation.
     """
     from scipy.spatial.transform import Rotation
 
-    rotation = Rotation.from_matrix(T[:3, :3])
-    quat = rotation.as_quat(canonical=True)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)  # gimbal lock: one solution is fine
-        rpy = rotation.as_euler("xyz", degrees=True)
+    quat = Rotation.from_matrix(T[:3, :3]).as_quat(canonical=True)
+    rpy = np.degrees(rpy_from_matrix(T))
     xyz = ", ".join(_fixed(v, 9) for v in T[:3, 3])
     return PoseForms(
         matrix=_matrix(T, marked),
