@@ -37,9 +37,9 @@ from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
 from fkcheck import dh
+from fkcheck._typing import Float
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model import Model
@@ -55,7 +55,6 @@ __all__ = [
     "run_bench",
 ]
 
-Float = NDArray[np.float64]
 Kind = Literal["in-house", "peer", "bound"]
 
 #: The peers' conditions: one thread, a new result array per call.

@@ -24,8 +24,9 @@ from __future__ import annotations
 from typing import Any, Literal, get_args
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
+from fkcheck._typing import Float
 from fkcheck.transforms import rpy_from_matrix
 
 __all__ = [
@@ -38,7 +39,6 @@ __all__ = [
     "pose_record",
 ]
 
-Float = NDArray[np.float64]
 PoseFormat = Literal["quat", "rpy", "rotvec", "zyx"]
 
 #: The formats, in the order ``--help`` lists them.

@@ -12,14 +12,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.model import Offset
 from fkcheck.transforms import rpy_from_matrix
 
 __all__ = ["ANGLE_SNAP_RAD", "LENGTH_SNAP_M", "offset_from_matrix", "snap"]
 
-Float = NDArray[np.float64]
 
 #: Angles this close to a multiple of π/2 are written as that multiple: round-off
 #: of a few products of exact rotations is ~1e-16; no real design angle is 1e-14 off.

@@ -15,7 +15,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
+
+from fkcheck._typing import Float
 
 __all__ = [
     "GIMBAL_LOCK_COS",
@@ -27,8 +29,6 @@ __all__ = [
     "rpy_from_matrix",
     "translation",
 ]
-
-Float = NDArray[np.float64]
 
 
 def matrix_from_rpy(rpy: Sequence[float] | ArrayLike) -> Float:

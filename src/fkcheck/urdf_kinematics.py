@@ -20,8 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
 
@@ -34,7 +34,6 @@ __all__ = [
     "urdf_kinematics",
 ]
 
-Float = NDArray[np.float64]
 
 #: Joint types with one degree of freedom; ``fixed`` has none, others are refused.
 MOVABLE = ("revolute", "continuous", "prismatic")

@@ -41,8 +41,8 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import BackendUnavailable
@@ -50,7 +50,6 @@ from fkcheck.model import Joint, Model, Offset, resolve_frame
 
 __all__ = ["INSTALL_HINT", "PinocchioChain", "PinocchioDH", "import_pinocchio"]
 
-Float = NDArray[np.float64]
 
 #: The reason given when Pinocchio is not installed (both Pinocchio backends).
 INSTALL_HINT = "pinocchio is not installed (pip install pin)"

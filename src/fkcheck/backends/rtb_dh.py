@@ -33,8 +33,8 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import (
@@ -47,8 +47,6 @@ from fkcheck.backends.rtb_common import (
 from fkcheck.model import Model, Offset, resolve_frame
 
 __all__ = ["RtbDH", "dh_robot", "se3_from_offset"]
-
-Float = NDArray[np.float64]
 
 
 def se3_from_offset(offset: Offset) -> Any:

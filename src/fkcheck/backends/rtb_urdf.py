@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
@@ -54,7 +55,6 @@ from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["RtbUrdf", "kinematic_text"]
 
-Float = NDArray[np.float64]
 
 _GEOMETRY = ("visual", "collision")
 

@@ -21,8 +21,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.check import reference_poses
 from fkcheck.diagnose.problem import Problem
 from fkcheck.diagnose.report import AxisRow
@@ -42,7 +42,6 @@ __all__ = [
     "plucker",
 ]
 
-Float = NDArray[np.float64]
 
 #: Configurations used (axes depend on the joints before them).
 AXIS_CONFIGURATIONS = 6

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck import __version__
+from fkcheck._typing import Float
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.model import FrameSpec, Model, Offset
 from fkcheck.report.evidence import DhParting, WorstPoses, dh_parting
@@ -77,7 +78,6 @@ __all__ = [
     "verdict_line",
 ]
 
-Float = NDArray[np.float64]
 
 _STANDARD_A = (
     ("cos θᵢ", "−sin θᵢ cos αᵢ", "sin θᵢ sin αᵢ", "aᵢ cos θᵢ"),
