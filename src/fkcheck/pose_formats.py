@@ -35,7 +35,6 @@ __all__ = [
     "format_pose",
     "matrix_from_pose",
     "pose_from_matrix",
-    "pose_labels",
     "pose_record",
 ]
 
@@ -63,12 +62,6 @@ def _rotation_class() -> Any:
 def _check_format(fmt: str) -> None:
     if fmt not in POSE_FORMATS:
         raise ValueError(f"unknown pose format {fmt!r}; formats are: {', '.join(POSE_FORMATS)}")
-
-
-def pose_labels(fmt: PoseFormat) -> tuple[str, ...]:
-    """Names of the numbers :func:`pose_from_matrix` returns: ``x, y, z`` then the rotation."""
-    _check_format(fmt)
-    return ("x", "y", "z", *_ROTATION_LABELS[fmt])
 
 
 def pose_from_matrix(T: ArrayLike, fmt: PoseFormat) -> Float:
