@@ -79,8 +79,8 @@ def dh_robot(model: Model) -> Any:
     return robot
 
 
-class _Built:
-    """A model's robot and the ETS of each DH frame, built once per model."""
+class _DhRobotCache:
+    """A model's RTB DHRobot and the ETS of each DH frame, built once per model."""
 
     def __init__(self, model: Model) -> None:
         from roboticstoolbox.ets.ET import ET
@@ -114,7 +114,7 @@ class RtbDH:
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
         self.options = options or BackendOptions()
-        self._built: _Built | None = None
+        self._built: _DhRobotCache | None = None
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run here: only if Robotics Toolbox is missing."""
@@ -165,13 +165,13 @@ class RtbDH:
             out[:, k] = self._frame(built, k, qp)
         return out
 
-    def _build(self, model: Model) -> _Built:
+    def _build(self, model: Model) -> _DhRobotCache:
         if self._built is None or self._built.model is not model:
-            self._built = _Built(model)
+            self._built = _DhRobotCache(model)
         return self._built
 
     @staticmethod
-    def _frame(built: _Built, k: int, qp: Float) -> Float:
+    def _frame(built: _DhRobotCache, k: int, qp: Float) -> Float:
         if k == 0:
             return np.broadcast_to(built.base, (qp.shape[0], 4, 4))
         return eval_batch(built.frame_ets[k], qp)

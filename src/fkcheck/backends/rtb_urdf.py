@@ -75,8 +75,8 @@ def kinematic_text(info: UrdfInfo) -> str:
     return ET.tostring(root, encoding="unicode")
 
 
-class _Built:
-    """A URDF read by RTB, with the joint columns and per-link ETS cached."""
+class _UrdfRobotCache:
+    """A model's URDF read by RTB, with the joint columns and per-link ETS cached."""
 
     def __init__(self, model: Model, info: UrdfInfo, robot: Any, columns: NDArray[np.intp]):
         self.model = model
@@ -104,7 +104,7 @@ class RtbUrdf:
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
         self.options = options or BackendOptions()
-        self._built: _Built | None = None
+        self._built: _UrdfRobotCache | None = None
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run: no ``[urdf]`` in the model, or a library missing."""
@@ -139,11 +139,11 @@ class RtbUrdf:
             out[k] = eval_batch(ets, qp)
         return out
 
-    def _build(self, model: Model, info: UrdfInfo) -> _Built:
+    def _build(self, model: Model, info: UrdfInfo) -> _UrdfRobotCache:
         built = self._built
         if built is None or built.model is not model or built.info is not info:
             robot = _read_robot(info)
-            built = self._built = _Built(model, info, robot, _columns(model, info, robot))
+            built = self._built = _UrdfRobotCache(model, info, robot, _columns(model, info, robot))
         return built
 
 
@@ -195,7 +195,7 @@ def _crooked_axes(info: UrdfInfo) -> dict[str, str]:
     return crooked
 
 
-def _refuse_crooked_axes(built: _Built, link: str) -> None:
+def _refuse_crooked_axes(built: _UrdfRobotCache, link: str) -> None:
     """Skip links below a joint whose axis is not along x, y or z.
 
     RTB's URDF reader (roboticstoolbox-python 1.5.0, ``_links_from_urdf``) turns
