@@ -179,20 +179,11 @@ def _read_robot(info: UrdfInfo) -> Any:
 
 def _crooked_axes(info: UrdfInfo) -> dict[str, str]:
     """Joints whose ``<axis xyz>`` has two or more non-zero components, as RTB counts them."""
-    crooked: dict[str, str] = {}
-    for joint in ET.fromstring(info.text).iter("joint"):
-        axis = joint.find("axis")
-        name = joint.get("name")
-        if axis is None or name is None or joint.find("parent") is None:
-            continue
-        text = axis.get("xyz", "1 0 0")
-        try:
-            nonzero = sum(float(v) != 0.0 for v in text.split())
-        except ValueError:
-            continue  # RTB's reader reports a malformed axis itself
-        if nonzero >= 2:
-            crooked[name] = text
-    return crooked
+    return {
+        joint.name: joint.axis
+        for joint in info.joints.values()
+        if joint.axis is not None and sum(float(v) != 0.0 for v in joint.axis.split()) >= 2
+    }
 
 
 def _refuse_crooked_axes(built: _UrdfRobotCache, link: str) -> None:
