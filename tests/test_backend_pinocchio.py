@@ -9,7 +9,16 @@ import sys
 import numpy as np
 import pytest
 
-from backend_cases import (
+from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
+from fkcheck.backends.pinocchio_dh import PinocchioChain, PinocchioDH
+from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
+from fkcheck.backends.registry import make_backend
+from fkcheck.errors import JointInputError, UnmappedFrameError
+from fkcheck.frames import relative_pose
+from fkcheck.model import Model, load_model, model_from_dict
+from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
+from fkcheck.transforms import matrix_from_xyz_rpy, rot_x, rot_z, translation
+from tests.backend_cases import (
     URDF_MODELS,
     arm3_model,
     assert_every_pair_agrees,
@@ -20,17 +29,7 @@ from backend_cases import (
     rpy_rotation,
     urdf_origin_rpy,
 )
-from conftest import BUNDLED, random_q
-from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
-from fkcheck.backends.pinocchio_dh import PinocchioChain, PinocchioDH
-from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
-from fkcheck.backends.registry import make_backend
-from fkcheck.errors import JointInputError, UnmappedFrameError
-from fkcheck.frames import relative_pose
-from fkcheck.model import Model, load_model, model_from_dict
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.transforms import matrix_from_xyz_rpy, rot_x, rot_z, translation
-from helpers import assert_pose_close, assert_se3
+from tests.helpers import BUNDLED, assert_pose_close, assert_se3, random_q
 
 pin = pytest.importorskip("pinocchio")
 

@@ -13,8 +13,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-from backend_cases import URDF_MODELS, assert_every_pair_agrees, core_frame_poses, mapped_frames
-from conftest import BUNDLED, random_q
 from fkcheck.backends.base import Backend, BackendUnavailable, FrameUnavailable, SharesDHFrames
 from fkcheck.backends.registry import BackendOptions, make_backend
 from fkcheck.backends.rtb_common import INSTALL_HINT
@@ -28,7 +26,13 @@ from fkcheck.model import Model, Offset, load_model, model_from_dict
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
 from fkcheck.urdf_source import chain_between, load_urdf
-from helpers import assert_pose_close, assert_se3
+from tests.backend_cases import (
+    URDF_MODELS,
+    assert_every_pair_agrees,
+    core_frame_poses,
+    mapped_frames,
+)
+from tests.helpers import BUNDLED, assert_pose_close, assert_se3, random_q
 
 pytest.importorskip("roboticstoolbox")
 

@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from conftest import BUNDLED, random_q
 from fkcheck import load_model
 from fkcheck.check import reference_poses, run_check
 from fkcheck.cli import main
@@ -19,7 +18,7 @@ from fkcheck.model_toml import model_to_toml, relocate_urdf_path, toml_number
 from fkcheck.se3 import offset_from_matrix, snap
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.transforms import matrix_from_rpy, matrix_from_xyz_rpy, rpy_from_matrix
-from helpers import assert_pose_close
+from tests.helpers import BUNDLED, assert_pose_close, random_q
 
 
 def reload(model, **kwargs):

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-import seed_ur5
 from fkcheck.metrics import rotation_error_rad
 from fkcheck.pose_formats import (
     POSE_FORMATS,
@@ -18,7 +17,8 @@ from fkcheck.pose_formats import (
 )
 from fkcheck.tolerances import SAME_CHAIN
 from fkcheck.transforms import matrix_from_rpy, matrix_from_xyz_rpy
-from helpers import assert_pose_close
+from tests import seed_ur5
+from tests.helpers import assert_pose_close
 
 
 def random_poses(rng, n):

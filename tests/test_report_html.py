@@ -31,7 +31,7 @@ from fkcheck.report.html import render_index, render_report, write_html
 from fkcheck.report.json_report import result_to_dict
 from fkcheck.report.markdown import escape_markdown, markdown_summary
 from fkcheck.tolerances import SAME_CHAIN
-from report_cases import (
+from tests.report_cases import (
     SPEC,
     backends,
     golden_check,
