@@ -12,7 +12,7 @@ from scipy.spatial.transform import Rotation
 from fkcheck.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model import Model, bundled_model_paths, load_model
 from fkcheck.urdf_source import load_urdf
-from helpers import assert_pose_close, rotation_angle
+from tests.helpers import assert_pose_close, rotation_angle
 
 #: Bundled models with a reference URDF and frames mapped onto it.
 URDF_MODELS = ["ur5", "ur3", "ur10", "panda"]

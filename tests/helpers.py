@@ -1,4 +1,5 @@
-"""Shared assertions for poses (one place that knows the maths), and a time bound."""
+"""Shared test helpers: the bundled models, configurations within limits, pose
+assertions (one place that knows the maths), and a time bound."""
 
 from __future__ import annotations
 
@@ -8,6 +9,11 @@ from collections.abc import Iterator
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+from fkcheck.model import Model, bundled_model_paths
+
+#: The bundled model names, sorted (for parametrize).
+BUNDLED = sorted(bundled_model_paths())
 
 
 def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> np.ndarray:
@@ -63,3 +69,10 @@ def deadline(seconds: float) -> Iterator[None]:
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+
+
+def random_q(model: Model, rng: np.random.Generator, n: int) -> np.ndarray:
+    """n configurations uniformly within limits (±π where a joint has none)."""
+    lo = np.where(np.isfinite(model.limits[:, 0]), model.limits[:, 0], -np.pi)
+    hi = np.where(np.isfinite(model.limits[:, 1]), model.limits[:, 1], np.pi)
+    return rng.uniform(lo, hi, size=(n, model.dof))

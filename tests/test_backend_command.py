@@ -13,8 +13,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import seed_ur5
-from conftest import random_q
 from fkcheck.backends import command
 from fkcheck.backends.base import Backend, FrameUnavailable
 from fkcheck.backends.command import CommandBackend, CommandError, CommandSpecError
@@ -24,8 +22,9 @@ from fkcheck.frames import frame_poses_from_dh
 from fkcheck.isolation import TERMINATE_GRACE_S
 from fkcheck.model import Model, load_model
 from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
-from helpers import assert_pose_close, assert_se3
-from processes import LINUX_ONLY, assert_gone, wait_for_pids
+from tests import seed_ur5
+from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.processes import LINUX_ONLY, assert_gone, wait_for_pids
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = Path(__file__).parent / "plugins" / "fk_stdio.py"

@@ -9,7 +9,16 @@ import sys
 import numpy as np
 import pytest
 
-from backend_cases import (
+from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
+from fkcheck.backends.pinocchio_dh import PinocchioChain, PinocchioDH
+from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
+from fkcheck.backends.registry import make_backend
+from fkcheck.errors import JointInputError, UnmappedFrameError
+from fkcheck.frames import relative_pose
+from fkcheck.model import Model, load_model, model_from_dict
+from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
+from fkcheck.transforms import matrix_from_xyz_rpy, rot_x, rot_z, translation
+from tests.backend_cases import (
     URDF_MODELS,
     arm3_model,
     assert_every_pair_agrees,
@@ -20,17 +29,7 @@ from backend_cases import (
     rpy_rotation,
     urdf_origin_rpy,
 )
-from conftest import BUNDLED, random_q
-from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
-from fkcheck.backends.pinocchio_dh import PinocchioDH
-from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
-from fkcheck.backends.registry import make_backend
-from fkcheck.errors import JointInputError, UnmappedFrameError
-from fkcheck.frames import relative_pose
-from fkcheck.model import Model, load_model, model_from_dict
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.transforms import matrix_from_xyz_rpy, rot_x, rot_z, translation
-from helpers import assert_pose_close, assert_se3
+from tests.helpers import BUNDLED, assert_pose_close, assert_se3, random_q
 
 pin = pytest.importorskip("pinocchio")
 
@@ -121,6 +120,25 @@ def test_dh_model_agrees_with_core_on_tcp_and_every_dh_frame(
     assert frames.shape == (200, model.dof + 1, 4, 4)
     assert_pose_close(frames, model.fk(q, all_frames=True), SAME_CHAIN, f"{name} DH frames")
     assert_se3(frames, SAME_CHAIN)
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_the_benchmark_times_the_backends_model_with_only_a_tcp_frame(
+    rng: np.random.Generator, name: str
+) -> None:
+    from fkcheck.benchmark import pinocchio_model
+
+    model = load_model(name)
+    chain = PinocchioChain(model, tcp_only=True)
+    ops = [f.name for f in chain.pmodel.frames if f.type == pin.FrameType.OP_FRAME]
+    assert ops == ["tcp"]
+    assert (chain.dh_frame_ids, chain.named_frame_ids) == ([], {})
+    q = random_q(model, rng, 20)
+    assert chain.tcp_frame_id is not None
+    assert_pose_close(chain.poses(q, [chain.tcp_frame_id])[:, 0], model.fk(q), SAME_CHAIN, name)
+    bench_model = pinocchio_model(model)
+    assert [f.name for f in bench_model.frames if f.type == pin.FrameType.OP_FRAME] == ["tcp"]
+    assert bench_model.nq == model.dof
 
 
 @pytest.mark.parametrize("name", BUNDLED)

@@ -13,8 +13,6 @@ from typing import Any
 import numpy as np
 import pytest
 
-from backend_cases import URDF_MODELS, assert_every_pair_agrees, core_frame_poses, mapped_frames
-from conftest import BUNDLED, random_q
 from fkcheck.backends.base import Backend, BackendUnavailable, FrameUnavailable, SharesDHFrames
 from fkcheck.backends.registry import BackendOptions, make_backend
 from fkcheck.backends.rtb_common import INSTALL_HINT
@@ -27,8 +25,14 @@ from fkcheck.frames import relative_pose
 from fkcheck.model import Model, Offset, load_model, model_from_dict
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
-from fkcheck.urdf_source import load_urdf
-from helpers import assert_pose_close, assert_se3
+from fkcheck.urdf_source import chain_between, load_urdf
+from tests.backend_cases import (
+    URDF_MODELS,
+    assert_every_pair_agrees,
+    core_frame_poses,
+    mapped_frames,
+)
+from tests.helpers import BUNDLED, assert_pose_close, assert_se3, random_q
 
 pytest.importorskip("roboticstoolbox")
 
@@ -382,6 +386,27 @@ def test_rtb_urdf_refuses_links_below_a_crooked_axis(tmp_path: Path) -> None:
     base, l1 = RtbUrdf().frame_poses(model, q, ["base", "l1"])
     np.testing.assert_allclose(relative_pose(base, l1)[0, :2, 0], [np.cos(0.4), np.sin(0.4)],
                                rtol=0, atol=SAME_CHAIN)  # fmt: skip
+
+
+def test_one_chain_walk_serves_the_urdf_summary_and_the_joint_model(tmp_path: Path) -> None:
+    from fkcheck.urdf_kinematics import urdf_kinematics
+
+    info = load_urdf(_two_r(tmp_path, j2_axis="0 0.6 0.8"))
+    kin = urdf_kinematics(info.path, info.text)
+    assert [j.name for j in chain_between(info.joints, "base", "tip")] == ["j1", "j2", "tip_joint"]
+    assert [j.name for j in info.chain("l1", "finger")] == ["j2", "finger_joint"]
+    assert [j.name for j in kin.chain("l1", "finger")] == ["j2", "finger_joint"]
+    assert chain_between(info.joints, "tip", "tip") == []
+    assert chain_between(info.joints, "finger", "tip") is None  # a sibling, not below
+    with pytest.raises(UrdfError, match="no chain connects 'finger' to 'tip'"):
+        info.chain("finger", "tip")
+    # The summary keeps each <axis xyz> as written; the RTB backend reads it there.
+    assert {j.name: j.axis for j in info.joints.values()} == {
+        "finger_joint": "1 0 0",
+        "tip_joint": None,
+        "j2": "0 0.6 0.8",
+        "j1": "0 0 1",
+    }
 
 
 # --------------------------------------------------------------------------- rtb-model

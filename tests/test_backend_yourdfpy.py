@@ -10,7 +10,14 @@ import sys
 import numpy as np
 import pytest
 
-from backend_cases import (
+from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
+from fkcheck.backends.registry import make_backend
+from fkcheck.backends.yourdfpy_urdf import MeshAccessError, YourdfpyUrdf
+from fkcheck.errors import UnmappedFrameError, UrdfError
+from fkcheck.model import load_model
+from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
+from fkcheck.urdf_source import load_urdf
+from tests.backend_cases import (
     ARM3_URDF,
     URDF_MODELS,
     arm3_model,
@@ -21,15 +28,7 @@ from backend_cases import (
     rpy_rotation,
     urdf_origin_rpy,
 )
-from conftest import random_q
-from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
-from fkcheck.backends.registry import make_backend
-from fkcheck.backends.yourdfpy_urdf import MeshAccessError, YourdfpyUrdf
-from fkcheck.errors import UnmappedFrameError, UrdfError
-from fkcheck.model import load_model
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.urdf_source import load_urdf
-from helpers import assert_pose_close, assert_se3
+from tests.helpers import assert_pose_close, assert_se3, random_q
 
 yourdfpy = pytest.importorskip("yourdfpy")
 

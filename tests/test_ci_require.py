@@ -23,13 +23,13 @@ CASES = {
 def run_pytest(tmp_path: Path, source: str, required: bool) -> subprocess.CompletedProcess[str]:
     test = tmp_path / "test_case.py"
     test.write_text(source)
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(TESTS), *sys.path])}
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(TESTS.parent), *sys.path])}
     env.pop("FKCHECK_REQUIRE_BACKENDS", None)
     env.pop("PYTEST_ADDOPTS", None)  # CI's --junitxml belongs to the outer run
     if required:
         env["FKCHECK_REQUIRE_BACKENDS"] = "1"
     return subprocess.run(
-        [sys.executable, "-m", "pytest", "-p", "ci_require", "-q", "-p", "no:cacheprovider",
+        [sys.executable, "-m", "pytest", "-p", "tests.ci_require", "-q", "-p", "no:cacheprovider",
          "-o", "addopts=", str(test)],
         capture_output=True, text=True, cwd=tmp_path, env=env, timeout=120,
     )  # fmt: skip

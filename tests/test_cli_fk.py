@@ -10,11 +10,11 @@ import sys
 import numpy as np
 import pytest
 
-import seed_ur5
 from fkcheck import load_model
 from fkcheck.cli import main
 from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
-from helpers import assert_pose_close
+from tests import seed_ur5
+from tests.helpers import assert_pose_close
 
 ARTICLE = "30,-60,90,-120,-90,45"
 

@@ -9,17 +9,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from conftest import BUNDLED, random_q
 from fkcheck import load_model
 from fkcheck.check import reference_poses, run_check
 from fkcheck.cli import main
 from fkcheck.dh_convert import convert_model, equivalence_error
 from fkcheck.model import UrdfSpec, model_from_dict
 from fkcheck.model_toml import model_to_toml, relocate_urdf_path, toml_number
-from fkcheck.se3 import offset_from_matrix, rpy_from_matrix, snap
+from fkcheck.se3 import offset_from_matrix, snap
 from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.transforms import matrix_from_rpy, matrix_from_xyz_rpy
-from helpers import assert_pose_close
+from fkcheck.transforms import matrix_from_rpy, matrix_from_xyz_rpy, rpy_from_matrix
+from tests.helpers import BUNDLED, assert_pose_close, random_q
 
 
 def reload(model, **kwargs):
@@ -75,9 +74,33 @@ def test_toml_number_refuses_non_finite_and_cleans_negative_zero():
 def test_rpy_from_matrix_inverts_urdf_rpy(rng):
     for rpy in rng.uniform(-3, 3, size=(100, 3)) * [1, 0.5, 1]:  # pitch within ±1.5
         np.testing.assert_allclose(rpy_from_matrix(matrix_from_rpy(rpy)), rpy, atol=1e-12)
-    # Gimbal lock: yaw is folded into roll, the matrix is exact.
-    R = matrix_from_rpy([0.3, math.pi / 2, 0.5])
-    np.testing.assert_allclose(matrix_from_rpy(rpy_from_matrix(R)), R, atol=1e-15)
+    batch = rng.uniform(-1.5, 1.5, size=(7, 3))
+    np.testing.assert_allclose(
+        rpy_from_matrix(np.stack([matrix_from_rpy(r) for r in batch])), batch, atol=1e-12
+    )
+
+
+@pytest.mark.parametrize(
+    ("pitch", "roll"),
+    # Rz(0.5)·Ry(+π/2)·Rx(0.3) = Ry(+π/2)·Rx(0.3 - 0.5); Rz(0.5)·Ry(-π/2)·Rx(0.3) = Ry(-π/2)·Rx(0.8)
+    [(math.pi / 2, 0.3 - 0.5), (-math.pi / 2, 0.3 + 0.5)],
+)
+def test_gimbal_lock_rule_is_one_rule_for_every_caller(pitch, roll):
+    from fkcheck.pose_formats import pose_from_matrix
+    from fkcheck.report.build import pose_forms
+
+    T = matrix_from_xyz_rpy([0.1, 0.2, 0.3], [0.3, pitch, 0.5])
+    rpy = rpy_from_matrix(T)
+    # The rule: yaw is 0 and roll carries the whole rotation about the locked axis.
+    np.testing.assert_allclose(rpy, [roll, pitch, 0.0], atol=1e-15)
+    assert rpy[2] == 0.0
+    np.testing.assert_allclose(matrix_from_rpy(rpy), T[:3, :3], atol=1e-15)
+    # Every caller reports that same triple.
+    np.testing.assert_allclose(offset_from_matrix(T).rpy, rpy, atol=1e-15)
+    np.testing.assert_allclose(pose_from_matrix(T, "rpy")[3:], rpy, atol=0)
+    np.testing.assert_allclose(pose_from_matrix(T, "zyx")[3:], rpy[::-1], atol=0)
+    degrees = ", ".join(f"{v:.6f}" for v in np.degrees(rpy))
+    assert pose_forms(T).rpy == f"({degrees})°"
 
 
 def test_snap_cleans_round_off_only():

@@ -7,14 +7,13 @@ import math
 import numpy as np
 import pytest
 
-import seed_ur5
-from conftest import BUNDLED, random_q
 from fkcheck import JointInputError, load_model
 from fkcheck.dh import dh_matrix, fk_reference
 from fkcheck.model import model_from_dict
 from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
-from helpers import assert_pose_close, assert_se3
+from tests import seed_ur5
+from tests.helpers import BUNDLED, assert_pose_close, assert_se3, random_q
 
 Q_ARTICLE = np.deg2rad(seed_ur5.Q_DEG)
 

@@ -13,13 +13,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import BUNDLED, random_q
 from fkcheck import JointInputError, dh, load_model
 from fkcheck.dh import fk, fk_numpy, fk_reference
 from fkcheck.model import model_from_dict
 from fkcheck.tolerances import FAST_CORE
-from helpers import assert_se3
-from strategies import dh_models
+from tests.helpers import BUNDLED, assert_se3, random_q
+from tests.strategies import dh_models
 
 numba = pytest.importorskip("numba")
 

@@ -19,7 +19,7 @@ from fkcheck.backends.measured import MeasuredPoses, PosesFileError
 from fkcheck.check import reference_poses, run_check
 from fkcheck.cli import main
 from fkcheck.diagnose import diagnose, format_text, to_dict
-from fkcheck.diagnose.axes import line_distance, plucker
+from fkcheck.diagnose.axes import line_distance
 from fkcheck.diagnose.offsets import fit_offsets
 from fkcheck.frames import relative_pose
 from fkcheck.model import Offset
@@ -244,9 +244,8 @@ def test_offset_fit_recovers_known_offsets(rng):
     assert fit.residual.position_m < 1e-10
 
 
-def test_plucker_and_line_distance():
+def test_line_distance():
     p, d = np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 2.0])
-    np.testing.assert_allclose(plucker(p, d), [0, 0, 1, 0, -1, 0])
     assert line_distance(p, d / 2, np.array([0.0, 3.0, 5.0]), np.array([1.0, 0, 0])) == 3.0
     assert line_distance(p, d / 2, np.array([0.0, 0.0, 0.0]), d / 2) == 1.0  # parallel
 

@@ -13,12 +13,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import BUNDLED, random_q
 from fkcheck import load_model
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.diagnose.axes import axis_lines, axis_rows, first_difference
 from fkcheck.tolerances import ROUNDED_URDF
 from fkcheck.urdf_source import example_robot_data_dir
+from tests.helpers import BUNDLED, random_q
 
 WITH_URDF = [name for name in BUNDLED if load_model(name).urdf is not None]
 UR5 = Path(load_model("ur5").path or "")

@@ -35,7 +35,7 @@ from fkcheck.isolation import (
     run_supervised,
 )
 from fkcheck.model import load_model
-from processes import LINUX_ONLY, alive, assert_gone, descendants, wait_for_pids
+from tests.processes import LINUX_ONLY, alive, assert_gone, descendants, wait_for_pids
 
 pytestmark = LINUX_ONLY
 

@@ -32,7 +32,7 @@ from fkcheck.errors import UrdfError
 from fkcheck.model import bundled_model_paths
 from fkcheck.urdf_screen import MAX_XML_DEPTH, MAX_XML_ELEMENTS
 from fkcheck.urdf_source import MAX_URDF_DEPTH, MAX_URDF_LINKS, example_robot_data_dir, read_urdf
-from helpers import deadline
+from tests.helpers import deadline
 
 UR5_URDF = example_robot_data_dir() / "ur_description" / "urdf" / "ur5_robot.urdf"
 UR5_TEXT = UR5_URDF.read_text()

@@ -8,13 +8,13 @@ from dataclasses import replace
 
 import pytest
 
-from conftest import BUNDLED
 from fkcheck import load_model
 from fkcheck.cli import main
 from fkcheck.known_tables import KNOWN_VARIANTS
 from fkcheck.lint import lint_model
 from fkcheck.model import Offset
 from fkcheck.model_toml import model_to_toml
+from tests.helpers import BUNDLED
 
 
 def with_joint(model, index, **changes):

@@ -8,11 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import BUNDLED, random_q
 from fkcheck import ModelError, load_model
 from fkcheck.model import MAX_JOINTS, bundled_model_paths
 from fkcheck.tolerances import SAME_CHAIN
-from helpers import assert_pose_close
+from tests.helpers import BUNDLED, assert_pose_close, random_q
 
 DATA = Path(__file__).parent / "data"
 

@@ -29,13 +29,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import fkcheck.backends.registry as registry
-from conftest import random_q
 from fkcheck.model import model_from_dict
 from fkcheck.tolerances import SAME_CHAIN
 from fkcheck.transforms import invert, matrix_from_xyz_rpy, rot_z, translation
 from fkcheck.urdf_export import model_for_urdf, urdf_from_model
-from helpers import assert_pose_close, assert_se3
-from strategies import dh_models
+from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.strategies import dh_models
 
 DH_BACKENDS = ("rtb-dh", "pinocchio-dh")
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")

@@ -7,11 +7,10 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from conftest import random_q
 from fkcheck.dh import fk_reference
 from fkcheck.tolerances import SAME_CHAIN
-from helpers import assert_pose_close, assert_se3
-from strategies import dh_models
+from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.strategies import dh_models
 
 
 @given(model=dh_models(), seed=st.integers(0, 2**32 - 1))

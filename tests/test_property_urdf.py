@@ -27,7 +27,7 @@ from fkcheck.backends.pinocchio_urdf import _build
 from fkcheck.errors import UrdfError
 from fkcheck.urdf_kinematics import urdf_kinematics
 from fkcheck.urdf_source import UrdfInfo, read_urdf
-from helpers import deadline
+from tests.helpers import deadline
 
 pin = pytest.importorskip("pinocchio")
 

@@ -18,8 +18,8 @@ import pytest
 
 from fkcheck.cli import main
 from fkcheck.report.format import format_deg, format_mm, format_rad
-from report_cases import page_numbers
-from test_report_cli import URDF_BACKENDS, ur5_variant
+from tests.report_cases import page_numbers
+from tests.test_report_cli import URDF_BACKENDS, ur5_variant
 
 SCREENSHOTS = Path(__file__).resolve().parents[1] / "reports" / "screenshots"
 BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")

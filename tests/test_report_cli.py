@@ -12,7 +12,7 @@ from fkcheck import load_model
 from fkcheck.cli import MAIN_JOB, main
 from fkcheck.commands._console import PIPE_WIDTH
 from fkcheck.model import bundled_model_paths
-from report_cases import page_numbers
+from tests.report_cases import page_numbers
 
 UR5 = Path(load_model("ur5").path or "")
 DH_BACKENDS = "rtb-dh,pinocchio-dh"

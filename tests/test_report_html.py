@@ -15,12 +15,23 @@ import pytest
 from fkcheck.report.build import IndexEntry, build_index_page, build_report_page
 from fkcheck.report.diagnosis import diagnosis_view
 from fkcheck.report.evidence import collect_worst_poses, dh_parting, worst_indices
-from fkcheck.report.format import format_deg, format_mm, format_rad
+from fkcheck.report.format import (
+    format_angle_console,
+    format_angle_summary,
+    format_constant,
+    format_deg,
+    format_fixed,
+    format_length_console,
+    format_length_summary,
+    format_microseconds,
+    format_mm,
+    format_rad,
+)
 from fkcheck.report.html import render_index, render_report, write_html
 from fkcheck.report.json_report import result_to_dict
 from fkcheck.report.markdown import escape_markdown, markdown_summary
 from fkcheck.tolerances import SAME_CHAIN
-from report_cases import (
+from tests.report_cases import (
     SPEC,
     backends,
     golden_check,
@@ -295,6 +306,26 @@ def test_write_html_is_atomic_and_complete(tmp_path):
 )
 def test_number_formats(value, mm, rad, deg):
     assert (format_mm(value), format_rad(value), format_deg(value)) == (mm, rad, deg)
+
+
+def test_the_other_outputs_number_formats():
+    # Terminal table: small errors in the base unit only, larger ones also in mm / °.
+    assert format_length_console(3.01e-4) == "0.000301 m (0.301 mm)"
+    assert format_length_console(2e-9) == "2e-09 m"
+    assert format_angle_console(math.pi) == "3.14 rad (180.000°)"
+    assert format_length_console(None) == format_angle_console(None) == "-"
+    # Markdown summary: both units, missing as an en dash.
+    assert format_length_summary(3.01e-4) == "0.301 mm (3.01e-04 m)"
+    assert format_angle_summary(math.pi) == "3.14e+00 rad (180°)"
+    assert format_length_summary(None) == format_angle_summary(None) == "–"
+    # Table constants, fixed-point matrix entries (no "-0"), benchmark µs.
+    assert (format_constant(0.089159), format_constant(-0.0), format_constant(90.0)) == (
+        "0.089159",
+        "0",
+        "90",
+    )
+    assert (format_fixed(-1e-12, 9), format_fixed(-0.5, 3)) == ("0.000000000", "-0.500")
+    assert (format_microseconds(12.345), format_microseconds(0.001234)) == ("12.3", "0.0012")
 
 
 def test_importing_the_report_modules_loads_no_heavy_library():

@@ -9,13 +9,13 @@ from dataclasses import replace
 import pytest
 
 import fkcheck.backends.registry as registry
-from conftest import BUNDLED
 from fkcheck import ModelError, load_model
 from fkcheck.check import run_check
 from fkcheck.cli import main
 from fkcheck.model import FrameSpec, Joint
 from fkcheck.tolerances import SAME_CHAIN
 from fkcheck.urdf_export import urdf_from_model
+from tests.helpers import BUNDLED
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 

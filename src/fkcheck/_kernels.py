@@ -46,7 +46,8 @@ import numpy as np
 from llvmlite import ir
 from numba.core import types
 from numba.extending import intrinsic
-from numpy.typing import NDArray
+
+from fkcheck._typing import Float
 
 __all__ = [
     "BLOCK",
@@ -64,7 +65,6 @@ if nb.config.DISABLE_JIT:  # type: ignore[attr-defined]  # numba.config sets it 
     # The kernels would run as (very slow) Python, and the intrinsic not at all.
     raise ImportError("NUMBA_DISABLE_JIT is set")
 
-Float = NDArray[np.float64]
 
 #: Poses per block of the batched kernel: 16 scratch rows (12 columns, 4 per-joint
 #: rows) of 264 float64 are 33 KiB, which stay in a core's L1/L2 cache. A

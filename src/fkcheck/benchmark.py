@@ -10,8 +10,8 @@ position difference).
 What is timed is the library call and nothing else: Robotics Toolbox
 (``DHRobot.fkine`` and the C path ``ETS.eval`` behind it, on the ``DHRobot`` the
 ``rtb-dh`` backend builds), Pinocchio (``forwardKinematics`` +
-``updateFramePlacements`` per pose on revolute/prismatic z joints with SE(3)
-placements, built here with only a ``tcp`` frame so no other frame is updated)
+``updateFramePlacements`` per pose on the model the ``pinocchio-dh`` backend
+builds, with only a ``tcp`` frame so no other frame is updated)
 and yourdfpy (``update_cfg`` + ``get_transform`` per pose, on the model's URDF
 loaded as the ``yourdfpy-urdf`` backend loads it). A peer whose library is not
 installed is reported as skipped, with the reason; a peer that is installed but
@@ -37,14 +37,13 @@ from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
 from fkcheck import dh
+from fkcheck._typing import Float
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model import Model
 from fkcheck.sampling import sampling_box
-from fkcheck.transforms import rot_x, rot_z, translation
 
 __all__ = [
     "OUTPUT_BYTES_PER_POSE",
@@ -56,7 +55,6 @@ __all__ = [
     "run_bench",
 ]
 
-Float = NDArray[np.float64]
 Kind = Literal["in-house", "peer", "bound"]
 
 #: The peers' conditions: one thread, a new result array per call.
@@ -393,23 +391,6 @@ def _memory_bound(n: int, repeat: int) -> Timing:
 # --------------------------------------------------------------------------- peers
 
 
-def _pre_motion_post(model: Model, i: int) -> tuple[Float, Float, bool, float]:
-    """Joint ``i`` as ``pre · motion(q) · post``: fixed parts, prismatic?, sign."""
-    j = model.joints[i]
-    eye = np.eye(4)
-    prismatic = j.type == "prismatic"
-    sign = -1.0 if j.flip else 1.0
-    tz_d, tx_a = translation(0.0, 0.0, j.d), translation(j.a, 0.0, 0.0)
-    if model.convention == "standard":  # Rz(θ) Tz(d) Tx(a) Rx(α)
-        pre = rot_z(j.theta) @ (tz_d if prismatic else eye)
-        post = (eye if prismatic else tz_d) @ tx_a @ rot_x(j.alpha)
-    else:  # Rx(α) Tx(a) Rz(θ) Tz(d)
-        pre = rot_x(j.alpha) @ tx_a @ rot_z(j.theta)
-        pre = pre @ tz_d if prismatic else pre
-        post = eye if prismatic else tz_d
-    return pre, post, prismatic, sign
-
-
 def rtb_robot(model: Model) -> Any:
     """A Robotics Toolbox ``DHRobot`` from the model's table, base and tool (``rtb-dh``'s).
 
@@ -422,29 +403,14 @@ def rtb_robot(model: Model) -> Any:
 
 
 def pinocchio_model(model: Model) -> Any:
-    """A Pinocchio model of the DH chain: z joints, SE(3) placements, a ``tcp`` frame."""
-    import pinocchio as pin
+    """The ``pinocchio-dh`` backend's Pinocchio model of the DH chain with only a ``tcp`` frame.
 
-    pm = pin.Model()
-    parent = 0
-    placement = model.base.matrix
-    for i in range(model.dof):
-        pre, post, prismatic, sign = _pre_motion_post(model, i)
-        if sign > 0:
-            joint = pin.JointModelPZ() if prismatic else pin.JointModelRZ()
-        else:
-            axis = np.array([0.0, 0.0, -1.0])
-            joint = (
-                pin.JointModelPrismaticUnaligned(axis)
-                if prismatic
-                else pin.JointModelRevoluteUnaligned(axis)
-            )
-        T = placement @ pre
-        parent = pm.addJoint(parent, joint, pin.SE3(T[:3, :3], T[:3, 3]), f"j{i + 1}")
-        placement = post
-    T = placement @ model.tool.matrix
-    pm.addFrame(pin.Frame("tcp", parent, 0, pin.SE3(T[:3, :3], T[:3, 3]), pin.FrameType.OP_FRAME))
-    return pm
+    Raises:
+        BackendUnavailable: Pinocchio is not installed.
+    """
+    from fkcheck.backends.pinocchio_dh import PinocchioChain
+
+    return PinocchioChain(model, tcp_only=True).pmodel
 
 
 def _rtb_eval(model: Model, q: Float, ours: Float, repeat: int) -> Timing:

@@ -28,8 +28,8 @@ from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Backend, Evidence, FixedConfigurations, SharesDHFrames
 from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
 from fkcheck.frames import frame_poses_from_dh, relative_pose, resolve_frame
@@ -57,7 +57,6 @@ __all__ = [
     "run_check",
 ]
 
-Float = NDArray[np.float64]
 Status = Literal["pass", "fail", "error", "skipped"]
 Progress = Callable[[str, int, int], None]
 

@@ -51,6 +51,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import JointInputError
 
 __all__ = [
@@ -69,7 +70,6 @@ __all__ = [
 
 _log = logging.getLogger(__name__)
 
-Float = NDArray[np.float64]
 Convention = Literal["standard", "modified"]
 
 #: Batches of at least this many poses use the JIT kernel (loading numba if it is

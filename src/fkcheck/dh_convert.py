@@ -22,16 +22,14 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.dh import Convention
 from fkcheck.model import FrameSpec, Joint, Model
 from fkcheck.se3 import offset_from_matrix, snap
 from fkcheck.transforms import invert, rot_x, translation
 
 __all__ = ["convert_model", "equivalence_error"]
-
-Float = NDArray[np.float64]
 
 
 def _tx_rx(a: float, alpha: float) -> Float:

@@ -39,8 +39,8 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.dh import Convention, dh_matrix
 from fkcheck.errors import UrdfError
 from fkcheck.model import CheckSpec, FrameSpec, Joint, Model, Offset, UrdfSpec
@@ -56,7 +56,6 @@ __all__ = [
     "dh_from_urdf",
 ]
 
-Float = NDArray[np.float64]
 AxisRelation = Literal["intersecting", "parallel", "coincident", "skew"]
 
 #: Axes closer than this to parallel (sine of the angle between them) are treated

@@ -14,8 +14,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.model import Model, resolve_frame
 from fkcheck.transforms import invert
 
@@ -24,8 +24,6 @@ __all__ = [
     "relative_pose",
     "resolve_frame",
 ]
-
-Float = NDArray[np.float64]
 
 
 def frame_poses_from_dh(

@@ -15,8 +15,8 @@ from array import array
 from pathlib import Path
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import JointInputError
 from fkcheck.input_files import InputFileError, read_lines
 from fkcheck.model import MAX_JOINT_RAD, MAX_LENGTH_M, Model
@@ -24,7 +24,6 @@ from fkcheck.numbers import NumberError, parse_numbers
 
 __all__ = ["check_bounds", "check_limits", "parse_q", "read_q_file", "to_internal_units"]
 
-Float = NDArray[np.float64]
 
 #: Separators between joint values (``30,-60,90`` or ``30;-60;90``).
 _SEPARATORS = ",;"

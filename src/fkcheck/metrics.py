@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import numpy as np
-from numpy.typing import NDArray
+
+from fkcheck._typing import Float
 
 __all__ = ["position_error_m", "rotation_error_rad", "se3_defect"]
-
-Float = NDArray[np.float64]
 
 
 def position_error_m(T_a: Float, T_b: Float) -> Float:

@@ -29,9 +29,10 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from fkcheck import dh
+from fkcheck._typing import Float
 from fkcheck.errors import FrameError, ModelError
 from fkcheck.input_files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.numbers import NumberError, parse_number, show_text, split_fields
@@ -56,7 +57,6 @@ __all__ = [
     "resolve_frame",
 ]
 
-Float = NDArray[np.float64]
 JointType = Literal["revolute", "prismatic"]
 DhIndex = int | Literal["world", "tcp"]
 

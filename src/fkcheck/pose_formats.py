@@ -13,17 +13,21 @@ boundary it is often six or seven numbers instead:
   eqs. 20–22). It is the same matrix as ``rpy`` with the angles in the other order:
   ``(A, B, C) = (yaw, pitch, roll)``.
 
-Conversions go through :class:`scipy.spatial.transform.Rotation`, imported when
-first used. Every function takes one pose ``(4, 4)`` or a batch ``(N, 4, 4)``.
+Roll-pitch-yaw (and so Z-Y'-X'') comes from :func:`fkcheck.transforms.rpy_from_matrix`,
+fkcheck's one matrix → rpy function; the other conversions go through
+:class:`scipy.spatial.transform.Rotation`, imported when first used. Every function
+takes one pose ``(4, 4)`` or a batch ``(N, 4, 4)``.
 """
 
 from __future__ import annotations
 
-import warnings
 from typing import Any, Literal, get_args
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
+
+from fkcheck._typing import Float
+from fkcheck.transforms import rpy_from_matrix
 
 __all__ = [
     "POSE_FORMATS",
@@ -31,11 +35,9 @@ __all__ = [
     "format_pose",
     "matrix_from_pose",
     "pose_from_matrix",
-    "pose_labels",
     "pose_record",
 ]
 
-Float = NDArray[np.float64]
 PoseFormat = Literal["quat", "rpy", "rotvec", "zyx"]
 
 #: The formats, in the order ``--help`` lists them.
@@ -62,12 +64,6 @@ def _check_format(fmt: str) -> None:
         raise ValueError(f"unknown pose format {fmt!r}; formats are: {', '.join(POSE_FORMATS)}")
 
 
-def pose_labels(fmt: PoseFormat) -> tuple[str, ...]:
-    """Names of the numbers :func:`pose_from_matrix` returns: ``x, y, z`` then the rotation."""
-    _check_format(fmt)
-    return ("x", "y", "z", *_ROTATION_LABELS[fmt])
-
-
 def pose_from_matrix(T: ArrayLike, fmt: PoseFormat) -> Float:
     """Position (m) and rotation numbers of pose(s) ``T`` in format ``fmt``.
 
@@ -77,9 +73,9 @@ def pose_from_matrix(T: ArrayLike, fmt: PoseFormat) -> Float:
 
     Returns:
         Shape ``(7,)``/``(N, 7)`` for ``quat``, else ``(6,)``/``(N, 6)``; angles in radians.
-        At a gimbal lock (pitch / B = ±90°) ``rpy`` and ``zyx`` put the whole
-        rotation about the vertical into the first of the two coupled angles
-        (yaw / A) and return 0 for the other; the matrix they describe is exact.
+        ``rpy`` and ``zyx`` come from :func:`fkcheck.transforms.rpy_from_matrix`
+        and share its gimbal-lock rule: at pitch / B = ±90° yaw / A is 0 and
+        roll / C carries the rotation; the matrix they describe is exact.
 
     Raises:
         ValueError: An unknown format or a matrix that is not ``(…, 4, 4)``.
@@ -90,18 +86,13 @@ def pose_from_matrix(T: ArrayLike, fmt: PoseFormat) -> Float:
         raise ValueError(f"expected a pose (4, 4) or a batch (N, 4, 4), got shape {arr.shape}")
     single = arr.ndim == 2
     batch = arr.reshape(-1, 4, 4)
-    rot = _rotation_class().from_matrix(batch[:, :3, :3])
     if fmt == "quat":
-        numbers = rot.as_quat(canonical=True)  # x, y, z, w with w >= 0
+        numbers = _rotation_class().from_matrix(batch[:, :3, :3]).as_quat(canonical=True)
     elif fmt == "rotvec":
-        numbers = rot.as_rotvec()
+        numbers = _rotation_class().from_matrix(batch[:, :3, :3]).as_rotvec()
     else:
-        with warnings.catch_warnings():
-            # At a gimbal lock scipy sets the third angle to zero and warns; the
-            # result still reproduces the matrix, which is all a printed pose needs.
-            warnings.filterwarnings("ignore", message="Gimbal lock detected")
-            zyx = rot.as_euler("ZYX")  # intrinsic Z-Y'-X'': (A, B, C)
-        numbers = zyx if fmt == "zyx" else zyx[:, ::-1]
+        rpy = rpy_from_matrix(batch)
+        numbers = rpy[:, ::-1] if fmt == "zyx" else rpy  # Z-Y'-X'' (A, B, C) = (yaw, pitch, roll)
     out = np.concatenate([batch[:, :3, 3], numbers], axis=1)
     return out[0] if single else out
 

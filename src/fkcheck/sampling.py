@@ -19,8 +19,8 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.model import Model
 
 __all__ = [
@@ -34,7 +34,6 @@ __all__ = [
     "sampling_box",
 ]
 
-Float = NDArray[np.float64]
 Sampler = Literal["sobol", "uniform"]
 
 #: Most random samples one check draws (``--samples``): ten million configurations

@@ -1,7 +1,8 @@
 """Rigid transforms ⇄ the numbers model files hold (xyz + URDF rpy), NumPy only.
 
 :mod:`fkcheck.transforms` builds matrices from numbers; this module goes back:
-a 4×4 transform to an :class:`~fkcheck.model.Offset`, with round-off cleaned
+a 4×4 transform to an :class:`~fkcheck.model.Offset` (rpy by
+:func:`fkcheck.transforms.rpy_from_matrix`), with round-off cleaned
 so that generated model files read ``rpy = [0.0, 0.0, 3.141592653589793]``
 rather than ``[1.2e-16, -3.1e-17, 3.1415926535897927]``.
 """
@@ -11,13 +12,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.model import Offset
+from fkcheck.transforms import rpy_from_matrix
 
-__all__ = ["ANGLE_SNAP_RAD", "LENGTH_SNAP_M", "offset_from_matrix", "rpy_from_matrix", "snap"]
+__all__ = ["ANGLE_SNAP_RAD", "LENGTH_SNAP_M", "offset_from_matrix", "snap"]
 
-Float = NDArray[np.float64]
 
 #: Angles this close to a multiple of π/2 are written as that multiple: round-off
 #: of a few products of exact rotations is ~1e-16; no real design angle is 1e-14 off.
@@ -38,26 +39,9 @@ def snap(value: float, *, angle: bool) -> float:
     return 0.0 if abs(value) <= LENGTH_SNAP_M else value
 
 
-def rpy_from_matrix(R: Float) -> tuple[float, float, float]:
-    """URDF-style fixed-axis roll, pitch, yaw with ``R = Rz(yaw)·Ry(pitch)·Rx(roll)``.
-
-    At pitch = ±π/2 (gimbal lock) yaw is set to 0 and roll carries the rest.
-    """
-    R = np.asarray(R, dtype=np.float64)[:3, :3]
-    cos_pitch = math.hypot(R[0, 0], R[1, 0])
-    pitch = math.atan2(-R[2, 0], cos_pitch)
-    if cos_pitch > 1e-12:
-        yaw = math.atan2(R[1, 0], R[0, 0])
-        roll = math.atan2(R[2, 1], R[2, 2])
-    else:  # R = Ry(±π/2)·Rx(roll): read roll from the second row
-        yaw = 0.0
-        roll = math.atan2(-R[1, 2], R[1, 1])
-    return roll, pitch, yaw
-
-
 def offset_from_matrix(T: Float) -> Offset:
     """The :class:`~fkcheck.model.Offset` (xyz in m, rpy in rad) of a rigid 4×4 transform."""
     T = np.asarray(T, dtype=np.float64)
-    roll, pitch, yaw = (snap(v, angle=True) for v in rpy_from_matrix(T))
+    roll, pitch, yaw = (snap(float(v), angle=True) for v in rpy_from_matrix(T))
     x, y, z = (snap(float(v), angle=False) for v in T[:3, 3])
     return Offset(xyz=(x, y, z), rpy=(roll, pitch, yaw))

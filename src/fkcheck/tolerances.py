@@ -34,8 +34,9 @@ FAST_CORE = 1e-14
 #: observed ~1.4e-11; 1e-9 keeps two orders of margin.
 ROUNDED_URDF = 1e-9
 
-#: Values printed to six decimals (seed 000's hand-computed matrices): half a unit
-#: in the last place is 5e-7, so 1e-6 is the tightest honest bound.
+#: Values printed to six decimals (the matrices a UR5 forward-kinematics tutorial
+#: computes by hand at the ur5 model's pose ``article``): half a unit in the last
+#: place is 5e-7, so 1e-6 is the tightest honest bound.
 SIX_DECIMALS = 1e-6
 
 #: User-facing default tolerances of a check: 1 µm and 1 µrad. Far above any

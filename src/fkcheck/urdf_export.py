@@ -31,9 +31,6 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, replace
 
-import numpy as np
-from numpy.typing import NDArray
-
 from fkcheck.errors import ModelError
 from fkcheck.model import FrameSpec, Model, Offset, UrdfSpec
 from fkcheck.model_toml import toml_number
@@ -43,8 +40,6 @@ from fkcheck.se3 import offset_from_matrix
 from fkcheck.transforms import rot_x, rot_z, translation
 
 __all__ = ["UrdfExport", "model_for_urdf", "urdf_from_model"]
-
-Float = NDArray[np.float64]
 
 
 @dataclass(frozen=True)

@@ -20,10 +20,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.transforms import invert, matrix_from_xyz_rpy
+from fkcheck.urdf_source import chain_between
 
 __all__ = [
     "MOVABLE",
@@ -34,7 +35,6 @@ __all__ = [
     "urdf_kinematics",
 ]
 
-Float = NDArray[np.float64]
 
 #: Joint types with one degree of freedom; ``fixed`` has none, others are refused.
 MOVABLE = ("revolute", "continuous", "prismatic")
@@ -166,16 +166,10 @@ class UrdfKinematics:
             UrdfError: ``link`` does not hang below the root (a text that did not
                 go through :mod:`fkcheck.urdf_source`'s tree check).
         """
-        by_child = {j.child: j for j in self.joints.values()}
-        out: list[JointGeometry] = []
-        start = link
-        while link != self.root:
-            joint = by_child.get(link)
-            if joint is None or len(out) > len(by_child):  # detached, or a cycle
-                raise UrdfError(self.path, f"link {start!r} does not hang below the root link")
-            out.append(joint)
-            link = joint.parent
-        return out[::-1]
+        path = chain_between(self.joints, self.root, link)
+        if path is None:  # detached, or a cycle
+            raise UrdfError(self.path, f"link {link!r} does not hang below the root link")
+        return path
 
     def chain_poses(self, chain: Sequence[JointGeometry], q: Float) -> Float:
         """Poses of every joint frame and child link of ``chain`` in the chain's first parent.

@@ -35,10 +35,11 @@ import importlib.util
 import math
 import re
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+from typing import Protocol, TypeVar
 
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model import Model
@@ -57,6 +58,7 @@ __all__ = [
     "MAX_URDF_LINKS",
     "UrdfInfo",
     "UrdfJoint",
+    "chain_between",
     "example_robot_data_dir",
     "listed",
     "load_urdf",
@@ -116,12 +118,62 @@ _NUMERIC: tuple[tuple[str, str, dict[str, int]], ...] = (
 
 @dataclass(frozen=True)
 class UrdfJoint:
-    """One ``<joint>`` of a URDF."""
+    """One ``<joint>`` of a URDF.
+
+    Attributes:
+        name: The joint's name.
+        type: ``revolute``, ``continuous``, ``prismatic``, ``fixed``, ``floating`` or ``planar``.
+        parent: The parent link.
+        child: The child link.
+        axis: The ``<axis xyz>`` text as written (screened: three finite numbers),
+            ``"1 0 0"`` for an ``<axis>`` without ``xyz``, ``None`` without ``<axis>``.
+    """
 
     name: str
     type: str
     parent: str
     child: str
+    axis: str | None = None
+
+
+class _Edge(Protocol):
+    """A joint as the chain walk sees it: a parent link and a child link."""
+
+    @property
+    def parent(self) -> str: ...
+
+    @property
+    def child(self) -> str: ...
+
+
+_JointT = TypeVar("_JointT", bound=_Edge)
+
+
+def chain_between(joints: Mapping[str, _JointT], base: str, tip: str) -> list[_JointT] | None:
+    """The joints from link ``base`` down to link ``tip``, in order: fkcheck's one chain walk.
+
+    Climbs from ``tip`` through each link's parent joint until it reaches ``base``.
+    Used by :meth:`UrdfInfo.chain` and :class:`fkcheck.urdf_kinematics.UrdfKinematics`.
+
+    Args:
+        joints: Joints by name; each child link has at most one joint (a tree).
+        base: The upper link.
+        tip: The lower link (``tip == base`` gives ``[]``).
+
+    Returns:
+        The joints, ``base``'s child joint first; ``None`` when ``tip`` does not
+        hang below ``base`` (or the walk meets a cycle).
+    """
+    by_child = {j.child: j for j in joints.values()}
+    out: list[_JointT] = []
+    link = tip
+    while link != base:
+        joint = by_child.get(link)
+        if joint is None or len(out) > len(by_child):  # not below base, or a cycle
+            return None
+        out.append(joint)
+        link = joint.parent
+    return out[::-1]
 
 
 @dataclass(frozen=True)
@@ -153,16 +205,10 @@ class UrdfInfo:
         Raises:
             UrdfError: ``tip`` is not below ``base``.
         """
-        by_child = {j.child: j for j in self.joints.values()}
-        out: list[UrdfJoint] = []
-        link = tip
-        while link != base:
-            joint = by_child.get(link)
-            if joint is None:
-                raise UrdfError(self.path, f"no chain connects {base!r} to {tip!r}")
-            out.append(joint)
-            link = joint.parent
-        return out[::-1]
+        chain = chain_between(self.joints, base, tip)
+        if chain is None:
+            raise UrdfError(self.path, f"no chain connects {base!r} to {tip!r}")
+        return chain
 
 
 def example_robot_data_dir() -> Path:
@@ -359,7 +405,9 @@ def _links_and_joints(path: Path, doc: ScreenedUrdf) -> tuple[dict[str, int], di
                 f"{other.parent!r} and joint {name!r} from {parent!r}; a URDF is a tree",
             )
         parent_of[child] = name
-        joints[name] = UrdfJoint(name=name, type=jtype, parent=parent, child=child)
+        axis_el = el.find("axis")
+        axis = None if axis_el is None else axis_el.get("xyz", "1 0 0")
+        joints[name] = UrdfJoint(name=name, type=jtype, parent=parent, child=child, axis=axis)
         lines[name] = doc.line(el) or 0
     return links, joints
 

@@ -35,8 +35,8 @@ from collections.abc import Sequence
 from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import BackendUnavailable, FrameUnavailable, JointInputError
 from fkcheck.model import Model
 
@@ -50,7 +50,6 @@ __all__ = [
     "validated_q",
 ]
 
-Float = NDArray[np.float64]
 
 #: Which question a backend's agreement answers (see the module docstring).
 Evidence = Literal["implementation", "table"]

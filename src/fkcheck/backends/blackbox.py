@@ -16,14 +16,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import FrameUnavailable
 from fkcheck.model import Model, Offset, resolve_frame
 
 __all__ = ["frame_poses_from_tcp", "offset_matrix"]
-
-Float = NDArray[np.float64]
 
 
 def offset_matrix(offset: Offset) -> Float:

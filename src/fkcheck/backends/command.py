@@ -59,8 +59,8 @@ import time
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
@@ -85,7 +85,6 @@ __all__ = [
     "CommandSpecError",
 ]
 
-Float = NDArray[np.float64]
 
 #: Configurations sent to one run of the program.
 BATCH_SIZE = 4096

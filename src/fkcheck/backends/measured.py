@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import BackendUnavailable, Evidence, FrameUnavailable
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import FkcheckError
@@ -58,7 +59,6 @@ from fkcheck.numbers import NumberError, parse_numbers, show_text, split_fields
 
 __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
 
-Float = NDArray[np.float64]
 
 #: Joint values within this of a file row (radians / metres) are that row; two rows
 #: this close must have poses this close (metres and radians).

@@ -41,16 +41,15 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.errors import BackendUnavailable
 from fkcheck.model import Joint, Model, Offset, resolve_frame
 
-__all__ = ["INSTALL_HINT", "PinocchioDH", "import_pinocchio"]
+__all__ = ["INSTALL_HINT", "PinocchioChain", "PinocchioDH", "import_pinocchio"]
 
-Float = NDArray[np.float64]
 
 #: The reason given when Pinocchio is not installed (both Pinocchio backends).
 INSTALL_HINT = "pinocchio is not installed (pip install pin)"
@@ -91,7 +90,7 @@ class PinocchioDH:
         for name in frames:
             resolve_frame(model, name)
         q2 = validated_q(model, q)
-        chain = _PinocchioChain(model)
+        chain = PinocchioChain(model)
         ids = [chain.named_frame_ids[name] for name in frames]
         return np.moveaxis(chain.poses(q2, ids), 1, 0)
 
@@ -103,7 +102,7 @@ class PinocchioDH:
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         q2 = validated_q(model, q)
-        chain = _PinocchioChain(model)
+        chain = PinocchioChain(model)
         return chain.poses(q2, chain.dh_frame_ids)
 
 
@@ -120,38 +119,69 @@ def import_pinocchio() -> Any:
     return pinocchio
 
 
-class _PinocchioChain:
-    """One DH table as a Pinocchio model: frame ids of DH frames, the TCP and named frames."""
+class PinocchioChain:
+    """One DH table as a Pinocchio model, with operational frames to read poses from.
 
-    def __init__(self, model: Model) -> None:
+    fkcheck's one Pinocchio-from-DH builder: the ``pinocchio-dh`` backend and the
+    benchmark (:func:`fkcheck.benchmark.pinocchio_model`) both use it.
+
+    Attributes:
+        pin: The imported :mod:`pinocchio`.
+        pmodel: The ``pinocchio.Model``.
+        data: Its ``pinocchio.Data``.
+        dh_frame_ids: Frame ids of DH frames ``0…n`` (empty when ``tcp_only``).
+        named_frame_ids: Frame id of each ``[frames.NAME]`` (empty when ``tcp_only``).
+        tcp_frame_id: Frame id of the operational frame ``"tcp"`` (``None`` unless
+            ``tcp_only``).
+    """
+
+    def __init__(self, model: Model, *, tcp_only: bool = False) -> None:
+        """Build the model.
+
+        Args:
+            model: The DH model.
+            tcp_only: Add only one operational frame, ``"tcp"``, at the TCP (what the
+                benchmark times: ``updateFramePlacements`` then updates that frame
+                alone); otherwise add the DH frames and the named frames.
+
+        Raises:
+            BackendUnavailable: Pinocchio is not installed.
+        """
         pin = self.pin = import_pinocchio()
         pmodel = pin.Model()
         pmodel.name = model.name
         op = pin.FrameType.OP_FRAME
         modified = model.convention == "modified"
         after = _se3(pin, model.base)
-        # (parent joint, placement) of DH frames 0…n, then of the TCP.
+        # (parent joint, placement) of DH frames 0…n.
         anchors = [(0, after)]
-        self.dh_frame_ids = [pmodel.addFrame(pin.Frame("dh0", 0, after, op), False)]
         parent = 0
-        for i, joint in enumerate(model.joints, start=1):
+        for joint in model.joints:
             before, joint_model, after_i = _split(pin, joint, modified)
             parent = pmodel.addJoint(parent, joint_model, after * before, joint.name)
             after = after_i
             anchors.append((parent, after))
-            frame = pin.Frame(f"dh{i}", parent, after, op)
-            self.dh_frame_ids.append(pmodel.addFrame(frame, False))
         tcp_anchor = (parent, after * _se3(pin, model.tool))
+
+        def add_frame(name: str, joint_id: int, placement: Any) -> int:
+            return int(pmodel.addFrame(pin.Frame(name, joint_id, placement, op), False))
+
+        self.dh_frame_ids: list[int] = []
         self.named_frame_ids: dict[str, int] = {}
-        for name, spec in model.frames.items():
-            if spec.dh == "world":
-                joint_id, placement = 0, pin.SE3.Identity()
-            elif spec.dh == "tcp":
-                joint_id, placement = tcp_anchor
-            else:
-                joint_id, placement = anchors[spec.dh]
-            frame = pin.Frame(f"named:{name}", joint_id, placement * _se3(pin, spec.offset), op)
-            self.named_frame_ids[name] = pmodel.addFrame(frame, False)
+        self.tcp_frame_id: int | None = None
+        if tcp_only:
+            self.tcp_frame_id = add_frame("tcp", *tcp_anchor)
+        else:
+            self.dh_frame_ids = [add_frame(f"dh{i}", *anchor) for i, anchor in enumerate(anchors)]
+            for name, spec in model.frames.items():
+                if spec.dh == "world":
+                    joint_id, placement = 0, pin.SE3.Identity()
+                elif spec.dh == "tcp":
+                    joint_id, placement = tcp_anchor
+                else:
+                    joint_id, placement = anchors[spec.dh]
+                placement = placement * _se3(pin, spec.offset)
+                self.named_frame_ids[name] = add_frame(f"named:{name}", joint_id, placement)
         self.pmodel = pmodel
         self.data = pmodel.createData()
 

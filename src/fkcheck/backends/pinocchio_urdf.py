@@ -24,8 +24,8 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.pinocchio_dh import INSTALL_HINT, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
@@ -35,8 +35,6 @@ from fkcheck.model import Model
 from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["PinocchioUrdf"]
-
-Float = NDArray[np.float64]
 
 
 class PinocchioUrdf:

@@ -33,8 +33,8 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
@@ -44,7 +44,6 @@ from fkcheck.model import Model
 
 __all__ = ["PluginBackend", "PluginError"]
 
-Float = NDArray[np.float64]
 
 #: Output dtypes accepted as they are (converted to float64 exactly).
 _EXACT_KINDS = ("i", "u")

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.errors import BackendUnavailable
 
 __all__ = [
@@ -35,7 +36,6 @@ __all__ = [
     "rtb_unavailable_reason",
 ]
 
-Float = NDArray[np.float64]
 
 #: What the Robotics Toolbox backends import lazily; the engine imports these once,
 #: in the main thread, before backends start (concurrent first imports of

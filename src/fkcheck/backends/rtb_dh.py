@@ -33,8 +33,8 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import (
@@ -47,8 +47,6 @@ from fkcheck.backends.rtb_common import (
 from fkcheck.model import Model, Offset, resolve_frame
 
 __all__ = ["RtbDH", "dh_robot", "se3_from_offset"]
-
-Float = NDArray[np.float64]
 
 
 def se3_from_offset(offset: Offset) -> Any:
@@ -81,8 +79,8 @@ def dh_robot(model: Model) -> Any:
     return robot
 
 
-class _Built:
-    """A model's robot and the ETS of each DH frame, built once per model."""
+class _DhRobotCache:
+    """A model's RTB DHRobot and the ETS of each DH frame, built once per model."""
 
     def __init__(self, model: Model) -> None:
         from roboticstoolbox.ets.ET import ET
@@ -116,7 +114,7 @@ class RtbDH:
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
         self.options = options or BackendOptions()
-        self._built: _Built | None = None
+        self._built: _DhRobotCache | None = None
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run here: only if Robotics Toolbox is missing."""
@@ -167,13 +165,13 @@ class RtbDH:
             out[:, k] = self._frame(built, k, qp)
         return out
 
-    def _build(self, model: Model) -> _Built:
+    def _build(self, model: Model) -> _DhRobotCache:
         if self._built is None or self._built.model is not model:
-            self._built = _Built(model)
+            self._built = _DhRobotCache(model)
         return self._built
 
     @staticmethod
-    def _frame(built: _Built, k: int, qp: Float) -> Float:
+    def _frame(built: _DhRobotCache, k: int, qp: Float) -> Float:
         if k == 0:
             return np.broadcast_to(built.base, (qp.shape[0], 4, 4))
         return eval_batch(built.frame_ets[k], qp)

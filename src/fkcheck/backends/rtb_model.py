@@ -26,9 +26,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-import numpy as np
-from numpy.typing import NDArray
-
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
@@ -44,7 +42,6 @@ from fkcheck.model import Model
 
 __all__ = ["RtbModel", "rtb_dh_model_names"]
 
-Float = NDArray[np.float64]
 
 PREFIX = "rtb-model:"
 

@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
@@ -54,7 +55,6 @@ from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["RtbUrdf", "kinematic_text"]
 
-Float = NDArray[np.float64]
 
 _GEOMETRY = ("visual", "collision")
 
@@ -75,8 +75,8 @@ def kinematic_text(info: UrdfInfo) -> str:
     return ET.tostring(root, encoding="unicode")
 
 
-class _Built:
-    """A URDF read by RTB, with the joint columns and per-link ETS cached."""
+class _UrdfRobotCache:
+    """A model's URDF read by RTB, with the joint columns and per-link ETS cached."""
 
     def __init__(self, model: Model, info: UrdfInfo, robot: Any, columns: NDArray[np.intp]):
         self.model = model
@@ -104,7 +104,7 @@ class RtbUrdf:
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
         self.options = options or BackendOptions()
-        self._built: _Built | None = None
+        self._built: _UrdfRobotCache | None = None
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run: no ``[urdf]`` in the model, or a library missing."""
@@ -139,11 +139,11 @@ class RtbUrdf:
             out[k] = eval_batch(ets, qp)
         return out
 
-    def _build(self, model: Model, info: UrdfInfo) -> _Built:
+    def _build(self, model: Model, info: UrdfInfo) -> _UrdfRobotCache:
         built = self._built
         if built is None or built.model is not model or built.info is not info:
             robot = _read_robot(info)
-            built = self._built = _Built(model, info, robot, _columns(model, info, robot))
+            built = self._built = _UrdfRobotCache(model, info, robot, _columns(model, info, robot))
         return built
 
 
@@ -179,23 +179,14 @@ def _read_robot(info: UrdfInfo) -> Any:
 
 def _crooked_axes(info: UrdfInfo) -> dict[str, str]:
     """Joints whose ``<axis xyz>`` has two or more non-zero components, as RTB counts them."""
-    crooked: dict[str, str] = {}
-    for joint in ET.fromstring(info.text).iter("joint"):
-        axis = joint.find("axis")
-        name = joint.get("name")
-        if axis is None or name is None or joint.find("parent") is None:
-            continue
-        text = axis.get("xyz", "1 0 0")
-        try:
-            nonzero = sum(float(v) != 0.0 for v in text.split())
-        except ValueError:
-            continue  # RTB's reader reports a malformed axis itself
-        if nonzero >= 2:
-            crooked[name] = text
-    return crooked
+    return {
+        joint.name: joint.axis
+        for joint in info.joints.values()
+        if joint.axis is not None and sum(float(v) != 0.0 for v in joint.axis.split()) >= 2
+    }
 
 
-def _refuse_crooked_axes(built: _Built, link: str) -> None:
+def _refuse_crooked_axes(built: _UrdfRobotCache, link: str) -> None:
     """Skip links below a joint whose axis is not along x, y or z.
 
     RTB's URDF reader (roboticstoolbox-python 1.5.0, ``_links_from_urdf``) turns

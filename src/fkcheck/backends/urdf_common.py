@@ -18,9 +18,7 @@ import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-import numpy as np
-from numpy.typing import NDArray
-
+from fkcheck._typing import Float
 from fkcheck.backends.base import validated_q
 from fkcheck.errors import BackendUnavailable, UnmappedFrameError
 from fkcheck.model import Model, resolve_frame
@@ -34,7 +32,6 @@ __all__ = [
     "urdf_unavailable_reason",
 ]
 
-Float = NDArray[np.float64]
 
 #: Most of a native library's standard error kept for the message.
 _CAPTURE_LIMIT = 64 * 1024

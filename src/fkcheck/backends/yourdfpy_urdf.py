@@ -42,8 +42,8 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
@@ -53,7 +53,6 @@ from fkcheck.urdf_source import UrdfInfo
 
 __all__ = ["MeshAccessError", "YourdfpyUrdf"]
 
-Float = NDArray[np.float64]
 
 _INSTALL_HINT = "yourdfpy is not installed (pip install yourdfpy)"
 

@@ -7,6 +7,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from fkcheck.report.format import format_microseconds
+
 __all__ = ["add_parser", "run", "write_json"]
 
 
@@ -136,7 +138,7 @@ def _table(result: Any, tol: float) -> Any:
             t.name,
             f"{t.n:,}",
             t.mode,
-            _us(t.us_per_pose),
+            format_microseconds(t.us_per_pose),
             f"{t.poses_per_s:,.0f}",
             "" if speedup is None else f"{speedup:,.1f}" if speedup >= 1 else f"{speedup:.2g}",
             err,
@@ -146,8 +148,8 @@ def _table(result: Any, tol: float) -> Any:
     facts = [
         (
             f"Headline, like for like ({headline[0].mode}, N = {headline[0].n:,}): "
-            f"{headline[0].name} {_us(headline[0].us_per_pose or 0)} µs/pose vs "
-            f"{headline[1].name} {_us(headline[1].us_per_pose or 0)} µs/pose: "
+            f"{headline[0].name} {format_microseconds(headline[0].us_per_pose or 0)} µs/pose vs "
+            f"{headline[1].name} {format_microseconds(headline[1].us_per_pose or 0)} µs/pose: "
             f"{headline[2]:,.1f}× as fast."
             if headline
             else "Headline: no like-for-like pair ran (needs numba and Robotics Toolbox)."
@@ -166,11 +168,6 @@ def _table(result: Any, tol: float) -> Any:
         f"load average {load}.",
     ]
     return Group(table, Text("\n".join([*notes, "", *facts])))
-
-
-def _us(value: float) -> str:
-    """µs with three significant digits, as a plain decimal."""
-    return f"{value:.3g}" if value >= 0.01 else f"{value:.4f}"
 
 
 def write_json(path: Path, data: dict[str, Any]) -> None:

@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.errors import FkcheckError
+from fkcheck.report.format import format_angle_console, format_length_console
 from fkcheck.safe_text import terminal_markup, terminal_text
 
 if TYPE_CHECKING:
@@ -114,25 +115,6 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(run=run)
 
 
-def _with_larger_unit(value: float | None, unit: str, scale: float, larger: str) -> str:
-    """``value`` in ``unit``, and times ``scale`` in ``larger`` when it is 1e-5 or more."""
-    if value is None:
-        return "-"
-    if value >= 1e-5:
-        return f"{value:.3g} {unit} ({value * scale:.3f}{larger})"
-    return f"{value:.2g} {unit}"
-
-
-def _length(value_m: float | None) -> str:
-    """A length in metres, with millimetres when large enough to matter."""
-    return _with_larger_unit(value_m, "m", 1e3, " mm")
-
-
-def _angle(value_rad: float | None) -> str:
-    """An angle in radians, with degrees when large enough to matter."""
-    return _with_larger_unit(value_rad, "rad", 180.0 / math.pi, "°")  # as math.degrees
-
-
 _STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow"}
 
 
@@ -180,7 +162,8 @@ def print_summary(check: CheckResult) -> None:
         if r.ran:
             table.add_row(
                 terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
-                _length(r.max_position_error_m), _angle(r.max_rotation_error_rad),
+                format_length_console(r.max_position_error_m),
+                format_angle_console(r.max_rotation_error_rad),
                 terminal_markup(_worst_q(r, check)), f"{r.duration_s:.2f} s",
             )  # fmt: skip
         else:

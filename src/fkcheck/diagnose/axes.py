@@ -4,9 +4,10 @@ DH frames and URDF link frames are different frames, but both descriptions put
 each joint on the same physical axis. Expressed in the compared ``from`` frame,
 joint *i*'s axis from the table (``z`` of DH frame ``i−1`` in standard DH, of
 frame ``i`` in modified DH, reversed for a flipped joint) and from the URDF
-(``<axis>`` in the joint frame) must be the same line — as Plücker coordinates
-``(d, p × d)`` — at every configuration. For each joint this module reports the
-largest angle between the directions and the largest distance between the lines
+(``<axis>`` in the joint frame) must be the same line at every configuration:
+the same direction (angle 0 between them) and no distance between the lines
+(:func:`line_distance`). For each joint this module reports the largest angle
+between the directions and the largest distance between the lines
 over a few configurations and names the first joint whose axis disagrees
 (:func:`compare_axes`, for the diagnosis). The HTML report's "where the chains
 part" uses the same pieces at one configuration, a backend's worst
@@ -21,8 +22,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.check import reference_poses
 from fkcheck.diagnose.problem import Problem
 from fkcheck.diagnose.report import AxisRow
@@ -39,19 +40,11 @@ __all__ = [
     "compare_axes",
     "first_difference",
     "line_distance",
-    "plucker",
 ]
 
-Float = NDArray[np.float64]
 
 #: Configurations used (axes depend on the joints before them).
 AXIS_CONFIGURATIONS = 6
-
-
-def plucker(point: Float, direction: Float) -> Float:
-    """Plücker coordinates ``(d, m)`` of a line, ``m = p × d`` (``d`` normalised)."""
-    d = direction / np.linalg.norm(direction)
-    return np.concatenate([d, np.cross(point, d)])
 
 
 def line_distance(p1: Float, d1: Float, p2: Float, d2: Float) -> float:

@@ -26,8 +26,8 @@ import math
 from dataclasses import dataclass, replace
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.diagnose.problem import (
     Problem,
     Residual,
@@ -42,7 +42,6 @@ from fkcheck.transforms import invert
 
 __all__ = ["OffsetFit", "explain_offsets", "fit_offsets"]
 
-Float = NDArray[np.float64]
 
 #: Offsets this close to a multiple of 90° / to zero are tried in their exact form.
 _CLEAN_ANGLE_RAD = 1e-5

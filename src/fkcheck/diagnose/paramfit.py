@@ -15,8 +15,8 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.dh_names import PARAMS, param_symbol
 from fkcheck.diagnose.problem import Problem, pose_residuals, se3_from_rotvec_translation
 from fkcheck.diagnose.report import Change, Explanation
@@ -25,7 +25,6 @@ from fkcheck.se3 import offset_from_matrix
 
 __all__ = ["MOVED", "explain_parameter_fit", "fit_all_parameters"]
 
-Float = NDArray[np.float64]
 
 #: Configurations the fit uses (36 unknowns for 6 joints; 6 residuals per configuration).
 #: The fitted table is then checked on all of the problem's configurations.

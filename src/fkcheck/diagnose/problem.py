@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Backend
 from fkcheck.check import reference_poses
 from fkcheck.frames import relative_pose, resolve_frame
@@ -29,7 +29,6 @@ __all__ = [
     "se3_from_rotvec_translation",
 ]
 
-Float = NDArray[np.float64]
 
 #: Rotation errors enter least-squares fits multiplied by this length (m per rad):
 #: one milliradian weighs as much as one millimetre, the scale of an arm's reach.

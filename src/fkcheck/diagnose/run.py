@@ -5,9 +5,7 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
-import numpy as np
-from numpy.typing import NDArray
-
+from fkcheck._typing import Float
 from fkcheck.backends.base import Backend
 from fkcheck.diagnose.axes import axes_note, compare_axes
 from fkcheck.diagnose.hypotheses import explain_hypotheses, explain_swapped_mapping
@@ -19,7 +17,6 @@ from fkcheck.model import Model
 
 __all__ = ["URDF_BACKENDS", "diagnose"]
 
-Float = NDArray[np.float64]
 
 #: Reference backends that read the model's URDF (the joint axes are compared then).
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")

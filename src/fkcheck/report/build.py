@@ -8,7 +8,6 @@ unchanged and is escaped by the template engine on output.
 from __future__ import annotations
 
 import math
-import warnings
 from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -18,11 +17,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck import __version__
+from fkcheck._typing import Float
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.model import FrameSpec, Model, Offset
 from fkcheck.report.evidence import DhParting, WorstPoses, dh_parting
 from fkcheck.report.format import (
+    format_constant,
     format_deg,
+    format_fixed,
     format_m,
     format_mm,
     format_rad,
@@ -56,6 +58,7 @@ from fkcheck.report.views import (
     WorstCase,
 )
 from fkcheck.tolerances import SAME_CHAIN
+from fkcheck.transforms import rpy_from_matrix
 from fkcheck.verdict import KINDS, evidence_sentences
 from fkcheck.verdict import headline as verdict_headline
 
@@ -75,7 +78,6 @@ __all__ = [
     "verdict_line",
 ]
 
-Float = NDArray[np.float64]
 
 _STANDARD_A = (
     ("cos θᵢ", "−sin θᵢ cos αᵢ", "sin θᵢ sin αᵢ", "aᵢ cos θᵢ"),
@@ -119,24 +121,12 @@ def measure_deg(value: float | None) -> Measure:
     return Measure(value, format_deg(value), format_rad(value))
 
 
-def _num(value: float) -> str:
-    """A table constant, shortest exact-looking form (0.089159, -0.425, 90)."""
-    text = f"{value:.10g}"
-    return "0" if text == "-0" else text
-
-
 def _xyz_rpy(offset: Offset) -> str:
     if offset.is_identity:
         return "none"
-    xyz = ", ".join(_num(v) for v in offset.xyz)
-    rpy = ", ".join(_num(math.degrees(v)) for v in offset.rpy)
+    xyz = ", ".join(format_constant(v) for v in offset.xyz)
+    rpy = ", ".join(format_constant(math.degrees(v)) for v in offset.rpy)
     return f"xyz ({xyz}) m, rpy ({rpy})°"
-
-
-def _fixed(value: float, digits: int) -> str:
-    """Fixed-point text without a minus sign on zero (round-off must not flip the text)."""
-    text = f"{value:.{digits}f}"
-    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
 
 
 def _difference_entry(value: float) -> str:
@@ -147,7 +137,7 @@ def _difference_entry(value: float) -> str:
 def _matrix(
     T: Float, marked: NDArray[np.bool_] | None = None, fmt: Callable[[float], str] | None = None
 ) -> MatrixView:
-    show = fmt or (lambda v: _fixed(v, 9))
+    show = fmt or (lambda v: format_fixed(v, 9))
     rows = tuple(
         tuple(
             MatrixCell(show(float(T[i, j])), bool(marked[i, j]) if marked is not None else False)
@@ -162,23 +152,20 @@ def pose_forms(T: Float, marked: NDArray[np.bool_] | None = None) -> PoseForms:
     """A pose as a matrix, xyz + quaternion (x, y, z, w) and xyz + rpy (degrees).
 
     The quaternion is SciPy's, scalar last, with w ≥ 0; rpy is fixed-axis
-    roll-pitch-yaw as in URDF (``R = Rz(yaw) Ry(pitch) Rx(roll)``, SciPy's
-    extrinsic ``"xyz"``). At pitch ±90° roll and yaw are not unique; SciPy then
-    sets yaw to 0.
+    roll-pitch-yaw as in URDF (``R = Rz(yaw) Ry(pitch) Rx(roll)``) from
+    :func:`fkcheck.transforms.rpy_from_matrix`: at pitch ±90° yaw is 0 and roll
+    carries the rotation.
     """
     from scipy.spatial.transform import Rotation
 
-    rotation = Rotation.from_matrix(T[:3, :3])
-    quat = rotation.as_quat(canonical=True)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)  # gimbal lock: one solution is fine
-        rpy = rotation.as_euler("xyz", degrees=True)
-    xyz = ", ".join(_fixed(v, 9) for v in T[:3, 3])
+    quat = Rotation.from_matrix(T[:3, :3]).as_quat(canonical=True)
+    rpy = np.degrees(rpy_from_matrix(T))
+    xyz = ", ".join(format_fixed(v, 9) for v in T[:3, 3])
     return PoseForms(
         matrix=_matrix(T, marked),
         xyz=f"({xyz}) m",
-        quaternion="(" + ", ".join(_fixed(v, 9) for v in quat) + ")",
-        rpy="(" + ", ".join(_fixed(v, 6) for v in rpy) + ")°",
+        quaternion="(" + ", ".join(format_fixed(v, 9) for v in quat) + ")",
+        rpy="(" + ", ".join(format_fixed(v, 6) for v in rpy) + ")°",
     )
 
 
@@ -193,9 +180,11 @@ def _joint_values(model: Model, q: Float) -> tuple[JointValue, ...]:
     out = []
     for v, joint in zip(q, model.joints, strict=True):
         if joint.type == "prismatic":
-            out.append(JointValue(joint.name, f"{_fixed(v, 9)} m", ""))
+            out.append(JointValue(joint.name, f"{format_fixed(v, 9)} m", ""))
         else:
-            out.append(JointValue(joint.name, _fixed(v, 9), f"{_fixed(math.degrees(v), 6)}°"))
+            out.append(
+                JointValue(joint.name, format_fixed(v, 9), f"{format_fixed(math.degrees(v), 6)}°")
+            )
     return tuple(out)
 
 
@@ -514,7 +503,7 @@ def _detail(
 
 def _transform_view(label: str, offset: Offset) -> TransformView:
     summary = "identity" if offset.is_identity else _xyz_rpy(offset)
-    return TransformView(label, summary, _matrix(offset.matrix, fmt=lambda v: _fixed(v, 6)))
+    return TransformView(label, summary, _matrix(offset.matrix, fmt=lambda v: format_fixed(v, 6)))
 
 
 def _limits(model: Model, i: int) -> str:
@@ -523,8 +512,8 @@ def _limits(model: Model, i: int) -> str:
         return "none"
     lo, hi = joint.limits
     if joint.type == "prismatic":
-        return f"{_num(lo)} … {_num(hi)} m"
-    return f"{_num(math.degrees(lo))} … {_num(math.degrees(hi))}°"
+        return f"{format_constant(lo)} … {format_constant(hi)} m"
+    return f"{format_constant(math.degrees(lo))} … {format_constant(math.degrees(hi))}°"
 
 
 def _model_view(check: CheckResult) -> ModelView:
@@ -535,10 +524,10 @@ def _model_view(check: CheckResult) -> ModelView:
             index=i + 1,
             joint=j.name,
             type=j.type,
-            a=_num(j.a),
-            alpha=_num(math.degrees(j.alpha)),
-            d=_num(j.d),
-            theta=_num(math.degrees(j.theta)),
+            a=format_constant(j.a),
+            alpha=format_constant(math.degrees(j.alpha)),
+            d=format_constant(j.d),
+            theta=format_constant(math.degrees(j.theta)),
             flip="yes" if j.flip else "",
             limits=_limits(model, i),
             urdf_joint=urdf_joints[i] if i < len(urdf_joints) else "",

@@ -15,8 +15,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.backends.base import Backend
 from fkcheck.check import BackendResult, CheckResult, reference_poses
 from fkcheck.frames import relative_pose
@@ -32,7 +32,6 @@ __all__ = [
     "worst_indices",
 ]
 
-Float = NDArray[np.float64]
 
 #: How many of a failing backend's worst configurations a report shows in full.
 WORST_CASES = 3

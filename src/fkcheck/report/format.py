@@ -1,7 +1,9 @@
-"""How numbers read in reports: lengths in mm and m, angles in rad and degrees.
+"""How numbers read in fkcheck's output: lengths in mm and m, angles in rad and degrees.
 
-Pure functions over floats; the HTML and Markdown writers share them so a
-number reads the same everywhere.
+Pure functions over floats, and the one place that decides how a number is
+written for a person: the HTML, Markdown and terminal outputs all use them, so a
+number reads the same everywhere it has the same role. (Model files and URDFs
+write numbers for machines, exactly: :func:`fkcheck.model_toml.toml_number`.)
 """
 
 from __future__ import annotations
@@ -9,8 +11,15 @@ from __future__ import annotations
 import math
 
 __all__ = [
+    "format_angle_console",
+    "format_angle_summary",
+    "format_constant",
     "format_deg",
+    "format_fixed",
+    "format_length_console",
+    "format_length_summary",
     "format_m",
+    "format_microseconds",
     "format_mm",
     "format_rad",
     "format_seconds",
@@ -65,3 +74,49 @@ def format_value(value: float, prismatic: bool) -> str:
     if prismatic:
         return f"{value:.4f} m"
     return f"{math.degrees(value):.2f}°"
+
+
+def format_length_summary(value_m: float | None) -> str:
+    """A length error as the Markdown summary shows it: mm, then m in scientific notation."""
+    return _MISSING if value_m is None else f"{format_mm(value_m)} ({format_m(value_m)})"
+
+
+def format_angle_summary(value_rad: float | None) -> str:
+    """An angle error as the Markdown summary shows it: rad in scientific notation, then °."""
+    return _MISSING if value_rad is None else f"{format_rad(value_rad)} ({format_deg(value_rad)})"
+
+
+def _with_larger_unit(value: float | None, unit: str, scale: float, larger: str) -> str:
+    """``value`` in ``unit``, and times ``scale`` in ``larger`` when it is 1e-5 or more."""
+    if value is None:
+        return "-"
+    if value >= 1e-5:
+        return f"{value:.3g} {unit} ({value * scale:.3f}{larger})"
+    return f"{value:.2g} {unit}"
+
+
+def format_length_console(value_m: float | None) -> str:
+    """A length error as the terminal table shows it: m, with mm when 1e-5 m or more."""
+    return _with_larger_unit(value_m, "m", 1e3, " mm")
+
+
+def format_angle_console(value_rad: float | None) -> str:
+    """An angle error as the terminal table shows it: rad, with ° when 1e-5 rad or more."""
+    return _with_larger_unit(value_rad, "rad", 180.0 / math.pi, "°")  # as math.degrees
+
+
+def format_constant(value: float) -> str:
+    """A table constant, shortest exact-looking form (0.089159, -0.425, 90); never ``-0``."""
+    text = f"{value:.10g}"
+    return "0" if text == "-0" else text
+
+
+def format_fixed(value: float, digits: int) -> str:
+    """Fixed-point text without a minus sign on zero (round-off must not flip the text)."""
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
+
+
+def format_microseconds(value_us: float) -> str:
+    """A time in µs (the unit is not written): three significant digits, as a plain decimal."""
+    return f"{value_us:.3g}" if value_us >= 0.01 else f"{value_us:.4f}"

@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from fkcheck.check import CheckResult
-from fkcheck.report.format import format_deg, format_m, format_mm, format_rad
+from fkcheck.report.format import format_angle_summary, format_length_summary
 from fkcheck.safe_text import markdown_text as escape_markdown
 from fkcheck.verdict import KINDS, evidence_sentences, headline
 
@@ -32,14 +32,6 @@ _ICON = {
     "failed": "❌",
     "not-checked": "❔",
 }
-
-
-def _length(value: float | None) -> str:
-    return "–" if value is None else f"{format_mm(value)} ({format_m(value)})"
-
-
-def _angle(value: float | None) -> str:
-    return "–" if value is None else f"{format_rad(value)} ({format_deg(value)})"
 
 
 def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | None = None) -> str:
@@ -111,7 +103,8 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
         for r in check.backends:
             lines.append(
                 f"{model_cell}| {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
-                f"{_length(r.max_position_error_m)} | {_angle(r.max_rotation_error_rad)} | "
+                f"{format_length_summary(r.max_position_error_m)} | "
+                f"{format_angle_summary(r.max_rotation_error_rad)} | "
                 f"{escape_markdown(r.message)} |"
             )
     return "\n".join(lines) + "\n"

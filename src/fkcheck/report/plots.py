@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck._typing import Float
 from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.report.evidence import WorstPoses
 from fkcheck.report.views import Image
@@ -39,7 +40,6 @@ __all__ = [
     "png_data_uri",
 ]
 
-Float = NDArray[np.float64]
 
 #: Errors at or below this are drawn at this value on log axes (exact agreement is 0).
 LOG_FLOOR = 1e-18
