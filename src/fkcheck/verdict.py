@@ -200,7 +200,7 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
 
 
 def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
-    """The verdict with what it proved, one line: ``pass (implementation only: …)``.
+    """The verdict with what it proved, one line: ``pass — implementation only; …``.
 
     A pass that never checked the table says so in the verdict itself, so it
     cannot be read as "the table is right" wherever only the verdict is shown.
