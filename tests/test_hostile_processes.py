@@ -286,3 +286,39 @@ def test_a_time_limit_too_large_for_the_clock_means_no_limit(
     check = run_check(load_model("ur5"), backends, samples=5, timeout_s=1e10)
     assert [b.status for b in check.backends] == ["pass", "pass"]
     assert check.verdict == "pass"
+
+
+def test_a_thread_the_check_gave_up_on_starts_no_new_program() -> None:
+    """After terminate_all(started_by=thread), that thread's next program is refused at once.
+
+    An abandoned backend's thread may still be looping over batches (a plugin with
+    more than 65 536 configurations): its next batch must not start a process
+    that runs on until its own time limit.
+    """
+    import threading
+
+    from fkcheck.isolation import IsolatedTimeout, run_supervised, terminate_all
+
+    outcome: list[BaseException | None] = []
+
+    def backend_thread() -> None:
+        terminate_all(started_by=threading.current_thread())
+        start = time.monotonic()
+        try:
+            run_supervised([sys.executable, "-c", "import time; time.sleep(30)"], b"", 30.0,
+                           max_stdout_bytes=1024)  # fmt: skip
+        except IsolatedTimeout as exc:
+            outcome.append(exc)
+        else:
+            outcome.append(None)
+        assert time.monotonic() - start < 5.0
+
+    thread = threading.Thread(target=backend_thread)
+    thread.start()
+    thread.join(60)
+    (exc,) = outcome
+    assert isinstance(exc, IsolatedTimeout)
+    assert "gave this backend up" in str(exc)
+    # Another thread is not affected.
+    done = run_supervised([sys.executable, "-c", "print(1)"], b"", 30.0, max_stdout_bytes=1024)
+    assert done.stdout.strip() == b"1"

@@ -51,6 +51,7 @@ import sys
 import threading
 import time
 import traceback
+import weakref
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, NoReturn
@@ -147,6 +148,9 @@ class _Limits:
 #: Running supervisors, with the thread that started each.
 _live: dict[subprocess.Popen[bytes], int] = {}
 _live_lock = threading.Lock()
+#: Threads the check has given up on (:func:`terminate_all` with ``started_by``):
+#: they may start no new program, so an abandoned backend's next batch never runs.
+_abandoned: weakref.WeakSet[threading.Thread] = weakref.WeakSet()
 
 
 def _send(proc: subprocess.Popen[bytes], sig: int, *, group: bool = False) -> None:
@@ -182,6 +186,8 @@ def terminate_all(started_by: threading.Thread | None = None) -> None:
         started_by: Only the programs this thread started (default: all).
     """
     with _live_lock:
+        if started_by is not None:
+            _abandoned.add(started_by)
         procs = [p for p, t in _live.items() if started_by is None or t == started_by.ident]
     for proc in procs:
         _send(proc, signal.SIGTERM)
@@ -235,6 +241,9 @@ def run_supervised(
     """
     limits = _Limits(max_stdout_bytes, max_line_bytes, max_lines)
     deadline = time.monotonic() + timeout_s
+    with _live_lock:
+        if threading.current_thread() in _abandoned:
+            raise IsolatedTimeout("the check gave this backend up: no new program is started")
     status_r, status_w = os.pipe()
     try:
         proc = subprocess.Popen(
@@ -252,7 +261,17 @@ def run_supervised(
     finally:
         os.close(status_w)
     with _live_lock:
-        _live[proc] = threading.get_ident()
+        given_up = threading.current_thread() in _abandoned
+        if not given_up:
+            _live[proc] = threading.get_ident()
+    if given_up:  # abandoned between the check above and now
+        _send(proc, signal.SIGTERM)
+        _reap([proc], time.monotonic() + TERMINATE_GRACE_S)
+        os.close(status_r)
+        for stream in (proc.stdin, proc.stdout, proc.stderr):
+            if stream is not None:
+                stream.close()
+        raise IsolatedTimeout("the check gave this backend up: no new program is started")
     try:
         return _collect(proc, status_r, stdin, deadline, limits)
     finally:
