@@ -21,6 +21,7 @@ from fkcheck.report.json_report import TIME_FIELDS, result_to_dict, write_json
 from fkcheck.report.junit import junit_xml
 from fkcheck.sampling import sample_configurations
 from fkcheck.transforms import rot_z, translation
+from fkcheck.verdict import headline
 
 
 class ReferenceChain:
@@ -188,7 +189,9 @@ def test_a_wrong_answer_is_a_failure_with_its_reason_and_errors(ur5, fn, match):
     assert bad.max_position_error_m > 0
     assert good.status == "pass"
     assert check.verdict == "fail"
-    assert "nothing was cross-checked" not in check.evidence.implementation.status
+    assert headline(check.verdict, check.evidence, len(check.ran)) == (
+        "fail — implementation disagrees"
+    )
 
 
 def test_hanging_backend_is_stopped_at_the_time_limit(ur5):

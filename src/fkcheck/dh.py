@@ -52,7 +52,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from fkcheck._typing import Float
-from fkcheck.errors import JointInputError
+from fkcheck.joint_array import joint_array, require_finite
 
 __all__ = [
     "JIT_MIN_POSES",
@@ -164,36 +164,9 @@ def joint_values(chain: DHChain, q: ArrayLike) -> Float:
     Raises:
         JointInputError: Wrong shape, not numeric, or not finite.
     """
-    q_arr = _joint_array(chain, q)
-    _check_finite(q_arr)
+    q_arr = joint_array(q, chain.dof)
+    require_finite(q_arr)
     return q_arr
-
-
-def _joint_array(chain: DHChain, q: ArrayLike) -> Float:
-    """:func:`joint_values` without the finiteness check (for callers that do it later)."""
-    try:
-        q_arr = np.asarray(q, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise JointInputError(f"joint values are not numbers: {exc}") from None
-    n = chain.dof
-    if q_arr.ndim == 1:
-        q_arr = q_arr.reshape(1, -1)
-    if q_arr.ndim != 2 or q_arr.shape[1] != n:
-        raise JointInputError(
-            f"expected {n} joint values per configuration (shape ({n},) or (N, {n})), "
-            f"got shape {np.shape(q)}"
-        )
-    return np.ascontiguousarray(q_arr)
-
-
-def _check_finite(q: Float) -> None:
-    """Raise :class:`JointInputError` naming the first non-finite value of ``(N, n)`` q."""
-    if not np.isfinite(q).all():
-        bad = np.argwhere(~np.isfinite(q))[0]
-        raise JointInputError(
-            f"joint values must be finite; configuration {bad[0]} joint {bad[1] + 1} "
-            f"is {q[bad[0], bad[1]]}"
-        )
 
 
 def fk(
@@ -225,7 +198,7 @@ def fk(
         T = _one_pose_fast(chain, q)
         if T is not None:
             return T
-    q2 = _joint_array(chain, q)
+    q2 = joint_array(q, chain.dof)
     single = np.ndim(q) == 1
     N, n = q2.shape
     frame_shape: tuple[int, ...] = (n + 1, 4, 4) if all_frames else (4, 4)
@@ -241,7 +214,7 @@ def fk(
         # s·q + θ0 overflowed, and the NumPy path gives the reference's NaNs.
         if _jit.fk_tcp(q2, chain.program, modified, batch, _jit.tasks()):
             return result
-    _check_finite(q2)
+    require_finite(q2)
     if not all_frames and single and _jit is not None:
         _jit.fk_one(np.array(q2[0]), chain.program, modified, batch[0])
         return result

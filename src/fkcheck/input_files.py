@@ -37,6 +37,7 @@ __all__ = [
     "MAX_MODEL_FILE_BYTES",
     "MAX_TABLE_FILE_BYTES",
     "InputFileError",
+    "file_kind",
     "read_lines",
     "read_text",
 ]
@@ -77,11 +78,15 @@ def _size(n_bytes: int) -> str:
     return f"{n_bytes >> 20} MiB" if n_bytes >= 1 << 20 else f"{n_bytes >> 10} KiB"
 
 
+def file_kind(mode: int) -> str:
+    """What a file that is not a regular file is, in words: ``"a FIFO (named pipe)"``."""
+    return next((name for test, name in _KINDS if test(mode)), "a special file")
+
+
 def _not_regular(mode: int) -> str | None:
     if stat.S_ISREG(mode):
         return None
-    kind = next((name for test, name in _KINDS if test(mode)), "a special file")
-    return f"is {kind}, not a regular file"
+    return f"is {file_kind(mode)}, not a regular file"
 
 
 def _open_regular(path: Path, max_bytes: int) -> BinaryIO:

@@ -34,10 +34,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Literal, Protocol, runtime_checkable
 
-import numpy as np
-
 from fkcheck._typing import Float
-from fkcheck.errors import BackendUnavailable, FrameUnavailable, JointInputError
+from fkcheck.errors import BackendUnavailable, FrameUnavailable
+from fkcheck.joint_array import joint_array, require_finite
 from fkcheck.model import Model
 
 __all__ = [
@@ -136,16 +135,6 @@ def validated_q(model: Model, q: Float) -> Float:
     Raises:
         JointInputError: Wrong shape, not numeric, or not finite.
     """
-    try:
-        q_arr = np.asarray(q, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise JointInputError(f"joint values are not numbers: {exc}") from None
-    if q_arr.ndim == 1:
-        q_arr = q_arr.reshape(1, -1)
-    if q_arr.ndim != 2 or q_arr.shape[1] != model.dof:
-        raise JointInputError(
-            f"expected {model.dof} joint values per configuration, got shape {np.shape(q)}"
-        )
-    if not np.isfinite(q_arr).all():
-        raise JointInputError("joint values must be finite")
-    return np.ascontiguousarray(q_arr)
+    q_arr = joint_array(q, model.dof)
+    require_finite(q_arr)
+    return q_arr

@@ -56,7 +56,7 @@ def model_inputs(model: Model) -> list[Input]:
     Raises:
         UrdfError: The URDF is missing, not a regular file, unsafe or broken.
     """
-    from fkcheck.backends.base import BackendUnavailable
+    from fkcheck.errors import BackendUnavailable
     from fkcheck.urdf_source import read_urdf, resolve_urdf_path
 
     found: list[Input] = [(f"the model file of {model.name}", model.path)]

@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
             {**result.to_dict(), "tol_pos_m": tol, "disagree": disagree, "failed": failed},
         )
     if failed:
-        print(f"fkcheck bench: peers failed: {'; '.join(failed)}", file=sys.stderr)
+        print(f"fkcheck bench: peers failed: {terminal_text('; '.join(failed))}", file=sys.stderr)
         return 1
     if disagree:
         print(
@@ -128,7 +128,7 @@ def _table(result: Any, tol: float) -> Any:
             continue
         if t.error:
             table.add_row(t.name, f"{t.n:,}", "", "[bold red]FAILED[/]", "", "", "")
-            notes[-1] = f"{t.name}: FAILED, {t.error}"
+            notes[-1] = terminal_text(f"{t.name}: FAILED, {t.error}")
             continue
         speedup = result.speedup(t)
         err = "" if t.max_pos_err_m is None else f"{t.max_pos_err_m:.1e}"

@@ -361,10 +361,13 @@ def _run_all(args: argparse.Namespace) -> int:
         f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; reports in "
         f"{out_dir}/ (index.html)"
     )
-    print(f"fkcheck: table verified independently: {len(verified)} ({', '.join(verified)})")
+    print(
+        f"fkcheck: table verified independently: {len(verified)} "
+        f"({terminal_text(', '.join(verified))})"
+    )
     print(
         f"fkcheck: implementation only, table not checked: {len(unchecked)} "
-        f"({', '.join(unchecked)})"
+        f"({terminal_text(', '.join(unchecked))})"
     )
     return 0 if not failed else 1
 

@@ -46,6 +46,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fkcheck.errors import FkcheckError
+from fkcheck.input_files import file_kind
 
 __all__ = [
     "Output",
@@ -130,20 +131,6 @@ def _identity(path: Path | str) -> _Identity | None:
     return (st.st_dev, st.st_ino)
 
 
-def _kind(mode: int) -> str:
-    """What a non-regular file is, in words."""
-    for test, name in (
-        (stat.S_ISDIR, "a directory"),
-        (stat.S_ISCHR, "a character device"),
-        (stat.S_ISBLK, "a block device"),
-        (stat.S_ISFIFO, "a FIFO (named pipe)"),
-        (stat.S_ISSOCK, "a socket"),
-    ):
-        if test(mode):
-            return name
-    return "not a regular file"
-
-
 def _limit(directory: Path, name: str, default: int) -> int:
     try:
         return int(os.pathconf(directory, name))
@@ -171,7 +158,7 @@ def _existing_ancestor(flag: str, path: Path) -> tuple[Path, list[str]]:
             current = current.parent
             continue
         if not stat.S_ISDIR(st.st_mode):
-            kind = "a file" if stat.S_ISREG(st.st_mode) else _kind(st.st_mode)
+            kind = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
             raise OutputPathError(flag, path, f"{current} is {kind}, not a directory")
         return current, missing[::-1]
 
@@ -238,7 +225,7 @@ def _check_one(
     if st is not None:
         if not stat.S_ISREG(st.st_mode):
             raise OutputPathError(
-                flag, path, f"is {_kind(st.st_mode)}; fkcheck writes only regular files or new "
+                flag, path, f"is {file_kind(st.st_mode)}; fkcheck writes only regular files or new "
                 "paths"
             )  # fmt: skip
         identity = (st.st_dev, st.st_ino)
@@ -309,7 +296,7 @@ def check_output_dir(flag: str, path: Path | str) -> None:
     except ValueError:  # an embedded NUL
         raise OutputPathError(flag, directory, "the path holds a NUL character") from None
     if not stat.S_ISDIR(st.st_mode):
-        kind = "a file" if stat.S_ISREG(st.st_mode) else _kind(st.st_mode)
+        kind = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
         raise OutputPathError(flag, directory, f"is {kind}, not a directory")
     _check_writable_location(flag, directory / "index.html")
 
@@ -339,7 +326,7 @@ def step_summary_problem(
     except (OSError, ValueError) as exc:
         return getattr(exc, "strerror", None) or str(exc)
     if not stat.S_ISREG(st.st_mode):
-        return f"is {_kind(st.st_mode)}, not a regular file"
+        return f"is {file_kind(st.st_mode)}, not a regular file"
     label = _input_identities(inputs).get((st.st_dev, st.st_ino))
     if label is not None:
         return f"is {label}, an input of this run"
@@ -360,7 +347,7 @@ def append_step_summary(path: str, text: str) -> str | None:
     try:
         mode = os.fstat(fd).st_mode
         if not stat.S_ISREG(mode):
-            return f"is {_kind(mode)}, not a regular file"
+            return f"is {file_kind(mode)}, not a regular file"
         data = text.encode("utf-8", errors="backslashreplace")
         while data:
             data = data[os.write(fd, data) :]
