@@ -10,10 +10,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fkcheck import benchmark as peers
-from fkcheck import dh, load_model
-from fkcheck.sampling import sampling_box
-from fkcheck.tolerances import FAST_CORE
+from fkcheck import load_model
+from fkcheck.bench import harness as peers
+from fkcheck.core import dh
+from fkcheck.core.tolerances import FAST_CORE
+from fkcheck.model.sampling import sampling_box
 
 N_BATCH = 1_000_000
 

@@ -9,9 +9,10 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from fkcheck.frames import frame_poses_from_dh, relative_pose
-from fkcheck.model import Model, bundled_model_paths, load_model
-from fkcheck.urdf_source import load_urdf
+from fkcheck.model.frames import frame_poses_from_dh, relative_pose
+from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.types import Model
+from fkcheck.urdf.source import load_urdf
 from tests.helpers import assert_pose_close, rotation_angle
 
 #: Bundled models with a reference URDF and frames mapped onto it.

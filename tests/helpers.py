@@ -10,7 +10,8 @@ from collections.abc import Iterator
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fkcheck.model import Model, bundled_model_paths
+from fkcheck.model.read import bundled_model_paths
+from fkcheck.model.types import Model
 
 #: The bundled model names, sorted (for parametrize).
 BUNDLED = sorted(bundled_model_paths())

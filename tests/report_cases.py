@@ -16,13 +16,14 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.check import BackendResult, CheckResult
+from fkcheck.core.geometry import translation
 from fkcheck.diagnose import Diagnosis, Explanation
+from fkcheck.diagnose.findings import Change
 from fkcheck.diagnose.problem import Residual
-from fkcheck.diagnose.report import Change
-from fkcheck.frames import frame_poses_from_dh
-from fkcheck.model import Model, model_from_dict
-from fkcheck.transforms import translation
+from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.model.frames import frame_poses_from_dh
+from fkcheck.model.read import model_from_dict
+from fkcheck.model.types import Model
 
 SPEC: dict[str, Any] = {
     "name": "golden-3r",

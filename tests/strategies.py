@@ -7,7 +7,8 @@ from typing import Any
 
 from hypothesis import strategies as st
 
-from fkcheck.model import Model, model_from_dict
+from fkcheck.model.read import model_from_dict
+from fkcheck.model.types import Model
 
 #: Special angles where implementations take different branches or lose digits.
 SPECIAL_ANGLES = (0.0, math.pi / 2, -math.pi / 2, math.pi, -math.pi, 1e-9, -1e-9)

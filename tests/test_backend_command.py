@@ -17,11 +17,12 @@ from fkcheck.backends import command
 from fkcheck.backends.base import Backend, FrameUnavailable
 from fkcheck.backends.command import CommandBackend, CommandError, CommandSpecError
 from fkcheck.backends.registry import BackendOptions, make_backend, parse_against
+from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
 from fkcheck.errors import FkcheckError
-from fkcheck.frames import frame_poses_from_dh
-from fkcheck.isolation import TERMINATE_GRACE_S
-from fkcheck.model import Model, load_model
-from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
+from fkcheck.model.frames import frame_poses_from_dh
+from fkcheck.model.read import load_model
+from fkcheck.model.types import Model
+from fkcheck.process.isolation import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.processes import LINUX_ONLY, assert_gone, wait_for_pids
@@ -104,7 +105,7 @@ FAILURES = [
 
 def test_nan_printed_by_a_program_is_an_answer_the_engine_fails(ur5: Model) -> None:
     """NaN is a wrong answer, not no answer: the poses reach the engine, which fails them."""
-    from fkcheck.check import run_check
+    from fkcheck.engine.runner import run_check
 
     check = run_check(ur5, [script("nan")], samples=2, frame_from="world", frame_to="tcp")
     (row,) = check.backends

@@ -13,11 +13,12 @@ from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
 from fkcheck.backends.pinocchio_dh import PinocchioChain, PinocchioDH
 from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
 from fkcheck.backends.registry import make_backend
+from fkcheck.core.geometry import matrix_from_xyz_rpy, rot_x, rot_z, translation
+from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.errors import JointInputError, UnmappedFrameError
-from fkcheck.frames import relative_pose
-from fkcheck.model import Model, load_model, model_from_dict
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.transforms import matrix_from_xyz_rpy, rot_x, rot_z, translation
+from fkcheck.model.frames import relative_pose
+from fkcheck.model.read import load_model, model_from_dict
+from fkcheck.model.types import Model
 from tests.backend_cases import (
     URDF_MODELS,
     arm3_model,
@@ -126,7 +127,7 @@ def test_dh_model_agrees_with_core_on_tcp_and_every_dh_frame(
 def test_the_benchmark_times_the_backends_model_with_only_a_tcp_frame(
     rng: np.random.Generator, name: str
 ) -> None:
-    from fkcheck.benchmark import pinocchio_model
+    from fkcheck.bench.harness import pinocchio_model
 
     model = load_model(name)
     chain = PinocchioChain(model, tcp_only=True)

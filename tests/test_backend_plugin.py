@@ -12,11 +12,12 @@ import pytest
 from fkcheck.backends.base import Backend, FrameUnavailable
 from fkcheck.backends.plugin import PluginBackend, PluginError
 from fkcheck.backends.registry import BackendOptions, make_backend
+from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
 from fkcheck.errors import BackendNotFoundError, FkcheckError
-from fkcheck.frames import frame_poses_from_dh
-from fkcheck.isolation import TERMINATE_GRACE_S
-from fkcheck.model import Model, load_model
-from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
+from fkcheck.model.frames import frame_poses_from_dh
+from fkcheck.model.read import load_model
+from fkcheck.model.types import Model
+from fkcheck.process.isolation import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.processes import LINUX_ONLY, assert_gone, wait_for_pids
@@ -120,7 +121,7 @@ def test_failing_plugin_raises_a_plugin_error_naming_plugin_and_problem(
 @pytest.mark.usefixtures("plugins_importable")
 def test_nan_from_a_plugin_is_an_answer_the_engine_fails(ur5: Model) -> None:
     """NaN is a wrong answer, not no answer: status fail, with where it happened."""
-    from fkcheck.check import run_check
+    from fkcheck.engine.runner import run_check
 
     check = run_check(ur5, [plugin("bad_plugins:nan_output")], samples=2, frame_from="world",
                       frame_to="tcp")  # fmt: skip

@@ -19,13 +19,14 @@ from fkcheck.backends.rtb_common import INSTALL_HINT
 from fkcheck.backends.rtb_dh import RtbDH, dh_robot
 from fkcheck.backends.rtb_model import RtbModel
 from fkcheck.backends.rtb_urdf import RtbUrdf, kinematic_text
-from fkcheck.cli import main
+from fkcheck.cli.main import main
+from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
+from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.errors import BackendNotFoundError, FkcheckError, UnmappedFrameError, UrdfError
-from fkcheck.frames import relative_pose
-from fkcheck.model import Model, Offset, load_model, model_from_dict
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.transforms import invert, matrix_from_xyz_rpy
-from fkcheck.urdf_source import chain_between, load_urdf
+from fkcheck.model.frames import relative_pose
+from fkcheck.model.read import load_model, model_from_dict
+from fkcheck.model.types import Model, Offset
+from fkcheck.urdf.source import chain_between, load_urdf
 from tests.backend_cases import (
     URDF_MODELS,
     assert_every_pair_agrees,
@@ -389,7 +390,7 @@ def test_rtb_urdf_refuses_links_below_a_crooked_axis(tmp_path: Path) -> None:
 
 
 def test_one_chain_walk_serves_the_urdf_summary_and_the_joint_model(tmp_path: Path) -> None:
-    from fkcheck.urdf_kinematics import urdf_kinematics
+    from fkcheck.urdf.chain import urdf_kinematics
 
     info = load_urdf(_two_r(tmp_path, j2_axis="0 0.6 0.8"))
     kin = urdf_kinematics(info.path, info.text)

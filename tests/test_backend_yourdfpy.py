@@ -13,10 +13,10 @@ import pytest
 from fkcheck.backends.base import Backend, BackendUnavailable, SharesDHFrames
 from fkcheck.backends.registry import make_backend
 from fkcheck.backends.yourdfpy_urdf import MeshAccessError, YourdfpyUrdf
+from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.errors import UnmappedFrameError, UrdfError
-from fkcheck.model import load_model
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.urdf_source import load_urdf
+from fkcheck.model.read import load_model
+from fkcheck.urdf.source import load_urdf
 from tests.backend_cases import (
     ARM3_URDF,
     URDF_MODELS,

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fkcheck.tolerances import FAST_CORE
+from fkcheck.core.tolerances import FAST_CORE
 
 LIMIT_BYTES = 1 << 30  # 1 GiB of address space
 LINES = 1_000_000

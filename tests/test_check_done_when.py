@@ -16,8 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from fkcheck.cli import main
-from fkcheck.model import bundled_model_paths
+from fkcheck.cli.main import main
+from fkcheck.model.read import bundled_model_paths
 
 URDF_BACKENDS = "pinocchio-urdf,yourdfpy-urdf,rtb-urdf"
 PLUGINS = Path(__file__).parent / "plugins"

@@ -13,15 +13,15 @@ import pytest
 from fkcheck import FkcheckError, FrameError, load_model
 from fkcheck.backends.base import Backend, BackendUnavailable
 from fkcheck.backends.blackbox import frame_poses_from_tcp
-from fkcheck.check import run_check
-from fkcheck.dh import fk_reference
-from fkcheck.frames import frame_poses_from_dh
-from fkcheck.metrics import rotation_error_rad
+from fkcheck.core.dh import fk_reference
+from fkcheck.core.geometry import rot_z, translation
+from fkcheck.core.metrics import rotation_error_rad
+from fkcheck.engine.runner import run_check
+from fkcheck.engine.verdict import headline
+from fkcheck.model.frames import frame_poses_from_dh
+from fkcheck.model.sampling import sample_configurations
 from fkcheck.report.json_report import TIME_FIELDS, result_to_dict, write_json
 from fkcheck.report.junit import junit_xml
-from fkcheck.sampling import sample_configurations
-from fkcheck.transforms import rot_z, translation
-from fkcheck.verdict import headline
 
 
 class ReferenceChain:
@@ -285,7 +285,7 @@ def test_reports_are_written_readable_by_others(ur5, tmp_path):
 
 
 def test_measured_poses_become_the_configurations_of_the_check(capsys, tmp_path):
-    from fkcheck.cli import main
+    from fkcheck.cli.main import main
 
     report = tmp_path / "r.json"
     argv = ["check", "ur5", "--against", "poses:tests/data/ur5_pendant.csv,rtb-dh"]
@@ -366,7 +366,7 @@ def test_scripts_need_no_main_guard_for_isolated_backends(tmp_path):
     script.write_text(
         "from fkcheck import load_model\n"
         "from fkcheck.backends.registry import make_backend\n"
-        "from fkcheck.check import run_check\n"
+        "from fkcheck.engine.runner import run_check\n"
         "check = run_check(load_model('ur5'), [make_backend('yourdfpy-urdf')], samples=5)\n"
         "print('VERDICT', check.verdict, check.backends[0].status)\n"
     )

@@ -12,10 +12,11 @@ import sys
 
 import pytest
 
-from fkcheck import benchmark, load_model
-from fkcheck.cli import main
-from fkcheck.commands.bench import write_json
-from fkcheck.model import model_from_dict
+from fkcheck import load_model
+from fkcheck.bench import harness as benchmark
+from fkcheck.cli.bench import write_json
+from fkcheck.cli.main import main
+from fkcheck.model.read import model_from_dict
 
 
 def bench(capsys, tmp_path, *argv):

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from fkcheck import load_model
-from fkcheck.cli import main
-from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
+from fkcheck.cli.main import main
+from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
 from tests import seed_ur5
 from tests.helpers import assert_pose_close
 
@@ -149,7 +149,7 @@ def test_models_lists_every_bundled_model(capsys):
 def test_console_script_entry_point_runs():
     # The installed entry point, as a user calls it (a fresh process, no reference library).
     proc = subprocess.run(
-        [sys.executable, "-c", "import sys; from fkcheck.cli import main; "
+        [sys.executable, "-c", "import sys; from fkcheck.cli.main import main; "
          "code = main(['fk', 'ur5', '--q', '0,0,0,0,0,0']); "
          "heavy = [m for m in ('roboticstoolbox', 'pinocchio', 'yourdfpy') if m in sys.modules]; "
          "print('HEAVY', heavy); sys.exit(code)"],

@@ -10,14 +10,16 @@ import numpy as np
 import pytest
 
 from fkcheck import load_model
-from fkcheck.check import reference_poses, run_check
-from fkcheck.cli import main
-from fkcheck.dh_convert import convert_model, equivalence_error
-from fkcheck.model import UrdfSpec, model_from_dict
-from fkcheck.model_toml import model_to_toml, relocate_urdf_path, toml_number
-from fkcheck.se3 import offset_from_matrix, snap
-from fkcheck.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.transforms import matrix_from_rpy, matrix_from_xyz_rpy, rpy_from_matrix
+from fkcheck.cli.main import main
+from fkcheck.core.geometry import matrix_from_rpy, matrix_from_xyz_rpy, rpy_from_matrix
+from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
+from fkcheck.engine.runner import run_check
+from fkcheck.model.convert import convert_model, equivalence_error
+from fkcheck.model.frames import reference_poses
+from fkcheck.model.offsets import offset_from_matrix, snap
+from fkcheck.model.read import model_from_dict
+from fkcheck.model.types import UrdfSpec
+from fkcheck.model.write import model_to_toml, relocate_urdf_path, toml_number
 from tests.helpers import BUNDLED, assert_pose_close, random_q
 
 
@@ -86,7 +88,7 @@ def test_rpy_from_matrix_inverts_urdf_rpy(rng):
     [(math.pi / 2, 0.3 - 0.5), (-math.pi / 2, 0.3 + 0.5)],
 )
 def test_gimbal_lock_rule_is_one_rule_for_every_caller(pitch, roll):
-    from fkcheck.pose_formats import pose_from_matrix
+    from fkcheck.core.pose_formats import pose_from_matrix
     from fkcheck.report.build import pose_forms
 
     T = matrix_from_xyz_rpy([0.1, 0.2, 0.3], [0.3, pitch, 0.5])

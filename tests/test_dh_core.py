@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from fkcheck import JointInputError, load_model
-from fkcheck.dh import dh_matrix, fk_reference
-from fkcheck.model import model_from_dict
-from fkcheck.tolerances import SAME_CHAIN, SIX_DECIMALS
-from fkcheck.transforms import invert, matrix_from_xyz_rpy
+from fkcheck.core.dh import dh_matrix, fk_reference
+from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
+from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
+from fkcheck.model.read import model_from_dict
 from tests import seed_ur5
 from tests.helpers import BUNDLED, assert_pose_close, assert_se3, random_q
 

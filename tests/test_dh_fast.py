@@ -13,10 +13,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fkcheck import JointInputError, dh, load_model
-from fkcheck.dh import fk, fk_numpy, fk_reference
-from fkcheck.model import model_from_dict
-from fkcheck.tolerances import FAST_CORE
+from fkcheck import JointInputError, load_model
+from fkcheck.core import dh
+from fkcheck.core.dh import fk, fk_numpy, fk_reference
+from fkcheck.core.tolerances import FAST_CORE
+from fkcheck.model.read import model_from_dict
 from tests.helpers import BUNDLED, assert_se3, random_q
 from tests.strategies import dh_models
 
@@ -29,7 +30,7 @@ ULP_1 = float(np.spacing(1.0))
 @pytest.fixture(scope="module")
 def kernels():
     assert dh.load_jit(), dh.jit_status()
-    from fkcheck import _kernels
+    from fkcheck.core import _kernels
 
     return _kernels
 
@@ -43,7 +44,7 @@ def jit_batches(kernels, monkeypatch):
 
 @pytest.fixture
 def no_jit(monkeypatch):
-    """fkcheck.dh as on a machine without numba."""
+    """fkcheck.core.dh as on a machine without numba."""
     monkeypatch.setattr(dh, "_jit", None)
     monkeypatch.setattr(dh, "_jit_error", "ImportError: forced by the test")
 
@@ -368,7 +369,7 @@ def test_without_numba_everything_still_works():
         sys.modules["numba"] = None  # as if numba were not installed
         import numpy as np
         import fkcheck
-        from fkcheck import dh
+        from fkcheck.core import dh
         model = fkcheck.load_model("ur5")
         q = np.random.default_rng(0).uniform(-3, 3, (dh.JIT_MIN_POSES, 6))
         err = np.abs(model.fk(q) - dh.fk_reference(model.chain, q)).max()
@@ -382,7 +383,7 @@ def test_without_numba_everything_still_works():
 def test_numba_disabled_falls_back_to_numpy():
     out = run_python(
         """
-        from fkcheck import dh
+        from fkcheck.core import dh
         print(dh.load_jit(), dh.jit_status())
         """,
         NUMBA_DISABLE_JIT="1",
@@ -396,7 +397,8 @@ def test_no_writable_numba_cache_falls_back_to_numpy():
         import numba.core.caching
         numba.core.caching.CacheImpl._locator_classes = []  # no cache directory fits
         import numpy as np
-        from fkcheck import dh, load_model
+        from fkcheck import load_model
+        from fkcheck.core import dh
         chain = load_model("ur5").chain
         q = np.random.default_rng(0).uniform(-3, 3, (dh.JIT_MIN_POSES, 6))
         err = np.abs(dh.fk(chain, q) - dh.fk_reference(chain, q)).max()
@@ -412,7 +414,7 @@ def test_import_and_one_pose_and_cli_help_do_not_import_numba():
         import sys
         import numpy as np
         import fkcheck
-        from fkcheck.cli import build_parser, main
+        from fkcheck.cli.main import build_parser, main
         build_parser().format_help()
         assert main(["fk", "ur5", "--q", "0,0,0,0,0,0"]) == 0
         model = fkcheck.load_model("ur5")

@@ -9,13 +9,13 @@ import pytest
 
 import fkcheck.backends.registry as registry
 from fkcheck import load_model
-from fkcheck.check import run_check
-from fkcheck.cli import main
-from fkcheck.dh_from_urdf import dh_from_urdf
+from fkcheck.cli.main import main
+from fkcheck.core.tolerances import ROUNDED_URDF
+from fkcheck.engine.runner import run_check
 from fkcheck.errors import FrameError, UrdfError
-from fkcheck.tolerances import ROUNDED_URDF
-from fkcheck.urdf_kinematics import axis_rotation, read_urdf_file
-from fkcheck.urdf_source import example_robot_data_dir
+from fkcheck.urdf.chain import axis_rotation, read_urdf_file
+from fkcheck.urdf.source import example_robot_data_dir
+from fkcheck.urdf.to_dh import dh_from_urdf
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 

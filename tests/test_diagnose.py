@@ -16,17 +16,17 @@ from fkcheck import load_model
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError
-from fkcheck.check import reference_poses, run_check
-from fkcheck.cli import main
+from fkcheck.cli.main import main
+from fkcheck.core.geometry import matrix_from_xyz_rpy, translation
+from fkcheck.core.pose_formats import pose_from_matrix
+from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.diagnose import diagnose, format_text, to_dict
 from fkcheck.diagnose.axes import line_distance
 from fkcheck.diagnose.offsets import fit_offsets
-from fkcheck.frames import relative_pose
-from fkcheck.model import Offset
-from fkcheck.model_toml import model_to_toml
-from fkcheck.pose_formats import pose_from_matrix
-from fkcheck.tolerances import ROUNDED_URDF
-from fkcheck.transforms import matrix_from_xyz_rpy, translation
+from fkcheck.engine.runner import run_check
+from fkcheck.model.frames import reference_poses, relative_pose
+from fkcheck.model.types import Offset
+from fkcheck.model.write import model_to_toml
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 
@@ -272,7 +272,7 @@ def test_cli_json_and_exit_codes(tmp_path, capsys):
 
 
 def test_swapped_urdf_joints_are_named(reference):
-    from fkcheck.model import UrdfSpec
+    from fkcheck.model.types import UrdfSpec
 
     good = load_model("ur5")
     names = list(good.urdf.joints)

@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fkcheck.cli import main
-from fkcheck.frames import frame_poses_from_dh, relative_pose
-from fkcheck.model import bundled_model_paths, load_model
+from fkcheck.cli.main import main
+from fkcheck.model.frames import frame_poses_from_dh, relative_pose
+from fkcheck.model.read import bundled_model_paths, load_model
 
 PLUGINS = Path(__file__).parent / "plugins"
 

@@ -25,13 +25,14 @@ import pytest
 
 from fkcheck import load_model
 from fkcheck.backends.measured import MeasuredPoses, read_poses_file
-from fkcheck.check import reference_poses, run_check
-from fkcheck.cli import main
-from fkcheck.frames import relative_pose
-from fkcheck.joint_input import read_q_file
-from fkcheck.model import MAX_JOINT_RAD, MAX_LENGTH_M, model_from_dict
-from fkcheck.pose_formats import pose_from_matrix
-from fkcheck.sampling import MAX_CORNERS, sample_configurations, sampling_box
+from fkcheck.cli.main import main
+from fkcheck.core.pose_formats import pose_from_matrix
+from fkcheck.engine.runner import run_check
+from fkcheck.model.frames import reference_poses, relative_pose
+from fkcheck.model.joint_input import read_q_file
+from fkcheck.model.read import model_from_dict
+from fkcheck.model.sampling import MAX_CORNERS, sample_configurations, sampling_box
+from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M
 
 #: Every case ends well within this (measured: under 0.5 s in-process, ~2 s in a subprocess).
 TIME_BOUND_S = 20.0
@@ -526,7 +527,7 @@ def test_hostile_file_kind_is_refused_unopened_in_a_subprocess(tmp_path, files, 
     before = _snapshot(tmp_path)
     start = time.monotonic()
     proc = subprocess.run(
-        [sys.executable, "-c", "import sys; from fkcheck.cli import main; sys.exit(main())", *argv],
+        [sys.executable, "-m", "fkcheck", *argv],
         cwd=tmp_path, capture_output=True, text=True, timeout=60, check=False,
     )  # fmt: skip
     elapsed = time.monotonic() - start
@@ -671,20 +672,20 @@ def test_model_bounds_are_the_documented_ones():
 
 
 def test_fk_output_in_chunks_is_the_one_call_output(monkeypatch, rng):
-    import fkcheck.commands.fk as fk_command
-    import fkcheck.dh
+    import fkcheck.cli.fk as fk_command
+    import fkcheck.core.dh
 
     model = load_model("ur5")
     q = rng.uniform(-3, 3, (37, 6))
     monkeypatch.setattr(fk_command, "_CHUNK", 16)
-    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 10)  # the whole batch "takes the JIT"
+    monkeypatch.setattr(fkcheck.core.dh, "JIT_MIN_POSES", 10)  # the whole batch "takes the JIT"
     chunks = list(fk_command._fk_chunks(model, q, all_frames=False))
     # 16 + 16 + 5: the short last chunk joins the one before, so every chunk is a JIT batch.
     assert [len(c) for c, _ in chunks] == [16, 21]
     np.testing.assert_array_equal(np.concatenate([T for _, T in chunks]), model.fk(q))
-    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 20)  # chunks never below the JIT's size
+    monkeypatch.setattr(fkcheck.core.dh, "JIT_MIN_POSES", 20)  # chunks never below the JIT's size
     assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [37]
-    monkeypatch.setattr(fkcheck.dh, "JIT_MIN_POSES", 40)  # the whole batch on the NumPy path
+    monkeypatch.setattr(fkcheck.core.dh, "JIT_MIN_POSES", 40)  # the whole batch on the NumPy path
     assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [16, 16, 5]
     frames = list(fk_command._fk_chunks(model, q, all_frames=True))
     assert [len(c) for c, _ in frames] == [2] * 18 + [1]  # 16 // 7 configurations a chunk
@@ -695,7 +696,7 @@ def test_fk_output_in_chunks_is_the_one_call_output(monkeypatch, rng):
 
 @pytest.mark.parametrize("fmt", ["matrix", "quat"])
 def test_fk_q_file_json_is_byte_for_byte_one_json_array(tmp_path, capsys, monkeypatch, rng, fmt):
-    import fkcheck.commands.fk as fk_command
+    import fkcheck.cli.fk as fk_command
 
     monkeypatch.setattr(fk_command, "_CHUNK", 4)  # several chunks
     q = rng.uniform(-1, 1, (11, 6))
@@ -729,7 +730,7 @@ def test_fk_q_file_json_memory_is_the_configurations_and_one_chunk(tmp_path, mon
     # A million lines peaked at 4.1 GB: every record and the whole JSON string at once.
     # Here 6 000 lines in chunks of 1 000: all at once held ~20 MB of Python objects;
     # streaming holds q (0.3 MB), one chunk of poses (0.1 MB) and one chunk's records.
-    import fkcheck.commands.fk as fk_command
+    import fkcheck.cli.fk as fk_command
 
     monkeypatch.setattr(fk_command, "_CHUNK", 1000)
     path = tmp_path / "q.csv"

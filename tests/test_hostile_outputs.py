@@ -37,13 +37,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fkcheck.cli import main
+from fkcheck.cli.main import main
 from fkcheck.errors import FkcheckError
-from fkcheck.model import bundled_model_paths, load_model
-from fkcheck.model_toml import model_to_toml
-from fkcheck.report.strict_json import jsonable, strict_json
-from fkcheck.safe_text import document_text, terminal_text
-from fkcheck.urdf_export import model_for_urdf, urdf_from_model
+from fkcheck.io.strict_json import jsonable, strict_json
+from fkcheck.io.text import document_text, terminal_text
+from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.write import model_to_toml
+from fkcheck.urdf.export import model_for_urdf, urdf_from_model
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 PLANAR2 = bundled_model_paths()["planar2"]
@@ -175,7 +175,7 @@ def run_subprocess(argv: list[object], timeout: float = SMALL_RUN_S, **kwargs) -
     kwargs.setdefault("stdout", subprocess.PIPE)
     start = time.monotonic()
     proc = subprocess.run(
-        [sys.executable, "-m", "fkcheck.cli", *map(str, argv)],
+        [sys.executable, "-m", "fkcheck.cli.main", *map(str, argv)],
         stderr=subprocess.PIPE, timeout=timeout, **kwargs,
     )  # fmt: skip
     seconds = time.monotonic() - start

@@ -25,8 +25,9 @@ import pytest
 from fkcheck.backends.command import CommandBackend
 from fkcheck.backends.plugin import PluginBackend
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.check import run_check
-from fkcheck.isolation import (
+from fkcheck.engine.runner import run_check
+from fkcheck.model.read import load_model
+from fkcheck.process.isolation import (
     STDERR_TAIL_BYTES,
     TERMINATE_GRACE_S,
     IsolatedDied,
@@ -34,7 +35,6 @@ from fkcheck.isolation import (
     run_isolated,
     run_supervised,
 )
-from fkcheck.model import load_model
 from tests.processes import LINUX_ONLY, alive, assert_gone, descendants, wait_for_pids
 
 pytestmark = LINUX_ONLY
@@ -59,7 +59,7 @@ def _env(tmp_path: Path) -> dict[str, str]:
 
 def _start(tmp_path: Path, against: str, *extra: str) -> subprocess.Popen[str]:
     """``fkcheck check ur5 --against AGAINST`` in ``tmp_path``, writing ``out.json``."""
-    argv = [sys.executable, "-m", "fkcheck.cli", "check", "ur5", "--samples", "5",
+    argv = [sys.executable, "-m", "fkcheck.cli.main", "check", "ur5", "--samples", "5",
             "--against", against, "--json", str(tmp_path / "out.json"), *extra]  # fmt: skip
     return subprocess.Popen(
         argv, cwd=tmp_path, env=_env(tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -266,7 +266,7 @@ def test_a_module_in_the_current_directory_is_not_imported_by_the_child(tmp_path
     # fkcheck run without the current directory on sys.path (as the `fkcheck` script
     # is): its child processes must not pick up a numpy.py lying there either.
     (tmp_path / "numpy.py").write_text("open('pwned', 'w').close()\nraise SystemExit(9)\n")
-    argv = [sys.executable, "-P", "-m", "fkcheck.cli", "check", "ur5", "--samples", "5",
+    argv = [sys.executable, "-P", "-m", "fkcheck.cli.main", "check", "ur5", "--samples", "5",
             "--against", "ur5_closed_form:forward"]  # fmt: skip
     run = subprocess.run(
         argv, cwd=tmp_path, env=_env(tmp_path), capture_output=True, text=True, timeout=60
@@ -297,7 +297,7 @@ def test_a_thread_the_check_gave_up_on_starts_no_new_program() -> None:
     """
     import threading
 
-    from fkcheck.isolation import IsolatedTimeout, run_supervised, terminate_all
+    from fkcheck.process.isolation import IsolatedTimeout, run_supervised, terminate_all
 
     outcome: list[BaseException | None] = []
 

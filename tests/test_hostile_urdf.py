@@ -24,14 +24,14 @@ import pytest
 import fkcheck.backends.pinocchio_urdf as pinocchio_urdf
 import fkcheck.backends.rtb_urdf as rtb_urdf
 import fkcheck.backends.yourdfpy_urdf as yourdfpy_urdf
-import fkcheck.check as check_module
 import fkcheck.diagnose.axes as diagnose_axes
-import fkcheck.urdf_kinematics as urdf_kinematics
-from fkcheck.cli import main
+import fkcheck.engine.runner as check_module
+import fkcheck.urdf.chain as urdf_kinematics
+from fkcheck.cli.main import main
 from fkcheck.errors import UrdfError
-from fkcheck.model import bundled_model_paths
-from fkcheck.urdf_screen import MAX_XML_DEPTH, MAX_XML_ELEMENTS
-from fkcheck.urdf_source import MAX_URDF_DEPTH, MAX_URDF_LINKS, example_robot_data_dir, read_urdf
+from fkcheck.model.read import bundled_model_paths
+from fkcheck.urdf.screen import MAX_XML_DEPTH, MAX_XML_ELEMENTS
+from fkcheck.urdf.source import MAX_URDF_DEPTH, MAX_URDF_LINKS, example_robot_data_dir, read_urdf
 from tests.helpers import deadline
 
 UR5_URDF = example_robot_data_dir() / "ur_description" / "urdf" / "ur5_robot.urdf"

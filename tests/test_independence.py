@@ -24,12 +24,13 @@ import numpy as np
 import pytest
 
 import fkcheck.backends
-import fkcheck.check
-import fkcheck.dh
-import fkcheck.transforms
+import fkcheck.core.dh
+import fkcheck.core.geometry
+import fkcheck.engine.runner
+import fkcheck.model.frames
 from fkcheck.backends.registry import make_backend
-from fkcheck.check import run_check
-from fkcheck.model import load_model, model_from_dict
+from fkcheck.engine.runner import run_check
+from fkcheck.model.read import load_model, model_from_dict
 
 BACKENDS_DIR = Path(fkcheck.backends.__file__).parent
 PLUGINS = Path(__file__).parent / "plugins"
@@ -112,7 +113,7 @@ def test_control_every_reference_passes_unbroken():
 def test_broken_rpy_to_matrix_turns_every_reference_red(monkeypatch, pair, mutation):
     """fkcheck's rpy → matrix broken: the named frames' offsets come out wrong."""
     monkeypatch.setattr(
-        fkcheck.transforms, "matrix_from_rpy", mutation(fkcheck.transforms.matrix_from_rpy)
+        fkcheck.core.geometry, "matrix_from_rpy", mutation(fkcheck.core.geometry.matrix_from_rpy)
     )
     statuses, check = _statuses(load_model("ur5"), UR5_REFERENCES, pair)
     assert statuses == dict.fromkeys(UR5_REFERENCES, "fail"), check.backends
@@ -135,9 +136,9 @@ def test_broken_rpy_to_matrix_in_base_and_tool_turns_dh_and_black_box_references
     q = np.random.default_rng(5).uniform(-3, 3, size=(1, 3))
     honest_world_T_tcp = honest.fk(q)  # computed before the break
     monkeypatch.setattr(
-        fkcheck.transforms,
+        fkcheck.core.geometry,
         "matrix_from_rpy",
-        _swapped_roll_and_yaw(fkcheck.transforms.matrix_from_rpy),
+        _swapped_roll_and_yaw(fkcheck.core.geometry.matrix_from_rpy),
     )
     broken = model_from_dict(data)
     assert not np.allclose(broken.fk(q), honest_world_T_tcp)  # the break reaches the core
@@ -147,7 +148,7 @@ def test_broken_rpy_to_matrix_in_base_and_tool_turns_dh_and_black_box_references
 
 def test_broken_frame_offset_turns_every_reference_red(monkeypatch):
     """The core forgets a named frame's offset (places it at its DH frame)."""
-    original = fkcheck.check.frame_poses_from_dh
+    original = fkcheck.model.frames.frame_poses_from_dh
 
     def broken(model, world_T_dh, world_T_tcp, frames):
         poses = original(model, world_T_dh, world_T_tcp, frames)
@@ -155,7 +156,7 @@ def test_broken_frame_offset_turns_every_reference_red(monkeypatch):
             poses[k] = poses[k] @ np.linalg.inv(model.frames[name].offset.matrix)
         return poses
 
-    monkeypatch.setattr(fkcheck.check, "frame_poses_from_dh", broken)
+    monkeypatch.setattr(fkcheck.model.frames, "frame_poses_from_dh", broken)
     for pair in [("base_link", "tool0"), ("tool0", "ee_link")]:
         statuses, check = _statuses(load_model("ur5"), UR5_REFERENCES, pair)
         assert statuses == dict.fromkeys(UR5_REFERENCES, "fail"), (pair, check.backends)
@@ -163,12 +164,12 @@ def test_broken_frame_offset_turns_every_reference_red(monkeypatch):
 
 def test_broken_dh_matrix_turns_every_reference_red(monkeypatch):
     """The core's DH link matrix with sin α of the wrong sign."""
-    original = fkcheck.dh._fk_numpy_chunk
+    original = fkcheck.core.dh._fk_numpy_chunk
 
     def broken(chain, q2, out, all_frames):
         original(dataclasses.replace(chain, alpha=-chain.alpha), q2, out, all_frames)
 
-    monkeypatch.setattr(fkcheck.dh, "_fk_numpy_chunk", broken)
+    monkeypatch.setattr(fkcheck.core.dh, "_fk_numpy_chunk", broken)
     statuses, check = _statuses(load_model("ur5"), UR5_REFERENCES, ("base", "tool0"))
     assert statuses == dict.fromkeys(UR5_REFERENCES, "fail"), check.backends
 
@@ -176,7 +177,7 @@ def test_broken_dh_matrix_turns_every_reference_red(monkeypatch):
 def test_broken_dh_matrix_turns_black_box_references_red(monkeypatch):
     """A plugin with its own closed form, and Robotics Toolbox's published UR5 table."""
     monkeypatch.syspath_prepend(str(PLUGINS))
-    original = fkcheck.dh._fk_numpy_chunk
+    original = fkcheck.core.dh._fk_numpy_chunk
 
     def broken(chain, q2, out, all_frames):
         original(dataclasses.replace(chain, alpha=-chain.alpha), q2, out, all_frames)
@@ -184,6 +185,6 @@ def test_broken_dh_matrix_turns_black_box_references_red(monkeypatch):
     names = ["ur5_closed_form:forward", "rtb-model:UR5"]
     statuses, _ = _statuses(load_model("ur5"), names, ("world", "tool0"))
     assert statuses["ur5_closed_form:forward"] == "pass"  # control
-    monkeypatch.setattr(fkcheck.dh, "_fk_numpy_chunk", broken)
+    monkeypatch.setattr(fkcheck.core.dh, "_fk_numpy_chunk", broken)
     statuses, _ = _statuses(load_model("ur5"), names, ("world", "tool0"))
     assert statuses == dict.fromkeys(names, "fail")

@@ -17,7 +17,7 @@ import pytest
 def test_signal_during_a_check_leaves_no_report(tmp_path, sig, code, word):
     report = tmp_path / "ur5.json"
     proc = subprocess.Popen(
-        [sys.executable, "-m", "fkcheck.cli", "check", "ur5", "--samples", "300000",
+        [sys.executable, "-m", "fkcheck.cli.main", "check", "ur5", "--samples", "300000",
          "--against", "yourdfpy-urdf", "--json", str(report)],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )  # fmt: skip

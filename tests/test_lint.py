@@ -9,11 +9,11 @@ from dataclasses import replace
 import pytest
 
 from fkcheck import load_model
-from fkcheck.cli import main
-from fkcheck.known_tables import KNOWN_VARIANTS
-from fkcheck.lint import lint_model
-from fkcheck.model import Offset
-from fkcheck.model_toml import model_to_toml
+from fkcheck.cli.main import main
+from fkcheck.model.lint import lint_model
+from fkcheck.model.published import KNOWN_VARIANTS
+from fkcheck.model.types import Offset
+from fkcheck.model.write import model_to_toml
 from tests.helpers import BUNDLED
 
 

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from fkcheck import ModelError, load_model
-from fkcheck.model import MAX_JOINTS, bundled_model_paths
-from fkcheck.tolerances import SAME_CHAIN
+from fkcheck.core.tolerances import SAME_CHAIN
+from fkcheck.model.read import bundled_model_paths
+from fkcheck.model.types import MAX_JOINTS
 from tests.helpers import BUNDLED, assert_pose_close, random_q
 
 DATA = Path(__file__).parent / "data"
@@ -252,7 +253,7 @@ def test_binary_file(tmp_path):
 
 def test_degrees_in_radian_file_warn_then_the_check_fails(tmp_path, capsys):
     # The UR5 file with its unit line changed: 90 and 180 are now read as radians.
-    from fkcheck.cli import main
+    from fkcheck.cli.main import main
 
     text = (
         bundled_model_paths()["ur5"].read_text().replace('angle_unit = "deg"', 'angle_unit = "rad"')

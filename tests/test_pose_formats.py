@@ -7,16 +7,16 @@ import math
 import numpy as np
 import pytest
 
-from fkcheck.metrics import rotation_error_rad
-from fkcheck.pose_formats import (
+from fkcheck.core.geometry import matrix_from_rpy, matrix_from_xyz_rpy
+from fkcheck.core.metrics import rotation_error_rad
+from fkcheck.core.pose_formats import (
     POSE_FORMATS,
     format_pose,
     matrix_from_pose,
     pose_from_matrix,
     pose_record,
 )
-from fkcheck.tolerances import SAME_CHAIN
-from fkcheck.transforms import matrix_from_rpy, matrix_from_xyz_rpy
+from fkcheck.core.tolerances import SAME_CHAIN
 from tests import seed_ur5
 from tests.helpers import assert_pose_close
 
@@ -152,7 +152,7 @@ def test_format_pose_text_and_record():
 
 
 def test_fk_format_flag_prints_zyx_of_the_seed_pose(capsys):
-    from fkcheck.cli import main
+    from fkcheck.cli.main import main
 
     code = main(["fk", "ur5", "--q", "30,-60,90,-120,-90,45", "--deg", "--format", "zyx"])
     out = capsys.readouterr().out
@@ -167,7 +167,7 @@ def test_fk_format_flag_prints_zyx_of_the_seed_pose(capsys):
 
 def test_fk_format_batch_lines_round_trip(tmp_path, capsys):
     from fkcheck import load_model
-    from fkcheck.cli import main
+    from fkcheck.cli.main import main
 
     q_file = tmp_path / "q.csv"
     q_file.write_text("0,0,0,0,0,0\n0.1,-0.5,1.0,-1.2,-1.5,0.7\n")

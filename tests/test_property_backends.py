@@ -4,7 +4,7 @@ Two families, the same random tables (:mod:`strategies`):
 
 * the DH backends (``rtb-dh``, ``pinocchio-dh``) rebuild the table in their library;
   every DH frame and the TCP must match the core to :data:`SAME_CHAIN`;
-* the table exported as a URDF (:func:`fkcheck.urdf_export.urdf_from_model`, numbers
+* the table exported as a URDF (:func:`fkcheck.urdf.export.urdf_from_model`, numbers
   written to round-trip) must match the core in all three URDF backends, every DH
   frame included. Each example writes a file and loads three parsers, so this one
   runs a fifth of the profile's examples.
@@ -29,10 +29,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import fkcheck.backends.registry as registry
-from fkcheck.model import model_from_dict
-from fkcheck.tolerances import SAME_CHAIN
-from fkcheck.transforms import invert, matrix_from_xyz_rpy, rot_z, translation
-from fkcheck.urdf_export import model_for_urdf, urdf_from_model
+from fkcheck.core.geometry import invert, matrix_from_xyz_rpy, rot_z, translation
+from fkcheck.core.tolerances import SAME_CHAIN
+from fkcheck.model.read import model_from_dict
+from fkcheck.urdf.export import model_for_urdf, urdf_from_model
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.strategies import dh_models
 

@@ -7,8 +7,8 @@ import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
 
-from fkcheck.dh import fk_reference
-from fkcheck.tolerances import SAME_CHAIN
+from fkcheck.core.dh import fk_reference
+from fkcheck.core.tolerances import SAME_CHAIN
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.strategies import dh_models
 

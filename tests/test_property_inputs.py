@@ -23,9 +23,10 @@ from hypothesis import strategies as st
 from fkcheck import load_model
 from fkcheck.backends.measured import MeasuredPoses, read_poses_file
 from fkcheck.errors import FkcheckError
-from fkcheck.joint_input import read_q_file
-from fkcheck.model import MAX_JOINT_RAD, MAX_LENGTH_M, Model, bundled_model_paths
-from fkcheck.numbers import MAX_NUMBER_CHARS, NumberError, parse_number, parse_numbers
+from fkcheck.io.numbers import MAX_NUMBER_CHARS, NumberError, parse_number, parse_numbers
+from fkcheck.model.joint_input import read_q_file
+from fkcheck.model.read import bundled_model_paths
+from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model
 
 DATA = Path(__file__).parent / "data"
 UR5 = load_model("ur5")

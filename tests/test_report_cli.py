@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 from fkcheck import load_model
-from fkcheck.cli import MAIN_JOB, main
-from fkcheck.commands._console import PIPE_WIDTH
-from fkcheck.model import bundled_model_paths
+from fkcheck.cli._console import PIPE_WIDTH
+from fkcheck.cli.main import MAIN_JOB, main
+from fkcheck.model.read import bundled_model_paths
 from tests.report_cases import page_numbers
 
 UR5 = Path(load_model("ur5").path or "")

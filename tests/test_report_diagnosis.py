@@ -14,7 +14,8 @@ import pytest
 
 import fkcheck.diagnose
 from fkcheck import load_model
-from fkcheck.cli import main
+from fkcheck.cli.main import main
+from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.diagnose import Diagnosis, Explanation
 from fkcheck.diagnose.problem import Residual
 from fkcheck.report.build import build_report_page
@@ -27,7 +28,6 @@ from fkcheck.report.diagnosis import (
 )
 from fkcheck.report.html import render_report, write_html
 from fkcheck.report.json_report import TIME_FIELDS
-from fkcheck.tolerances import ROUNDED_URDF
 from tests.report_cases import SPEC, backends, golden_check, golden_model, page_numbers
 from tests.test_diagnose import with_joint, write_pendant_csv
 from tests.test_report_cli import first_screen, ur5_variant

@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from fkcheck.core.tolerances import SAME_CHAIN
+from fkcheck.engine.evidence import collect_worst_poses, dh_parting, worst_indices
 from fkcheck.report.build import IndexEntry, build_index_page, build_report_page
 from fkcheck.report.diagnosis import diagnosis_view
-from fkcheck.report.evidence import collect_worst_poses, dh_parting, worst_indices
 from fkcheck.report.format import (
     format_angle_console,
     format_angle_summary,
@@ -30,7 +31,6 @@ from fkcheck.report.format import (
 from fkcheck.report.html import render_index, render_report, write_html
 from fkcheck.report.json_report import result_to_dict
 from fkcheck.report.markdown import escape_markdown, markdown_summary
-from fkcheck.tolerances import SAME_CHAIN
 from tests.report_cases import (
     SPEC,
     backends,
@@ -331,7 +331,7 @@ def test_the_other_outputs_number_formats():
 def test_importing_the_report_modules_loads_no_heavy_library():
     code = (
         "import sys, fkcheck.report.html, fkcheck.report.build, fkcheck.report.plots, "
-        "fkcheck.report.markdown, fkcheck.report.diagnosis, fkcheck.commands.check; "
+        "fkcheck.report.markdown, fkcheck.report.diagnosis, fkcheck.cli.check; "
         "print(sorted(m for m in ('matplotlib', 'jinja2', 'scipy', 'pinocchio', "
         "'roboticstoolbox') if m in sys.modules))"
     )

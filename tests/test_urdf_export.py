@@ -10,11 +10,11 @@ import pytest
 
 import fkcheck.backends.registry as registry
 from fkcheck import ModelError, load_model
-from fkcheck.check import run_check
-from fkcheck.cli import main
-from fkcheck.model import FrameSpec, Joint
-from fkcheck.tolerances import SAME_CHAIN
-from fkcheck.urdf_export import urdf_from_model
+from fkcheck.cli.main import main
+from fkcheck.core.tolerances import SAME_CHAIN
+from fkcheck.engine.runner import run_check
+from fkcheck.model.types import FrameSpec, Joint
+from fkcheck.urdf.export import urdf_from_model
 from tests.helpers import BUNDLED
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
@@ -24,7 +24,7 @@ def export(model_name_or_model, tmp_path):
     if isinstance(model_name_or_model, str):
         argv_model = model_name_or_model
     else:  # write the in-memory model first
-        from fkcheck.model_toml import model_to_toml
+        from fkcheck.model.write import model_to_toml
 
         path = tmp_path / "in.toml"
         tmp_path.mkdir(parents=True, exist_ok=True)

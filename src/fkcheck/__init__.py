@@ -18,7 +18,8 @@ from fkcheck.errors import (
     ModelError,
     UrdfError,
 )
-from fkcheck.model import Joint, Model, bundled_model_paths, load_model
+from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.types import Joint, Model
 
 __version__ = "0.1.0"
 

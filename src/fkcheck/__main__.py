@@ -2,6 +2,6 @@
 
 import sys
 
-from fkcheck.cli import main
+from fkcheck.cli.main import main
 
 sys.exit(main())

@@ -34,10 +34,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Literal, Protocol, runtime_checkable
 
-from fkcheck._typing import Float
+from fkcheck.core.joint_array import joint_array, require_finite
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameUnavailable
-from fkcheck.joint_array import joint_array, require_finite
-from fkcheck.model import Model
+from fkcheck.model.types import Model
 
 __all__ = [
     "Backend",

@@ -17,9 +17,9 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from fkcheck._typing import Float
+from fkcheck.core.typing import Float
 from fkcheck.errors import FrameUnavailable
-from fkcheck.model import Model, Offset, resolve_frame
+from fkcheck.model.types import Model, Offset, resolve_frame
 
 __all__ = ["frame_poses_from_tcp", "offset_matrix"]
 

@@ -23,9 +23,9 @@ them (``configurations()``), and any other configuration makes it *skipped*
 with that reason. Measured poses are noisy: compare them with a tolerance that
 fits the measurement (``--tol-pos 1e-3``).
 
-The file is read as other tables are (:mod:`fkcheck.input_files`: a regular
+The file is read as other tables are (:mod:`fkcheck.io.files`: a regular
 file of at most 256 MiB, lines of at most 64 KiB, UTF-8 with or without a
-byte-order mark; numbers by :func:`fkcheck.numbers.parse_number`), and refused
+byte-order mark; numbers by :func:`fkcheck.io.numbers.parse_number`), and refused
 with the line, column and header name of the first problem: a column named
 twice, an empty field, a value beyond the model files' bounds (joint values
 within ±1000 rad / ±1000 m, positions within ±1000 m, rotation numbers within
@@ -49,13 +49,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import BackendUnavailable, Evidence, FrameUnavailable
 from fkcheck.backends.registry import BackendOptions
+from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
-from fkcheck.input_files import InputFileError, read_lines
-from fkcheck.model import MAX_JOINT_RAD, MAX_LENGTH_M, Model
-from fkcheck.numbers import NumberError, parse_numbers, show_text, split_fields
+from fkcheck.io.files import InputFileError, read_lines
+from fkcheck.io.numbers import NumberError, parse_numbers, show_text, split_fields
+from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model
 
 __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
 
@@ -183,7 +183,7 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
             repeated column, a bad or out-of-bounds number (with its line and
             column), no rows, or one configuration with two different poses.
     """
-    from fkcheck.pose_formats import matrix_from_pose
+    from fkcheck.core.pose_formats import matrix_from_pose
 
     pair = None
     layout: _Layout | None = None
@@ -250,7 +250,7 @@ def _check_duplicates(q: Float, poses: Float, linenos: array[int], path: Path) -
     """Refuse two rows with the same configuration (within MATCH_TOL) but different poses."""
     from scipy.spatial import cKDTree
 
-    from fkcheck.metrics import position_error_m, rotation_error_rad
+    from fkcheck.core.metrics import position_error_m, rotation_error_rad
 
     def refuse_if_different(a: NDArray[np.intp], b: NDArray[np.intp], same: str) -> None:
         pos = position_error_m(poses[a], poses[b])

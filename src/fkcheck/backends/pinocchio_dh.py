@@ -42,11 +42,11 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable
-from fkcheck.model import Joint, Model, Offset, resolve_frame
+from fkcheck.model.types import Joint, Model, Offset, resolve_frame
 
 __all__ = ["INSTALL_HINT", "PinocchioChain", "PinocchioDH", "import_pinocchio"]
 
@@ -123,7 +123,7 @@ class PinocchioChain:
     """One DH table as a Pinocchio model, with operational frames to read poses from.
 
     fkcheck's one Pinocchio-from-DH builder: the ``pinocchio-dh`` backend and the
-    benchmark (:func:`fkcheck.benchmark.pinocchio_model`) both use it.
+    benchmark (:func:`fkcheck.bench.harness.pinocchio_model`) both use it.
 
     Attributes:
         pin: The imported :mod:`pinocchio`.

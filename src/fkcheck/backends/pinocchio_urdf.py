@@ -1,6 +1,6 @@
 """The ``pinocchio-urdf`` backend: the model's reference URDF, parsed by Pinocchio (urdfdom).
 
-The URDF is first resolved and screened by :func:`fkcheck.urdf_source.load_urdf`;
+The URDF is first resolved and screened by :func:`fkcheck.urdf.source.load_urdf`;
 Pinocchio then parses the screened text with ``buildModelFromXML`` (the kinematic
 tree only: no geometry model, so no mesh file is ever opened). Each DH joint's
 value goes to the Pinocchio joint named in ``[urdf].joints``, unchanged — a DH
@@ -25,14 +25,14 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.pinocchio_dh import INSTALL_HINT, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import captured_stderr, urdf_inputs, urdf_unavailable_reason
+from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError, UrdfError
-from fkcheck.model import Model
-from fkcheck.urdf_source import UrdfInfo
+from fkcheck.model.types import Model
+from fkcheck.urdf.source import UrdfInfo
 
 __all__ = ["PinocchioUrdf"]
 

@@ -7,7 +7,7 @@ model's base and tool included. Being a black box, it gives only the TCP, so the
 named frames it can be compared on are those rigidly attached to the world or to
 the TCP (:func:`fkcheck.backends.blackbox.frame_poses_from_tcp`).
 
-The callable runs in a process of its own (:mod:`fkcheck.isolation`), never in
+The callable runs in a process of its own (:mod:`fkcheck.process.isolation`), never in
 fkcheck's: a plugin that loops forever (even holding the GIL in C), calls
 ``os._exit`` or ``sys.exit``, crashes, or leaves threads or processes running
 cannot stop or hang the check. Its process gets this process's ``sys.path``,
@@ -34,13 +34,13 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendNotFoundError
-from fkcheck.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
-from fkcheck.model import Model
+from fkcheck.model.types import Model
+from fkcheck.process.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
 
 __all__ = ["PluginBackend", "PluginError"]
 
@@ -128,7 +128,7 @@ class PluginBackend:
                 callable, raises, returns something other than finite
                 ``(N, 4, 4)`` real numbers, its process ends without an answer
                 (``os._exit``, ``sys.exit``, a crash) or answers with more than
-                :func:`~fkcheck.isolation.answer_limit` bytes, or it has not
+                :func:`~fkcheck.process.isolation.answer_limit` bytes, or it has not
                 answered within the time limit.
         """
         q = np.asarray(q, dtype=np.float64)

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck._typing import Float
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable
 
 __all__ = [

@@ -34,7 +34,6 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import (
@@ -44,7 +43,8 @@ from fkcheck.backends.rtb_common import (
     padded_q,
     rtb_unavailable_reason,
 )
-from fkcheck.model import Model, Offset, resolve_frame
+from fkcheck.core.typing import Float
+from fkcheck.model.types import Model, Offset, resolve_frame
 
 __all__ = ["RtbDH", "dh_robot", "se3_from_offset"]
 

@@ -26,7 +26,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
@@ -37,8 +36,9 @@ from fkcheck.backends.rtb_common import (
     padded_q,
     rtb_unavailable_reason,
 )
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendNotFoundError, FkcheckError
-from fkcheck.model import Model
+from fkcheck.model.types import Model
 
 __all__ = ["RtbModel", "rtb_dh_model_names"]
 

@@ -1,7 +1,7 @@
 """The ``rtb-urdf`` backend: the model's reference URDF read by Robotics Toolbox's own reader.
 
 A third URDF parser, independent of urdfdom (Pinocchio) and yourdfpy: the
-screened URDF text from :func:`fkcheck.urdf_source.load_urdf` goes through
+screened URDF text from :func:`fkcheck.urdf.source.load_urdf` goes through
 Robotics Toolbox's URDF classes (``URDF.loadstr``, the standard library's XML
 parser) and its URDF-to-links conversion (``_links_from_urdf``, the second half
 of ``URDF_file``), and becomes an ETS robot (``roboticstoolbox.Robot``).
@@ -44,14 +44,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
-from fkcheck.model import Model
-from fkcheck.urdf_source import UrdfInfo
+from fkcheck.model.types import Model
+from fkcheck.urdf.source import UrdfInfo
 
 __all__ = ["RtbUrdf", "kinematic_text"]
 
@@ -120,7 +120,7 @@ class RtbUrdf:
             FrameError: A name is not a frame of the model.
             UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
             UrdfError: The URDF is missing, unsafe or does not fit the model
-                (from :func:`~fkcheck.urdf_source.load_urdf`), or RTB rejects it.
+                (from :func:`~fkcheck.urdf.source.load_urdf`), or RTB rejects it.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         info, q2, twins = urdf_inputs(model, q, frames, self.name)

@@ -18,11 +18,11 @@ import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import validated_q
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, UnmappedFrameError
-from fkcheck.model import Model, resolve_frame
-from fkcheck.urdf_source import ERD_PREFIX, UrdfInfo, listed, load_urdf
+from fkcheck.model.types import Model, resolve_frame
+from fkcheck.urdf.source import ERD_PREFIX, UrdfInfo, listed, load_urdf
 
 __all__ = [
     "CapturedStderr",
@@ -157,7 +157,7 @@ def urdf_inputs(
         backend: The asking backend's name, for messages.
 
     Returns:
-        ``(info, q, twins)``: the screened URDF (:func:`~fkcheck.urdf_source.load_urdf`),
+        ``(info, q, twins)``: the screened URDF (:func:`~fkcheck.urdf.source.load_urdf`),
         ``q`` validated as C-contiguous float64 ``(N, n)``, and the frames' URDF links.
 
     Raises:

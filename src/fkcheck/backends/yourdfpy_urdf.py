@@ -1,6 +1,6 @@
 """The ``yourdfpy-urdf`` backend: the model's reference URDF, parsed by yourdfpy.
 
-The URDF is first resolved and screened by :func:`fkcheck.urdf_source.load_urdf`;
+The URDF is first resolved and screened by :func:`fkcheck.urdf.source.load_urdf`;
 yourdfpy then parses the screened text from a file object with
 ``load_meshes=False`` and ``load_collision_meshes=False`` and no collision scene,
 so no ``<mesh>`` file is opened: its only mesh-loading path
@@ -43,13 +43,13 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
+from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
-from fkcheck.model import Model
-from fkcheck.urdf_source import UrdfInfo
+from fkcheck.model.types import Model
+from fkcheck.urdf.source import UrdfInfo
 
 __all__ = ["MeshAccessError", "YourdfpyUrdf"]
 

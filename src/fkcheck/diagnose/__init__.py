@@ -7,7 +7,7 @@ mistakes tested as hypotheses, single parameters and finally every parameter
 fitted to the reference.
 """
 
-from fkcheck.diagnose.report import Diagnosis, Explanation, format_text, to_dict
+from fkcheck.diagnose.findings import Diagnosis, Explanation, format_text, to_dict
 from fkcheck.diagnose.run import diagnose
 
 __all__ = ["Diagnosis", "Explanation", "diagnose", "format_text", "to_dict"]

@@ -23,13 +23,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fkcheck._typing import Float
-from fkcheck.check import reference_poses
+from fkcheck.core.geometry import invert
+from fkcheck.core.typing import Float
+from fkcheck.diagnose.findings import AxisRow
 from fkcheck.diagnose.problem import Problem
-from fkcheck.diagnose.report import AxisRow
-from fkcheck.model import Model
-from fkcheck.transforms import invert
-from fkcheck.urdf_kinematics import UrdfKinematics, urdf_kinematics
+from fkcheck.model.frames import reference_poses
+from fkcheck.model.types import Model
+from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
 
 __all__ = [
     "AXIS_CONFIGURATIONS",
@@ -117,7 +117,7 @@ class AxisLines:
 
 
 def _kinematics(model: Model) -> UrdfKinematics:
-    from fkcheck.urdf_source import load_urdf
+    from fkcheck.urdf.source import load_urdf
 
     info = load_urdf(model)
     return urdf_kinematics(info.path, info.text)

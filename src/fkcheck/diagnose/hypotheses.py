@@ -25,12 +25,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fkcheck.dh import Convention
-from fkcheck.dh_names import PARAMS, Param, param_symbol
+from fkcheck.core.dh import Convention
+from fkcheck.diagnose.findings import Change, Explanation, Kind
 from fkcheck.diagnose.problem import Problem, Residual, pose_residuals
-from fkcheck.diagnose.report import Change, Explanation, Kind
-from fkcheck.known_tables import published_tables, variant_note
-from fkcheck.model import Model, Offset
+from fkcheck.model.names import PARAMS, Param, param_symbol
+from fkcheck.model.published import published_tables, variant_note
+from fkcheck.model.types import Model, Offset
 
 __all__ = [
     "Candidate",

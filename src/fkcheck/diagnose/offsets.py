@@ -27,18 +27,18 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fkcheck._typing import Float
+from fkcheck.core.geometry import invert
+from fkcheck.core.typing import Float
+from fkcheck.diagnose.findings import Explanation, Kind
 from fkcheck.diagnose.problem import (
     Problem,
     Residual,
     pose_residuals,
     se3_from_rotvec_translation,
 )
-from fkcheck.diagnose.report import Explanation, Kind
-from fkcheck.model import Model, Offset
-from fkcheck.model_toml import frame_toml, toml_number
-from fkcheck.se3 import offset_from_matrix
-from fkcheck.transforms import invert
+from fkcheck.model.offsets import offset_from_matrix
+from fkcheck.model.types import Model, Offset
+from fkcheck.model.write import frame_toml, toml_number
 
 __all__ = ["OffsetFit", "explain_offsets", "fit_offsets"]
 
@@ -235,7 +235,7 @@ def _snap_rotation_axis(R: Float, tol: float) -> Float:
 
 
 def _is_identity(T: Float) -> bool:
-    from fkcheck.metrics import rotation_error_rad
+    from fkcheck.core.metrics import rotation_error_rad
 
     return bool(
         np.linalg.norm(T[:3, 3]) < _CLEAN_LENGTH_M
@@ -317,7 +317,7 @@ def _first_axis_in_from(problem: Problem) -> Float | None:
     spec = problem.model.frames[problem.frame_from]
     if spec.dh not in ("world", 0):
         return None
-    from fkcheck.check import reference_poses
+    from fkcheck.model.frames import reference_poses
 
     q0 = np.zeros((1, problem.model.dof))
     frames = problem.model.fk(q0, all_frames=True)[0]

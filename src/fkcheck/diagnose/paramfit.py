@@ -16,12 +16,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from fkcheck._typing import Float
-from fkcheck.dh_names import PARAMS, param_symbol
+from fkcheck.core.typing import Float
+from fkcheck.diagnose.findings import Change, Explanation
 from fkcheck.diagnose.problem import Problem, pose_residuals, se3_from_rotvec_translation
-from fkcheck.diagnose.report import Change, Explanation
-from fkcheck.model import Model, Offset
-from fkcheck.se3 import offset_from_matrix
+from fkcheck.model.names import PARAMS, param_symbol
+from fkcheck.model.offsets import offset_from_matrix
+from fkcheck.model.types import Model, Offset
 
 __all__ = ["MOVED", "explain_parameter_fit", "fit_all_parameters"]
 

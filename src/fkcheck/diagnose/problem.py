@@ -13,13 +13,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Backend
-from fkcheck.check import reference_poses
-from fkcheck.frames import relative_pose, resolve_frame
-from fkcheck.metrics import position_error_m, rotation_error_rad
-from fkcheck.model import Model
-from fkcheck.sampling import sample_configurations
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.core.typing import Float
+from fkcheck.model.frames import reference_poses, relative_pose, resolve_frame
+from fkcheck.model.sampling import sample_configurations
+from fkcheck.model.types import Model
 
 __all__ = [
     "Problem",

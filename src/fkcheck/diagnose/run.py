@@ -5,15 +5,15 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
-from fkcheck._typing import Float
 from fkcheck.backends.base import Backend
+from fkcheck.core.typing import Float
 from fkcheck.diagnose.axes import axes_note, compare_axes
+from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
 from fkcheck.diagnose.hypotheses import explain_hypotheses, explain_swapped_mapping
 from fkcheck.diagnose.offsets import explain_offsets
 from fkcheck.diagnose.paramfit import explain_parameter_fit
 from fkcheck.diagnose.problem import Problem, diagnosis_configurations
-from fkcheck.diagnose.report import AxisRow, Diagnosis, Explanation, rank
-from fkcheck.model import Model
+from fkcheck.model.types import Model
 
 __all__ = ["URDF_BACKENDS", "diagnose"]
 

@@ -17,10 +17,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck import __version__
-from fkcheck._typing import Float
-from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
-from fkcheck.model import FrameSpec, Model, Offset
-from fkcheck.report.evidence import DhParting, WorstPoses, dh_parting
+from fkcheck.core.geometry import rpy_from_matrix
+from fkcheck.core.tolerances import SAME_CHAIN
+from fkcheck.core.typing import Float
+from fkcheck.engine.evidence import DhParting, WorstPoses, dh_parting
+from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
+from fkcheck.engine.verdict import KINDS, evidence_sentences
+from fkcheck.engine.verdict import headline as verdict_headline
+from fkcheck.model.types import FrameSpec, Model, Offset
 from fkcheck.report.format import (
     format_constant,
     format_deg,
@@ -57,14 +61,10 @@ from fkcheck.report.views import (
     TransformView,
     WorstCase,
 )
-from fkcheck.tolerances import SAME_CHAIN
-from fkcheck.transforms import rpy_from_matrix
-from fkcheck.verdict import KINDS, evidence_sentences
-from fkcheck.verdict import headline as verdict_headline
 
 if TYPE_CHECKING:
     from fkcheck.diagnose.axes import AxisLines
-    from fkcheck.diagnose.report import AxisRow
+    from fkcheck.diagnose.findings import AxisRow
 
 __all__ = [
     "IndexEntry",
@@ -153,7 +153,7 @@ def pose_forms(T: Float, marked: NDArray[np.bool_] | None = None) -> PoseForms:
 
     The quaternion is SciPy's, scalar last, with w ≥ 0; rpy is fixed-axis
     roll-pitch-yaw as in URDF (``R = Rz(yaw) Ry(pitch) Rx(roll)``) from
-    :func:`fkcheck.transforms.rpy_from_matrix`: at pitch ±90° yaw is 0 and roll
+    :func:`fkcheck.core.geometry.rpy_from_matrix`: at pitch ±90° yaw is 0 and roll
     carries the rotation.
     """
     from scipy.spatial.transform import Rotation
@@ -643,7 +643,7 @@ def build_report_page(
         check: The check result.
         worst: Recomputed poses at each backend's worst configurations, aligned
             with ``check.backends`` (see
-            :func:`fkcheck.report.evidence.collect_worst_poses`); without it the
+            :func:`fkcheck.engine.evidence.collect_worst_poses`); without it the
             page has no side-by-side matrices.
         versions: Library versions to show (default: the installed ones).
         plots: Draw the pictures (Matplotlib); off, the page has none.

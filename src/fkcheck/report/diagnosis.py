@@ -19,15 +19,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from fkcheck.engine.evidence import require_aligned
 from fkcheck.report.build import measure_deg, measure_m
-from fkcheck.report.evidence import require_aligned
 from fkcheck.report.format import format_seconds
 from fkcheck.report.views import AxisView, DiagnosisView, ExplanationView
 
 if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
-    from fkcheck.check import BackendResult, CheckResult
     from fkcheck.diagnose import Diagnosis, Explanation
+    from fkcheck.engine.results import BackendResult, CheckResult
 
 __all__ = [
     "BackendDiagnosis",

@@ -3,7 +3,7 @@
 Pure functions over floats, and the one place that decides how a number is
 written for a person: the HTML, Markdown and terminal outputs all use them, so a
 number reads the same everywhere it has the same role. (Model files and URDFs
-write numbers for machines, exactly: :func:`fkcheck.model_toml.toml_number`.)
+write numbers for machines, exactly: :func:`fkcheck.model.write.toml_number`.)
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@ no scripts, no fonts or anything else fetched from the network, so a report
 opens from disk or from a CI artifact store. Every value is escaped on output
 (``autoescape=True`` for every template), so a model whose name holds
 ``<script>`` shows it as text, and every string goes through
-:func:`fkcheck.safe_text.document_text` first (the environment's
+:func:`fkcheck.io.text.document_text` first (the environment's
 ``finalize``), so a control character from input shows as a visible escape
 (``\x1b``) instead of reaching the page.
 """
@@ -17,15 +17,15 @@ from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from fkcheck.report.atomic import write_text_atomic
+from fkcheck.io.atomic import write_text_atomic
+from fkcheck.io.text import document_text
 from fkcheck.report.views import IndexPage, ReportPage
-from fkcheck.safe_text import document_text
 
 if TYPE_CHECKING:
     import jinja2
 
     from fkcheck.backends.base import Backend
-    from fkcheck.check import CheckResult
+    from fkcheck.engine.results import CheckResult
 
 __all__ = ["render_index", "render_report", "write_html", "write_index"]
 
@@ -91,9 +91,9 @@ def write_html(
     Returns:
         The path written.
     """
+    from fkcheck.engine.evidence import collect_worst_poses
     from fkcheck.report.build import build_report_page
     from fkcheck.report.diagnosis import diagnosis_section
-    from fkcheck.report.evidence import collect_worst_poses
 
     worst = collect_worst_poses(check, backends) if backends is not None else None
     diagnoses = diagnosis_section(check, backends) if diagnose and backends is not None else ()

@@ -1,7 +1,7 @@
 """The JSON result: a contract other tools read (documented in the README).
 
 Identical inputs and seed give identical JSON except ``created`` and the
-``duration_s`` fields. The JSON is strict (:mod:`fkcheck.report.strict_json`):
+``duration_s`` fields. The JSON is strict (:mod:`fkcheck.io.strict_json`):
 a non-finite number is written as ``null``, and its object gets a
 ``"non_finite"`` member naming what it was.
 """
@@ -12,10 +12,10 @@ from pathlib import Path
 from typing import Any
 
 from fkcheck import __version__
-from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
-from fkcheck.report.atomic import write_text_atomic
-from fkcheck.report.strict_json import strict_json
-from fkcheck.verdict import evidence_sentences, headline
+from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
+from fkcheck.engine.verdict import evidence_sentences, headline
+from fkcheck.io.atomic import write_text_atomic
+from fkcheck.io.strict_json import strict_json
 
 __all__ = ["TIME_FIELDS", "result_to_dict", "write_json"]
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from fkcheck.check import CheckResult
-from fkcheck.report.atomic import write_bytes_atomic
-from fkcheck.safe_text import xml_safe_tree
-from fkcheck.verdict import evidence_sentences
+from fkcheck.engine.results import CheckResult
+from fkcheck.engine.verdict import evidence_sentences
+from fkcheck.io.atomic import write_bytes_atomic
+from fkcheck.io.text import xml_safe_tree
 
 __all__ = ["junit_xml", "write_junit"]
 

@@ -2,12 +2,12 @@
 
 The verdict and one table, so a CI page shows which backend disagrees and by
 how much without opening an artifact. Text from input is escaped
-(:func:`escape_markdown`, which is :func:`fkcheck.safe_text.markdown_text`):
+(:func:`escape_markdown`, which is :func:`fkcheck.io.text.markdown_text`):
 control characters become visible escapes, HTML special characters become
 entities and Markdown's own (``|``, backticks, brackets, emphasis marks) are
 backslash-escaped, so a model name cannot break the table or inject markup.
 ``$GITHUB_STEP_SUMMARY`` is appended to by
-:func:`fkcheck.report.output_paths.append_step_summary`.
+:func:`fkcheck.io.output_paths.append_step_summary`.
 """
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from fkcheck.check import CheckResult
+from fkcheck.engine.results import CheckResult
+from fkcheck.engine.verdict import KINDS, evidence_sentences, headline
+from fkcheck.io.text import markdown_text as escape_markdown
 from fkcheck.report.format import format_angle_summary, format_length_summary
-from fkcheck.safe_text import markdown_text as escape_markdown
-from fkcheck.verdict import KINDS, evidence_sentences, headline
 
 __all__ = ["escape_markdown", "markdown_summary", "write_summary"]
 
@@ -112,6 +112,6 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
 
 def write_summary(path: Path | str, text: str) -> Path:
     """Write the summary, atomically (replacing the file)."""
-    from fkcheck.report.atomic import write_text_atomic
+    from fkcheck.io.atomic import write_text_atomic
 
     return write_text_atomic(path, text)

@@ -20,11 +20,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck._typing import Float
-from fkcheck.check import REFERENCE_NAME, BackendResult, CheckResult
-from fkcheck.report.evidence import WorstPoses
+from fkcheck.core.typing import Float
+from fkcheck.engine.evidence import WorstPoses
+from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
+from fkcheck.io.text import terminal_text
 from fkcheck.report.views import Image
-from fkcheck.safe_text import terminal_text
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -67,7 +67,7 @@ def _text(value: str) -> str:
     """Text from a model or a backend name, shown literally.
 
     One line, control characters as visible escapes
-    (:func:`fkcheck.safe_text.terminal_text`), ``$`` escaped (it would start mathtext).
+    (:func:`fkcheck.io.text.terminal_text`), ``$`` escaped (it would start mathtext).
     """
     return terminal_text(value).replace("$", r"\$")
 
@@ -290,7 +290,7 @@ def arm_drawing(
     """
     if result.worst_index is None:
         return None
-    from fkcheck.check import reference_poses
+    from fkcheck.model.frames import reference_poses
 
     model = check.model
     k = result.worst_index

@@ -494,7 +494,7 @@ class EvidenceLine:
     Attributes:
         kind: ``implementation`` or ``table``.
         status: ``verified``, ``failed`` or ``not-checked``.
-        text: The sentence (see :func:`fkcheck.verdict.evidence_sentences`).
+        text: The sentence (see :func:`fkcheck.engine.verdict.evidence_sentences`).
     """
 
     kind: str

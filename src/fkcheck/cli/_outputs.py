@@ -1,0 +1,150 @@
+"""What a subcommand reads and writes, handed to the output-path policy before it runs.
+
+:func:`plan` checks a command's outputs against its inputs
+(:func:`fkcheck.io.output_paths.plan_outputs`) and stores the plan on
+``args.output_plan``, where :func:`fkcheck.cli.main.main` finds it to say which
+files an interrupted run wrote. :func:`model_inputs` and
+:func:`backend_inputs` name the files a model and its backends read.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from fkcheck.io.output_paths import (
+    OutputPlan,
+    append_step_summary,
+    plan_outputs,
+    step_summary_problem,
+)
+from fkcheck.io.text import terminal_text
+
+if TYPE_CHECKING:
+    from fkcheck.backends.base import Backend
+    from fkcheck.model.types import Model
+
+__all__ = [
+    "STEP_SUMMARY",
+    "Input",
+    "append_to_step_summary",
+    "backend_inputs",
+    "model_inputs",
+    "plan",
+    "step_summary_target",
+]
+
+#: ``(what it is, path)``: a file the run reads.
+Input = tuple[str, Path | str | None]
+
+#: The environment variable naming GitHub's job-summary file.
+STEP_SUMMARY = "GITHUB_STEP_SUMMARY"
+
+
+def model_inputs(model: Model) -> list[Input]:
+    """The model file and, when it has one that exists, its URDF (screened).
+
+    The URDF is screened here (:func:`fkcheck.urdf.source.read_urdf`), before
+    any output path is planned: input is refused before anything, even a probe
+    of an output directory, touches the disk.
+
+    Raises:
+        UrdfError: The URDF is missing, not a regular file, unsafe or broken.
+    """
+    from fkcheck.errors import BackendUnavailable
+    from fkcheck.urdf.source import read_urdf, resolve_urdf_path
+
+    found: list[Input] = [(f"the model file of {model.name}", model.path)]
+    if model.urdf is not None:
+        try:
+            urdf, packages = resolve_urdf_path(model)
+        except BackendUnavailable:  # example-robot-data is not installed: no file here
+            return found
+        read_urdf(urdf, packages)
+        found.append((f"the URDF of {model.name}", urdf))
+    return found
+
+
+def _plugin_file(module: str) -> Path | None:
+    """The source file of a plugin module, found on ``sys.path`` without importing anything."""
+    parts = module.split(".")
+    for entry in sys.path:
+        base = Path(entry or ".").joinpath(*parts)
+        for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+            if candidate.is_file():
+                return candidate
+    return None
+
+
+def backend_inputs(backends: Iterable[Backend]) -> list[Input]:
+    """Files the backends read.
+
+    A measured-poses CSV, a ``cmd:`` program and the files on its command line,
+    a plugin's module (found without importing it).
+    """
+    found: list[Input] = []
+    for backend in backends:
+        path = getattr(backend, "path", None)
+        if isinstance(path, Path):
+            found.append((f"the file of backend {backend.name}", path))
+        for word in getattr(backend, "argv", None) or ():
+            program = word if os.sep in word or os.path.isfile(word) else shutil.which(word)
+            if program is not None:
+                found.append((f"a file of backend {backend.name}", program))
+        module = getattr(backend, "module", None)
+        if isinstance(module, str):
+            found.append((f"the module of plugin {backend.name}", _plugin_file(module)))
+    return found
+
+
+def plan(
+    args: argparse.Namespace,
+    outputs: Sequence[tuple[str, Path | str | None]],
+    inputs: Iterable[Input],
+) -> OutputPlan:
+    """Check the outputs (exit 2 on a bad one) and keep the plan on ``args.output_plan``.
+
+    Raises:
+        OutputPathError: See :func:`fkcheck.io.output_paths.plan_outputs`.
+    """
+    result = plan_outputs(outputs, inputs)
+    args.output_plan = result
+    return result
+
+
+def _warn(path: str, problem: str) -> None:
+    print(
+        f"fkcheck: warning: ${STEP_SUMMARY} {terminal_text(path)}: {terminal_text(problem)}; "
+        "the summary is not appended there",
+        file=sys.stderr,
+    )
+
+
+def step_summary_target(inputs: Iterable[Input], output_plan: OutputPlan) -> str | None:
+    """``$GITHUB_STEP_SUMMARY`` when it can take the summary; else warn (once) and ``None``.
+
+    A problem with the CI page's file is a warning, not a failed check: the
+    check's verdict and exit code stay what they are.
+    """
+    path = os.environ.get(STEP_SUMMARY)
+    if not path:
+        return None
+    problem = step_summary_problem(path, inputs, output_plan)
+    if problem is not None:
+        _warn(path, problem)
+        return None
+    return path
+
+
+def append_to_step_summary(path: str | None, text: str) -> None:
+    """Append to the step summary chosen by :func:`step_summary_target`; warn if that fails."""
+    if path is None:
+        return
+    problem = append_step_summary(path, text + "\n")
+    if problem is not None:
+        _warn(path, problem)

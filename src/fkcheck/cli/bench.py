@@ -1,0 +1,182 @@
+"""``fkcheck bench``: time the in-house DH core against its peers on the same poses."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from fkcheck.report.format import format_microseconds
+
+__all__ = ["add_parser", "run", "write_json"]
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text.replace("_", ""))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
+def add_parser(sub: Any) -> None:
+    """Register the subcommand."""
+    p = sub.add_parser(
+        "bench",
+        help="time the in-house core against Robotics Toolbox, Pinocchio, yourdfpy",
+        description="Time the in-house DH core (batched, one pose, NumPy fallback, plain "
+        "reference chain) and its peers (Robotics Toolbox, Pinocchio, yourdfpy) on the same "
+        "seeded configurations, check that they agree, and compare with a memory-bandwidth "
+        "bound. Slow peers run on the first few of the N poses (the n column says how many).",
+    )
+    p.add_argument(
+        "model",
+        metavar="MODEL",
+        nargs="?",
+        default="ur5",
+        help="bundled model name or a .toml/.csv file (default: ur5)",
+    )
+    p.add_argument(
+        "--n",
+        type=_positive,
+        default=1_000_000,
+        metavar="N",
+        help="configurations for the batched core (default: 1000000)",
+    )
+    p.add_argument(
+        "--repeat",
+        type=_positive,
+        default=5,
+        metavar="R",
+        help="timed runs per contender, median reported (default: 5)",
+    )
+    p.add_argument("--seed", type=int, default=0, help="seed of the configurations (default: 0)")
+    p.add_argument("--json", type=Path, metavar="PATH", help="also write the numbers as JSON")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run the benchmark, print the table, write the JSON; 1 if a peer disagrees or fails."""
+    from fkcheck.bench.harness import run_bench
+    from fkcheck.cli._console import console
+    from fkcheck.cli._outputs import model_inputs, plan
+    from fkcheck.io.text import terminal_text
+    from fkcheck.model.read import load_model
+
+    model = load_model(args.model)
+    plan(args, [("--json", args.json)], model_inputs(model))
+    with console(stderr=True).status("timing…") as status:
+        result = run_bench(
+            model,
+            args.n,
+            args.repeat,
+            seed=args.seed,
+            progress=lambda name: status.update(f"timing {name}…"),
+        )
+    tol = model.check.tol_pos_m
+    disagree = [
+        t.name for t in result.timings if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol
+    ]
+    console().print(_table(result, tol))
+    failed = [f"{t.name} ({t.error})" for t in result.timings if t.error]
+    if args.json is not None:
+        write_json(
+            args.json,
+            {**result.to_dict(), "tol_pos_m": tol, "disagree": disagree, "failed": failed},
+        )
+    if failed:
+        print(f"fkcheck bench: peers failed: {terminal_text('; '.join(failed))}", file=sys.stderr)
+        return 1
+    if disagree:
+        print(
+            f"fkcheck bench: disagree with the in-house core by more than {tol:g} m: "
+            f"{terminal_text(', '.join(disagree))}",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
+def _table(result: Any, tol: float) -> Any:
+    """The rich table: one row per contender, then notes and the facts to read it by."""
+    from rich.console import Group
+    from rich.table import Table
+    from rich.text import Text
+
+    from fkcheck.io.text import terminal_markup, terminal_text
+
+    best = result.fastest_peer
+    table = Table(
+        title=f"fkcheck bench {terminal_markup(result.model)}: N = {result.n:,}, median of "
+        f"{result.repeat} runs"
+    )
+    table.add_column("implementation", no_wrap=True)
+    table.add_column("n", justify="right")
+    table.add_column("mode", no_wrap=True)
+    table.add_column("µs/pose", justify="right")
+    table.add_column("poses/s", justify="right")
+    table.add_column("× peer", justify="right")
+    table.add_column("max |Δp| m", justify="right")
+    notes = []
+    for t in result.timings:
+        notes.append(terminal_text(f"{t.name}: {f'skipped, {t.skipped}' if t.skipped else t.note}"))
+        if t.skipped:
+            table.add_row(t.name, f"{t.n:,}", "", "skipped", "", "", "", style="dim")
+            continue
+        if t.error:
+            table.add_row(t.name, f"{t.n:,}", "", "[bold red]FAILED[/]", "", "", "")
+            notes[-1] = terminal_text(f"{t.name}: FAILED, {t.error}")
+            continue
+        speedup = result.speedup(t)
+        err = "" if t.max_pos_err_m is None else f"{t.max_pos_err_m:.1e}"
+        if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol:
+            err = f"[bold red]{err}[/]"
+        table.add_row(
+            t.name,
+            f"{t.n:,}",
+            t.mode,
+            format_microseconds(t.us_per_pose),
+            f"{t.poses_per_s:,.0f}",
+            "" if speedup is None else f"{speedup:,.1f}" if speedup >= 1 else f"{speedup:.2g}",
+            err,
+        )
+    load = ", ".join(f"{v:.2f}" for v in result.machine.get("load_average") or [])
+    headline = result.headline
+    facts = [
+        (
+            f"Headline, like for like ({headline[0].mode}, N = {headline[0].n:,}): "
+            f"{headline[0].name} {format_microseconds(headline[0].us_per_pose or 0)} µs/pose vs "
+            f"{headline[1].name} {format_microseconds(headline[1].us_per_pose or 0)} µs/pose: "
+            f"{headline[2]:,.1f}× as fast."
+            if headline
+            else "Headline: no like-for-like pair ran (needs numba and Robotics Toolbox)."
+        ),
+        "Rows whose mode starts with 'extra:' use what the peers do not (threads, a reused "
+        "buffer): they are not like for like.",
+        f"Configurations: seeded (seed {result.seed}), uniform within the joint limits; "
+        "a smaller n runs on the first n of them.",
+        "× peer: per-pose time of the fastest other library"
+        + (f" ({best.name})" if best else " (none ran)")
+        + " divided by this row's.",
+        f"max |Δp|: largest position difference from the in-house batch on the same "
+        f"poses (the model's tolerance is {tol:g} m).",
+        f"JIT {result.jit}; numba threads: {result.threads}.",
+        f"Machine: {result.machine.get('cpu')}, {result.machine.get('cpus')} CPUs, "
+        f"load average {load}.",
+    ]
+    return Group(table, Text("\n".join([*notes, "", *facts])))
+
+
+def write_json(path: Path, data: dict[str, Any]) -> None:
+    """Write ``data`` as indented strict JSON (:mod:`fkcheck.io.strict_json`), atomically.
+
+    Raises:
+        TypeError: ``data`` holds something JSON cannot encode (nothing is written).
+    """
+    from fkcheck.io.atomic import write_text_atomic
+    from fkcheck.io.strict_json import strict_json
+
+    write_text_atomic(path, strict_json(data, indent=2) + "\n")

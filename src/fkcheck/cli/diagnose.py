@@ -1,0 +1,91 @@
+"""``fkcheck diagnose``: explain a disagreement between the table and a reference."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """Register the subcommand."""
+    p = sub.add_parser(
+        "diagnose",
+        help="explain why a table disagrees with a reference (frames, parameters, mistakes)",
+        description="Explain a disagreement, most likely explanation first, each with the "
+        "residual before and after: constant frame offsets (base_link vs base, flange vs "
+        "tool0, with the model-file text that fixes them), joint axes compared as lines, "
+        "typical mistakes tested as hypotheses (degrees, convention, a sign, a θ offset, a "
+        "reversed joint, one parameter) and a fit of every parameter. Exit 0: the table "
+        "agrees or the disagreement is explained; 1: not explained; 2: bad input.",
+    )
+    p.add_argument("model", metavar="MODEL", help="bundled model name (ur5) or a .toml/.csv file")
+    p.add_argument(
+        "--against",
+        metavar="BACKEND",
+        help="the reference (default: pinocchio-urdf when the model has a [urdf]); e.g. "
+        "rtb-model:UR5, poses:measured.csv",
+    )
+    p.add_argument("--from", dest="frame_from", metavar="FRAME", help="frame the pose is in")
+    p.add_argument("--to", dest="frame_to", metavar="FRAME", help="frame whose pose is compared")
+    p.add_argument("--samples", type=int, default=200, help="random samples (default 200)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
+    p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
+    p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
+    p.add_argument("--json", type=Path, metavar="PATH", help="write the diagnosis as JSON here")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Diagnose, print, write JSON."""
+    from fkcheck.backends.base import BackendUnavailable, FixedConfigurations
+    from fkcheck.backends.registry import make_backend
+    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan
+    from fkcheck.diagnose import diagnose, format_text, to_dict
+    from fkcheck.errors import BackendNotFoundError, JointInputError
+    from fkcheck.io.atomic import write_text_atomic
+    from fkcheck.io.strict_json import strict_json
+    from fkcheck.io.text import terminal_lines, terminal_text
+    from fkcheck.model.read import load_model
+    from fkcheck.model.sampling import check_sampling_options
+
+    check_sampling_options(args.samples, args.seed, min_samples=1)
+    for flag, value in (("--tol-pos", args.tol_pos), ("--tol-rot", args.tol_rot)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise JointInputError(f"{flag} must be a positive number, got {value}")
+    model = load_model(args.model)
+    for warning in model.warnings:
+        print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
+    name = args.against
+    if name is None:
+        if model.urdf is None:
+            raise BackendNotFoundError(
+                "", ["give --against: the model has no [urdf] to diagnose against"]
+            )
+        name = "pinocchio-urdf"
+    backend = make_backend(name)
+    plan(args, [("--json", args.json)], [*model_inputs(model), *backend_inputs([backend])])
+    reason = backend.unavailable_reason(model)
+    if reason is not None:
+        raise BackendUnavailable(f"{backend.name} cannot run here: {reason}")
+    # A measured-poses backend only has poses at its own configurations.
+    q = backend.configurations(model) if isinstance(backend, FixedConfigurations) else None
+    result = diagnose(
+        model,
+        backend,
+        frame_from=args.frame_from,
+        frame_to=args.frame_to,
+        samples=args.samples,
+        seed=args.seed,
+        q=q,
+        tol_pos_m=args.tol_pos,
+        tol_rot_rad=args.tol_rot,
+    )
+    sys.stdout.write(terminal_lines(format_text(result)))
+    if args.json is not None:
+        write_text_atomic(args.json, strict_json(to_dict(result), indent=2) + "\n")
+    return 0 if result.agrees or result.explained else 1

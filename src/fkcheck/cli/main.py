@@ -1,0 +1,204 @@
+"""The ``fkcheck`` command line: argparse subcommands, ``main(argv) -> int``.
+
+Each subcommand lives in its own module under :mod:`fkcheck.cli` with
+``add_parser(subparsers)`` and ``run(args) -> int``; those modules import heavy
+libraries only inside ``run``, so ``fkcheck --help`` stays fast.
+
+Exit codes: 0 ok, 1 a check disagreed or errored, 2 bad input or an output that
+cannot be written (one line on stderr), 130/143 interrupted by Ctrl-C/SIGTERM.
+
+Whatever the input, what reaches the terminal is safe (:mod:`fkcheck.io.text`):
+the error line escapes control characters, and standard output replaces a
+character its encoding cannot carry by a backslash escape (``PYTHONIOENCODING=ascii``
+prints ``\u2192`` for ``→``) instead of failing. When standard output cannot be
+written (``> /dev/full``), the run ends with one line on stderr and exit 2;
+a closed pipe (``| head``) ends it quietly with the run's own exit code.
+A command that writes files keeps its :class:`~fkcheck.io.output_paths.OutputPlan`
+on ``args.output_plan``, so that an interrupted run says which of them it wrote.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import errno
+import importlib
+import io
+import os
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, NoReturn
+
+from fkcheck import __version__
+from fkcheck.errors import FkcheckError
+from fkcheck.io.text import terminal_text
+
+if TYPE_CHECKING:
+    from _typeshed import SupportsWrite
+
+__all__ = ["COMMANDS", "MAIN_JOB", "main"]
+
+#: Subcommand modules under fkcheck.cli, in the order ``--help`` lists them.
+COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "urdf", "lint", "diagnose", "bench")
+
+#: What plain ``fkcheck`` runs.
+MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
+
+EXIT_OK = 0
+EXIT_FAIL = 1
+EXIT_BAD_INPUT = 2
+
+#: Errors of a write that found no room or no device (``> /dev/full``, a full disk).
+_WRITE_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line and exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {terminal_text(message)}\n")
+
+    def _print_message(self, message: str, file: SupportsWrite[str] | None = None) -> None:
+        """As argparse's, without swallowing a failed write (``--help > /dev/full``)."""
+        if message:
+            (file or sys.stderr).write(message)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full ``fkcheck`` parser with every subcommand."""
+    parser = _Parser(
+        prog="fkcheck",
+        description="Cross-validate robot-arm forward kinematics: an in-house DH core "
+        "checked pose by pose against reference libraries.",
+    )
+    parser.add_argument("--version", action="version", version=f"fkcheck {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        importlib.import_module(f"fkcheck.cli.{name}").add_parser(sub)
+    return parser
+
+
+def _join_negative_values(argv: list[str]) -> list[str]:
+    """Let ``--q -30,60`` through: argparse would take ``-30,60`` for an option."""
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        arg = argv[i]
+        if arg in ("--q",) and i + 1 < len(argv) and argv[i + 1].startswith("-"):
+            out.append(f"{arg}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(arg)
+        i += 1
+    return out
+
+
+class _Terminated(Exception):
+    """SIGTERM, turned into an exception so the run unwinds and says so."""
+
+
+def _on_sigterm(signum: int, frame: object) -> None:
+    raise _Terminated
+
+
+def _tolerant_streams() -> None:
+    r"""Let stdout and stderr write any text: what their encoding lacks becomes ``\uXXXX``."""
+    for stream in (sys.stdout, sys.stderr):
+        if isinstance(stream, io.TextIOWrapper):
+            stream.reconfigure(errors="backslashreplace")
+
+
+def _silence_stdout() -> None:
+    """Point file descriptor 1 at /dev/null, so the interpreter's last flush cannot fail."""
+    with contextlib.suppress(OSError, ValueError, AttributeError, io.UnsupportedOperation):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+
+
+def _flush_stdout(code: int) -> int:
+    """Flush standard output: ``code``, or 2 with one line on stderr when it cannot be written.
+
+    A closed pipe (``| head``) is no error: the reader has what it wanted.
+    """
+    try:
+        sys.stdout.flush()
+    except BrokenPipeError:
+        _silence_stdout()
+    except OSError as exc:  # /dev/full, a full disk, an I/O error
+        _silence_stdout()
+        print(f"fkcheck: error: cannot write standard output: {exc.strerror or exc}",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_BAD_INPUT
+    return code
+
+
+def _written(args: argparse.Namespace) -> str:
+    """What an interrupted run had written: ``no report written`` or the files."""
+    plan = getattr(args, "output_plan", None)
+    return "no report written" if plan is None else terminal_text(plan.describe_written())
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line and return the exit code."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _on_sigterm)
+    _tolerant_streams()
+    args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
+    return _flush_stdout(_run(args_list))
+
+
+def _run(args_list: list[str]) -> int:
+    """Parse and run; every failure becomes one line on stderr and its exit code."""
+    parser = build_parser()
+    if not args_list:  # the main job: check the bundled UR5 against every default backend
+        args_list = list(MAIN_JOB)
+    try:
+        args = parser.parse_args(args_list)
+        if args.command is None:
+            parser.print_help()
+            return EXIT_OK
+    except SystemExit as exc:  # --help, --version, or a usage error (already printed)
+        return int(exc.code or 0)
+    except OSError as exc:  # --help on a stdout that cannot be written
+        return _os_error(exc)
+    args.argv = args_list
+    try:
+        code = int(args.run(args))
+    except FkcheckError as exc:
+        print(f"fkcheck: error: {terminal_text(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print(f"fkcheck: interrupted (Ctrl-C): results incomplete, {_written(args)}",
+              file=sys.stderr)  # fmt: skip
+        return 130
+    except _Terminated:
+        print(f"fkcheck: terminated (SIGTERM): results incomplete, {_written(args)}",
+              file=sys.stderr)  # fmt: skip
+        return 143
+    except OSError as exc:  # BrokenPipeError included
+        return _os_error(exc)
+    return code
+
+
+def _os_error(exc: OSError) -> int:
+    """Stdout failing mid-run, or a file that vanished or filled up: one line, exit 2."""
+    if isinstance(exc, BrokenPipeError):
+        _silence_stdout()
+        return EXIT_OK
+    if exc.filename is not None:
+        where = f"{exc.filename}: "
+    elif exc.errno in _WRITE_ERRORS:  # files fkcheck writes name themselves; stdout does not
+        _silence_stdout()
+        where = "cannot write standard output: "
+    else:
+        where = ""
+    print(f"fkcheck: error: {terminal_text(where)}{terminal_text(exc.strerror or exc)}",
+          file=sys.stderr)  # fmt: skip
+    return EXIT_BAD_INPUT
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,4 +1,0 @@
-"""One module per ``fkcheck`` subcommand: ``add_parser(subparsers)`` and ``run(args)``.
-
-:mod:`~fkcheck.commands._console` gives them the rich console their tables go to.
-"""

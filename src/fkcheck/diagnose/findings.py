@@ -1,0 +1,310 @@
+"""What a diagnosis found, as frozen dataclasses, and how it is printed and serialised.
+
+The steps (:mod:`.offsets`, :mod:`.axes`, :mod:`.hypotheses`, :mod:`.paramfit`)
+each produce :class:`Explanation` rows; :func:`rank` orders them (explanations
+that make the disagreement vanish first, the simplest kind of mistake first);
+:func:`format_text` and :func:`to_dict` render a :class:`Diagnosis`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Literal, get_args
+
+from fkcheck.diagnose.problem import Residual
+from fkcheck.io.text import terminal_text
+from fkcheck.model.types import Model
+
+__all__ = [
+    "KIND_ORDER",
+    "AxisRow",
+    "Change",
+    "Diagnosis",
+    "Explanation",
+    "Kind",
+    "format_text",
+    "rank",
+    "to_dict",
+]
+
+#: What kind of mistake an explanation names, most plausible first among
+#: explanations that make the disagreement vanish: a frame-naming difference
+#: (base_link vs base, flange vs tool0) or two URDF joints swapped in the mapping
+#: before a whole-table mistake (units, convention), before a one-character typo (a
+#: sign, a flip, a missing θ offset), before a different number (one parameter),
+#: before unexplained constant offsets, before a fit of everything.
+Kind = Literal[
+    "frames",
+    "mapping",
+    "degrees",
+    "convention",
+    "sign",
+    "flip",
+    "theta-offset",
+    "parameter",
+    "offset",
+    "fit",
+]
+
+#: The kinds in :data:`Kind`'s order, the order :func:`rank` sorts them in.
+KIND_ORDER: tuple[Kind, ...] = get_args(Kind)
+
+
+@dataclass(frozen=True)
+class Change:
+    """One parameter of the table, as it is and as it would match.
+
+    Attributes:
+        field: The model-file field, ``joint[0].d`` or ``base.xyz[2]``.
+        symbol: Its textbook name with the joint, ``d1 (shoulder_pan)``.
+        old: The table's value (m or rad).
+        new: The value that matches the reference (m or rad).
+        angle: Whether it is an angle.
+        note: Where the new (or old) value is known from, if anywhere.
+    """
+
+    field: str
+    symbol: str
+    old: float
+    new: float
+    angle: bool
+    note: str = ""
+
+    @property
+    def delta(self) -> float:
+        """``new - old``."""
+        return self.new - self.old
+
+    def text(self) -> str:
+        """``d1 = 0.089459 here, 0.089159 would match, Δ = -0.300 mm``."""
+        if self.angle:
+            return (
+                f"{self.symbol} = {self.old:.6g} rad ({math.degrees(self.old):.4g}°) here, "
+                f"{self.new:.6g} rad ({math.degrees(self.new):.4g}°) would match, "
+                f"Δ = {math.degrees(self.delta):+.4f}°"
+            )
+        return (
+            f"{self.symbol} = {self.old:.6g} here, {self.new:.6g} would match, "
+            f"Δ = {self.delta * 1e3:+.3f} mm"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Explanation:
+    """One candidate explanation and its evidence.
+
+    Attributes:
+        kind: What kind of mistake (see :data:`KIND_ORDER`).
+        title: One line that says it.
+        residual: The disagreement left once the table is changed this way.
+        explains: Whether that is within tolerance.
+        details: More lines of evidence or caveats.
+        changes: The parameters it changes.
+        fix_toml: Model-file text that applies it (``[frames…]`` tables), if any.
+        model: The changed model (not serialised).
+    """
+
+    kind: Kind
+    title: str
+    residual: Residual
+    explains: bool
+    details: tuple[str, ...] = ()
+    changes: tuple[Change, ...] = ()
+    fix_toml: str = ""
+    model: Model | None = field(default=None, repr=False)
+
+
+@dataclass(frozen=True)
+class AxisRow:
+    """One joint's axis from the table and from the URDF, compared as lines.
+
+    Attributes:
+        joint: 0-based joint index.
+        name: Joint name.
+        angle_rad: Largest angle between the two directions over the configurations.
+        distance_m: Largest distance between the two lines (``None`` for a prismatic
+            joint, whose line has no position).
+        agrees: Both within tolerance.
+    """
+
+    joint: int
+    name: str
+    angle_rad: float
+    distance_m: float | None
+    agrees: bool
+
+    @property
+    def reversed(self) -> bool:
+        """The axes are anti-parallel: the joint turns the other way."""
+        return self.angle_rad > math.pi - 1e-6
+
+
+@dataclass(frozen=True, eq=False)
+class Diagnosis:
+    """Everything a diagnosis found.
+
+    Attributes:
+        model: The model diagnosed.
+        backend: The reference backend's name.
+        frame_from: Frame the pose is expressed in.
+        frame_to: Frame whose pose is compared.
+        configurations: How many configurations were compared.
+        before: The disagreement as given.
+        tol_pos_m: Position tolerance (m).
+        tol_rot_rad: Rotation tolerance (rad).
+        explanations: Ranked, most likely first.
+        axes: Joint axes compared (empty when the reference has no URDF).
+        axes_note: What the axes say, in one line.
+        tried: The hypotheses tried, one line each.
+        duration_s: Wall time, seconds.
+    """
+
+    model: Model
+    backend: str
+    frame_from: str
+    frame_to: str
+    configurations: int
+    before: Residual
+    tol_pos_m: float
+    tol_rot_rad: float
+    explanations: tuple[Explanation, ...]
+    axes: tuple[AxisRow, ...] = ()
+    axes_note: str = ""
+    tried: tuple[str, ...] = ()
+    duration_s: float = 0.0
+
+    @property
+    def agrees(self) -> bool:
+        """The table already agrees with the reference: nothing to explain."""
+        return self.before.within(self.tol_pos_m, self.tol_rot_rad)
+
+    @property
+    def explained(self) -> bool:
+        """Some explanation makes the disagreement vanish."""
+        return any(e.explains for e in self.explanations)
+
+    @property
+    def best(self) -> Explanation | None:
+        """The most likely explanation, if one explains the disagreement."""
+        first = self.explanations[0] if self.explanations else None
+        return first if first is not None and first.explains else None
+
+
+def rank(explanations: list[Explanation], before: Residual) -> tuple[Explanation, ...]:
+    """Explaining ones by :data:`KIND_ORDER`; then partial ones by what is left.
+
+    A partial explanation is kept only if it removes at least half of the
+    disagreement (position or rotation), so the list stays short.
+    """
+
+    def leftover(e: Explanation) -> float:
+        pos = e.residual.position_m / before.position_m if before.position_m > 0 else 0.0
+        rot = e.residual.rotation_rad / before.rotation_rad if before.rotation_rad > 0 else 0.0
+        return max(pos, rot)
+
+    full = [e for e in explanations if e.explains]
+    full.sort(key=lambda e: (KIND_ORDER.index(e.kind), e.residual.position_m))
+    partial = [e for e in explanations if not e.explains and leftover(e) <= 0.5]
+    partial.sort(key=leftover)
+    return (*full, *partial)
+
+
+def _residual_dict(r: Residual) -> dict[str, float]:
+    return {"position_m": r.position_m, "rotation_rad": r.rotation_rad}
+
+
+def to_dict(d: Diagnosis) -> dict[str, Any]:
+    """The diagnosis as JSON-ready data (a contract: keys are only ever added)."""
+    return {
+        "model": d.model.name,
+        "reference": d.backend,
+        "from": d.frame_from,
+        "to": d.frame_to,
+        "configurations": d.configurations,
+        "tolerance": {"position_m": d.tol_pos_m, "rotation_rad": d.tol_rot_rad},
+        "before": _residual_dict(d.before),
+        "agrees": d.agrees,
+        "explained": d.explained,
+        "explanations": [
+            {
+                "kind": e.kind,
+                "title": e.title,
+                "explains": e.explains,
+                "after": _residual_dict(e.residual),
+                "details": list(e.details),
+                "changes": [
+                    {
+                        "field": c.field,
+                        "symbol": c.symbol,
+                        "table": c.old,
+                        "matches": c.new,
+                        "delta": c.delta,
+                        "unit": "rad" if c.angle else "m",
+                        "note": c.note,
+                    }
+                    for c in e.changes
+                ],
+                "fix_toml": e.fix_toml,
+            }
+            for e in d.explanations
+        ],
+        "axes": [
+            {
+                "joint": a.joint + 1,
+                "name": a.name,
+                "angle_rad": a.angle_rad,
+                "distance_m": a.distance_m,
+                "agrees": a.agrees,
+            }
+            for a in d.axes
+        ],
+        "axes_note": d.axes_note,
+        "tried": list(d.tried),
+        "duration_s": d.duration_s,
+    }
+
+
+def format_text(d: Diagnosis) -> str:
+    """The terminal summary: the disagreement, explanations ranked, axes, what was tried.
+
+    Names from input are shown on one line each (:func:`fkcheck.io.text.terminal_text`).
+    """
+    name, frame_from, frame_to = map(terminal_text, (d.model.name, d.frame_from, d.frame_to))
+    lines = [
+        f"fkcheck diagnose {name}: {frame_from} → {frame_to} against {terminal_text(d.backend)}, "
+        f"{d.configurations} configurations",
+        f"disagreement as given: {d.before.text()} (tolerance {d.tol_pos_m:g} m, "
+        f"{d.tol_rot_rad:g} rad)",
+    ]
+    if d.agrees:
+        lines.append("the table agrees with the reference: nothing to explain")
+    elif not d.explanations:
+        lines.append("no hypothesis explains the disagreement, or even half of it")
+    for k, e in enumerate(d.explanations, start=1):
+        verdict = "explains it" if e.explains else "explains part of it"
+        lines.append("")
+        lines.append(f"{k}. [{e.kind}] {e.title}")
+        lines.append(f"   {verdict}: {d.before.text()} → {e.residual.text()}")
+        lines.extend(f"   {c.text()}" + (f" ({c.note})" if c.note else "") for c in e.changes)
+        lines.extend(f"   {line}" for line in e.details)
+        if e.fix_toml:
+            lines.append("   fix, in the model file:")
+            lines.extend(f"     {line}" for line in e.fix_toml.rstrip("\n").splitlines())
+    if d.axes:
+        lines.append("")
+        lines.append("joint axes as lines in the base frame (convention-free):")
+        for a in d.axes:
+            dist = "-" if a.distance_m is None else f"{a.distance_m * 1e3:.3f} mm"
+            mark = "ok" if a.agrees else ("REVERSED" if a.reversed else "DIFFERS")
+            lines.append(
+                f"   joint {a.joint + 1} {terminal_text(a.name)}: "
+                f"{math.degrees(a.angle_rad):.3f}°, {dist}  {mark}"
+            )
+    if d.axes_note:
+        lines.append(f"   {d.axes_note}")
+    if d.tried:
+        lines.append("")
+        lines.append("tried: " + "; ".join(d.tried))
+    lines.append(f"took {d.duration_s:.2f} s")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,142 @@
+"""Results of a check: one :class:`BackendResult` per backend and the whole :class:`CheckResult`.
+
+Status words mean one thing each: ``pass`` — it answered and agrees within
+tolerance; ``fail`` — it answered and the answer is wrong (disagrees beyond
+tolerance, is not a rigid transform, or is NaN/inf: the message says which, where
+and by how much, and the errors are still reported); ``error`` — it could not
+answer (import failed, crashed, timed out, returned no poses of the right
+shape, or a URDF it should compare was never mapped); ``skipped`` — it does not
+apply here (library missing, frame out of its reach), with the reason. What the
+run proved — implementation and table evidence — and the verdict are in
+:mod:`fkcheck.engine.verdict`. A run where no backend ran is never a pass.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+from fkcheck.backends.base import Evidence
+from fkcheck.core.typing import Float
+from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize
+from fkcheck.model.types import Model
+
+__all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "Status"]
+
+Status = Literal["pass", "fail", "error", "skipped"]
+
+#: Name of the reference row: the in-house DH core.
+REFERENCE_NAME = "fkcheck-dh"
+
+
+@dataclass(frozen=True, eq=False)
+class BackendResult:
+    """One backend's outcome.
+
+    Attributes:
+        name: Backend name.
+        status: ``pass``, ``fail``, ``error`` or ``skipped``.
+        message: Why it was skipped or errored, or a summary of the failure.
+        method: The library call it used.
+        duration_s: Wall time of its run, seconds (import included).
+        position_error_m: Per-configuration position error against the reference, metres.
+        rotation_error_rad: Per-configuration rotation error, radians.
+        worst_index: Index of the worst configuration (largest error relative to tolerance).
+        worst_dh_frames: For backends built from the DH table that failed: their DH
+            frames ``(n+1, 4, 4)`` at the worst configuration, to find where chains part.
+        evidence: ``implementation`` or ``table``: what its agreement proves.
+    """
+
+    name: str
+    status: Status
+    message: str = ""
+    method: str = ""
+    duration_s: float = 0.0
+    position_error_m: Float | None = None
+    rotation_error_rad: Float | None = None
+    worst_index: int | None = None
+    worst_dh_frames: Float | None = None
+    evidence: Evidence = "implementation"
+
+    @property
+    def ran(self) -> bool:
+        """Whether the backend produced poses that were compared."""
+        return self.position_error_m is not None
+
+    def _stat(self, values: Float | None, q: float | None) -> float | None:
+        if values is None or values.size == 0:
+            return None
+        if np.isnan(values).any():  # never hide a NaN behind a max or percentile
+            return float("nan")
+        if q is None:
+            return float(values.max())
+        return float(np.percentile(values, q))
+
+    @property
+    def max_position_error_m(self) -> float | None:
+        """Largest position error, metres (``None`` if it did not run)."""
+        return self._stat(self.position_error_m, None)
+
+    @property
+    def max_rotation_error_rad(self) -> float | None:
+        """Largest rotation error, radians (``None`` if it did not run)."""
+        return self._stat(self.rotation_error_rad, None)
+
+    def percentile(self, which: Literal["position", "rotation"], q: float) -> float | None:
+        """A percentile (0–100) of the position (m) or rotation (rad) error."""
+        values = self.position_error_m if which == "position" else self.rotation_error_rad
+        return self._stat(values, q)
+
+
+@dataclass(frozen=True, eq=False)
+class CheckResult:
+    """A whole check: what was compared, on which configurations, and the verdict.
+
+    Attributes:
+        model: The model checked.
+        samples: Number of random samples asked for.
+        seed: Seed of the random samples.
+        sampler: ``sobol`` or ``uniform``.
+        frame_from: Frame the compared pose is expressed in.
+        frame_to: Frame whose pose is compared.
+        tol_pos_m: Position tolerance, metres.
+        tol_rot_rad: Rotation tolerance, radians.
+        q: ``(N, n)`` configurations checked (radians / metres).
+        origin: Where each configuration came from (see :mod:`fkcheck.model.sampling`).
+        backends: One result per backend, in the order asked.
+        verdict: ``pass``, ``fail``, ``error`` or ``unverified``
+            (see :mod:`fkcheck.engine.verdict`).
+        required: Kinds of evidence that had to be verified (``--require``).
+        created: ISO 8601 UTC time the check started.
+        duration_s: Wall time of the check, seconds.
+        command: The command line that reproduces it (set by the CLI).
+    """
+
+    model: Model
+    samples: int
+    seed: int
+    sampler: str
+    frame_from: str
+    frame_to: str
+    tol_pos_m: float
+    tol_rot_rad: float
+    q: Float
+    origin: tuple[str, ...]
+    backends: tuple[BackendResult, ...]
+    verdict: Verdict
+    required: tuple[Kind, ...] = ()
+    created: str = ""
+    duration_s: float = 0.0
+    command: str = ""
+
+    @property
+    def ran(self) -> tuple[BackendResult, ...]:
+        """The backends that produced poses."""
+        return tuple(b for b in self.backends if b.ran)
+
+    @property
+    def evidence(self) -> EvidenceSummary:
+        """What the run proved, by kind (implementation, table), and what was required."""
+        return summarize(self.backends, self.required)

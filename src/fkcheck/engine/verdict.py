@@ -1,0 +1,208 @@
+"""What a check proved: the evidence by kind, the requirements, and the verdict.
+
+A cross-check answers two questions, and they are kept apart:
+
+* **implementation** — *is the in-house core right, given the table?* Answered
+  by backends that run the model's own table (``rtb-dh``, ``pinocchio-dh``,
+  plugins, ``cmd:`` programs). Their agreement proves the arithmetic, not the
+  numbers: a wrong d1 is wrong in every one of them.
+* **table** — *is the table right, for the robot?* Answered only by evidence that
+  does not come from the table: the robot's URDF read by its parsers, measured
+  or pendant poses, a table published elsewhere (``rtb-model:``).
+
+Each kind gets a status: ``verified`` (a backend of that kind answered and
+agreed, none disagreed), ``failed`` (one answered and disagreed) or
+``not-checked`` (none answered). ``require`` (``--require``, ``[check] require``)
+names kinds that must be ``verified``; when one is not, the verdict is
+``unverified`` (exit 1) even though nothing disagreed.
+
+Verdicts: ``pass`` — every backend that ran agrees and every required kind is
+verified; ``fail`` — a backend answered wrongly; ``error`` — a backend could
+not answer, or none ran at all; ``unverified`` — nothing disagreed, but a
+required kind of evidence is missing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal, Protocol
+
+from fkcheck.model.require import KINDS, Kind
+
+__all__ = [
+    "KINDS",
+    "EvidenceKind",
+    "EvidenceSummary",
+    "Kind",
+    "KindStatus",
+    "Verdict",
+    "evidence_sentences",
+    "headline",
+    "summarize",
+    "verdict_of",
+]
+
+KindStatus = Literal["verified", "not-checked", "failed"]
+Verdict = Literal["pass", "fail", "error", "unverified"]
+
+
+class _Outcome(Protocol):
+    """What :func:`summarize` needs of a backend's result."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def status(self) -> str: ...
+    @property
+    def evidence(self) -> str: ...
+    @property
+    def ran(self) -> bool: ...
+
+
+@dataclass(frozen=True)
+class EvidenceKind:
+    """The evidence of one kind.
+
+    Attributes:
+        kind: ``implementation`` or ``table``.
+        status: ``verified``, ``failed`` or ``not-checked``.
+        agreed: Backends of this kind that answered and agreed.
+        disagreed: Backends of this kind that answered wrongly.
+        unanswered: Backends of this kind that were asked but could not answer
+            (error) or did not apply (skipped).
+    """
+
+    kind: Kind
+    status: KindStatus
+    agreed: tuple[str, ...] = ()
+    disagreed: tuple[str, ...] = ()
+    unanswered: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class EvidenceSummary:
+    """Both kinds of evidence and what was required.
+
+    Attributes:
+        implementation: Evidence that the core computes the table right.
+        table: Evidence, independent of the table, that the table is right.
+        required: Kinds that must be ``verified``.
+        unmet: Required kinds that are not.
+    """
+
+    implementation: EvidenceKind
+    table: EvidenceKind
+    required: tuple[Kind, ...] = ()
+    unmet: tuple[Kind, ...] = ()
+
+    def of(self, kind: Kind) -> EvidenceKind:
+        """The evidence of one kind."""
+        return self.implementation if kind == "implementation" else self.table
+
+
+def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
+    mine = [r for r in results if r.evidence == kind]
+    agreed = tuple(r.name for r in mine if r.status == "pass")
+    disagreed = tuple(r.name for r in mine if r.status == "fail")
+    unanswered = tuple(r.name for r in mine if r.status in ("error", "skipped"))
+    status: KindStatus = "failed" if disagreed else "verified" if agreed else "not-checked"
+    return EvidenceKind(kind, status, agreed, disagreed, unanswered)
+
+
+def summarize(results: Sequence[_Outcome], required: Sequence[Kind] = ()) -> EvidenceSummary:
+    """Sort backend results into the two kinds of evidence."""
+    implementation = _kind("implementation", results)
+    table = _kind("table", results)
+    by_kind = {"implementation": implementation, "table": table}
+    unmet = tuple(k for k in required if by_kind[k].status != "verified")
+    return EvidenceSummary(implementation, table, tuple(required), unmet)
+
+
+def verdict_of(results: Sequence[_Outcome], evidence: EvidenceSummary) -> Verdict:
+    """The verdict of one check (see the module docstring)."""
+    if not any(r.ran for r in results):
+        return "error"
+    if any(r.status == "fail" for r in results):
+        return "fail"
+    if any(r.status == "error" for r in results):
+        return "error"
+    if evidence.unmet:
+        return "unverified"
+    return "pass"
+
+
+def _names(names: Sequence[str]) -> str:
+    return ", ".join(names)
+
+
+def _agree(names: Sequence[str], prefix: str = "") -> str:
+    """``agrees`` for one backend, ``agree`` for several."""
+    return f"{prefix}agrees" if len(names) == 1 else f"{prefix}agree"
+
+
+def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
+    """One plain sentence per kind, the same in every output format.
+
+    Returns:
+        ``(implementation sentence, table sentence)``.
+    """
+    imp, tab = evidence.implementation, evidence.table
+    if imp.status == "verified":
+        imp_text = (
+            f"implementation verified: {_names(imp.agreed)} {_agree(imp.agreed)} with the "
+            "in-house core (same table, independent code)"
+        )
+    elif imp.status == "failed":
+        imp_text = (
+            f"implementation FAILED: {_names(imp.disagreed)} {_agree(imp.disagreed, 'dis')} "
+            "with the in-house core"
+        )
+    else:
+        imp_text = "implementation not checked: no other implementation of this table answered"
+    if tab.status == "verified":
+        tab_text = (
+            f"table verified: {_names(tab.agreed)} {_agree(tab.agreed)} "
+            "(evidence independent of the table)"
+        )
+    elif tab.status == "failed":
+        tab_text = (
+            f"table FAILED: {_names(tab.disagreed)} {_agree(tab.disagreed, 'dis')} "
+            "(evidence independent of the table)"
+        )
+    else:
+        tab_text = (
+            "table NOT CHECKED: nothing independent of it (URDF, measured poses, published "
+            "table) answered; agreement proves the arithmetic, not the numbers"
+        )
+    if "table" in evidence.unmet:
+        tab_text += " — required (require = table)"
+    if "implementation" in evidence.unmet:
+        imp_text += " — required (require = implementation)"
+    return imp_text, tab_text
+
+
+def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
+    """The verdict with what it proved, one line: ``pass — implementation only; …``.
+
+    A pass that never checked the table says so in the verdict itself, so it
+    cannot be read as "the table is right" wherever only the verdict is shown.
+    """
+    if verdict == "pass":
+        if evidence.table.status == "verified":
+            if evidence.implementation.status == "verified":
+                return "pass — table verified independently, implementation agrees"
+            return "pass — table verified independently; no second implementation ran"
+        if evidence.implementation.status == "verified":
+            return "pass — implementation only; table not checked against anything independent"
+        return "pass"
+    if verdict == "unverified":
+        return "unverified — nothing disagreed, but required evidence is missing: " + ", ".join(
+            evidence.unmet
+        )
+    if verdict == "fail":
+        kinds = [k for k in KINDS if evidence.of(k).status == "failed"]
+        return "fail — " + " and ".join(f"{k} disagrees" for k in kinds)
+    if n_ran == 0:
+        return "error — no backend gave an answer: nothing was cross-checked"
+    return "error — a backend could not answer (see its message)"

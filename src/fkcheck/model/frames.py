@@ -1,0 +1,74 @@
+"""Named frames: where they sit on the DH chain, and how any backend's poses map onto them.
+
+A model's ``[frames.NAME]`` tables say, for each name, which DH frame it is
+attached to (``0…n``, ``"tcp"`` after the tool, or ``"world"``), a fixed offset
+from that DH frame, and the frame's twin in the URDF. ``world`` and ``tcp`` are
+always defined. These helpers give the *in-house* side of the comparison: the
+poses of named frames from the core's DH frames, and the relative pose the engine
+compares. Reference backends never use them (each places named frames with its
+own library's constructs; see :mod:`fkcheck.backends.base`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from fkcheck.core.geometry import invert
+from fkcheck.core.typing import Float
+from fkcheck.model.types import Model, resolve_frame
+
+__all__ = [
+    "frame_poses_from_dh",
+    "relative_pose",
+    "resolve_frame",
+]
+
+
+def frame_poses_from_dh(
+    model: Model, world_T_dh: Float, world_T_tcp: Float, frames: Sequence[str]
+) -> Float:
+    """Named-frame poses from the in-house core's DH frames.
+
+    Args:
+        model: The model.
+        world_T_dh: ``(N, n+1, 4, 4)`` DH frames 0…n in the world (base included).
+        world_T_tcp: ``(N, 4, 4)`` the TCP in the world (tool included).
+        frames: Named frames to return.
+
+    Returns:
+        ``(len(frames), N, 4, 4)`` world_T_frame.
+    """
+    N = world_T_tcp.shape[0]
+    out = np.empty((len(frames), N, 4, 4))
+    for k, name in enumerate(frames):
+        spec = resolve_frame(model, name)
+        if spec.dh == "world":
+            anchor: Float = np.broadcast_to(np.eye(4), (N, 4, 4))
+        elif spec.dh == "tcp":
+            anchor = world_T_tcp
+        else:
+            anchor = world_T_dh[:, spec.dh]
+        out[k] = anchor @ spec.offset.matrix
+    return out
+
+
+def relative_pose(root_T_from: Float, root_T_to: Float) -> Float:
+    """``from_T_to = (root_T_from)⁻¹ · root_T_to`` for batches ``(..., 4, 4)``."""
+    return invert(root_T_from) @ root_T_to
+
+
+#: Configurations handed to the core (and to a backend) per call: bounds memory for large runs.
+CHUNK = 65_536
+
+
+def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
+    """Named-frame poses from the in-house core: ``(len(frames), N, 4, 4)``."""
+    out = np.empty((len(frames), q.shape[0], 4, 4))
+    for start in range(0, q.shape[0], CHUNK):
+        chunk = q[start : start + CHUNK]
+        out[:, start : start + CHUNK] = frame_poses_from_dh(
+            model, model.fk(chunk, all_frames=True), model.fk(chunk), frames
+        )
+    return out

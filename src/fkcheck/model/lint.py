@@ -1,0 +1,243 @@
+"""What looks wrong in a DH table on its own, before anything is compared.
+
+Each rule is a heuristic, so every finding is a *warning*: a real arm can have
+a twist that is not a multiple of 90°, or a 6 m reach. The rules:
+
+* ``degrees``: an angle beyond ±2π in a radian file (or one that reads like a
+  radian value — π/2, π — in a degree file);
+* ``rounded-angle``: α within 0.001 rad of a multiple of π/2 but not on it (1.5708);
+* ``twist``: α not a multiple of π/2;
+* ``length``: a length beyond :data:`LONG_M` (millimetres in a metre file?);
+* ``limits``: a revolute joint whose limits exceed ±2π;
+* ``convention``: a modified table whose first row has a ≠ 0 or α ≠ 0 (usual for
+  standard, unusual for modified), or a standard table shaped like a modified one
+  (first row a = α = 0, last row a or α ≠ 0);
+* ``published``: every number matches a published table (a bundled model) except
+  a few that are close but not equal — a rounded or outdated value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+from fkcheck.model.names import PARAMS, param_field
+from fkcheck.model.published import published_tables, variant_note
+from fkcheck.model.types import Model
+
+__all__ = ["LONG_M", "Finding", "lint_model"]
+
+#: Lengths beyond this look like a unit error (no arm in the bundled set exceeds 1.3 m).
+LONG_M = 5.0
+#: Limits within this of ±2π count as ±2π (URDFs write 6.28318530718).
+_LIMIT_SLACK = 1e-6
+#: "Rounded, not different": the largest differences treated as rounding or an old value.
+NEAR_LENGTH_M = 1e-3
+NEAR_ANGLE_RAD = 1e-3
+_EXACT = 1e-12
+
+Rule = Literal["degrees", "rounded-angle", "twist", "length", "limits", "convention", "published"]
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One warning about a model.
+
+    Attributes:
+        rule: Which rule fired (see the module docstring).
+        field: Where, as a file field (``joint[0].d``) or ``""`` for the whole table.
+        message: What looks wrong and what it probably is.
+    """
+
+    rule: Rule
+    field: str
+    message: str
+
+
+def _quarter_turns(angle: float) -> tuple[int, float]:
+    k = round(angle / (math.pi / 2))
+    return k, abs(angle - k * math.pi / 2)
+
+
+def _angle_text(model: Model, value: float) -> str:
+    return f"{math.degrees(value):g}°" if model.angle_unit == "deg" else f"{value:g} rad"
+
+
+def _offset_fields(model: Model, part: Literal["xyz", "rpy"]) -> list[tuple[str, float]]:
+    """Every ``xyz`` or ``rpy`` entry of the base, the tool and the named frames, by file field."""
+    offsets = [("base", model.base), ("tool", model.tool)]
+    offsets += [(f"frames.{name}", spec.offset) for name, spec in model.frames.items()]
+    return [
+        (f"{label}.{part}[{k}]", v)
+        for label, offset in offsets
+        for k, v in enumerate(getattr(offset, part))
+    ]
+
+
+def _angles(model: Model) -> list[Finding]:
+    out: list[Finding] = []
+    if model.angle_unit == "rad":
+        written: list[tuple[str, float]] = []
+        for i, joint in enumerate(model.joints):
+            written += [(f"joint[{i}].alpha", joint.alpha), (f"joint[{i}].theta", joint.theta)]
+        for field, value in written + _offset_fields(model, "rpy"):
+            if abs(value) > 2 * math.pi + 1e-9:
+                out.append(
+                    Finding(
+                        "degrees",
+                        field,
+                        f"{value:g} is beyond ±2π: it looks like "
+                        'degrees in a file with angle_unit = "rad"',
+                    )
+                )
+    else:
+        for i, joint in enumerate(model.joints):
+            for label in ("alpha", "theta"):
+                number = math.degrees(getattr(joint, label))  # the number in the file
+                for name, target in (("π/2", math.pi / 2), ("π", math.pi)):
+                    if number != 0 and abs(abs(number) - target) < 1e-3:
+                        out.append(
+                            Finding(
+                                "degrees",
+                                f"joint[{i}].{label}",
+                                f'{number:g} in a file with angle_unit = "deg" reads like '
+                                f"{name} in radians",
+                            )
+                        )
+    for i, joint in enumerate(model.joints):
+        k, off = _quarter_turns(joint.alpha)
+        if off <= _EXACT or abs(joint.alpha) > 2 * math.pi + 1e-9:
+            continue
+        where = param_field(model, i, "alpha")
+        if off < NEAR_ANGLE_RAD:
+            exact = k * math.pi / 2
+            out.append(
+                Finding(
+                    "rounded-angle",
+                    f"joint[{i}].alpha",
+                    f"{where} = {_angle_text(model, joint.alpha)} is {k * 90}° rounded "
+                    f"({off:.2g} rad off): write {exact!r} rad or {k * 90} in a degree file",
+                )
+            )
+        else:
+            out.append(
+                Finding(
+                    "twist",
+                    f"joint[{i}].alpha",
+                    f"{where} = {_angle_text(model, joint.alpha)} is not a multiple of 90° "
+                    "(some arms have such twists; most tables do not)",
+                )
+            )
+    return out
+
+
+def _lengths(model: Model) -> list[Finding]:
+    out: list[Finding] = []
+    values: list[tuple[str, float]] = []
+    for i, joint in enumerate(model.joints):
+        values += [(f"joint[{i}].a", joint.a), (f"joint[{i}].d", joint.d)]
+    for field, value in values + _offset_fields(model, "xyz"):
+        if abs(value) > LONG_M:
+            hint = " — millimetres in a file that must be in metres?" if abs(value) > 50 else ""
+            out.append(Finding("length", field, f"{value:g} m is beyond {LONG_M:g} m{hint}"))
+    return out
+
+
+def _limits(model: Model) -> list[Finding]:
+    out: list[Finding] = []
+    bound = 2 * math.pi + _LIMIT_SLACK
+    for i, joint in enumerate(model.joints):
+        if joint.type != "revolute" or joint.limits is None:
+            continue
+        lo, hi = joint.limits
+        if lo < -bound or hi > bound:
+            hint = (
+                ' (degrees in a file with angle_unit = "rad"?)' if model.angle_unit == "rad" else ""
+            )
+            out.append(
+                Finding(
+                    "limits",
+                    f"joint[{i}].limits",
+                    f"revolute joint {joint.name} has limits [{_angle_text(model, lo)}, "
+                    f"{_angle_text(model, hi)}], beyond ±360°{hint}",
+                )
+            )
+    return out
+
+
+def _convention(model: Model) -> list[Finding]:
+    first, last = model.joints[0], model.joints[-1]
+    if model.convention == "modified" and (abs(first.a) > _EXACT or abs(first.alpha) > _EXACT):
+        return [
+            Finding(
+                "convention",
+                "joint[0]",
+                f"modified (Craig) table whose first row has a0 = {first.a:g}, α0 = "
+                f"{_angle_text(model, first.alpha)}: usual in standard DH, unusual in modified "
+                "(frame 0 normally lies on axis 1) — is it a standard table?",
+            )
+        ]
+    if (
+        model.convention == "standard"
+        and model.dof > 1
+        and abs(first.a) <= _EXACT
+        and abs(first.alpha) <= _EXACT
+        and (abs(last.a) > _EXACT or abs(last.alpha) > _EXACT)
+    ):
+        return [
+            Finding(
+                "convention",
+                "",
+                "standard table shaped like a modified (Craig) one: the first row has a = α = 0 "
+                f"and the last has a = {last.a:g}, α = {_angle_text(model, last.alpha)} — in a "
+                "modified table row i holds a_{i-1}, α_{i-1}",
+            )
+        ]
+    return []
+
+
+def _published(model: Model) -> list[Finding]:
+    out: list[Finding] = []
+    for table in published_tables():
+        if table.dof != model.dof or table.convention != model.convention:
+            continue
+        near: list[tuple[int, str, float, float]] = []
+        matches = True
+        for i, (ours, theirs) in enumerate(zip(model.joints, table.joints, strict=True)):
+            for param in PARAMS:
+                a, b = getattr(ours, param), getattr(theirs, param)
+                diff = abs(a - b)
+                limit = NEAR_ANGLE_RAD if param in ("alpha", "theta") else NEAR_LENGTH_M
+                if diff <= _EXACT:
+                    continue
+                if diff <= limit:
+                    near.append((i, param, a, b))
+                else:
+                    matches = False
+        if not matches or not near:
+            continue
+        for i, pname, a, b in near:
+            unit = "mm" if pname in ("a", "d") else "°"
+            delta = (a - b) * 1e3 if unit == "mm" else math.degrees(a - b)
+            text = (
+                f"{param_field(model, i, pname)} = {a!r} is {delta:+.3f} {unit} from "
+                f"{b!r} in the published table {table.name} ({table.description or table.name}); "
+                "every other number matches: a rounded or outdated value?"
+            )
+            note = variant_note(table.name, i, pname, a)
+            if note:
+                text += f" {a!r} is the value in {note}."
+            out.append(Finding("published", f"joint[{i}].{pname}", text))
+    return out
+
+
+def lint_model(model: Model) -> list[Finding]:
+    """Every warning for ``model``, in file order of the rules above."""
+    return [
+        *_angles(model),
+        *_lengths(model),
+        *_limits(model),
+        *_convention(model),
+        *_published(model),
+    ]

@@ -1,0 +1,272 @@
+"""Robot models: the TOML schema (and the plain DH CSV), validated into frozen dataclasses.
+
+A model file holds a DH table and, optionally, base/tool transforms, named
+poses, the reference URDF with its joint order, named frames that tie DH frames
+to URDF frames, and the default check. Everything is validated on load; a bad
+file raises :class:`~fkcheck.errors.ModelError` naming the file, the field and
+the problem. Angles are stored in radians whatever the file's ``angle_unit``.
+
+Files are read by :mod:`fkcheck.io.files` (a regular file of at most 1 MiB,
+UTF-8, a leading byte-order mark skipped), the CSV's numbers by
+:func:`fkcheck.io.numbers.parse_number` (plain ASCII decimals only). Numbers are
+bounded by what an arm can be, so that the forward kinematics of a valid model
+never overflows: every length (``a``, ``d``, ``xyz``, prismatic limits and pose
+values) is within ±:data:`MAX_LENGTH_M` (1 km), every revolute limit and pose
+value within ±:data:`MAX_JOINT_RAD` (1000 rad, 159 turns). Fixed angles
+(``alpha``, ``theta``, ``rpy``) only enter sines and cosines (and ``θ + q``, with
+``q`` bounded), so they need to be finite only.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from fkcheck.core import dh
+from fkcheck.core.geometry import matrix_from_xyz_rpy
+from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
+from fkcheck.core.typing import Float
+from fkcheck.errors import FrameError
+
+__all__ = [
+    "MAX_JOINTS",
+    "MAX_JOINT_RAD",
+    "MAX_LENGTH_M",
+    "URDF_FRAME_PREFIX",
+    "CheckSpec",
+    "FrameSpec",
+    "Joint",
+    "Model",
+    "Offset",
+    "UrdfSpec",
+    "resolve_frame",
+]
+
+JointType = Literal["revolute", "prismatic"]
+DhIndex = int | Literal["world", "tcp"]
+
+#: Larger tables are refused: no real arm has them, and a typo-generated file
+#: with 10 000 rows should fail fast rather than build a huge chain.
+MAX_JOINTS = 256
+#: Largest length a model may hold, metres (``a``, ``d``, ``xyz``, prismatic limits
+#: and pose values). No arm is a kilometre long; 256 joints this long still keep
+#: every pose far from float overflow (``a = 1e308`` made the reference NaN).
+MAX_LENGTH_M = 1e3
+#: Largest revolute limit or pose value, radians (159 turns). Limits make the
+#: sampling box, whose width must stay finite.
+MAX_JOINT_RAD = 1e3
+
+
+@dataclass(frozen=True)
+class Offset:
+    """A fixed transform given as URDF-style ``xyz`` (m) and fixed-axis ``rpy`` (rad)."""
+
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+    @property
+    def matrix(self) -> Float:
+        """The 4×4 homogeneous transform."""
+        return matrix_from_xyz_rpy(self.xyz, self.rpy)
+
+    @property
+    def is_identity(self) -> bool:
+        """Whether both translation and rotation are exactly zero."""
+        return not any(self.xyz) and not any(self.rpy)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One row of the DH table, in metres and radians.
+
+    Attributes:
+        name: Joint name, unique in the model.
+        type: ``"revolute"`` or ``"prismatic"``.
+        a: Link length (m); in a modified table, ``a_{i-1}``.
+        alpha: Link twist (rad); in a modified table, ``α_{i-1}``.
+        d: Link offset (m); for a prismatic joint, added to q.
+        theta: Angle offset (rad) added to q; for a prismatic joint, the fixed angle.
+        flip: The joint moves the other way (q enters with a minus sign).
+        limits: ``(lower, upper)`` in rad (revolute) or m (prismatic), or ``None``.
+    """
+
+    name: str
+    a: float
+    alpha: float
+    d: float
+    theta: float = 0.0
+    type: JointType = "revolute"
+    flip: bool = False
+    limits: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class UrdfSpec:
+    """Where the model's reference URDF is, and which URDF joint is which DH joint.
+
+    Attributes:
+        path: As written: a path (relative to the model file) or
+            ``example-robot-data:<subpath>``.
+        joints: URDF joint names in DH order, one per DH joint.
+    """
+
+    path: str
+    joints: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class FrameSpec:
+    """A named frame: where it sits on the DH chain and its URDF twin.
+
+    Attributes:
+        name: The frame's name.
+        dh: DH frame index ``0…n``, ``"tcp"`` (after the tool) or ``"world"``.
+        offset: Fixed transform from that DH frame to this frame.
+        urdf: Name of the same frame in the URDF, or ``None``.
+    """
+
+    name: str
+    dh: DhIndex
+    offset: Offset = field(default_factory=Offset)
+    urdf: str | None = None
+
+
+@dataclass(frozen=True)
+class CheckSpec:
+    """The default check: which frame pair, and the tolerances.
+
+    Attributes:
+        frame_from: Name of the frame the pose is expressed in.
+        frame_to: Name of the frame whose pose is compared.
+        tol_pos_m: Position tolerance, metres.
+        tol_rot_rad: Rotation tolerance, radians.
+        require: Kinds of evidence a check must verify (``"table"``,
+            ``"implementation"``; see :mod:`fkcheck.engine.verdict`).
+    """
+
+    frame_from: str = "world"
+    frame_to: str = "tcp"
+    tol_pos_m: float = DEFAULT_TOL_POS_M
+    tol_rot_rad: float = DEFAULT_TOL_ROT_RAD
+    require: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Model:
+    """A validated robot model. Lengths in metres, angles in radians.
+
+    Attributes:
+        name: Model name.
+        convention: ``"standard"`` or ``"modified"`` DH.
+        joints: The DH table, base to tip.
+        description: Free text.
+        source: Where the numbers come from.
+        base: Fixed transform world → DH frame 0.
+        tool: Fixed transform last DH frame → TCP.
+        poses: Named configurations (radians / metres).
+        urdf: The reference URDF, if any.
+        frames: Named frames (always includes ``world`` and ``tcp``).
+        check: The default check.
+        angle_unit: The unit the file was written in (for display and export).
+        path: The file it was read from, if any.
+        warnings: Things that look wrong but are not errors (e.g. degrees in a radian file).
+    """
+
+    name: str
+    convention: dh.Convention
+    joints: tuple[Joint, ...]
+    description: str = ""
+    source: str = ""
+    base: Offset = field(default_factory=Offset)
+    tool: Offset = field(default_factory=Offset)
+    poses: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
+    urdf: UrdfSpec | None = None
+    frames: Mapping[str, FrameSpec] = field(default_factory=dict)
+    check: CheckSpec = field(default_factory=CheckSpec)
+    angle_unit: Literal["rad", "deg"] = "rad"
+    path: Path | None = None
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def dof(self) -> int:
+        """Number of joints."""
+        return len(self.joints)
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """Joint names, base to tip."""
+        return tuple(j.name for j in self.joints)
+
+    @cached_property
+    def chain(self) -> dh.DHChain:
+        """The table as arrays for the FK core."""
+        js = self.joints
+        return dh.DHChain(
+            convention=self.convention,
+            a=np.array([j.a for j in js], dtype=np.float64),
+            alpha=np.array([j.alpha for j in js], dtype=np.float64),
+            d=np.array([j.d for j in js], dtype=np.float64),
+            theta=np.array([j.theta for j in js], dtype=np.float64),
+            prismatic=np.array([j.type == "prismatic" for j in js], dtype=bool),
+            sign=np.array([-1.0 if j.flip else 1.0 for j in js]),
+            world_T_base=self.base.matrix,
+            flange_T_tool=self.tool.matrix,
+        )
+
+    @cached_property
+    def limits(self) -> Float:
+        """Joint limits as ``(n, 2)``; ``±inf`` where a joint has none."""
+        return np.array(
+            [j.limits if j.limits is not None else (-math.inf, math.inf) for j in self.joints],
+            dtype=np.float64,
+        ).reshape(self.dof, 2)
+
+    def fk(self, q: ArrayLike, all_frames: bool = False) -> Float:
+        """Forward kinematics with the in-house core.
+
+        Args:
+            q: Joint values, shape ``(n,)`` or ``(N, n)``, radians / metres.
+            all_frames: Return DH frames ``0…n`` (base included, tool not).
+
+        Returns:
+            ``world_T_tcp`` as ``(4, 4)`` or ``(N, 4, 4)``; with ``all_frames``,
+            ``(n+1, 4, 4)`` or ``(N, n+1, 4, 4)``.
+
+        Raises:
+            JointInputError: Wrong shape or non-finite values.
+        """
+        return dh.fk(self.chain, q, all_frames=all_frames)
+
+
+#: Prefix that names a frame by its URDF link: ``urdf:tool0``.
+URDF_FRAME_PREFIX = "urdf:"
+
+
+def resolve_frame(model: Model, name: str) -> FrameSpec:
+    """The named frame, or :class:`~fkcheck.errors.FrameError` listing the model's frames.
+
+    ``urdf:LINK`` names the declared frame whose URDF twin is ``LINK``.
+    """
+    if name.startswith(URDF_FRAME_PREFIX):
+        link = name[len(URDF_FRAME_PREFIX) :]
+        twins = [spec for spec in model.frames.values() if spec.urdf == link]
+        if twins:
+            return twins[0]
+        mapped = [f"urdf:{s.urdf} (= {s.name})" for s in model.frames.values() if s.urdf]
+        raise FrameError(
+            name,
+            f"model {model.name}: no declared frame has URDF twin {link!r}; to compare a "
+            f'link, declare [frames.NAME] with dh, its offset and urdf = "{link}"',
+            mapped,
+        )
+    try:
+        return model.frames[name]
+    except KeyError:
+        raise FrameError(name, f"model {model.name}", model.frames) from None

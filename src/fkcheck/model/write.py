@@ -1,0 +1,197 @@
+"""Writing a :class:`~fkcheck.model.Model` back out as a model file (the TOML schema).
+
+The inverse of :func:`fkcheck.model.model_from_dict`: what this writes loads back
+into the same model (numbers as Python's shortest round-trip ``repr``, so
+radians survive exactly; with ``angle_unit = "deg"`` angles go through one
+multiplication each way, a few ulps). Comments can be attached to the header,
+to each joint row and to each frame, so generated files explain themselves.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Literal
+
+from fkcheck.io.text import terminal_text
+from fkcheck.model.types import FrameSpec, Joint, Model, Offset
+
+__all__ = ["frame_toml", "model_to_toml", "relocate_urdf_path", "toml_key", "toml_number"]
+
+_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def toml_number(value: float) -> str:
+    """A finite float as TOML: the shortest text that reads back as the same float."""
+    if not math.isfinite(value):
+        raise ValueError(f"TOML model files hold finite numbers only, got {value}")
+    text = repr(float(value))
+    return "0.0" if text == "-0.0" else text
+
+
+def toml_key(key: str) -> str:
+    """A table key: bare when it can be, else a quoted string."""
+    return key if _BARE_KEY.match(key) else _string(key)
+
+
+def _string(text: str) -> str:
+    """A TOML basic string: JSON's escapes are TOML's, and TOML escapes DEL too."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+def _numbers(values: Sequence[float]) -> str:
+    return "[" + ", ".join(toml_number(v) for v in values) + "]"
+
+
+def _comment(lines: str | Sequence[str] | None) -> list[str]:
+    if not lines:
+        return []
+    items = lines.splitlines() if isinstance(lines, str) else list(lines)
+    # A comment line holds no control character (TOML): names in it show them escaped.
+    return [f"# {terminal_text(line)}".rstrip() for line in items]
+
+
+def _angle(value: float, unit: Literal["rad", "deg"]) -> float:
+    if unit == "rad":
+        return value
+    degrees = math.degrees(value)
+    # 30° read as radians and written back is 29.999999999999996; print 30.0. The
+    # snap moves a value by at most 1e-11° (2e-13 rad), far below any tolerance.
+    rounded = round(degrees, 9)
+    return rounded if abs(rounded - degrees) < 1e-11 else degrees
+
+
+def _offset_lines(offset: Offset, unit: Literal["rad", "deg"]) -> list[str]:
+    lines = []
+    if any(offset.xyz):
+        lines.append(f"xyz = {_numbers(offset.xyz)}")
+    if any(offset.rpy):
+        lines.append(f"rpy = {_numbers([_angle(v, unit) for v in offset.rpy])}")
+    return lines
+
+
+def frame_toml(
+    spec: FrameSpec, unit: Literal["rad", "deg"] = "rad", comment: str | Sequence[str] | None = None
+) -> str:
+    """One ``[frames.NAME]`` table, angles in ``unit``."""
+    lines = _comment(comment)
+    lines.append(f"[frames.{toml_key(spec.name)}]")
+    lines.append(f"dh = {spec.dh}" if isinstance(spec.dh, int) else f"dh = {_string(spec.dh)}")
+    lines.extend(_offset_lines(spec.offset, unit))
+    if spec.urdf is not None:
+        lines.append(f"urdf = {_string(spec.urdf)}")
+    return "\n".join(lines) + "\n"
+
+
+def _joint_lines(joint: Joint, unit: Literal["rad", "deg"]) -> list[str]:
+    lines = ["[[joint]]", f"name = {_string(joint.name)}"]
+    if joint.type != "revolute":
+        lines.append(f"type = {_string(joint.type)}")
+    lines.append(f"a = {toml_number(joint.a)}")
+    lines.append(f"alpha = {toml_number(_angle(joint.alpha, unit))}")
+    lines.append(f"d = {toml_number(joint.d)}")
+    lines.append(f"theta = {toml_number(_angle(joint.theta, unit))}")
+    if joint.flip:
+        lines.append("flip = true")
+    if joint.limits is not None:
+        lo, hi = joint.limits
+        if joint.type == "revolute":
+            lo, hi = _angle(lo, unit), _angle(hi, unit)
+        lines.append(f"limits = {_numbers([lo, hi])}")
+    return lines
+
+
+def _is_default_frame(spec: FrameSpec) -> bool:
+    return (
+        spec.name in ("world", "tcp")
+        and spec.dh == spec.name
+        and spec.offset.is_identity
+        and spec.urdf is None
+    )
+
+
+def model_to_toml(
+    model: Model,
+    *,
+    angle_unit: Literal["rad", "deg"] | None = None,
+    header: str | Sequence[str] | None = None,
+    joint_comments: Mapping[int, str | Sequence[str]] | None = None,
+    frame_comments: Mapping[str, str | Sequence[str]] | None = None,
+) -> str:
+    """The model as a TOML model file.
+
+    Args:
+        model: The model to write.
+        angle_unit: Unit of the written angles (default: the model's own).
+        header: Comment lines at the top of the file.
+        joint_comments: Comment lines before joint row ``i`` (0-based).
+        frame_comments: Comment lines before ``[frames.NAME]``.
+
+    Returns:
+        The file's text; :func:`fkcheck.model.model_from_dict` reads it back.
+    """
+    unit: Literal["rad", "deg"] = angle_unit or model.angle_unit
+    joint_comments = joint_comments or {}
+    frame_comments = frame_comments or {}
+    out: list[str] = _comment(header)
+    if out:
+        out.append("")
+    out.append(f"name = {_string(model.name)}")
+    if model.description:
+        out.append(f"description = {_string(model.description)}")
+    if model.source:
+        out.append(f"source = {_string(model.source)}")
+    out.append(f"convention = {_string(model.convention)}")
+    out.append(f"angle_unit = {_string(unit)}")
+    for i, joint in enumerate(model.joints):
+        out.append("")
+        out.extend(_comment(joint_comments.get(i)))
+        out.extend(_joint_lines(joint, unit))
+    for label, offset in (("base", model.base), ("tool", model.tool)):
+        if not offset.is_identity:
+            out.extend(["", f"[{label}]", *_offset_lines(offset, unit)])
+    if model.poses:
+        out.extend(["", "[poses]"])
+        for pname, values in model.poses.items():
+            shown = [
+                _angle(v, unit) if j.type == "revolute" else v
+                for v, j in zip(values, model.joints, strict=True)
+            ]
+            out.append(f"{toml_key(pname)} = {_numbers(shown)}")
+    if model.urdf is not None:
+        joints = ", ".join(_string(n) for n in model.urdf.joints)
+        out.extend(["", "[urdf]", f"path = {_string(model.urdf.path)}", f"joints = [{joints}]"])
+    for name, spec in model.frames.items():
+        if _is_default_frame(spec):
+            continue
+        out.append("")
+        out.append(frame_toml(spec, unit, frame_comments.get(name)).rstrip("\n"))
+    check = model.check
+    out.extend(
+        ["", "[check]", f"from = {_string(check.frame_from)}", f"to = {_string(check.frame_to)}"]
+    )
+    out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
+    out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
+    return "\n".join(out) + "\n"
+
+
+def relocate_urdf_path(model: Model, new_file: Path) -> Model:
+    """The model with a relative ``[urdf].path`` rewritten for a file written at ``new_file``.
+
+    A relative URDF path is relative to the model file; a model written
+    elsewhere must point at the same URDF. ``example-robot-data:`` and absolute
+    paths are kept as they are.
+    """
+    if model.urdf is None or model.path is None:
+        return model
+    spec = model.urdf.path
+    if spec.startswith("example-robot-data:") or Path(spec).is_absolute():
+        return model
+    target = (model.path.parent / spec).resolve()
+    new_spec = os.path.relpath(target, Path(new_file).resolve().parent)
+    return replace(model, urdf=replace(model.urdf, path=Path(new_spec).as_posix()))

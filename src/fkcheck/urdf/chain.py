@@ -1,0 +1,363 @@
+"""A URDF's kinematic geometry: joint origins and axes, and FK along one chain (NumPy only).
+
+Reference libraries compute URDF poses for the *check*; this module is for
+*geometry*: joint axes as lines (for ``dh-from-urdf`` and for ``diagnose``'s
+axis comparison), which none of the backends expose. It reads the screened
+text :mod:`fkcheck.urdf.source` produced (never the raw file) and follows the
+URDF specification: ``<origin xyz rpy>`` (fixed-axis rpy) places the joint
+frame in the parent link; a revolute/continuous joint turns about ``<axis>``
+(default ``1 0 0``, normalised) in that frame, a prismatic joint slides along
+it; the child link's frame is the joint frame after the motion. Its poses are
+tested against Pinocchio's.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
+from fkcheck.core.typing import Float
+from fkcheck.errors import FrameError, UrdfError
+from fkcheck.urdf.source import chain_between
+
+__all__ = [
+    "MOVABLE",
+    "JointGeometry",
+    "UrdfKinematics",
+    "axis_rotation",
+    "read_urdf_file",
+    "urdf_kinematics",
+]
+
+
+#: Joint types with one degree of freedom; ``fixed`` has none, others are refused.
+MOVABLE = ("revolute", "continuous", "prismatic")
+
+
+@dataclass(frozen=True, eq=False)
+class JointGeometry:
+    """One URDF joint's geometry.
+
+    Attributes:
+        name: Joint name.
+        type: ``revolute``, ``continuous``, ``prismatic``, ``fixed`` (or another
+            URDF type, refused when it lies on a chain that is used).
+        parent: Parent link.
+        child: Child link.
+        origin: ``parent_T_joint``, the joint frame in the parent link at q = 0 (4×4).
+        axis: Unit axis in the joint frame (``(1, 0, 0)`` when the URDF gives none).
+        limits: ``(lower, upper)`` from ``<limit>`` for revolute/prismatic joints, else ``None``.
+        mimic: The joint this one mimics, or ``None``.
+    """
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: Float
+    axis: Float
+    limits: tuple[float, float] | None
+    mimic: str | None
+
+    @property
+    def movable(self) -> bool:
+        """Whether the joint has one degree of freedom."""
+        return self.type in MOVABLE
+
+
+def axis_rotation(axis: Float, angle: float | Float) -> Float:
+    """4×4 rotations by ``angle`` (rad) about the unit ``axis`` (Rodrigues).
+
+    Args:
+        axis: ``(3,)`` unit axis.
+        angle: A scalar, or an array of angles of shape ``S``.
+
+    Returns:
+        ``(*S, 4, 4)``: ``cos·I + sin·[axis]× + (1 − cos)·axis·axisᵀ`` in the rotation block.
+    """
+    x, y, z = axis
+    angle = np.asarray(angle, dtype=np.float64)
+    c, s = np.cos(angle)[..., None, None], np.sin(angle)[..., None, None]
+    skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    T = np.zeros((*angle.shape, 4, 4))
+    T[..., :3, :3] = c * np.eye(3) + s * skew + (1.0 - c) * np.outer(axis, axis)
+    T[..., 3, 3] = 1.0
+    return T
+
+
+@dataclass(frozen=True, eq=False)
+class UrdfKinematics:
+    """The joints and links of one URDF, and FK along a chain of it.
+
+    Attributes:
+        path: The URDF file.
+        name: The ``<robot name>``.
+        joints: Joints by name.
+        links: Link names, in file order.
+        root: The root link.
+    """
+
+    path: Path
+    name: str
+    joints: Mapping[str, JointGeometry]
+    links: tuple[str, ...]
+    root: str
+
+    def chain(self, base: str, tip: str) -> list[JointGeometry]:
+        """The joints from link ``base`` to link ``tip``, in order.
+
+        Usually ``tip`` is below ``base``. ``base`` may also hang off the chain by
+        fixed joints (UR's ``base`` under ``base_link``): the path then climbs from
+        ``base`` to the common ancestor through those fixed joints, inverted
+        (entries named ``<joint>^-1``, parent and child swapped), and goes down to ``tip``.
+
+        Raises:
+            FrameError: ``base`` or ``tip`` is not a link.
+            UrdfError: No such path, or climbing from ``base`` would cross a movable joint.
+        """
+        for link in (base, tip):
+            if link not in self.links:
+                raise FrameError(link, f"URDF {self.path.name}", self.links)
+        up_base = self._path_from_root(base)
+        up_tip = self._path_from_root(tip)
+        shared = 0
+        while shared < min(len(up_base), len(up_tip)) and up_base[shared] is up_tip[shared]:
+            shared += 1
+        if (shared == len(up_tip) and len(up_base) > len(up_tip)) or base == tip:
+            raise UrdfError(
+                self.path,
+                f"link {tip!r} is not below link {base!r}: no chain "
+                f"leads from {base!r} down to {tip!r}",
+            )
+        climb = up_base[shared:][::-1]  # from base up to the common ancestor
+        for joint in climb:
+            if joint.type != "fixed":
+                raise UrdfError(
+                    self.path,
+                    f"link {tip!r} is not below link {base!r}, and {base!r} is attached to "
+                    f"their common ancestor through the movable joint {joint.name!r}: "
+                    "choose a base link the tip hangs below",
+                )
+        inverted = [
+            JointGeometry(
+                name=f"{j.name}^-1",
+                type="fixed",
+                parent=j.child,
+                child=j.parent,
+                origin=invert(j.origin),
+                axis=j.axis,
+                limits=None,
+                mimic=None,
+            )
+            for j in climb
+        ]
+        return inverted + up_tip[shared:]
+
+    def _path_from_root(self, link: str) -> list[JointGeometry]:
+        """The joints from the root link down to ``link``.
+
+        Raises:
+            UrdfError: ``link`` does not hang below the root (a text that did not
+                go through :mod:`fkcheck.urdf.source`'s tree check).
+        """
+        path = chain_between(self.joints, self.root, link)
+        if path is None:  # detached, or a cycle
+            raise UrdfError(self.path, f"link {link!r} does not hang below the root link")
+        return path
+
+    def chain_poses(self, chain: Sequence[JointGeometry], q: Float) -> Float:
+        """Poses of every joint frame and child link of ``chain`` in the chain's first parent.
+
+        Args:
+            chain: From :meth:`chain`.
+            q: ``(N, m)`` values of the chain's movable joints, in chain order
+                (radians / metres).
+
+        Returns:
+            ``(N, len(chain), 4, 4)``: ``base_T_child`` of each joint (the child
+            link's frame, the joint's motion included).
+
+        Raises:
+            UrdfError: A joint on the chain is not fixed/revolute/continuous/prismatic.
+        """
+        q = np.atleast_2d(np.asarray(q, dtype=np.float64))
+        movable = self.movable(chain)
+        if q.shape[1] != len(movable):
+            raise ValueError(f"expected {len(movable)} joint values, got {q.shape[1]}")
+        N = q.shape[0]
+        out = np.empty((N, len(chain), 4, 4))
+        T = np.broadcast_to(np.eye(4), (N, 4, 4))
+        col = 0
+        for i, joint in enumerate(chain):
+            T = T @ joint.origin
+            if joint.type != "fixed":
+                value = q[:, col]
+                col += 1
+                if joint.type == "prismatic":
+                    step = np.tile(np.eye(4), (N, 1, 1))
+                    step[:, :3, 3] = value[:, None] * joint.axis
+                else:
+                    step = axis_rotation(joint.axis, value)
+                T = T @ step
+            out[:, i] = T
+        return out
+
+    def movable(self, chain: Sequence[JointGeometry]) -> list[JointGeometry]:
+        """The joints of ``chain`` that move (all but ``fixed``), in chain order.
+
+        Raises:
+            UrdfError: A joint on the chain is not fixed/revolute/continuous/prismatic.
+        """
+        movable = [j for j in chain if j.type != "fixed"]
+        for j in movable:
+            if j.type not in MOVABLE:
+                raise UrdfError(
+                    self.path,
+                    f"joint {j.name!r} is {j.type}: only fixed, revolute, continuous and "
+                    "prismatic joints can be followed",
+                )
+        return movable
+
+    def axes_at(self, chain: Sequence[JointGeometry], q: Float) -> tuple[Float, Float]:
+        """Each movable joint's axis as a line in the chain's base frame, for one ``q``.
+
+        Returns:
+            ``(points, directions)``, each ``(m, 3)``: the joint frame's origin and
+            its unit axis direction (for a prismatic joint, the line through the
+            joint origin along the sliding direction).
+        """
+        poses = self.chain_poses(chain, np.asarray(q, dtype=np.float64).reshape(1, -1))[0]
+        points, directions = [], []
+        parent_T = np.eye(4)
+        for i, joint in enumerate(chain):
+            joint_T = parent_T @ joint.origin  # the joint frame, before its own motion
+            if joint.type != "fixed":
+                points.append(joint_T[:3, 3])
+                directions.append(joint_T[:3, :3] @ joint.axis)
+            parent_T = poses[i]
+        return np.array(points).reshape(-1, 3), np.array(directions).reshape(-1, 3)
+
+
+def _numbers(
+    text: str | None, count: int, default: tuple[float, ...], where: str, path: Path
+) -> tuple[float, ...]:
+    if text is None:
+        return default
+    parts = text.split()
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        raise UrdfError(path, f"{where}: {text!r} is not {count} numbers") from None
+    if len(values) != count or not all(math.isfinite(v) for v in values):
+        raise UrdfError(path, f"{where}: {text!r} is not {count} finite numbers")
+    return values
+
+
+def urdf_kinematics(path: Path, text: str) -> UrdfKinematics:
+    """Parse the kinematic geometry of a screened URDF text.
+
+    Args:
+        path: The file (for messages).
+        text: Its content as :mod:`fkcheck.urdf.source` re-serialised it after screening.
+
+    Raises:
+        UrdfError: Not XML, a bad number, a zero axis, or not exactly one root link.
+    """
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise UrdfError(path, f"not valid XML: {exc}") from None
+    links = tuple(str(el.get("name")) for el in root.findall("link") if el.get("name"))
+    joints: dict[str, JointGeometry] = {}
+    for el in root.findall("joint"):  # the robot's own: not those in <transmission>
+        parent, child = el.find("parent"), el.find("child")
+        name = el.get("name")
+        if name is None or parent is None or child is None:
+            continue
+        where = f"joint {name!r}"
+        origin_el = el.find("origin")
+        xyz = _numbers(
+            origin_el.get("xyz") if origin_el is not None else None,
+            3,
+            (0.0, 0.0, 0.0),
+            f"{where} origin xyz",
+            path,
+        )
+        rpy = _numbers(
+            origin_el.get("rpy") if origin_el is not None else None,
+            3,
+            (0.0, 0.0, 0.0),
+            f"{where} origin rpy",
+            path,
+        )
+        axis_el = el.find("axis")
+        axis = np.array(
+            _numbers(
+                axis_el.get("xyz") if axis_el is not None else None,
+                3,
+                (1.0, 0.0, 0.0),
+                f"{where} axis",
+                path,
+            )
+        )
+        jtype = str(el.get("type", ""))
+        norm = float(np.linalg.norm(axis))
+        if jtype in MOVABLE and norm < 1e-12:
+            raise UrdfError(path, f"{where} has a zero axis")
+        axis = axis / norm if norm > 0 else axis
+        limits = None
+        limit_el = el.find("limit")
+        if jtype in ("revolute", "prismatic") and limit_el is not None:
+            lo = _numbers(limit_el.get("lower"), 1, (0.0,), f"{where} limit lower", path)[0]
+            hi = _numbers(limit_el.get("upper"), 1, (0.0,), f"{where} limit upper", path)[0]
+            limits = (lo, hi) if lo < hi else None  # URDF: lower = upper = 0 means none given
+        mimic_el = el.find("mimic")
+        joints[str(name)] = JointGeometry(
+            name=str(name),
+            type=jtype,
+            parent=str(parent.get("link")),
+            child=str(child.get("link")),
+            origin=matrix_from_xyz_rpy(xyz, rpy),
+            axis=axis,
+            limits=limits,
+            mimic=str(mimic_el.get("joint")) if mimic_el is not None else None,
+        )
+    children = {j.child for j in joints.values()}
+    roots = [link for link in links if link not in children]
+    if len(roots) != 1:
+        raise UrdfError(path, f"expected one root link, found {len(roots)}: {', '.join(roots)}")
+    return UrdfKinematics(path, str(root.get("name", path.stem)), joints, links, roots[0])
+
+
+def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
+    """Resolve, screen and parse a URDF given on the command line.
+
+    Args:
+        spec: A file path, or ``example-robot-data:<subpath>``.
+
+    Returns:
+        ``(path, screened text, kinematics)``.
+
+    Raises:
+        UrdfError: Missing, not a regular file, too large, refused by the screen
+            (:mod:`fkcheck.urdf.screen`), or not a valid URDF tree.
+        BackendUnavailable: ``example-robot-data:`` is used but not installed.
+    """
+    from fkcheck.urdf.screen import check_urdf_path
+    from fkcheck.urdf.source import ERD_PREFIX, example_robot_data_dir, read_urdf
+
+    text_spec = str(spec)
+    if text_spec.startswith(ERD_PREFIX):
+        path = example_robot_data_dir() / text_spec[len(ERD_PREFIX) :]
+    else:
+        path = Path(spec)
+    check_urdf_path(path, text_spec)
+    # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
+    info = read_urdf(path.resolve(), (path.resolve().parent.parent,))
+    return info.path, info.text, urdf_kinematics(info.path, info.text)
