@@ -2,8 +2,10 @@
 
 The gold file must not depend on library versions or round-off, so the result is
 built by hand: a small 3R model, six fixed configurations, and per-configuration
-errors chosen exactly. Only the recomputed matrices come from the FK core (shown
-to nine decimals, far above any round-off difference).
+errors chosen exactly. Only the matrices the engine would have kept for a
+failing backend (:class:`~fkcheck.engine.evidence.FailureDetail`) come from the
+FK core and the fake backends (shown to nine decimals, far above any round-off
+difference), built here the way the engine builds them.
 """
 
 from __future__ import annotations
@@ -20,8 +22,9 @@ from fkcheck.core.geometry import translation
 from fkcheck.diagnose import Diagnosis, Explanation
 from fkcheck.diagnose.findings import Change
 from fkcheck.diagnose.problem import Residual
+from fkcheck.engine.evidence import FailureDetail, WorstCases, arm_pose, dh_parting
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.model.frames import frame_poses_from_dh
+from fkcheck.model.frames import frame_poses_from_dh, reference_poses, relative_pose
 from fkcheck.model.read import model_from_dict
 from fkcheck.model.types import Model
 
@@ -123,13 +126,38 @@ def backends() -> list[Any]:
     return [Agrees(), Shifted(), TwistedDH(), Unused("raises"), Unused("absent")]
 
 
+PAIR = ("base", "tool")
+TOL = (1e-6, 1e-6)
+
+
+def failure_detail(
+    model: Model, backend: Any, pos: np.ndarray, rot: np.ndarray, worst: int
+) -> FailureDetail:
+    """What the engine keeps for a failing backend, built from the hand-made errors."""
+    score = np.maximum(pos / TOL[0], rot / TOL[1])
+    ranked = [int(i) for i in np.argsort(-score, kind="stable") if int(i) != worst]
+    indices = [worst, *ranked][:3]
+    ref = reference_poses(model, Q[indices], PAIR)
+    theirs = backend.frame_poses(model, Q[indices], PAIR)
+    cases = WorstCases(
+        tuple(indices), relative_pose(ref[0], ref[1]), relative_pose(theirs[0], theirs[1])
+    )
+    arm = arm_pose(model, Q[worst], PAIR)
+    parting = None
+    if hasattr(backend, "dh_frames"):
+        parting = dh_parting(
+            worst, arm.world_T_dh, backend.dh_frames(model, Q[worst : worst + 1])[0], TOL
+        )
+    return FailureDetail(cases, arm, dh_parting=parting)
+
+
 def golden_check(model: Model | None = None, message_extra: str = "") -> CheckResult:
     """The hand-built result: one pass, two failures (one shares DH frames), an error, a skip."""
     model = model or golden_model()
     n = Q.shape[0]
     twisted_pos = np.array([0.0, 0.0125, 0.0625, 0.25, 0.125, 0.5])
     twisted_rot = np.array([0.0, 0.5, 1.0, 2.0, 1.5, 3.0])
-    worst_dh = TwistedDH().dh_frames(model, Q[5:6])[0]
+    shifted_pos, shifted_rot = np.full(n, 3e-4), np.zeros(n)
     results = (
         BackendResult("agrees", "pass", "", "model.fk", 0.0125, np.zeros(n), np.zeros(n), 0),
         BackendResult(
@@ -139,9 +167,10 @@ def golden_check(model: Model | None = None, message_extra: str = "") -> CheckRe
             + message_extra,
             "pose @ Tz(0.3 mm)",
             0.25,
-            np.full(n, 3e-4),
-            np.zeros(n),
+            shifted_pos,
+            shifted_rot,
             0,
+            failure_detail(model, Shifted(), shifted_pos, shifted_rot, 0),
         ),
         BackendResult(
             "twisted-dh",
@@ -152,7 +181,7 @@ def golden_check(model: Model | None = None, message_extra: str = "") -> CheckRe
             twisted_pos,
             twisted_rot,
             5,
-            worst_dh,
+            failure_detail(model, TwistedDH(), twisted_pos, twisted_rot, 5),
         ),
         BackendResult("raises", "error", "ZeroDivisionError: boom (fake.py:1)", "raise", 0.001),
         BackendResult("absent", "skipped", "library not installed here", "import absent"),
@@ -195,7 +224,7 @@ def golden_diagnoses(check: CheckResult) -> list[Any]:
     box whose 0.3 mm no change of the table removes; twisted-dh: α2 off by 180°),
     with round numbers, so the gold file does not depend on SciPy's least squares.
     """
-    from fkcheck.report.diagnosis import BackendDiagnosis
+    from fkcheck.diagnose.failures import BackendDiagnosis
 
     def diagnosis(backend: str, before: Residual, explanations: tuple[Explanation, ...]):
         return Diagnosis(

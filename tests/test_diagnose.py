@@ -21,8 +21,8 @@ from fkcheck.core.geometry import matrix_from_xyz_rpy, translation
 from fkcheck.core.pose_formats import pose_from_matrix
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.diagnose import diagnose, format_text, to_dict
-from fkcheck.diagnose.axes import line_distance
 from fkcheck.diagnose.offsets import fit_offsets
+from fkcheck.engine.axes import line_distance
 from fkcheck.engine.runner import run_check
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Offset

@@ -24,7 +24,7 @@ import pytest
 import fkcheck.backends.pinocchio_urdf as pinocchio_urdf
 import fkcheck.backends.rtb_urdf as rtb_urdf
 import fkcheck.backends.yourdfpy_urdf as yourdfpy_urdf
-import fkcheck.diagnose.axes as diagnose_axes
+import fkcheck.engine.axes as engine_axes
 import fkcheck.engine.runner as check_module
 import fkcheck.urdf.chain as urdf_kinematics
 from fkcheck.cli.main import main
@@ -147,7 +147,7 @@ def parser_calls(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         (yourdfpy_urdf, "_load"),  # yourdfpy (lxml), in the parent
         (check_module, "run_isolated"),  # yourdfpy's own process
         (urdf_kinematics, "urdf_kinematics"),  # dh-from-urdf's own reader
-        (diagnose_axes, "urdf_kinematics"),  # diagnose's axis comparison
+        (engine_axes, "urdf_kinematics"),  # the axis comparison (engine evidence, diagnose)
     ]
     for module, attr in doors:
         monkeypatch.setattr(module, attr, recorder(f"{module.__name__}.{attr}"))

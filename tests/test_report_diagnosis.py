@@ -12,20 +12,20 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import fkcheck.diagnose
+import fkcheck.diagnose.failures
 from fkcheck import load_model
 from fkcheck.cli.main import main
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.diagnose import Diagnosis, Explanation
-from fkcheck.diagnose.problem import Residual
-from fkcheck.report.build import build_report_page
-from fkcheck.report.diagnosis import (
+from fkcheck.diagnose.failures import (
     BackendDiagnosis,
     diagnose_command,
     diagnose_failures,
-    diagnosis_view,
     same_disagreement,
 )
+from fkcheck.diagnose.problem import Residual
+from fkcheck.report.build import build_report_page
+from fkcheck.report.diagnosis import diagnosis_view
 from fkcheck.report.html import render_report, write_html
 from fkcheck.report.json_report import TIME_FIELDS
 from tests.report_cases import SPEC, backends, golden_check, golden_model, page_numbers
@@ -221,11 +221,11 @@ def test_passing_check_is_not_diagnosed(tmp_path, monkeypatch):
     assert "Diagnosis against" not in page
 
 
-def test_no_diagnose_does_not_run_it(tmp_path, monkeypatch):
+def test_without_diagnoses_the_page_has_no_diagnosis_and_runs_none(tmp_path, monkeypatch):
     calls = []
-    monkeypatch.setattr(fkcheck.diagnose, "diagnose", lambda *a, **k: calls.append(a))
+    monkeypatch.setattr(fkcheck.diagnose.failures, "diagnose", lambda *a, **k: calls.append(a))
     page = tmp_path / "r.html"
-    write_html(golden_check(), page, backends(), plots=False, diagnose=False)
+    write_html(golden_check(), page, plots=False)
     assert calls == []
     assert 'id="diagnosis"' not in page.read_text(encoding="utf-8")
 
@@ -236,8 +236,10 @@ def test_a_diagnosis_that_raises_is_shown_and_the_report_is_written(tmp_path, mo
     def broken(*args, **kwargs):
         raise RuntimeError(message)
 
-    monkeypatch.setattr(fkcheck.diagnose, "diagnose", broken)
-    path = write_html(golden_check(), tmp_path / "r.html", backends(), plots=False)
+    monkeypatch.setattr(fkcheck.diagnose.failures, "diagnose", broken)
+    check = golden_check()
+    diagnoses = diagnose_failures(check, backends())
+    path = write_html(check, tmp_path / "r.html", diagnoses=diagnoses, plots=False)
     page = path.read_text(encoding="utf-8")
     assert page.rstrip().endswith("</html>")
     section = diagnosis_section(page)
@@ -257,7 +259,8 @@ def test_model_text_in_a_failing_report_stays_text(tmp_path):
     joints = [dict(j) for j in SPEC["joint"]]
     joints[1]["name"] = '<img src=x onerror="alert(2)">'
     check = golden_check(golden_model(name=XSS, joint=joints))
-    path = write_html(check, tmp_path / "xss.html", backends(), plots=False)
+    diagnoses = diagnose_failures(check, backends())
+    path = write_html(check, tmp_path / "xss.html", diagnoses=diagnoses, plots=False)
     page = path.read_text(encoding="utf-8")
     section = diagnosis_section(page)
     tags = page_numbers(page).tags
@@ -317,7 +320,8 @@ def _hand_built(explanations, before=SHIFTED_BEFORE):
 
 def test_verdicts_for_partial_and_no_disagreement():
     partial = Explanation("offset", "half of it", Residual(1e-4, 0.0), explains=False)
-    view = diagnosis_view(BackendDiagnosis("shifted", _hand_built((partial,))))
+    outcome = BackendDiagnosis("shifted", _hand_built((partial,)))
+    view = diagnosis_view(outcome)
     assert not view.explained
     assert view.verdict.startswith("Not explained: no single change makes the disagreement")
     assert view.explanations[0].verdict == "explains part of it"
@@ -325,5 +329,5 @@ def test_verdicts_for_partial_and_no_disagreement():
     agrees = diagnosis_view(BackendDiagnosis("shifted", _hand_built((), Residual(0.0, 0.0))))
     assert "finds the table within tolerance of shifted" in agrees.verdict
     assert agrees.short == "no disagreement on the diagnosis's own configurations"
-    page = render_report(build_report_page(golden_check(), plots=False, diagnoses=[view]))
+    page = render_report(build_report_page(golden_check(), plots=False, diagnoses=[outcome]))
     assert 'data-explained="no"' in diagnosis_section(page)

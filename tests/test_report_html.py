@@ -13,9 +13,7 @@ import numpy as np
 import pytest
 
 from fkcheck.core.tolerances import SAME_CHAIN
-from fkcheck.engine.evidence import collect_worst_poses, dh_parting, worst_indices
 from fkcheck.report.build import IndexEntry, build_index_page, build_report_page
-from fkcheck.report.diagnosis import diagnosis_view
 from fkcheck.report.format import (
     format_angle_console,
     format_angle_summary,
@@ -33,7 +31,6 @@ from fkcheck.report.json_report import result_to_dict
 from fkcheck.report.markdown import escape_markdown, markdown_summary
 from tests.report_cases import (
     SPEC,
-    backends,
     golden_check,
     golden_diagnoses,
     golden_model,
@@ -65,9 +62,7 @@ def _compare_with_gold(actual: str, name: str) -> None:
 @pytest.fixture(scope="module")
 def golden_page() -> str:
     check = golden_check()
-    worst = collect_worst_poses(check, backends())
-    diagnoses = [diagnosis_view(d) for d in golden_diagnoses(check)]
-    return render_report(build_report_page(check, worst, diagnoses=diagnoses))
+    return render_report(build_report_page(check, diagnoses=golden_diagnoses(check)))
 
 
 def test_report_matches_the_gold_file(golden_page):
@@ -126,7 +121,8 @@ def test_first_screen_names_the_disagreeing_backends_and_sizes(golden_page):
 def test_dh_parting_names_the_first_frame_that_differs():
     check = golden_check()
     twisted = check.backends[2]
-    parting = dh_parting(check, twisted)
+    assert twisted.detail is not None
+    parting = twisted.detail.dh_parting
     assert parting is not None
     assert parting.first == 2
     # Frames 0 and 1 are the same chain: identical to round-off.
@@ -134,29 +130,15 @@ def test_dh_parting_names_the_first_frame_that_differs():
     assert parting.rotation_error_rad[:2].max() <= SAME_CHAIN
     # Joint 2's twist is off by π: frame 2's orientation turns by π about its x axis.
     assert parting.rotation_error_rad[2] == pytest.approx(math.pi)
-    assert dh_parting(check, check.backends[1]) is None  # no DH frames: not a DH backend
-
-
-def test_worst_poses_are_recomputed_for_failing_backends_only():
-    check = golden_check()
-    worst = collect_worst_poses(check, backends())
-    agrees, shifted, twisted, raises, absent = worst
-    assert (agrees, raises, absent) == (None, None, None)
+    shifted = check.backends[1].detail
     assert shifted is not None
-    assert shifted.theirs is not None
-    assert shifted.indices == (0, 1, 2)  # all tie at 0.3 mm: the earliest first
-    diff = shifted.theirs[:, :3, 3] - shifted.ours[:, :3, 3]
-    np.testing.assert_allclose(np.linalg.norm(diff, axis=1), 3e-4, rtol=1e-9)
-    assert twisted is not None
-    assert twisted.indices[0] == 5 == check.backends[2].worst_index
-    assert worst_indices(check, check.backends[2], 3) == [5, 3, 4]
+    assert shifted.dh_parting is None  # no DH frames: not a DH backend
 
 
 def test_worst_case_matrices_mark_the_entries_that_differ(golden_page):
     check = golden_check()
-    shifted = collect_worst_poses(check, backends())[1]
-    assert shifted is not None
-    assert shifted.theirs is not None
+    assert check.backends[1].detail is not None
+    shifted = check.backends[1].detail.worst
     # 0.3 mm along the tool's z: only translation entries beyond 1 µm differ, marked
     # in both matrices and in the difference.
     beyond = np.abs(shifted.theirs[:, :3, 3] - shifted.ours[:, :3, 3]) > check.tol_pos_m
@@ -168,33 +150,6 @@ def test_worst_case_matrices_mark_the_entries_that_differ(golden_page):
         if len(cells) == 4:  # a matrix row: only the last column may be marked
             assert not any(cells[:3]), row
     assert "difference (shifted − in-house)" in section
-
-
-def test_broken_backend_on_recompute_leaves_a_note():
-    class Broken:
-        name = "shifted"
-        method = "x"
-
-        def unavailable_reason(self, model):
-            return None
-
-        def frame_poses(self, model, q, frames):
-            raise OSError("gone")
-
-    check = golden_check()
-    objs = backends()
-    objs[1] = Broken()
-    worst = collect_worst_poses(check, objs)
-    assert worst[1] is not None
-    assert worst[1].theirs is None
-    assert worst[1].note == "recomputing the poses failed: OSError: gone"
-    page = render_report(build_report_page(check, worst, plots=False))
-    assert "recomputing the poses failed: OSError: gone" in page
-
-
-def test_backends_must_match_results():
-    with pytest.raises(ValueError, match=r"2 backend objects for 5 results"):
-        collect_worst_poses(golden_check(), backends()[:2])
 
 
 class _Tags:
@@ -219,7 +174,7 @@ def test_model_text_is_escaped(where):
     model = _hostile_model(where)
     extra = f" {XSS}" if where == "message" else ""
     check = golden_check(model, message_extra=extra)
-    page = render_report(build_report_page(check, collect_worst_poses(check, backends())))
+    page = render_report(build_report_page(check))
     tags = _Tags.of(page)
     assert not [t for t, _ in tags if t == "script"], "a <script> element reached the page"
     assert not [(t, a) for t, a in tags if any(k.startswith("on") for k in a)]
@@ -244,7 +199,7 @@ def test_dollar_signs_in_names_do_not_break_the_plots(tmp_path):
     joints = [dict(j) for j in SPEC["joint"]]
     joints[0]["name"] = "$\\alpha$ {unclosed $"
     check = golden_check(golden_model(joint=joints))
-    page = render_report(build_report_page(check, collect_worst_poses(check, backends())))
+    page = render_report(build_report_page(check))
     assert page.count("data:image/png;base64,iVBOR") == 4  # 2 plots + 2 arm drawings
 
 
@@ -288,7 +243,7 @@ def test_twisted_model_differs_only_in_joint_2():
 
 
 def test_write_html_is_atomic_and_complete(tmp_path):
-    path = write_html(golden_check(), tmp_path / "sub" / "r.html", backends(), plots=False)
+    path = write_html(golden_check(), tmp_path / "sub" / "r.html", plots=False)
     text = path.read_text(encoding="utf-8")
     assert text.startswith("<!DOCTYPE html>")
     assert text.rstrip().endswith("</html>")

@@ -8,7 +8,15 @@ Example:
     >>> model = fkcheck.load_model("ur5")
     >>> model.fk([0.0] * model.dof).shape
     (4, 4)
+    >>> outcome = fkcheck.check(model, against=["rtb-dh"], samples=100)
+    >>> outcome.verdict
+    'pass'
+
+:func:`check` and :func:`write_report` (with :class:`Outcome`) are the engine's
+and the reports' façade, :mod:`fkcheck.api`; they are imported on first use.
 """
+
+from typing import TYPE_CHECKING, Any
 
 from fkcheck.errors import (
     BackendNotFoundError,
@@ -21,7 +29,22 @@ from fkcheck.errors import (
 from fkcheck.model.read import bundled_model_paths, load_model
 from fkcheck.model.types import Joint, Model
 
-__version__ = "0.1.0"
+if TYPE_CHECKING:
+    from fkcheck.api import Outcome, check, write_report
+
+from fkcheck._version import __version__
+
+_FACADE = ("Outcome", "check", "write_report")
+
+
+def __getattr__(name: str) -> Any:
+    """The façade (:mod:`fkcheck.api`), imported when first used."""
+    if name in _FACADE:
+        from fkcheck import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'fkcheck' has no attribute {name!r}")
+
 
 __all__ = [
     "BackendNotFoundError",
@@ -31,8 +54,11 @@ __all__ = [
     "JointInputError",
     "Model",
     "ModelError",
+    "Outcome",
     "UrdfError",
     "__version__",
     "bundled_model_paths",
+    "check",
     "load_model",
+    "write_report",
 ]

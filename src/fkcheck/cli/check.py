@@ -32,6 +32,7 @@ from fkcheck.io.text import terminal_markup, terminal_text
 from fkcheck.report.format import format_angle_console, format_length_console
 
 if TYPE_CHECKING:
+    from fkcheck.api import Outcome
     from fkcheck.backends.base import Backend
     from fkcheck.engine.results import BackendResult, CheckResult
     from fkcheck.engine.verdict import Kind
@@ -246,10 +247,12 @@ def _require(args: argparse.Namespace) -> tuple[Kind, ...]:
         raise FkcheckError(str(exc)) from None
 
 
-def _check(args: argparse.Namespace, model: Model, backends: list[Backend]) -> CheckResult:
-    from fkcheck.engine.runner import run_check
+def _check(
+    args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
+) -> Outcome:
+    from fkcheck.api import check
 
-    return run_check(
+    return check(
         model,
         backends,
         samples=args.samples,
@@ -261,6 +264,7 @@ def _check(args: argparse.Namespace, model: Model, backends: list[Backend]) -> C
         tol_rot_rad=args.tol_rot,
         timeout_s=args.timeout,
         require=_require(args),
+        diagnose=diagnose,
     )
 
 
@@ -342,10 +346,10 @@ def _run_all(args: argparse.Namespace) -> int:
     for stem, model in models.items():
         for warning in model.warnings:
             print(f"fkcheck: warning: {stem}: {terminal_text(warning)}", file=sys.stderr)
-        backends = _backends(args)
-        check = replace(_check(args, model, backends), command=_model_command(args, stem))
+        outcome = _check(args, model, _backends(args), diagnose=args.diagnose)
+        check = replace(outcome.check, command=_model_command(args, stem))
         names = files[stem]
-        write_html(check, out_dir / names[0], backends, diagnose=args.diagnose)
+        write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
         write_json(check, out_dir / names[1])
         write_junit(check, out_dir / names[2])
         print_summary(check)
@@ -394,15 +398,16 @@ def run(args: argparse.Namespace) -> int:
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
-    check = _check(args, model, backends)
-    check = replace(check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
+    # The diagnosis (about a second per disagreeing backend) is for the HTML page.
+    outcome = _check(args, model, backends, diagnose=args.diagnose and args.html is not None)
+    check = replace(outcome.check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
     # Files first: a closed or full stdout must not cost the run its reports.
     if args.json is not None:
         write_json(check, args.json)
     if args.junit is not None:
         write_junit(check, args.junit)
     if args.html is not None:
-        write_html(check, args.html, backends, diagnose=args.diagnose)
+        write_html(check, args.html, diagnoses=outcome.diagnoses)
     _summaries(args, [check], step_summary)
     print_summary(check)
     _print_diagnose_hint(args.model, check)

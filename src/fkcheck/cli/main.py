@@ -31,7 +31,7 @@ import threading
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, NoReturn
 
-from fkcheck import __version__
+from fkcheck._version import __version__
 from fkcheck.errors import FkcheckError
 from fkcheck.io.text import terminal_text
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal, get_args
 
 from fkcheck.diagnose.problem import Residual
+from fkcheck.engine.axes import AxisRow
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import Model
 
@@ -113,31 +114,6 @@ class Explanation:
     changes: tuple[Change, ...] = ()
     fix_toml: str = ""
     model: Model | None = field(default=None, repr=False)
-
-
-@dataclass(frozen=True)
-class AxisRow:
-    """One joint's axis from the table and from the URDF, compared as lines.
-
-    Attributes:
-        joint: 0-based joint index.
-        name: Joint name.
-        angle_rad: Largest angle between the two directions over the configurations.
-        distance_m: Largest distance between the two lines (``None`` for a prismatic
-            joint, whose line has no position).
-        agrees: Both within tolerance.
-    """
-
-    joint: int
-    name: str
-    angle_rad: float
-    distance_m: float | None
-    agrees: bool
-
-    @property
-    def reversed(self) -> bool:
-        """The axes are anti-parallel: the joint turns the other way."""
-        return self.angle_rad > math.pi - 1e-6
 
 
 @dataclass(frozen=True, eq=False)

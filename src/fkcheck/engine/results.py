@@ -20,6 +20,7 @@ import numpy as np
 
 from fkcheck.backends.base import Evidence
 from fkcheck.core.typing import Float
+from fkcheck.engine.evidence import FailureDetail
 from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize
 from fkcheck.model.types import Model
 
@@ -44,8 +45,9 @@ class BackendResult:
         position_error_m: Per-configuration position error against the reference, metres.
         rotation_error_rad: Per-configuration rotation error, radians.
         worst_index: Index of the worst configuration (largest error relative to tolerance).
-        worst_dh_frames: For backends built from the DH table that failed: their DH
-            frames ``(n+1, 4, 4)`` at the worst configuration, to find where chains part.
+        detail: For a backend that failed: what the engine kept to show why (both
+            poses at its worst configurations, the chains there; see
+            :mod:`fkcheck.engine.evidence`). Reports read it; they never recompute.
         evidence: ``implementation`` or ``table``: what its agreement proves.
     """
 
@@ -57,7 +59,7 @@ class BackendResult:
     position_error_m: Float | None = None
     rotation_error_rad: Float | None = None
     worst_index: int | None = None
-    worst_dh_frames: Float | None = None
+    detail: FailureDetail | None = None
     evidence: Evidence = "implementation"
 
     @property
@@ -72,6 +74,8 @@ class BackendResult:
             return float("nan")
         if q is None:
             return float(values.max())
+        if np.isinf(values).any():  # no interpolating between infinities (inf − inf)
+            return float(np.percentile(values, q, method="higher"))
         return float(np.percentile(values, q))
 
     @property

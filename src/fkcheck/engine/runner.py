@@ -26,6 +26,13 @@ from fkcheck.backends.base import Backend, Evidence, FixedConfigurations, Shares
 from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.core.typing import Float
+from fkcheck.engine.evidence import (
+    FailureDetail,
+    WorstTracker,
+    arm_pose,
+    dh_parting,
+    urdf_axes,
+)
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
@@ -134,6 +141,8 @@ def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
     defect_max, defect_at = 0.0, -1
     non_finite = 0
     first_non_finite = -1
+    tol_pos, tol_rot = job.tol
+    tracker = WorstTracker()
     for first in range(0, q.shape[0], CHUNK):
         chunk = q[first : first + CHUNK]
         poses = np.asarray(backend.frame_poses(model, chunk, pair), dtype=np.float64)
@@ -147,6 +156,7 @@ def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
                 f"the reference ({REFERENCE_NAME}) is not finite at q = {_q_text(chunk[k])}: "
                 "the model's numbers overflow; nothing can be compared"
             )
+        raw = poses
         finite = np.isfinite(poses).all(axis=(0, 2, 3))
         if not finite.all():
             bad = np.flatnonzero(~finite)
@@ -155,21 +165,25 @@ def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
             non_finite += bad.size
             poses = poses.copy()
             poses[:, bad] = np.eye(4)  # placeholders; their errors are set to inf below
+        theirs = relative_pose(poses[0], poses[1])
+        ours = relative_pose(ref[0], ref[1])
+        as_returned = relative_pose(raw[0], raw[1]) if raw is not poses else theirs
         defect = se3_defect(poses).max(axis=0)
         k = int(np.argmax(defect))
         if defect[k] > defect_max:
             defect_max, defect_at = float(defect[k]), first + k
-        theirs = relative_pose(poses[0], poses[1])
-        ours = relative_pose(ref[0], ref[1])
+            tracker.keep(defect_at, ours[k], as_returned[k])
         pos_chunk = position_error_m(ours, theirs)
         rot_chunk = rotation_error_rad(ours, theirs)
         pos_chunk[~finite] = np.inf
         rot_chunk[~finite] = np.inf
+        score_chunk = np.maximum(pos_chunk / tol_pos, rot_chunk / tol_rot)
+        score_chunk[np.isnan(score_chunk)] = np.inf
+        tracker.add(first, score_chunk, ours, as_returned)
         pos[first : first + CHUNK] = pos_chunk
         rot[first : first + CHUNK] = rot_chunk
         if on_progress is not None:
             on_progress(backend.name, first + chunk.shape[0], q.shape[0])
-    tol_pos, tol_rot = job.tol
     score = np.maximum(pos / tol_pos, rot / tol_rot)
     score[np.isnan(score)] = np.inf
     worst = int(np.argmax(score)) if score.size else None
@@ -191,9 +205,9 @@ def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
             f"{pos.max():.3g} m, max rotation error {rot.max():.3g} rad"
         )
     failed = bool(reasons)
-    worst_frames = None
-    if failed and worst is not None and isinstance(backend, SharesDHFrames):
-        worst_frames = np.asarray(backend.dh_frames(model, q[worst : worst + 1]))[0]
+    detail = None
+    if failed and worst is not None:
+        detail = _failure_detail(job, worst, tracker)
     return BackendResult(
         name=backend.name,
         status="fail" if failed else "pass",
@@ -204,8 +218,20 @@ def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
         position_error_m=pos,
         rotation_error_rad=rot,
         worst_index=worst,
-        worst_dh_frames=worst_frames,
+        detail=detail,
     )
+
+
+def _failure_detail(job: _Job, worst: int, tracker: WorstTracker) -> FailureDetail:
+    """What a report needs to show why a backend failed, kept while it is at hand."""
+    model, q = job.model, job.q[worst]
+    arm = arm_pose(model, q, job.pair)
+    if isinstance(job.backend, SharesDHFrames):
+        theirs = np.asarray(job.backend.dh_frames(model, q[None]))[0]
+        parting = dh_parting(worst, arm.world_T_dh, theirs, job.tol)
+        return FailureDetail(tracker.cases(worst), arm, dh_parting=parting)
+    axes = urdf_axes(model, worst, q, job.pair[0], job.tol)
+    return FailureDetail(tracker.cases(worst), arm, urdf_axes=axes)
 
 
 def _run_one(

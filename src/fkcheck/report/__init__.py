@@ -9,7 +9,7 @@
   :mod:`~fkcheck.engine.evidence` gathers what the page shows beyond the
   check's numbers (both matrices at the worst configurations, where the chains
   part; the joint axes against the URDF come from :mod:`fkcheck.diagnose.axes`);
-  :mod:`~fkcheck.report.diagnosis` runs :func:`fkcheck.diagnose.diagnose`
+  :mod:`~fkcheck.report.diagnosis` lays out the diagnoses
   against a failed check's disagreeing backends for the page's Diagnosis section;
 * :mod:`~fkcheck.report.markdown` — the short summary for CI pages.
 

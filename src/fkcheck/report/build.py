@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck import __version__
+from fkcheck._version import __version__
 from fkcheck.core.geometry import rpy_from_matrix
 from fkcheck.core.tolerances import SAME_CHAIN
 from fkcheck.core.typing import Float
-from fkcheck.engine.evidence import DhParting, WorstPoses, dh_parting
+from fkcheck.engine.evidence import DhParting, UrdfAxes, WorstCases
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, evidence_sentences
 from fkcheck.engine.verdict import headline as verdict_headline
@@ -63,8 +63,7 @@ from fkcheck.report.views import (
 )
 
 if TYPE_CHECKING:
-    from fkcheck.diagnose.axes import AxisLines
-    from fkcheck.diagnose.findings import AxisRow
+    from fkcheck.diagnose.failures import BackendDiagnosis
 
 __all__ = [
     "IndexEntry",
@@ -158,14 +157,16 @@ def pose_forms(T: Float, marked: NDArray[np.bool_] | None = None) -> PoseForms:
     """
     from scipy.spatial.transform import Rotation
 
-    quat = Rotation.from_matrix(T[:3, :3]).as_quat(canonical=True)
-    rpy = np.degrees(rpy_from_matrix(T))
     xyz = ", ".join(format_fixed(v, 9) for v in T[:3, 3])
+    if not np.isfinite(T[:3, :3]).all():  # a backend's NaN/inf answer: no rotation to convert
+        quaternion = rpy_text = "(not a rotation: NaN or inf entries)"
+    else:
+        quat = Rotation.from_matrix(T[:3, :3]).as_quat(canonical=True)
+        quaternion = "(" + ", ".join(format_fixed(v, 9) for v in quat) + ")"
+        rpy = np.degrees(rpy_from_matrix(T))
+        rpy_text = "(" + ", ".join(format_fixed(v, 6) for v in rpy) + ")°"
     return PoseForms(
-        matrix=_matrix(T, marked),
-        xyz=f"({xyz}) m",
-        quaternion="(" + ", ".join(format_fixed(v, 9) for v in quat) + ")",
-        rpy="(" + ", ".join(format_fixed(v, 6) for v in rpy) + ")°",
+        matrix=_matrix(T, marked), xyz=f"({xyz}) m", quaternion=quaternion, rpy=rpy_text
     )
 
 
@@ -254,22 +255,16 @@ def _backend_row(check: CheckResult, r: BackendResult, has_detail: bool) -> Back
     )
 
 
-def _worst_cases(check: CheckResult, r: BackendResult, worst: WorstPoses) -> tuple[WorstCase, ...]:
+def _worst_cases(check: CheckResult, r: BackendResult, worst: WorstCases) -> tuple[WorstCase, ...]:
     assert r.position_error_m is not None
     assert r.rotation_error_rad is not None
+    tol = np.full((4, 4), check.tol_rot_rad)
+    tol[:, 3] = check.tol_pos_m
     out = []
     for rank, index in enumerate(worst.indices, start=1):
-        ours = worst.ours[rank - 1]
-        theirs_forms = difference = None
-        marked = None
-        if worst.theirs is not None:
-            theirs = worst.theirs[rank - 1]
-            delta = theirs - ours
-            tol = np.full((4, 4), check.tol_rot_rad)
-            tol[:, 3] = check.tol_pos_m
-            marked = np.abs(delta) > tol
-            theirs_forms = pose_forms(theirs, marked)
-            difference = _matrix(delta, marked, _difference_entry)
+        ours, theirs = worst.ours[rank - 1], worst.theirs[rank - 1]
+        delta = theirs - ours
+        marked = ~(np.abs(delta) <= tol)  # NaN entries are marked too
         out.append(
             WorstCase(
                 rank=rank,
@@ -279,9 +274,8 @@ def _worst_cases(check: CheckResult, r: BackendResult, worst: WorstPoses) -> tup
                 position_error=measure_m(float(r.position_error_m[index])),
                 rotation_error=measure_rad(float(r.rotation_error_rad[index])),
                 ours=pose_forms(ours, marked),
-                theirs=theirs_forms,
-                difference=difference,
-                note=worst.note,
+                theirs=pose_forms(theirs, marked),
+                difference=_matrix(delta, marked, _difference_entry),
             )
         )
     return tuple(out)
@@ -344,46 +338,7 @@ def _parting_view(check: CheckResult, r: BackendResult, parting: DhParting) -> P
     )
 
 
-@dataclass(frozen=True, eq=False)
-class _UrdfAxes:
-    """The table's joint axes against the URDF's at one configuration of the check."""
-
-    index: int
-    lines: AxisLines
-    rows: tuple[AxisRow, ...]
-    urdf_joints: tuple[str, ...]
-
-    @property
-    def first(self) -> int | None:
-        """0-based index of the first joint whose axis differs, or ``None``."""
-        return next((r.joint for r in self.rows if not r.agrees), None)
-
-
-def _urdf_axes(check: CheckResult, r: BackendResult) -> _UrdfAxes | None:
-    """Joint axes against the URDF at a backend's worst configuration.
-
-    Computed by :mod:`fkcheck.diagnose.axes`. ``None`` when there is no worst
-    configuration, the model has no URDF, the ``from`` frame has no URDF twin,
-    or the URDF cannot be read here: this is evidence for the page, never part
-    of the verdict.
-    """
-    from fkcheck.diagnose.axes import axis_lines, axis_rows
-    from fkcheck.errors import FkcheckError
-
-    model = check.model
-    if r.worst_index is None or model.urdf is None:
-        return None
-    try:
-        lines = axis_lines(model, check.q[r.worst_index], check.frame_from)
-    except (FkcheckError, KeyError, ValueError):
-        return None
-    if lines is None:
-        return None
-    rows = axis_rows(model, [lines], check.tol_pos_m, check.tol_rot_rad)
-    return _UrdfAxes(r.worst_index, lines, rows, tuple(model.urdf.joints))
-
-
-def _axis_parting_view(check: CheckResult, r: BackendResult, parting: _UrdfAxes) -> PartingView:
+def _axis_parting_view(check: CheckResult, r: BackendResult, parting: UrdfAxes) -> PartingView:
     model = check.model
     standard = model.convention == "standard"
     rows = []
@@ -445,47 +400,34 @@ def _axis_parting_view(check: CheckResult, r: BackendResult, parting: _UrdfAxes)
             "<axis> in its joint frame). Position: distance between the two lines (none for "
             "a prismatic joint, whose axis is a direction only); rotation: angle between the "
             "two directions (180° = the joint turns the other way). DH frames and URDF links "
-            "are different frames, but each joint's axis is one physical line. Computed by "
-            "fkcheck.diagnose.axes from the URDF text, apart from the backends."
+            "are different frames, but each joint's axis is one physical line. Computed "
+            "during the check by fkcheck.engine.axes from the URDF text, apart from the backends."
         ),
         rows=tuple(rows),
     )
 
 
-def _partings(
-    check: CheckResult, urdf_axes: dict[str, _UrdfAxes | None]
-) -> tuple[PartingView, ...]:
+def _partings(check: CheckResult) -> tuple[PartingView, ...]:
     """DH frames of failing DH backends; joint axes against the URDF for the first other one."""
     out = []
     urdf_done = False
     for r in check.backends:
-        if r.status != "fail":
+        if r.status != "fail" or r.detail is None:
             continue
-        parting = dh_parting(check, r)
-        if parting is not None:
-            out.append(_parting_view(check, r, parting))
-        elif not urdf_done:
-            axes = urdf_axes.get(r.name)
-            if axes is not None:
-                out.append(_axis_parting_view(check, r, axes))
-                urdf_done = True
+        if r.detail.dh_parting is not None:
+            out.append(_parting_view(check, r, r.detail.dh_parting))
+        elif not urdf_done and r.detail.urdf_axes is not None:
+            out.append(_axis_parting_view(check, r, r.detail.urdf_axes))
+            urdf_done = True
     return tuple(out)
 
 
-def _detail(
-    check: CheckResult,
-    r: BackendResult,
-    worst: WorstPoses | None,
-    plots: bool,
-    urdf_axes: _UrdfAxes | None,
-) -> BackendDetail:
+def _detail(check: CheckResult, r: BackendResult, plots: bool) -> BackendDetail:
     from fkcheck.report.plots import arm_drawing
 
     arm = None
-    if plots:
-        differing = urdf_axes is not None and urdf_axes.first is not None
-        lines = urdf_axes.lines if urdf_axes is not None and differing else None
-        image = arm_drawing(check, r, worst, lines)
+    if plots and r.detail is not None:
+        image = arm_drawing(check, r, r.detail)
         arm = ArmDrawing(image) if image is not None else None
     worst_q = _q_text(check.model, check.q[r.worst_index]) if r.worst_index is not None else ""
     return BackendDetail(
@@ -494,7 +436,7 @@ def _detail(
         summary=r.message,
         worst_q=worst_q,
         arm=arm,
-        worst_cases=_worst_cases(check, r, worst) if worst is not None else (),
+        worst_cases=_worst_cases(check, r, r.detail.worst) if r.detail is not None else (),
     )
 
 
@@ -631,43 +573,35 @@ def _configurations(check: CheckResult) -> str:
 
 def build_report_page(
     check: CheckResult,
-    worst: Sequence[WorstPoses | None] | None = None,
     *,
+    diagnoses: Sequence[BackendDiagnosis] = (),
     versions: dict[str, str] | None = None,
     plots: bool = True,
-    diagnoses: Sequence[DiagnosisView] = (),
 ) -> ReportPage:
-    """The report page of one check.
+    """The report page of one check, from what the check and the diagnosis gathered.
+
+    Runs no backend, no forward kinematics and no parser: the worst
+    configurations' poses, the chains and the axes come from each failing
+    backend's :attr:`~fkcheck.engine.results.BackendResult.detail`.
 
     Args:
         check: The check result.
-        worst: Recomputed poses at each backend's worst configurations, aligned
-            with ``check.backends`` (see
-            :func:`fkcheck.engine.evidence.collect_worst_poses`); without it the
-            page has no side-by-side matrices.
+        diagnoses: The diagnoses of its disagreements (see
+            :func:`fkcheck.diagnose.failures.diagnose_failures`), for the
+            Diagnosis section; each also gets a line on the first screen.
         versions: Library versions to show (default: the installed ones).
         plots: Draw the pictures (Matplotlib); off, the page has none.
-        diagnoses: The Diagnosis section (see
-            :func:`fkcheck.report.diagnosis.diagnosis_section`); each also gets a
-            line on the first screen.
 
     Returns:
         The page's view model.
     """
+    from fkcheck.report.diagnosis import diagnosis_view
     from fkcheck.report.plots import error_against_joints, error_distribution
     from fkcheck.report.versions import library_versions
 
-    worst_list: Sequence[WorstPoses | None] = worst or [None] * len(check.backends)
-    failing = [
-        (r, w) for r, w in zip(check.backends, worst_list, strict=True) if r.status == "fail"
-    ]
-    # Joint axes against the URDF at each failing backend's worst configuration: where
-    # the chains part when the backend has no DH frames to compare, and the arm drawing.
-    urdf_axes = {r.name: _urdf_axes(check, r) for r, _ in failing}
-    details = tuple(
-        _detail(check, r, w, plots, urdf_axes[r.name] if r.worst_dh_frames is None else None)
-        for r, w in failing
-    )
+    failing = [r for r in check.backends if r.status == "fail"]
+    details = tuple(_detail(check, r, plots) for r in failing)
+    diagnosis_views = tuple(diagnosis_view(d) for d in diagnoses)
     rows = tuple(_backend_row(check, r, r.status == "fail") for r in check.backends)
     images: list[Image] = []
     if plots:
@@ -700,10 +634,10 @@ def build_report_page(
         Fact("versions", " · ".join(f"{k} {v}" for k, v in versions.items()), volatile="version"),
         Fact("reproduce", check.command or "(run from Python: no command line)", code=True),
     )
-    partings = _partings(check, urdf_axes)
+    partings = _partings(check)
     headline = (
         _headline(check)
-        + tuple(f"Diagnosis against {_with_also(d)}: {d.short}" for d in diagnoses)
+        + tuple(f"Diagnosis against {_with_also(d)}: {d.short}" for d in diagnosis_views)
         + tuple(f"Where the chains part: {p.short}." for p in partings if p.short)
     )
     evidence = check.evidence
@@ -720,7 +654,7 @@ def build_report_page(
         badge_note="implementation only"
         if check.verdict == "pass" and evidence.table.status != "verified"
         else "",
-        disagreeing=tuple(r.name for r, _ in failing),
+        disagreeing=tuple(r.name for r in failing),
         headline=headline,
         facts=facts,
         sides=_sides(check),
@@ -730,7 +664,7 @@ def build_report_page(
         details=details,
         model_view=_model_view(check),
         generator=f"fkcheck {__version__}",
-        diagnoses=tuple(diagnoses),
+        diagnoses=diagnosis_views,
     )
 
 

@@ -24,7 +24,7 @@ from fkcheck.report.views import IndexPage, ReportPage
 if TYPE_CHECKING:
     import jinja2
 
-    from fkcheck.backends.base import Backend
+    from fkcheck.diagnose.failures import BackendDiagnosis
     from fkcheck.engine.results import CheckResult
 
 __all__ = ["render_index", "render_report", "write_html", "write_index"]
@@ -69,35 +69,29 @@ def render_index(page: IndexPage) -> str:
 def write_html(
     check: CheckResult,
     path: Path | str,
-    backends: Sequence[Backend] | None = None,
     *,
+    diagnoses: Sequence[BackendDiagnosis] = (),
     plots: bool = True,
-    diagnose: bool = True,
 ) -> Path:
     """Build, render and write a check's report, atomically.
+
+    Formats what the check gathered (and the diagnoses, when given); runs no
+    backend, no forward kinematics and no parser.
 
     Args:
         check: The check result.
         path: Where to write the page.
-        backends: The backend objects the check ran, in order; when given, each
-            failing backend is run again on its few worst configurations so the
-            page can show both matrices side by side.
+        diagnoses: The diagnoses of the check's disagreements (see
+            :func:`fkcheck.diagnose.failures.diagnose_failures`), for the page's
+            Diagnosis section.
         plots: Draw the pictures.
-        diagnose: When the check failed and ``backends`` are given, run
-            ``fkcheck diagnose`` against the disagreeing backends for the page's
-            Diagnosis section (see :mod:`fkcheck.report.diagnosis`); a diagnosis
-            that raises is shown as its error, the page is written anyway.
 
     Returns:
         The path written.
     """
-    from fkcheck.engine.evidence import collect_worst_poses
     from fkcheck.report.build import build_report_page
-    from fkcheck.report.diagnosis import diagnosis_section
 
-    worst = collect_worst_poses(check, backends) if backends is not None else None
-    diagnoses = diagnosis_section(check, backends) if diagnose and backends is not None else ()
-    page = build_report_page(check, worst, plots=plots, diagnoses=diagnoses)
+    page = build_report_page(check, diagnoses=diagnoses, plots=plots)
     return write_text_atomic(path, render_report(page))
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from fkcheck import __version__
+from fkcheck._version import __version__
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.engine.verdict import evidence_sentences, headline
 from fkcheck.io.atomic import write_text_atomic

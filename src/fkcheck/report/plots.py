@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.core.typing import Float
-from fkcheck.engine.evidence import WorstPoses
+from fkcheck.engine.evidence import FailureDetail
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
 from fkcheck.io.text import terminal_text
 from fkcheck.report.views import Image
@@ -29,7 +29,6 @@ from fkcheck.report.views import Image
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from fkcheck.diagnose.axes import AxisLines
 
 __all__ = [
     "LOG_FLOOR",
@@ -266,39 +265,29 @@ def _triad(ax: Any, T: Float, length: float, style: str, width: float, alpha: fl
         )
 
 
-def arm_drawing(
-    check: CheckResult,
-    result: BackendResult,
-    worst: WorstPoses | None,
-    urdf_axes: AxisLines | None = None,
-) -> Image | None:
+def arm_drawing(check: CheckResult, result: BackendResult, detail: FailureDetail) -> Image | None:
     """A 3D stick drawing of the arm at a backend's worst configuration.
 
-    Drawn: the in-house chain through its DH frame origins (black, joints as
-    dots) with each joint axis (grey, the DH z axis the joint turns about), the
-    in-house ``from`` and ``to`` frames as solid triads (x red, y green, z blue),
-    and the backend's ``to`` frame as a dashed triad placed at the in-house
-    ``from`` frame times the backend's ``from_T_to`` (every backend has its own
-    root, so ``from`` is where the two are made to coincide). For a backend built
-    from the DH table, its whole chain is overlaid too (dashed, in its colour).
-    When given ``urdf_axes`` (the caller passes them when the table's joint axes
-    disagree with the URDF's at this configuration), the URDF's axes are overlaid
-    (dotted, in the backend's colour) so a flipped or shifted axis shows.
+    Drawn from what the engine kept (``detail``): the in-house chain through its
+    DH frame origins (black, joints as dots) with each joint axis (grey, the DH z
+    axis the joint turns about), the in-house ``from`` and ``to`` frames as solid
+    triads (x red, y green, z blue), and the backend's ``to`` frame as a dashed
+    triad placed at the in-house ``from`` frame times the backend's
+    ``from_T_to`` (every backend has its own root, so ``from`` is where the two
+    are made to coincide). For a backend built from the DH table, its whole
+    chain is overlaid too (dashed, in its colour). When the table's joint axes
+    disagree with the URDF's at this configuration, the URDF's axes are
+    overlaid (dotted, in the backend's colour) so a flipped or shifted axis shows.
 
     Returns:
         The picture, or ``None`` when there is no worst configuration.
     """
     if result.worst_index is None:
         return None
-    from fkcheck.model.frames import reference_poses
-
     model = check.model
     k = result.worst_index
-    q = check.q[k]
-    frames = np.asarray(model.fk(q, all_frames=True))
-    tcp = np.asarray(model.fk(q))
-    named = reference_poses(model, q[None], (check.frame_from, check.frame_to))[:, 0]
-    world_T_from, world_T_to = named[0], named[1]
+    frames, tcp = detail.arm.world_T_dh, detail.arm.world_T_tcp
+    world_T_from, world_T_to = detail.arm.world_T_from, detail.arm.world_T_to
     points = np.vstack(
         [frames[:, :3, 3], tcp[None, :3, 3], world_T_to[None, :3, 3], world_T_from[None, :3, 3]]
     )
@@ -323,8 +312,8 @@ def arm_drawing(
     ax.text(*world_T_from[:3, 3], f" {_text(check.frame_from)}", fontsize=8)
     ax.text(*world_T_to[:3, 3], f" {_text(check.frame_to)}", fontsize=8)
     drawn = "in-house chain and frames"
-    if result.worst_dh_frames is not None:
-        theirs = np.asarray(result.worst_dh_frames)
+    if detail.dh_parting is not None:
+        theirs = detail.dh_parting.theirs
         ax.plot(
             *theirs[:, :3, 3].T,
             "--",
@@ -333,8 +322,9 @@ def arm_drawing(
             label=f"{_text(result.name)} DH chain",
         )
         drawn += f"; {result.name}'s DH chain (dashed)"
-    if urdf_axes is not None:
-        urdf_lines = zip(urdf_axes.urdf_points, urdf_axes.urdf_directions, strict=True)
+    axes = detail.urdf_axes
+    if axes is not None and axes.first is not None:
+        urdf_lines = zip(axes.lines.urdf_points, axes.lines.urdf_directions, strict=True)
         for j, (point, direction) in enumerate(urdf_lines):
             start = (world_T_from @ np.append(point, 1.0))[:3]
             end = start + axis_len * (world_T_from[:3, :3] @ direction)
@@ -346,8 +336,8 @@ def arm_drawing(
                 label="URDF joint axes" if j == 0 else None,
             )
         drawn += "; the URDF's joint axes (dotted), which the table's do not all match"
-    if worst is not None and worst.theirs is not None:
-        their_to = world_T_from @ worst.theirs[0]
+    if np.isfinite(detail.worst.theirs[0]).all():  # indices[0] is the worst configuration
+        their_to = world_T_from @ detail.worst.theirs[0]
         _triad(ax, their_to, triad_len, "--", 2.0, 1.0)
         ax.plot(
             *their_to[:3, 3],

@@ -209,9 +209,8 @@ class WorstCase:
         position_error: Position error at this configuration.
         rotation_error: Rotation error at this configuration.
         ours: The in-house ``from_T_to``.
-        theirs: The backend's ``from_T_to``, or ``None`` when it could not be recomputed.
-        difference: ``theirs − ours``, or ``None``.
-        note: Why ``theirs`` is missing, if it is.
+        theirs: The backend's ``from_T_to`` as the check compared it.
+        difference: ``theirs − ours``.
     """
 
     rank: int
@@ -221,9 +220,8 @@ class WorstCase:
     position_error: Measure
     rotation_error: Measure
     ours: PoseForms
-    theirs: PoseForms | None
-    difference: MatrixView | None
-    note: str = ""
+    theirs: PoseForms
+    difference: MatrixView
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,171 @@
+"""The Python façade: check a model and write its reports in two calls.
+
+Example:
+    >>> import fkcheck
+    >>> outcome = fkcheck.check("ur5", against=["rtb-dh", "pinocchio-urdf"], samples=200)
+    >>> outcome.verdict
+    'pass'
+    >>> fkcheck.write_report(outcome, html="reports/ur5.html", json="reports/ur5.json")
+
+:func:`check` runs the engine (:func:`fkcheck.engine.runner.run_check`) and, when
+it fails, the diagnosis of each distinct disagreement
+(:func:`fkcheck.diagnose.failures.diagnose_failures`); :func:`write_report`
+formats that outcome — it runs no backend, no forward kinematics and no
+parser. ``fkcheck check`` is these two calls plus the terminal.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from fkcheck.backends.base import Backend
+from fkcheck.backends.registry import default_backends, make_backend
+from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
+from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.engine.runner import Progress, run_check
+from fkcheck.engine.verdict import Verdict, headline
+from fkcheck.model.read import load_model
+from fkcheck.model.require import Kind
+from fkcheck.model.sampling import Sampler
+from fkcheck.model.types import Model
+
+__all__ = ["Outcome", "check", "write_report"]
+
+
+@dataclass(frozen=True, eq=False)
+class Outcome:
+    """A finished check and the diagnoses of its disagreements: all a report shows.
+
+    Attributes:
+        check: The check result (backends, errors, verdict, evidence).
+        diagnoses: One per distinct disagreement, when the check failed and was
+            diagnosed; empty otherwise.
+    """
+
+    check: CheckResult
+    diagnoses: tuple[BackendDiagnosis, ...] = ()
+
+    @property
+    def verdict(self) -> Verdict:
+        """``pass``, ``fail``, ``error`` or ``unverified``."""
+        return self.check.verdict
+
+    @property
+    def headline(self) -> str:
+        """The verdict with what it proved, e.g. ``pass — implementation only; …``."""
+        return headline(self.check.verdict, self.check.evidence, len(self.check.ran))
+
+    @property
+    def backends(self) -> tuple[BackendResult, ...]:
+        """One result per backend, in the order asked."""
+        return self.check.backends
+
+
+def check(
+    model: Model | str | Path,
+    against: Sequence[Backend | str] | None = None,
+    *,
+    samples: int = 1000,
+    seed: int = 0,
+    sampler: Sampler = "sobol",
+    frame_from: str | None = None,
+    frame_to: str | None = None,
+    tol_pos_m: float | None = None,
+    tol_rot_rad: float | None = None,
+    timeout_s: float = 120.0,
+    require: Sequence[Kind] = (),
+    diagnose: bool = True,
+    on_progress: Progress | None = None,
+    on_done: Callable[[BackendResult], None] | None = None,
+) -> Outcome:
+    """Cross-check a model's forward kinematics, and diagnose a failure.
+
+    Args:
+        model: A loaded model, a bundled model's name (``"ur5"``) or a model file.
+        against: Backends, as objects or names (``"rtb-dh"``, ``"pinocchio-urdf"``,
+            ``"poses:measured.csv"``, ``"cmd:./fk"``, ``"module:function"``…);
+            default: the standard set (see :mod:`fkcheck.backends.registry`).
+        samples: Random samples, on top of named poses, zero, mid-range and limit corners.
+        seed: Seed of the random samples.
+        sampler: ``"sobol"`` or ``"uniform"``.
+        frame_from: Frame the compared pose is expressed in (default: the model's ``[check]``).
+        frame_to: Frame whose pose is compared (default: the model's ``[check]``).
+        tol_pos_m: Position tolerance, metres (default: the model's ``[check]``).
+        tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
+        timeout_s: Time limit per backend, seconds.
+        require: Kinds of evidence that must be verified (``"table"``,
+            ``"implementation"``); else the verdict is ``unverified``.
+        diagnose: When the check fails, run ``fkcheck diagnose`` against each
+            distinct disagreeing backend (about a second each).
+        on_progress: Called as ``(backend, configurations done, total)``.
+        on_done: Called with each backend's result as it finishes.
+
+    Returns:
+        The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
+
+    Raises:
+        FkcheckError: Bad input (unknown model, backend or frame, bad file…).
+    """
+    loaded = model if isinstance(model, Model) else load_model(model)
+    if against is None:
+        backends = default_backends()
+    else:
+        backends = [b if not isinstance(b, str) else make_backend(b) for b in against]
+    result = run_check(
+        loaded,
+        backends,
+        samples=samples,
+        seed=seed,
+        sampler=sampler,
+        frame_from=frame_from,
+        frame_to=frame_to,
+        tol_pos_m=tol_pos_m,
+        tol_rot_rad=tol_rot_rad,
+        timeout_s=timeout_s,
+        require=require,
+        on_done=on_done,
+        on_progress=on_progress,
+    )
+    diagnoses = diagnose_failures(result, backends) if diagnose else ()
+    return Outcome(result, diagnoses)
+
+
+def write_report(
+    outcome: Outcome,
+    *,
+    html: Path | str | None = None,
+    json: Path | str | None = None,
+    junit: Path | str | None = None,
+    summary: Path | str | None = None,
+    plots: bool = True,
+) -> tuple[Path, ...]:
+    """Write an outcome's reports, each atomically; only formats, never recomputes.
+
+    Args:
+        outcome: What :func:`check` returned.
+        html: The self-contained HTML report.
+        json: The JSON result (the contract other tools read).
+        junit: JUnit XML, one test case per backend and per kind of evidence.
+        summary: The Markdown summary (as for ``$GITHUB_STEP_SUMMARY``).
+        plots: Draw the HTML report's pictures.
+
+    Returns:
+        The paths written, in the order html, json, junit, summary.
+    """
+    from fkcheck.report.html import write_html
+    from fkcheck.report.json_report import write_json
+    from fkcheck.report.junit import write_junit
+    from fkcheck.report.markdown import markdown_summary, write_summary
+
+    written: list[Path] = []
+    if html is not None:
+        written.append(write_html(outcome.check, html, diagnoses=outcome.diagnoses, plots=plots))
+    if json is not None:
+        written.append(write_json(outcome.check, json))
+    if junit is not None:
+        written.append(write_junit(outcome.check, junit))
+    if summary is not None:
+        written.append(write_summary(summary, markdown_summary([outcome.check])))
+    return tuple(written)
