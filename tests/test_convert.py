@@ -89,7 +89,7 @@ def test_rpy_from_matrix_inverts_urdf_rpy(rng):
 )
 def test_gimbal_lock_rule_is_one_rule_for_every_caller(pitch, roll):
     from fkcheck.core.pose_formats import pose_from_matrix
-    from fkcheck.report.build import pose_forms
+    from fkcheck.report.measures import pose_forms
 
     T = matrix_from_xyz_rpy([0.1, 0.2, 0.3], [0.3, pitch, 0.5])
     rpy = rpy_from_matrix(T)

@@ -25,8 +25,8 @@ from fkcheck.engine.runner import run_check
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.read import model_from_dict
 from fkcheck.model.types import Model
-from fkcheck.report.build import IndexEntry, build_index_page
 from fkcheck.report.html import write_html, write_index
+from fkcheck.report.index import IndexEntry, build_index_page
 from fkcheck.report.json_report import write_json
 from fkcheck.report.junit import write_junit
 from fkcheck.report.markdown import markdown_summary, write_summary

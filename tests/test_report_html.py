@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from fkcheck.core.tolerances import SAME_CHAIN
-from fkcheck.report.build import IndexEntry, build_index_page, build_report_page
 from fkcheck.report.format import (
     format_angle_console,
     format_angle_summary,
@@ -27,8 +26,10 @@ from fkcheck.report.format import (
     format_rad,
 )
 from fkcheck.report.html import render_index, render_report, write_html
+from fkcheck.report.index import IndexEntry, build_index_page
 from fkcheck.report.json_report import result_to_dict
 from fkcheck.report.markdown import escape_markdown, markdown_summary
+from fkcheck.report.page import build_report_page
 from tests.report_cases import (
     SPEC,
     golden_check,
@@ -285,7 +286,7 @@ def test_the_other_outputs_number_formats():
 
 def test_importing_the_report_modules_loads_no_heavy_library():
     code = (
-        "import sys, fkcheck.report.html, fkcheck.report.build, fkcheck.report.plots, "
+        "import sys, fkcheck.report.html, fkcheck.report.page, fkcheck.report.plots, "
         "fkcheck.report.markdown, fkcheck.report.diagnosis, fkcheck.cli.check; "
         "print(sorted(m for m in ('matplotlib', 'jinja2', 'scipy', 'pinocchio', "
         "'roboticstoolbox') if m in sys.modules))"

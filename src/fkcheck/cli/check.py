@@ -323,8 +323,8 @@ def _run_all(args: argparse.Namespace) -> int:
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
     from fkcheck.io.output_paths import check_output_dir
     from fkcheck.model.read import bundled_model_paths, load_model
-    from fkcheck.report.build import IndexEntry, build_index_page
     from fkcheck.report.html import write_html, write_index
+    from fkcheck.report.index import IndexEntry, build_index_page
     from fkcheck.report.json_report import write_json
     from fkcheck.report.junit import write_junit
 

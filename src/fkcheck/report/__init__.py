@@ -1,22 +1,25 @@
-"""Writers of check results: JSON (the contract), JUnit XML, HTML pages and a Markdown summary.
+"""Reports: a finished check (and its diagnoses) formatted — never recomputed.
 
-* :mod:`~fkcheck.report.json_report` — the JSON result other tools read;
-* :mod:`~fkcheck.report.junit` — JUnit XML, one test case per backend;
-* :mod:`~fkcheck.report.html` — the self-contained HTML report and index page:
-  :mod:`~fkcheck.report.build` turns results into the view models of
-  :mod:`~fkcheck.report.views`, which the Jinja2 templates in ``templates/``
-  lay out; :mod:`~fkcheck.report.plots` draws the pictures,
-  :mod:`~fkcheck.engine.evidence` gathers what the page shows beyond the
-  check's numbers (both matrices at the worst configurations, where the chains
-  part; the joint axes against the URDF come from :mod:`fkcheck.diagnose.axes`);
-  :mod:`~fkcheck.report.diagnosis` lays out the diagnoses
-  against a failed check's disagreeing backends for the page's Diagnosis section;
-* :mod:`~fkcheck.report.markdown` — the short summary for CI pages.
+Data first, then templates. Nothing here runs a backend, the core, a parser or
+the diagnosis: everything shown was gathered by the engine
+(:class:`~fkcheck.engine.results.CheckResult`, each failing backend's
+:class:`~fkcheck.engine.evidence.FailureDetail`) and by
+:func:`fkcheck.diagnose.failures.diagnose_failures`.
 
-Every writer writes atomically (:func:`fkcheck.io.atomic.write_text_atomic`):
-an interrupted run never leaves a truncated file behind. Importing this package
-imports no plotting or templating library; each module imports those inside the
-functions that need them.
+* writers: :mod:`~fkcheck.report.json_report` (the JSON contract),
+  :mod:`~fkcheck.report.junit`, :mod:`~fkcheck.report.markdown` (CI pages),
+  :mod:`~fkcheck.report.html` (the self-contained page and the index);
+* view models: :mod:`~fkcheck.report.views` (frozen dataclasses the Jinja2
+  templates in ``templates/`` lay out), built by :mod:`~fkcheck.report.page`
+  from :mod:`~fkcheck.report.backend_view`, :mod:`~fkcheck.report.partings`,
+  :mod:`~fkcheck.report.model_view`, :mod:`~fkcheck.report.diagnosis` and
+  :mod:`~fkcheck.report.index`; pictures by :mod:`~fkcheck.report.plots`;
+* numbers: :mod:`~fkcheck.report.format` is the one formatter,
+  :mod:`~fkcheck.report.measures` packs its strings into view values.
+
+May import: every layer below (engine, diagnose and their types). Every writer
+writes atomically (:func:`fkcheck.io.atomic.write_text_atomic`). Importing this
+package imports no plotting or templating library.
 """
 
 __all__: list[str] = []

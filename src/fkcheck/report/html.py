@@ -89,7 +89,7 @@ def write_html(
     Returns:
         The path written.
     """
-    from fkcheck.report.build import build_report_page
+    from fkcheck.report.page import build_report_page
 
     page = build_report_page(check, diagnoses=diagnoses, plots=plots)
     return write_text_atomic(path, render_report(page))

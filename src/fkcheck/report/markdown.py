@@ -44,7 +44,8 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
     Returns:
         Markdown text ending in a newline.
     """
-    from fkcheck.report.build import overall_verdict, verdict_line
+    from fkcheck.report.index import overall_verdict
+    from fkcheck.report.page import verdict_line
 
     links = links or {}
     lines: list[str] = []
