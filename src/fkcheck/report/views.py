@@ -1,10 +1,11 @@
 """View models of the HTML pages: everything the templates show, already formatted.
 
 Built by :mod:`fkcheck.report.page` and :mod:`fkcheck.report.index` from a check
-result; rendered by the Jinja2 templates in ``fkcheck/report/templates`` (autoescaped), which only lay
-them out. Every field is plain text, numbers or nested view models: no NumPy
-arrays and no markup reach a template, so all text from a model file or URDF is
-escaped on output.
+result; rendered by the Jinja2 templates in ``fkcheck/report/templates``
+(autoescaped), which only lay them out. Every field is plain text, numbers or
+nested view models: no NumPy arrays and no markup reach a template, so all text
+from a model file or URDF is escaped on output. One concept (the pages' data,
+no logic), hence one module despite its length.
 """
 
 from __future__ import annotations
