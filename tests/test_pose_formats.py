@@ -232,6 +232,33 @@ def test_format_pose_text_and_record():
     np.testing.assert_allclose(record["zyx_abc_rad"], [math.pi / 2, 0, 0], atol=1e-15)
 
 
+def test_format_pose_never_prints_a_minus_sign_on_zero():
+    # Round-off far below the printed digits (1e-8 m, 1e-9 rad) must not print as "-0.000000".
+    T = matrix_from_xyz_rpy([-1e-8, 0.25, -4e-7], [-1e-9, 0, math.pi / 2])
+    assert format_pose(T, "rpy") == (
+        "x=0.000000 y=0.250000 z=0.000000 m  roll=0.000000 pitch=0.000000 yaw=1.570796 rad"
+    )
+    assert format_pose(T, "rpy", degrees=True, mm=True) == (
+        "x=0.000 y=250.000 z=0.000 mm  roll=0.000000 pitch=0.000000 yaw=90.000000 deg"
+    )
+    assert format_pose(matrix_from_xyz_rpy([-6e-7, 0, 0], [0, 0, -6e-7]), "rpy") == (
+        "x=-0.000001 y=0.000000 z=0.000000 m  roll=0.000000 pitch=0.000000 yaw=-0.000001 rad"
+    )  # a value that rounds to a digit keeps its sign
+
+
+def test_fk_prints_no_minus_sign_on_zero_in_matrices_and_formats(capsys):
+    from fkcheck.cli.main import main
+
+    # q6 = 1e-8 rad leaves round-off of about 1e-8 where the zero pose has exact zeros.
+    assert main(["fk", "ur5", "--q", "0,0,0,0,0,1e-8", "--format", "rpy"]) == 0
+    out = capsys.readouterr().out
+    assert "pitch=0.000000" in out
+    assert main(["fk", "ur5", "--q", "0,0,0,0,0,1e-8"]) == 0
+    matrix = capsys.readouterr().out
+    assert "-0.000000" not in matrix
+    assert matrix.split("\n")[0].split() == ["1.000000", "0.000000", "0.000000", "-0.817250"]
+
+
 def test_fk_format_flag_prints_zyx_of_the_seed_pose(capsys):
     from fkcheck.cli.main import main
 

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.io.strict_json import strict_json
+from fkcheck.report.format import format_fixed
 
 if TYPE_CHECKING:
     from fkcheck.model.types import Model
@@ -102,8 +103,7 @@ def _write_json_array(records: Iterable[dict[str, Any]]) -> None:
 
 
 def _format_matrix(T: NDArray[np.float64]) -> str:
-    T = np.where(np.abs(T) < 5e-7, 0.0, T)  # print -0.000000 as 0.000000
-    return "\n".join(" ".join(f"{v:10.6f}" for v in row) for row in T)
+    return "\n".join(" ".join(f"{format_fixed(v, 6):>10}" for v in row) for row in T)
 
 
 def run(args: argparse.Namespace) -> int:
