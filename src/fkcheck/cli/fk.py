@@ -41,7 +41,7 @@ def add_parser(sub: Any) -> None:
     src = p.add_mutually_exclusive_group()
     src.add_argument("--q", help="joint values, comma-separated (radians unless --deg)")
     src.add_argument("--q-file", type=Path, help="CSV file: one configuration per line")
-    src.add_argument("--pose", help="a named pose of the model (e.g. zero, article)")
+    src.add_argument("--pose", help="a named pose of the model (e.g. zero, worked_example)")
     p.add_argument("--deg", action="store_true", help="revolute joint values are in degrees")
     p.add_argument("--all-frames", action="store_true", help="print every DH frame T_0_i")
     p.add_argument("--json", action="store_true", help="print JSON")
