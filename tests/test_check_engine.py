@@ -263,7 +263,7 @@ def test_json_contract_fields(ur5):
 
 def test_samples_cover_poses_zero_corners_and_limits(ur5):
     s = sample_configurations(ur5, 64, seed=3)
-    assert s.origin[:3] == ("pose:zero", "pose:home", "pose:article")
+    assert s.origin[:3] == ("pose:zero", "pose:home", "pose:worked_example")
     assert s.origin.count("corner") == 64  # 2^6
     assert s.origin.count("random") == 64
     lo, hi = ur5.limits[:, 0], ur5.limits[:, 1]

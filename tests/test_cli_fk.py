@@ -65,7 +65,7 @@ def test_fk_all_frames_prints_each_T_0_i(capsys):
 
 
 def test_fk_named_pose(capsys):
-    code, out, _ = run(capsys, "fk", "ur5", "--pose", "article", "--json")
+    code, out, _ = run(capsys, "fk", "ur5", "--pose", "worked_example", "--json")
     assert code == 0
     np.testing.assert_allclose(json.loads(out)["position"], [-0.505612, -0.417951, 0.178795],
                                atol=SIX_DECIMALS)  # fmt: skip
@@ -107,7 +107,10 @@ def test_fk_accepts_a_csv_model(capsys):
         (["fk", "ur5", "--q", "1,2,nan,4,5,6"], r"--q: value 3: must be finite, got 'nan'"),
         (["fk", "ur5", "--q", "0,0,4,0,0,0"], r"joint elbow = 4 rad is outside its limits"),
         (["fk", "ur5", "--q", "0,0,200,0,0,0", "--deg"], r"joint elbow = 3\.49066 rad is outside"),
-        (["fk", "ur5", "--pose", "nope"], r"has no pose 'nope'; poses are: zero, home, article"),
+        (
+            ["fk", "ur5", "--pose", "nope"],
+            r"has no pose 'nope'; poses are: zero, home, worked_example",
+        ),
         (["fk", "ur7", "--q", "0"], r"no bundled model of that name"),
         (["fk", "ur5"], r"give joint values with --q, --q-file or --pose"),
         (["fk", "ur5", "--q-file", "missing.csv"], r"missing\.csv: no such file"),

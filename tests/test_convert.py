@@ -59,9 +59,10 @@ def test_radians_are_written_exactly():
 
 
 def test_degrees_read_back_are_snapped_to_the_written_value():
-    model = load_model("ur5")  # article pose 30° → 0.5235987755982988 rad → 29.999999999999996°
+    # The worked_example pose: 30° → 0.5235987755982988 rad → 29.999999999999996°.
+    model = load_model("ur5")
     text = model_to_toml(model)
-    assert "article = [30.0, -60.0, 90.0, -120.0, -90.0, 45.0]" in text
+    assert "worked_example = [30.0, -60.0, 90.0, -120.0, -90.0, 45.0]" in text
     assert "rpy = [0.0, 0.0, 180.0]" in text
 
 

@@ -45,8 +45,8 @@ def test_seed_tcp_pose(ur5):
     np.testing.assert_allclose(T[:3, 3], [-0.505612, -0.417951, 0.178795], atol=SIX_DECIMALS)
 
 
-def test_named_pose_article_is_the_seed_configuration(ur5):
-    np.testing.assert_allclose(ur5.poses["article"], Q_ARTICLE, rtol=0, atol=1e-15)
+def test_named_pose_worked_example_is_the_seed_configuration(ur5):
+    np.testing.assert_allclose(ur5.poses["worked_example"], Q_ARTICLE, rtol=0, atol=1e-15)
 
 
 def test_ur5_zero_pose_derived_by_hand(ur5):

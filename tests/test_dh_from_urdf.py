@@ -180,7 +180,7 @@ def test_mimic_joint_is_refused(tmp_path):
 
 def test_cli_missing_urdf_is_exit_2(capsys, tmp_path):
     assert main(["dh-from-urdf", str(tmp_path / "nope.urdf"), "--base", "a", "--tip", "b"]) == 2
-    assert "URDF file not found" in capsys.readouterr().err
+    assert "nope.urdf: no such file" in capsys.readouterr().err
 
 
 def test_cli_prints_the_model_without_output(capsys):

@@ -10,6 +10,7 @@ duplicate rows, 64- and 256-joint models, a 40 000-row poses file, chunked fk ou
 
 from __future__ import annotations
 
+import errno
 import io
 import json
 import os
@@ -28,6 +29,7 @@ from fkcheck.backends.measured import MeasuredPoses, read_poses_file
 from fkcheck.cli.main import main
 from fkcheck.core.pose_formats import pose_from_matrix
 from fkcheck.engine.runner import run_check
+from fkcheck.io.files import classify_path
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.joint_input import read_q_file
 from fkcheck.model.read import model_from_dict
@@ -155,6 +157,16 @@ MODEL_TOML = {
         {},
         ["fk", "/dev/zero", "--q", "0"],
         r"/dev/zero: is a character device, not a regular file",
+    ),
+    "model_is_a_dangling_symlink": (
+        {"m.toml": lambda p: p.symlink_to("gone.toml")},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: is a symlink to gone\.toml, which does not exist$",
+    ),
+    "model_path_goes_through_a_file": (
+        {"m.toml": HEAD + JOINT},
+        ["fk", "m.toml/x.toml", "--q", "0"],
+        r"m\.toml/x\.toml: no such file$",
     ),
 }
 
@@ -435,6 +447,11 @@ CHECK_OPTIONS = {
 #: Cases that would hang if a reader opened the file: run in a subprocess with a timeout.
 HANGING = {
     "model_is_a_fifo": ({"m.toml": "FIFO"}, ["fk", "m.toml", "--q", "0"], r"m\.toml: is a FIFO"),
+    "model_is_a_symlink_to_a_fifo": (
+        {"pipe": "FIFO", "m.toml": lambda p: p.symlink_to("pipe")},
+        ["fk", "m.toml", "--q", "0"],
+        r"m\.toml: is a symlink to pipe, which is a FIFO \(named pipe\), not a regular file$",
+    ),
     "qfile_is_a_fifo": (
         {"q.csv": "FIFO"},
         ["fk", "ur5", "--q-file", "q.csv"],
@@ -535,6 +552,41 @@ def test_hostile_file_kind_is_refused_unopened_in_a_subprocess(tmp_path, files, 
     assert proc.stdout == ""
     assert _snapshot(tmp_path) == before
     assert elapsed < TIME_BOUND_S
+
+
+def test_classify_path_names_every_kind_in_one_wording_without_opening(tmp_path):
+    import socket
+
+    (tmp_path / "file").write_text("x", encoding="utf-8")
+    (tmp_path / "dir").mkdir()
+    os.mkfifo(tmp_path / "fifo")
+    sock = socket.socket(socket.AF_UNIX)
+    try:
+        sock.bind(str(tmp_path / "sock"))
+        (tmp_path / "to-fifo").symlink_to("fifo")
+        (tmp_path / "to-nothing").symlink_to("gone")
+        (tmp_path / "loop").symlink_to("loop")
+        kinds = {  # opening "fifo" or "to-fifo" would block here: they are only looked at
+            name: classify_path(tmp_path / name).describe()
+            for name in ("file", "dir", "fifo", "sock", "to-fifo", "to-nothing", "loop", "none")
+        }
+    finally:
+        sock.close()
+    assert kinds == {
+        "file": "a regular file",
+        "dir": "a directory",
+        "fifo": "a FIFO (named pipe)",
+        "sock": "a socket",
+        "to-fifo": "a symlink to fifo, which is a FIFO (named pipe)",
+        "to-nothing": "a symlink to gone, which does not exist",
+        "loop": f"a symlink to loop, which is a path that cannot be looked at "
+        f"({os.strerror(errno.ELOOP)})",
+        "none": "nothing (no such file)",
+    }
+    assert classify_path("/dev/null").describe() == "a character device"
+    assert classify_path(tmp_path / "file" / "x").missing  # a file on the way: nothing there
+    nul = classify_path("a\0b")
+    assert (nul.stat, nul.errno, nul.reason) == (None, None, "the path holds a NUL character")
 
 
 # --------------------------------------------------------------------------- what still works

@@ -228,14 +228,18 @@ PATH_CASES = [
     ("json-is-dev-null", [*CHECK, "--json", "/dev/null"], "is a character device"),
     ("json-is-a-fifo", [*CHECK, "--json", "{fifo}"], "is a FIFO"),
     ("json-is-a-directory", [*CHECK, "--json", "{d}"], "is a directory"),
-    ("json-parent-is-a-file", [*CHECK, "--json", "{model}/x.json"], "is a file, not a directory"),
+    ("json-parent-is-a-file", [*CHECK, "--json", "{model}/x.json"],
+     "{model} is a regular file, not a directory"),
+    ("json-is-a-symlink-to-a-fifo", [*CHECK, "--json", "{pipe}"],
+     "--json {pipe}: is a symlink to {fifo}, which is a FIFO (named pipe); fkcheck writes only "
+     "regular files or new paths"),
     ("json-in-proc", [*CHECK, "--json", "/proc/fk-test.json"], "cannot create a file in /proc"),
     ("json-in-sys", [*CHECK, "--json", "/sys/fk-test.json"], "cannot create a file in /sys"),
     ("json-name-too-long", [*CHECK, "--json", f"{{d}}/{LONG_NAME}.json"], "255 bytes"),
     ("json-directory-name-too-long", [*CHECK, "--json", f"{{d}}/{LONG_NAME}/x.json"], "255 bytes"),
     ("all-out-dir-is-a-file",
      ["check", "--all", "--samples", "1", "--against", "fkcheck_test_plugin:touch",
-      "--out-dir", "{model}"], "--out-dir {model}: is a file, not a directory"),
+      "--out-dir", "{model}"], "--out-dir {model}: is a regular file, not a directory"),
     ("all-out-dir-holds-a-directory-named-like-a-report",
      ["check", "--all", "--samples", "1", "--against", "fkcheck_test_plugin:touch",
       "--out-dir", "{d}"], "ur5.json: is a directory"),
@@ -264,10 +268,11 @@ def test_a_bad_output_path_is_one_line_exit_2_before_anything_runs(env, capsys, 
     files = write_models(env)
     (env / "link.toml").symlink_to(files["model"])
     os.mkfifo(env / "fifo")
+    (env / "pipe.json").symlink_to(env / "fifo")
     (env / "ur5.json").mkdir()
     names = {**{k: str(v) for k, v in files.items()}, "d": str(env), "link": str(env / "link.toml"),
-             "fifo": str(env / "fifo"), "plugin": str(env.parent / "plugin" /
-                                                      "fkcheck_test_plugin.py")}  # fmt: skip
+             "fifo": str(env / "fifo"), "pipe": str(env / "pipe.json"),
+             "plugin": str(env.parent / "plugin" / "fkcheck_test_plugin.py")}  # fmt: skip
     before = snapshot(env.parent)
     run = run_main([a.format(**names) for a in argv], capsys)
     line = one_error_line(run.err)
@@ -277,7 +282,7 @@ def test_a_bad_output_path_is_one_line_exit_2_before_anything_runs(env, capsys, 
     assert not (env.parent / "marker").exists()  # the check never started
     assert run.seconds < REFUSE_S
     assert sorted(p.name for p in env.iterdir()) == sorted(
-        [*(p.name for p in files.values()), "link.toml", "fifo", "ur5.json"]
+        [*(p.name for p in files.values()), "link.toml", "fifo", "pipe.json", "ur5.json"]
     )  # no directory created, no temporary or probe file left
 
 

@@ -543,12 +543,16 @@ def make_huge(tmp_path: Path) -> Path:
 
 
 SPECIAL_FILES: dict[str, tuple[Callable[[Path], Path], str]] = {
-    "missing": (lambda d: d / "missing.urdf", r"URDF file not found"),
-    "directory": (make_directory, r"is a directory, not a URDF file"),
-    "fifo": (make_fifo, r"is not a regular file \(FIFO\)"),
-    "symlink-to-fifo": (make_fifo_link, r"is not a regular file \(FIFO\)"),
-    "dev-zero": (lambda d: Path("/dev/zero"), r"is not a regular file \(character device\)"),
-    "larger-than-32-MiB": (make_huge, r"34603008 bytes is larger than the 33554432 byte limit"),
+    "missing": (lambda d: d / "missing.urdf", r"missing\.urdf: no such file"),
+    "directory": (make_directory, r"dir\.urdf: is a directory, not a regular file"),
+    "fifo": (make_fifo, r"pipe\.urdf: is a FIFO \(named pipe\), not a regular file"),
+    "symlink-to-fifo": (
+        make_fifo_link,
+        r"link\.urdf: is a symlink to \S*/pipe\.urdf, which is a FIFO \(named pipe\), "
+        r"not a regular file",
+    ),
+    "dev-zero": (lambda d: Path("/dev/zero"), r"zero: is a character device, not a regular file"),
+    "larger-than-32-MiB": (make_huge, r"file too large: 34603008 bytes \(at most 32 MiB\)"),
 }
 
 

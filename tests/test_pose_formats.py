@@ -7,7 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from fkcheck.core.geometry import matrix_from_rpy, matrix_from_xyz_rpy
+from fkcheck.core.geometry import (
+    GIMBAL_LOCK_COS,
+    matrix_from_rpy,
+    matrix_from_xyz_rpy,
+    rpy_from_matrix,
+)
 from fkcheck.core.metrics import rotation_error_rad
 from fkcheck.core.pose_formats import (
     POSE_FORMATS,
@@ -122,6 +127,82 @@ def test_gimbal_lock_round_trips_without_warning(fmt):
     assert_pose_close(matrix_from_pose(pose_from_matrix(T, fmt), fmt), T, SAME_CHAIN, fmt)
 
 
+#: Pitches at the lock (±π/2) and 1e-9 rad on either side of it.
+LOCK_PITCHES = [
+    pytest.param(lock + off, id=f"{name}{tag}")
+    for lock, name in ((math.pi / 2, "+pi/2"), (-math.pi / 2, "-pi/2"))
+    for off, tag in ((0.0, ""), (1e-9, "+1e-9"), (-1e-9, "-1e-9"))
+]
+
+
+def _wrapped(angle):
+    """``angle`` in ``(-π, π]`` (as a float near ±π may land on either end: compare with care)."""
+    return math.atan2(math.sin(angle), math.cos(angle))
+
+
+@pytest.mark.parametrize("pitch", LOCK_PITCHES)
+def test_rpy_round_trips_to_1e_12_at_and_near_the_gimbal_lock(pitch, rng):
+    roll_yaw = rng.uniform(-math.pi, math.pi, size=(200, 2))
+    R = np.stack([matrix_from_rpy([r, pitch, y]) for r, y in roll_yaw])
+    rpy = rpy_from_matrix(R)  # batched: (200, 3)
+    back = np.stack([matrix_from_rpy(angles) for angles in rpy])
+    np.testing.assert_allclose(back, R, rtol=0, atol=1e-12)
+    assert (np.abs(rpy[:, 1]) <= math.pi / 2).all()
+    # The pitch read back is the magnitude asked for, folded into [-π/2, π/2].
+    folded = math.copysign(math.pi - abs(pitch), pitch) if abs(pitch) > math.pi / 2 else pitch
+    np.testing.assert_allclose(rpy[:, 1], folded, rtol=0, atol=1e-15)
+    if abs(pitch) == math.pi / 2:
+        # The documented rule at the exact lock: yaw is 0 and roll carries the turn about
+        # the locked axis, Rz(y)·Ry(±π/2)·Rx(r) = Ry(±π/2)·Rx(r ∓ y).
+        assert (rpy[:, 2] == 0.0).all()
+        expected_roll = roll_yaw[:, 0] - math.copysign(1.0, pitch) * roll_yaw[:, 1]
+        gap = [_wrapped(a - b) for a, b in zip(rpy[:, 0], expected_roll, strict=True)]
+        np.testing.assert_allclose(gap, 0.0, atol=1e-12)
+    else:
+        # 1e-9 rad away the lock rule does not apply: yaw is read, not set to 0.
+        assert np.hypot(R[:, 0, 0], R[:, 1, 0]).min() > GIMBAL_LOCK_COS
+        assert (rpy[:, 2] != 0.0).all()
+
+
+def _one_joint_model(path, tool_rpy):
+    """A one-joint model whose tool pose is ``Rz(q)·tool``: its pitch is the tool's at any q."""
+    path.write_text(
+        'name = "lock"\nconvention = "standard"\n'
+        "[[joint]]\na = 0.1\nalpha = 0.0\nd = 0.2\n"
+        f"[tool]\nxyz = [0.01, 0.02, 0.03]\nrpy = [{', '.join(map(repr, tool_rpy))}]\n",
+        encoding="utf-8",
+    )
+    return path
+
+
+@pytest.mark.parametrize("pitch", LOCK_PITCHES)
+def test_fk_format_rpy_and_the_poses_reader_share_one_rpy_vocabulary(pitch, tmp_path, capsys):
+    """What ``fk --format rpy`` prints is rpy_from_matrix's; the poses: reader takes it back."""
+    from fkcheck import load_model
+    from fkcheck.backends.measured import read_poses_file
+    from fkcheck.cli.main import main
+
+    model = load_model(_one_joint_model(tmp_path / "m.toml", [0.3, pitch, 0.5]))
+    q = np.array([[0.0], [0.2], [-2.5]])
+    (tmp_path / "q.csv").write_text("0\n0.2\n-2.5\n", encoding="utf-8")
+    argv = ["fk", str(model.path), "--q-file", str(tmp_path / "q.csv"), "--format", "rpy"]
+    assert main(argv) == 0
+    lines = [line for line in capsys.readouterr().out.split("\n") if line]
+    printed = np.array([[float(v) for v in line.split()] for line in lines])
+    expected = model.fk(q)
+    # fk prints exactly rpy_from_matrix's numbers (so at the lock, yaw is exactly 0) ...
+    np.testing.assert_array_equal(printed[:, 3:], rpy_from_matrix(expected))
+    if abs(pitch) == math.pi / 2:
+        assert (printed[:, 5] == 0.0).all()
+    # ... and those lines, read back as measured poses, are fk's matrices again.
+    poses = tmp_path / "poses.csv"
+    rows = [f"{float(qi[0])!r} {line}".replace(" ", ",") for qi, line in zip(q, lines, strict=True)]
+    poses.write_text("q1,x,y,z,roll,pitch,yaw\n" + "\n".join(rows) + "\n", encoding="utf-8")
+    q_read, read, _ = read_poses_file(poses, model)
+    np.testing.assert_array_equal(q_read, q)
+    np.testing.assert_allclose(read, expected, rtol=0, atol=1e-12)
+
+
 def test_quaternion_input_is_normalised_and_zero_is_refused():
     T = matrix_from_pose([0, 0, 0, 0, 0, 0.7072, 0.7071], "quat")  # rounded display values
     assert rotation_error_rad(T, matrix_from_xyz_rpy([0, 0, 0], [0, 0, math.pi / 2])) < 2e-4
@@ -149,6 +230,33 @@ def test_format_pose_text_and_record():
     record = pose_record(T, "zyx")
     assert record["position_m"] == [0.5, -0.25, 0.125]
     np.testing.assert_allclose(record["zyx_abc_rad"], [math.pi / 2, 0, 0], atol=1e-15)
+
+
+def test_format_pose_never_prints_a_minus_sign_on_zero():
+    # Round-off far below the printed digits (1e-8 m, 1e-9 rad) must not print as "-0.000000".
+    T = matrix_from_xyz_rpy([-1e-8, 0.25, -4e-7], [-1e-9, 0, math.pi / 2])
+    assert format_pose(T, "rpy") == (
+        "x=0.000000 y=0.250000 z=0.000000 m  roll=0.000000 pitch=0.000000 yaw=1.570796 rad"
+    )
+    assert format_pose(T, "rpy", degrees=True, mm=True) == (
+        "x=0.000 y=250.000 z=0.000 mm  roll=0.000000 pitch=0.000000 yaw=90.000000 deg"
+    )
+    assert format_pose(matrix_from_xyz_rpy([-6e-7, 0, 0], [0, 0, -6e-7]), "rpy") == (
+        "x=-0.000001 y=0.000000 z=0.000000 m  roll=0.000000 pitch=0.000000 yaw=-0.000001 rad"
+    )  # a value that rounds to a digit keeps its sign
+
+
+def test_fk_prints_no_minus_sign_on_zero_in_matrices_and_formats(capsys):
+    from fkcheck.cli.main import main
+
+    # q6 = 1e-8 rad leaves round-off of about 1e-8 where the zero pose has exact zeros.
+    assert main(["fk", "ur5", "--q", "0,0,0,0,0,1e-8", "--format", "rpy"]) == 0
+    out = capsys.readouterr().out
+    assert "pitch=0.000000" in out
+    assert main(["fk", "ur5", "--q", "0,0,0,0,0,1e-8"]) == 0
+    matrix = capsys.readouterr().out
+    assert "-0.000000" not in matrix
+    assert matrix.split("\n")[0].split() == ["1.000000", "0.000000", "0.000000", "-0.817250"]
 
 
 def test_fk_format_flag_prints_zyx_of_the_seed_pose(capsys):

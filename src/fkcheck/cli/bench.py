@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from fkcheck.report.format import format_microseconds
+from fkcheck.report.format import format_length_console, format_microseconds
 
 __all__ = ["add_parser", "run", "write_json"]
 
@@ -119,7 +119,7 @@ def _table(result: Any, tol: float) -> Any:
     table.add_column("µs/pose", justify="right")
     table.add_column("poses/s", justify="right")
     table.add_column("× peer", justify="right")
-    table.add_column("max |Δp| m", justify="right")
+    table.add_column("max |Δp|", justify="right")
     notes = []
     for t in result.timings:
         notes.append(terminal_text(f"{t.name}: {f'skipped, {t.skipped}' if t.skipped else t.note}"))
@@ -131,7 +131,7 @@ def _table(result: Any, tol: float) -> Any:
             notes[-1] = terminal_text(f"{t.name}: FAILED, {t.error}")
             continue
         speedup = result.speedup(t)
-        err = "" if t.max_pos_err_m is None else f"{t.max_pos_err_m:.1e}"
+        err = "" if t.max_pos_err_m is None else format_length_console(t.max_pos_err_m)
         if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol:
             err = f"[bold red]{err}[/]"
         table.add_row(

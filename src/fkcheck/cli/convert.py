@@ -46,6 +46,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.model.read import load_model, model_from_dict
     from fkcheck.model.sampling import sample_configurations
     from fkcheck.model.write import model_to_toml, relocate_urdf_path
+    from fkcheck.report.format import format_angle_console, format_length_console
 
     if args.samples < 0:
         raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
@@ -69,8 +70,8 @@ def run(args: argparse.Namespace) -> int:
     summary = (
         f"fkcheck convert: {terminal_text(model.name)} {model.convention} → {args.to}: "
         f"{'equivalent' if ok else 'NOT equivalent'} over {q.shape[0]} configurations and "
-        f"{len(model.frames)} named frames (max position error {pos:.3g} m, "
-        f"max rotation error {rot:.3g} rad)"
+        f"{len(model.frames)} named frames (max position error {format_length_console(pos)}, "
+        f"max rotation error {format_angle_console(rot)})"
     )
     if args.output is None:
         sys.stdout.write(text)

@@ -18,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.io.strict_json import strict_json
+from fkcheck.report.format import format_fixed
 
 if TYPE_CHECKING:
     from fkcheck.model.types import Model
@@ -40,7 +41,7 @@ def add_parser(sub: Any) -> None:
     src = p.add_mutually_exclusive_group()
     src.add_argument("--q", help="joint values, comma-separated (radians unless --deg)")
     src.add_argument("--q-file", type=Path, help="CSV file: one configuration per line")
-    src.add_argument("--pose", help="a named pose of the model (e.g. zero, article)")
+    src.add_argument("--pose", help="a named pose of the model (e.g. zero, worked_example)")
     p.add_argument("--deg", action="store_true", help="revolute joint values are in degrees")
     p.add_argument("--all-frames", action="store_true", help="print every DH frame T_0_i")
     p.add_argument("--json", action="store_true", help="print JSON")
@@ -102,8 +103,7 @@ def _write_json_array(records: Iterable[dict[str, Any]]) -> None:
 
 
 def _format_matrix(T: NDArray[np.float64]) -> str:
-    T = np.where(np.abs(T) < 5e-7, 0.0, T)  # print -0.000000 as 0.000000
-    return "\n".join(" ".join(f"{v:10.6f}" for v in row) for row in T)
+    return "\n".join(" ".join(f"{format_fixed(v, 6):>10}" for v in row) for row in T)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -59,6 +59,16 @@ def _rotation_class() -> Any:
     return Rotation
 
 
+def _fixed(value: float, digits: int) -> str:
+    """Fixed-point text without a minus sign on zero (``-1e-8`` reads ``0.000000``).
+
+    The rule of :func:`fkcheck.report.format.format_fixed`, which the core cannot
+    import (the report layer sits above it).
+    """
+    text = f"{value:.{digits}f}"
+    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
+
+
 def _check_format(fmt: str) -> None:
     if fmt not in POSE_FORMATS:
         raise ValueError(f"unknown pose format {fmt!r}; formats are: {', '.join(POSE_FORMATS)}")
@@ -177,10 +187,9 @@ def format_pose(T: ArrayLike, fmt: PoseFormat, *, degrees: bool = False, mm: boo
     numbers = pose_from_matrix(T, fmt)
     if numbers.ndim != 1:
         raise ValueError("format_pose takes one pose (4, 4)")
-    numbers = np.where(np.abs(numbers) < 5e-10, 0.0, numbers)  # no "-0.000000"
     scale, unit = (1000.0, "mm") if mm else (1.0, "m")
     position = " ".join(
-        f"{label}={value * scale:.{3 if mm else 6}f}"
+        f"{label}={_fixed(value * scale, 3 if mm else 6)}"
         for label, value in zip("xyz", numbers[:3], strict=True)
     )
     labels = _ROTATION_LABELS[fmt]
@@ -190,5 +199,7 @@ def format_pose(T: ArrayLike, fmt: PoseFormat, *, degrees: bool = False, mm: boo
         rot_unit = "deg"
     else:
         rot_unit = "" if fmt == "quat" else "rad"
-    text = " ".join(f"{label}={value:.6f}" for label, value in zip(labels, rotation, strict=True))
+    text = " ".join(
+        f"{label}={_fixed(value, 6)}" for label, value in zip(labels, rotation, strict=True)
+    )
     return f"{position} {unit}  {text}" + (f" {rot_unit}" if rot_unit else "")

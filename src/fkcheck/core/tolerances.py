@@ -35,7 +35,7 @@ FAST_CORE = 1e-14
 ROUNDED_URDF = 1e-9
 
 #: Values printed to six decimals (the matrices a UR5 forward-kinematics tutorial
-#: computes by hand at the ur5 model's pose ``article``): half a unit in the last
+#: computes by hand at the ur5 model's pose ``worked_example``): half a unit in the last
 #: place is 5e-7, so 1e-6 is the tightest honest bound.
 SIX_DECIMALS = 1e-6
 

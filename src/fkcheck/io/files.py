@@ -1,12 +1,20 @@
-"""Reading input files: regular files only, bounded in size and line length, UTF-8.
+"""What kind of file a path is, and reading input files: regular files only, bounded, UTF-8.
+
+:func:`classify_path` is the one place that looks at what a path names without
+opening it, and :func:`file_kind` the one wording for each kind of file ("a
+directory", "a FIFO (named pipe)", "a character device", "a socket", …);
+:meth:`PathKind.describe` adds symbolic links ("a symlink to pipe.urdf, which
+is a FIFO (named pipe)"). The readers here, the URDF screen
+(:mod:`fkcheck.urdf.screen`) and the output-path policy
+(:mod:`fkcheck.io.output_paths`) all say what a path is in these words.
 
 A path from the command line or a model file may name anything: a FIFO (opening
 it for reading blocks until some writer comes), a directory, a device
 (``/dev/zero`` never ends), or a file of many gigabytes. The readers here look
-at the path with ``os.stat`` first and refuse whatever is not a regular file
-without opening it; they then open it non-blocking, check the open descriptor
-again (the path may have been swapped in between) and never read more than the
-caller's bound:
+at the path first (:func:`check_regular_file`) and refuse whatever is not a
+regular file without opening it; they then open it non-blocking, check the open
+descriptor again (the path may have been swapped in between) and never read
+more than the caller's bound:
 
 * :data:`MAX_MODEL_FILE_BYTES` (1 MiB) for a model file (TOML or DH CSV): a
   256-joint table with every optional section takes well under 100 kB;
@@ -24,9 +32,11 @@ spreadsheet exports write) is skipped. Lines end as for :meth:`str.splitlines`
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
 from collections.abc import Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
@@ -37,7 +47,11 @@ __all__ = [
     "MAX_MODEL_FILE_BYTES",
     "MAX_TABLE_FILE_BYTES",
     "InputFileError",
+    "PathKind",
+    "check_regular_file",
+    "classify_path",
     "file_kind",
+    "read_bytes",
     "read_lines",
     "read_text",
 ]
@@ -51,12 +65,16 @@ MAX_LINE_BYTES = 64 << 10
 
 _BOM = b"\xef\xbb\xbf"
 _KINDS = (
+    (stat.S_ISREG, "a regular file"),
     (stat.S_ISDIR, "a directory"),
     (stat.S_ISFIFO, "a FIFO (named pipe)"),
     (stat.S_ISCHR, "a character device"),
     (stat.S_ISBLK, "a block device"),
     (stat.S_ISSOCK, "a socket"),
 )
+#: ``os.stat`` errors that mean "nothing there": no such name, or a file where
+#: the path needs a directory on the way (``model.toml/x``).
+_MISSING = (errno.ENOENT, errno.ENOTDIR)
 _OPEN_FLAGS = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
 
 
@@ -79,8 +97,88 @@ def _size(n_bytes: int) -> str:
 
 
 def file_kind(mode: int) -> str:
-    """What a file that is not a regular file is, in words: ``"a FIFO (named pipe)"``."""
+    """What a file of this ``st_mode`` is, in words.
+
+    One of ``"a regular file"``, ``"a directory"``, ``"a FIFO (named pipe)"``,
+    ``"a character device"``, ``"a block device"``, ``"a socket"`` or
+    ``"a special file"``.
+    """
     return next((name for test, name in _KINDS if test(mode)), "a special file")
+
+
+@dataclass(frozen=True)
+class PathKind:
+    """What a path names, looked at without opening anything (:func:`classify_path`).
+
+    Attributes:
+        stat: What the path names, symbolic links followed; ``None`` when
+            ``os.stat`` failed (nothing there, or it cannot be looked at).
+        link: Where the path points when it is itself a symbolic link, as the
+            link says (``os.readlink``); ``None`` when it is none.
+        errno: Why ``os.stat`` failed (``errno.ENOENT`` …); ``None`` when it
+            did not, or when the path holds a NUL character.
+        reason: Why ``os.stat`` failed, in words (``"Permission denied"``);
+            ``None`` when it did not.
+    """
+
+    stat: os.stat_result | None
+    link: str | None = None
+    errno: int | None = None
+    reason: str | None = None
+
+    @property
+    def missing(self) -> bool:
+        """Nothing there: no such name, a symbolic link to nothing, or a file on the way."""
+        return self.errno in _MISSING
+
+    @property
+    def is_regular(self) -> bool:
+        """A regular file (perhaps through symbolic links)."""
+        return self.stat is not None and stat.S_ISREG(self.stat.st_mode)
+
+    @property
+    def is_dir(self) -> bool:
+        """A directory (perhaps through symbolic links)."""
+        return self.stat is not None and stat.S_ISDIR(self.stat.st_mode)
+
+    def describe(self) -> str:
+        """What the path is, in the words every message uses.
+
+        ``"a directory"``, ``"a FIFO (named pipe)"`` (:func:`file_kind`);
+        through a symbolic link ``"a symlink to pipe.urdf, which is a FIFO
+        (named pipe)"`` or ``"a symlink to gone.toml, which does not exist"``;
+        ``"nothing (no such file)"``; ``"a path that cannot be looked at
+        (Permission denied)"``.
+        """
+        if self.stat is not None:
+            what = file_kind(self.stat.st_mode)
+        elif self.missing:
+            if self.link is not None:
+                return f"a symlink to {self.link}, which does not exist"
+            what = "nothing (no such file)"
+        else:
+            what = f"a path that cannot be looked at ({self.reason})"
+        return what if self.link is None else f"a symlink to {self.link}, which is {what}"
+
+
+def classify_path(path: Path | str) -> PathKind:
+    """Look at what ``path`` names, with ``os.lstat`` and ``os.stat``: nothing is opened.
+
+    Never raises: a path that cannot be looked at (missing, no permission, a
+    NUL character) gives a :class:`PathKind` whose ``stat`` is ``None``.
+    """
+    link = None
+    try:
+        if stat.S_ISLNK(os.lstat(path).st_mode):
+            link = os.readlink(path)
+    except (OSError, ValueError):
+        pass  # os.stat below fails the same way and says why
+    try:
+        return PathKind(os.stat(path), link)
+    except ValueError:  # an embedded NUL
+        return PathKind(None, link, None, "the path holds a NUL character")
+    except OSError as exc:
+        return PathKind(None, link, exc.errno, exc.strerror or str(exc))
 
 
 def _not_regular(mode: int) -> str | None:
@@ -89,20 +187,39 @@ def _not_regular(mode: int) -> str | None:
     return f"is {file_kind(mode)}, not a regular file"
 
 
+def check_regular_file(path: Path | str, max_bytes: int) -> os.stat_result:
+    """Look at ``path`` without opening it: an existing regular file of at most ``max_bytes``.
+
+    Symbolic links are followed, and named in the message when what they point
+    to is refused.
+
+    Returns:
+        Its ``os.stat`` result.
+
+    Raises:
+        InputFileError: Missing (``"no such file"``), cannot be looked at, not
+            a regular file (``"is a directory, not a regular file"``), or larger
+            than ``max_bytes``.
+    """
+    found = classify_path(path)
+    if found.stat is None:
+        if found.link is not None:
+            raise InputFileError(path, f"is {found.describe()}")
+        if found.missing:
+            raise InputFileError(path, "no such file")
+        raise InputFileError(path, f"cannot read: {found.reason}")
+    if not found.is_regular:
+        raise InputFileError(path, f"is {found.describe()}, not a regular file")
+    if found.stat.st_size > max_bytes:
+        raise InputFileError(
+            path, f"file too large: {found.stat.st_size} bytes (at most {_size(max_bytes)})"
+        )
+    return found.stat
+
+
 def _open_regular(path: Path, max_bytes: int) -> BinaryIO:
     """Open ``path`` for reading after making sure it is a regular file of at most ``max_bytes``."""
-    try:
-        info = os.stat(path)
-    except FileNotFoundError:
-        raise InputFileError(path, "no such file") from None
-    except (OSError, ValueError) as exc:  # ValueError: a NUL character in the path
-        reason = getattr(exc, "strerror", None) or str(exc)
-        raise InputFileError(path, f"cannot read: {reason}") from None
-    problem = _not_regular(info.st_mode)
-    if problem is None and info.st_size > max_bytes:
-        problem = f"file too large: {info.st_size} bytes (at most {_size(max_bytes)})"
-    if problem is not None:
-        raise InputFileError(path, problem)
+    check_regular_file(path, max_bytes)
     try:
         fd = os.open(path, _OPEN_FLAGS)
     except OSError as exc:
@@ -112,6 +229,30 @@ def _open_regular(path: Path, max_bytes: int) -> BinaryIO:
         os.close(fd)
         raise InputFileError(path, problem)
     return os.fdopen(fd, "rb")
+
+
+def read_bytes(path: Path | str, max_bytes: int) -> bytes:
+    """The bytes of a regular file of at most ``max_bytes`` bytes, read without ever blocking.
+
+    The path is looked at first (:func:`check_regular_file`), then opened
+    non-blocking and checked again on the open descriptor, so a path swapped
+    for a FIFO in between cannot block either. At most ``max_bytes + 1`` bytes
+    are read.
+
+    Raises:
+        InputFileError: As :func:`check_regular_file`, the file cannot be read,
+            or it holds more than ``max_bytes`` bytes after all (it grew, or a
+            ``/proc`` file of size 0).
+    """
+    path = Path(path)
+    try:
+        with _open_regular(path, max_bytes) as f:
+            data = f.read(max_bytes + 1)
+    except OSError as exc:
+        raise InputFileError(path, f"cannot read: {exc.strerror or exc}") from None
+    if len(data) > max_bytes:
+        raise InputFileError(path, f"file too large: more than {_size(max_bytes)}")
+    return data
 
 
 def _decode(data: bytes, path: Path, where: str) -> str:
@@ -129,13 +270,7 @@ def read_text(path: Path | str, max_bytes: int = MAX_MODEL_FILE_BYTES) -> str:
             then), larger than ``max_bytes``, or not UTF-8.
     """
     path = Path(path)
-    try:
-        with _open_regular(path, max_bytes) as f:
-            data = f.read(max_bytes + 1)
-    except OSError as exc:
-        raise InputFileError(path, f"cannot read: {exc.strerror or exc}") from None
-    if len(data) > max_bytes:  # grew after the stat, or a /proc file of size 0
-        raise InputFileError(path, f"file too large: more than {_size(max_bytes)}")
+    data = read_bytes(path, max_bytes)
     if data.startswith(_BOM):
         data = data[len(_BOM) :]
     if b"\n" in data:

@@ -19,7 +19,8 @@ before the (possibly long) work starts. The rules:
   and ``/proc`` alike), and every new name fits the file system's limits.
 
 A path that breaks a rule is an :class:`OutputPathError`: one line, exit 2,
-naming the option, the path and what is wrong. Missing parent directories are
+naming the option, the path and what is wrong (what a path is, in the words of
+:func:`fkcheck.io.files.classify_path`). Missing parent directories are
 created when the file is written (:mod:`fkcheck.io.atomic`).
 
 The plan also remembers what each output was before the run, so that an
@@ -46,7 +47,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fkcheck.errors import FkcheckError
-from fkcheck.io.files import file_kind
+from fkcheck.io.files import classify_path, file_kind
 
 __all__ = [
     "Output",
@@ -63,6 +64,9 @@ _NAME_MAX = 255
 _PATH_MAX = 4096
 
 _Identity = tuple[int, int]  # (st_dev, st_ino)
+#: ``os.stat`` errors of a path that is new (or whose directory is): the
+#: checks of its directory and name lengths then say what is wrong, if anything.
+_NEW = (errno.ENOENT, errno.ENOTDIR, errno.ENAMETOOLONG)
 
 
 class OutputPathError(FkcheckError):
@@ -147,19 +151,15 @@ def _existing_ancestor(flag: str, path: Path) -> tuple[Path, list[str]]:
     missing: list[str] = []
     current = Path(os.path.abspath(path)).parent
     while True:
-        try:
-            st = os.stat(current)
-        except OSError as exc:
-            if exc.errno not in (errno.ENOENT, errno.ENOTDIR, errno.ENAMETOOLONG):
-                raise OutputPathError(
-                    flag, path, f"cannot look at {current}: {exc.strerror}"
-                ) from None
+        found = classify_path(current)
+        if found.stat is None:
+            if found.errno not in _NEW:
+                raise OutputPathError(flag, path, f"cannot look at {current}: {found.reason}")
             missing.append(current.name)
             current = current.parent
             continue
-        if not stat.S_ISDIR(st.st_mode):
-            kind = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
-            raise OutputPathError(flag, path, f"{current} is {kind}, not a directory")
+        if not found.is_dir:
+            raise OutputPathError(flag, path, f"{current} is {found.describe()}, not a directory")
         return current, missing[::-1]
 
 
@@ -213,21 +213,16 @@ def _check_one(
     flag: str, path: Path, inputs: dict[_Identity, str], probed: set[Path]
 ) -> _Identity | None:
     """Apply the policy to one output; its identity before the run (``None`` when new)."""
-    try:
-        st = os.stat(path)
-    except ValueError:  # an embedded NUL
-        raise OutputPathError(flag, path, "the path holds a NUL character") from None
-    except OSError as exc:
-        if exc.errno not in (errno.ENOENT, errno.ENOTDIR, errno.ENAMETOOLONG):
-            raise OutputPathError(flag, path, exc.strerror or str(exc)) from None
-        st = None  # new, or a problem of its directory: the next check names it
+    found = classify_path(path)
+    st = found.stat
+    if st is None and found.errno not in _NEW:  # new, or a problem of its directory:
+        raise OutputPathError(flag, path, str(found.reason))  # the next check names that
     identity = None
     if st is not None:
-        if not stat.S_ISREG(st.st_mode):
+        if not found.is_regular:
             raise OutputPathError(
-                flag, path, f"is {file_kind(st.st_mode)}; fkcheck writes only regular files or new "
-                "paths"
-            )  # fmt: skip
+                flag, path, f"is {found.describe()}; fkcheck writes only regular files or new paths"
+            )
         identity = (st.st_dev, st.st_ino)
         if identity in inputs:
             raise OutputPathError(
@@ -286,18 +281,14 @@ def check_output_dir(flag: str, path: Path | str) -> None:
             a file), or it cannot be created or written.
     """
     directory = Path(path)
-    try:
-        st = os.stat(directory)
-    except OSError as exc:
-        if exc.errno not in (errno.ENOENT, errno.ENOTDIR, errno.ENAMETOOLONG):
-            raise OutputPathError(flag, directory, exc.strerror or str(exc)) from None
+    found = classify_path(directory)
+    if found.stat is None:
+        if found.errno not in _NEW:
+            raise OutputPathError(flag, directory, str(found.reason))
         _check_writable_location(flag, directory)
         return
-    except ValueError:  # an embedded NUL
-        raise OutputPathError(flag, directory, "the path holds a NUL character") from None
-    if not stat.S_ISDIR(st.st_mode):
-        kind = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
-        raise OutputPathError(flag, directory, f"is {kind}, not a directory")
+    if not found.is_dir:
+        raise OutputPathError(flag, directory, f"is {found.describe()}, not a directory")
     _check_writable_location(flag, directory / "index.html")
 
 
@@ -317,16 +308,16 @@ def step_summary_problem(
         same_file = identity is not None and output.before == identity
         if same_file or os.path.realpath(output.path) == os.path.realpath(target):
             return f"is also {output.flag}, an output of this run"
-    try:
-        st = os.stat(target)
-    except FileNotFoundError:
+    found = classify_path(target)
+    st = found.stat
+    if st is None:
+        if found.errno != errno.ENOENT:
+            return str(found.reason)
         if not target.parent.is_dir():
             return f"its directory {target.parent} does not exist"
         return None
-    except (OSError, ValueError) as exc:
-        return getattr(exc, "strerror", None) or str(exc)
-    if not stat.S_ISREG(st.st_mode):
-        return f"is {file_kind(st.st_mode)}, not a regular file"
+    if not found.is_regular:
+        return f"is {found.describe()}, not a regular file"
     label = _input_identities(inputs).get((st.st_dev, st.st_ino))
     if label is not None:
         return f"is {label}, an input of this run"

@@ -102,7 +102,11 @@ def load_model(name_or_path: str | Path) -> Model:
 
 
 def _model_from_csv(content: str, path: Path) -> Model:
-    """Read the seed's plain DH CSV: ``name,a,alpha,d,theta_offset``, standard DH, radians."""
+    """Read a plain DH CSV: ``name,a,alpha,d,theta_offset`` per joint, standard DH, radians.
+
+    The layout of the DH file the robot-model article (Part 3) of a series on a
+    C++/Eigen arm controller reads (its ``parseDhCsv``).
+    """
     joints = []
     for lineno, line in enumerate(content.splitlines(), start=1):
         stripped = line.strip()

@@ -7,8 +7,8 @@ other single-byte encodings expat and Python's codecs know). It refuses, with
 one :class:`~fkcheck.errors.UrdfError` naming the file, the line and the problem:
 
 * a path that is not a regular file (a directory, a FIFO, a device): it is
-  looked at with ``os.stat`` before it is opened, and opened non-blocking, so
-  a FIFO never blocks;
+  looked at before it is opened, and opened non-blocking, so a FIFO never
+  blocks (:func:`fkcheck.io.files.read_bytes`, whose words these messages use);
 * a file over :data:`MAX_URDF_BYTES`;
 * any DTD — ``<!DOCTYPE``, hence any entity declaration — seen by expat's
   handlers, whatever the encoding: a URDF never needs one, and it is how entity
@@ -39,13 +39,13 @@ from __future__ import annotations
 
 import os
 import re
-import stat
 import xml.etree.ElementTree as ET
 import xml.parsers.expat as expat
 from dataclasses import dataclass
 from pathlib import Path
 
 from fkcheck.errors import UrdfError
+from fkcheck.io.files import InputFileError, check_regular_file, read_bytes
 
 __all__ = [
     "MAX_URDF_BYTES",
@@ -69,13 +69,6 @@ MAX_XML_DEPTH = 64
 #: xacro's substitutions: ``${expression}`` (Python) and ``$(arg|find|env|eval …)``.
 _XACRO = re.compile(r"\$[{(]")
 _XINCLUDE_NS = ("http://www.w3.org/2001/XInclude", "http://www.w3.org/2003/XInclude")
-
-_FILE_KINDS = (
-    (stat.S_ISFIFO, "FIFO"),
-    (stat.S_ISCHR, "character device"),
-    (stat.S_ISBLK, "block device"),
-    (stat.S_ISSOCK, "socket"),
-)
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,84 +94,45 @@ class ScreenedUrdf:
         return ET.tostring(self.root, encoding="unicode")
 
 
-def _kind(mode: int) -> str | None:
-    """What a non-regular, non-directory file is, in words (``None`` for a regular file)."""
-    if stat.S_ISREG(mode):
-        return None
-    return next((name for test, name in _FILE_KINDS if test(mode)), "special file")
-
-
 def check_urdf_path(path: Path, shown: Path | str | None = None) -> os.stat_result:
     """Look at ``path`` without opening it: it must be an existing regular file.
 
     Args:
         path: The file (symbolic links are followed).
         shown: How messages name it (default: ``path``), e.g. the spec as the
-            model file writes it.
+            model file writes it; the message then names ``path`` too.
 
     Returns:
         Its ``os.stat`` result.
 
     Raises:
-        UrdfError: Missing, unreadable, a directory, or not a regular file (a FIFO,
-            a device, a socket), or larger than :data:`MAX_URDF_BYTES`.
+        UrdfError: Missing, cannot be looked at, not a regular file (a
+            directory, a FIFO, a device, a socket), or larger than
+            :data:`MAX_URDF_BYTES`.
     """
     name = path if shown is None else shown
     try:
-        st = os.stat(path)
-    except (FileNotFoundError, NotADirectoryError):
+        return check_regular_file(path, MAX_URDF_BYTES)
+    except InputFileError as exc:
         where = f" ({path})" if str(path) != str(name) else ""
-        raise UrdfError(name, f"URDF file not found{where}") from None
-    except OSError as exc:
-        raise UrdfError(name, f"cannot look at the URDF file: {exc.strerror}") from None
-    if stat.S_ISDIR(st.st_mode):
-        raise UrdfError(name, "is a directory, not a URDF file")
-    kind = _kind(st.st_mode)
-    if kind is not None:
-        raise UrdfError(name, f"is not a regular file ({kind}), so it cannot be a URDF file")
-    if st.st_size > MAX_URDF_BYTES:
-        raise UrdfError(
-            name, f"{st.st_size} bytes is larger than the {MAX_URDF_BYTES} byte limit for a URDF"
-        )
-    return st
+        raise UrdfError(name, f"{exc.problem}{where}") from None
 
 
 def read_urdf_bytes(path: Path) -> bytes:
     """The bytes of a URDF file, read without ever blocking on it.
 
-    :func:`check_urdf_path` runs first; the file is then opened with
+    The path is looked at first (:func:`check_urdf_path`), then opened with
     ``O_NONBLOCK`` and checked again on the open descriptor, so a path swapped
-    for a FIFO in between cannot block either. At most :data:`MAX_URDF_BYTES`
-    are read.
+    for a FIFO in between cannot block either (:func:`fkcheck.io.files.read_bytes`).
+    At most :data:`MAX_URDF_BYTES` + 1 bytes are read.
 
     Raises:
         UrdfError: As :func:`check_urdf_path`, or the file cannot be read.
     """
-    check_urdf_path(path)
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
     try:
-        fd = os.open(path, flags | getattr(os, "O_CLOEXEC", 0))
-    except OSError as exc:
-        raise UrdfError(path, f"cannot open the URDF file: {exc.strerror}") from None
-    try:
-        kind = _kind(os.fstat(fd).st_mode)
-        if kind is not None:
-            raise UrdfError(path, f"is not a regular file ({kind}), so it cannot be a URDF file")
-        chunks: list[bytes] = []
-        size = 0
-        while size <= MAX_URDF_BYTES:
-            chunk = os.read(fd, min(1 << 20, MAX_URDF_BYTES + 1 - size))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-    except OSError as exc:
-        raise UrdfError(path, f"cannot read the URDF file: {exc.strerror}") from None
-    finally:
-        os.close(fd)
-    if size > MAX_URDF_BYTES:
-        raise UrdfError(path, f"is larger than the {MAX_URDF_BYTES} byte limit for a URDF")
-    return b"".join(chunks)
+        return read_bytes(path, MAX_URDF_BYTES)
+    except InputFileError as exc:
+        raise UrdfError(path, exc.problem) from None
 
 
 class _Refused(Exception):
