@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from fkcheck.cli.main import main
-from fkcheck.report.format import format_deg, format_mm, format_rad
+from fkcheck.io.format import format_deg, format_mm, format_rad
 from tests.report_cases import page_numbers
 from tests.test_report_cli import URDF_BACKENDS, ur5_variant
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fkcheck.core.tolerances import SAME_CHAIN
-from fkcheck.report.format import (
+from fkcheck.io.format import (
     format_angle_console,
     format_angle_summary,
     format_constant,

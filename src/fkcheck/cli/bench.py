@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from fkcheck.report.format import format_length_console, format_microseconds
+from fkcheck.io.format import format_length_console, format_microseconds
 
 __all__ = ["add_parser", "run", "write_json"]
 

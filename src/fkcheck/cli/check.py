@@ -28,8 +28,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.errors import FkcheckError
+from fkcheck.io.format import format_angle_console, format_length_console
 from fkcheck.io.text import terminal_markup, terminal_text
-from fkcheck.report.format import format_angle_console, format_length_console
 
 if TYPE_CHECKING:
     from fkcheck.api import Outcome

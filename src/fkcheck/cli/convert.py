@@ -41,12 +41,12 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.cli._outputs import model_inputs, plan
     from fkcheck.errors import JointInputError
     from fkcheck.io.atomic import write_text_atomic
+    from fkcheck.io.format import format_angle_console, format_length_console
     from fkcheck.io.text import terminal_text
     from fkcheck.model.convert import convert_model, equivalence_error
     from fkcheck.model.read import load_model, model_from_dict
     from fkcheck.model.sampling import sample_configurations
     from fkcheck.model.write import model_to_toml, relocate_urdf_path
-    from fkcheck.report.format import format_angle_console, format_length_console
 
     if args.samples < 0:
         raise JointInputError(f"--samples must be 0 or more, got {args.samples}")

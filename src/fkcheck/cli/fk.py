@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.io.format import format_fixed
 from fkcheck.io.strict_json import strict_json
-from fkcheck.report.format import format_fixed
 
 if TYPE_CHECKING:
     from fkcheck.model.types import Model

@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike
 
 from fkcheck.core.geometry import rpy_from_matrix
 from fkcheck.core.typing import Float
+from fkcheck.io.format import format_fixed
 
 __all__ = [
     "POSE_FORMATS",
@@ -57,16 +58,6 @@ def _rotation_class() -> Any:
     from scipy.spatial.transform import Rotation
 
     return Rotation
-
-
-def _fixed(value: float, digits: int) -> str:
-    """Fixed-point text without a minus sign on zero (``-1e-8`` reads ``0.000000``).
-
-    The rule of :func:`fkcheck.report.format.format_fixed`, which the core cannot
-    import (the report layer sits above it).
-    """
-    text = f"{value:.{digits}f}"
-    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
 
 
 def _check_format(fmt: str) -> None:
@@ -189,7 +180,7 @@ def format_pose(T: ArrayLike, fmt: PoseFormat, *, degrees: bool = False, mm: boo
         raise ValueError("format_pose takes one pose (4, 4)")
     scale, unit = (1000.0, "mm") if mm else (1.0, "m")
     position = " ".join(
-        f"{label}={_fixed(value * scale, 3 if mm else 6)}"
+        f"{label}={format_fixed(value * scale, 3 if mm else 6)}"
         for label, value in zip("xyz", numbers[:3], strict=True)
     )
     labels = _ROTATION_LABELS[fmt]
@@ -200,6 +191,6 @@ def format_pose(T: ArrayLike, fmt: PoseFormat, *, degrees: bool = False, mm: boo
     else:
         rot_unit = "" if fmt == "quat" else "rad"
     text = " ".join(
-        f"{label}={_fixed(value, 6)}" for label, value in zip(labels, rotation, strict=True)
+        f"{label}={format_fixed(value, 6)}" for label, value in zip(labels, rotation, strict=True)
     )
     return f"{position} {unit}  {text}" + (f" {rot_unit}" if rot_unit else "")

@@ -14,7 +14,7 @@ the diagnosis: everything shown was gathered by the engine
   from :mod:`~fkcheck.report.backend_view`, :mod:`~fkcheck.report.partings`,
   :mod:`~fkcheck.report.model_view`, :mod:`~fkcheck.report.diagnosis` and
   :mod:`~fkcheck.report.index`; pictures by :mod:`~fkcheck.report.plots`;
-* numbers: :mod:`~fkcheck.report.format` is the one formatter,
+* numbers: :mod:`~fkcheck.io.format` is the one formatter,
   :mod:`~fkcheck.report.measures` packs its strings into view values.
 
 May import: every layer below (engine, diagnose and their types). Every writer

@@ -1,6 +1,6 @@
 """The report's backend rows and per-backend details (worst cases, arm drawing) as views.
 
-Every number goes through :mod:`fkcheck.report.format`; text from a model
+Every number goes through :mod:`fkcheck.io.format`; text from a model
 file or URDF passes through unchanged and is escaped by the templates.
 """
 
@@ -12,7 +12,7 @@ import numpy as np
 
 from fkcheck.engine.evidence import WorstCases
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.report.format import (
+from fkcheck.io.format import (
     format_seconds,
 )
 from fkcheck.report.views import (

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from fkcheck.report.format import format_seconds
+from fkcheck.io.format import format_seconds
 from fkcheck.report.measures import measure_deg, measure_m
 from fkcheck.report.views import AxisView, DiagnosisView, ExplanationView
 

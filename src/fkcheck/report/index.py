@@ -1,6 +1,6 @@
 """The index page of a run over several models: one row per model, one overall verdict.
 
-Every number goes through :mod:`fkcheck.report.format`; text from a model
+Every number goes through :mod:`fkcheck.io.format`; text from a model
 file or URDF passes through unchanged and is escaped by the templates.
 """
 

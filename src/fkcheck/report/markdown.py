@@ -17,8 +17,8 @@ from pathlib import Path
 
 from fkcheck.engine.results import CheckResult
 from fkcheck.engine.verdict import KINDS, evidence_sentences, headline
+from fkcheck.io.format import format_angle_summary, format_length_summary
 from fkcheck.io.text import markdown_text as escape_markdown
-from fkcheck.report.format import format_angle_summary, format_length_summary
 
 __all__ = ["escape_markdown", "markdown_summary", "write_summary"]
 

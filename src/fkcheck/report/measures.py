@@ -1,6 +1,6 @@
 """Numbers and poses as the report's view values: lengths, angles, matrices, pose forms.
 
-Every string comes from :mod:`fkcheck.report.format` (the one number
+Every string comes from :mod:`fkcheck.io.format` (the one number
 formatter); this module only packs them into the view types of
 :mod:`fkcheck.report.views`.
 """
@@ -17,8 +17,7 @@ from numpy.typing import NDArray
 from fkcheck.core.geometry import rpy_from_matrix
 from fkcheck.core.tolerances import SAME_CHAIN
 from fkcheck.core.typing import Float
-from fkcheck.model.types import Model, Offset
-from fkcheck.report.format import (
+from fkcheck.io.format import (
     format_constant,
     format_deg,
     format_fixed,
@@ -27,6 +26,7 @@ from fkcheck.report.format import (
     format_rad,
     format_value,
 )
+from fkcheck.model.types import Model, Offset
 from fkcheck.report.views import (
     JointValue,
     MatrixCell,

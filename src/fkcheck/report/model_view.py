@@ -1,6 +1,6 @@
 """The report's model section: the DH table, A_i, base, tool and named frames as views.
 
-Every number goes through :mod:`fkcheck.report.format`; text from a model
+Every number goes through :mod:`fkcheck.io.format`; text from a model
 file or URDF passes through unchanged and is escaped by the templates.
 """
 
@@ -10,11 +10,11 @@ import math
 from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
-from fkcheck.model.types import FrameSpec, Model, Offset
-from fkcheck.report.format import (
+from fkcheck.io.format import (
     format_constant,
     format_fixed,
 )
+from fkcheck.model.types import FrameSpec, Model, Offset
 from fkcheck.report.views import (
     DhRow,
     FrameRow,

@@ -1,6 +1,6 @@
 """A check → its report page's view model: verdict, facts, headline, sections.
 
-Every number goes through :mod:`fkcheck.report.format`; text from a model
+Every number goes through :mod:`fkcheck.io.format`; text from a model
 file or URDF passes through unchanged and is escaped by the templates.
 """
 
@@ -14,7 +14,7 @@ from fkcheck._version import __version__
 from fkcheck.engine.results import REFERENCE_NAME, CheckResult
 from fkcheck.engine.verdict import KINDS, evidence_sentences
 from fkcheck.engine.verdict import headline as verdict_headline
-from fkcheck.report.format import (
+from fkcheck.io.format import (
     format_deg,
     format_m,
     format_mm,

@@ -1,6 +1,6 @@
 """Where two chains part: DH frames against DH frames, or joint axes against the URDF, as views.
 
-Every number goes through :mod:`fkcheck.report.format`; text from a model
+Every number goes through :mod:`fkcheck.io.format`; text from a model
 file or URDF passes through unchanged and is escaped by the templates.
 """
 
@@ -10,11 +10,11 @@ from typing import TYPE_CHECKING
 
 from fkcheck.engine.evidence import DhParting, UrdfAxes
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
-from fkcheck.model.types import Model
-from fkcheck.report.format import (
+from fkcheck.io.format import (
     format_deg,
     format_mm,
 )
+from fkcheck.model.types import Model
 from fkcheck.report.views import (
     PartingRow,
     PartingView,
