@@ -68,9 +68,9 @@ def bounded(session: nox.Session) -> None:
     _install(session, "test")
     session.run(
         "python", "-c", _BOUNDED_PYTEST, str(BOUNDED_AS_BYTES), "-p", "no:cacheprovider",
-        "tests/test_hostile_inputs.py", "tests/test_hostile_urdf.py",
-        "tests/test_hostile_outputs.py", "tests/test_hostile_processes.py",
-        "tests/test_bounded_memory.py", *session.posargs,
+        "tests/hostile/test_hostile_inputs.py", "tests/hostile/test_hostile_urdf.py",
+        "tests/hostile/test_hostile_outputs.py", "tests/hostile/test_hostile_processes.py",
+        "tests/hostile/test_bounded_memory.py", *session.posargs,
     )  # fmt: skip
 
 

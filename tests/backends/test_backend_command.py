@@ -25,10 +25,11 @@ from fkcheck.model.types import Model
 from fkcheck.process.isolation import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.paths import PLUGINS_DIR, REPO_ROOT
 from tests.processes import LINUX_ONLY, assert_gone, wait_for_pids
 
-ROOT = Path(__file__).resolve().parents[1]
-SCRIPT = Path(__file__).parent / "plugins" / "fk_stdio.py"
+ROOT = REPO_ROOT
+SCRIPT = PLUGINS_DIR / "fk_stdio.py"
 EXAMPLE = ROOT / "examples" / "cpp_eigen"
 UR5_FRAMES = ["world", "tcp", "base", "base_link", "tool0", "flange"]
 

@@ -7,7 +7,6 @@ import re
 import subprocess
 import sys
 from importlib import resources
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,6 +29,7 @@ from fkcheck.report.index import IndexEntry, build_index_page
 from fkcheck.report.json_report import result_to_dict
 from fkcheck.report.markdown import escape_markdown, markdown_summary
 from fkcheck.report.page import build_report_page
+from tests.paths import GOLDEN_DIR
 from tests.report_cases import (
     SPEC,
     golden_check,
@@ -40,7 +40,7 @@ from tests.report_cases import (
     twisted_model,
 )
 
-GOLDEN = Path(__file__).parent / "golden"
+GOLDEN = GOLDEN_DIR
 XSS = "<script>alert(1)</script>"
 
 

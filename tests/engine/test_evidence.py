@@ -18,8 +18,9 @@ import pytest
 from fkcheck.cli.main import main
 from fkcheck.model.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model.read import bundled_model_paths, load_model
+from tests.paths import PLUGINS_DIR
 
-PLUGINS = Path(__file__).parent / "plugins"
+PLUGINS = PLUGINS_DIR
 
 
 def variant(tmp_path: Path, name: str, old: str, new: str) -> Path:

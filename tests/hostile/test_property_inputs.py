@@ -27,8 +27,9 @@ from fkcheck.io.numbers import MAX_NUMBER_CHARS, NumberError, parse_number, pars
 from fkcheck.model.joint_input import read_q_file
 from fkcheck.model.read import bundled_model_paths
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model
+from tests.paths import DATA_DIR
 
-DATA = Path(__file__).parent / "data"
+DATA = DATA_DIR
 UR5 = load_model("ur5")
 
 HOSTILE_TOKENS = (

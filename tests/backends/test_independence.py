@@ -31,9 +31,10 @@ import fkcheck.model.frames
 from fkcheck.backends.registry import make_backend
 from fkcheck.engine.runner import run_check
 from fkcheck.model.read import load_model, model_from_dict
+from tests.paths import PLUGINS_DIR
 
 BACKENDS_DIR = Path(fkcheck.backends.__file__).parent
-PLUGINS = Path(__file__).parent / "plugins"
+PLUGINS = PLUGINS_DIR
 #: Every default reference; all five read the UR5's named frames.
 UR5_REFERENCES = ["rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]
 

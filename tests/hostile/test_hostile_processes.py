@@ -35,11 +35,12 @@ from fkcheck.process.isolation import (
     run_isolated,
     run_supervised,
 )
+from tests.paths import TESTS_DIR
 from tests.processes import LINUX_ONLY, alive, assert_gone, descendants, wait_for_pids
 
 pytestmark = LINUX_ONLY
 
-TESTS = Path(__file__).parent
+TESTS = TESTS_DIR
 SRC = TESTS.parent / "src"
 PLUGINS = TESTS / "plugins"
 #: A CLI run on a loaded machine: interpreter start, imports, sampling, report.

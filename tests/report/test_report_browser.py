@@ -18,10 +18,11 @@ import pytest
 
 from fkcheck.cli.main import main
 from fkcheck.io.format import format_deg, format_mm, format_rad
+from tests.cli.test_report_cli import URDF_BACKENDS, ur5_variant
+from tests.paths import REPO_ROOT
 from tests.report_cases import page_numbers
-from tests.test_report_cli import URDF_BACKENDS, ur5_variant
 
-SCREENSHOTS = Path(__file__).resolve().parents[1] / "reports" / "screenshots"
+SCREENSHOTS = REPO_ROOT / "reports" / "screenshots"
 BROWSER = shutil.which("chromium") or shutil.which("chromium-browser")
 
 pytestmark = pytest.mark.skipif(

@@ -35,13 +35,14 @@ from fkcheck.model.joint_input import read_q_file
 from fkcheck.model.read import model_from_dict
 from fkcheck.model.sampling import MAX_CORNERS, sample_configurations, sampling_box
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M
+from tests.paths import DATA_DIR
 
 #: Every case ends well within this (measured: under 0.5 s in-process, ~2 s in a subprocess).
 TIME_BOUND_S = 20.0
 
 HEAD = 'name = "m"\nconvention = "standard"\n'
 JOINT = "[[joint]]\na = 0.1\nalpha = 0.0\nd = 0.2\n"
-UR5_PENDANT = Path(__file__).parent / "data" / "ur5_pendant.csv"
+UR5_PENDANT = DATA_DIR / "ur5_pendant.csv"
 PENDANT_HEAD = (
     "# fkcheck poses: from=base to=tool0\n"
     "q1_deg,q2_deg,q3_deg,q4_deg,q5_deg,q6_deg,x_mm,y_mm,z_mm,rx,ry,rz\n"

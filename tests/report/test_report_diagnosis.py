@@ -28,9 +28,9 @@ from fkcheck.report.diagnosis import diagnosis_view
 from fkcheck.report.html import render_report, write_html
 from fkcheck.report.json_report import TIME_FIELDS
 from fkcheck.report.page import build_report_page
+from tests.cli.test_report_cli import first_screen, ur5_variant
+from tests.diagnose.test_diagnose import with_joint, write_pendant_csv
 from tests.report_cases import SPEC, backends, golden_check, golden_model, page_numbers
-from tests.test_diagnose import with_joint, write_pendant_csv
-from tests.test_report_cli import first_screen, ur5_variant
 
 XSS = "<script>alert(1)</script>"
 

@@ -18,9 +18,10 @@ import pytest
 
 from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
+from tests.paths import PLUGINS_DIR
 
 URDF_BACKENDS = "pinocchio-urdf,yourdfpy-urdf,rtb-urdf"
-PLUGINS = Path(__file__).parent / "plugins"
+PLUGINS = PLUGINS_DIR
 
 
 def ur5_variant(tmp_path: Path, old: str, new: str, count: int = 1) -> Path:

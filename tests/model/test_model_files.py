@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,8 +12,9 @@ from fkcheck.core.tolerances import SAME_CHAIN
 from fkcheck.model.read import bundled_model_paths
 from fkcheck.model.types import MAX_JOINTS
 from tests.helpers import BUNDLED, assert_pose_close, random_q
+from tests.paths import DATA_DIR
 
-DATA = Path(__file__).parent / "data"
+DATA = DATA_DIR
 
 UR_NOMINAL = {  # Universal Robots' published table: d1, a2, a3, d4, d5, d6 (m)
     "ur3": (0.1519, -0.24365, -0.21325, 0.11235, 0.08535, 0.0819),

@@ -20,9 +20,10 @@ from fkcheck.model.types import Model
 from fkcheck.process.isolation import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.paths import PLUGINS_DIR
 from tests.processes import LINUX_ONLY, assert_gone, wait_for_pids
 
-PLUGINS = Path(__file__).parent / "plugins"
+PLUGINS = PLUGINS_DIR
 UR5_FRAMES = ["world", "tcp", "base", "base_link", "tool0", "flange"]
 
 

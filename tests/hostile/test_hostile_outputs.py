@@ -44,8 +44,9 @@ from fkcheck.io.text import document_text, terminal_text
 from fkcheck.model.read import bundled_model_paths, load_model
 from fkcheck.model.write import model_to_toml
 from fkcheck.urdf.export import model_for_urdf, urdf_from_model
+from tests.paths import REPO_ROOT
 
-SRC = Path(__file__).resolve().parents[1] / "src"
+SRC = REPO_ROOT / "src"
 PLANAR2 = bundled_model_paths()["planar2"]
 
 #: Seconds a refused run may take: it must stop before any backend runs.

@@ -1,0 +1,279 @@
+"""A user's project: ``[tool.fkcheck]`` in the nearest ``pyproject.toml``, and the models it names.
+
+A repository that keeps its robots' tables sets its defaults once::
+
+    [tool.fkcheck]
+    models = ["robots/*.toml", "calib/arm.csv"]   # files, directories, globs
+    samples = 2000
+    require = ["table"]
+
+``fkcheck check`` / ``fkcheck lint`` without files, the pytest plugin and the
+pre-commit hooks read it; a command-line flag always wins over it. Paths and
+globs are relative to the ``pyproject.toml``'s directory, and must stay inside
+it (a glob never reaches ``..`` or an absolute path). The file is read like
+every input: a regular file of at most 1 MiB of UTF-8, one clear line when it
+is wrong (:class:`ProjectError`, exit 2).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from fkcheck.errors import FkcheckError
+from fkcheck.io.files import InputFileError, read_text
+from fkcheck.model.require import Kind, parse_require
+
+__all__ = [
+    "MODEL_SUFFIXES",
+    "ProjectConfig",
+    "ProjectError",
+    "expand_model_paths",
+    "find_pyproject",
+    "load_project",
+    "read_project",
+]
+
+#: Suffixes of model files found in a directory or by a glob.
+MODEL_SUFFIXES = (".toml", ".csv")
+#: How many model files one list may expand to (a glob over a huge tree stops here).
+MAX_MODEL_FILES = 10_000
+
+_KEYS = (
+    "models", "against", "samples", "seed", "sampler", "timeout", "require",
+    "tol_pos_m", "tol_rot_rad", "lint_ignore",
+)  # fmt: skip
+_SAMPLERS = ("sobol", "uniform")
+
+
+class ProjectError(FkcheckError):
+    """A ``[tool.fkcheck]`` table that cannot be used.
+
+    Attributes:
+        path: The ``pyproject.toml``.
+        field: The key, e.g. ``tool.fkcheck.samples``.
+        problem: What is wrong.
+    """
+
+    def __init__(self, path: Path, field: str, problem: str) -> None:
+        self.path = path
+        self.field = field
+        self.problem = problem
+        super().__init__(f"{path}: {field}: {problem}" if field else f"{path}: {problem}")
+
+
+@dataclass(frozen=True)
+class ProjectConfig:
+    """``[tool.fkcheck]`` of one ``pyproject.toml``; ``None`` where it says nothing.
+
+    Attributes:
+        path: The ``pyproject.toml`` it came from.
+        models: Model files, directories or globs, relative to ``root``.
+        against: Backends (as ``--against``).
+        samples: Random samples per model.
+        seed: Seed of the random samples.
+        sampler: ``sobol`` or ``uniform``.
+        timeout: Time limit per backend, seconds.
+        require: Kinds of evidence that must be verified.
+        tol_pos_m: Position tolerance, metres.
+        tol_rot_rad: Rotation tolerance, radians.
+        lint_ignore: Lint rules to ignore for every model.
+    """
+
+    path: Path
+    models: tuple[str, ...] = ()
+    against: tuple[str, ...] | None = None
+    samples: int | None = None
+    seed: int | None = None
+    sampler: str | None = None
+    timeout: float | None = None
+    require: tuple[Kind, ...] = ()
+    tol_pos_m: float | None = None
+    tol_rot_rad: float | None = None
+    lint_ignore: tuple[str, ...] = ()
+
+    @property
+    def root(self) -> Path:
+        """The directory the paths are relative to (the ``pyproject.toml``'s)."""
+        return self.path.parent
+
+    def model_paths(self) -> list[Path]:
+        """The model files ``models`` names, expanded (see :func:`expand_model_paths`)."""
+        return expand_model_paths(self.models, self.root, where=(self.path, "tool.fkcheck.models"))
+
+
+def find_pyproject(start: Path | None = None) -> Path | None:
+    """The nearest ``pyproject.toml`` at or above ``start`` (default: the working directory)."""
+    here = (start or Path.cwd()).resolve()
+    for directory in (here, *here.parents):
+        candidate = directory / "pyproject.toml"
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _strings(path: Path, key: str, value: Any) -> tuple[str, ...]:
+    if isinstance(value, str):
+        value = [value]
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise ProjectError(path, f"tool.fkcheck.{key}", "must be a string or a list of strings")
+    return tuple(value)
+
+
+def _int(path: Path, key: str, value: Any, low: int, high: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+        raise ProjectError(path, f"tool.fkcheck.{key}", f"must be an integer in {low}…{high}")
+    return value
+
+
+def _positive(path: Path, key: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ProjectError(path, f"tool.fkcheck.{key}", "must be a number")
+    number = float(value)
+    if not math.isfinite(number) or number <= 0:
+        raise ProjectError(path, f"tool.fkcheck.{key}", f"must be positive and finite, not {value}")
+    return number
+
+
+def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
+    """Validate a ``[tool.fkcheck]`` table read from ``path``.
+
+    Raises:
+        ProjectError: An unknown key or a value of the wrong kind.
+    """
+    unknown = sorted(set(table) - set(_KEYS))
+    if unknown:
+        raise ProjectError(
+            path, f"tool.fkcheck.{unknown[0]}", f"unknown key; keys are: {', '.join(_KEYS)}"
+        )
+    sampler = table.get("sampler")
+    if sampler is not None and sampler not in _SAMPLERS:
+        raise ProjectError(
+            path, "tool.fkcheck.sampler", f"{sampler!r} unknown; samplers are: sobol, uniform"
+        )
+    try:
+        require = parse_require(_strings(path, "require", table.get("require", [])), "")
+    except ValueError as exc:
+        raise ProjectError(path, "tool.fkcheck.require", str(exc).lstrip(": ")) from None
+    return ProjectConfig(
+        path=path,
+        models=_strings(path, "models", table.get("models", [])),
+        against=_strings(path, "against", table["against"]) if "against" in table else None,
+        samples=_int(path, "samples", table["samples"], 0, 10_000_000)
+        if "samples" in table
+        else None,
+        seed=_int(path, "seed", table["seed"], 0, 2**32 - 1) if "seed" in table else None,
+        sampler=sampler,
+        timeout=_positive(path, "timeout", table["timeout"]) if "timeout" in table else None,
+        require=require,
+        tol_pos_m=_positive(path, "tol_pos_m", table["tol_pos_m"])
+        if "tol_pos_m" in table
+        else None,
+        tol_rot_rad=_positive(path, "tol_rot_rad", table["tol_rot_rad"])
+        if "tol_rot_rad" in table
+        else None,
+        lint_ignore=_strings(path, "lint_ignore", table.get("lint_ignore", [])),
+    )
+
+
+def load_project(start: Path | None = None) -> ProjectConfig | None:
+    """``[tool.fkcheck]`` of the nearest ``pyproject.toml``, or ``None`` when there is none.
+
+    A ``pyproject.toml`` without a ``[tool.fkcheck]`` table gives ``None`` too.
+
+    Raises:
+        ProjectError: The file cannot be read, is not TOML, or the table is invalid.
+    """
+    path = find_pyproject(start)
+    if path is None:
+        return None
+    try:
+        data = tomllib.loads(read_text(path))
+    except InputFileError as exc:
+        raise ProjectError(path, "", exc.problem) from None
+    except (tomllib.TOMLDecodeError, ValueError, RecursionError) as exc:
+        raise ProjectError(path, "", f"not valid TOML: {exc}") from None
+    tool = data.get("tool", {})
+    table = tool.get("fkcheck") if isinstance(tool, dict) else None
+    if table is None:
+        return None
+    if not isinstance(table, dict):
+        raise ProjectError(path, "tool.fkcheck", "must be a table")
+    return read_project(path, table)
+
+
+def _inside(path: Path, root: Path) -> bool:
+    try:
+        path.resolve().relative_to(root.resolve())
+    except ValueError:
+        return False
+    return True
+
+
+def expand_model_paths(
+    items: Iterable[str | Path],
+    root: Path | None = None,
+    *,
+    where: tuple[Path, str] | None = None,
+) -> list[Path]:
+    """Model files from files, directories and globs, in order, each once.
+
+    A directory gives its ``*.toml`` and ``*.csv`` files (not recursively),
+    sorted; a glob (``*``, ``?``, ``[``) its matches with those suffixes, sorted;
+    a file is taken as it is (its reader checks it). With ``root`` (a project's
+    directory), relative items are relative to it, and directories and globs
+    must stay inside it.
+
+    Raises:
+        FkcheckError: A glob or directory that names no model file, one outside
+            ``root``, or more than :data:`MAX_MODEL_FILES` files.
+    """
+
+    def fail(item: str, problem: str) -> FkcheckError:
+        if where is not None:
+            return ProjectError(where[0], where[1], f"{item!r}: {problem}")
+        return FkcheckError(f"{item}: {problem}")
+
+    out: list[Path] = []
+    seen: set[Path] = set()
+
+    def add(paths: Sequence[Path]) -> None:
+        for p in paths:
+            key = p.resolve()
+            if key not in seen:
+                seen.add(key)
+                out.append(p)
+        if len(out) > MAX_MODEL_FILES:
+            raise fail(str(paths[0]), f"more than {MAX_MODEL_FILES} model files")
+
+    for raw in items:
+        item = str(raw)
+        base = root if root is not None else Path.cwd()
+        if any(c in item for c in "*?["):
+            if Path(item).is_absolute() or ".." in Path(item).parts:
+                raise fail(item, "a glob must be relative and stay inside the project")
+            found = sorted(
+                p for p in base.glob(item) if p.suffix.lower() in MODEL_SUFFIXES and p.is_file()
+            )
+            if root is not None:
+                found = [p for p in found if _inside(p, root)]
+            if not found:
+                raise fail(item, "matches no .toml or .csv model file")
+            add(found)
+            continue
+        path = Path(item) if root is None or Path(item).is_absolute() else root / item
+        if path.is_dir():
+            if root is not None and not _inside(path, root):
+                raise fail(item, "a directory outside the project")
+            found = sorted(p for p in path.iterdir() if p.suffix.lower() in MODEL_SUFFIXES)
+            found = [p for p in found if p.is_file()]
+            if not found:
+                raise fail(item, "a directory with no .toml or .csv model file")
+            add(found)
+        else:
+            add([path])
+    return out

@@ -1,0 +1,1 @@
+"""Tests of fkcheck.backends: each reference backend, and their independence from the core."""

@@ -1,0 +1,1 @@
+"""Hostile input, outputs, processes and resources, across every layer."""

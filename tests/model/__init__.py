@@ -1,0 +1,1 @@
+"""Tests of fkcheck.model: model files, lint, conversion."""

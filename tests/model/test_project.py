@@ -1,0 +1,95 @@
+"""[tool.fkcheck] in a user's pyproject.toml, and the model files it names."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from fkcheck.errors import FkcheckError
+from fkcheck.model.project import (
+    ProjectError,
+    expand_model_paths,
+    find_pyproject,
+    load_project,
+)
+
+
+def _project(tmp_path: Path, table: str) -> Path:
+    (tmp_path / "pyproject.toml").write_text(f"[project]\nname = 'x'\n\n[tool.fkcheck]\n{table}\n")
+    robots = tmp_path / "robots"
+    robots.mkdir()
+    for name in ("b.toml", "a.toml", "c.csv", "notes.txt"):
+        (robots / name).write_text("")
+    return tmp_path
+
+
+def test_nearest_pyproject_is_found_from_a_subdirectory(tmp_path):
+    root = _project(tmp_path, 'models = ["robots/*.toml"]\nsamples = 200\nrequire = ["table"]')
+    deep = root / "robots" / "sub"
+    deep.mkdir()
+    assert find_pyproject(deep) == (root / "pyproject.toml").resolve()
+    config = load_project(deep)
+    assert config is not None
+    assert config.samples == 200
+    assert config.require == ("table",)
+    assert [p.name for p in config.model_paths()] == ["a.toml", "b.toml"]
+
+
+def test_directories_give_their_model_files_sorted_and_each_once(tmp_path):
+    root = _project(tmp_path, 'models = ["robots", "robots/a.toml"]')
+    config = load_project(root)
+    assert config is not None
+    assert [p.name for p in config.model_paths()] == ["a.toml", "b.toml", "c.csv"]
+
+
+def test_no_table_means_no_project(tmp_path):
+    (tmp_path / "pyproject.toml").write_text("[project]\nname = 'x'\n")
+    assert load_project(tmp_path) is None
+
+
+@pytest.mark.parametrize(
+    ("table", "match"),
+    [
+        ("sample = 3", r"tool\.fkcheck\.sample: unknown key; keys are: models, against"),
+        ("samples = -1", r"tool\.fkcheck\.samples: must be an integer in 0…10000000"),
+        ("samples = true", r"tool\.fkcheck\.samples: must be an integer"),
+        ('require = ["tabel"]', r"tool\.fkcheck\.require: 'tabel' is not a kind of evidence"),
+        ("models = [1]", r"tool\.fkcheck\.models: must be a string or a list of strings"),
+        ('sampler = "grid"', r"tool\.fkcheck\.sampler: 'grid' unknown; samplers are"),
+        ("tol_pos_m = nan", r"tool\.fkcheck\.tol_pos_m: must be positive and finite"),
+        ("timeout = 0", r"tool\.fkcheck\.timeout: must be positive and finite"),
+    ],
+)
+def test_a_bad_table_is_one_line_naming_the_key(tmp_path, table, match):
+    _project(tmp_path, table)
+    with pytest.raises(ProjectError, match=match) as info:
+        load_project(tmp_path)
+    assert "\n" not in str(info.value)
+    assert str(info.value).startswith(str(tmp_path / "pyproject.toml"))
+
+
+def test_not_toml_is_one_line(tmp_path):
+    (tmp_path / "pyproject.toml").write_text("[tool.fkcheck\n")
+    with pytest.raises(ProjectError, match=r"pyproject\.toml: not valid TOML"):
+        load_project(tmp_path)
+
+
+@pytest.mark.parametrize("models", ['["../*.toml"]', '["/etc/*.toml"]', '["robots/*.yaml"]'])
+def test_globs_stay_inside_the_project_and_must_match(tmp_path, models):
+    project = tmp_path / "p"
+    project.mkdir()
+    root = _project(project, f"models = {models}")
+    (tmp_path / "outside.toml").write_text("")
+    config = load_project(root)
+    assert config is not None
+    with pytest.raises(ProjectError, match=r"tool\.fkcheck\.models: '.*': "):
+        config.model_paths()
+
+
+def test_a_directory_without_models_is_refused_on_the_command_line(tmp_path):
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(
+        FkcheckError, match=r"empty: a directory with no \.toml or \.csv model file"
+    ):
+        expand_model_paths([tmp_path / "empty"])

@@ -1,0 +1,1 @@
+"""Tests of fkcheck.report: HTML pages, diagnosis section, a real browser."""

@@ -1,0 +1,1 @@
+"""Tests of fkcheck.urdf: export, DH from URDF, generated URDFs."""
