@@ -14,6 +14,7 @@ from typing import Any, Literal, get_args
 
 from fkcheck.diagnose.problem import Residual
 from fkcheck.engine.axes import AxisRow
+from fkcheck.io.format import format_seconds
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import Model
 
@@ -282,5 +283,5 @@ def format_text(d: Diagnosis) -> str:
     if d.tried:
         lines.append("")
         lines.append("tried: " + "; ".join(d.tried))
-    lines.append(f"took {d.duration_s:.2f} s")
+    lines.append(f"took {format_seconds(d.duration_s)}")
     return "\n".join(lines) + "\n"
