@@ -35,7 +35,7 @@ from collections.abc import Sequence
 from typing import Literal, Protocol, runtime_checkable
 
 from fkcheck.core.joint_array import joint_array, require_finite
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import BackendUnavailable, FrameUnavailable
 from fkcheck.model.types import Model
 
@@ -45,6 +45,7 @@ __all__ = [
     "Evidence",
     "FixedConfigurations",
     "FrameUnavailable",
+    "ProvidesJacobian",
     "SharesDHFrames",
     "validated_q",
 ]
@@ -114,6 +115,27 @@ class SharesDHFrames(Protocol):
 
     def dh_frames(self, model: Model, q: Float) -> Float:
         """``world_T_i`` for DH frames ``0…n``: shape ``(N, n+1, 4, 4)``."""
+        ...
+
+
+@runtime_checkable
+class ProvidesJacobian(Protocol):
+    """A backend whose library computes geometric Jacobians itself.
+
+    Rows are linear then angular, one column per DH joint (``(N, 6, n)``), in
+    the backend's own root frame (the DH world for backends built from the
+    table, the URDF's root for URDF backends). ``reference`` is one of
+    :data:`fkcheck.core.typing.JACOBIAN_REFERENCES`: ``"world-aligned"`` (the
+    frame origin's velocity and the angular velocity in root axes), ``"local"``
+    (both in the frame's own axes) or ``"world"`` (the spatial twist at the
+    root's origin, in root axes) — Pinocchio's ``LOCAL_WORLD_ALIGNED``,
+    ``LOCAL`` and ``WORLD``.
+    """
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float:
+        """The Jacobian of a named frame at each configuration, ``(N, 6, n)``."""
         ...
 
 

@@ -44,11 +44,17 @@ import numpy as np
 
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import BackendUnavailable
 from fkcheck.model.types import Joint, Model, Offset, resolve_frame
 
-__all__ = ["INSTALL_HINT", "PinocchioChain", "PinocchioDH", "import_pinocchio"]
+__all__ = [
+    "INSTALL_HINT",
+    "REFERENCE_FRAMES",
+    "PinocchioChain",
+    "PinocchioDH",
+    "import_pinocchio",
+]
 
 
 #: The reason given when Pinocchio is not installed (both Pinocchio backends).
@@ -104,6 +110,34 @@ class PinocchioDH:
         q2 = validated_q(model, q)
         chain = PinocchioChain(model)
         return chain.poses(q2, chain.dh_frame_ids)
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float:
+        """Pinocchio's ``computeFrameJacobian`` of a named frame, ``(N, 6, n)``, root = DH world.
+
+        ``reference`` maps onto ``pin.ReferenceFrame`` by name (see
+        :data:`REFERENCE_FRAMES`). One Pinocchio joint per DH joint, in order, so
+        the columns are the DH joints' (a flipped joint's axis is reversed in the
+        model, so its column already has the flip's sign).
+
+        Raises:
+            BackendUnavailable: Pinocchio is not installed.
+            FrameError: A name is not a frame of the model.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        spec = resolve_frame(model, frame)
+        q2 = validated_q(model, q)
+        chain = PinocchioChain(model)
+        return chain.jacobians(q2, chain.named_frame_ids[spec.name], reference)
+
+
+#: fkcheck's reference frames → the names of Pinocchio's ``ReferenceFrame`` values.
+REFERENCE_FRAMES = {
+    "world": "WORLD",
+    "local": "LOCAL",
+    "world-aligned": "LOCAL_WORLD_ALIGNED",
+}
 
 
 def import_pinocchio() -> Any:
@@ -204,6 +238,16 @@ class PinocchioChain:
                 forward(pmodel, data, q[k])
                 update(pmodel, data)
                 out[k] = [oMf[fid].homogeneous for fid in frame_ids]
+        return out
+
+    def jacobians(self, q: Float, frame_id: int, reference: JacobianReference) -> Float:
+        """``computeFrameJacobian`` for every row of ``q``: ``(N, 6, nv)``, linear rows first."""
+        pin, pmodel, data = self.pin, self.pmodel, self.data
+        frame = getattr(pin.ReferenceFrame, REFERENCE_FRAMES[reference])
+        out = np.empty((q.shape[0], 6, pmodel.nv))
+        for k in range(q.shape[0]):  # a one-joint model's Jacobian comes back as (6,)
+            jac = pin.computeFrameJacobian(pmodel, data, q[k], frame_id, frame)
+            out[k] = np.reshape(jac, (6, pmodel.nv))
         return out
 
 

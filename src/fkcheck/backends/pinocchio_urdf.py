@@ -26,10 +26,10 @@ from typing import Any
 import numpy as np
 
 from fkcheck.backends.base import Evidence
-from fkcheck.backends.pinocchio_dh import INSTALL_HINT, import_pinocchio
+from fkcheck.backends.pinocchio_dh import INSTALL_HINT, REFERENCE_FRAMES, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import captured_stderr, urdf_inputs, urdf_unavailable_reason
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.source import UrdfInfo
@@ -91,6 +91,34 @@ class PinocchioUrdf:
                 fk(pmodel, data, q_pin[k])
                 out[k] = [oMf[fid].homogeneous for fid in fids]
         return np.ascontiguousarray(out.transpose(1, 0, 2, 3))
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float:
+        """``computeFrameJacobian`` of a frame's URDF twin, ``(N, 6, n)``, root = URDF root.
+
+        The columns are Pinocchio's velocity columns of the URDF joints mapped
+        onto the DH joints, in DH order (``idx_v`` of each); ``reference`` maps
+        onto ``pin.ReferenceFrame`` as in
+        :data:`fkcheck.backends.pinocchio_dh.REFERENCE_FRAMES`.
+
+        Raises:
+            The same as :meth:`frame_poses`.
+        """
+        info, q2, twins = urdf_inputs(model, q, [frame], self.name)
+        pin = import_pinocchio()
+        pmodel = _build(pin, info)
+        fid = _frame_id(pin, pmodel, twins[0], info)
+        q_pin = _pinocchio_q(pin, pmodel, model, info, q2)
+        assert model.urdf is not None
+        columns = [int(pmodel.joints[pmodel.getJointId(j)].idx_v) for j in model.urdf.joints]
+        ref = getattr(pin.ReferenceFrame, REFERENCE_FRAMES[reference])
+        data = pmodel.createData()
+        out = np.empty((q2.shape[0], 6, model.dof))
+        for k in range(q2.shape[0]):
+            jac = pin.computeFrameJacobian(pmodel, data, q_pin[k], fid, ref)
+            out[k] = np.reshape(jac, (6, pmodel.nv))[:, columns]  # (6,) when nv = 1
+        return out
 
 
 def _build(pin: Any, info: UrdfInfo) -> Any:

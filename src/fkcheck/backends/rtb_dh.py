@@ -43,7 +43,7 @@ from fkcheck.backends.rtb_common import (
     padded_q,
     rtb_unavailable_reason,
 )
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.model.types import Model, Offset, resolve_frame
 
 __all__ = ["RtbDH", "dh_robot", "se3_from_offset"]
@@ -163,6 +163,43 @@ class RtbDH:
         out = np.empty((q2.shape[0], model.dof + 1, 4, 4))
         for k in range(model.dof + 1):
             out[:, k] = self._frame(built, k, qp)
+        return out
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float:
+        """Robotics Toolbox's Jacobian of a named frame, ``(N, 6, n)``, root = DH world.
+
+        ``ETS.jacob0`` (``"world-aligned"``) and ``ETS.jacobe`` (``"local"``) of
+        the ETS up to the frame's DH frame, with the frame's offset as the
+        ``tool`` (a Spatial Maths ``SE3``); columns of later joints are zero.
+        Robotics Toolbox has no spatial (``"world"``) Jacobian: that one is
+        ``jacob0``'s linear rows moved to the world origin, ``v + p × ω``, with
+        ``p`` the frame's position from the same ETS (``ETS.eval``).
+
+        Raises:
+            BackendUnavailable: Robotics Toolbox is not installed.
+            FrameError: A name is not a frame of the model.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
+        """
+        q2 = validated_q(model, q)
+        spec = resolve_frame(model, frame)
+        built = self._build(model)
+        n = model.dof
+        out = np.zeros((q2.shape[0], 6, n))
+        if spec.dh == "world" or spec.dh == 0:
+            return out
+        tool = se3_from_offset(spec.offset)
+        if isinstance(spec.dh, int):
+            ets, k = built.frame_ets[spec.dh], spec.dh
+        else:
+            ets, k = built.tcp_ets, n
+        jac = ets.jacobe if reference == "local" else ets.jacob0
+        for row, qk in enumerate(q2):
+            out[row, :, :k] = jac(qk[:k], tool=tool)
+            if reference == "world":
+                p = np.asarray(ets.eval(qk[:k], tool=tool.A))[:3, 3]
+                out[row, :3, :k] += np.cross(p, out[row, 3:, :k], axis=0)
         return out
 
     def _build(self, model: Model) -> _DhRobotCache:

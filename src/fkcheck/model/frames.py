@@ -16,10 +16,12 @@ from collections.abc import Sequence
 import numpy as np
 
 from fkcheck.core.geometry import invert
+from fkcheck.core.jacobian import Reference, geometric_jacobian
 from fkcheck.core.typing import Float
 from fkcheck.model.types import Model, resolve_frame
 
 __all__ = [
+    "frame_jacobian",
     "frame_poses_from_dh",
     "relative_pose",
     "resolve_frame",
@@ -72,3 +74,33 @@ def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
             model, model.fk(chunk, all_frames=True), model.fk(chunk), frames
         )
     return out
+
+
+def frame_jacobian(
+    model: Model, q: Float, frame: str = "tcp", reference: Reference = "world-aligned"
+) -> Float:
+    """The in-house geometric Jacobian of a named frame, ``(N, 6, n)``.
+
+    See :mod:`fkcheck.core.jacobian` for the formula and the reference frames.
+
+    Args:
+        model: The model.
+        q: ``(N, n)`` configurations, radians / metres.
+        frame: A named frame (``tcp``, ``tool0``, ``urdf:LINK``…).
+        reference: ``"world-aligned"``, ``"local"`` or ``"world"``.
+    """
+    spec = resolve_frame(model, frame)
+    world_T_dh = np.asarray(model.fk(q, all_frames=True)).reshape(-1, model.dof + 1, 4, 4)
+    world_T_tcp = np.asarray(model.fk(q)).reshape(-1, 4, 4)
+    world_T_frame = frame_poses_from_dh(model, world_T_dh, world_T_tcp, [spec.name])[0]
+    moving = {"world": 0, "tcp": model.dof}.get(str(spec.dh), spec.dh)
+    chain = model.chain
+    return geometric_jacobian(
+        world_T_dh,
+        world_T_frame,
+        modified=model.convention == "modified",
+        prismatic=chain.prismatic,
+        sign=chain.sign,
+        moving=int(moving),
+        reference=reference,
+    )

@@ -31,6 +31,7 @@ from numpy.typing import ArrayLike
 
 from fkcheck.core import dh
 from fkcheck.core.geometry import matrix_from_xyz_rpy
+from fkcheck.core.jacobian import Reference
 from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError
@@ -243,6 +244,37 @@ class Model:
             JointInputError: Wrong shape or non-finite values.
         """
         return dh.fk(self.chain, q, all_frames=all_frames)
+
+    def jacobian(
+        self, q: ArrayLike, frame: str = "tcp", reference: Reference = "world-aligned"
+    ) -> Float:
+        """The geometric Jacobian of a named frame with the in-house core.
+
+        Linear rows first, then angular; ``reference`` is ``"world-aligned"``
+        (the frame origin's velocity in world axes; Pinocchio's
+        ``LOCAL_WORLD_ALIGNED``, Robotics Toolbox's ``jacob0``), ``"local"``
+        (the frame's own axes; ``LOCAL``, ``jacobe``) or ``"world"`` (the
+        spatial twist at the world origin; ``WORLD``). See
+        :mod:`fkcheck.core.jacobian`.
+
+        Args:
+            q: Joint values, ``(n,)`` or ``(N, n)``, radians / metres.
+            frame: A named frame (default the TCP).
+            reference: The reference frame.
+
+        Returns:
+            ``(6, n)`` or ``(N, 6, n)``.
+
+        Raises:
+            JointInputError: Wrong shape or non-finite values.
+            FrameError: An unknown frame.
+            ValueError: An unknown ``reference``.
+        """
+        from fkcheck.model.frames import frame_jacobian
+
+        q_arr = dh.joint_values(self.chain, q)
+        jac = frame_jacobian(self, q_arr, frame, reference)
+        return jac[0] if np.ndim(q) == 1 else jac
 
 
 #: Prefix that names a frame by its URDF link: ``urdf:tool0``.
