@@ -17,7 +17,7 @@ from fkcheck.errors import BackendNotFoundError, FkcheckError
 from fkcheck.model.frames import frame_poses_from_dh
 from fkcheck.model.read import load_model
 from fkcheck.model.types import Model
-from fkcheck.process.isolation import TERMINATE_GRACE_S
+from fkcheck.process.supervise import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.processes import LINUX_ONLY, assert_gone, wait_for_pids

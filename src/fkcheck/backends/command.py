@@ -20,7 +20,7 @@ Protocol:
   finite float (``%.17g`` in C, ``repr`` in Python keep every bit).
 * The program exits with status 0. On bad input it should print a message on
   stderr and exit non-zero; fkcheck reports the last line of stderr (of which
-  it keeps only the last :data:`~fkcheck.process.isolation.STDERR_TAIL_BYTES`).
+  it keeps only the last :data:`~fkcheck.process.supervise.STDERR_TAIL_BYTES`).
 * Output is bounded: a line may be at most :data:`MAX_LINE_BYTES` bytes, and a
   run may print at most one line per configuration plus :data:`EXTRA_LINES`
   (blank lines count). Past either limit fkcheck stops reading, kills the
@@ -31,11 +31,11 @@ Protocol:
   needed, and no run holds more than one batch in its pipes.
 * The whole backend run (all batches) has a time limit,
   :attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`. The program
-  runs under fkcheck's supervisor (:mod:`fkcheck.process.isolation`), in a session of
+  runs under fkcheck's supervisor (:mod:`fkcheck.process.supervise`), in a session of
   its own: when the time limit is reached, the program and every process it
   started — on Linux even those that left its session with ``setsid`` — are
   killed and the backend fails with "timed out after X s"; the run ends within
-  the time limit plus :data:`~fkcheck.process.isolation.TERMINATE_GRACE_S`. When the
+  the time limit plus :data:`~fkcheck.process.supervise.TERMINATE_GRACE_S`. When the
   program exits, whatever it left running is killed. Programs still running
   when fkcheck exits (it gave up on this backend, or was stopped by SIGTERM or
   Ctrl-C) are killed too, and so are they if fkcheck itself is killed.
@@ -67,7 +67,7 @@ from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.numbers import NumberError, parse_number
 from fkcheck.model.types import Model
-from fkcheck.process.isolation import (
+from fkcheck.process.supervise import (
     IsolatedOutputLimit,
     IsolatedTimeout,
     SpawnError,
