@@ -26,7 +26,8 @@ from fkcheck.errors import BackendNotFoundError, FkcheckError, UnmappedFrameErro
 from fkcheck.model.frames import relative_pose
 from fkcheck.model.read import load_model, model_from_dict
 from fkcheck.model.types import Model, Offset
-from fkcheck.urdf.source import chain_between, load_urdf
+from fkcheck.urdf.source import load_urdf
+from fkcheck.urdf.tree import chain_between
 from tests.backend_cases import (
     URDF_MODELS,
     assert_every_pair_agrees,

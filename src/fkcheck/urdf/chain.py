@@ -3,7 +3,7 @@
 Reference libraries compute URDF poses for the *check*; this module is for
 *geometry*: joint axes as lines (for ``dh-from-urdf`` and for ``diagnose``'s
 axis comparison), which none of the backends expose. It reads the screened
-text :mod:`fkcheck.urdf.source` produced (never the raw file) and follows the
+text :func:`fkcheck.urdf.tree.read_urdf` produced (never the raw file) and follows the
 URDF specification: ``<origin xyz rpy>`` (fixed-axis rpy) places the joint
 frame in the parent link; a revolute/continuous joint turns about ``<axis>``
 (default ``1 0 0``, normalised) in that frame, a prismatic joint slides along
@@ -24,7 +24,7 @@ import numpy as np
 from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError, UrdfError
-from fkcheck.urdf.source import chain_between
+from fkcheck.urdf.tree import chain_between
 
 __all__ = [
     "MOVABLE",
@@ -164,7 +164,7 @@ class UrdfKinematics:
 
         Raises:
             UrdfError: ``link`` does not hang below the root (a text that did not
-                go through :mod:`fkcheck.urdf.source`'s tree check).
+                go through :func:`fkcheck.urdf.tree.read_urdf`'s tree check).
         """
         path = chain_between(self.joints, self.root, link)
         if path is None:  # detached, or a cycle
@@ -264,7 +264,7 @@ def urdf_kinematics(path: Path, text: str) -> UrdfKinematics:
 
     Args:
         path: The file (for messages).
-        text: Its content as :mod:`fkcheck.urdf.source` re-serialised it after screening.
+        text: Its content as :func:`fkcheck.urdf.tree.read_urdf` re-serialised it after screening.
 
     Raises:
         UrdfError: Not XML, a bad number, a zero axis, or not exactly one root link.
@@ -349,15 +349,10 @@ def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
             (:mod:`fkcheck.urdf.screen`), or not a valid URDF tree.
         BackendUnavailable: ``example-robot-data:`` is used but not installed.
     """
-    from fkcheck.urdf.screen import check_urdf_path
-    from fkcheck.urdf.source import ERD_PREFIX, example_robot_data_dir, read_urdf
+    from fkcheck.urdf.locate import locate_urdf
+    from fkcheck.urdf.tree import read_urdf
 
-    text_spec = str(spec)
-    if text_spec.startswith(ERD_PREFIX):
-        path = example_robot_data_dir() / text_spec[len(ERD_PREFIX) :]
-    else:
-        path = Path(spec)
-    check_urdf_path(path, text_spec)
+    path, package_dirs = locate_urdf(str(spec))
     # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
-    info = read_urdf(path.resolve(), (path.resolve().parent.parent,))
+    info = read_urdf(path.resolve(), package_dirs)
     return info.path, info.text, urdf_kinematics(info.path, info.text)
