@@ -60,8 +60,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence
-from fkcheck.backends.blackbox import frame_poses_from_tcp
+from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.blackbox import frame_poses_from_tcp, require_tcp_frames
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
@@ -164,27 +164,19 @@ class CommandBackend:
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """Run the program over the batch and map its TCP poses onto named frames.
 
-        Args:
-            model: The model being checked.
-            q: Joint values, shape ``(N, n)``, radians / metres, DH joint order.
-            frames: Names from ``model.frames``.
-
-        Returns:
-            ``(len(frames), N, 4, 4)`` world_T_frame.
+        Takes and returns what :meth:`~fkcheck.backends.base.Backend.frame_poses`
+        does, with the world as the root: ``(len(frames), N, 4, 4)`` world_T_frame.
 
         Raises:
             FrameUnavailable: A requested frame sits mid-chain (checked before
                 the program is run).
             FrameError: A frame name the model does not define.
-            ValueError: ``q`` is not ``(N, model.dof)``.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
             CommandError: The program is missing, fails, times out, or prints
                 something other than one finite 4×4 per configuration.
         """
-        q = np.asarray(q, dtype=np.float64)
-        if q.ndim != 2 or q.shape[1] != model.dof:
-            raise ValueError(f"q must have shape (N, {model.dof}), got {q.shape}")
-        # Fail on a frame this black box cannot give before running anything.
-        frame_poses_from_tcp(model, np.empty((0, 4, 4)), frames)
+        q = validated_q(model, q)
+        require_tcp_frames(model, frames)
         deadline = time.monotonic() + self.timeout_s
         world_T_tcp = np.empty((q.shape[0], 4, 4))
         for start in range(0, q.shape[0], BATCH_SIZE):
