@@ -226,7 +226,7 @@ def assert_safe_to_hand_on(info: UrdfInfo) -> None:
     for link in info.links:  # every link hangs below the root
         info.chain(info.root, link)
     with contextlib.suppress(UrdfError):
-        urdf_kinematics(info.path, text)
+        urdf_kinematics(info)
     try:
         _build(pin, info)  # urdfdom's prints captured; never a crash
         message = ""
