@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from fkcheck import load_model
-from fkcheck.bench import harness as peers
+from fkcheck.bench import peers
 from fkcheck.core import dh
 from fkcheck.core.tolerances import FAST_CORE
 from fkcheck.model.sampling import sampling_box

@@ -18,11 +18,11 @@ from fkcheck.backends.base import Backend, FrameUnavailable
 from fkcheck.backends.command import CommandBackend, CommandError, CommandSpecError
 from fkcheck.backends.registry import BackendOptions, make_backend, parse_against
 from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
-from fkcheck.errors import FkcheckError
+from fkcheck.errors import FkcheckError, JointInputError
 from fkcheck.model.frames import frame_poses_from_dh
 from fkcheck.model.read import load_model
 from fkcheck.model.types import Model
-from fkcheck.process.isolation import TERMINATE_GRACE_S
+from fkcheck.process.supervise import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.paths import PLUGINS_DIR, REPO_ROOT
@@ -225,8 +225,16 @@ def test_mid_chain_frame_is_unavailable_before_anything_runs() -> None:
 
 
 def test_q_of_the_wrong_width_is_refused(ur5: Model) -> None:
-    with pytest.raises(ValueError, match=r"q must have shape \(N, 6\), got \(2, 7\)"):
+    with pytest.raises(JointInputError, match=r"expected 6 joint values .* got shape \(2, 7\)"):
         script("ok").frame_poses(ur5, np.zeros((2, 7)), ["tcp"])
+
+
+def test_non_finite_q_is_refused_before_anything_runs(ur5: Model) -> None:
+    q = np.zeros((2, 6))
+    q[1, 0] = np.inf
+    backend = CommandBackend("./fkcheck-no-such-program", BackendOptions())
+    with pytest.raises(JointInputError, match="configuration 1 joint 1 is inf"):
+        backend.frame_poses(ur5, q, ["tcp"])
 
 
 # ---------------------------------------------------------------- the C++/Eigen example

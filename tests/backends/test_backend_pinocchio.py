@@ -127,7 +127,7 @@ def test_dh_model_agrees_with_core_on_tcp_and_every_dh_frame(
 def test_the_benchmark_times_the_backends_model_with_only_a_tcp_frame(
     rng: np.random.Generator, name: str
 ) -> None:
-    from fkcheck.bench.harness import pinocchio_model
+    from fkcheck.bench.peers import pinocchio_model
 
     model = load_model(name)
     chain = PinocchioChain(model, tcp_only=True)

@@ -13,11 +13,11 @@ from fkcheck.backends.base import Backend, FrameUnavailable
 from fkcheck.backends.plugin import PluginBackend, PluginError
 from fkcheck.backends.registry import BackendOptions, make_backend
 from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
-from fkcheck.errors import BackendNotFoundError, FkcheckError
+from fkcheck.errors import BackendNotFoundError, FkcheckError, JointInputError
 from fkcheck.model.frames import frame_poses_from_dh
 from fkcheck.model.read import load_model
 from fkcheck.model.types import Model
-from fkcheck.process.isolation import TERMINATE_GRACE_S
+from fkcheck.process.supervise import TERMINATE_GRACE_S
 from tests import seed_ur5
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.paths import PLUGINS_DIR
@@ -159,8 +159,16 @@ def test_mid_chain_frame_is_unavailable_before_the_plugin_is_imported() -> None:
 
 
 def test_q_of_the_wrong_width_is_refused(ur5: Model) -> None:
-    with pytest.raises(ValueError, match=r"q must have shape \(N, 6\), got \(4, 5\)"):
+    with pytest.raises(JointInputError, match=r"expected 6 joint values .* got shape \(4, 5\)"):
         plugin("ur5_closed_form:forward").frame_poses(ur5, np.zeros((4, 5)), ["tcp"])
+
+
+def test_non_finite_q_is_refused_before_the_plugin_is_imported(ur5: Model) -> None:
+    q = np.zeros((3, 6))
+    q[2, 4] = np.nan
+    backend = plugin("fkcheck_no_such_module_xyz:forward")  # importing it would fail
+    with pytest.raises(JointInputError, match="configuration 2 joint 5 is nan"):
+        backend.frame_poses(ur5, q, ["tcp"])
 
 
 # ---------------------------------------------------------------- hostile plugins (issue 15)

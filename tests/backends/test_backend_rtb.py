@@ -26,7 +26,8 @@ from fkcheck.errors import BackendNotFoundError, FkcheckError, UnmappedFrameErro
 from fkcheck.model.frames import relative_pose
 from fkcheck.model.read import load_model, model_from_dict
 from fkcheck.model.types import Model, Offset
-from fkcheck.urdf.source import chain_between, load_urdf
+from fkcheck.urdf.source import load_urdf
+from fkcheck.urdf.tree import chain_between
 from tests.backend_cases import (
     URDF_MODELS,
     assert_every_pair_agrees,
@@ -393,7 +394,7 @@ def test_one_chain_walk_serves_the_urdf_summary_and_the_joint_model(tmp_path: Pa
     from fkcheck.urdf.chain import urdf_kinematics
 
     info = load_urdf(_two_r(tmp_path, j2_axis="0 0.6 0.8"))
-    kin = urdf_kinematics(info.path, info.text)
+    kin = urdf_kinematics(info)
     assert [j.name for j in chain_between(info.joints, "base", "tip")] == ["j1", "j2", "tip_joint"]
     assert [j.name for j in info.chain("l1", "finger")] == ["j2", "finger_joint"]
     assert [j.name for j in kin.chain("l1", "finger")] == ["j2", "finger_joint"]

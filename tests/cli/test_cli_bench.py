@@ -13,7 +13,7 @@ import sys
 import pytest
 
 from fkcheck import load_model
-from fkcheck.bench import harness as benchmark
+from fkcheck.bench import harness, peers, timing
 from fkcheck.cli.bench import write_json
 from fkcheck.cli.main import main
 from fkcheck.model.read import model_from_dict
@@ -38,7 +38,7 @@ def test_bench_times_every_contender_on_the_same_poses(capsys, tmp_path):
         assert rows[name]["skipped"] == "", rows[name]["skipped"]
         assert rows[name]["seconds"] > 0
         assert rows[name]["us_per_pose"] > 0
-        assert rows[name]["n"] == min(600, benchmark.PEER_POSES.get(_key(name), 600))
+        assert rows[name]["n"] == min(600, harness.PEER_POSES.get(_key(name), 600))
     peers = [t for t in data["timings"] if t["kind"] == "peer"]
     assert all(t["max_pos_err_m"] <= data["tol_pos_m"] for t in peers)
     assert data["disagree"] == []
@@ -82,14 +82,14 @@ def test_bench_exits_1_when_a_peer_disagrees(capsys, tmp_path, monkeypatch):
          "joint": [{"a": 1.0, "alpha": 0, "d": 0}, {"a": 0.8001, "alpha": 0, "d": 0}]}
     )  # fmt: skip
     assert model.joints[1].a == 0.8
-    monkeypatch.setattr(benchmark, "rtb_robot", lambda _model: _real_rtb_robot(wrong))
+    monkeypatch.setattr(peers, "rtb_robot", lambda _model: _real_rtb_robot(wrong))
     code, _, err, data = bench(capsys, tmp_path, "planar2", "--n", "50")
     assert code == 1
     assert set(data["disagree"]) == {"RTB ETS.eval (C batch)", "RTB DHRobot.fkine"}
     assert "RTB ETS.eval (C batch)" in err
 
 
-_real_rtb_robot = benchmark.rtb_robot
+_real_rtb_robot = peers.rtb_robot
 
 
 @pytest.mark.parametrize("bad", ["0", "-3", "many"])
@@ -117,7 +117,7 @@ def test_the_headline_ratio_is_like_for_like(capsys, tmp_path):
     assert code == 0, err
     rows = {t["name"]: t for t in data["timings"]}
     ours, peer = rows["in-house batch, JIT, like for like"], rows["RTB ETS.eval (C batch)"]
-    assert ours["mode"] == peer["mode"] == benchmark.LIKE_FOR_LIKE
+    assert ours["mode"] == peer["mode"] == timing.LIKE_FOR_LIKE
     assert ours["n"] == peer["n"] == 20000
     headline = data["headline"]
     assert (headline["in_house"], headline["peer"], headline["n"]) == (
@@ -133,9 +133,9 @@ def test_a_peer_that_crashes_fails_the_bench(capsys, tmp_path, monkeypatch):
     def crash(model, q, ours, repeat):
         raise RuntimeError("segfault-like failure inside the peer")
 
-    peers = [(name, key, crash if key == "pinocchio" else fn)
-             for name, key, fn in benchmark._PEERS]  # fmt: skip
-    monkeypatch.setattr(benchmark, "_PEERS", peers)
+    crashing = [(name, key, crash if key == "pinocchio" else fn)
+                for name, key, fn in peers.PEERS]  # fmt: skip
+    monkeypatch.setattr(peers, "PEERS", crashing)
     code, _, err, data = bench(capsys, tmp_path, "planar2", "--n", "200")
     assert code == 1
     rows = {t["name"]: t for t in data["timings"]}

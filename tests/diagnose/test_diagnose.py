@@ -26,7 +26,7 @@ from fkcheck.engine.axes import line_distance
 from fkcheck.engine.runner import run_check
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Offset
-from fkcheck.model.write import model_to_toml
+from fkcheck.model.write import model_to_toml, offset_toml
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 
@@ -112,6 +112,22 @@ def test_base_link_vs_base_is_named_and_the_printed_fix_passes(tmp_path, referen
     # Before the fix the same check fails, by about 2 m and π rad.
     failing = run_check(bad, backends[:1], samples=16, frame_from="base_link", frame_to="tool0")
     assert failing.verdict == "fail"
+
+
+def test_a_base_or_tool_fix_is_written_as_the_model_file_writes_it():
+    """One writer for [base]/[tool]: a fix in degrees reads back to the fitted angle."""
+    from fkcheck.diagnose.offsets import _fix_side
+
+    model = load_model("ur5")  # angles in degrees
+    odd = math.radians(12.3456789012345)  # not a 9-digit number of degrees
+    X = matrix_from_xyz_rpy((0.0, 0.0, 0.01), (0.0, 0.0, odd))
+    for frame, base_side, label in (("world", True, "base"), ("tcp", False, "tool")):
+        fixed, text = _fix_side(model, frame, X, base_side=base_side)
+        offset = getattr(fixed, label)
+        assert text == offset_toml(label, offset, "deg")
+        [yaw] = [v for v in tomllib.loads(text)[label]["rpy"] if abs(v) > 1]
+        assert math.radians(yaw) == pytest.approx(offset.rpy[2], abs=1e-15)
+        assert abs(abs(yaw) - 12.3456789012345) < 1e-12
 
 
 def test_flange_vs_tool0_is_a_tip_rotation_with_its_fix(reference):

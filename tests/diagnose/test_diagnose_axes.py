@@ -17,7 +17,7 @@ from fkcheck import load_model
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.engine.axes import axis_lines, axis_rows, first_difference
-from fkcheck.urdf.source import example_robot_data_dir
+from fkcheck.urdf.locate import example_robot_data_dir
 from tests.helpers import BUNDLED, random_q
 
 WITH_URDF = [name for name in BUNDLED if load_model(name).urdf is not None]

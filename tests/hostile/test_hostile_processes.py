@@ -27,12 +27,12 @@ from fkcheck.backends.plugin import PluginBackend
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.engine.runner import run_check
 from fkcheck.model.read import load_model
-from fkcheck.process.isolation import (
+from fkcheck.process.isolation import run_isolated
+from fkcheck.process.supervise import (
     STDERR_TAIL_BYTES,
     TERMINATE_GRACE_S,
     IsolatedDied,
     IsolatedTimeout,
-    run_isolated,
     run_supervised,
 )
 from tests.paths import TESTS_DIR
@@ -298,7 +298,7 @@ def test_a_thread_the_check_gave_up_on_starts_no_new_program() -> None:
     """
     import threading
 
-    from fkcheck.process.isolation import IsolatedTimeout, run_supervised, terminate_all
+    from fkcheck.process.supervise import IsolatedTimeout, run_supervised, terminate_all
 
     outcome: list[BaseException | None] = []
 

@@ -30,8 +30,9 @@ import fkcheck.urdf.chain as urdf_kinematics
 from fkcheck.cli.main import main
 from fkcheck.errors import UrdfError
 from fkcheck.model.read import bundled_model_paths
+from fkcheck.urdf.locate import example_robot_data_dir
 from fkcheck.urdf.screen import MAX_XML_DEPTH, MAX_XML_ELEMENTS
-from fkcheck.urdf.source import MAX_URDF_DEPTH, MAX_URDF_LINKS, example_robot_data_dir, read_urdf
+from fkcheck.urdf.tree import MAX_URDF_DEPTH, MAX_URDF_LINKS, read_urdf
 from tests.helpers import deadline
 
 UR5_URDF = example_robot_data_dir() / "ur_description" / "urdf" / "ur5_robot.urdf"

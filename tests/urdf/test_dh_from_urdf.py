@@ -14,7 +14,7 @@ from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.urdf.chain import axis_rotation, read_urdf_file
-from fkcheck.urdf.source import example_robot_data_dir
+from fkcheck.urdf.locate import example_robot_data_dir
 from fkcheck.urdf.to_dh import dh_from_urdf
 
 URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")

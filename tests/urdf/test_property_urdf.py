@@ -2,7 +2,7 @@
 
 ``read_urdf`` gets random bytes and structured mutations of a small valid URDF
 (dangerous tokens inserted, slices deleted or repeated, re-encoded as UTF-16 or
-ISO-8859-1). Whatever it gets, it returns a :class:`~fkcheck.urdf.source.UrdfInfo`
+ISO-8859-1). Whatever it gets, it returns a :class:`~fkcheck.urdf.tree.UrdfInfo`
 or raises :class:`~fkcheck.errors.UrdfError` with a one-line message — never
 another exception, never a hang (each example is bounded in time). What it
 accepts is safe to hand on: no DTD, comment, processing instruction or xacro
@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 from fkcheck.backends.pinocchio_urdf import _build
 from fkcheck.errors import UrdfError
 from fkcheck.urdf.chain import urdf_kinematics
-from fkcheck.urdf.source import UrdfInfo, read_urdf
+from fkcheck.urdf.tree import UrdfInfo, read_urdf
 from tests.helpers import deadline
 
 pin = pytest.importorskip("pinocchio")
@@ -226,7 +226,7 @@ def assert_safe_to_hand_on(info: UrdfInfo) -> None:
     for link in info.links:  # every link hangs below the root
         info.chain(info.root, link)
     with contextlib.suppress(UrdfError):
-        urdf_kinematics(info.path, text)
+        urdf_kinematics(info)
     try:
         _build(pin, info)  # urdfdom's prints captured; never a crash
         message = ""

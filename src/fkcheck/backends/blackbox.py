@@ -21,7 +21,7 @@ from fkcheck.core.typing import Float
 from fkcheck.errors import FrameUnavailable
 from fkcheck.model.types import Model, Offset, resolve_frame
 
-__all__ = ["frame_poses_from_tcp", "offset_matrix"]
+__all__ = ["frame_poses_from_tcp", "offset_matrix", "require_tcp_frames"]
 
 
 def offset_matrix(offset: Offset) -> Float:
@@ -78,3 +78,13 @@ def frame_poses_from_tcp(model: Model, world_T_tcp: Float, frames: Sequence[str]
                 "gives the TCP pose (frames at DH 0, n, world or tcp can be compared)"
             )
     return out
+
+
+def require_tcp_frames(model: Model, frames: Sequence[str]) -> None:
+    """Refuse, before a black box is run, any frame it cannot give.
+
+    Raises:
+        FrameError: A name is not a frame of the model.
+        FrameUnavailable: A requested frame sits mid-chain.
+    """
+    frame_poses_from_tcp(model, np.empty((0, 4, 4)), frames)

@@ -20,7 +20,7 @@ Protocol:
   finite float (``%.17g`` in C, ``repr`` in Python keep every bit).
 * The program exits with status 0. On bad input it should print a message on
   stderr and exit non-zero; fkcheck reports the last line of stderr (of which
-  it keeps only the last :data:`~fkcheck.process.isolation.STDERR_TAIL_BYTES`).
+  it keeps only the last :data:`~fkcheck.process.supervise.STDERR_TAIL_BYTES`).
 * Output is bounded: a line may be at most :data:`MAX_LINE_BYTES` bytes, and a
   run may print at most one line per configuration plus :data:`EXTRA_LINES`
   (blank lines count). Past either limit fkcheck stops reading, kills the
@@ -31,11 +31,11 @@ Protocol:
   needed, and no run holds more than one batch in its pipes.
 * The whole backend run (all batches) has a time limit,
   :attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`. The program
-  runs under fkcheck's supervisor (:mod:`fkcheck.process.isolation`), in a session of
+  runs under fkcheck's supervisor (:mod:`fkcheck.process.supervise`), in a session of
   its own: when the time limit is reached, the program and every process it
   started — on Linux even those that left its session with ``setsid`` — are
   killed and the backend fails with "timed out after X s"; the run ends within
-  the time limit plus :data:`~fkcheck.process.isolation.TERMINATE_GRACE_S`. When the
+  the time limit plus :data:`~fkcheck.process.supervise.TERMINATE_GRACE_S`. When the
   program exits, whatever it left running is killed. Programs still running
   when fkcheck exits (it gave up on this backend, or was stopped by SIGTERM or
   Ctrl-C) are killed too, and so are they if fkcheck itself is killed.
@@ -60,14 +60,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence
-from fkcheck.backends.blackbox import frame_poses_from_tcp
+from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.blackbox import frame_poses_from_tcp, require_tcp_frames
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.numbers import NumberError, parse_number
 from fkcheck.model.types import Model
-from fkcheck.process.isolation import (
+from fkcheck.process.supervise import (
     IsolatedOutputLimit,
     IsolatedTimeout,
     SpawnError,
@@ -164,27 +164,19 @@ class CommandBackend:
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """Run the program over the batch and map its TCP poses onto named frames.
 
-        Args:
-            model: The model being checked.
-            q: Joint values, shape ``(N, n)``, radians / metres, DH joint order.
-            frames: Names from ``model.frames``.
-
-        Returns:
-            ``(len(frames), N, 4, 4)`` world_T_frame.
+        Takes and returns what :meth:`~fkcheck.backends.base.Backend.frame_poses`
+        does, with the world as the root: ``(len(frames), N, 4, 4)`` world_T_frame.
 
         Raises:
             FrameUnavailable: A requested frame sits mid-chain (checked before
                 the program is run).
             FrameError: A frame name the model does not define.
-            ValueError: ``q`` is not ``(N, model.dof)``.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
             CommandError: The program is missing, fails, times out, or prints
                 something other than one finite 4×4 per configuration.
         """
-        q = np.asarray(q, dtype=np.float64)
-        if q.ndim != 2 or q.shape[1] != model.dof:
-            raise ValueError(f"q must have shape (N, {model.dof}), got {q.shape}")
-        # Fail on a frame this black box cannot give before running anything.
-        frame_poses_from_tcp(model, np.empty((0, 4, 4)), frames)
+        q = validated_q(model, q)
+        require_tcp_frames(model, frames)
         deadline = time.monotonic() + self.timeout_s
         world_T_tcp = np.empty((q.shape[0], 4, 4))
         for start in range(0, q.shape[0], BATCH_SIZE):

@@ -157,7 +157,7 @@ class PinocchioChain:
     """One DH table as a Pinocchio model, with operational frames to read poses from.
 
     fkcheck's one Pinocchio-from-DH builder: the ``pinocchio-dh`` backend and the
-    benchmark (:func:`fkcheck.bench.harness.pinocchio_model`) both use it.
+    benchmark (:func:`fkcheck.bench.peers.pinocchio_model`) both use it.
 
     Attributes:
         pin: The imported :mod:`pinocchio`.

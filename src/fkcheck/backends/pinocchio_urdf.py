@@ -32,7 +32,7 @@ from fkcheck.backends.urdf_common import captured_stderr, urdf_inputs, urdf_unav
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model.types import Model
-from fkcheck.urdf.source import UrdfInfo
+from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["PinocchioUrdf"]
 

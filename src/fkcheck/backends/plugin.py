@@ -34,8 +34,8 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence
-from fkcheck.backends.blackbox import frame_poses_from_tcp
+from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.blackbox import frame_poses_from_tcp, require_tcp_frames
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.errors import BackendNotFoundError
@@ -111,19 +111,14 @@ class PluginBackend:
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """Call the plugin on the whole batch and map its TCP poses onto named frames.
 
-        Args:
-            model: The model being checked.
-            q: Joint values, shape ``(N, n)``, radians / metres, DH joint order.
-            frames: Names from ``model.frames``.
-
-        Returns:
-            ``(len(frames), N, 4, 4)`` world_T_frame.
+        Takes and returns what :meth:`~fkcheck.backends.base.Backend.frame_poses`
+        does, with the world as the root: ``(len(frames), N, 4, 4)`` world_T_frame.
 
         Raises:
             FrameUnavailable: A requested frame sits mid-chain (checked before
                 the plugin is imported).
             FrameError: A frame name the model does not define.
-            ValueError: ``q`` is not ``(N, model.dof)``.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
             PluginError: The plugin cannot be imported or found, is not
                 callable, raises, returns something other than finite
                 ``(N, 4, 4)`` real numbers, its process ends without an answer
@@ -131,11 +126,8 @@ class PluginBackend:
                 :func:`~fkcheck.process.isolation.answer_limit` bytes, or it has not
                 answered within the time limit.
         """
-        q = np.asarray(q, dtype=np.float64)
-        if q.ndim != 2 or q.shape[1] != model.dof:
-            raise ValueError(f"q must have shape (N, {model.dof}), got {q.shape}")
-        # Fail on a frame this black box cannot give before running anything.
-        frame_poses_from_tcp(model, np.empty((0, 4, 4)), frames)
+        q = validated_q(model, q)
+        require_tcp_frames(model, frames)
         job = functools.partial(_call, self.name, self.module, self.function, q.copy())
         try:
             kind, value = run_isolated(job, self.timeout_s, answer_limit(q.shape[0]))

@@ -22,7 +22,9 @@ from fkcheck.backends.base import validated_q
 from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, UnmappedFrameError
 from fkcheck.model.types import Model, resolve_frame
-from fkcheck.urdf.source import ERD_PREFIX, UrdfInfo, listed, load_urdf
+from fkcheck.urdf.locate import ERD_PREFIX
+from fkcheck.urdf.source import load_urdf
+from fkcheck.urdf.tree import UrdfInfo, listed
 
 __all__ = [
     "CapturedStderr",

@@ -49,7 +49,7 @@ from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
 from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
-from fkcheck.urdf.source import UrdfInfo
+from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["MeshAccessError", "YourdfpyUrdf"]
 

@@ -47,7 +47,8 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.io.text import terminal_text
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.chain import read_urdf_file
-    from fkcheck.urdf.to_dh import dh_from_urdf, urdf_spec_for
+    from fkcheck.urdf.locate import urdf_spec_for
+    from fkcheck.urdf.to_dh import dh_from_urdf
 
     path, _text, kin = read_urdf_file(args.urdf)
     plan(args, [("-o", args.output)], [("the URDF", path)])

@@ -38,7 +38,7 @@ from fkcheck.diagnose.problem import (
 )
 from fkcheck.model.offsets import offset_from_matrix
 from fkcheck.model.types import Model, Offset
-from fkcheck.model.write import frame_toml, toml_number
+from fkcheck.model.write import frame_toml, offset_toml
 
 __all__ = ["OffsetFit", "explain_offsets", "fit_offsets"]
 
@@ -290,26 +290,15 @@ def _fix_side(model: Model, frame: str, T: Float, base_side: bool) -> tuple[Mode
     if base_side and spec.dh == "world" and spec.offset.is_identity:
         # from = world: the base transform absorbs X (world_T_base' = X⁻¹·… on this side).
         base = _tidy(invert(T) @ model.base.matrix)
-        return replace(model, base=base), _offset_toml("base", base, unit)
+        return replace(model, base=base), offset_toml("base", base, unit)
     if not base_side and spec.dh == "tcp" and spec.offset.is_identity:
         tool = _tidy(model.tool.matrix @ T)
-        return replace(model, tool=tool), _offset_toml("tool", tool, unit)
+        return replace(model, tool=tool), offset_toml("tool", tool, unit)
     matrix = spec.offset.matrix @ (invert(T) if base_side else T)
     new_spec = replace(spec, offset=_tidy(matrix))
     frames = dict(model.frames)
     frames[frame] = new_spec
     return replace(model, frames=frames), frame_toml(new_spec, unit)
-
-
-def _offset_toml(label: str, offset: Offset, unit: str) -> str:
-    scale = 180 / math.pi if unit == "deg" else 1.0
-    lines = [f"[{label}]"]
-    if any(offset.xyz):
-        lines.append("xyz = [" + ", ".join(toml_number(v) for v in offset.xyz) + "]")
-    if any(offset.rpy):
-        rpy = [round(v * scale, 9) if unit == "deg" else v for v in offset.rpy]
-        lines.append("rpy = [" + ", ".join(toml_number(v) for v in rpy) + "]")
-    return "\n".join(lines) + "\n"
 
 
 def _first_axis_in_from(problem: Problem) -> Float | None:

@@ -136,7 +136,7 @@ def read_urdf_kinematics(model: Model) -> UrdfKinematics:
     from fkcheck.urdf.source import load_urdf
 
     info = load_urdf(model)
-    return urdf_kinematics(info.path, info.text)
+    return urdf_kinematics(info)
 
 
 def axis_lines(

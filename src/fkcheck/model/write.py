@@ -21,7 +21,14 @@ from typing import Literal
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import FrameSpec, Joint, Model, Offset
 
-__all__ = ["frame_toml", "model_to_toml", "relocate_urdf_path", "toml_key", "toml_number"]
+__all__ = [
+    "frame_toml",
+    "model_to_toml",
+    "offset_toml",
+    "relocate_urdf_path",
+    "toml_key",
+    "toml_number",
+]
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
 
@@ -73,6 +80,11 @@ def _offset_lines(offset: Offset, unit: Literal["rad", "deg"]) -> list[str]:
     if any(offset.rpy):
         lines.append(f"rpy = {_numbers([_angle(v, unit) for v in offset.rpy])}")
     return lines
+
+
+def offset_toml(label: str, offset: Offset, unit: Literal["rad", "deg"] = "rad") -> str:
+    """The ``[base]`` or ``[tool]`` table (``label``) of ``offset``, angles in ``unit``."""
+    return "\n".join([f"[{label}]", *_offset_lines(offset, unit)]) + "\n"
 
 
 def frame_toml(
@@ -154,7 +166,7 @@ def model_to_toml(
         out.extend(_joint_lines(joint, unit))
     for label, offset in (("base", model.base), ("tool", model.tool)):
         if not offset.is_identity:
-            out.extend(["", f"[{label}]", *_offset_lines(offset, unit)])
+            out.extend(["", offset_toml(label, offset, unit).rstrip("\n")])
     if model.poses:
         out.extend(["", "[poses]"])
         for pname, values in model.poses.items():

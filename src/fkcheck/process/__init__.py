@@ -1,7 +1,9 @@
 """Other programs and child processes, time-limited and cleaned up.
 
-Owns running a job in a supervised child (:mod:`~fkcheck.process.isolation`,
-with the supervisor :mod:`~fkcheck.process._supervisor` that reaps orphans).
+Owns running a program under a supervisor that reaps orphans
+(:mod:`~fkcheck.process.supervise`, with the supervisor process itself in
+:mod:`~fkcheck.process._supervisor`) and running a pickled Python job in a
+supervised child (:mod:`~fkcheck.process.isolation`).
 May import: the standard library only.
 """
 

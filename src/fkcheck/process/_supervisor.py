@@ -3,7 +3,7 @@
 fkcheck runs every piece of code it does not trust — a ``cmd:`` program, a
 Python plugin, an isolated backend — under this small supervisor, started as
 ``python -I -S _supervisor.py PARENT_PID STATUS_FD -- PROGRAM ARGS…`` by
-:func:`fkcheck.process.isolation.run_supervised` in a session of its own. It imports
+:func:`fkcheck.process.supervise.run_supervised` in a session of its own. It imports
 nothing but the standard library, so it starts in a few tens of milliseconds.
 
 What it does:

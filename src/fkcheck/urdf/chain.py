@@ -2,18 +2,19 @@
 
 Reference libraries compute URDF poses for the *check*; this module is for
 *geometry*: joint axes as lines (for ``dh-from-urdf`` and for ``diagnose``'s
-axis comparison), which none of the backends expose. It reads the screened
-text :mod:`fkcheck.urdf.source` produced (never the raw file) and follows the
-URDF specification: ``<origin xyz rpy>`` (fixed-axis rpy) places the joint
-frame in the parent link; a revolute/continuous joint turns about ``<axis>``
-(default ``1 0 0``, normalised) in that frame, a prismatic joint slides along
-it; the child link's frame is the joint frame after the motion. Its poses are
+axis comparison), which none of the backends expose. It builds on the
+:class:`~fkcheck.urdf.tree.UrdfInfo` that :func:`fkcheck.urdf.tree.read_urdf`
+produced — its checked tree, its screened text (never the raw file) and its one
+chain walk — and follows the URDF specification: ``<origin xyz rpy>``
+(fixed-axis rpy) places the joint frame in the parent link; a
+revolute/continuous joint turns about ``<axis>`` (default ``1 0 0``,
+normalised) in that frame, a prismatic joint slides along it; the child link's
+frame is the joint frame after the motion. Its poses are
 tested against Pinocchio's.
 """
 
 from __future__ import annotations
 
-import math
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -24,7 +25,7 @@ import numpy as np
 from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError, UrdfError
-from fkcheck.urdf.source import chain_between
+from fkcheck.urdf.tree import UrdfInfo, chain_between
 
 __all__ = [
     "MOVABLE",
@@ -164,7 +165,7 @@ class UrdfKinematics:
 
         Raises:
             UrdfError: ``link`` does not hang below the root (a text that did not
-                go through :mod:`fkcheck.urdf.source`'s tree check).
+                go through :func:`fkcheck.urdf.tree.read_urdf`'s tree check).
         """
         path = chain_between(self.joints, self.root, link)
         if path is None:  # detached, or a cycle
@@ -244,95 +245,57 @@ class UrdfKinematics:
         return np.array(points).reshape(-1, 3), np.array(directions).reshape(-1, 3)
 
 
-def _numbers(
-    text: str | None, count: int, default: tuple[float, ...], where: str, path: Path
-) -> tuple[float, ...]:
-    if text is None:
-        return default
-    parts = text.split()
-    try:
-        values = tuple(float(p) for p in parts)
-    except ValueError:
-        raise UrdfError(path, f"{where}: {text!r} is not {count} numbers") from None
-    if len(values) != count or not all(math.isfinite(v) for v in values):
-        raise UrdfError(path, f"{where}: {text!r} is not {count} finite numbers")
-    return values
+def _floats(text: str | None, default: tuple[float, ...]) -> tuple[float, ...]:
+    """An attribute's numbers, ``default`` when absent.
+
+    :func:`fkcheck.urdf.tree.read_urdf` has checked every numeric attribute
+    (the right count of finite decimal numbers), so this only converts.
+    """
+    return default if text is None else tuple(float(p) for p in text.split(" ") if p)
 
 
-def urdf_kinematics(path: Path, text: str) -> UrdfKinematics:
-    """Parse the kinematic geometry of a screened URDF text.
+def urdf_kinematics(info: UrdfInfo) -> UrdfKinematics:
+    """The kinematic geometry of a URDF read by :func:`fkcheck.urdf.tree.read_urdf`.
 
-    Args:
-        path: The file (for messages).
-        text: Its content as :mod:`fkcheck.urdf.source` re-serialised it after screening.
+    The links, the root, each joint's type, parent and child and the numbers
+    come from ``info``, checked there; this adds the geometry: origins, unit
+    axes, limits, mimics.
 
     Raises:
-        UrdfError: Not XML, a bad number, a zero axis, or not exactly one root link.
+        UrdfError: A moving joint's axis is too short to give a direction (below 1e-12).
     """
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise UrdfError(path, f"not valid XML: {exc}") from None
-    links = tuple(str(el.get("name")) for el in root.findall("link") if el.get("name"))
+    path = info.path
+    root = ET.fromstring(info.text)  # fkcheck's own re-serialisation of the screened tree
     joints: dict[str, JointGeometry] = {}
     for el in root.findall("joint"):  # the robot's own: not those in <transmission>
-        parent, child = el.find("parent"), el.find("child")
-        name = el.get("name")
-        if name is None or parent is None or child is None:
-            continue
-        where = f"joint {name!r}"
+        joint = info.joints[str(el.get("name"))]
         origin_el = el.find("origin")
-        xyz = _numbers(
-            origin_el.get("xyz") if origin_el is not None else None,
-            3,
-            (0.0, 0.0, 0.0),
-            f"{where} origin xyz",
-            path,
+        xyz, rpy = (
+            _floats(None if origin_el is None else origin_el.get(key), (0.0, 0.0, 0.0))
+            for key in ("xyz", "rpy")
         )
-        rpy = _numbers(
-            origin_el.get("rpy") if origin_el is not None else None,
-            3,
-            (0.0, 0.0, 0.0),
-            f"{where} origin rpy",
-            path,
-        )
-        axis_el = el.find("axis")
-        axis = np.array(
-            _numbers(
-                axis_el.get("xyz") if axis_el is not None else None,
-                3,
-                (1.0, 0.0, 0.0),
-                f"{where} axis",
-                path,
-            )
-        )
-        jtype = str(el.get("type", ""))
+        axis = np.array(_floats(joint.axis, (1.0, 0.0, 0.0)))
         norm = float(np.linalg.norm(axis))
-        if jtype in MOVABLE and norm < 1e-12:
-            raise UrdfError(path, f"{where} has a zero axis")
+        if joint.type in MOVABLE and norm < 1e-12:
+            raise UrdfError(path, f"joint {joint.name!r} has a zero axis")
         axis = axis / norm if norm > 0 else axis
         limits = None
         limit_el = el.find("limit")
-        if jtype in ("revolute", "prismatic") and limit_el is not None:
-            lo = _numbers(limit_el.get("lower"), 1, (0.0,), f"{where} limit lower", path)[0]
-            hi = _numbers(limit_el.get("upper"), 1, (0.0,), f"{where} limit upper", path)[0]
+        if joint.type in ("revolute", "prismatic") and limit_el is not None:
+            (lo,), (hi,) = (_floats(limit_el.get(key), (0.0,)) for key in ("lower", "upper"))
             limits = (lo, hi) if lo < hi else None  # URDF: lower = upper = 0 means none given
         mimic_el = el.find("mimic")
-        joints[str(name)] = JointGeometry(
-            name=str(name),
-            type=jtype,
-            parent=str(parent.get("link")),
-            child=str(child.get("link")),
+        joints[joint.name] = JointGeometry(
+            name=joint.name,
+            type=joint.type,
+            parent=joint.parent,
+            child=joint.child,
             origin=matrix_from_xyz_rpy(xyz, rpy),
             axis=axis,
             limits=limits,
             mimic=str(mimic_el.get("joint")) if mimic_el is not None else None,
         )
-    children = {j.child for j in joints.values()}
-    roots = [link for link in links if link not in children]
-    if len(roots) != 1:
-        raise UrdfError(path, f"expected one root link, found {len(roots)}: {', '.join(roots)}")
-    return UrdfKinematics(path, str(root.get("name", path.stem)), joints, links, roots[0])
+    return UrdfKinematics(path, str(root.get("name", path.stem)), joints, info.links, info.root)
 
 
 def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
@@ -349,15 +312,10 @@ def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
             (:mod:`fkcheck.urdf.screen`), or not a valid URDF tree.
         BackendUnavailable: ``example-robot-data:`` is used but not installed.
     """
-    from fkcheck.urdf.screen import check_urdf_path
-    from fkcheck.urdf.source import ERD_PREFIX, example_robot_data_dir, read_urdf
+    from fkcheck.urdf.locate import locate_urdf
+    from fkcheck.urdf.tree import read_urdf
 
-    text_spec = str(spec)
-    if text_spec.startswith(ERD_PREFIX):
-        path = example_robot_data_dir() / text_spec[len(ERD_PREFIX) :]
-    else:
-        path = Path(spec)
-    check_urdf_path(path, text_spec)
+    path, package_dirs = locate_urdf(str(spec))
     # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
-    info = read_urdf(path.resolve(), (path.resolve().parent.parent,))
-    return info.path, info.text, urdf_kinematics(info.path, info.text)
+    info = read_urdf(path.resolve(), package_dirs)
+    return info.path, info.text, urdf_kinematics(info)

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -400,22 +399,3 @@ def _self_check(kin: UrdfKinematics, chain: list[JointGeometry], model: Model) -
     ours = reference_poses(model, q, names)  # world = base link
     theirs = np.stack([urdf_T[:, links.index(name)] for name in names])
     return float(max(position_error_m(ours, theirs).max(), rotation_error_rad(ours, theirs).max()))
-
-
-def urdf_spec_for(path: Path, output: Path | None) -> str:
-    """How a generated model file should name ``path``: ``example-robot-data:…`` or relative."""
-    import os
-
-    from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import ERD_PREFIX, example_robot_data_dir
-
-    resolved = path.resolve()
-    try:
-        robots = example_robot_data_dir().resolve()
-    except BackendUnavailable:
-        robots = None
-    if robots is not None and resolved.is_relative_to(robots):
-        return ERD_PREFIX + resolved.relative_to(robots).as_posix()
-    if output is None:
-        return str(resolved)
-    return Path(os.path.relpath(resolved, output.resolve().parent)).as_posix()

@@ -1,0 +1,92 @@
+"""Where a URDF is: a ``[urdf].path`` spec to a file, and a file back to a spec (stdlib only).
+
+A spec is either ``example-robot-data:<subpath>``, found under the installed
+example-robot-data package's ``robots/`` directory without importing its loaders
+(they import Pinocchio), or a file path, relative to the model file (or, on the
+command line, to the current directory). :func:`urdf_spec_for` goes the other
+way, for a generated model file.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+from pathlib import Path
+
+from fkcheck.errors import BackendUnavailable
+from fkcheck.urdf.screen import check_urdf_path
+
+__all__ = ["ERD_PREFIX", "example_robot_data_dir", "locate_urdf", "urdf_spec_for"]
+
+#: A ``[urdf].path`` starting with this names a file of example-robot-data.
+ERD_PREFIX = "example-robot-data:"
+
+
+def example_robot_data_dir() -> Path:
+    """The ``robots/`` directory installed by the example-robot-data package.
+
+    Found from the installed Python package's location, without importing it
+    (its loader imports Pinocchio).
+
+    Raises:
+        BackendUnavailable: example-robot-data is not installed (URDF backends
+            then report themselves skipped, not failed).
+    """
+    spec = importlib.util.find_spec("example_robot_data")
+    if spec is not None and spec.origin:
+        # <prefix>/lib/pythonX.Y/site-packages/example_robot_data/__init__.py
+        prefix = Path(spec.origin).resolve().parents[4]
+        robots = prefix / "share" / "example-robot-data" / "robots"
+        if robots.is_dir():
+            return robots
+    raise BackendUnavailable("example-robot-data is not installed (pip install example-robot-data)")
+
+
+def locate_urdf(spec: str, relative_to: Path | None = None) -> tuple[Path, tuple[Path, ...]]:
+    """The file a URDF spec names, and the directories that may hold its packages.
+
+    Args:
+        spec: ``example-robot-data:<subpath>`` or a file path.
+        relative_to: The directory a relative path is taken from (default: the
+            current directory).
+
+    Returns:
+        ``(path, package_dirs)``: the file (checked to be an existing regular
+        file of bounded size, not yet opened) and where ``package://`` names in
+        it are looked up (example-robot-data's ``robots/``, or the file's
+        grandparent and great-grandparent directories).
+
+    Raises:
+        UrdfError: The file does not exist, is not a regular file or is too large.
+        BackendUnavailable: The spec names example-robot-data, which is not installed.
+    """
+    if spec.startswith(ERD_PREFIX):
+        robots = example_robot_data_dir()
+        path = robots / spec[len(ERD_PREFIX) :]
+        package_dirs: tuple[Path, ...] = (robots,)
+    else:
+        path = Path(spec)
+        if not path.is_absolute() and relative_to is not None:
+            path = relative_to / path
+        package_dirs = (path.parent.parent, path.parent.parent.parent)
+    check_urdf_path(path, spec)
+    return path, package_dirs
+
+
+def urdf_spec_for(path: Path, output: Path | None) -> str:
+    """How a generated model file should name ``path``: ``example-robot-data:…`` or relative.
+
+    Args:
+        path: The URDF file.
+        output: The model file to be written (``None``: printed, so the path is absolute).
+    """
+    resolved = path.resolve()
+    try:
+        robots = example_robot_data_dir().resolve()
+    except BackendUnavailable:
+        robots = None
+    if robots is not None and resolved.is_relative_to(robots):
+        return ERD_PREFIX + resolved.relative_to(robots).as_posix()
+    if output is None:
+        return str(resolved)
+    return Path(os.path.relpath(resolved, output.resolve().parent)).as_posix()
