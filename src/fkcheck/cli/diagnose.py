@@ -42,7 +42,7 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
-    from fkcheck.backends.base import BackendUnavailable, FixedConfigurations
+    from fkcheck.backends.base import BackendUnavailable
     from fkcheck.backends.registry import make_backend
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan
     from fkcheck.diagnose import diagnose, format_text, to_dict
@@ -72,8 +72,6 @@ def run(args: argparse.Namespace) -> int:
     reason = backend.unavailable_reason(model)
     if reason is not None:
         raise BackendUnavailable(f"{backend.name} cannot run here: {reason}")
-    # A measured-poses backend only has poses at its own configurations.
-    q = backend.configurations(model) if isinstance(backend, FixedConfigurations) else None
     result = diagnose(
         model,
         backend,
@@ -81,7 +79,6 @@ def run(args: argparse.Namespace) -> int:
         frame_to=args.frame_to,
         samples=args.samples,
         seed=args.seed,
-        q=q,
         tol_pos_m=args.tol_pos,
         tol_rot_rad=args.tol_rot,
     )

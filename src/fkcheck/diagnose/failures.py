@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations
+from fkcheck.backends.base import Backend
 from fkcheck.diagnose.findings import Diagnosis
 from fkcheck.diagnose.run import diagnose
 from fkcheck.engine.results import BackendResult, CheckResult
@@ -81,19 +81,12 @@ def diagnose_command(check: CheckResult, backend: str) -> str:
 def _run_one(check: CheckResult, backend: Backend) -> tuple[Diagnosis | None, str]:
     """Diagnose one backend with the check's settings; an exception becomes its text."""
     try:
-        # A measured-poses backend only has poses at its own configurations.
-        q = (
-            backend.configurations(check.model)
-            if isinstance(backend, FixedConfigurations)
-            else None
-        )
         result = diagnose(
             check.model,
             backend,
             frame_from=check.frame_from,
             frame_to=check.frame_to,
             seed=check.seed,
-            q=q,
             tol_pos_m=check.tol_pos_m,
             tol_rot_rad=check.tol_rot_rad,
         )

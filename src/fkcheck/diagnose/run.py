@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
-from fkcheck.backends.base import Backend
+from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
 from fkcheck.diagnose.axes import axes_note, compare_axes
 from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
@@ -48,7 +48,8 @@ def diagnose(
         frame_to: Frame whose pose is compared (default: the model's ``[check]``).
         samples: Random configurations, on top of the named poses, zero and mid-range.
         seed: Seed of the random configurations.
-        q: Use these configurations instead (e.g. a measured-poses backend's own).
+        q: Use these configurations instead; by default a measured-poses backend's
+            own (it has poses at no others), else sampled ones.
         tol_pos_m: Position tolerance (default: the model's ``[check]``).
         tol_rot_rad: Rotation tolerance (default: the model's ``[check]``).
 
@@ -62,6 +63,8 @@ def diagnose(
     start = time.perf_counter()
     pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
+    if q is None and isinstance(backend, FixedConfigurations):
+        q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)
     problem = Problem.build(model, backend, configs, pair, tol)
     before = problem.residual(model)
