@@ -15,6 +15,7 @@ import fkcheck.core.dh
 import fkcheck.diagnose.failures
 import fkcheck.diagnose.run
 import fkcheck.engine.axes
+import fkcheck.engine.compare
 import fkcheck.engine.runner
 import fkcheck.model.frames
 import fkcheck.urdf.chain
@@ -83,7 +84,7 @@ def test_a_passing_backend_keeps_nothing_and_a_failing_one_its_worst_cases():
 
 
 def test_worst_cases_over_many_chunks_are_the_global_top(monkeypatch):
-    monkeypatch.setattr(fkcheck.engine.runner, "CHUNK", 7)
+    monkeypatch.setattr(fkcheck.engine.compare, "CHUNK", 7)
     check = run_check(golden_model(), [TwistedDH()], samples=100, seed=5)
     r = check.backends[0]
     assert r.detail is not None

@@ -1,8 +1,10 @@
-"""The cross-check: every backend against the in-house core, pose by pose.
+"""The cross-check's run: sample, run every backend in its own thread and time limit.
 
-:func:`run_check` samples configurations, computes ``from_T_to`` with the
-in-house DH core (the reference row) and with each backend, and turns the
-differences into :class:`BackendResult` rows and a :class:`CheckResult` verdict.
+:func:`run_check` samples configurations (or takes a measured-poses backend's),
+imports the backends' libraries, runs each backend in a thread — an isolated
+one's poses in a child process — within its time limit, has
+:func:`fkcheck.engine.compare.compare` judge each against the in-house core,
+and returns a :class:`~fkcheck.engine.results.CheckResult` with the verdict.
 
 The words of the result (pass, fail, error, skipped) are defined in
 :mod:`fkcheck.engine.results`.
@@ -17,29 +19,18 @@ import importlib
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, Evidence, FixedConfigurations, SharesDHFrames
-from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
-from fkcheck.core.tolerances import ROUNDED_URDF
+from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
-from fkcheck.engine.evidence import (
-    FailureDetail,
-    WorstTracker,
-    arm_pose,
-    dh_parting,
-    urdf_axes,
-)
-from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
+from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
+from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
 from fkcheck.model.frames import (
-    CHUNK,
-    reference_poses,
-    relative_pose,
     resolve_frame,
 )
 from fkcheck.model.sampling import Sampler, Samples, sample_configurations
@@ -53,13 +44,6 @@ from fkcheck.process.isolation import (
 )
 
 __all__ = ["Progress", "run_check"]
-
-Progress = Callable[[str, int, int], None]
-
-#: A backend's output must be a rigid transform to this accuracy; worse is a failure.
-#: Looser than any round-off (1e-15) and than a URDF's rounded π/2 (1e-11), tight
-#: enough to catch a scaled, sheared or transposed "rotation".
-SE3_TOLERANCE = 1e3 * ROUNDED_URDF
 
 
 def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
@@ -77,165 +61,20 @@ def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples 
     return Samples(q=q, origin=(f"file:{fixed[0].name}",) * q.shape[0])
 
 
-@dataclass(frozen=True, eq=False)
-class _Job:
-    """One backend's comparison (run in a thread of the engine's process).
-
-    Attributes:
-        backend: The backend to run.
-        model: The model checked.
-        q: ``(N, n)`` configurations, radians / metres.
-        pair: ``(frame_from, frame_to)`` of the compared pose.
-        tol: ``(position m, rotation rad)`` tolerances.
-    """
-
-    backend: Backend
-    model: Model
-    q: Float
-    pair: tuple[str, str]
-    tol: tuple[float, float]
-
-
-def _evidence(backend: Backend) -> Evidence:
-    """What a backend's agreement proves; one that does not say proves only the implementation."""
-    kind = getattr(backend, "evidence", "implementation")
-    return "table" if kind == "table" else "implementation"
-
-
 def _error(backend: Backend, message: str, duration_s: float = 0.0) -> BackendResult:
     return BackendResult(
-        backend.name, "error", message, backend.method, duration_s, evidence=_evidence(backend)
+        backend.name, "error", message, backend.method, duration_s, evidence=evidence_of(backend)
     )
 
 
 def _skipped(backend: Backend, reason: str) -> BackendResult:
     return BackendResult(
-        backend.name, "skipped", reason, backend.method, evidence=_evidence(backend)
+        backend.name, "skipped", reason, backend.method, evidence=evidence_of(backend)
     )
-
-
-def _q_text(q: Float) -> str:
-    return "[" + ", ".join(f"{v:.6g}" for v in q) + "]"
-
-
-class NoAnswerError(RuntimeError):
-    """A backend's output cannot be compared (wrong shape), or the reference is not finite."""
-
-
-def _compare(job: _Job, on_progress: Progress | None = None) -> BackendResult:
-    """Run one backend over all configurations and compare with the reference.
-
-    A wrong answer is a failure that keeps its numbers: rows that are NaN/inf
-    count as infinitely wrong, and a matrix that is not a rigid transform is
-    named with its defect and configuration, its position and rotation errors
-    still measured.
-
-    Raises:
-        NoAnswerError: The backend returned the wrong shape (it gave no answer to
-            compare), or the reference itself is not finite.
-    """
-    backend, model, q, pair = job.backend, job.model, job.q, job.pair
-    start = time.perf_counter()
-    pos = np.empty(q.shape[0])
-    rot = np.empty(q.shape[0])
-    defect_max, defect_at = 0.0, -1
-    non_finite = 0
-    first_non_finite = -1
-    tol_pos, tol_rot = job.tol
-    tracker = WorstTracker()
-    for first in range(0, q.shape[0], CHUNK):
-        chunk = q[first : first + CHUNK]
-        poses = np.asarray(backend.frame_poses(model, chunk, pair), dtype=np.float64)
-        expected_shape = (2, chunk.shape[0], 4, 4)
-        if poses.shape != expected_shape:
-            raise NoAnswerError(f"returned shape {poses.shape}, expected {expected_shape}")
-        ref = reference_poses(model, chunk, pair)
-        if not np.isfinite(ref).all():
-            k = int(np.argmax(~np.isfinite(ref).all(axis=(0, 2, 3))))
-            raise NoAnswerError(
-                f"the reference ({REFERENCE_NAME}) is not finite at q = {_q_text(chunk[k])}: "
-                "the model's numbers overflow; nothing can be compared"
-            )
-        raw = poses
-        finite = np.isfinite(poses).all(axis=(0, 2, 3))
-        if not finite.all():
-            bad = np.flatnonzero(~finite)
-            if first_non_finite < 0:
-                first_non_finite = first + int(bad[0])
-            non_finite += bad.size
-            poses = poses.copy()
-            poses[:, bad] = np.eye(4)  # placeholders; their errors are set to inf below
-        theirs = relative_pose(poses[0], poses[1])
-        ours = relative_pose(ref[0], ref[1])
-        as_returned = relative_pose(raw[0], raw[1]) if raw is not poses else theirs
-        defect = se3_defect(poses).max(axis=0)
-        k = int(np.argmax(defect))
-        if defect[k] > defect_max:
-            defect_max, defect_at = float(defect[k]), first + k
-            tracker.keep(defect_at, ours[k], as_returned[k])
-        pos_chunk = position_error_m(ours, theirs)
-        rot_chunk = rotation_error_rad(ours, theirs)
-        pos_chunk[~finite] = np.inf
-        rot_chunk[~finite] = np.inf
-        score_chunk = np.maximum(pos_chunk / tol_pos, rot_chunk / tol_rot)
-        score_chunk[np.isnan(score_chunk)] = np.inf
-        tracker.add(first, score_chunk, ours, as_returned)
-        pos[first : first + CHUNK] = pos_chunk
-        rot[first : first + CHUNK] = rot_chunk
-        if on_progress is not None:
-            on_progress(backend.name, first + chunk.shape[0], q.shape[0])
-    score = np.maximum(pos / tol_pos, rot / tol_rot)
-    score[np.isnan(score)] = np.inf
-    worst = int(np.argmax(score)) if score.size else None
-    reasons = []
-    if non_finite:
-        reasons.append(
-            f"returned NaN or inf at {non_finite} of {q.shape[0]} configurations "
-            f"(first at q = {_q_text(q[first_non_finite])})"
-        )
-    if defect_max > SE3_TOLERANCE:
-        reasons.append(
-            f"not a rigid transform: defect {defect_max:.3g} at q = {_q_text(q[defect_at])}"
-        )
-        worst = defect_at
-    n_bad = int((score > 1.0).sum())
-    if n_bad:
-        reasons.append(
-            f"{n_bad} of {q.shape[0]} configurations differ: max position error "
-            f"{pos.max():.3g} m, max rotation error {rot.max():.3g} rad"
-        )
-    failed = bool(reasons)
-    detail = None
-    if failed and worst is not None:
-        detail = _failure_detail(job, worst, tracker)
-    return BackendResult(
-        name=backend.name,
-        status="fail" if failed else "pass",
-        message="; ".join(reasons),
-        method=backend.method,
-        duration_s=time.perf_counter() - start,
-        evidence=_evidence(backend),
-        position_error_m=pos,
-        rotation_error_rad=rot,
-        worst_index=worst,
-        detail=detail,
-    )
-
-
-def _failure_detail(job: _Job, worst: int, tracker: WorstTracker) -> FailureDetail:
-    """What a report needs to show why a backend failed, kept while it is at hand."""
-    model, q = job.model, job.q[worst]
-    arm = arm_pose(model, q, job.pair)
-    if isinstance(job.backend, SharesDHFrames):
-        theirs = np.asarray(job.backend.dh_frames(model, q[None]))[0]
-        parting = dh_parting(worst, arm.world_T_dh, theirs, job.tol)
-        return FailureDetail(tracker.cases(worst), arm, dh_parting=parting)
-    axes = urdf_axes(model, worst, q, job.pair[0], job.tol)
-    return FailureDetail(tracker.cases(worst), arm, urdf_axes=axes)
 
 
 def _run_one(
-    job: _Job, timeout_s: float, on_progress: Progress | None = None
+    job: Job, timeout_s: float, on_progress: Progress | None = None
 ) -> BackendResult | FkcheckError:
     """Run one backend with a time limit; returns a result, or bad input to re-raise."""
     backend = job.backend
@@ -269,12 +108,12 @@ def _run_one(
     return box[0]
 
 
-def _outcome(job: _Job, on_progress: Progress | None = None) -> BackendResult | FkcheckError:
+def _outcome(job: Job, on_progress: Progress | None = None) -> BackendResult | FkcheckError:
     """Compare one backend; any exception becomes a result (or bad input to re-raise)."""
     backend = job.backend
     start = time.perf_counter()
     try:
-        return _compare(job, on_progress)
+        return compare(job, on_progress)
     except Skip as exc:
         return _skipped(backend, str(exc))
     except FkcheckError as exc:
@@ -322,7 +161,7 @@ class _InChild:
         self.backend = backend
         self.name = backend.name
         self.method = backend.method
-        self.evidence = _evidence(backend)
+        self.evidence = evidence_of(backend)
         self.timeout_s = timeout_s
         self.deadline = time.monotonic() + min(timeout_s, threading.TIMEOUT_MAX)
 
@@ -441,7 +280,7 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        outcome = _run_one(_Job(backend, model, q.q, pair, tol), timeout_s, on_progress)
+        outcome = _run_one(Job(backend, model, q.q, pair, tol), timeout_s, on_progress)
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)

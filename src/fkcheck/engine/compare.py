@@ -1,0 +1,190 @@
+"""One backend against the in-house core, pose by pose: the comparison and what it keeps.
+
+:func:`compare` runs a backend over every configuration in chunks, compares each
+``from_T_to`` with the core's, and turns the differences into a
+:class:`~fkcheck.engine.results.BackendResult` — status, per-configuration
+errors, the worst configuration and, for a failure, the evidence a report shows
+(:mod:`fkcheck.engine.evidence`). The run around it — threads, time limits,
+isolated processes — is :mod:`fkcheck.engine.runner`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from fkcheck.backends.base import Backend, Evidence, SharesDHFrames
+from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
+from fkcheck.core.tolerances import ROUNDED_URDF
+from fkcheck.core.typing import Float
+from fkcheck.engine.evidence import (
+    FailureDetail,
+    WorstTracker,
+    arm_pose,
+    dh_parting,
+    urdf_axes,
+)
+from fkcheck.engine.results import REFERENCE_NAME, BackendResult
+from fkcheck.model.frames import (
+    CHUNK,
+    reference_poses,
+    relative_pose,
+)
+from fkcheck.model.types import Model
+
+__all__ = ["SE3_TOLERANCE", "Job", "NoAnswerError", "Progress", "compare", "evidence_of"]
+
+Progress = Callable[[str, int, int], None]
+
+#: A backend's output must be a rigid transform to this accuracy; worse is a failure.
+#: Looser than any round-off (1e-15) and than a URDF's rounded π/2 (1e-11), tight
+#: enough to catch a scaled, sheared or transposed "rotation".
+SE3_TOLERANCE = 1e3 * ROUNDED_URDF
+
+
+@dataclass(frozen=True, eq=False)
+class Job:
+    """One backend's comparison (run in a thread of the engine's process).
+
+    Attributes:
+        backend: The backend to run.
+        model: The model checked.
+        q: ``(N, n)`` configurations, radians / metres.
+        pair: ``(frame_from, frame_to)`` of the compared pose.
+        tol: ``(position m, rotation rad)`` tolerances.
+    """
+
+    backend: Backend
+    model: Model
+    q: Float
+    pair: tuple[str, str]
+    tol: tuple[float, float]
+
+
+def evidence_of(backend: Backend) -> Evidence:
+    """What a backend's agreement proves; one that does not say proves only the implementation."""
+    kind = getattr(backend, "evidence", "implementation")
+    return "table" if kind == "table" else "implementation"
+
+
+def _q_text(q: Float) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in q) + "]"
+
+
+class NoAnswerError(RuntimeError):
+    """A backend's output cannot be compared (wrong shape), or the reference is not finite."""
+
+
+def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
+    """Run one backend over all configurations and compare with the reference.
+
+    A wrong answer is a failure that keeps its numbers: rows that are NaN/inf
+    count as infinitely wrong, and a matrix that is not a rigid transform is
+    named with its defect and configuration, its position and rotation errors
+    still measured.
+
+    Raises:
+        NoAnswerError: The backend returned the wrong shape (it gave no answer to
+            compare), or the reference itself is not finite.
+    """
+    backend, model, q, pair = job.backend, job.model, job.q, job.pair
+    start = time.perf_counter()
+    pos = np.empty(q.shape[0])
+    rot = np.empty(q.shape[0])
+    defect_max, defect_at = 0.0, -1
+    non_finite = 0
+    first_non_finite = -1
+    tol_pos, tol_rot = job.tol
+    tracker = WorstTracker()
+    for first in range(0, q.shape[0], CHUNK):
+        chunk = q[first : first + CHUNK]
+        poses = np.asarray(backend.frame_poses(model, chunk, pair), dtype=np.float64)
+        expected_shape = (2, chunk.shape[0], 4, 4)
+        if poses.shape != expected_shape:
+            raise NoAnswerError(f"returned shape {poses.shape}, expected {expected_shape}")
+        ref = reference_poses(model, chunk, pair)
+        if not np.isfinite(ref).all():
+            k = int(np.argmax(~np.isfinite(ref).all(axis=(0, 2, 3))))
+            raise NoAnswerError(
+                f"the reference ({REFERENCE_NAME}) is not finite at q = {_q_text(chunk[k])}: "
+                "the model's numbers overflow; nothing can be compared"
+            )
+        raw = poses
+        finite = np.isfinite(poses).all(axis=(0, 2, 3))
+        if not finite.all():
+            bad = np.flatnonzero(~finite)
+            if first_non_finite < 0:
+                first_non_finite = first + int(bad[0])
+            non_finite += bad.size
+            poses = poses.copy()
+            poses[:, bad] = np.eye(4)  # placeholders; their errors are set to inf below
+        theirs = relative_pose(poses[0], poses[1])
+        ours = relative_pose(ref[0], ref[1])
+        as_returned = relative_pose(raw[0], raw[1]) if raw is not poses else theirs
+        defect = se3_defect(poses).max(axis=0)
+        k = int(np.argmax(defect))
+        if defect[k] > defect_max:
+            defect_max, defect_at = float(defect[k]), first + k
+            tracker.keep(defect_at, ours[k], as_returned[k])
+        pos_chunk = position_error_m(ours, theirs)
+        rot_chunk = rotation_error_rad(ours, theirs)
+        pos_chunk[~finite] = np.inf
+        rot_chunk[~finite] = np.inf
+        score_chunk = np.maximum(pos_chunk / tol_pos, rot_chunk / tol_rot)
+        score_chunk[np.isnan(score_chunk)] = np.inf
+        tracker.add(first, score_chunk, ours, as_returned)
+        pos[first : first + CHUNK] = pos_chunk
+        rot[first : first + CHUNK] = rot_chunk
+        if on_progress is not None:
+            on_progress(backend.name, first + chunk.shape[0], q.shape[0])
+    score = np.maximum(pos / tol_pos, rot / tol_rot)
+    score[np.isnan(score)] = np.inf
+    worst = int(np.argmax(score)) if score.size else None
+    reasons = []
+    if non_finite:
+        reasons.append(
+            f"returned NaN or inf at {non_finite} of {q.shape[0]} configurations "
+            f"(first at q = {_q_text(q[first_non_finite])})"
+        )
+    if defect_max > SE3_TOLERANCE:
+        reasons.append(
+            f"not a rigid transform: defect {defect_max:.3g} at q = {_q_text(q[defect_at])}"
+        )
+        worst = defect_at
+    n_bad = int((score > 1.0).sum())
+    if n_bad:
+        reasons.append(
+            f"{n_bad} of {q.shape[0]} configurations differ: max position error "
+            f"{pos.max():.3g} m, max rotation error {rot.max():.3g} rad"
+        )
+    failed = bool(reasons)
+    detail = None
+    if failed and worst is not None:
+        detail = _failure_detail(job, worst, tracker)
+    return BackendResult(
+        name=backend.name,
+        status="fail" if failed else "pass",
+        message="; ".join(reasons),
+        method=backend.method,
+        duration_s=time.perf_counter() - start,
+        evidence=evidence_of(backend),
+        position_error_m=pos,
+        rotation_error_rad=rot,
+        worst_index=worst,
+        detail=detail,
+    )
+
+
+def _failure_detail(job: Job, worst: int, tracker: WorstTracker) -> FailureDetail:
+    """What a report needs to show why a backend failed, kept while it is at hand."""
+    model, q = job.model, job.q[worst]
+    arm = arm_pose(model, q, job.pair)
+    if isinstance(job.backend, SharesDHFrames):
+        theirs = np.asarray(job.backend.dh_frames(model, q[None]))[0]
+        parting = dh_parting(worst, arm.world_T_dh, theirs, job.tol)
+        return FailureDetail(tracker.cases(worst), arm, dh_parting=parting)
+    axes = urdf_axes(model, worst, q, job.pair[0], job.tol)
+    return FailureDetail(tracker.cases(worst), arm, urdf_axes=axes)
