@@ -122,7 +122,7 @@ class ModelFile(pytest.File):
         if self._error is None and self._outcome is None:
             self._outcome = self._run()
         if self._outcome is None:
-            raise FkcheckFailure(f"{self.path.name}: {self._error}")
+            raise FkcheckFailure(str(self._error))  # it names the file
         return self._outcome
 
     def _run(self) -> Outcome | None:
@@ -178,13 +178,13 @@ class ModelItem(pytest.Item):
             if kind.status != "verified":
                 sentence = evidence_sentences(c.evidence)[KINDS.index(kind.kind)]
                 raise FkcheckFailure(
-                    f"required evidence {kind.kind!r} is {kind.status}: {sentence}\n"
+                    f"required evidence {kind.kind!r} not verified ({kind.status}): {sentence}\n"
                     + check_message(outcome)
                 )
             return
         result = next(b for b in c.backends if b.name == self.target)
-        if result.status == "skipped":
-            pytest.skip(f"{result.name}: {result.message}")
+        if result.status == "skipped":  # reported at the model file, not at this line
+            raise pytest.skip.Exception(f"{result.name}: {result.message}", _use_item_location=True)
         if result.status != "pass":
             head = check_message(outcome, backends=())
             raise FkcheckFailure(f"{head}\n{backend_message(outcome, result)}")
@@ -199,6 +199,10 @@ class ModelItem(pytest.Item):
             return str(excinfo.value)
         return super().repr_failure(excinfo, style=style)
 
-    def reportinfo(self) -> tuple[Path, int | None, str]:
-        """Where the test is: the model file, and what it checks."""
-        return self.path, None, f"fkcheck {self.name}"
+    def reportinfo(self) -> tuple[Path, int, str]:
+        """Where the test is: the model file (line 0); its failure's heading names the node.
+
+        (A heading that is a suffix of the node id would have pytest's verbose
+        line turn ``good.toml`` into ``good::toml``.)
+        """
+        return self.path, 0, f"fkcheck: {self.nodeid}"
