@@ -69,7 +69,7 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> ModelFile 
     found = parent.config.stash.get(_PROJECT_KEY, None)
     if found is None or file_path.resolve() not in found[1]:
         return None
-    return ModelFile.from_parent(parent, path=file_path)  # type: ignore[no-any-return]
+    return ModelFile.from_parent(parent, path=file_path)
 
 
 class ModelFile(pytest.File):
@@ -174,7 +174,7 @@ class ModelItem(pytest.Item):
         outcome = self.model_file.outcome()  # raises FkcheckFailure for "load" too
         c = outcome.check
         if self.target in KINDS:
-            kind = c.evidence.of(self.target)  # type: ignore[arg-type]
+            kind = c.evidence.of(self.target)
             if kind.status != "verified":
                 sentence = evidence_sentences(c.evidence)[KINDS.index(kind.kind)]
                 raise FkcheckFailure(

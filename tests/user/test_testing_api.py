@@ -67,9 +67,9 @@ def test_fk_matches_returns_the_outcome_when_it_agrees() -> None:
 
 def test_fk_matches_message_names_backend_numbers_worst_q_and_diagnosis(tmp_path: Path) -> None:
     pytest.importorskip("pinocchio")
+    bad = tmp_path / "bad.toml"
+    bad.write_text(bad_ur5_text(), encoding="utf-8")
     with pytest.raises(AssertionError) as info:
-        bad = tmp_path / "bad.toml"
-        bad.write_text(bad_ur5_text(), encoding="utf-8")
         assert_fk_matches(bad, against="pinocchio-urdf", samples=20)
     lines = str(info.value).splitlines()
     assert lines[0] == "fkcheck ur5: base → tool0: fail — table disagrees"

@@ -11,7 +11,7 @@ import pytest
 
 from tests.paths import REPO_ROOT
 
-USER_SCRIPT = '''\
+USER_SCRIPT = """\
 from pathlib import Path
 
 import numpy as np
@@ -40,17 +40,17 @@ def in_tests(pose: NDArray[np.float64]) -> None:
     outcome: fkcheck.Outcome = assert_fk_matches("ur5", against="rtb-dh", samples=10)
     assert outcome.check.evidence.table.status in ("verified", "failed", "not-checked")
     assert_pose_close(pose, pose, tol_pos_m=1e-9)
-'''
+"""
 
 #: A mistake mypy can only see with fkcheck's types: a verdict is a string.
-WRONG_SCRIPT = '''\
+WRONG_SCRIPT = """\
 import fkcheck
 
 outcome = fkcheck.check("ur5", samples=10)
 count: int = outcome.verdict
 model = fkcheck.load_model("ur5")
 model.fk("zero", all_frames="yes")
-'''
+"""
 
 
 def _mypy(tmp_path: Path, name: str, text: str) -> subprocess.CompletedProcess[str]:
@@ -87,8 +87,10 @@ def test_users_strict_mypy_reports_a_type_error(tmp_path: Path) -> None:
     assert result.returncode == 1, out + result.stderr
     assert "missing library stubs or py.typed marker" not in out
     assert (
-        'wrong_script.py:4: error: Incompatible types in assignment (expression has type '
-        '"Literal[\'pass\', \'fail\', \'error\', \'unverified\']", variable has type "int")'
+        "wrong_script.py:4: error: Incompatible types in assignment (expression has type "
+        "\"Literal['pass', 'fail', 'error', 'unverified']\", variable has type \"int\")"
     ) in out
-    assert 'wrong_script.py:6: error: Argument "all_frames" to "fk" of "Model" has incompatible ' \
+    assert (
+        'wrong_script.py:6: error: Argument "all_frames" to "fk" of "Model" has incompatible '
         'type "str"; expected "bool"' in out
+    )
