@@ -32,6 +32,13 @@ def lint(session: nox.Session) -> None:
 
 
 @nox.session(default=False)
+def actionlint(session: nox.Session) -> None:
+    """actionlint on .github/workflows (which checks action.yml's inputs through `uses: ./`)."""
+    session.install(*nox.project.dependency_groups(PYPROJECT, "actionlint"))  # not fkcheck
+    session.run("actionlint")
+
+
+@nox.session(default=False)
 def typecheck(session: nox.Session) -> None:
     """Mypy (strict) on src/."""
     _install(session, "typecheck")

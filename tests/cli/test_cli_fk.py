@@ -106,7 +106,11 @@ def test_fk_accepts_a_csv_model(capsys):
         (["fk", "ur5", "--q", "1,2,x,4,5,6"], r"--q: value 3: not a number: 'x'"),
         (["fk", "ur5", "--q", "1,2,nan,4,5,6"], r"--q: value 3: must be finite, got 'nan'"),
         (["fk", "ur5", "--q", "0,0,4,0,0,0"], r"joint elbow = 4 rad is outside its limits"),
-        (["fk", "ur5", "--q", "0,0,200,0,0,0", "--deg"], r"joint elbow = 3\.49066 rad is outside"),
+        (
+            ["fk", "ur5", "--q", "0,0,200,0,0,0", "--deg"],  # degrees in, degrees out
+            r"joint elbow = 200° is outside its limits \[-180, 180\]° ",
+        ),
+        (["fk", "stanford", "--q", "0,0,5,0,0,0", "--deg"], r"joint j3 = 5 m is outside .*\] m "),
         (
             ["fk", "ur5", "--pose", "nope"],
             r"has no pose 'nope'; poses are: zero, home, worked_example",

@@ -136,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         raise JointInputError("give joint values with --q, --q-file or --pose")
     if not args.ignore_limits:
-        check_limits(q, model)
+        check_limits(q, model, degrees=args.deg)
     check_bounds(q, model)
 
     if q.ndim == 2:

@@ -113,8 +113,13 @@ def check_bounds(q: Float, model: Model) -> None:
         )
 
 
-def check_limits(q: Float, model: Model) -> None:
+def check_limits(q: Float, model: Model, *, degrees: bool = False) -> None:
     """Raise when any value is outside its joint's limits (radians / metres).
+
+    Args:
+        q: ``(n,)`` or ``(N, n)`` joint values, radians / metres.
+        model: The model whose limits apply.
+        degrees: Say revolute values and limits in degrees (the user gave degrees).
 
     Raises:
         JointInputError: Names the first configuration and joint out of range.
@@ -125,9 +130,12 @@ def check_limits(q: Float, model: Model) -> None:
     if bad.size:
         row, col = (int(v) for v in bad[0])
         joint = model.joints[col]
-        unit = "rad" if joint.type == "revolute" else "m"
+        value, low, high = q2[row, col], lo[col], hi[col]
+        unit = " rad" if joint.type == "revolute" else " m"
+        if degrees and joint.type == "revolute":
+            value, low, high, unit = *np.degrees([value, low, high]), "°"
         prefix = f"configuration {row + 1}: " if q2.shape[0] > 1 else ""
         raise JointInputError(
-            f"{prefix}joint {joint.name} = {q2[row, col]:.6g} {unit} is outside its limits "
-            f"[{lo[col]:.6g}, {hi[col]:.6g}] {unit} (use --ignore-limits to allow)"
+            f"{prefix}joint {joint.name} = {value:.6g}{unit} is outside its limits "
+            f"[{low:.6g}, {high:.6g}]{unit} (use --ignore-limits to allow)"
         )

@@ -232,6 +232,10 @@ class Model:
     def fk(self, q: ArrayLike, all_frames: bool = False) -> Float:
         """Forward kinematics with the in-house core.
 
+        Joint limits are not checked: any finite value is computed (as
+        ``fkcheck fk --ignore-limits``). ``fkcheck fk`` checks them by default with
+        :func:`fkcheck.model.joint_input.check_limits`, which a caller can use too.
+
         Args:
             q: Joint values, shape ``(n,)`` or ``(N, n)``, radians / metres.
             all_frames: Return DH frames ``0…n`` (base included, tool not).

@@ -1,0 +1,208 @@
+"""The pytest plugin: your robots' tables checked by plain ``pytest``.
+
+Registered as the ``pytest11`` entry point ``fkcheck``, so installing fkcheck
+enables it (``-p no:fkcheck`` disables it). It does nothing unless the
+``pyproject.toml`` of pytest's rootdir (or the nearest one above it) has a
+``[tool.fkcheck]`` table with ``models`` (:mod:`fkcheck.model.project`)::
+
+    [tool.fkcheck]
+    models = ["robots/*.toml"]
+    samples = 2000
+    require = ["table"]
+
+Then each model file that pytest walks past is collected as tests: one per
+backend, ``robots/arm.toml::fkcheck[pinocchio-urdf]``, and one per kind of
+evidence the project or the model's ``[check]`` requires,
+``robots/arm.toml::fkcheck[require:table]``. A backend that disagrees or
+cannot answer fails with the verdict, its largest errors in mm and degrees,
+the worst configuration and the diagnosis's headline; a backend that does not
+apply (library missing, frame out of its reach) is a *skip* with its reason,
+never a pass; required evidence that is not verified fails its own test. A
+model file that cannot be read is one failing test, ``fkcheck[load]``, with
+the one-line error.
+
+Each model's check runs once per pytest process, when its first test runs,
+with every backend (``[tool.fkcheck] against``, default: the standard set);
+under pytest-xdist (``-n auto``) every worker computes what its own tests need,
+so ``--dist loadfile`` keeps a model's tests, and its one check, on one worker.
+Models are collected only where pytest looks: run ``pytest`` from the project's
+root, or list the models' directory in ``testpaths``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pytest
+
+if TYPE_CHECKING:
+    from _pytest._code.code import ExceptionInfo, TerminalRepr
+
+    from fkcheck.api import Outcome
+    from fkcheck.model.project import ProjectConfig
+
+__all__ = ["FkcheckFailure", "ModelFile", "ModelItem"]
+
+_PROJECT_KEY = pytest.StashKey["tuple[ProjectConfig, frozenset[Path]] | None"]()
+
+
+class FkcheckFailure(Exception):
+    """A failed fkcheck test; its message is the whole report (no traceback is shown)."""
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Read ``[tool.fkcheck]`` once; a table that is wrong stops the run with its one line."""
+    from fkcheck.errors import FkcheckError
+    from fkcheck.model.project import load_project
+
+    try:
+        project = load_project(config.rootpath)
+        paths = frozenset(p.resolve() for p in project.model_paths()) if project else frozenset()
+    except FkcheckError as exc:
+        raise pytest.UsageError(f"fkcheck: {exc}") from None
+    config.stash[_PROJECT_KEY] = (project, paths) if project is not None and paths else None
+
+
+def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> ModelFile | None:
+    """A model file named by ``[tool.fkcheck] models`` becomes a :class:`ModelFile`."""
+    found = parent.config.stash.get(_PROJECT_KEY, None)
+    if found is None or file_path.resolve() not in found[1]:
+        return None
+    return ModelFile.from_parent(parent, path=file_path)
+
+
+class ModelFile(pytest.File):
+    """One model file: its tests, and its check, run once when first needed."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._outcome: Outcome | None = None
+        self._error: str | None = None
+
+    @property
+    def project(self) -> ProjectConfig:
+        """The ``[tool.fkcheck]`` this file was collected for."""
+        found = self.config.stash[_PROJECT_KEY]
+        assert found is not None  # collected only when there is a project
+        return found[0]
+
+    def _backend_names(self) -> list[str]:
+        from fkcheck.backends.registry import default_backends, parse_against
+
+        against = self.project.against
+        backends = parse_against(list(against)) if against else default_backends()
+        return [b.name for b in backends]
+
+    def collect(self) -> list[ModelItem]:
+        """One item per backend and per required kind of evidence; ``load`` if unreadable."""
+        from fkcheck.errors import FkcheckError
+        from fkcheck.model.read import load_model
+        from fkcheck.model.require import KINDS
+
+        try:
+            model = load_model(self.path)
+            names = self._backend_names()
+        except FkcheckError as exc:
+            self._error = str(exc)
+            return [ModelItem.from_parent(self, name="fkcheck[load]", target="load")]
+        wanted = (*model.check.require, *self.project.require)
+        kinds = [k for k in KINDS if k in wanted]
+        return [
+            *(ModelItem.from_parent(self, name=f"fkcheck[{n}]", target=n) for n in names),
+            *(ModelItem.from_parent(self, name=f"fkcheck[require:{k}]", target=k) for k in kinds),
+        ]
+
+    def outcome(self) -> Outcome:
+        """The model's check, run on first call (then remembered in this process).
+
+        Raises:
+            FkcheckFailure: The model or the project cannot be used (the one line).
+        """
+        if self._error is None and self._outcome is None:
+            self._outcome = self._run()
+        if self._outcome is None:
+            raise FkcheckFailure(str(self._error))  # it names the file
+        return self._outcome
+
+    def _run(self) -> Outcome | None:
+        from fkcheck.api import check
+        from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
+        from fkcheck.errors import FkcheckError
+
+        p = self.project
+        options = BackendOptions(timeout_s=p.timeout if p.timeout is not None else 120.0)
+        try:
+            backends = (
+                parse_against(list(p.against), options) if p.against else default_backends(options)
+            )
+            return check(
+                self.path,
+                backends,
+                samples=p.samples if p.samples is not None else 1000,
+                seed=p.seed if p.seed is not None else 0,
+                sampler="uniform" if p.sampler == "uniform" else "sobol",
+                tol_pos_m=p.tol_pos_m,
+                tol_rot_rad=p.tol_rot_rad,
+                require=p.require,
+            )
+        except FkcheckError as exc:
+            self._error = str(exc)
+            return None
+
+
+class ModelItem(pytest.Item):
+    """One backend's answer for a model, or one required kind of evidence."""
+
+    def __init__(self, *, target: str, **kwargs: Any) -> None:
+        super().__init__(**kwargs)
+        self.target = target
+
+    @property
+    def model_file(self) -> ModelFile:
+        """The model file this test belongs to."""
+        parent = self.parent
+        assert isinstance(parent, ModelFile)
+        return parent
+
+    def runtest(self) -> None:
+        """Pass, fail with the report, or skip with the backend's reason."""
+        from fkcheck.engine.verdict import evidence_sentences
+        from fkcheck.model.require import KINDS
+        from fkcheck.testing import backend_message, check_message
+
+        outcome = self.model_file.outcome()  # raises FkcheckFailure for "load" too
+        c = outcome.check
+        if self.target in KINDS:
+            kind = c.evidence.of(self.target)
+            if kind.status != "verified":
+                sentence = evidence_sentences(c.evidence)[KINDS.index(kind.kind)]
+                raise FkcheckFailure(
+                    f"required evidence {kind.kind!r} not verified ({kind.status}): {sentence}\n"
+                    + check_message(outcome)
+                )
+            return
+        result = next(b for b in c.backends if b.name == self.target)
+        if result.status == "skipped":  # reported at the model file, not at this line
+            raise pytest.skip.Exception(f"{result.name}: {result.message}", _use_item_location=True)
+        if result.status != "pass":
+            head = check_message(outcome, backends=())
+            raise FkcheckFailure(f"{head}\n{backend_message(outcome, result)}")
+
+    def repr_failure(
+        self,
+        excinfo: ExceptionInfo[BaseException],
+        style: Any = None,
+    ) -> str | TerminalRepr:
+        """The report's text for fkcheck's own failures; pytest's usual one otherwise."""
+        if isinstance(excinfo.value, FkcheckFailure):
+            return str(excinfo.value)
+        return super().repr_failure(excinfo, style=style)
+
+    def reportinfo(self) -> tuple[Path, int, str]:
+        """Where the test is: the model file (line 0); its failure's heading names the node.
+
+        (A heading that is a suffix of the node id would have pytest's verbose
+        line turn ``good.toml`` into ``good::toml``.)
+        """
+        return self.path, 0, f"fkcheck: {self.nodeid}"

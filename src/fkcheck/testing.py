@@ -1,0 +1,228 @@
+"""Assertions for hand-written tests, in the style of :mod:`numpy.testing`.
+
+Example:
+    >>> from fkcheck.testing import assert_fk_matches, assert_pose_close
+    >>> outcome = assert_fk_matches("robots/arm.toml", against="pinocchio-urdf", samples=200)
+    >>> assert_pose_close(model.fk(q), expected, tol_pos_m=1e-6, tol_rot_rad=1e-6)
+
+Both raise :class:`AssertionError` with a message a person can act on: for a
+check, the verdict, each backend's largest errors in mm and degrees, the worst
+configuration and the diagnosis's headline; for two poses, the differences in mm
+and degrees and the index of the worst pose. :func:`check_message` is that text
+for any finished check (the pytest plugin, :mod:`fkcheck.pytest_plugin`, shows
+the same). Nothing here imports pytest.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from fkcheck.api import Outcome, check
+from fkcheck.backends.base import Backend
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.io.format import format_deg, format_mm, format_value
+from fkcheck.io.text import terminal_text
+from fkcheck.model.require import Kind
+from fkcheck.model.types import Model
+
+__all__ = [
+    "assert_fk_matches",
+    "assert_pose_close",
+    "backend_message",
+    "check_message",
+    "diagnosis_headline",
+    "worst_q_text",
+]
+
+
+def worst_q_text(check_result: CheckResult, result: BackendResult) -> str:
+    """The backend's worst configuration, ``[30.00°, -60.00°, 0.1000 m]``; empty if none."""
+    if result.worst_index is None:
+        return ""
+    q = check_result.q[result.worst_index]
+    joints = check_result.model.joints
+    values = (format_value(float(v), j.type == "prismatic") for v, j in zip(q, joints, strict=True))
+    return "[" + ", ".join(values) + "]"
+
+
+def diagnosis_headline(outcome: Outcome, backend: str) -> str:
+    """What the diagnosis says about one backend's disagreement, one line; empty if none.
+
+    A diagnosis that stands for several backends (two libraries reading one
+    URDF) answers for each of them.
+    """
+    from fkcheck.report.diagnosis import diagnosis_view
+
+    for d in outcome.diagnoses:
+        if backend == d.backend or backend in d.also:
+            return diagnosis_view(d).short
+    return ""
+
+
+def backend_message(outcome: Outcome, result: BackendResult) -> str:
+    """One backend's lines: status, largest errors (mm, degrees), worst q, diagnosis."""
+    c = outcome.check
+    name = terminal_text(result.name)
+    if not result.ran:
+        return f"{name}: {result.status} — {terminal_text(result.message)}"
+    lines = [
+        f"{name}: {result.status} — max position error {format_mm(result.max_position_error_m)},"
+        f" max rotation error {format_deg(result.max_rotation_error_rad)} (tolerance "
+        f"{format_mm(c.tol_pos_m)}, {format_deg(c.tol_rot_rad)}; {c.q.shape[0]} configurations)"
+    ]
+    if result.status == "fail":
+        lines.append(f"  {terminal_text(result.message)}")
+        worst = worst_q_text(c, result)
+        if worst:
+            lines.append(f"  worst q: {worst}")
+        diagnosis = diagnosis_headline(outcome, result.name)
+        if diagnosis:
+            lines.append(f"  diagnosis: {terminal_text(diagnosis)}")
+    return "\n".join(lines)
+
+
+def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> str:
+    """The text of a finished check: headline, then each backend's lines.
+
+    Args:
+        outcome: What :func:`fkcheck.check` returned.
+        backends: Only these backends' lines (default: every backend).
+    """
+    c = outcome.check
+    head = (
+        f"fkcheck {terminal_text(c.model.name)}: {terminal_text(c.frame_from)} → "
+        f"{terminal_text(c.frame_to)}: {outcome.headline}"
+    )
+    shown = [b for b in c.backends if backends is None or b.name in backends]
+    return "\n".join([head, *(backend_message(outcome, b) for b in shown)])
+
+
+def assert_fk_matches(
+    model_or_path: Model | str | Path,
+    against: str | Backend | Sequence[str | Backend] = "pinocchio-urdf",
+    frames: tuple[str, str] | None = ("base", "tool0"),
+    *,
+    samples: int = 200,
+    seed: int = 0,
+    require: Sequence[Kind] = (),
+    tol_pos_m: float | None = None,
+    tol_rot_rad: float | None = None,
+    diagnose: bool = True,
+) -> Outcome:
+    """Assert that a model's forward kinematics matches one or more reference backends.
+
+    Runs :func:`fkcheck.check` and passes only when its verdict is ``pass`` and
+    every backend asked answered and agreed: a backend that was skipped (library
+    missing, frame out of its reach) fails the assertion, since it proved
+    nothing.
+
+    Args:
+        model_or_path: A loaded model, a bundled model's name or a model file.
+        against: One backend (name or object) or several.
+        frames: ``(from, to)`` frame pair compared; ``None`` for the model's ``[check]``.
+        samples: Random samples, on top of named poses, zero, mid-range and limit corners.
+        seed: Seed of the random samples.
+        require: Kinds of evidence that must be verified (``"table"``, ``"implementation"``).
+        tol_pos_m: Position tolerance, metres (default: the model's ``[check]``).
+        tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
+        diagnose: Diagnose a failure, for the message (about a second per backend).
+
+    Returns:
+        The outcome, for further assertions.
+
+    Raises:
+        AssertionError: The verdict is not ``pass``, or a backend did not agree;
+            the message is :func:`check_message`.
+        FkcheckError: Bad input (unknown model, backend or frame, bad file…).
+    """
+    backends = [against] if isinstance(against, str | Backend) else list(against)
+    frame_from, frame_to = frames if frames is not None else (None, None)
+    outcome = check(
+        model_or_path,
+        backends,
+        samples=samples,
+        seed=seed,
+        frame_from=frame_from,
+        frame_to=frame_to,
+        tol_pos_m=tol_pos_m,
+        tol_rot_rad=tol_rot_rad,
+        require=require,
+        diagnose=diagnose,
+    )
+    if outcome.verdict != "pass" or any(b.status != "pass" for b in outcome.backends):
+        raise AssertionError(check_message(outcome))
+    return outcome
+
+
+def _index(flat: int, shape: tuple[int, ...]) -> str:
+    return str(tuple(int(i) for i in np.unravel_index(flat, shape))) if shape else "()"
+
+
+def assert_pose_close(
+    actual: ArrayLike,
+    desired: ArrayLike,
+    tol_pos_m: float = 1e-6,
+    tol_rot_rad: float = 1e-6,
+    err_msg: str = "",
+) -> None:
+    """Assert that poses agree in position and rotation within tolerances.
+
+    Compares the distance between the origins (metres) and the angle of
+    ``R_aᵀ R_b`` (radians, accurate near 0 and π) of each pose; the last row is
+    not compared. Both must be rigid transforms for the angle to mean anything.
+
+    Args:
+        actual: One pose ``(4, 4)`` or a batch ``(..., 4, 4)``.
+        desired: The same shape.
+        tol_pos_m: Largest allowed position difference, metres.
+        tol_rot_rad: Largest allowed rotation difference, radians.
+        err_msg: Text put first in the message.
+
+    Raises:
+        AssertionError: Shapes differ, a value is NaN or infinite, or a pose is
+            beyond a tolerance; the message gives the number of mismatched poses,
+            the largest differences in mm and degrees, and the index of each.
+        ValueError: A tolerance is negative or not finite.
+    """
+    for name, tol in (("tol_pos_m", tol_pos_m), ("tol_rot_rad", tol_rot_rad)):
+        if not (math.isfinite(tol) and tol >= 0):
+            raise ValueError(f"{name} must be a finite number >= 0, got {tol}")
+    a = np.asarray(actual, dtype=np.float64)
+    b = np.asarray(desired, dtype=np.float64)
+    head = f"{err_msg}\n" if err_msg else ""
+    if a.shape != b.shape or a.shape[-2:] != (4, 4):
+        raise AssertionError(
+            f"{head}Poses not comparable: shapes {a.shape} and {b.shape} "
+            "(each must be (4, 4) or (..., 4, 4), the same)"
+        )
+    for name, x in (("actual", a), ("desired", b)):
+        if not np.isfinite(x).all():
+            bad = int(np.argmax(~np.isfinite(x).reshape(-1, 16).all(axis=1)))
+            raise AssertionError(
+                f"{head}Poses not comparable: {name} has NaN or infinite values at index "
+                f"{_index(bad, x.shape[:-2])}"
+            )
+    pos = np.atleast_1d(position_error_m(a, b))
+    rot = np.atleast_1d(rotation_error_rad(a, b))
+    bad_mask = (pos > tol_pos_m) | (rot > tol_rot_rad)
+    if not bad_mask.any():
+        return
+    batch = a.shape[:-2]
+    i_pos, i_rot = int(np.argmax(pos)), int(np.argmax(rot))
+    lines = [
+        f"{head}Poses not close (tol_pos_m={tol_pos_m:g}, tol_rot_rad={tol_rot_rad:g} = "
+        f"{format_mm(tol_pos_m)}, {format_deg(tol_rot_rad)})",
+        f"Mismatched poses: {int(bad_mask.sum())} / {bad_mask.size}"
+        f" ({100.0 * bad_mask.mean():.3g}%)",
+        f"Max position difference: {format_mm(float(pos[i_pos]))} ({pos[i_pos]:.3e} m)"
+        + (f" at index {_index(i_pos, batch)}" if batch else ""),
+        f"Max rotation difference: {format_deg(float(rot[i_rot]))} ({rot[i_rot]:.3e} rad)"
+        + (f" at index {_index(i_rot, batch)}" if batch else ""),
+    ]
+    raise AssertionError("\n".join(lines))

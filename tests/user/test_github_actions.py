@@ -1,0 +1,138 @@
+"""The reusable action (action.yml) and the CI workflow: their interface; the action's script.
+
+actionlint (``nox -s actionlint``, in .ci/run) lints the workflow, and through its
+``uses: ./`` step the action's inputs. Here the action's metadata is read as YAML,
+and its ``fkcheck check`` step's script is run by bash against a stand-in
+``fkcheck`` that records its arguments and exits with a chosen code: the
+interface is ``fkcheck check FILE... --out-dir DIR --summary PATH``, exit 0/1/2.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.paths import REPO_ROOT
+
+yaml = pytest.importorskip("yaml")  # PyYAML: installed with fkcheck (xacrodoc needs it)
+
+ACTION = REPO_ROOT / "action.yml"
+WORKFLOW = REPO_ROOT / ".github" / "workflows" / "ci.yml"
+
+
+def _load(path: Path) -> dict[str, Any]:
+    data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    assert isinstance(data, dict)
+    return data
+
+
+def test_action_inputs_and_outputs() -> None:
+    action = _load(ACTION)
+    assert set(action["inputs"]) == {
+        "models", "samples", "require", "out-dir", "python-version", "artifact-name",
+    }  # fmt: skip
+    assert all(not spec["required"] for spec in action["inputs"].values())
+    assert action["outputs"]["verdict"]["value"] == "${{ steps.check.outputs.verdict }}"
+    assert action["runs"]["using"] == "composite"
+    steps = action["runs"]["steps"]
+    assert [s.get("id") for s in steps].count("check") == 1
+    assert all(s.get("shell") == "bash" for s in steps if "run" in s)  # composite needs it
+    upload = next(s for s in steps if str(s.get("uses", "")).startswith("actions/upload-artifact"))
+    assert upload["if"] == "always()"
+    assert upload["with"]["path"] == "${{ inputs.out-dir }}"
+
+
+def test_workflow_runs_the_nox_sessions_and_uploads_reports() -> None:
+    workflow = _load(WORKFLOW)
+    runs = "\n".join(
+        str(step.get("run", "")) for job in workflow["jobs"].values() for step in job["steps"]
+    )
+    sessions = {s for m in re.finditer(r"nox -s ([\w ]+)", runs) for s in m.group(1).split()}
+    assert sessions == {"tests", "lint", "typecheck", "crossval", "bounded", "actionlint"}
+    uploads = [
+        step["with"]["path"]
+        for job in workflow["jobs"].values()
+        for step in job["steps"]
+        if str(step.get("uses", "")).startswith("actions/upload-artifact")
+    ]
+    assert "reports/" in uploads
+    assert "reports/junit/" in uploads
+    assert "GITHUB_STEP_SUMMARY" in runs
+    action_job = workflow["jobs"]["action"]["steps"]
+    assert any(step.get("uses") == "./" for step in action_job)
+
+
+def _check_script() -> str:
+    step = next(s for s in _load(ACTION)["runs"]["steps"] if s.get("id") == "check")
+    return str(step["run"])
+
+
+def _run_check_step(
+    tmp_path: Path, exit_code: int, **inputs: str
+) -> tuple[dict[str, str], list[str], str]:
+    """Run the step's script; returns its outputs, the stand-in's argv and the step summary."""
+    if shutil.which("bash") is None:
+        pytest.skip("bash is not installed")
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    argv_file = tmp_path / "argv.json"
+    stub = bin_dir / "fkcheck"
+    stub.write_text(
+        "#!/usr/bin/env python3\nimport json, sys\n"
+        f"json.dump(sys.argv[1:], open({str(argv_file)!r}, 'w'))\nsys.exit({exit_code})\n",
+        encoding="utf-8",
+    )
+    stub.chmod(0o755)
+    output, summary = tmp_path / "output", tmp_path / "summary"
+    output.touch()
+    summary.touch()
+    env = {
+        "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}",
+        "GITHUB_OUTPUT": str(output),
+        "GITHUB_STEP_SUMMARY": str(summary),
+        "MODELS": inputs.get("models", ""),
+        "SAMPLES": inputs.get("samples", ""),
+        "REQUIRE": inputs.get("require", ""),
+        "OUT_DIR": "fkcheck-reports",
+    }
+    result = subprocess.run(
+        ["bash", "-e", "-c", _check_script()], cwd=tmp_path, env=env,
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr  # the step itself never fails; "Verdict" does
+    outputs = dict(line.split("=", 1) for line in output.read_text("utf-8").splitlines())
+    return outputs, json.loads(argv_file.read_text("utf-8")), summary.read_text("utf-8")
+
+
+def test_action_passes_models_samples_require_and_out_dir(tmp_path: Path) -> None:
+    outputs, argv, _ = _run_check_step(
+        tmp_path, 0, models="robots/good.toml\n  robots/*.toml calib/", samples="50",
+        require="table",
+    )  # fmt: skip
+    assert outputs == {"verdict": "pass", "status": "0"}
+    assert argv == [
+        "check", "robots/good.toml", "robots/*.toml", "calib/", "--samples", "50",
+        "--require", "table", "--out-dir", "fkcheck-reports",
+        "--summary", "fkcheck-reports/summary.md",
+    ]  # fmt: skip
+    # The glob reaches fkcheck unexpanded: it expands globs inside the project.
+
+
+def test_action_without_inputs_leaves_the_models_to_tool_fkcheck(tmp_path: Path) -> None:
+    outputs, argv, _ = _run_check_step(tmp_path, 1)
+    assert outputs == {"verdict": "fail", "status": "1"}
+    assert argv == ["check", "--out-dir", "fkcheck-reports", "--summary",
+                    "fkcheck-reports/summary.md"]  # fmt: skip
+
+
+def test_action_bad_input_is_its_own_verdict_in_the_summary(tmp_path: Path) -> None:
+    outputs, _, summary = _run_check_step(tmp_path, 2, models="nope.toml")
+    assert outputs == {"verdict": "bad-input", "status": "2"}
+    assert summary == "fkcheck: bad input (exit 2): see the step's log\n"
