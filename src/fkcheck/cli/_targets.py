@@ -74,8 +74,18 @@ def load_targets(items: Sequence[str], project: ProjectConfig | None) -> list[Ta
     for path in paths:
         model = load_model(path)
         stem = model.path.stem if model.path is not None else str(path)
-        targets.append(Target(str(path), stem, model))
+        targets.append(Target(_shown(path), stem, model))
     return targets
+
+
+def _shown(path: Path) -> str:
+    """``path`` as a message names it: relative to the working directory when inside it."""
+    if path.is_absolute():
+        try:
+            return str(path.relative_to(Path.cwd()))
+        except ValueError:
+            return str(path)
+    return str(path)
 
 
 def unique_stems(targets: Sequence[Target]) -> None:

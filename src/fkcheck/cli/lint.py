@@ -11,6 +11,7 @@ for a pre-commit hook.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 from fkcheck.model.lint_rules import LINT_RULES
@@ -66,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
     reports = []
     for target in targets:
         model = target.model
-        where = str(model.path) if model.path is not None else model.name
+        # A file as it was named (relative when it can be); a bundled model by its file.
+        where = target.arg if model.path is None or Path(target.arg).exists() else str(model.path)
         reports.append((model, where, lint_model(model, ignore)))
     if args.json:
         blocks = [

@@ -18,16 +18,16 @@ Rule = Literal["degrees", "rounded-angle", "twist", "length", "limits", "convent
 LINT_RULES: tuple[Rule, ...] = get_args(Rule)
 
 
-def parse_lint_rules(values: Iterable[str]) -> tuple[Rule, ...]:
+def parse_lint_rules(values: Iterable[str]) -> tuple[str, ...]:
     """Rule names, validated, each once, in the order given.
 
     Raises:
         ValueError: A name that is no rule; the message lists the rules.
     """
-    out: list[Rule] = []
+    out: list[str] = []
     for value in values:
         if value not in LINT_RULES:
             raise ValueError(f"unknown lint rule {value!r}; rules are: {', '.join(LINT_RULES)}")
         if value not in out:
-            out.append(value)  # type: ignore[arg-type]  # checked against LINT_RULES above
+            out.append(value)
     return tuple(out)
