@@ -423,10 +423,11 @@ def _run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | N
     inputs += backend_inputs(_backends(args))
     # File names come from the model file's name, never from text inside it.
     files = {t.stem: (f"{t.stem}.html", f"{t.stem}.json", f"{t.stem}.junit.xml") for t in targets}
-    outputs: list[tuple[str, Path | str | None]] = [("--summary", args.summary)]
+    outputs: list[tuple[str, Path | str | None]] = []
     if out_dir is not None:
         outputs += [("--out-dir", out_dir / name) for names in files.values() for name in names]
         outputs.append(("--out-dir", out_dir / "index.html"))
+    outputs.append(("--summary", args.summary))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
