@@ -173,7 +173,8 @@ def test_terminal_table_in_a_ci_log_keeps_backend_names_whole(columns, width, ca
         (["check"], r"give a MODEL \(e\.g\. ur5\) or --all"),
         (["check", "--all", "--json", "x.json"], r"--json does not go with --all"),
         (["check", "--all", "--from", "base"], r"--from does not go with --all"),
-        (["check", "ur5", "--out-dir", "x"], r"--out-dir goes with --all"),
+        (["check", "ur5", "--out-dir", "x", "--json", "y"], r"--json does not go with --out-dir"),
+        (["check", "ur5", "ur3", "--html", "y.html"], r"--html writes one model's file: with "),
     ],
 )
 def test_bad_combinations_are_bad_input(argv, message, capsys):

@@ -1,11 +1,22 @@
 """``fkcheck check``: compare the in-house core with reference backends.
 
 ``fkcheck check MODEL`` checks one model and writes whichever of ``--json``,
-``--junit``, ``--html`` and ``--summary`` it is given. ``fkcheck check --all``
-checks every bundled model and writes, into ``--out-dir`` (default
-``reports/``), each model's ``<model>.json``, ``<model>.html`` and
-``<model>.junit.xml`` plus ``index.html``, the dashboard linking them. Either
-way, when the environment variable ``GITHUB_STEP_SUMMARY`` names a file (as on
+``--junit``, ``--html`` and ``--summary`` it is given. ``fkcheck check A B DIR``
+checks several (bundled names, ``.toml``/``.csv`` files, directories of them;
+globs are the shell's business) and ``fkcheck check --all`` every bundled model:
+one terminal table with a row per model, one exit code, and with ``--out-dir``
+each model's ``<stem>.json``, ``<stem>.html`` and ``<stem>.junit.xml`` plus
+``index.html``, the dashboard linking them (``--all`` writes into ``reports/``
+unless ``--out-dir`` says otherwise). File names come from each model file's
+stem; two models with one stem are refused (exit 2) rather than one
+overwriting the other. With no MODEL and no ``--all``, the models listed in
+``[tool.fkcheck] models`` of the nearest ``pyproject.toml`` are checked; that
+table also gives defaults for ``--samples``, ``--seed``, ``--sampler``,
+``--timeout``, ``--against``, ``--require``, ``--tol-pos`` and ``--tol-rot``
+(a flag on the command line wins). Every model is read, and its URDF screened,
+before any check runs: bad input in any of them is one line and exit 2.
+
+Either way, when the environment variable ``GITHUB_STEP_SUMMARY`` names a file (as on
 GitHub Actions), the Markdown summary is appended to it — if it is a regular
 file, or a new one in an existing directory, and neither an input nor an output
 of the run; otherwise a warning says why and the check goes on with its own
@@ -34,14 +45,19 @@ from fkcheck.io.text import terminal_markup, terminal_text
 if TYPE_CHECKING:
     from fkcheck.api import Outcome
     from fkcheck.backends.base import Backend
+    from fkcheck.cli._targets import Target
     from fkcheck.engine.results import BackendResult, CheckResult
     from fkcheck.engine.verdict import Kind
+    from fkcheck.model.project import ProjectConfig
     from fkcheck.model.types import Model
 
 __all__ = ["DEFAULT_OUT_DIR", "add_parser", "print_summary", "run"]
 
 #: Where ``--all`` writes its reports unless ``--out-dir`` says otherwise.
 DEFAULT_OUT_DIR = Path("reports")
+
+#: Option values when neither the command line nor ``[tool.fkcheck]`` gives one.
+DEFAULTS: dict[str, Any] = {"samples": 1000, "seed": 0, "sampler": "sobol", "timeout": 120.0}
 
 
 def add_parser(sub: Any) -> None:
@@ -50,26 +66,31 @@ def add_parser(sub: Any) -> None:
         "check",
         help="cross-check the in-house DH core against reference libraries",
         description="Compare from_T_to, pose by pose, between the in-house DH core and each "
-        "reference backend. Exit 0: every backend that ran agrees; 1: a backend disagrees "
-        "or errors, or none ran; 2: bad input.",
+        "reference backend, for one model or many (one table, one exit code). "
+        "[tool.fkcheck] in the nearest pyproject.toml gives the models when none is named, "
+        "and defaults for the options; a flag given here wins. Exit 0: every backend that "
+        "ran agrees for every model; 1: a backend disagrees or errors, none ran, or "
+        "required evidence is missing; 2: bad input (in any model: nothing runs).",
     )
     p.add_argument(
-        "model",
+        "models",
         metavar="MODEL",
-        nargs="?",
-        help="bundled model name (ur5) or a .toml/.csv file; omit with --all",
+        nargs="*",
+        help="bundled model names (ur5), .toml/.csv files or directories of them; none: "
+        "[tool.fkcheck] models of the nearest pyproject.toml, or --all",
     )
     p.add_argument(
         "--all",
         action="store_true",
         help="check every bundled model; write <model>.json/.html/.junit.xml and index.html "
-        "into --out-dir",
+        f"into --out-dir (default {DEFAULT_OUT_DIR}/)",
     )
     p.add_argument(
         "--out-dir",
         type=Path,
         metavar="DIR",
-        help=f"with --all: where to write the reports (default {DEFAULT_OUT_DIR}/)",
+        help="write each model's <stem>.json/.html/.junit.xml and index.html here "
+        f"(--all: default {DEFAULT_OUT_DIR}/)",
     )
     p.add_argument(
         "--against",
@@ -88,14 +109,14 @@ def add_parser(sub: Any) -> None:
         "poses, a published table) or 'implementation'; comma-separated or repeated; adds "
         "to the model's [check] require",
     )
-    p.add_argument("--samples", type=int, default=1000, help="random samples (default 1000)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
-    p.add_argument("--sampler", choices=("sobol", "uniform"), default="sobol")
+    p.add_argument("--samples", type=int, help="random samples (default 1000)")
+    p.add_argument("--seed", type=int, help="seed of the random samples (default 0)")
+    p.add_argument("--sampler", choices=("sobol", "uniform"), help="(default sobol)")
     p.add_argument("--from", dest="frame_from", metavar="FRAME", help="frame the pose is in")
     p.add_argument("--to", dest="frame_to", metavar="FRAME", help="frame whose pose is compared")
     p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
     p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
-    p.add_argument("--timeout", type=float, default=120.0, metavar="S",
+    p.add_argument("--timeout", type=float, metavar="S",
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
     p.add_argument("--junit", type=Path, metavar="PATH", help="write JUnit XML here")
@@ -193,6 +214,28 @@ def print_summary(check: CheckResult) -> None:
     console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
 
 
+def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> None:
+    """Fill the options not given on the command line from ``[tool.fkcheck]``, then defaults."""
+    from_project: dict[str, Any] = {}
+    if project is not None:
+        from_project = {
+            "samples": project.samples,
+            "seed": project.seed,
+            "sampler": project.sampler,
+            "timeout": project.timeout,
+            "tol_pos": project.tol_pos_m,
+            "tol_rot": project.tol_rot_rad,
+            "against": list(project.against) if project.against is not None else None,
+            "require": list(project.require) or None,
+        }
+    for key, value in from_project.items():
+        if getattr(args, key) is None and value is not None:
+            setattr(args, key, value)
+    for key, value in DEFAULTS.items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
+
+
 def _validate(args: argparse.Namespace) -> None:
     from fkcheck.backends.registry import MAX_TIMEOUT_S
     from fkcheck.errors import JointInputError
@@ -207,26 +250,32 @@ def _validate(args: argparse.Namespace) -> None:
         raise JointInputError(
             f"--timeout must be at most {MAX_TIMEOUT_S:g} s, got {args.timeout:g}"
         )
-    if args.all:
-        if args.model is not None:
-            raise FkcheckError(f"--all checks every bundled model: drop MODEL ({args.model!r})")
-        for flag, value in (
-            ("--json", args.json),
-            ("--junit", args.junit),
-            ("--html", args.html),
-            ("--from", args.frame_from),
-            ("--to", args.frame_to),
-        ):
+    if args.all and args.models:
+        raise FkcheckError(
+            f"--all checks every bundled model: drop MODEL ({' '.join(args.models)!r})"
+        )
+    if args.all or args.out_dir is not None:
+        per_model = "--all" if args.all else "--out-dir"
+        for flag, value in (("--json", args.json), ("--junit", args.junit),
+                            ("--html", args.html)):  # fmt: skip
             if value is not None:
                 raise FkcheckError(
-                    f"{flag} does not go with --all (each model's files go to --out-dir; "
-                    "frames are per model)"
+                    f"{flag} does not go with {per_model} (each model's files go to --out-dir)"
                 )
-    else:
-        if args.model is None:
-            raise FkcheckError("give a MODEL (e.g. ur5) or --all")
-        if args.out_dir is not None:
-            raise FkcheckError("--out-dir goes with --all; for one model use --json/--html/--junit")
+    if args.all:
+        for flag, value in (("--from", args.frame_from), ("--to", args.frame_to)):
+            if value is not None:
+                raise FkcheckError(f"{flag} does not go with --all (frames are per model)")
+
+
+def _validate_many(args: argparse.Namespace) -> None:
+    """Options that name one model's files do not go with several models."""
+    for flag, value in (("--json", args.json), ("--junit", args.junit), ("--html", args.html)):
+        if value is not None:
+            raise FkcheckError(
+                f"{flag} writes one model's file: with several models use --out-dir DIR "
+                "(each model's .json/.html/.junit.xml and index.html)"
+            )
 
 
 def _backends(args: argparse.Namespace) -> list[Backend]:
@@ -282,7 +331,7 @@ def _summaries(
 
 
 def _model_command(args: argparse.Namespace, model: str) -> str:
-    """The command line that reproduces one model's check of an ``--all`` run."""
+    """The command line that reproduces one model's check of a run over several."""
     argv = [
         "check",
         model,
@@ -315,56 +364,104 @@ def _print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
 
 
-def _run_all(args: argparse.Namespace) -> int:
-    """``--all``: every bundled model, each model's files, the index and the summary."""
+def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
+    """The terminal table of a run over several models: one row per model.
+
+    Args:
+        checks: Each model's label (its file as given, or the bundled name) and its check.
+    """
+    from rich.table import Table
+
+    from fkcheck.cli._console import console as make_console
+
+    console = make_console(highlight=False)
+    table = Table(title=f"fkcheck: {len(checks)} models", title_justify="left")
+    for column in ("model", "verdict", "backends", "max position error", "max rotation error",
+                   "table"):  # fmt: skip
+        table.add_column(column, overflow="fold", no_wrap=column in ("model", "verdict"))
+    for label, check in checks:
+        counts: dict[str, int] = {}
+        for r in check.backends:
+            counts[r.status] = counts.get(r.status, 0) + 1
+        pos = [r.max_position_error_m for r in check.ran if r.max_position_error_m is not None]
+        rot = [r.max_rotation_error_rad for r in check.ran if r.max_rotation_error_rad is not None]
+        style = "bold green" if check.verdict == "pass" else "bold red"
+        table.add_row(
+            terminal_markup(label),
+            f"[{style}]{check.verdict}[/]",
+            ", ".join(f"{n} {status}" for status, n in counts.items()),
+            format_length_console(max(pos)) if pos else "",
+            format_angle_console(max(rot)) if rot else "",
+            check.evidence.table.status,
+        )
+    console.print(table)
+    for label, check in checks:
+        for r in check.backends:
+            if r.status in ("fail", "error"):
+                name, message = terminal_markup(label), terminal_markup(r.message)
+                console.print(f"[bold red]{name}[/]: {terminal_markup(r.name)}: {message}")
+
+
+def _run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | None) -> int:
+    """Several models: each model's files and the index (with ``out_dir``), one summary."""
     import datetime as _dt
     from dataclasses import replace
 
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.cli._targets import unique_stems
     from fkcheck.io.output_paths import check_output_dir
-    from fkcheck.model.read import bundled_model_paths, load_model
     from fkcheck.report.html import write_html, write_index
     from fkcheck.report.index import IndexEntry, build_index_page
     from fkcheck.report.json_report import write_json
     from fkcheck.report.junit import write_junit
 
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    out_dir: Path = args.out_dir or DEFAULT_OUT_DIR
-    check_output_dir("--out-dir", out_dir)
-    models = {stem: load_model(path) for stem, path in bundled_model_paths().items()}
-    inputs = [item for model in models.values() for item in model_inputs(model)]
+    if out_dir is not None:
+        check_output_dir("--out-dir", out_dir)
+        unique_stems(targets)
+    inputs = [item for target in targets for item in model_inputs(target.model)]
     inputs += backend_inputs(_backends(args))
-    # File names come from the bundled file's name, never from text inside it.
-    files = {stem: (f"{stem}.html", f"{stem}.json", f"{stem}.junit.xml") for stem in models}
-    outputs = [("--out-dir", out_dir / name) for names in files.values() for name in names]
-    output_plan = plan(
-        args, [*outputs, ("--out-dir", out_dir / "index.html"), ("--summary", args.summary)], inputs
-    )
-    step_summary = step_summary_target(inputs, output_plan)
+    # File names come from the model file's name, never from text inside it.
+    files = {t.stem: (f"{t.stem}.html", f"{t.stem}.json", f"{t.stem}.junit.xml") for t in targets}
+    outputs: list[tuple[str, Path | str | None]] = []
+    if out_dir is not None:
+        outputs += [("--out-dir", out_dir / name) for names in files.values() for name in names]
+        outputs.append(("--out-dir", out_dir / "index.html"))
+    outputs.append(("--summary", args.summary))
+    step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
-    for stem, model in models.items():
-        for warning in model.warnings:
-            print(f"fkcheck: warning: {stem}: {terminal_text(warning)}", file=sys.stderr)
-        outcome = _check(args, model, _backends(args), diagnose=args.diagnose)
-        check = replace(outcome.check, command=_model_command(args, stem))
-        names = files[stem]
-        write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
-        write_json(check, out_dir / names[1])
-        write_junit(check, out_dir / names[2])
-        print_summary(check)
-        entries.append(IndexEntry(check, *names))
+    for number, target in enumerate(targets, start=1):
+        for warning in target.model.warnings:
+            print(f"fkcheck: warning: {target.stem}: {terminal_text(warning)}", file=sys.stderr)
+        outcome = _check(
+            args, target.model, _backends(args), diagnose=args.diagnose and out_dir is not None
+        )
+        check = replace(outcome.check, command=_model_command(args, target.arg))
+        if out_dir is not None:
+            names = files[target.stem]
+            write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
+            write_json(check, out_dir / names[1])
+            write_junit(check, out_dir / names[2])
+            entries.append(IndexEntry(check, *names))
         checks.append(check)
-    command = "fkcheck " + shlex.join(getattr(args, "argv", []))
-    write_index(build_index_page(entries, command=command, created=created), out_dir / "index.html")
+        print(
+            f"fkcheck: [{number}/{len(targets)}] {terminal_text(target.arg)}: {check.verdict} "
+            f"({check.duration_s:.1f} s)",
+            flush=True,
+        )
+    if out_dir is not None:
+        command = "fkcheck " + shlex.join(getattr(args, "argv", []))
+        page = build_index_page(entries, command=command, created=created)
+        write_index(page, out_dir / "index.html")
     _summaries(args, checks, step_summary)
-    failed = [c.model.name for c in checks if c.verdict != "pass"]
-    verified = [c.model.name for c in checks if c.evidence.table.status == "verified"]
-    unchecked = [c.model.name for c in checks if c.evidence.table.status == "not-checked"]
-    print(
-        f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; reports in "
-        f"{out_dir}/ (index.html)"
-    )
+    labelled = [(t.arg, c) for t, c in zip(targets, checks, strict=True)]
+    print_models_table(labelled)
+    failed = [label for label, c in labelled if c.verdict != "pass"]
+    verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
+    unchecked = [label for label, c in labelled if c.evidence.table.status == "not-checked"]
+    where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
+    print(f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; {where}")
     print(
         f"fkcheck: table verified independently: {len(verified)} "
         f"({terminal_text(', '.join(verified))})"
@@ -376,21 +473,52 @@ def _run_all(args: argparse.Namespace) -> int:
     return 0 if not failed else 1
 
 
+def _targets(args: argparse.Namespace, project: ProjectConfig | None) -> list[Target]:
+    """The models to check: ``--all``'s bundled ones, the arguments, or the project's."""
+    from fkcheck.cli._targets import Target, load_targets
+    from fkcheck.model.read import bundled_model_paths, load_model
+
+    if args.all:
+        bundled = bundled_model_paths().items()
+        return [Target(stem, stem, load_model(path)) for stem, path in bundled]
+    if not args.models and (project is None or not project.models):
+        where = f" (none in {project.path})" if project is not None else ""
+        raise FkcheckError(
+            "give a MODEL (e.g. ur5) or --all, or list models in [tool.fkcheck] models = "
+            f"[...] of pyproject.toml{where}"
+        )
+    return load_targets(args.models, project)
+
+
 def run(args: argparse.Namespace) -> int:
     """Run the check, print, write the requested files."""
+    from pathlib import Path as _Path
+
+    from fkcheck.cli._targets import project_config
+
+    project = project_config()
+    _apply_project(args, project)
+    _validate(args)
+    _require(args)  # bad --require is exit 2 before anything runs
+    targets = _targets(args, project)
+    one_file = len(args.models) == 1 and not _Path(args.models[0]).is_dir()
+    if args.all or args.out_dir is not None or not one_file or len(targets) != 1:
+        _validate_many(args)
+        out_dir = args.out_dir or (DEFAULT_OUT_DIR if args.all else None)
+        return _run_many(args, targets, out_dir)
+    return _run_one(args, targets[0])
+
+
+def _run_one(args: argparse.Namespace, target: Target) -> int:
+    """One model: its table, and the files asked for."""
     from dataclasses import replace
 
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
-    from fkcheck.model.read import load_model
     from fkcheck.report.html import write_html
     from fkcheck.report.json_report import write_json
     from fkcheck.report.junit import write_junit
 
-    _validate(args)
-    _require(args)  # bad --require is exit 2 before anything runs
-    if args.all:
-        return _run_all(args)
-    model = load_model(args.model)
+    model = target.model
     for warning in model.warnings:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     backends = _backends(args)
@@ -410,5 +538,5 @@ def run(args: argparse.Namespace) -> int:
         write_html(check, args.html, diagnoses=outcome.diagnoses)
     _summaries(args, [check], step_summary)
     print_summary(check)
-    _print_diagnose_hint(args.model, check)
+    _print_diagnose_hint(target.arg, check)
     return 0 if check.verdict == "pass" else 1

@@ -18,7 +18,10 @@ def add_parser(sub: Any) -> None:
         description="Build a DH model (θ/d offsets, base and tool transforms, and the [urdf]/"
         "[frames] mapping back to the URDF) for the chain BASE → TIP from the joint axes "
         "(common normals; parallel, intersecting and coincident axes by the usual "
-        "conventions, each said in a comment). Check it with: fkcheck check MODEL.toml",
+        "conventions, each said in a comment). Numbers within 1e-9 of a round one (0, a "
+        "multiple of 90°, a whole micrometre) are written as it: the URDF's rounding of π "
+        "and float noise do not reach the table, so fkcheck lint finds it clean. "
+        "Check it with: fkcheck check MODEL.toml",
     )
     p.add_argument("urdf", metavar="URDF", help="a URDF file, or example-robot-data:<subpath>")
     p.add_argument("--base", required=True, metavar="FRAME", help="base link of the chain")
@@ -30,6 +33,11 @@ def add_parser(sub: Any) -> None:
         help="DH convention of the table (default standard)",
     )
     p.add_argument("--name", help="model name (default: the URDF's robot name)")
+    p.add_argument(
+        "--deg",
+        action="store_true",
+        help='write angles in degrees (angle_unit = "deg"), as a vendor\'s sheet does',
+    )
     p.add_argument(
         "-o",
         "--output",
@@ -64,7 +72,12 @@ def run(args: argparse.Namespace) -> int:
         f"twin. Self-check against fkcheck's own URDF FK: {result.self_check_error:.2g}.",
         f"Prove it against independent URDF parsers: fkcheck check {args.output or 'MODEL.toml'}",
     ]
-    text = model_to_toml(model, header=header, joint_comments=dict(enumerate(result.notes)))
+    text = model_to_toml(
+        model,
+        angle_unit="deg" if args.deg else "rad",
+        header=header,
+        joint_comments=dict(enumerate(result.notes)),
+    )
     summary = (
         f"fkcheck dh-from-urdf: {len(model.joints)} joints "
         f"({terminal_text(', '.join(model.joint_names))}); "

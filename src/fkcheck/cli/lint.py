@@ -1,9 +1,20 @@
-"""``fkcheck lint``: flag what looks wrong in a DH table on its own."""
+"""``fkcheck lint``: flag what looks wrong in DH tables on their own.
+
+Takes any number of bundled names, model files and directories (with none, the
+``[tool.fkcheck] models`` of the nearest ``pyproject.toml``); every file is read
+before any is linted, so an unreadable one is exit 2 before anything prints.
+Rules are turned off by ``--ignore RULE``, the project's ``lint_ignore`` and a
+model file's ``[lint] ignore``. Imports no reference library: it is fast enough
+for a pre-commit hook.
+"""
 
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
+
+from fkcheck.model.lint_rules import LINT_RULES
 
 __all__ = ["add_parser", "run"]
 
@@ -12,43 +23,76 @@ def add_parser(sub: Any) -> None:
     """Register the subcommand."""
     p = sub.add_parser(
         "lint",
-        help="flag what looks wrong in a DH table before anything runs",
-        description="Look at a model file on its own: degrees in a radian file, twists that "
+        help="flag what looks wrong in DH tables before anything runs",
+        description="Look at model files on their own: degrees in a radian file, twists that "
         "are not multiples of 90°, lengths beyond a few metres, revolute limits beyond ±360°, "
         "a table whose shape fits the other DH convention, numbers that match a published "
-        "table except for rounding. Exit 0: clean; 1: warnings; 2: unreadable.",
+        "table except for rounding. With no MODEL, lints [tool.fkcheck] models of the nearest "
+        "pyproject.toml. Exit 0: clean; 1: warnings; 2: unreadable.",
     )
-    p.add_argument("model", metavar="MODEL", help="bundled model name (ur5) or a .toml/.csv file")
+    p.add_argument(
+        "models",
+        metavar="MODEL",
+        nargs="*",
+        help="bundled model names (ur5), .toml/.csv files or directories of them",
+    )
+    p.add_argument(
+        "--ignore",
+        action="append",
+        default=[],
+        metavar="RULE",
+        help=f"leave out a rule (repeatable): {', '.join(LINT_RULES)}; adds to "
+        "[tool.fkcheck] lint_ignore and the model file's [lint] ignore",
+    )
     p.add_argument("--json", action="store_true", help="print the findings as JSON")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Lint and print."""
+    """Lint every model and print one block per file; exit 1 if any has a warning."""
+    from fkcheck.cli._targets import load_targets, project_config
+    from fkcheck.errors import FkcheckError
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_text
     from fkcheck.model.lint import lint_model
-    from fkcheck.model.read import load_model
+    from fkcheck.model.lint_rules import parse_lint_rules
 
-    model = load_model(args.model)
-    findings = lint_model(model)
-    where = str(model.path) if model.path is not None else model.name
+    try:
+        ignore = parse_lint_rules(args.ignore)
+    except ValueError as exc:
+        raise FkcheckError(f"--ignore: {exc}") from None
+    project = project_config()
+    targets = load_targets(args.models, project)
+    ignore += project.lint_ignore if project is not None else ()
+    reports = []
+    for target in targets:
+        model = target.model
+        # A file as it was named (relative when it can be); a bundled model by its file.
+        where = target.arg if model.path is None or Path(target.arg).exists() else str(model.path)
+        reports.append((model, where, lint_model(model, ignore)))
     if args.json:
-        print(
-            strict_json(
-                {
-                    "model": model.name,
-                    "path": where,
-                    "findings": [
-                        {"rule": f.rule, "field": f.field, "message": f.message} for f in findings
-                    ],
-                }
-            )
-        )
+        blocks = [
+            {
+                "model": model.name,
+                "path": where,
+                "findings": [
+                    {"rule": f.rule, "field": f.field, "message": f.message} for f in findings
+                ],
+            }
+            for model, where, findings in reports
+        ]
+        print(strict_json(blocks[0] if len(blocks) == 1 else blocks))
     else:
-        for f in findings:
-            field = f"{f.field}: " if f.field else ""
-            print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
-        if not findings:
-            print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
-    return 1 if findings else 0
+        for model, where, findings in reports:
+            for f in findings:
+                field = f"{f.field}: " if f.field else ""
+                print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
+            if not findings:
+                print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
+        if len(reports) > 1:
+            warned = sum(1 for _, _, findings in reports if findings)
+            print(
+                f"fkcheck lint: {len(reports)} models, {len(reports) - warned} clean, "
+                f"{warned} with warnings"
+            )
+    return 1 if any(findings for _, _, findings in reports) else 0

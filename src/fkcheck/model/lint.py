@@ -14,19 +14,25 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
   (first row a = α = 0, last row a or α ≠ 0);
 * ``published``: every number matches a published table (a bundled model) except
   a few that are close but not equal — a rounded or outdated value.
+
+A rule can be turned off per model (``[lint] ignore = ["limits"]`` in the model
+file), per project (``lint_ignore`` in ``[tool.fkcheck]``) or per run
+(``fkcheck lint --ignore limits``): a real ±400° axis is not a unit error.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Literal
 
-from fkcheck.model.names import PARAMS, param_field
+from fkcheck.model.lint_rules import Rule
+from fkcheck.model.names import PARAMS, param_field, param_symbol
 from fkcheck.model.published import published_tables, variant_note
 from fkcheck.model.types import Model
 
-__all__ = ["LONG_M", "Finding", "lint_model"]
+__all__ = ["LONG_M", "Finding", "Rule", "lint_model"]
 
 #: Lengths beyond this look like a unit error (no arm in the bundled set exceeds 1.3 m).
 LONG_M = 5.0
@@ -36,8 +42,6 @@ _LIMIT_SLACK = 1e-6
 NEAR_LENGTH_M = 1e-3
 NEAR_ANGLE_RAD = 1e-3
 _EXACT = 1e-12
-
-Rule = Literal["degrees", "rounded-angle", "twist", "length", "limits", "convention", "published"]
 
 
 @dataclass(frozen=True)
@@ -220,10 +224,17 @@ def _published(model: Model) -> list[Finding]:
         for i, pname, a, b in near:
             unit = "mm" if pname in ("a", "d") else "°"
             delta = (a - b) * 1e3 if unit == "mm" else math.degrees(a - b)
+            others = [param_symbol(model, k, p) for k, p, _, _ in near if (k, p) != (i, pname)]
+            rest = (
+                "every other number matches"
+                if not others
+                else f"{', '.join(others)} {'is' if len(others) == 1 else 'are'} close too, "
+                "every other number matches"
+            )
             text = (
                 f"{param_field(model, i, pname)} = {a!r} is {delta:+.3f} {unit} from "
                 f"{b!r} in the published table {table.name} ({table.description or table.name}); "
-                "every other number matches: a rounded or outdated value?"
+                f"{rest}: a rounded or outdated value?"
             )
             note = variant_note(table.name, i, pname, a)
             if note:
@@ -232,12 +243,19 @@ def _published(model: Model) -> list[Finding]:
     return out
 
 
-def lint_model(model: Model) -> list[Finding]:
-    """Every warning for ``model``, in file order of the rules above."""
-    return [
+def lint_model(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:
+    """Every warning for ``model``, in the order of the rules above.
+
+    Args:
+        model: The model.
+        ignore: Rules to leave out, on top of the model file's ``[lint] ignore``.
+    """
+    skipped = {*model.lint_ignore, *ignore}
+    findings = [
         *_angles(model),
         *_lengths(model),
         *_limits(model),
         *_convention(model),
         *_published(model),
     ]
+    return [f for f in findings if f.rule not in skipped]

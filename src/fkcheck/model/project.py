@@ -26,6 +26,7 @@ from typing import Any
 
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
+from fkcheck.model.lint_rules import parse_lint_rules
 from fkcheck.model.require import Kind, parse_require
 
 __all__ = [
@@ -159,6 +160,10 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         require = parse_require(_strings(path, "require", table.get("require", [])), "")
     except ValueError as exc:
         raise ProjectError(path, "tool.fkcheck.require", str(exc).lstrip(": ")) from None
+    try:
+        lint_ignore = parse_lint_rules(_strings(path, "lint_ignore", table.get("lint_ignore", [])))
+    except ValueError as exc:
+        raise ProjectError(path, "tool.fkcheck.lint_ignore", str(exc)) from None
     return ProjectConfig(
         path=path,
         models=_strings(path, "models", table.get("models", [])),
@@ -176,7 +181,7 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         tol_rot_rad=_positive(path, "tol_rot_rad", table["tol_rot_rad"])
         if "tol_rot_rad" in table
         else None,
-        lint_ignore=_strings(path, "lint_ignore", table.get("lint_ignore", [])),
+        lint_ignore=lint_ignore,
     )
 
 

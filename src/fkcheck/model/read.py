@@ -19,6 +19,7 @@ from typing import Any
 from fkcheck.errors import ModelError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.numbers import NumberError, parse_number, show_text, split_fields
+from fkcheck.model.lint_rules import LINT_RULES, parse_lint_rules
 from fkcheck.model.require import parse_require
 from fkcheck.model.types import (
     MAX_JOINT_RAD,
@@ -36,13 +37,14 @@ __all__ = ["bundled_model_paths", "bundled_models_dir", "load_model", "model_fro
 
 _TOP_KEYS = {
     "name", "description", "source", "convention", "angle_unit",
-    "joint", "base", "tool", "poses", "urdf", "frames", "check",
+    "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint",
 }  # fmt: skip
 _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
 _URDF_KEYS = {"path", "joints"}
 _FRAME_KEYS = {"dh", "xyz", "rpy", "urdf"}
 _CHECK_KEYS = {"from", "to", "tol_pos_m", "tol_rot_rad", "require"}
+_LINT_KEYS = {"ignore"}
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
 _ANGLE_UNITS = ("rad", "deg")
@@ -404,6 +406,20 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                 raise r.fail("check.require", str(exc).split(": ", 1)[1]) from None
         check = CheckSpec(frame_from, frame_to, require=require, **tols)
 
+    lint_ignore: tuple[str, ...] = ()
+    if "lint" in top:
+        raw_ignore = r.table(top["lint"], "lint", _LINT_KEYS).get("ignore", [])
+        if not isinstance(raw_ignore, list) or not all(isinstance(x, str) for x in raw_ignore):
+            raise r.fail(
+                "lint.ignore",
+                f'expected a list of rule names such as ["limits"]; rules are: '
+                f"{', '.join(LINT_RULES)}",
+            )
+        try:
+            lint_ignore = parse_lint_rules(_key(x) for x in raw_ignore)
+        except ValueError as exc:
+            raise r.fail("lint.ignore", str(exc)) from None
+
     return Model(
         name=name,
         convention=convention,  # type: ignore[arg-type]
@@ -419,4 +435,5 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         angle_unit=unit,  # type: ignore[arg-type]
         path=path,
         warnings=tuple(warnings),
+        lint_ignore=lint_ignore,
     )

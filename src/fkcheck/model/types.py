@@ -178,6 +178,7 @@ class Model:
         angle_unit: The unit the file was written in (for display and export).
         path: The file it was read from, if any.
         warnings: Things that look wrong but are not errors (e.g. degrees in a radian file).
+        lint_ignore: ``fkcheck lint`` rules this model's file turns off (``[lint] ignore``).
     """
 
     name: str
@@ -194,6 +195,7 @@ class Model:
     angle_unit: Literal["rad", "deg"] = "rad"
     path: Path | None = None
     warnings: tuple[str, ...] = ()
+    lint_ignore: tuple[str, ...] = ()
 
     @property
     def dof(self) -> int:

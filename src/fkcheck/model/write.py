@@ -189,6 +189,9 @@ def model_to_toml(
     )
     out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
     out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
+    if model.lint_ignore:
+        rules = ", ".join(_string(rule) for rule in model.lint_ignore)
+        out.extend(["", "[lint]", f"ignore = [{rules}]"])
     return "\n".join(out) + "\n"
 
 

@@ -23,7 +23,17 @@ The usual conventions settle the cases a common normal does not:
   tip's x, so that ``[base]`` and ``[tool]`` hold what is left and stay simple.
 
 θ and d at q = 0 become the table's offsets; each DH z follows the URDF axis
-direction, so no joint needs ``flip``. The result maps back onto the URDF: the
+direction, so no joint needs ``flip``. Every number of the table and of its
+offsets within :data:`CLEAN_TOL` (1e-9) of a round number is written as that
+number (:func:`clean_number`): an angle near 0 or a multiple of 90° becomes it
+exactly (``-1.5707963267948966``, not ``-1.5707963267899``), a length near a whole
+micrometre (so any round millimetre) becomes it (``0.0823``, not
+``0.08230000000000001``; ``0.0``, not ``1.07e-10``). Such noise is the
+URDF's rounding of π or float round-off, not geometry; the self-check runs on
+the cleaned table. Joint limits are cleaned only where that narrows them
+(the URDF's ``6.28318530718`` becomes 2π, written ``360.0`` with ``--deg``). A
+difference larger than that (an ``rpy`` of ``1.5708``, 3.7e-6
+rad from 90°) is kept: it is what the URDF says. The result maps back onto the URDF: the
 base link is the model's ``world``, the tip link its ``tcp``, every link of the
 chain a named frame on the DH frame of the body it belongs to, and
 ``[check]`` compares base → tip. :func:`dh_from_urdf` verifies the table
@@ -43,15 +53,17 @@ from fkcheck.core.dh import Convention, dh_matrix
 from fkcheck.core.geometry import invert
 from fkcheck.core.typing import Float
 from fkcheck.errors import UrdfError
-from fkcheck.model.offsets import offset_from_matrix, snap
+from fkcheck.model.offsets import offset_from_matrix
 from fkcheck.model.types import CheckSpec, FrameSpec, Joint, Model, Offset, UrdfSpec
 from fkcheck.urdf.chain import JointGeometry, UrdfKinematics
 
 __all__ = [
+    "CLEAN_TOL",
     "INTERSECT_TOL_M",
     "PARALLEL_TOL_RAD",
     "AxisRelation",
     "DhExtraction",
+    "clean_number",
     "dh_from_urdf",
 ]
 
@@ -67,6 +79,44 @@ INTERSECT_TOL_M = 1e-9
 #: The table must reproduce the URDF's frames to this accuracy at q = 0 and at
 #: random configurations (own URDF FK), or extraction fails loudly.
 SELF_CHECK_TOL = 1e-8
+#: Numbers this close to a round one (rad, m) are written as the round one.
+CLEAN_TOL = 1e-9
+#: The grid lengths are cleaned to: whole micrometres (round millimetres included).
+_LENGTH_GRID_M = 1e-6
+#: The float nearest k·π/2 for the quarter turns a table holds.
+_QUARTERS = {0: 0.0, 1: math.pi / 2, -1: -math.pi / 2, 2: math.pi, -2: -math.pi}
+
+
+def clean_number(value: float, *, angle: bool) -> float:
+    """``value``, or the round number within :data:`CLEAN_TOL` of it.
+
+    Angles (radians) snap to 0 and multiples of π/2, lengths (metres) to whole
+    micrometres; anything further away is returned as it is.
+    """
+    if angle:
+        quarter = round(value / (math.pi / 2))
+        exact = _QUARTERS.get(quarter, quarter * (math.pi / 2))
+    else:
+        exact = round(value / _LENGTH_GRID_M) / round(1 / _LENGTH_GRID_M)
+    return exact + 0.0 if abs(value - exact) <= CLEAN_TOL else value
+
+
+def _clean_limits(limits: tuple[float, float] | None, *, angle: bool) -> tuple[float, float] | None:
+    """The URDF's limits, cleaned only where that narrows them (6.28318530718 → 2π).
+
+    A limit is never widened, so no configuration the table samples lies beyond
+    the URDF's own limits.
+    """
+    if limits is None:
+        return None
+    lo, hi = (clean_number(v, angle=angle) for v in limits)
+    return (max(lo, limits[0]), min(hi, limits[1]))
+
+
+def _clean_offset(offset: Offset) -> Offset:
+    x, y, z = (clean_number(v, angle=False) for v in offset.xyz)
+    roll, pitch, yaw = (clean_number(v, angle=True) for v in offset.rpy)
+    return Offset(xyz=(x, y, z), rpy=(roll, pitch, yaw))
 
 
 @dataclass(frozen=True, eq=False)
@@ -296,8 +346,9 @@ def dh_from_urdf(
     notes: list[str] = []
     for i, joint in enumerate(movable):
         A = invert(frames[i]) @ frames[i + 1]
+        is_angle = (False, True, False, True)
         a, alpha, d, theta = (
-            snap(v, angle=ang) for v, ang in zip(row_of(A), (False, True, False, True), strict=True)
+            clean_number(v, angle=ang) for v, ang in zip(row_of(A), is_angle, strict=True)
         )
         structure = float(np.abs(dh_matrix(convention, a, alpha, d, theta) - A).max())
         if structure > SELF_CHECK_TOL:
@@ -307,13 +358,19 @@ def dh_from_urdf(
         )
         joints.append(
             Joint(
-                name=joint.name, a=a, alpha=alpha, d=d, theta=theta, type=jtype, limits=joint.limits
+                name=joint.name,
+                a=a,
+                alpha=alpha,
+                d=d,
+                theta=theta,
+                type=jtype,
+                limits=_clean_limits(joint.limits, angle=jtype == "revolute"),
             )
         )
         notes.append(_row_note(i, joint, relations, convention, n))
 
-    base_offset = offset_from_matrix(frames[0])
-    tool_offset = offset_from_matrix(invert(frames[-1]) @ tip_T)
+    base_offset = _clean_offset(offset_from_matrix(frames[0]))
+    tool_offset = _clean_offset(offset_from_matrix(invert(frames[-1]) @ tip_T))
     named = _named_frames(chain, zero_poses, frames, base, tip)
     robot = name or kin.name
     model = Model(
@@ -380,7 +437,7 @@ def _named_frames(
             continue
         if link in ("world", "tcp"):
             continue  # would redefine a built-in frame name
-        offset = offset_from_matrix(invert(frames[body]) @ pose)
+        offset = _clean_offset(offset_from_matrix(invert(frames[body]) @ pose))
         out[link] = FrameSpec(link, body, offset, link)
     out[tip] = FrameSpec(tip, "tcp", Offset(), tip)
     return out

@@ -1,0 +1,104 @@
+"""Which models a command runs on: its arguments, or ``[tool.fkcheck] models``.
+
+``fkcheck check`` and ``fkcheck lint`` take any number of bundled model names,
+model files and directories (globs are the shell's business); with none, the
+models listed in the nearest ``pyproject.toml``'s ``[tool.fkcheck]``
+(:mod:`fkcheck.model.project`). Every model is read before any is used, so bad
+input in any file is one line and exit 2 before anything runs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from fkcheck.errors import FkcheckError
+
+if TYPE_CHECKING:
+    from fkcheck.model.project import ProjectConfig
+    from fkcheck.model.types import Model
+
+__all__ = ["Target", "load_targets", "project_config", "unique_stems"]
+
+
+@dataclass(frozen=True)
+class Target:
+    """One model to run on.
+
+    Attributes:
+        arg: How the command line (or the project) named it: ``ur5`` or a path.
+        stem: The name its output files take (the file's stem, or the bundled name).
+        model: The model, read and validated.
+    """
+
+    arg: str
+    stem: str
+    model: Model
+
+
+def project_config() -> ProjectConfig | None:
+    """``[tool.fkcheck]`` of the nearest ``pyproject.toml``, or ``None``.
+
+    Raises:
+        ProjectError: The table is there but invalid (exit 2).
+    """
+    from fkcheck.model.project import load_project
+
+    return load_project()
+
+
+def load_targets(items: Sequence[str], project: ProjectConfig | None) -> list[Target]:
+    """The models ``items`` name (directories expanded), else the project's, all read.
+
+    Raises:
+        FkcheckError: No model given and no ``[tool.fkcheck] models`` to fall back on,
+            a directory without model files.
+        ModelError: A model file that cannot be read (the first one, by name).
+    """
+    from fkcheck.model.project import expand_model_paths
+    from fkcheck.model.read import load_model
+
+    if items:
+        paths: list[Path] = expand_model_paths(items)
+    elif project is not None and project.models:
+        paths = project.model_paths()
+    else:
+        where = f" in {project.path}" if project is not None else ""
+        raise FkcheckError(
+            "give a MODEL (a bundled name such as ur5, a .toml/.csv file or a directory), "
+            f"or list them in [tool.fkcheck] models = [...] of pyproject.toml{where}"
+        )
+    targets = []
+    for path in paths:
+        model = load_model(path)
+        stem = model.path.stem if model.path is not None else str(path)
+        targets.append(Target(_shown(path), stem, model))
+    return targets
+
+
+def _shown(path: Path) -> str:
+    """``path`` as a message names it: relative to the working directory when inside it."""
+    if path.is_absolute():
+        try:
+            return str(path.relative_to(Path.cwd()))
+        except ValueError:
+            return str(path)
+    return str(path)
+
+
+def unique_stems(targets: Sequence[Target]) -> None:
+    """Refuse two models whose output files would share a name.
+
+    Raises:
+        FkcheckError: Two models with one file stem (``a/arm.toml``, ``b/arm.csv``).
+    """
+    seen: dict[str, Target] = {}
+    for target in targets:
+        other = seen.setdefault(target.stem.casefold(), target)
+        if other is not target:
+            raise FkcheckError(
+                f"{target.arg} and {other.arg} would both write {target.stem}.json/.html/"
+                ".junit.xml: rename one, or check them in two runs"
+            )

@@ -1,0 +1,115 @@
+"""fkcheck check over many models: files, directories, [tool.fkcheck], one table, one exit code."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import pytest
+
+from fkcheck.cli.main import main
+from fkcheck.model.read import bundled_model_paths
+
+#: One fast URDF backend: enough to verify the table and to catch a wrong α.
+FAST = ["--against", "pinocchio-urdf", "--samples", "4"]
+
+
+@pytest.fixture
+def repo(tmp_path, monkeypatch):
+    """A user's repository: robots/good.toml (the bundled UR5), robots/bad.toml (α4 flipped)."""
+    robots = tmp_path / "robots"
+    robots.mkdir()
+    text = bundled_model_paths()["ur5"].read_text(encoding="utf-8")
+    (robots / "good.toml").write_text(text, encoding="utf-8")
+    lines = text.splitlines(keepends=True)
+    wrist_1 = lines.index('name = "wrist_1"\n')
+    assert lines[wrist_1 + 2] == "alpha = 90\n"
+    lines[wrist_1 + 2] = "alpha = -90\n"
+    (robots / "bad.toml").write_text("".join(lines), encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def test_a_directory_is_one_run_one_table_one_exit_code(repo, capsys):
+    out = repo / "reports"
+    summary = repo / "summary.md"
+    argv = ["check", "robots", *FAST, "--out-dir", str(out), "--summary", str(summary)]
+    assert main(argv) == 1
+    stdout = capsys.readouterr().out
+    table = [line for line in stdout.splitlines() if line.startswith("│ robots/")]
+    assert len(table) == 2
+    assert table[0].startswith("│ robots/bad.toml  │ fail ")
+    assert table[1].startswith("│ robots/good.toml │ pass ")
+    assert "robots/bad.toml: pinocchio-urdf: " in stdout
+    assert "fkcheck: 1 of 2 models pass; reports in" in stdout
+    assert {p.name for p in out.iterdir()} == {
+        "index.html", "bad.html", "bad.json", "bad.junit.xml",
+        "good.html", "good.json", "good.junit.xml",
+    }  # fmt: skip
+    assert json.loads((out / "bad.json").read_text())["verdict"] == "fail"
+    good = json.loads((out / "good.json").read_text())
+    assert good["verdict"] == "pass"
+    assert good["samples"] == 4
+    index = (out / "index.html").read_text(encoding="utf-8")
+    assert '<a href="good.html">' in index
+    assert '<a href="bad.html">' in index
+    assert summary.read_text(encoding="utf-8").startswith("## fkcheck: 2 models")
+
+
+def test_only_good_files_pass(repo, capsys):
+    assert main(["check", "robots/good.toml", "ur3", *FAST, "--out-dir", "r"]) == 0
+    assert "fkcheck: 2 of 2 models pass" in capsys.readouterr().out
+
+
+def test_one_file_is_today_s_single_model_output(repo, capsys):
+    assert main(["check", "robots/good.toml", *FAST]) == 0
+    out = capsys.readouterr().out
+    assert "verdict: pass" in out
+    assert "models pass" not in out
+
+
+def test_project_gives_the_models_and_defaults_and_flags_win(repo, capsys):
+    (repo / "pyproject.toml").write_text(
+        '[tool.fkcheck]\nmodels = ["robots/good.toml"]\nsamples = 3\nseed = 5\n'
+        'against = ["pinocchio-urdf"]\n',
+        encoding="utf-8",
+    )
+    assert main(["check", "--out-dir", "r"]) == 0
+    doc = json.loads((repo / "r" / "good.json").read_text())
+    assert (doc["samples"], doc["seed"]) == (3, 5)
+    assert [b["name"] for b in doc["backends"]] == ["pinocchio-urdf"]
+    assert main(["check", "--out-dir", "r2", "--samples", "2"]) == 0
+    doc = json.loads((repo / "r2" / "good.json").read_text())
+    assert (doc["samples"], doc["seed"]) == (2, 5)
+    assert "--samples 2 --seed 5" in doc["command"]
+
+
+def test_bad_input_in_any_file_is_exit_2_before_anything_runs(repo, capsys):
+    (repo / "robots" / "broken.toml").write_text("name = 'x'\n", encoding="utf-8")
+    assert main(["check", "robots", *FAST, "--out-dir", "r"]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err.count("\n") == 1
+    assert "broken.toml: convention: missing (required)" in err
+    assert not (repo / "r").exists()
+
+
+def test_two_models_with_one_stem_are_refused_not_overwritten(repo, capsys):
+    (repo / "other").mkdir()
+    shutil.copy(repo / "robots" / "good.toml", repo / "other" / "good.toml")
+    assert main(["check", "robots", "other", *FAST, "--out-dir", "r"]) == 2
+    err = capsys.readouterr().err
+    assert "other/good.toml and robots/good.toml would both write good.json" in err
+    assert not (repo / "r").exists()
+
+
+def test_outputs_never_overwrite_an_input(repo, capsys):
+    assert main(["check", "robots/good.toml", "robots/bad.toml", *FAST, "--summary",
+                 "robots/good.toml"]) == 2  # fmt: skip
+    assert "robots/good.toml" in capsys.readouterr().err
+
+
+def test_no_model_and_no_project_says_what_to_give(repo, capsys):
+    assert main(["check"]) == 2
+    err = capsys.readouterr().err
+    assert "give a MODEL (e.g. ur5) or --all, or list models in [tool.fkcheck]" in err

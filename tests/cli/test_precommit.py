@@ -1,0 +1,118 @@
+"""The pre-commit hooks, for real: ``pre-commit try-repo`` on a throw-away user repository.
+
+``try-repo`` clones this repository at HEAD (plus uncommitted changes to tracked
+files) and pip-installs it into a fresh virtualenv under ``PRE_COMMIT_HOME``
+(here in tmp_path, so ~/.cache stays clean): it needs PyPI, and takes minutes
+the first time on a cold pip cache.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+
+import pytest
+import yaml
+
+from fkcheck.model.read import bundled_model_paths
+from tests.paths import REPO_ROOT
+
+#: Reference libraries (and their heavy helpers) the lint hook must not import.
+REFERENCES = ("pinocchio", "roboticstoolbox", "spatialmath", "yourdfpy", "example_robot_data")
+
+
+def test_hooks_file_declares_a_fast_lint_and_an_opt_in_check():
+    hooks = {h["id"]: h for h in yaml.safe_load((REPO_ROOT / ".pre-commit-hooks.yaml").read_text())}
+    assert set(hooks) == {"fkcheck-lint", "fkcheck-check"}
+    for hook in hooks.values():
+        assert hook["files"] == r"\.(toml|csv)$"
+        assert hook["pass_filenames"] is True
+        assert hook["language"] == "python"
+    assert hooks["fkcheck-lint"]["entry"] == "fkcheck lint"
+    assert "stages" not in hooks["fkcheck-lint"]  # every commit
+    assert hooks["fkcheck-check"]["entry"] == "fkcheck check"
+    assert hooks["fkcheck-check"]["stages"] == ["manual"]  # opt-in
+    scripts = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert scripts["fkcheck"] == "fkcheck.cli.main:main"
+
+
+def test_lint_imports_no_reference_library():
+    code = (
+        "import sys\n"
+        "from fkcheck.cli.main import main\n"
+        f"rc = main(['lint', *{sorted(str(p) for p in bundled_model_paths().values())!r}])\n"
+        f"print('imported:', sorted(m for m in {REFERENCES!r} if m in sys.modules))\n"
+        "sys.exit(rc)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[-1] == "imported: []"
+
+
+def _user_repo(root):
+    """robots/good.toml (the bundled UR5), bad.toml (α4 of the wrong sign), rounded.toml."""
+    robots = root / "robots"
+    robots.mkdir(parents=True)
+    text = bundled_model_paths()["ur5"].read_text(encoding="utf-8")
+    lines = text.splitlines(keepends=True)
+    wrist_1 = lines.index('name = "wrist_1"\n')
+    assert lines[wrist_1 + 2] == "alpha = 90\n"
+    (robots / "good.toml").write_text(text, encoding="utf-8")
+    lines[wrist_1 + 2] = "alpha = -90\n"
+    (robots / "bad.toml").write_text("".join(lines), encoding="utf-8")
+    lines[wrist_1 + 2] = "alpha = 89.9999\n"  # 90° rounded: lint's rounded-angle
+    (robots / "rounded.toml").write_text("".join(lines), encoding="utf-8")
+    git = ["git", "-c", "user.name=fkcheck", "-c", "user.email=fkcheck@example.invalid"]
+    subprocess.run([*git, "init", "-q"], cwd=root, check=True)
+    subprocess.run([*git, "add", "-A"], cwd=root, check=True)
+    subprocess.run([*git, "commit", "-q", "-m", "robots"], cwd=root, check=True)
+
+
+#: pre-commit's status line of a hook: ``fkcheck lint......Failed``.
+STATUS = re.compile(r"^fkcheck (lint|check)\.{3,}")
+
+
+def _section(output, hook_name):
+    """The lines pre-commit printed for one hook (from its status line to the next)."""
+    lines = output.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith(hook_name + "..."))
+    end = next((i for i in range(start + 1, len(lines)) if STATUS.match(lines[i])), len(lines))
+    return "\n".join(lines[start:end])
+
+
+@pytest.mark.slow
+def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
+    assert shutil.which("git"), "git is needed by pre-commit"
+    assert (REPO_ROOT / ".git").exists(), "pre-commit try-repo needs this repository's git checkout"
+    user = tmp_path / "user"
+    _user_repo(user)
+    env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home")}
+    env.pop("PYTHONPATH", None)  # the hooks run the copy pre-commit installs, not this one
+    env.pop("GITHUB_STEP_SUMMARY", None)
+    # One try-repo (one install, minutes): the manual stage runs both hooks.
+    done = subprocess.run(
+        [sys.executable, "-m", "pre_commit", "try-repo", str(REPO_ROOT), "--all-files",
+         "--hook-stage", "manual", "--verbose", "--color", "never"],
+        cwd=user, env=env, capture_output=True, text=True, timeout=1200, check=False,
+    )  # fmt: skip
+    output = done.stdout + done.stderr
+    assert done.returncode == 1, output
+    lint = _section(output, "fkcheck lint")
+    assert "Failed" in lint.splitlines()[0], output
+    assert "robots/good.toml: clean (6 joints, standard DH)" in lint
+    assert "robots/bad.toml: clean (6 joints, standard DH)" in lint  # a sign is no lint matter
+    assert "robots/rounded.toml: joint[3].alpha: warning [rounded-angle]" in lint
+    assert "fkcheck lint: 3 models, 2 clean, 1 with warnings" in lint
+    check = _section(output, "fkcheck check")
+    assert "Failed" in check.splitlines()[0], output
+    rows = {line.split("│")[1].strip(): line.split("│")[2].strip()
+            for line in check.splitlines() if line.startswith("│ robots/")}  # fmt: skip
+    assert rows["robots/good.toml"] == "pass"
+    assert rows["robots/bad.toml"] == "fail"
+    assert "robots/bad.toml: pinocchio-urdf: " in check
