@@ -32,7 +32,10 @@ from fkcheck.io.format import format_angle_console, format_length_console
 from fkcheck.io.text import terminal_markup, terminal_text
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping, Sequence
+
     from fkcheck.api import Outcome
+    from fkcheck.diagnose.failures import BackendDiagnosis
     from fkcheck.backends.base import Backend
     from fkcheck.engine.results import BackendResult, CheckResult
     from fkcheck.engine.verdict import Kind
@@ -269,13 +272,16 @@ def _check(
 
 
 def _summaries(
-    args: argparse.Namespace, checks: list[CheckResult], step_summary: str | None
+    args: argparse.Namespace,
+    checks: list[CheckResult],
+    step_summary: str | None,
+    diagnoses: Mapping[str, Sequence[BackendDiagnosis]] | None = None,
 ) -> None:
     """The Markdown summary: to ``--summary`` and appended to ``step_summary`` when given."""
     from fkcheck.cli._outputs import append_to_step_summary
     from fkcheck.report.markdown import markdown_summary, write_summary
 
-    text = markdown_summary(checks)
+    text = markdown_summary(checks, diagnoses=diagnoses)
     if args.summary is not None:
         write_summary(args.summary, text)
     append_to_step_summary(step_summary, text)
@@ -313,6 +319,29 @@ def _print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
         argv = ["diagnose", model_arg, "--against", failed[0].name, "--from", check.frame_from,
                 "--to", check.frame_to]  # fmt: skip
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
+
+
+def _annotate() -> bool:
+    """Whether to print GitHub annotations (``GITHUB_ACTIONS=true``)."""
+    from fkcheck.report.annotations import in_github_actions
+
+    return in_github_actions()
+
+
+def _print_annotations(check: CheckResult, diagnoses: Sequence[BackendDiagnosis]) -> None:
+    """On GitHub Actions: an ``::error`` line per failure, at the model file (and line)."""
+    from fkcheck.report.annotations import github_annotations
+
+    if not _annotate():
+        return
+    source = None
+    if check.model.path is not None and check.model.path.suffix == ".toml":
+        try:
+            source = check.model.path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            source = None  # the file-level annotation still says what failed
+    for line in github_annotations(check, diagnoses, source=source):
+        print(line)
 
 
 def _run_all(args: argparse.Namespace) -> int:
@@ -398,17 +427,19 @@ def run(args: argparse.Namespace) -> int:
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
-    # The diagnosis (about a second per disagreeing backend) is for the HTML page.
-    outcome = _check(args, model, backends, diagnose=args.diagnose and args.html is not None)
+    # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
+    cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4
+    outcome = _check(args, model, backends, diagnose=args.diagnose and (cause_shown or _annotate()))
     check = replace(outcome.check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
     # Files first: a closed or full stdout must not cost the run its reports.
     if args.json is not None:
         write_json(check, args.json)
     if args.junit is not None:
-        write_junit(check, args.junit)
+        write_junit(check, args.junit, diagnoses=outcome.diagnoses)
     if args.html is not None:
         write_html(check, args.html, diagnoses=outcome.diagnoses)
-    _summaries(args, [check], step_summary)
+    _summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses})
     print_summary(check)
+    _print_annotations(check, outcome.diagnoses)
     _print_diagnose_hint(args.model, check)
     return 0 if check.verdict == "pass" else 1
