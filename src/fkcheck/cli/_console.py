@@ -24,6 +24,10 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
     (set on many CI runners) makes rich treat a pipe as a terminal of 80 columns.
     Emoji codes (``:warning:``) print as written: text from input stays literal
     (its markup is escaped by :func:`fkcheck.io.text.terminal_markup`).
+    When the stream is no terminal, lines of text are never wrapped (rich's
+    ``soft_wrap``): a header or a verdict stays one line in a log, whatever its
+    length, rather than breaking mid-phrase at the table's width; tables keep
+    their width.
     """
     from rich.console import Console
 
@@ -52,4 +56,4 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
     except (AttributeError, ValueError):  # replaced or closed stream
         tty = False
     width = None if tty or os.environ.get("COLUMNS") else PIPE_WIDTH
-    return _Console(stderr=stderr, highlight=highlight, width=width, emoji=False)
+    return _Console(stderr=stderr, highlight=highlight, width=width, emoji=False, soft_wrap=not tty)

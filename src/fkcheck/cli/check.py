@@ -27,6 +27,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from fkcheck.cli.progress import PLAIN_INTERVAL_S
 from fkcheck.errors import FkcheckError
 from fkcheck.io.format import format_angle_console, format_length_console
 from fkcheck.io.text import terminal_markup, terminal_text
@@ -35,13 +36,13 @@ if TYPE_CHECKING:
     from collections.abc import Mapping, Sequence
 
     from fkcheck.api import Outcome
-    from fkcheck.diagnose.failures import BackendDiagnosis
     from fkcheck.backends.base import Backend
+    from fkcheck.diagnose.failures import BackendDiagnosis
     from fkcheck.engine.results import BackendResult, CheckResult
     from fkcheck.engine.verdict import Kind
     from fkcheck.model.types import Model
 
-__all__ = ["DEFAULT_OUT_DIR", "add_parser", "print_summary", "run"]
+__all__ = ["DEFAULT_OUT_DIR", "add_parser", "header", "print_header", "print_summary", "run"]
 
 #: Where ``--all`` writes its reports unless ``--out-dir`` says otherwise.
 DEFAULT_OUT_DIR = Path("reports")
@@ -116,6 +117,20 @@ def add_parser(sub: Any) -> None:
         help="HTML report of a failing check: leave out the Diagnosis section (it runs "
         "fkcheck diagnose against each distinct disagreeing backend, about a second each)",
     )
+    p.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="no progress on stderr (the result table and verdict still print)",
+    )
+    p.add_argument(
+        "--progress-interval",
+        type=float,
+        default=PLAIN_INTERVAL_S,
+        metavar="S",
+        help="when stderr is not a terminal (a CI log): seconds between the plain progress "
+        f"lines of each running backend (default {PLAIN_INTERVAL_S:g})",
+    )
     p.set_defaults(run=run)
 
 
@@ -133,21 +148,65 @@ def _worst_q(result: BackendResult, check: CheckResult) -> str:
     return "[" + ", ".join(parts) + "]"
 
 
-def print_summary(check: CheckResult) -> None:
-    """The terminal table and verdict line."""
+def header(
+    model: Model,
+    backends: Sequence[Backend],
+    args: argparse.Namespace,
+) -> str:
+    """The line printed before the backends run: what is checked, how, against what.
+
+    Text from input is escaped for rich (:func:`~fkcheck.io.text.terminal_markup`).
+    """
+    from fkcheck.backends.base import FixedConfigurations
+
+    frame_from = args.frame_from or model.check.frame_from
+    frame_to = args.frame_to or model.check.frame_to
+    tol_pos = args.tol_pos or model.check.tol_pos_m
+    tol_rot = args.tol_rot or model.check.tol_rot_rad
+    if any(isinstance(b, FixedConfigurations) for b in backends):
+        where = "at the measured poses' configurations"
+    else:
+        where = f"{args.samples} {args.sampler} samples (seed {args.seed})"
+    names = ", ".join(b.name for b in backends) or "no backend"
+    return terminal_markup(
+        f"fkcheck {model.name}: {frame_from} → {frame_to}, {where}, tolerance {tol_pos:g} m / "
+        f"{tol_rot:g} rad, against {names}"
+    )
+
+
+def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
+    """Print :func:`header` at the start of a check, before any backend runs."""
+    from fkcheck.cli._console import console
+
+    console(highlight=False).print(header(model, backends, args))
+
+
+def print_summary(check: CheckResult, *, title: bool = True) -> None:
+    """The terminal table and verdict line.
+
+    Args:
+        check: The finished check.
+        title: Open with the check's full description (model, frames, samples,
+            tolerance); without it (the header was printed at the start) the
+            table is titled with the number of configurations only.
+    """
     from rich.table import Table
 
     from fkcheck.cli._console import console as make_console
     from fkcheck.engine.verdict import evidence_sentences, headline
 
     console = make_console(highlight=False)
-    title = (
+    described = (
         f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
         f"{terminal_markup(check.frame_to)}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
     )
-    table = Table(title=title, title_justify="left")
+    if title:
+        console.print(described)
+    else:
+        console.print(f"{check.q.shape[0]} configurations compared")
+    table = Table()
     for column in (
         "backend",
         "evidence",
@@ -253,22 +312,32 @@ def _require(args: argparse.Namespace) -> tuple[Kind, ...]:
 def _check(
     args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
 ) -> Outcome:
+    """The header, then the check with its progress on stderr (none with ``--quiet``)."""
     from fkcheck.api import check
+    from fkcheck.cli.progress import check_progress
 
-    return check(
-        model,
-        backends,
-        samples=args.samples,
-        seed=args.seed,
-        sampler=args.sampler,
-        frame_from=args.frame_from,
-        frame_to=args.frame_to,
-        tol_pos_m=args.tol_pos,
-        tol_rot_rad=args.tol_rot,
-        timeout_s=args.timeout,
-        require=_require(args),
-        diagnose=diagnose,
+    print_header(model, backends, args)
+    progress = check_progress(
+        [b.name for b in backends],
+        quiet=getattr(args, "quiet", False),
+        interval_s=getattr(args, "progress_interval", PLAIN_INTERVAL_S),
     )
+    with progress as on_progress:
+        return check(
+            model,
+            backends,
+            samples=args.samples,
+            seed=args.seed,
+            sampler=args.sampler,
+            frame_from=args.frame_from,
+            frame_to=args.frame_to,
+            tol_pos_m=args.tol_pos,
+            tol_rot_rad=args.tol_rot,
+            timeout_s=args.timeout,
+            require=_require(args),
+            diagnose=diagnose,
+            on_progress=on_progress,
+        )
 
 
 def _summaries(
@@ -381,7 +450,7 @@ def _run_all(args: argparse.Namespace) -> int:
         write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
         write_json(check, out_dir / names[1])
         write_junit(check, out_dir / names[2])
-        print_summary(check)
+        print_summary(check, title=False)
         entries.append(IndexEntry(check, *names))
         checks.append(check)
     command = "fkcheck " + shlex.join(getattr(args, "argv", []))
@@ -439,7 +508,7 @@ def run(args: argparse.Namespace) -> int:
     if args.html is not None:
         write_html(check, args.html, diagnoses=outcome.diagnoses)
     _summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses})
-    print_summary(check)
+    print_summary(check, title=False)
     _print_annotations(check, outcome.diagnoses)
     _print_diagnose_hint(args.model, check)
     return 0 if check.verdict == "pass" else 1

@@ -152,8 +152,8 @@ def github_annotations(
         line = None
         message = r.message
         if outcome is not None:
-            group = [n for n in (outcome.backend, *outcome.also)
-                     if any(b.name == n and b.status == "fail" for b in check.backends)]  # fmt: skip
+            failed = {b.name for b in check.backends if b.status == "fail"}
+            group = [n for n in (outcome.backend, *outcome.also) if n in failed]
             message = f"{message}; diagnosis: {diagnosis_headline(outcome)}"
             best = outcome.diagnosis.best if outcome.diagnosis is not None else None
             if best is not None and best.changes and source is not None:

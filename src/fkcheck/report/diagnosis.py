@@ -127,9 +127,7 @@ def diagnosis_view(outcome: BackendDiagnosis) -> DiagnosisView:
     )
 
 
-def diagnosis_for(
-    diagnoses: Sequence[BackendDiagnosis], backend: str
-) -> BackendDiagnosis | None:
+def diagnosis_for(diagnoses: Sequence[BackendDiagnosis], backend: str) -> BackendDiagnosis | None:
     """The diagnosis that stands for ``backend`` (its own, or a twin's via ``also``), if any."""
     return next((d for d in diagnoses if backend == d.backend or backend in d.also), None)
 

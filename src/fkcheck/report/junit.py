@@ -73,7 +73,8 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
     """The JUnit document: a suite per check, a case per backend.
 
     ``fail`` → ``<failure>`` (text: :func:`failure_text`, which names the
-    diagnosis from ``diagnoses`` when there is one), ``error`` → ``<error>``, ``skipped`` → ``<skipped>``.
+    diagnosis from ``diagnoses`` when there is one), ``error`` → ``<error>``,
+    ``skipped`` → ``<skipped>``.
     Two more cases say what the run proved, one per kind of evidence
     (implementation, table): passed when verified, ``<failure>`` when it
     disagrees or is required and missing, ``<skipped>`` (with the reason) when

@@ -177,8 +177,8 @@ def _causes(
             outcome = diagnosis_for(own, r.name) if r.status == "fail" else None
             group = [r.name]
             if outcome is not None:
-                group = [n for n in (outcome.backend, *outcome.also)
-                         if any(b.name == n and b.status == "fail" for b in check.backends)]  # fmt: skip
+                failed = {b.name for b in check.backends if b.status == "fail"}
+                group = [n for n in (outcome.backend, *outcome.also) if n in failed]
             done.update(group)
             if not many and outcome is None:
                 continue  # one model: its table already holds the message
