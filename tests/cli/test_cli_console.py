@@ -42,17 +42,40 @@ def test_square_brackets_in_skip_reasons_and_names_print_literally(tmp_path, cap
     path = _model(tmp_path, "arm [bold]x[/bold] [/]")
     assert main(["check", str(path), "--samples", "2", "--against", "rtb-dh"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("fkcheck arm [bold]x[/bold] [/]: base → tool0, 2 sobol samples")
+    assert out.startswith("fkcheck arm [bold]x[/bold] [/]: base → tool0, 83 configurations")
 
 
-def test_header_comes_first_and_no_line_wraps_in_a_log(capsys):
-    argv = ["check", "planar2", "--samples", "2", "--tol-pos", "0.000123456",
-            "--against", "rtb-dh,pinocchio-dh,pinocchio-urdf,yourdfpy-urdf,rtb-urdf"]  # fmt: skip
+def test_the_header_names_what_runs_and_keeps_brackets(tmp_path):
+    from argparse import Namespace
+
+    from fkcheck.backends.registry import make_backend
+    from fkcheck.cli.check import header
+    from fkcheck.model.read import load_model
+
+    model = load_model(_model(tmp_path, "arm [red]x[/]"))
+    args = Namespace(frame_from=None, frame_to=None, tol_pos=None, tol_rot=2e-6,
+                     samples=200000, sampler="sobol", seed=3)  # fmt: skip
+    text = header(model, [make_backend("rtb-dh"), make_backend("pinocchio-urdf")], args)
+    from rich.console import Console
+
+    console = Console(width=400, record=True, color_system=None)
+    console.print(text)
+    assert console.export_text() == (
+        "fkcheck arm [red]x[/]: base → tool0, 200000 sobol samples (seed 3), tolerance "
+        "1e-06 m / 2e-06 rad, against rtb-dh, pinocchio-urdf\n"
+    )
+
+
+def test_no_line_wraps_in_a_log(tmp_path, capsys):
+    name = "a-model-name-long-enough-to-push-the-description-past-the-width-of-a-ci-log"
+    path = _model(tmp_path, name)
+    argv = ["check", str(path), "--samples", "2", "--tol-pos", "0.000123456",
+            "--against", "rtb-dh"]  # fmt: skip
     assert main(argv) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0] == (
-        "fkcheck planar2: world → tcp, 2 sobol samples (seed 0), tolerance 0.000123456 m / "
-        "1e-06 rad, against rtb-dh, pinocchio-dh, pinocchio-urdf, yourdfpy-urdf, rtb-urdf"
+        f"fkcheck {name}: base → tool0, 83 configurations (2 sobol samples, seed 0), "
+        "tolerance 0.000123456 m / 1e-06 rad"
     )
     assert len(lines[0]) > 140  # longer than the log's width, and whole
     table_not_checked = next(x for x in lines if "table NOT CHECKED" in x)

@@ -9,11 +9,20 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from rich.console import Console
 
-__all__ = ["PIPE_WIDTH", "console"]
+__all__ = ["PIPE_WIDTH", "console", "is_terminal"]
 
 #: Columns of a table written to a pipe or file (a CI log): rich's own fallback,
 #: 80, wraps backend names such as ``pinocchio-urdf`` in the middle.
 PIPE_WIDTH = 120
+
+
+def is_terminal(*, stderr: bool = False) -> bool:
+    """Whether stdout (or stderr) is a terminal; a replaced or closed stream is not."""
+    stream = sys.stderr if stderr else sys.stdout
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):  # replaced or closed stream
+        return False
 
 
 def console(*, stderr: bool = False, highlight: bool = True) -> Console:
@@ -50,10 +59,6 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
             finally:
                 os.close(devnull)
 
-    stream = sys.stderr if stderr else sys.stdout
-    try:
-        tty = stream.isatty()
-    except (AttributeError, ValueError):  # replaced or closed stream
-        tty = False
+    tty = is_terminal(stderr=stderr)
     width = None if tty or os.environ.get("COLUMNS") else PIPE_WIDTH
     return _Console(stderr=stderr, highlight=highlight, width=width, emoji=False, soft_wrap=not tty)

@@ -15,7 +15,12 @@ that is an input, shared by two outputs, not a regular file, or in a directory
 that cannot take it is bad input (exit 2). The HTML report of a
 failing check has a Diagnosis section (``fkcheck diagnose`` run against the
 disagreeing backends) unless ``--no-diagnose`` is given; the JSON is the same
-with or without it.
+with or without it. The diagnosis runs whenever a report shows it: ``--html``,
+``--junit``, ``--summary``, ``$GITHUB_STEP_SUMMARY``, or the annotations —
+with ``GITHUB_ACTIONS=true`` each failure is also printed as an ``::error``
+line at the model file (:mod:`fkcheck.report.annotations`). On a terminal the
+header prints before the backends run; their progress goes to stderr
+(:mod:`fkcheck.cli.progress`; ``--quiet`` turns it off).
 """
 
 from __future__ import annotations
@@ -175,24 +180,33 @@ def header(
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
-    """Print :func:`header` at the start of a check, before any backend runs."""
-    from fkcheck.cli._console import console
+    """On a terminal, print :func:`header` at the start of a check, before any backend runs.
 
-    console(highlight=False).print(header(model, backends, args))
+    Not in a pipe or a log: there stdout carries the result only (bad input
+    found while the check starts leaves it empty; the description then opens
+    the result table, :func:`print_summary`), and the progress lines on stderr
+    say what runs.
+    """
+    from fkcheck.cli._console import console, is_terminal
+
+    if is_terminal():
+        console(highlight=False).print(header(model, backends, args))
 
 
-def print_summary(check: CheckResult, *, title: bool = True) -> None:
+def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     """The terminal table and verdict line.
 
     Args:
         check: The finished check.
-        title: Open with the check's full description (model, frames, samples,
-            tolerance); without it (the header was printed at the start) the
-            table is titled with the number of configurations only.
+        title: Open with the check's full description (model, frames,
+            configurations, tolerance); without it (the header was printed at
+            the start) the table opens with the number of configurations only.
+            Default: when stdout is no terminal (see :func:`print_header`).
     """
     from rich.table import Table
 
     from fkcheck.cli._console import console as make_console
+    from fkcheck.cli._console import is_terminal
     from fkcheck.engine.verdict import evidence_sentences, headline
 
     console = make_console(highlight=False)
@@ -202,6 +216,8 @@ def print_summary(check: CheckResult, *, title: bool = True) -> None:
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
     )
+    if title is None:
+        title = not is_terminal()
     if title:
         console.print(described)
     else:
@@ -450,7 +466,7 @@ def _run_all(args: argparse.Namespace) -> int:
         write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
         write_json(check, out_dir / names[1])
         write_junit(check, out_dir / names[2])
-        print_summary(check, title=False)
+        print_summary(check)
         entries.append(IndexEntry(check, *names))
         checks.append(check)
     command = "fkcheck " + shlex.join(getattr(args, "argv", []))
@@ -508,7 +524,7 @@ def run(args: argparse.Namespace) -> int:
     if args.html is not None:
         write_html(check, args.html, diagnoses=outcome.diagnoses)
     _summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses})
-    print_summary(check, title=False)
+    print_summary(check)
     _print_annotations(check, outcome.diagnoses)
     _print_diagnose_hint(args.model, check)
     return 0 if check.verdict == "pass" else 1
