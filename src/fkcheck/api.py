@@ -165,7 +165,9 @@ def write_report(
     if json is not None:
         written.append(write_json(outcome.check, json))
     if junit is not None:
-        written.append(write_junit(outcome.check, junit))
+        written.append(write_junit(outcome.check, junit, diagnoses=outcome.diagnoses))
     if summary is not None:
-        written.append(write_summary(summary, markdown_summary([outcome.check])))
+        diagnoses = {outcome.check.model.name: outcome.diagnoses}
+        text = markdown_summary([outcome.check], diagnoses=diagnoses)
+        written.append(write_summary(summary, text))
     return tuple(written)

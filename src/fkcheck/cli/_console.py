@@ -9,11 +9,20 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from rich.console import Console
 
-__all__ = ["PIPE_WIDTH", "console"]
+__all__ = ["PIPE_WIDTH", "console", "is_terminal"]
 
 #: Columns of a table written to a pipe or file (a CI log): rich's own fallback,
 #: 80, wraps backend names such as ``pinocchio-urdf`` in the middle.
 PIPE_WIDTH = 120
+
+
+def is_terminal(*, stderr: bool = False) -> bool:
+    """Whether stdout (or stderr) is a terminal; a replaced or closed stream is not."""
+    stream = sys.stderr if stderr else sys.stdout
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):  # replaced or closed stream
+        return False
 
 
 def console(*, stderr: bool = False, highlight: bool = True) -> Console:
@@ -24,6 +33,10 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
     (set on many CI runners) makes rich treat a pipe as a terminal of 80 columns.
     Emoji codes (``:warning:``) print as written: text from input stays literal
     (its markup is escaped by :func:`fkcheck.io.text.terminal_markup`).
+    When the stream is no terminal, lines of text are never wrapped (rich's
+    ``soft_wrap``): a header or a verdict stays one line in a log, whatever its
+    length, rather than breaking mid-phrase at the table's width; tables keep
+    their width.
     """
     from rich.console import Console
 
@@ -46,10 +59,6 @@ def console(*, stderr: bool = False, highlight: bool = True) -> Console:
             finally:
                 os.close(devnull)
 
-    stream = sys.stderr if stderr else sys.stdout
-    try:
-        tty = stream.isatty()
-    except (AttributeError, ValueError):  # replaced or closed stream
-        tty = False
+    tty = is_terminal(stderr=stderr)
     width = None if tty or os.environ.get("COLUMNS") else PIPE_WIDTH
-    return _Console(stderr=stderr, highlight=highlight, width=width, emoji=False)
+    return _Console(stderr=stderr, highlight=highlight, width=width, emoji=False, soft_wrap=not tty)

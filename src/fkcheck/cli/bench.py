@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.bench.harness import run_bench
     from fkcheck.cli._console import console
     from fkcheck.cli._outputs import model_inputs, plan
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import terminal_markup, terminal_text
     from fkcheck.model.read import load_model
 
     model = load_model(args.model)
@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
             args.n,
             args.repeat,
             seed=args.seed,
-            progress=lambda name: status.update(f"timing {name}…"),
+            progress=lambda name: status.update(f"timing {terminal_markup(name)}…"),
         )
     tol = model.check.tol_pos_m
     disagree = [
@@ -122,12 +122,13 @@ def _table(result: Any, tol: float) -> Any:
     table.add_column("max |Δp|", justify="right")
     notes = []
     for t in result.timings:
+        name = terminal_markup(t.name)  # a contender's name is text, never markup
         notes.append(terminal_text(f"{t.name}: {f'skipped, {t.skipped}' if t.skipped else t.note}"))
         if t.skipped:
-            table.add_row(t.name, f"{t.n:,}", "", "skipped", "", "", "", style="dim")
+            table.add_row(name, f"{t.n:,}", "", "skipped", "", "", "", style="dim")
             continue
         if t.error:
-            table.add_row(t.name, f"{t.n:,}", "", "[bold red]FAILED[/]", "", "", "")
+            table.add_row(name, f"{t.n:,}", "", "[bold red]FAILED[/]", "", "", "")
             notes[-1] = terminal_text(f"{t.name}: FAILED, {t.error}")
             continue
         speedup = result.speedup(t)
@@ -135,9 +136,9 @@ def _table(result: Any, tol: float) -> Any:
         if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol:
             err = f"[bold red]{err}[/]"
         table.add_row(
-            t.name,
+            name,
             f"{t.n:,}",
-            t.mode,
+            terminal_markup(t.mode),
             format_microseconds(t.us_per_pose),
             f"{t.poses_per_s:,.0f}",
             "" if speedup is None else f"{speedup:,.1f}" if speedup >= 1 else f"{speedup:.2g}",

@@ -26,7 +26,12 @@ that is an input, shared by two outputs, not a regular file, or in a directory
 that cannot take it is bad input (exit 2). The HTML report of a
 failing check has a Diagnosis section (``fkcheck diagnose`` run against the
 disagreeing backends) unless ``--no-diagnose`` is given; the JSON is the same
-with or without it.
+with or without it. The diagnosis runs whenever a report shows it: ``--html``,
+``--junit``, ``--summary``, ``$GITHUB_STEP_SUMMARY``, or the annotations —
+with ``GITHUB_ACTIONS=true`` each failure is also printed as an ``::error``
+line at the model file (:mod:`fkcheck.report.annotations`). On a terminal the
+header prints before the backends run; their progress goes to stderr
+(:mod:`fkcheck.cli.progress`; ``--quiet`` turns it off).
 """
 
 from __future__ import annotations
@@ -38,20 +43,24 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from fkcheck.cli.progress import PLAIN_INTERVAL_S
 from fkcheck.errors import FkcheckError
 from fkcheck.io.format import format_angle_console, format_length_console
 from fkcheck.io.text import terminal_markup, terminal_text
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping, Sequence
+
     from fkcheck.api import Outcome
     from fkcheck.backends.base import Backend
     from fkcheck.cli._targets import Target
+    from fkcheck.diagnose.failures import BackendDiagnosis
     from fkcheck.engine.results import BackendResult, CheckResult
     from fkcheck.engine.verdict import Kind
     from fkcheck.model.project import ProjectConfig
     from fkcheck.model.types import Model
 
-__all__ = ["DEFAULT_OUT_DIR", "add_parser", "print_summary", "run"]
+__all__ = ["DEFAULT_OUT_DIR", "add_parser", "header", "print_header", "print_summary", "run"]
 
 #: Where ``--all`` writes its reports unless ``--out-dir`` says otherwise.
 DEFAULT_OUT_DIR = Path("reports")
@@ -134,6 +143,20 @@ def add_parser(sub: Any) -> None:
         help="HTML report of a failing check: leave out the Diagnosis section (it runs "
         "fkcheck diagnose against each distinct disagreeing backend, about a second each)",
     )
+    p.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="no progress on stderr (the result table and verdict still print)",
+    )
+    p.add_argument(
+        "--progress-interval",
+        type=float,
+        default=PLAIN_INTERVAL_S,
+        metavar="S",
+        help="when stderr is not a terminal (a CI log): seconds between the plain progress "
+        f"lines of each running backend (default {PLAIN_INTERVAL_S:g})",
+    )
     p.set_defaults(run=run)
 
 
@@ -151,21 +174,76 @@ def _worst_q(result: BackendResult, check: CheckResult) -> str:
     return "[" + ", ".join(parts) + "]"
 
 
-def print_summary(check: CheckResult) -> None:
-    """The terminal table and verdict line."""
+def header(
+    model: Model,
+    backends: Sequence[Backend],
+    args: argparse.Namespace,
+) -> str:
+    """The line printed before the backends run: what is checked, how, against what.
+
+    Text from input is escaped for rich (:func:`~fkcheck.io.text.terminal_markup`).
+    """
+    from fkcheck.backends.base import FixedConfigurations
+
+    frame_from = args.frame_from or model.check.frame_from
+    frame_to = args.frame_to or model.check.frame_to
+    tol_pos = args.tol_pos or model.check.tol_pos_m
+    tol_rot = args.tol_rot or model.check.tol_rot_rad
+    if any(isinstance(b, FixedConfigurations) for b in backends):
+        where = "at the measured poses' configurations"
+    else:
+        where = f"{args.samples} {args.sampler} samples (seed {args.seed})"
+    names = ", ".join(b.name for b in backends) or "no backend"
+    return terminal_markup(
+        f"fkcheck {model.name}: {frame_from} → {frame_to}, {where}, tolerance {tol_pos:g} m / "
+        f"{tol_rot:g} rad, against {names}"
+    )
+
+
+def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
+    """On a terminal, print :func:`header` at the start of a check, before any backend runs.
+
+    Not in a pipe or a log: there stdout carries the result only (bad input
+    found while the check starts leaves it empty; the description then opens
+    the result table, :func:`print_summary`), and the progress lines on stderr
+    say what runs.
+    """
+    from fkcheck.cli._console import console, is_terminal
+
+    if is_terminal():
+        console(highlight=False).print(header(model, backends, args))
+
+
+def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
+    """The terminal table and verdict line.
+
+    Args:
+        check: The finished check.
+        title: Open with the check's full description (model, frames,
+            configurations, tolerance); without it (the header was printed at
+            the start) the table opens with the number of configurations only.
+            Default: when stdout is no terminal (see :func:`print_header`).
+    """
     from rich.table import Table
 
     from fkcheck.cli._console import console as make_console
+    from fkcheck.cli._console import is_terminal
     from fkcheck.engine.verdict import evidence_sentences, headline
 
     console = make_console(highlight=False)
-    title = (
+    described = (
         f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
         f"{terminal_markup(check.frame_to)}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
     )
-    table = Table(title=title, title_justify="left")
+    if title is None:
+        title = not is_terminal()
+    if title:
+        console.print(described)
+    else:
+        console.print(f"{check.q.shape[0]} configurations compared")
+    table = Table()
     for column in (
         "backend",
         "evidence",
@@ -299,32 +377,45 @@ def _require(args: argparse.Namespace) -> tuple[Kind, ...]:
 def _check(
     args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
 ) -> Outcome:
+    """The header, then the check with its progress on stderr (none with ``--quiet``)."""
     from fkcheck.api import check
+    from fkcheck.cli.progress import check_progress
 
-    return check(
-        model,
-        backends,
-        samples=args.samples,
-        seed=args.seed,
-        sampler=args.sampler,
-        frame_from=args.frame_from,
-        frame_to=args.frame_to,
-        tol_pos_m=args.tol_pos,
-        tol_rot_rad=args.tol_rot,
-        timeout_s=args.timeout,
-        require=_require(args),
-        diagnose=diagnose,
+    print_header(model, backends, args)
+    progress = check_progress(
+        [b.name for b in backends],
+        quiet=getattr(args, "quiet", False),
+        interval_s=getattr(args, "progress_interval", PLAIN_INTERVAL_S),
     )
+    with progress as on_progress:
+        return check(
+            model,
+            backends,
+            samples=args.samples,
+            seed=args.seed,
+            sampler=args.sampler,
+            frame_from=args.frame_from,
+            frame_to=args.frame_to,
+            tol_pos_m=args.tol_pos,
+            tol_rot_rad=args.tol_rot,
+            timeout_s=args.timeout,
+            require=_require(args),
+            diagnose=diagnose,
+            on_progress=on_progress,
+        )
 
 
 def _summaries(
-    args: argparse.Namespace, checks: list[CheckResult], step_summary: str | None
+    args: argparse.Namespace,
+    checks: list[CheckResult],
+    step_summary: str | None,
+    diagnoses: Mapping[str, Sequence[BackendDiagnosis]] | None = None,
 ) -> None:
     """The Markdown summary: to ``--summary`` and appended to ``step_summary`` when given."""
     from fkcheck.cli._outputs import append_to_step_summary
     from fkcheck.report.markdown import markdown_summary, write_summary
 
-    text = markdown_summary(checks)
+    text = markdown_summary(checks, diagnoses=diagnoses)
     if args.summary is not None:
         write_summary(args.summary, text)
     append_to_step_summary(step_summary, text)
@@ -402,6 +493,29 @@ def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
                 console.print(f"[bold red]{name}[/]: {terminal_markup(r.name)}: {message}")
 
 
+def _annotate() -> bool:
+    """Whether to print GitHub annotations (``GITHUB_ACTIONS=true``)."""
+    from fkcheck.report.annotations import in_github_actions
+
+    return in_github_actions()
+
+
+def _print_annotations(check: CheckResult, diagnoses: Sequence[BackendDiagnosis]) -> None:
+    """On GitHub Actions: an ``::error`` line per failure, at the model file (and line)."""
+    from fkcheck.report.annotations import github_annotations
+
+    if not _annotate():
+        return
+    source = None
+    if check.model.path is not None and check.model.path.suffix == ".toml":
+        try:
+            source = check.model.path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            source = None  # the file-level annotation still says what failed
+    for line in github_annotations(check, diagnoses, source=source):
+        print(line)
+
+
 def _run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | None) -> int:
     """Several models: each model's files and the index (with ``out_dir``), one summary."""
     import datetime as _dt
@@ -431,20 +545,25 @@ def _run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | N
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
+    diagnoses: dict[str, Sequence[BackendDiagnosis]] = {}
+    # The diagnosis (about a second per disagreement) is for the reports, summaries
+    # and annotations that show it.
+    wanted = out_dir is not None or args.summary is not None or step_summary is not None
+    diagnose = args.diagnose and (wanted or _annotate())
     for number, target in enumerate(targets, start=1):
         for warning in target.model.warnings:
             print(f"fkcheck: warning: {target.stem}: {terminal_text(warning)}", file=sys.stderr)
-        outcome = _check(
-            args, target.model, _backends(args), diagnose=args.diagnose and out_dir is not None
-        )
+        outcome = _check(args, target.model, _backends(args), diagnose=diagnose)
         check = replace(outcome.check, command=_model_command(args, target.arg))
         if out_dir is not None:
             names = files[target.stem]
             write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
             write_json(check, out_dir / names[1])
-            write_junit(check, out_dir / names[2])
+            write_junit(check, out_dir / names[2], diagnoses=outcome.diagnoses)
             entries.append(IndexEntry(check, *names))
         checks.append(check)
+        diagnoses[check.model.name] = outcome.diagnoses
+        _print_annotations(check, outcome.diagnoses)
         print(
             f"fkcheck: [{number}/{len(targets)}] {terminal_text(target.arg)}: {check.verdict} "
             f"({check.duration_s:.1f} s)",
@@ -454,7 +573,7 @@ def _run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | N
         command = "fkcheck " + shlex.join(getattr(args, "argv", []))
         page = build_index_page(entries, command=command, created=created)
         write_index(page, out_dir / "index.html")
-    _summaries(args, checks, step_summary)
+    _summaries(args, checks, step_summary, diagnoses)
     labelled = [(t.arg, c) for t, c in zip(targets, checks, strict=True)]
     print_models_table(labelled)
     failed = [label for label, c in labelled if c.verdict != "pass"]
@@ -526,17 +645,19 @@ def _run_one(args: argparse.Namespace, target: Target) -> int:
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
-    # The diagnosis (about a second per disagreeing backend) is for the HTML page.
-    outcome = _check(args, model, backends, diagnose=args.diagnose and args.html is not None)
+    # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
+    cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4
+    outcome = _check(args, model, backends, diagnose=args.diagnose and (cause_shown or _annotate()))
     check = replace(outcome.check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
     # Files first: a closed or full stdout must not cost the run its reports.
     if args.json is not None:
         write_json(check, args.json)
     if args.junit is not None:
-        write_junit(check, args.junit)
+        write_junit(check, args.junit, diagnoses=outcome.diagnoses)
     if args.html is not None:
         write_html(check, args.html, diagnoses=outcome.diagnoses)
-    _summaries(args, [check], step_summary)
+    _summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses})
     print_summary(check)
+    _print_annotations(check, outcome.diagnoses)
     _print_diagnose_hint(target.arg, check)
     return 0 if check.verdict == "pass" else 1

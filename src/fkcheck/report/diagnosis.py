@@ -7,6 +7,7 @@ model the template lays out. Nothing here runs a diagnosis.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from fkcheck.io.format import format_seconds
@@ -17,7 +18,7 @@ if TYPE_CHECKING:
     from fkcheck.diagnose import Diagnosis, Explanation
     from fkcheck.diagnose.failures import BackendDiagnosis
 
-__all__ = ["diagnosis_view"]
+__all__ = ["diagnosis_for", "diagnosis_headline", "diagnosis_view"]
 
 
 def _explanation_view(rank: int, e: Explanation) -> ExplanationView:
@@ -124,3 +125,20 @@ def diagnosis_view(outcome: BackendDiagnosis) -> DiagnosisView:
         command=outcome.command,
         duration=format_seconds(d.duration_s),
     )
+
+
+def diagnosis_for(diagnoses: Sequence[BackendDiagnosis], backend: str) -> BackendDiagnosis | None:
+    """The diagnosis that stands for ``backend`` (its own, or a twin's via ``also``), if any."""
+    return next((d for d in diagnoses if backend == d.backend or backend in d.also), None)
+
+
+def diagnosis_headline(outcome: BackendDiagnosis) -> str:
+    """The cause in one line, for a CI artefact: the best explanation's title, else why not.
+
+    ``α5 (wrist_2) has the wrong sign: 90° here, the opposite matches``; without
+    an explanation, the few words of :func:`diagnosis_view` (``not explained by
+    any hypothesis tried``, ``could not run: …``).
+    """
+    d = outcome.diagnosis
+    best = d.best if d is not None else None
+    return best.title if best is not None else diagnosis_view(outcome).short

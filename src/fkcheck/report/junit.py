@@ -1,22 +1,80 @@
-"""JUnit XML: one test case per backend, so CI systems show the check natively."""
+"""JUnit XML: one test case per backend, so CI systems show the check natively.
+
+A failing case's ``<failure>`` says, once each: what failed (verdict), by how
+much (the numbers and the tolerance) and why (the headline of its diagnosis,
+when the check was diagnosed). The diagnoses are passed in, already run
+(:func:`fkcheck.diagnose.failures.diagnose_failures`); nothing here runs one.
+"""
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from fkcheck.engine.results import CheckResult
+from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import evidence_sentences
 from fkcheck.io.atomic import write_bytes_atomic
 from fkcheck.io.text import xml_safe_tree
+from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
 
-__all__ = ["junit_xml", "write_junit"]
+if TYPE_CHECKING:
+    from fkcheck.diagnose.failures import BackendDiagnosis
+
+__all__ = ["failure_text", "junit_xml", "write_junit"]
 
 
-def junit_xml(check: CheckResult) -> bytes:
+def _numbers(result: BackendResult, check: CheckResult) -> str:
+    """``max position error … m, max rotation error … rad (tolerance … m, … rad)``."""
+    return (
+        f"max position error {result.max_position_error_m:.3g} m, "
+        f"max rotation error {result.max_rotation_error_rad:.3g} rad "
+        f"(tolerance {check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
+    )
+
+
+def failure_text(
+    result: BackendResult, check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ()
+) -> tuple[str, str]:
+    """A failing backend's one-line summary and its full text: verdict, numbers, cause.
+
+    Args:
+        result: A backend result whose status is ``fail``.
+        check: The check it belongs to (tolerances, frames).
+        diagnoses: The check's diagnoses; the one standing for ``result`` gives the cause.
+
+    Returns:
+        ``(summary, text)``: the summary names the backend and the cause (or the
+        numbers when there is no diagnosis); the text holds the verdict line, the
+        engine's reasons with the numbers and the tolerance, and the diagnosis
+        headline with the command that reproduces it — each once.
+    """
+    lines = [f"fail: {result.name} disagrees with the in-house core "
+             f"({check.frame_from} -> {check.frame_to})"]  # fmt: skip
+    reasons = result.message
+    if "max position error" not in reasons:
+        reasons = f"{reasons}; {_numbers(result, check)}" if reasons else _numbers(result, check)
+    else:
+        reasons = f"{reasons} (tolerance {check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
+    lines.append(reasons)
+    summary = f"{result.name} disagrees: {reasons}"
+    outcome = diagnosis_for(diagnoses, result.name)
+    if outcome is not None:
+        short = diagnosis_headline(outcome)
+        lines.append(f"diagnosis: {short}")
+        summary = f"{result.name} disagrees: {short}"
+        if outcome.command:
+            lines.append(f"explain it: {outcome.command}")
+    return summary, "\n".join(lines)
+
+
+def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ()) -> bytes:
     """The JUnit document: a suite per check, a case per backend.
 
-    ``fail`` → ``<failure>``, ``error`` → ``<error>``, ``skipped`` → ``<skipped>``.
+    ``fail`` → ``<failure>`` (text: :func:`failure_text`, which names the
+    diagnosis from ``diagnoses`` when there is one), ``error`` → ``<error>``,
+    ``skipped`` → ``<skipped>``.
     Two more cases say what the run proved, one per kind of evidence
     (implementation, table): passed when verified, ``<failure>`` when it
     disagrees or is required and missing, ``<skipped>`` (with the reason) when
@@ -37,13 +95,10 @@ def junit_xml(check: CheckResult) -> bytes:
         counts["tests"] += 1
         detail = result.message
         if result.ran:
-            detail = (
-                f"max position error {result.max_position_error_m:.3g} m, "
-                f"max rotation error {result.max_rotation_error_rad:.3g} rad "
-                f"(tolerance {check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad). {result.message}"
-            ).strip()
+            detail = f"{_numbers(result, check)}. {result.message}".strip()
         if result.status == "fail":
-            ET.SubElement(case, "failure", message=detail, type="disagreement").text = detail
+            summary, text = failure_text(result, check, diagnoses)
+            ET.SubElement(case, "failure", message=summary, type="disagreement").text = text
             counts["failures"] += 1
         elif result.status == "error":
             ET.SubElement(case, "error", message=detail, type="error").text = detail
@@ -89,6 +144,8 @@ def junit_xml(check: CheckResult) -> bytes:
     return data
 
 
-def write_junit(check: CheckResult, path: Path | str) -> Path:
-    """Write the JUnit XML, atomically."""
-    return write_bytes_atomic(path, junit_xml(check))
+def write_junit(
+    check: CheckResult, path: Path | str, *, diagnoses: Sequence[BackendDiagnosis] = ()
+) -> Path:
+    """Write the JUnit XML (with the diagnoses' headlines in its failures), atomically."""
+    return write_bytes_atomic(path, junit_xml(check, diagnoses=diagnoses))

@@ -1,7 +1,13 @@
 """A short Markdown summary for CI pages (GitHub's job summary and the like).
 
-The verdict and one table, so a CI page shows which backend disagrees and by
-how much without opening an artifact. Text from input is escaped
+The verdict, one table and the cause of each failure, so a CI page shows which
+backend disagrees, by how much and why without opening an artifact. One model:
+a row per backend with its numbers. Several models: a row per model and a
+column per backend (:data:`MARK` — ✔ pass, ✘ fail, – skipped or not run,
+! error — with the legend under the table), compact for twenty models and
+more. Under either table, one line per failure: the numbers and the headline
+of its diagnosis (the diagnoses are passed in, already run; nothing here runs
+one). Text from input is escaped
 (:func:`escape_markdown`, which is :func:`fkcheck.io.text.markdown_text`):
 control characters become visible escapes, HTML special characters become
 entities and Markdown's own (``|``, backticks, brackets, emphasis marks) are
@@ -14,13 +20,24 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
 from fkcheck.engine.verdict import KINDS, evidence_sentences, headline
 from fkcheck.io.format import format_angle_summary, format_length_summary
 from fkcheck.io.text import markdown_text as escape_markdown
+from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
 
-__all__ = ["escape_markdown", "markdown_summary", "write_summary"]
+if TYPE_CHECKING:
+    from fkcheck.diagnose.failures import BackendDiagnosis
+
+__all__ = ["LEGEND", "MARK", "escape_markdown", "markdown_summary", "write_summary"]
+
+#: A backend's status in the several-models table, one character wide.
+MARK = {"pass": "✔", "fail": "✘", "skipped": "–", "error": "!"}
+
+#: The legend printed under that table.
+LEGEND = "✔ pass · ✘ fail · – skipped or not run · ! error"
 
 _ICON = {
     "pass": "✅",
@@ -34,12 +51,20 @@ _ICON = {
 }
 
 
-def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | None = None) -> str:
+def markdown_summary(
+    checks: Sequence[CheckResult],
+    links: Mapping[str, str] | None = None,
+    *,
+    diagnoses: Mapping[str, Sequence[BackendDiagnosis]] | None = None,
+) -> str:
     """The summary of one check or of a run over several models.
 
     Args:
         checks: One result per model.
         links: Model name → link to its HTML report (relative or absolute), optional.
+        diagnoses: Model name → the diagnoses of its check (as
+            :func:`fkcheck.diagnose.failures.diagnose_failures` returned them),
+            optional; each failure's line then ends with its diagnosis headline.
 
     Returns:
         Markdown text ending in a newline.
@@ -74,6 +99,18 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
             f"{check.q.shape[0]} configurations (seed {check.seed}), tolerance "
             f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
         )
+        lines.append("")
+        lines.append("| backend | status | max position error | max rotation error | message |")
+        lines.append("|---" * 5 + "|")
+        if not check.backends:
+            lines.append(f"| – | {_ICON['error']} error | – | – | no backends |")
+        for r in check.backends:
+            lines.append(
+                f"| {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
+                f"{format_length_summary(r.max_position_error_m)} | "
+                f"{format_angle_summary(r.max_rotation_error_rad)} | "
+                f"{escape_markdown(r.message)} |"
+            )
     else:
         n_fail = sum(c.verdict != "pass" for c in checks)
         verified = sum(c.evidence.table.status == "verified" for c in checks)
@@ -84,31 +121,75 @@ def markdown_summary(checks: Sequence[CheckResult], links: Mapping[str, str] | N
             f"independently for {verified} of {len(checks)} (the others: implementation only)."
         )
         lines.append("")
-        for check in checks:
-            status = check.evidence.table.status
-            text = evidence_sentences(check.evidence)[1]
-            lines.append(
-                f"- {escape_markdown(check.model.name)}: {_ICON[status]} {escape_markdown(text)}"
-            )
-    lines.append("")
-    many = len(checks) > 1
-    head = "| backend | status | max position error | max rotation error | message |"
-    lines.append(("| model " if many else "") + head)
-    lines.append("|---" * (6 if many else 5) + "|")
+        lines.extend(_matrix(checks, links))
+    causes = _causes(checks, diagnoses or {}, many=len(checks) > 1)
+    if causes:
+        lines.append("")
+        lines.extend(causes)
+    return "\n".join(lines) + "\n"
+
+
+def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str]:
+    """A row per model, a column per backend (in the order first met), then the legend."""
+    names: list[str] = []
+    for check in checks:
+        names += [r.name for r in check.backends if r.name not in names]
+    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–"}
+    head = ["model", "verdict", "table verified", *map(escape_markdown, names)]
+    lines = ["| " + " | ".join(head) + " |", "|---|---|" + ":-:|" * (len(head) - 2)]
     for check in checks:
         name = escape_markdown(check.model.name)
         link = links.get(check.model.name)
-        model_cell = (f"| [{name}]({link}) " if link else f"| {name} ") if many else ""
-        if not check.backends:
-            lines.append(f"{model_cell}| – | {_ICON['error']} error | – | – | no backends |")
+        status = {r.name: r.status for r in check.backends}
+        cells = [
+            f"[{name}]({link})" if link else name,
+            f"{_ICON[check.verdict]} {check.verdict}",
+            table_mark[check.evidence.table.status],
+            *(MARK[status[n]] if n in status else MARK["skipped"] for n in names),
+        ]
+        lines.append("| " + " | ".join(cells) + " |")
+    lines.append("")
+    lines.append(f"{LEGEND}; table verified: ✔ by something independent of the table, "
+                 "✘ it disagrees, – not checked.")  # fmt: skip
+    return lines
+
+
+def _causes(
+    checks: Sequence[CheckResult],
+    diagnoses: Mapping[str, Sequence[BackendDiagnosis]],
+    *,
+    many: bool,
+) -> list[str]:
+    """One line per failing or erroring backend: its numbers and its diagnosis headline.
+
+    Backends that one diagnosis stands for (the same disagreement) share a line.
+    With one model the numbers are in its table already: only the diagnosed
+    failures get a line, with the headline.
+    """
+    lines: list[str] = []
+    for check in checks:
+        own = diagnoses.get(check.model.name, ())
+        prefix = f"{escape_markdown(check.model.name)} · " if many else ""
+        done: set[str] = set()
         for r in check.backends:
-            lines.append(
-                f"{model_cell}| {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
-                f"{format_length_summary(r.max_position_error_m)} | "
-                f"{format_angle_summary(r.max_rotation_error_rad)} | "
-                f"{escape_markdown(r.message)} |"
-            )
-    return "\n".join(lines) + "\n"
+            if r.status not in ("fail", "error") or r.name in done:
+                continue
+            outcome = diagnosis_for(own, r.name) if r.status == "fail" else None
+            group = [r.name]
+            if outcome is not None:
+                failed = {b.name for b in check.backends if b.status == "fail"}
+                group = [n for n in (outcome.backend, *outcome.also) if n in failed]
+            done.update(group)
+            if not many and outcome is None:
+                continue  # one model: its table already holds the message
+            who = ", ".join(escape_markdown(n) for n in group)
+            text = f"- {MARK[r.status]} **{prefix}{who}**"
+            if many:
+                text += f": {escape_markdown(r.message)}"
+            if outcome is not None:
+                text += f" — diagnosis: {escape_markdown(diagnosis_headline(outcome))}"
+            lines.append(text)
+    return lines
 
 
 def write_summary(path: Path | str, text: str) -> Path:

@@ -1,0 +1,168 @@
+r"""GitHub Actions annotations: a failed check as ``::error file=…,line=…::…`` lines.
+
+On GitHub Actions (``GITHUB_ACTIONS=true``) ``fkcheck check`` prints these to
+stdout; the runner turns each into an error on the pull request, pinned to the
+model file and, when the diagnosis names a parameter (``joint[4].alpha``), to
+the line of that parameter in the model's TOML. The line is found by scanning
+the file's text (``[[joint]]`` blocks, ``[table]`` headers, ``key =``); a file
+or a field it cannot place gets a file-level annotation.
+
+GitHub's escaping rules (the runner's ``escapeData`` and ``escapeProperty``):
+in the message ``%``, ``\r`` and ``\n`` become ``%25``, ``%0D`` and ``%0A``;
+in a property (``file``, ``title``) ``:`` and ``,`` also become ``%3A`` and
+``%2C``. The diagnoses are passed in, already run; nothing here runs one.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from fkcheck.engine.results import CheckResult
+from fkcheck.engine.verdict import evidence_sentences
+from fkcheck.io.text import terminal_text
+from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
+
+if TYPE_CHECKING:
+    from fkcheck.diagnose.failures import BackendDiagnosis
+
+__all__ = [
+    "escape_data",
+    "escape_property",
+    "field_line",
+    "github_annotations",
+    "in_github_actions",
+]
+
+_FIELD = re.compile(r"^(?P<table>[A-Za-z_][\w-]*)(?:\[(?P<index>\d+)\])?\.(?P<key>[\w-]+)")
+_HEADER = re.compile(r"^\s*(\[\[?)\s*([^\]\s]+)\s*\]\]?")
+
+
+def in_github_actions() -> bool:
+    """Whether the environment says this runs on GitHub Actions (``GITHUB_ACTIONS=true``)."""
+    return os.environ.get("GITHUB_ACTIONS") == "true"
+
+
+def escape_data(text: str) -> str:
+    """A message for a workflow command: ``%``, CR and LF escaped."""
+    return text.replace("%", "%25").replace("\r", "%0D").replace("\n", "%0A")
+
+
+def escape_property(text: str) -> str:
+    """A property value (``file``, ``title``): :func:`escape_data`, then ``:`` and ``,``."""
+    return escape_data(text).replace(":", "%3A").replace(",", "%2C")
+
+
+def field_line(source: str, field: str) -> int | None:
+    """The 1-based line of a model-file field in a TOML text, or ``None``.
+
+    Args:
+        source: The model file's text.
+        field: A diagnosis field: ``joint[4].alpha`` (the fifth ``[[joint]]``
+            block's ``alpha =``) or ``base.xyz[2]`` (the ``[base]`` table's ``xyz =``).
+
+    Returns:
+        The line number, or ``None`` when the field is not written in the text
+        (a default value, another file format, a field this scan does not know).
+    """
+    match = _FIELD.match(field)
+    if match is None:
+        return None
+    table, key = match["table"], match["key"]
+    index = int(match["index"]) if match["index"] is not None else None
+    seen = -1
+    inside = False
+    key_line = re.compile(rf"^\s*{re.escape(key)}\s*=")
+    for number, line in enumerate(source.splitlines(), start=1):
+        header = _HEADER.match(line)
+        if header is not None:
+            array = header[1] == "[["
+            name = header[2]
+            if array and name == table:
+                seen += 1
+                inside = index is not None and seen == index
+            else:
+                inside = not array and index is None and name == table
+            continue
+        if inside and key_line.match(line):
+            return number
+    return None
+
+
+def _relative(path: Path) -> str:
+    """``path`` relative to the working directory (the repository on a runner) when inside it."""
+    try:
+        return Path(os.path.relpath(path)).as_posix() if path.is_absolute() else path.as_posix()
+    except ValueError:  # another drive (Windows)
+        return path.as_posix()
+
+
+def _command(file: str | None, line: int | None, title: str, message: str) -> str:
+    props = []
+    if file is not None:
+        props.append(f"file={escape_property(file)}")
+        if line is not None:
+            props.append(f"line={line}")
+    props.append(f"title={escape_property(title)}")
+    return f"::error {','.join(props)}::{escape_data(message)}"
+
+
+def github_annotations(
+    check: CheckResult,
+    diagnoses: Sequence[BackendDiagnosis] = (),
+    *,
+    source: str | None = None,
+) -> list[str]:
+    """The ``::error`` lines for a check that did not pass (none when it passed).
+
+    One line per distinct disagreement (backends one diagnosis stands for share
+    it): the numbers and the diagnosis headline, at the line of the first
+    parameter the diagnosis would change when ``source`` has it; one per
+    backend that errored; one when required evidence is missing.
+
+    Args:
+        check: The check result.
+        diagnoses: Its diagnoses, as :func:`fkcheck.diagnose.failures.diagnose_failures`
+            returned them.
+        source: The model file's text (to find a parameter's line), if read.
+
+    Returns:
+        Workflow-command lines, without newlines (every control character of
+        input is escaped).
+    """
+    if check.verdict == "pass":
+        return []
+    model = check.model
+    file = _relative(model.path) if model.path is not None else None
+    name = terminal_text(model.name)
+    lines: list[str] = []
+    done: set[str] = set()
+    for r in check.backends:
+        if r.name in done or r.status not in ("fail", "error"):
+            continue
+        if r.status == "error":
+            title = terminal_text(f"fkcheck {name}: {r.name} errored")
+            lines.append(_command(file, None, title, terminal_text(r.message)))
+            continue
+        outcome = diagnosis_for(diagnoses, r.name)
+        group = [r.name]
+        line = None
+        message = r.message
+        if outcome is not None:
+            failed = {b.name for b in check.backends if b.status == "fail"}
+            group = [n for n in (outcome.backend, *outcome.also) if n in failed]
+            message = f"{message}; diagnosis: {diagnosis_headline(outcome)}"
+            best = outcome.diagnosis.best if outcome.diagnosis is not None else None
+            if best is not None and best.changes and source is not None:
+                line = field_line(source, best.changes[0].field)
+        done.update(group)
+        verb = "disagree" if len(group) > 1 else "disagrees"
+        title = f"fkcheck {name}: {', '.join(group)} {verb} with the in-house core"
+        lines.append(_command(file, line, terminal_text(title), terminal_text(message)))
+    if check.verdict == "unverified":
+        sentence = evidence_sentences(check.evidence)[1]
+        lines.append(_command(file, None, f"fkcheck {name}: unverified", terminal_text(sentence)))
+    return lines
