@@ -49,7 +49,7 @@ def test_the_header_names_what_runs_and_keeps_brackets(tmp_path):
     from argparse import Namespace
 
     from fkcheck.backends.registry import make_backend
-    from fkcheck.cli.check import header
+    from fkcheck.cli.check_output import header
     from fkcheck.model.read import load_model
 
     model = load_model(_model(tmp_path, "arm [red]x[/]"))

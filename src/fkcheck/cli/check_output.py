@@ -1,0 +1,231 @@
+"""What ``fkcheck check`` prints: header, tables (one model, many), hints, annotations."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import shlex
+from typing import TYPE_CHECKING
+
+from fkcheck.io.format import format_angle_console, format_length_console
+from fkcheck.io.text import terminal_markup, terminal_text
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from fkcheck.backends.base import Backend
+    from fkcheck.diagnose.failures import BackendDiagnosis
+    from fkcheck.engine.results import BackendResult, CheckResult
+    from fkcheck.model.types import Model
+
+__all__ = [
+    "annotate",
+    "header",
+    "print_annotations",
+    "print_diagnose_hint",
+    "print_header",
+    "print_models_table",
+    "print_summary",
+]
+
+
+_STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow"}
+
+
+def _worst_q(result: BackendResult, check: CheckResult) -> str:
+    if result.worst_index is None or result.status != "fail":
+        return ""
+    q = check.q[result.worst_index]
+    parts = [
+        f"{math.degrees(v):.1f}°" if j.type == "revolute" else f"{v:.3f} m"
+        for v, j in zip(q, check.model.joints, strict=True)
+    ]
+    return "[" + ", ".join(parts) + "]"
+
+
+def header(
+    model: Model,
+    backends: Sequence[Backend],
+    args: argparse.Namespace,
+) -> str:
+    """The line printed before the backends run: what is checked, how, against what.
+
+    Text from input is escaped for rich (:func:`~fkcheck.io.text.terminal_markup`).
+    """
+    from fkcheck.backends.base import FixedConfigurations
+
+    frame_from = args.frame_from or model.check.frame_from
+    frame_to = args.frame_to or model.check.frame_to
+    tol_pos = args.tol_pos or model.check.tol_pos_m
+    tol_rot = args.tol_rot or model.check.tol_rot_rad
+    if any(isinstance(b, FixedConfigurations) for b in backends):
+        where = "at the measured poses' configurations"
+    else:
+        where = f"{args.samples} {args.sampler} samples (seed {args.seed})"
+    names = ", ".join(b.name for b in backends) or "no backend"
+    return terminal_markup(
+        f"fkcheck {model.name}: {frame_from} → {frame_to}, {where}, tolerance {tol_pos:g} m / "
+        f"{tol_rot:g} rad, against {names}"
+    )
+
+
+def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
+    """On a terminal, print :func:`header` at the start of a check, before any backend runs.
+
+    Not in a pipe or a log: there stdout carries the result only (bad input
+    found while the check starts leaves it empty; the description then opens
+    the result table, :func:`print_summary`), and the progress lines on stderr
+    say what runs.
+    """
+    from fkcheck.cli._console import console, is_terminal
+
+    if is_terminal():
+        console(highlight=False).print(header(model, backends, args))
+
+
+def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
+    """The terminal table and verdict line.
+
+    Args:
+        check: The finished check.
+        title: Open with the check's full description (model, frames,
+            configurations, tolerance); without it (the header was printed at
+            the start) the table opens with the number of configurations only.
+            Default: when stdout is no terminal (see :func:`print_header`).
+    """
+    from rich.table import Table
+
+    from fkcheck.cli._console import console as make_console
+    from fkcheck.cli._console import is_terminal
+    from fkcheck.engine.verdict import evidence_sentences, headline
+
+    console = make_console(highlight=False)
+    described = (
+        f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
+        f"{terminal_markup(check.frame_to)}, "
+        f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
+        f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
+    )
+    if title is None:
+        title = not is_terminal()
+    if title:
+        console.print(described)
+    else:
+        console.print(f"{check.q.shape[0]} configurations compared")
+    table = Table()
+    for column in (
+        "backend",
+        "evidence",
+        "status",
+        "max position error",
+        "max rotation error",
+        "worst q",
+        "time",
+    ):
+        # Backend names and statuses never wrap; long messages fold.
+        table.add_column(
+            column, overflow="fold", no_wrap=column in ("backend", "evidence", "status")
+        )
+    table.add_row("fkcheck-dh", "", "reference", "", "", "", "")
+    for r in check.backends:
+        if r.ran:
+            table.add_row(
+                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                format_length_console(r.max_position_error_m),
+                format_angle_console(r.max_rotation_error_rad),
+                terminal_markup(_worst_q(r, check)), f"{r.duration_s:.2f} s",
+            )  # fmt: skip
+        else:
+            table.add_row(
+                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                terminal_markup(r.message), "", "", "",
+            )  # fmt: skip
+    console.print(table)
+    for r in check.backends:
+        if r.status == "fail":
+            name, message = terminal_markup(r.name), terminal_markup(r.message)
+            console.print(f"[bold red]{name}[/]: {message}")
+    evidence = check.evidence
+    implementation, table_text = evidence_sentences(evidence)
+    table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow"}
+    imp_style = table_style[evidence.implementation.status]
+    tab_style = table_style[evidence.table.status]
+    console.print(f"evidence: [{imp_style}]{terminal_markup(implementation)}[/]")
+    console.print(f"          [{tab_style}]{terminal_markup(table_text)}[/]")
+    line = headline(check.verdict, evidence, len(check.ran))
+    style = "bold green" if check.verdict == "pass" else "bold red"
+    if check.verdict == "pass" and evidence.table.status != "verified":
+        style = "bold yellow"
+    answered = len(check.ran)
+    count = f" ({answered} backend(s) answered)" if answered else ""
+    console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
+
+
+def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
+    """Offer ``fkcheck diagnose`` for the first backend that disagrees."""
+    failed = [r for r in check.backends if r.status == "fail"]
+    if failed:
+        argv = ["diagnose", model_arg, "--against", failed[0].name, "--from", check.frame_from,
+                "--to", check.frame_to]  # fmt: skip
+        print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
+
+
+def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
+    """The terminal table of a run over several models: one row per model.
+
+    Args:
+        checks: Each model's label (its file as given, or the bundled name) and its check.
+    """
+    from rich.table import Table
+
+    from fkcheck.cli._console import console as make_console
+
+    console = make_console(highlight=False)
+    table = Table(title=f"fkcheck: {len(checks)} models", title_justify="left")
+    for column in ("model", "verdict", "backends", "max position error", "max rotation error",
+                   "table"):  # fmt: skip
+        table.add_column(column, overflow="fold", no_wrap=column in ("model", "verdict"))
+    for label, check in checks:
+        counts: dict[str, int] = {}
+        for r in check.backends:
+            counts[r.status] = counts.get(r.status, 0) + 1
+        pos = [r.max_position_error_m for r in check.ran if r.max_position_error_m is not None]
+        rot = [r.max_rotation_error_rad for r in check.ran if r.max_rotation_error_rad is not None]
+        style = "bold green" if check.verdict == "pass" else "bold red"
+        table.add_row(
+            terminal_markup(label),
+            f"[{style}]{check.verdict}[/]",
+            ", ".join(f"{n} {status}" for status, n in counts.items()),
+            format_length_console(max(pos)) if pos else "",
+            format_angle_console(max(rot)) if rot else "",
+            check.evidence.table.status,
+        )
+    console.print(table)
+    for label, check in checks:
+        for r in check.backends:
+            if r.status in ("fail", "error"):
+                name, message = terminal_markup(label), terminal_markup(r.message)
+                console.print(f"[bold red]{name}[/]: {terminal_markup(r.name)}: {message}")
+
+
+def annotate() -> bool:
+    """Whether to print GitHub annotations (``GITHUB_ACTIONS=true``)."""
+    from fkcheck.report.annotations import in_github_actions
+
+    return in_github_actions()
+
+
+def print_annotations(check: CheckResult, diagnoses: Sequence[BackendDiagnosis]) -> None:
+    """On GitHub Actions: an ``::error`` line per failure, at the model file (and line)."""
+    from fkcheck.report.annotations import github_annotations
+
+    if not annotate():
+        return
+    source = None
+    if check.model.path is not None and check.model.path.suffix == ".toml":
+        try:
+            source = check.model.path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError):
+            source = None  # the file-level annotation still says what failed
+    for line in github_annotations(check, diagnoses, source=source):
+        print(line)

@@ -1,0 +1,249 @@
+"""Running ``fkcheck check`` on one model or many, with progress; the files it writes."""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from fkcheck.cli.progress import PLAIN_INTERVAL_S
+from fkcheck.errors import FkcheckError
+from fkcheck.io.text import terminal_text
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping, Sequence
+
+    from fkcheck.api import Outcome
+    from fkcheck.backends.base import Backend
+    from fkcheck.cli._targets import Target
+    from fkcheck.diagnose.failures import BackendDiagnosis
+    from fkcheck.engine.results import CheckResult
+    from fkcheck.engine.verdict import Kind
+    from fkcheck.model.types import Model
+
+from fkcheck.cli.check_output import (
+    annotate,
+    print_annotations,
+    print_diagnose_hint,
+    print_header,
+    print_models_table,
+    print_summary,
+)
+
+__all__ = [
+    "backends_from_args",
+    "check_with_progress",
+    "model_command",
+    "require_from_args",
+    "run_many",
+    "run_one",
+    "write_summaries",
+]
+
+
+def backends_from_args(args: argparse.Namespace) -> list[Backend]:
+    """The backends ``--against`` names (default: the standard set), with the options."""
+    from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
+
+    options = BackendOptions(timeout_s=args.timeout)
+    return parse_against(args.against, options) if args.against else default_backends(options)
+
+
+def require_from_args(args: argparse.Namespace) -> tuple[Kind, ...]:
+    """``--require`` values, validated (comma-separated and repeatable)."""
+    from fkcheck.model.require import parse_require
+
+    values = [v.strip() for item in args.require or () for v in item.split(",") if v.strip()]
+    try:
+        return parse_require(values, "--require")
+    except ValueError as exc:
+        raise FkcheckError(str(exc)) from None
+
+
+def check_with_progress(
+    args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
+) -> Outcome:
+    """The header, then the check with its progress on stderr (none with ``--quiet``)."""
+    from fkcheck.api import check
+    from fkcheck.cli.progress import check_progress
+
+    print_header(model, backends, args)
+    progress = check_progress(
+        [b.name for b in backends],
+        quiet=getattr(args, "quiet", False),
+        interval_s=getattr(args, "progress_interval", PLAIN_INTERVAL_S),
+    )
+    with progress as on_progress:
+        return check(
+            model,
+            backends,
+            samples=args.samples,
+            seed=args.seed,
+            sampler=args.sampler,
+            frame_from=args.frame_from,
+            frame_to=args.frame_to,
+            tol_pos_m=args.tol_pos,
+            tol_rot_rad=args.tol_rot,
+            timeout_s=args.timeout,
+            require=require_from_args(args),
+            diagnose=diagnose,
+            on_progress=on_progress,
+        )
+
+
+def write_summaries(
+    args: argparse.Namespace,
+    checks: list[CheckResult],
+    step_summary: str | None,
+    diagnoses: Mapping[str, Sequence[BackendDiagnosis]] | None = None,
+) -> None:
+    """The Markdown summary: to ``--summary`` and appended to ``step_summary`` when given."""
+    from fkcheck.cli._outputs import append_to_step_summary
+    from fkcheck.report.markdown import markdown_summary, write_summary
+
+    text = markdown_summary(checks, diagnoses=diagnoses)
+    if args.summary is not None:
+        write_summary(args.summary, text)
+    append_to_step_summary(step_summary, text)
+
+
+def model_command(args: argparse.Namespace, model: str) -> str:
+    """The command line that reproduces one model's check of a run over several."""
+    argv = [
+        "check",
+        model,
+        "--samples",
+        str(args.samples),
+        "--seed",
+        str(args.seed),
+        "--sampler",
+        args.sampler,
+        "--timeout",
+        f"{args.timeout:g}",
+    ]
+    for value in args.against or ():
+        argv += ["--against", value]
+    if args.tol_pos is not None:
+        argv += ["--tol-pos", f"{args.tol_pos:g}"]
+    if args.tol_rot is not None:
+        argv += ["--tol-rot", f"{args.tol_rot:g}"]
+    for value in args.require or ():
+        argv += ["--require", value]
+    return "fkcheck " + shlex.join(argv)
+
+
+def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | None) -> int:
+    """Several models: each model's files and the index (with ``out_dir``), one summary."""
+    import datetime as _dt
+    from dataclasses import replace
+
+    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.cli._targets import unique_stems
+    from fkcheck.io.output_paths import check_output_dir
+    from fkcheck.report.html import write_html, write_index
+    from fkcheck.report.index import IndexEntry, build_index_page
+    from fkcheck.report.json_report import write_json
+    from fkcheck.report.junit import write_junit
+
+    created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+    if out_dir is not None:
+        check_output_dir("--out-dir", out_dir)
+        unique_stems(targets)
+    inputs = [item for target in targets for item in model_inputs(target.model)]
+    inputs += backend_inputs(backends_from_args(args))
+    # File names come from the model file's name, never from text inside it.
+    files = {t.stem: (f"{t.stem}.html", f"{t.stem}.json", f"{t.stem}.junit.xml") for t in targets}
+    outputs: list[tuple[str, Path | str | None]] = []
+    if out_dir is not None:
+        outputs += [("--out-dir", out_dir / name) for names in files.values() for name in names]
+        outputs.append(("--out-dir", out_dir / "index.html"))
+    outputs.append(("--summary", args.summary))
+    step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
+    entries: list[IndexEntry] = []
+    checks: list[CheckResult] = []
+    diagnoses: dict[str, Sequence[BackendDiagnosis]] = {}
+    # The diagnosis (about a second per disagreement) is for the reports, summaries
+    # and annotations that show it.
+    wanted = out_dir is not None or args.summary is not None or step_summary is not None
+    diagnose = args.diagnose and (wanted or annotate())
+    for number, target in enumerate(targets, start=1):
+        for warning in target.model.warnings:
+            print(f"fkcheck: warning: {target.stem}: {terminal_text(warning)}", file=sys.stderr)
+        outcome = check_with_progress(
+            args, target.model, backends_from_args(args), diagnose=diagnose
+        )
+        check = replace(outcome.check, command=model_command(args, target.arg))
+        if out_dir is not None:
+            names = files[target.stem]
+            write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
+            write_json(check, out_dir / names[1])
+            write_junit(check, out_dir / names[2], diagnoses=outcome.diagnoses)
+            entries.append(IndexEntry(check, *names))
+        checks.append(check)
+        diagnoses[check.model.name] = outcome.diagnoses
+        print_annotations(check, outcome.diagnoses)
+        print(
+            f"fkcheck: [{number}/{len(targets)}] {terminal_text(target.arg)}: {check.verdict} "
+            f"({check.duration_s:.1f} s)",
+            flush=True,
+        )
+    if out_dir is not None:
+        command = "fkcheck " + shlex.join(getattr(args, "argv", []))
+        page = build_index_page(entries, command=command, created=created)
+        write_index(page, out_dir / "index.html")
+    write_summaries(args, checks, step_summary, diagnoses)
+    labelled = [(t.arg, c) for t, c in zip(targets, checks, strict=True)]
+    print_models_table(labelled)
+    failed = [label for label, c in labelled if c.verdict != "pass"]
+    verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
+    unchecked = [label for label, c in labelled if c.evidence.table.status == "not-checked"]
+    where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
+    print(f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; {where}")
+    print(
+        f"fkcheck: table verified independently: {len(verified)} "
+        f"({terminal_text(', '.join(verified))})"
+    )
+    print(
+        f"fkcheck: implementation only, table not checked: {len(unchecked)} "
+        f"({terminal_text(', '.join(unchecked))})"
+    )
+    return 0 if not failed else 1
+
+
+def run_one(args: argparse.Namespace, target: Target) -> int:
+    """One model: its table, and the files asked for."""
+    from dataclasses import replace
+
+    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.report.html import write_html
+    from fkcheck.report.json_report import write_json
+    from fkcheck.report.junit import write_junit
+
+    model = target.model
+    for warning in model.warnings:
+        print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
+    backends = backends_from_args(args)
+    inputs = [*model_inputs(model), *backend_inputs(backends)]
+    outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
+               ("--summary", args.summary)]  # fmt: skip
+    step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
+    # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
+    cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4
+    outcome = check_with_progress(
+        args, model, backends, diagnose=args.diagnose and (cause_shown or annotate())
+    )
+    check = replace(outcome.check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
+    # Files first: a closed or full stdout must not cost the run its reports.
+    if args.json is not None:
+        write_json(check, args.json)
+    if args.junit is not None:
+        write_junit(check, args.junit, diagnoses=outcome.diagnoses)
+    if args.html is not None:
+        write_html(check, args.html, diagnoses=outcome.diagnoses)
+    write_summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses})
+    print_summary(check)
+    print_annotations(check, outcome.diagnoses)
+    print_diagnose_hint(target.arg, check)
+    return 0 if check.verdict == "pass" else 1
