@@ -27,16 +27,29 @@ ANGLE_SNAP_RAD = 1e-14
 LENGTH_SNAP_M = 1e-15
 
 
-def snap(value: float, *, angle: bool) -> float:
-    """``value`` with round-off removed: near-zero lengths, near-multiple-of-π/2 angles."""
+#: The float nearest k·π/2 for the quarter turns a table holds.
+_QUARTERS = {0: 0.0, 1: math.pi / 2, -1: -math.pi / 2, 2: math.pi, -2: -math.pi}
+
+
+def snap(value: float, *, angle: bool, tol: float | None = None, grid_m: float = 0.0) -> float:
+    """``value``, or the round number within ``tol`` of it; anything further is kept.
+
+    Angles (radians) go to 0 or a multiple of π/2 (the float nearest it); lengths
+    (metres) to a multiple of ``grid_m`` (``1e-6``: whole micrometres), or to 0
+    when ``grid_m`` is 0. The default ``tol`` removes round-off only
+    (:data:`ANGLE_SNAP_RAD`, :data:`LENGTH_SNAP_M`); ``dh-from-urdf`` cleans
+    with a looser one (:data:`fkcheck.urdf.to_dh.CLEAN_TOL`).
+    """
+    if tol is None:
+        tol = ANGLE_SNAP_RAD if angle else LENGTH_SNAP_M
     if angle:
         quarter = round(value / (math.pi / 2))
-        exact = quarter * (math.pi / 2)
-        if quarter != 0 and abs(value - exact) <= ANGLE_SNAP_RAD:
-            # Use the float nearest to k·π/2 (π itself for 2, -π/2 for -1 …).
-            return {1: math.pi / 2, -1: -math.pi / 2, 2: math.pi, -2: -math.pi}.get(quarter, exact)
-        return 0.0 if abs(value) <= ANGLE_SNAP_RAD else value
-    return 0.0 if abs(value) <= LENGTH_SNAP_M else value
+        exact = _QUARTERS.get(quarter, quarter * (math.pi / 2))
+    elif grid_m:
+        exact = round(value / grid_m) / round(1 / grid_m)
+    else:
+        exact = 0.0
+    return exact + 0.0 if abs(value - exact) <= tol else value
 
 
 def offset_from_matrix(T: Float) -> Offset:

@@ -53,7 +53,7 @@ from fkcheck.core.dh import Convention, dh_matrix
 from fkcheck.core.geometry import invert
 from fkcheck.core.typing import Float
 from fkcheck.errors import UrdfError
-from fkcheck.model.offsets import offset_from_matrix
+from fkcheck.model.offsets import offset_from_matrix, snap
 from fkcheck.model.types import CheckSpec, FrameSpec, Joint, Model, Offset, UrdfSpec
 from fkcheck.urdf.chain import JointGeometry, UrdfKinematics
 
@@ -83,22 +83,11 @@ SELF_CHECK_TOL = 1e-8
 CLEAN_TOL = 1e-9
 #: The grid lengths are cleaned to: whole micrometres (round millimetres included).
 _LENGTH_GRID_M = 1e-6
-#: The float nearest k·π/2 for the quarter turns a table holds.
-_QUARTERS = {0: 0.0, 1: math.pi / 2, -1: -math.pi / 2, 2: math.pi, -2: -math.pi}
 
 
 def clean_number(value: float, *, angle: bool) -> float:
-    """``value``, or the round number within :data:`CLEAN_TOL` of it.
-
-    Angles (radians) snap to 0 and multiples of π/2, lengths (metres) to whole
-    micrometres; anything further away is returned as it is.
-    """
-    if angle:
-        quarter = round(value / (math.pi / 2))
-        exact = _QUARTERS.get(quarter, quarter * (math.pi / 2))
-    else:
-        exact = round(value / _LENGTH_GRID_M) / round(1 / _LENGTH_GRID_M)
-    return exact + 0.0 if abs(value - exact) <= CLEAN_TOL else value
+    """``value``, or the round number within :data:`CLEAN_TOL` of it (0, k·90°, whole µm)."""
+    return snap(value, angle=angle, tol=CLEAN_TOL, grid_m=_LENGTH_GRID_M)
 
 
 def _clean_limits(limits: tuple[float, float] | None, *, angle: bool) -> tuple[float, float] | None:
