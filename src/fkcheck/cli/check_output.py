@@ -18,6 +18,8 @@ if TYPE_CHECKING:
     from fkcheck.engine.results import BackendResult, CheckResult
     from fkcheck.model.types import Model
 
+from fkcheck.io.files import InputFileError, read_text
+
 __all__ = [
     "annotate",
     "header",
@@ -224,8 +226,8 @@ def print_annotations(check: CheckResult, diagnoses: Sequence[BackendDiagnosis])
     source = None
     if check.model.path is not None and check.model.path.suffix == ".toml":
         try:
-            source = check.model.path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError):
+            source = read_text(check.model.path)  # bounded, regular files only, as at load
+        except InputFileError:
             source = None  # the file-level annotation still says what failed
     for line in github_annotations(check, diagnoses, source=source):
         print(line)
