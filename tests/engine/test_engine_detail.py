@@ -16,6 +16,7 @@ import fkcheck.diagnose.failures
 import fkcheck.diagnose.run
 import fkcheck.engine.axes
 import fkcheck.engine.compare
+import fkcheck.engine.evidence
 import fkcheck.engine.runner
 import fkcheck.model.frames
 import fkcheck.urdf.chain
@@ -23,6 +24,7 @@ import fkcheck.urdf.source
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.engine.evidence import WorstTracker
 from fkcheck.engine.runner import run_check
+from fkcheck.errors import BackendUnavailable
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.read import model_from_dict
 from fkcheck.model.types import Model
@@ -188,6 +190,34 @@ class OtherTable(Agrees):
 
     def dh_frames(self, model: Model, q: np.ndarray) -> np.ndarray:
         return np.asarray(self.other.fk(q, all_frames=True))
+
+    @classmethod
+    def black_box(cls) -> Any:
+        """The same poses from a backend without DH frames (so its evidence is the axes)."""
+
+        class BlackBox(Agrees):
+            name = "black-box"
+
+            def frame_poses(self, model: Model, q: np.ndarray, frames: Any) -> np.ndarray:
+                return cls().frame_poses(model, q, frames)
+
+        return BlackBox()
+
+
+def test_urdf_evidence_that_cannot_be_read_leaves_the_failure_a_failure(monkeypatch):
+    """example-robot-data missing while gathering axes: still ``fail``, just no axes."""
+
+    def unavailable(*args: Any, **kwargs: Any) -> Any:
+        raise BackendUnavailable("example-robot-data is not installed")
+
+    monkeypatch.setattr(fkcheck.engine.evidence, "axis_lines", unavailable)
+    model = _twisted_ur5()
+    check = run_check(model, [OtherTable.black_box()], samples=10)
+    r = check.backends[0]
+    assert r.status == "fail", r.message
+    assert r.detail is not None
+    assert r.detail.urdf_axes is None
+    assert check.verdict == "fail"
 
 
 def _forbid(monkeypatch: pytest.MonkeyPatch, target: Any, name: str) -> None:

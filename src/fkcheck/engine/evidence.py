@@ -24,7 +24,7 @@ import numpy as np
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.engine.axes import AxisLines, AxisRow, axis_lines, axis_rows
-from fkcheck.errors import FkcheckError
+from fkcheck.errors import FkcheckError, Skip
 from fkcheck.model.frames import reference_poses
 from fkcheck.model.types import Model
 
@@ -216,7 +216,9 @@ def urdf_axes(
         return None
     try:
         lines = axis_lines(model, q, frame_from)
-    except (FkcheckError, KeyError, ValueError):
+    except (FkcheckError, Skip, KeyError, ValueError):
+        # Skip too: a URDF that cannot be read here (example-robot-data missing) must
+        # not turn the failing backend this evidence is for into a skipped one.
         return None
     if lines is None:
         return None
