@@ -70,7 +70,9 @@ class Backend(Protocol):
     engine's process; the object, the model and ``q`` must pickle) and
     ``imports`` (a tuple of module names the engine imports once, in the main
     thread, before backends start: two threads importing one heavy library
-    lazily at the same time can hit Python's import-deadlock detection).
+    lazily at the same time can hit Python's import-deadlock detection). A
+    :class:`ProvidesJacobian` backend may set ``jacobian_method``, the library
+    call its Jacobians come from, for the reports.
     """
 
     name: str

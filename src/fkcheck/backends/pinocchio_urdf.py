@@ -48,6 +48,7 @@ class PinocchioUrdf:
 
     name = "pinocchio-urdf"
     method = "buildModelFromXML + framesForwardKinematics (loop)"
+    jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "table"
     imports = ("pinocchio",)
 
