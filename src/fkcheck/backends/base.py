@@ -136,8 +136,12 @@ class ProvidesJacobian(Protocol):
 
     def frame_jacobian(
         self, model: Model, q: Float, frame: str, reference: JacobianReference
-    ) -> Float:
-        """The Jacobian of a named frame at each configuration, ``(N, 6, n)``."""
+    ) -> Float | None:
+        """The Jacobian of a named frame at each configuration, ``(N, 6, n)``.
+
+        ``None`` when this backend has no Jacobian of that frame in that
+        reference (a plugin without one): the engine then differentiates its poses.
+        """
         ...
 
 

@@ -27,7 +27,7 @@ from fkcheck.engine.evidence import (
     dh_parting,
     urdf_axes,
 )
-from fkcheck.engine.jacobian import JacobianComparison, JacobianSpec, method_of
+from fkcheck.engine.jacobian import JacobianComparison, JacobianSpec
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, JacobianResult, Status
 from fkcheck.model.frames import (
     CHUNK,
@@ -212,7 +212,8 @@ class _JacobianRun:
         spec, comparison = self.spec, self.comparison
         if spec is None or comparison is None:
             return None
-        method, tol = method_of(comparison.backend), comparison.tolerance
+        method = "" if self.skip else comparison.method
+        tol = comparison.tolerance
         if self.skip or self.failure:
             status: Status = "skipped" if self.skip else "error"
             return JacobianResult(

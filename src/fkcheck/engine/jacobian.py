@@ -17,8 +17,10 @@ computes Jacobians (:class:`~fkcheck.backends.base.ProvidesJacobian`) is asked
 for the reference itself, in its own root; the engine then only moves the
 numbers from that root to ``from`` with the backend's *own* pose of ``from``
 (nothing at all for ``local``, or when ``from`` is its root). A backend that
-only gives poses (yourdfpy, rtb-urdf, plugins, ``cmd:`` programs) is
-differentiated: central differences of *its* ``from_T_to`` with step
+has none for the frame and reference asked (its ``frame_jacobian`` returns
+``None``: a plugin without ``<function>_jacobian``) or only gives poses
+(yourdfpy, rtb-urdf, ``cmd:`` programs) is differentiated: central differences
+of *its* ``from_T_to`` with step
 :data:`~fkcheck.core.tolerances.FINITE_DIFFERENCE_STEP`, the rotation part as
 the rotation vector of ``R(q+h) R(q−h)ᵀ`` over ``2h`` (scipy), all its
 ``2n`` neighbours of a chunk in one call. Its truncation and round-off error
@@ -109,9 +111,9 @@ def check_fixed_from(model: Model, frame_from: str) -> None:
         )
 
 
-def method_of(backend: Backend) -> str:
-    """How a backend's Jacobian is obtained (for the reports)."""
-    if isinstance(backend, ProvidesJacobian):
+def method_of(backend: Backend, *, own: bool) -> str:
+    """How a backend's Jacobian was obtained: its own (``own``), or finite differences."""
+    if own:
         return str(getattr(backend, "jacobian_method", f"{backend.method}: its own Jacobian"))
     return f"central differences of its poses, step {FINITE_DIFFERENCE_STEP:g}"
 
@@ -171,6 +173,7 @@ class JacobianComparison:
     angular_error: Float = field(init=False)
     column_linear: Float = field(init=False)
     column_angular: Float = field(init=False)
+    own: bool | None = field(init=False, default=None)
     _kept: list[tuple[int, Float, Float, Float]] = field(init=False, default_factory=list)
     _worst: tuple[float, int, Float, Float, Float] | None = field(init=False, default=None)
 
@@ -190,9 +193,14 @@ class JacobianComparison:
     @property
     def tolerance(self) -> float:
         """The tolerance applied: the asked one, floored by finite differences' accuracy."""
-        if isinstance(self.backend, ProvidesJacobian):
+        if self.own:
             return self.spec.tol
         return max(self.spec.tol, FINITE_DIFFERENCE)
+
+    @property
+    def method(self) -> str:
+        """How the backend's Jacobian was obtained (after :meth:`add`)."""
+        return method_of(self.backend, own=bool(self.own))
 
     def add(self, first: int, q: Float, ours_root: Float, theirs_root: Float) -> None:
         """Compare one chunk.
@@ -209,16 +217,19 @@ class JacobianComparison:
             frame_jacobian(self.model, q, frame_to, "world-aligned"), ours_root[0], "world-aligned"
         )
         ours = re_express(ours_wa, ours_from_T_to, "world-aligned", ref)
-        if isinstance(self.backend, ProvidesJacobian):
-            native = np.asarray(
-                self.backend.frame_jacobian(self.model, q, frame_to, ref), dtype=np.float64
-            )
+        native = None
+        if isinstance(self.backend, ProvidesJacobian) and self.own is not False:
+            native = self.backend.frame_jacobian(self.model, q, frame_to, ref)
+            self.own = native is not None
+        if native is not None:
+            native = np.asarray(native, dtype=np.float64)
             if native.shape != ours.shape:
                 raise FkcheckError(
                     f"returned a Jacobian of shape {native.shape}, expected {ours.shape}"
                 )
             theirs = _into_from(native, theirs_root[0], ref)
         else:
+            self.own = False
             fd = finite_difference_jacobian(self.backend, self.model, q, self.pair)
             theirs_from_T_to = relative_pose(theirs_root[0], theirs_root[1])
             theirs = re_express(fd, theirs_from_T_to, "world-aligned", ref)

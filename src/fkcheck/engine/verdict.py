@@ -202,6 +202,8 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
         )
     if verdict == "fail":
         kinds = [k for k in KINDS if evidence.of(k).status == "failed"]
+        if not kinds:  # only a Jacobian can fail while every pose agrees
+            return "fail — the poses agree, a Jacobian disagrees"
         return "fail — " + " and ".join(f"{k} disagrees" for k in kinds)
     if n_ran == 0:
         return "error — no backend gave an answer: nothing was cross-checked"

@@ -16,6 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import ModelError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.numbers import NumberError, parse_number, show_text, split_fields
@@ -43,7 +44,10 @@ _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
 _URDF_KEYS = {"path", "joints"}
 _FRAME_KEYS = {"dh", "xyz", "rpy", "urdf"}
-_CHECK_KEYS = {"from", "to", "tol_pos_m", "tol_rot_rad", "require"}
+_CHECK_KEYS = {
+    "from", "to", "tol_pos_m", "tol_rot_rad", "require",
+    "jacobian", "jacobian_reference", "tol_jacobian",
+}  # fmt: skip
 _LINT_KEYS = {"ignore"}
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
@@ -390,7 +394,7 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                     f"{', '.join(_key(f) for f in frames)}",
                 )
         tols: dict[str, float] = {}
-        for key in ("tol_pos_m", "tol_rot_rad"):
+        for key in ("tol_pos_m", "tol_rot_rad", "tol_jacobian"):
             if key in c:
                 tols[key] = r.number(c[key], f"check.{key}")
                 if tols[key] <= 0:
@@ -404,7 +408,26 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                 require = parse_require(raw_req, "check.require")
             except ValueError as exc:
                 raise r.fail("check.require", str(exc).split(": ", 1)[1]) from None
-        check = CheckSpec(frame_from, frame_to, require=require, **tols)
+        jacobian = c.get("jacobian", False)
+        if not isinstance(jacobian, bool):
+            raise r.fail("check.jacobian", f"expected true or false, got {_value(jacobian)}")
+        reference = r.string(
+            c.get("jacobian_reference", "world-aligned"), "check.jacobian_reference"
+        )
+        if reference not in JACOBIAN_REFERENCES:
+            raise r.fail(
+                "check.jacobian_reference",
+                f"unknown reference frame {show_text(reference)}; references are: "
+                f"{', '.join(JACOBIAN_REFERENCES)}",
+            )
+        check = CheckSpec(
+            frame_from,
+            frame_to,
+            require=require,
+            jacobian=jacobian,
+            jacobian_reference=reference,
+            **tols,
+        )
 
     lint_ignore: tuple[str, ...] = ()
     if "lint" in top:

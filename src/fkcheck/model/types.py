@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike
 from fkcheck.core import dh
 from fkcheck.core.geometry import matrix_from_xyz_rpy
 from fkcheck.core.jacobian import Reference
-from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
+from fkcheck.core.tolerances import DEFAULT_TOL_JACOBIAN, DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError
 
@@ -150,6 +150,10 @@ class CheckSpec:
         tol_rot_rad: Rotation tolerance, radians.
         require: Kinds of evidence a check must verify (``"table"``,
             ``"implementation"``; see :mod:`fkcheck.engine.verdict`).
+        jacobian: Also compare Jacobians (``check --jacobian``).
+        jacobian_reference: Their reference frame: ``"world-aligned"``,
+            ``"local"`` or ``"world"`` (see :mod:`fkcheck.core.jacobian`).
+        tol_jacobian: Their tolerance, m/rad (linear) and rad/rad (angular).
     """
 
     frame_from: str = "world"
@@ -157,6 +161,9 @@ class CheckSpec:
     tol_pos_m: float = DEFAULT_TOL_POS_M
     tol_rot_rad: float = DEFAULT_TOL_ROT_RAD
     require: tuple[str, ...] = ()
+    jacobian: bool = False
+    jacobian_reference: Reference = "world-aligned"
+    tol_jacobian: float = DEFAULT_TOL_JACOBIAN
 
 
 @dataclass(frozen=True)

@@ -189,6 +189,13 @@ def model_to_toml(
     )
     out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
     out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
+    if check.require:
+        out.append(f"require = [{', '.join(_string(k) for k in check.require)}]")
+    if check.jacobian:
+        out.append("jacobian = true")
+    if check.jacobian or check.jacobian_reference != "world-aligned":
+        out.append(f"jacobian_reference = {_string(check.jacobian_reference)}")
+        out.append(f"tol_jacobian = {toml_number(check.tol_jacobian)}")
     if model.lint_ignore:
         rules = ", ".join(_string(rule) for rule in model.lint_ignore)
         out.extend(["", "[lint]", f"ignore = [{rules}]"])
