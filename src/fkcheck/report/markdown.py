@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
 from fkcheck.engine.verdict import KINDS, evidence_sentences, headline
-from fkcheck.io.format import format_angle_summary, format_length_summary
+from fkcheck.io.format import format_angle_summary, format_length_summary, format_scientific
 from fkcheck.io.text import markdown_text as escape_markdown
 from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
 
@@ -111,6 +111,7 @@ def markdown_summary(
                 f"{format_angle_summary(r.max_rotation_error_rad)} | "
                 f"{escape_markdown(r.message)} |"
             )
+        lines.extend(_jacobian_table(check))
     else:
         n_fail = sum(c.verdict != "pass" for c in checks)
         verified = sum(c.evidence.table.status == "verified" for c in checks)
@@ -189,6 +190,43 @@ def _causes(
             if outcome is not None:
                 text += f" — diagnosis: {escape_markdown(diagnosis_headline(outcome))}"
             lines.append(text)
+        for r in check.backends:
+            j = r.jacobian
+            if many and j is not None and j.status in ("fail", "error"):
+                lines.append(
+                    f"- {MARK[j.status]} **{prefix}{escape_markdown(r.name)} (Jacobian)**: "
+                    f"{escape_markdown(j.message)}"
+                )
+    return lines
+
+
+def _jacobian_table(check: CheckResult) -> list[str]:
+    """The Jacobian comparison of one check, one row per backend (``check --jacobian``)."""
+    if check.jacobian is None:
+        return []
+    lines = [
+        "",
+        f"Jacobian of {escape_markdown(check.frame_to)} ({check.jacobian.reference}), "
+        f"tolerance {check.jacobian.tol:g} m/rad and rad/rad:",
+        "",
+        "| backend | status | max linear difference | max angular difference | how |",
+        "|---" * 5 + "|",
+    ]
+    for r in check.backends:
+        j = r.jacobian
+        if j is None:
+            continue
+        numbers = ["–", "–"]
+        if j.ran:
+            numbers = [
+                format_scientific(j.max_linear_error, "m/rad"),
+                format_scientific(j.max_angular_error, "rad/rad"),
+            ]
+        how = j.method if j.ran else j.message
+        lines.append(
+            f"| {escape_markdown(r.name)} | {_ICON[j.status]} {j.status} | "
+            f"{numbers[0]} | {numbers[1]} | {escape_markdown(how)} |"
+        )
     return lines
 
 

@@ -127,6 +127,7 @@ def build_report_page(
         The page's view model.
     """
     from fkcheck.report.diagnosis import diagnosis_view
+    from fkcheck.report.jacobian_view import jacobian_section
     from fkcheck.report.plots import error_against_joints, error_distribution
     from fkcheck.report.versions import library_versions
 
@@ -196,4 +197,5 @@ def build_report_page(
         model_view=model_view(check),
         generator=f"fkcheck {__version__}",
         diagnoses=diagnosis_views,
+        jacobian=jacobian_section(check),
     )

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from fkcheck.report.jacobian_view import JacobianSection
+
 __all__ = [
     "ArmDrawing",
     "AxisView",
@@ -529,6 +531,7 @@ class ReportPage:
         generator: ``fkcheck <version>``.
         diagnoses: What ``fkcheck diagnose`` finds, per distinct disagreement
             (empty when the check passed or the diagnosis was not asked for).
+        jacobian: The Jacobian section (``check --jacobian``), or ``None``.
     """
 
     title: str
@@ -549,6 +552,7 @@ class ReportPage:
     model_view: ModelView
     generator: str
     diagnoses: tuple[DiagnosisView, ...] = ()
+    jacobian: JacobianSection | None = None
 
 
 @dataclass(frozen=True)
