@@ -40,7 +40,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
 from fkcheck.core.jacobian import re_express
@@ -128,6 +127,8 @@ def finite_difference_jacobian(
     Returns:
         ``(N, 6, n)``: linear (the ``to`` origin's velocity) then angular, in ``from`` axes.
     """
+    from scipy.spatial.transform import Rotation  # only a check with --jacobian needs it
+
     n, h = model.dof, FINITE_DIFFERENCE_STEP
     steps = np.concatenate([np.eye(n), -np.eye(n)]) * h  # (2n, n)
     stacked = (q[None, :, :] + steps[:, None, :]).reshape(-1, n)  # (2n·N, n)
