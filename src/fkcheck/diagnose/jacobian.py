@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from fkcheck.core.jacobian import REFERENCES, Reference, re_express
 from fkcheck.core.typing import Float
@@ -319,10 +319,9 @@ class JacobianDiagnosis:
     def text(self) -> str:
         """The headline, the other explanations, the columns and what was tried, one per line."""
         lines = [self.headline]
-        for e in self.explanations[1:]:
-            lines.append(f"also explains it: {e.title}")
         for e in self.explanations[:1]:
             lines.extend(f"  {d}" for d in e.details)
+        lines.extend(f"also explains it: {e.title}" for e in self.explanations[1:])
         lines.append(f"as given, over {self.configurations} configurations: {self.before.text()}")
         lines.extend(f"  {c.text()}" + ("" if c.agrees else "  DIFFERS") for c in self.columns)
         lines.append("tried: " + "; ".join(self.tried))
@@ -450,23 +449,24 @@ def _match_columns(
     another column negated — the first that agrees within the tolerances.
     """
     n = predicted.shape[2]
-    scores = {}
-    for s in (1, -1):
-        diff = np.abs(
-            observed[:, :, :, None] - s * predicted[:, :, None, :]
-        )  # (N, 6, n_obs, n_exp)
-        diff = np.where(np.isnan(diff), np.inf, diff)
-        lin, ang = diff[:, :3].max(axis=(0, 1)), diff[:, 3:].max(axis=(0, 1))
-        scores[s] = (lin <= tol_l) & (ang <= tol_a)  # (n_obs, n_exp)
-    zero = np.abs(np.where(np.isnan(observed), np.inf, observed))
-    zero_ok = (zero[:, :3].max(axis=(0, 1)) <= tol_l) & (zero[:, 3:].max(axis=(0, 1)) <= tol_a)
+
+    def agrees(diff: Float) -> NDArray[np.bool_]:
+        """``(N, 6, m)`` differences → ``(m,)``: each column within both tolerances."""
+        diff = np.where(np.isnan(diff), np.inf, np.abs(diff))
+        ok: NDArray[np.bool_] = (diff[:, :3].max(axis=(0, 1)) <= tol_l) & (
+            diff[:, 3:].max(axis=(0, 1)) <= tol_a
+        )
+        return ok
+
     columns: list[int | None] = []
     signs: list[int] = []
     for j in range(n):
+        column = observed[:, :, j : j + 1]  # one observed column at a time: O(N·6·n) memory
+        same = {s: agrees(column - s * predicted) for s in (1, -1)}
         options: list[tuple[int | None, int]] = [(j, 1), (j, -1), (None, 1)]
         options += [(k, s) for s in (1, -1) for k in range(n) if k != j]
         for k, s in options:
-            if zero_ok[j] if k is None else scores[s][j, k]:
+            if agrees(column)[0] if k is None else same[s][k]:
                 columns.append(k)
                 signs.append(s)
                 break
