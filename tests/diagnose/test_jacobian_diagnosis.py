@@ -233,6 +233,17 @@ def test_the_tool_offset_cannot_show_in_the_spatial_twist(pin):
     assert not d.explanations
 
 
+def test_the_flange_in_local_axes_where_the_spatial_twist_is_expected(pin):
+    """Two mistakes at once: the reference frame, and the tool offset (visible in "local")."""
+    model, q, expected, pose = case("panda", "world")
+    observed = pin.frame_jacobian(replace(model, tool=Offset()), q, "tcp", "local")
+    d = run(model, expected, observed, pose, "world")
+    assert d.best is not None
+    assert d.best.kinds == ("reference", "offset")
+    assert d.best.mistake.reference == "local"
+    np.testing.assert_allclose(d.best.mistake.point_offset_m, (0.0, 0.0, -0.107), atol=1e-9)
+
+
 # (e) correct input -------------------------------------------------------------------------
 
 

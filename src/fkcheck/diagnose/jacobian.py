@@ -7,7 +7,10 @@ mistake is usually a convention, not a number. Each convention is a
 (the backend's), entry by entry, at worst over the configurations — the
 linear rows (m/rad, m/m for a prismatic joint) and the angular rows (rad/rad,
 rad/m) separately. A mistake *explains* the disagreement when both are within
-the tolerances. Tried, alone and combined with one another as listed:
+the tolerances. Tried: each reference frame with each row order (six
+combinations, the expected one included), and on each of them the column
+matching and the point-offset fit (a column mistake and an offset together are
+not tried):
 
 * ``reference``: the other two reference frames (any of the six ordered pairs
   among ``"world-aligned"``, ``"local"`` and ``"world"``, moved with
@@ -615,12 +618,18 @@ def _explain(
         cols, signs = matched
         if cols != tuple(range(exp.shape[2])) or any(s < 0 for s in signs):
             accept(JacobianMistake(frame.reference, frame.angular_first, cols, signs))
-    if reference == "world":
+    if (frame.reference or reference) == "world":
         return out  # the spatial twist is the same for every point of the link
     r = _fit_offset(exp, obs, T, reference, frame)
     if r is not None:
         m = JacobianMistake(frame.reference, frame.angular_first, point_offset_m=r)
-        accept(m, (f"fitted by least squares: r = {_mm(r)} in the frame's axes",))
+        accept(
+            m,
+            (
+                f"fitted by least squares: r = {_mm(r)} in the frame's axes; the tool offset "
+                "left out is −r in the TCP's axes (the tool's xyz when the tool does not rotate)",
+            ),
+        )
     return out
 
 
