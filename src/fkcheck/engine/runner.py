@@ -27,6 +27,7 @@ import numpy as np
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
+from fkcheck.engine.expected import apply_known_differences
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
@@ -299,7 +300,7 @@ def run_check(
         worker.join()
     if errors:
         raise errors[0]
-    ordered = tuple(results[i] for i in range(len(backends)))
+    ordered = apply_known_differences(model, pair, [results[i] for i in range(len(backends))])
     return CheckResult(
         model=model,
         samples=samples,
