@@ -79,12 +79,13 @@ def test_known_difference_no_longer_seen_fails_the_check(capsys, tmp_path):
     assert doc["evidence"]["table"]["status"] == "failed"
     assert "known difference no longer seen" in text
     suite = ET.parse(out["junit"]).getroot().find("testsuite")
-    assert suite is not None and int(suite.get("failures", "0")) >= 3
+    assert suite is not None
+    assert int(suite.get("failures", "0")) >= 3
 
 
 def test_an_error_beyond_the_recorded_bound_fails(capsys, tmp_path):
     bounded = RECORD + "max_position_m = 1e-4\n"  # the error is 0.3 mm
-    code, doc, text, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=bounded))
+    code, doc, _text, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=bounded))
     assert code == 1
     rows = {b["name"]: b for b in doc["backends"]}
     for name in URDF:

@@ -25,7 +25,8 @@ ARMS = {
 @pytest.mark.parametrize("name", sorted(ARMS))
 def test_arm_checks_exactly_as_recorded(capsys, tmp_path, name):
     model = load_model(name)
-    assert model.urdf is not None and model.urdf.path.startswith("example-robot-data:")
+    assert model.urdf is not None
+    assert model.urdf.path.startswith("example-robot-data:")
     recorded = {b for k in model.known_differences for b in k.backends}
     assert recorded == set(ARMS[name])
     report = tmp_path / "r.json"

@@ -101,7 +101,7 @@ def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case):
     path = tmp_path / f"{case}.toml"
     path.write_text(TOP + BAD[case][0] + JOINT)
     assert main(["lint", str(path)]) == 2
-    out, err = capsys.readouterr()
+    _out, err = capsys.readouterr()
     assert "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
     assert str(path) in err
