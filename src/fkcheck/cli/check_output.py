@@ -31,11 +31,12 @@ __all__ = [
 ]
 
 
-_STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow"}
+_STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow",
+          "xfail": "bold yellow", "xpass": "bold red"}  # fmt: skip
 
 
 def _worst_q(result: BackendResult, check: CheckResult) -> str:
-    if result.worst_index is None or result.status != "fail":
+    if result.worst_index is None or result.status not in ("fail", "xfail"):
         return ""
     q = check.q[result.worst_index]
     parts = [
@@ -146,15 +147,16 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     if check.jacobian is not None:
         console.print(_jacobian_table(check))
     for r in check.backends:
-        if r.status == "fail":
+        if r.status in ("fail", "xfail", "xpass"):
             name, message = terminal_markup(r.name), terminal_markup(r.message)
-            console.print(f"[bold red]{name}[/]: {message}")
+            console.print(f"[{_STYLE[r.status]}]{name}[/]: {message}")
         if r.jacobian is not None and r.jacobian.status == "fail":
             name, message = terminal_markup(r.name), terminal_markup(r.jacobian.message)
             console.print(f"[bold red]{name}[/]: {message}")
     evidence = check.evidence
     implementation, table_text = evidence_sentences(evidence)
-    table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow"}
+    table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow",
+                   "expected-failure": "bold yellow"}  # fmt: skip
     imp_style = table_style[evidence.implementation.status]
     tab_style = table_style[evidence.table.status]
     console.print(f"evidence: [{imp_style}]{terminal_markup(implementation)}[/]")

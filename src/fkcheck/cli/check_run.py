@@ -219,6 +219,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     failed = [label for label, c in labelled if c.verdict != "pass"]
     verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
     unchecked = [label for label, c in labelled if c.evidence.table.status == "not-checked"]
+    expected = [label for label, c in labelled if c.evidence.table.status == "expected-failure"]
     where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
     print(f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; {where}")
     print(
@@ -229,6 +230,11 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         f"fkcheck: implementation only, table not checked: {len(unchecked)} "
         f"({terminal_text(', '.join(unchecked))})"
     )
+    if expected:
+        print(
+            f"fkcheck: table differs from its URDF as recorded (expected failure, not verified): "
+            f"{len(expected)} ({terminal_text(', '.join(expected))})"
+        )
     return 0 if not failed else 1
 
 

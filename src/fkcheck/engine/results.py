@@ -6,7 +6,11 @@ tolerance, is not a rigid transform, or is NaN/inf: the message says which, wher
 and by how much, and the errors are still reported); ``error`` — it could not
 answer (import failed, crashed, timed out, returned no poses of the right
 shape, or a URDF it should compare was never mapped); ``skipped`` — it does not
-apply here (library missing, frame out of its reach), with the reason. What the
+apply here (library missing, frame out of its reach), with the reason;
+``xfail`` — it disagrees as the model's ``[[known_difference]]`` records
+(expected failure: the check may pass, the table is not verified by it);
+``xpass`` — it was recorded to disagree but agrees (a stale record: the check
+fails). See :mod:`fkcheck.engine.expected`. What the
 run proved — implementation and table evidence — and the verdict are in
 :mod:`fkcheck.engine.verdict`. A run where no backend ran is never a pass.
 """
@@ -27,7 +31,7 @@ from fkcheck.model.types import Model
 
 __all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "JacobianResult", "Status"]
 
-Status = Literal["pass", "fail", "error", "skipped"]
+Status = Literal["pass", "fail", "error", "skipped", "xfail", "xpass"]
 
 #: Name of the reference row: the in-house DH core.
 REFERENCE_NAME = "fkcheck-dh"
@@ -106,7 +110,7 @@ class BackendResult:
 
     Attributes:
         name: Backend name.
-        status: ``pass``, ``fail``, ``error`` or ``skipped``.
+        status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail`` or ``xpass``.
         message: Why it was skipped or errored, or a summary of the failure.
         method: The library call it used.
         duration_s: Wall time of its run, seconds (import included).

@@ -28,6 +28,7 @@ from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
 from fkcheck.engine.jacobian import JacobianSpec, check_fixed_from
+from fkcheck.engine.expected import apply_known_differences
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
@@ -305,7 +306,7 @@ def run_check(
         worker.join()
     if errors:
         raise errors[0]
-    ordered = tuple(results[i] for i in range(len(backends)))
+    ordered = apply_known_differences(model, pair, [results[i] for i in range(len(backends))])
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.
     jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]

@@ -29,16 +29,24 @@ from fkcheck.model.types import (
     CheckSpec,
     FrameSpec,
     Joint,
+    KnownDifference,
     Model,
     Offset,
     UrdfSpec,
 )
 
-__all__ = ["bundled_model_paths", "bundled_models_dir", "load_model", "model_from_dict"]
+__all__ = [
+    "KNOWN_DIFFERENCE_BACKENDS",
+    "KNOWN_DIFFERENCE_PREFIXES",
+    "bundled_model_paths",
+    "bundled_models_dir",
+    "load_model",
+    "model_from_dict",
+]
 
 _TOP_KEYS = {
     "name", "description", "source", "convention", "angle_unit",
-    "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint",
+    "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint", "known_difference",
 }  # fmt: skip
 _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
@@ -49,6 +57,15 @@ _CHECK_KEYS = {
     "jacobian", "jacobian_reference", "tol_jacobian",
 }  # fmt: skip
 _LINT_KEYS = {"ignore"}
+_KNOWN_DIFFERENCE_KEYS = {"backends", "finding", "max_position_m", "max_angle_rad"}
+#: Backends a ``[[known_difference]]`` may name: those whose evidence is
+#: independent of the table (the URDF parsers) and the prefixed ones that are
+#: (a published table, measured poses). ``rtb-dh``, ``pinocchio-dh``, plugins and
+#: ``cmd:`` programs run the model's own table: their disagreement is a bug, never
+#: a known difference. (tests/model/test_known_difference.py keeps this in step
+#: with the backend registry.)
+KNOWN_DIFFERENCE_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+KNOWN_DIFFERENCE_PREFIXES = ("rtb-model:", "poses:")
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
 _ANGLE_UNITS = ("rad", "deg")
@@ -443,6 +460,8 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         except ValueError as exc:
             raise r.fail("lint.ignore", str(exc)) from None
 
+    known = _known_differences(r, top.get("known_difference"))
+
     return Model(
         name=name,
         convention=convention,  # type: ignore[arg-type]
@@ -459,4 +478,58 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         path=path,
         warnings=tuple(warnings),
         lint_ignore=lint_ignore,
+        known_differences=known,
     )
+
+
+def _known_differences(r: _Reader, raw: Any) -> tuple[KnownDifference, ...]:
+    """The ``[[known_difference]]`` entries, validated (see :class:`KnownDifference`)."""
+    if raw is None:
+        return ()
+    if not isinstance(raw, list):
+        raise r.fail(
+            "known_difference",
+            f"expected an array of tables [[known_difference]], got {_kind(raw)}",
+        )
+    allowed = ", ".join((*KNOWN_DIFFERENCE_BACKENDS, *(p + "…" for p in KNOWN_DIFFERENCE_PREFIXES)))
+    entries: list[KnownDifference] = []
+    listed: dict[str, int] = {}
+    for i, item in enumerate(raw):
+        where = f"known_difference[{i}]"
+        tbl = r.table(item, where, _KNOWN_DIFFERENCE_KEYS)
+        for required in ("backends", "finding"):
+            if required not in tbl:
+                raise r.fail(f"{where}.{required}", "missing (required)")
+        names = tbl["backends"]
+        if not isinstance(names, list) or not names or not all(isinstance(x, str) for x in names):
+            raise r.fail(
+                f"{where}.backends", f"expected a non-empty list of backend names: {allowed}"
+            )
+        for k, backend in enumerate(names):
+            ok = backend in KNOWN_DIFFERENCE_BACKENDS or any(
+                backend.startswith(p) and len(backend) > len(p) for p in KNOWN_DIFFERENCE_PREFIXES
+            )
+            if not ok:
+                raise r.fail(
+                    f"{where}.backends[{k}]",
+                    f"{show_text(backend)} is not a backend whose evidence is independent of the "
+                    f"table; known differences may name: {allowed}",
+                )
+            if backend in listed:
+                raise r.fail(
+                    f"{where}.backends[{k}]",
+                    f"{show_text(backend)} is listed already, "
+                    f"in known_difference[{listed[backend]}]",
+                )
+            listed[backend] = i
+        finding = r.string(tbl["finding"], f"{where}.finding")
+        if not finding.strip():
+            raise r.fail(f"{where}.finding", "must not be empty: say what fkcheck diagnose names")
+        bounds: dict[str, float] = {}
+        for key in ("max_position_m", "max_angle_rad"):
+            if key in tbl:
+                bounds[key] = r.number(tbl[key], f"{where}.{key}")
+                if bounds[key] <= 0:
+                    raise r.fail(f"{where}.{key}", "must be positive")
+        entries.append(KnownDifference(tuple(names), finding, **bounds))
+    return tuple(entries)

@@ -44,6 +44,7 @@ __all__ = [
     "CheckSpec",
     "FrameSpec",
     "Joint",
+    "KnownDifference",
     "Model",
     "Offset",
     "UrdfSpec",
@@ -140,6 +141,30 @@ class FrameSpec:
 
 
 @dataclass(frozen=True)
+class KnownDifference:
+    """A recorded disagreement between the published table and an independent reference.
+
+    A ``[[known_difference]]`` entry says: these backends are expected to
+    disagree with the table on the model's default check (``[check] from`` →
+    ``to``), for the reason in ``finding``. The engine then reports their
+    failure as an expected failure (``xfail``), which never counts as the table
+    being verified; a listed backend that agrees is a stale expectation and
+    fails the check, as does an error beyond the recorded bounds.
+
+    Attributes:
+        backends: Names of the backends the disagreement is expected from.
+        finding: What ``fkcheck diagnose`` names as the cause.
+        max_position_m: Largest position error it may show, metres (``None``: unbounded).
+        max_angle_rad: Largest rotation error it may show, radians (``None``: unbounded).
+    """
+
+    backends: tuple[str, ...]
+    finding: str
+    max_position_m: float | None = None
+    max_angle_rad: float | None = None
+
+
+@dataclass(frozen=True)
 class CheckSpec:
     """The default check: which frame pair, and the tolerances.
 
@@ -186,6 +211,8 @@ class Model:
         path: The file it was read from, if any.
         warnings: Things that look wrong but are not errors (e.g. degrees in a radian file).
         lint_ignore: ``fkcheck lint`` rules this model's file turns off (``[lint] ignore``).
+        known_differences: Recorded disagreements with independent references
+            (``[[known_difference]]``), reported as expected failures.
     """
 
     name: str
@@ -203,6 +230,7 @@ class Model:
     path: Path | None = None
     warnings: tuple[str, ...] = ()
     lint_ignore: tuple[str, ...] = ()
+    known_differences: tuple[KnownDifference, ...] = ()
 
     @property
     def dof(self) -> int:

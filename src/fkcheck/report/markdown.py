@@ -34,16 +34,22 @@ if TYPE_CHECKING:
 __all__ = ["LEGEND", "MARK", "escape_markdown", "markdown_summary", "write_summary"]
 
 #: A backend's status in the several-models table, one character wide.
-MARK = {"pass": "✔", "fail": "✘", "skipped": "–", "error": "!"}
+MARK = {"pass": "✔", "fail": "✘", "skipped": "–", "error": "!", "xfail": "x", "xpass": "✘"}
 
 #: The legend printed under that table.
-LEGEND = "✔ pass · ✘ fail · – skipped or not run · ! error"
+LEGEND = (
+    "✔ pass · ✘ fail (or a recorded difference no longer seen) · x expected failure "
+    "(a recorded known difference) · – skipped or not run · ! error"
+)
 
 _ICON = {
     "pass": "✅",
     "fail": "❌",
     "error": "⚠️",
     "skipped": "⏭️",
+    "xfail": "🔶",
+    "xpass": "❌",
+    "expected-failure": "🔶",
     "unverified": "❔",
     "verified": "✅",
     "failed": "❌",
@@ -80,7 +86,9 @@ def markdown_summary(
         name = escape_markdown(check.model.name)
         partial = overall == "pass" and check.evidence.table.status != "verified"
         heading = (
-            f"{_ICON['not-checked']} PASS (implementation only)"
+            f"{_ICON['expected-failure']} PASS (expected failure: known difference)"
+            if partial and check.evidence.table.status == "expected-failure"
+            else f"{_ICON['not-checked']} PASS (implementation only)"
             if partial
             else (f"{_ICON[overall]} {overall.upper()}")
         )
@@ -135,7 +143,7 @@ def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str
     names: list[str] = []
     for check in checks:
         names += [r.name for r in check.backends if r.name not in names]
-    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–"}
+    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–", "expected-failure": "x"}
     head = ["model", "verdict", "table verified", *map(escape_markdown, names)]
     lines = ["| " + " | ".join(head) + " |", "|---|---|" + ":-:|" * (len(head) - 2)]
     for check in checks:
@@ -151,7 +159,8 @@ def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
     lines.append(f"{LEGEND}; table verified: ✔ by something independent of the table, "
-                 "✘ it disagrees, – not checked.")  # fmt: skip
+                 "✘ it disagrees, x it differs as recorded (known difference, "
+                 "not verified), – not checked.")  # fmt: skip
     return lines
 
 
@@ -173,7 +182,7 @@ def _causes(
         prefix = f"{escape_markdown(check.model.name)} · " if many else ""
         done: set[str] = set()
         for r in check.backends:
-            if r.status not in ("fail", "error") or r.name in done:
+            if r.status not in ("fail", "error", "xfail", "xpass") or r.name in done:
                 continue
             outcome = diagnosis_for(own, r.name) if r.status == "fail" else None
             group = [r.name]
@@ -181,7 +190,7 @@ def _causes(
                 failed = {b.name for b in check.backends if b.status == "fail"}
                 group = [n for n in (outcome.backend, *outcome.also) if n in failed]
             done.update(group)
-            if not many and outcome is None:
+            if not many and outcome is None and r.status in ("fail", "error"):
                 continue  # one model: its table already holds the message
             who = ", ".join(escape_markdown(n) for n in group)
             text = f"- {MARK[r.status]} **{prefix}{who}**"

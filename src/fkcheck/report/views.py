@@ -103,7 +103,7 @@ class BackendRow:
     Attributes:
         name: Backend name.
         anchor: HTML id of its detail section (empty when it has none).
-        status: ``pass``, ``fail``, ``error``, ``skipped``.
+        status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail``, ``xpass``.
         method: The library call it used.
         duration: Wall time, formatted.
         message: Why it was skipped or errored, or the failure summary, in full.
@@ -494,7 +494,7 @@ class EvidenceLine:
 
     Attributes:
         kind: ``implementation`` or ``table``.
-        status: ``verified``, ``failed`` or ``not-checked``.
+        status: ``verified``, ``failed``, ``expected-failure`` or ``not-checked``.
         text: The sentence (see :func:`fkcheck.engine.verdict.evidence_sentences`).
     """
 
