@@ -49,6 +49,7 @@ class PinocchioUrdf:
     name = "pinocchio-urdf"
     method = "buildModelFromXML + framesForwardKinematics (loop)"
     evidence: Evidence = "table"
+    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
     imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

@@ -249,7 +249,7 @@ def _joint_values(
             continue
         default = 0.5 if joint.type == "prismatic" else math.pi
         lo, hi = joint.limits or (-default, default)
-        values[joint.name] = rng.uniform(lo, hi, size=N)
+        values[joint.name] = lo + (hi - lo) * np.asarray(rng.random(N), dtype=np.float64)
     for col, (name, sign) in enumerate(zip(mapped, signs, strict=True)):
         values[name] = sign * q[:, col]
     return values
