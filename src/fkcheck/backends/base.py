@@ -70,9 +70,12 @@ class Backend(Protocol):
     engine's process; the object, the model and ``q`` must pickle) and
     ``imports`` (a tuple of module names the engine imports once, in the main
     thread, before backends start: two threads importing one heavy library
-    lazily at the same time can hit Python's import-deadlock detection). A
-    :class:`ProvidesJacobian` backend may set ``jacobian_method``, the library
-    call its Jacobians come from, for the reports.
+    lazily at the same time can hit Python's import-deadlock detection),
+    ``reads_urdf = True`` (it computes a link of the model's URDF from the URDF
+    itself, so it may compare ``urdf:LINK`` for a link no frame declares; see
+    :func:`fkcheck.urdf.mapping.with_link_frames`) and, for a
+    :class:`ProvidesJacobian` backend, ``jacobian_method`` (the library call its
+    Jacobians come from, for the reports).
     """
 
     name: str

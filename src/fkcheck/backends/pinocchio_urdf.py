@@ -50,6 +50,7 @@ class PinocchioUrdf:
     method = "buildModelFromXML + framesForwardKinematics (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "table"
+    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
     imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

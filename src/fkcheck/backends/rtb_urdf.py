@@ -99,6 +99,7 @@ class RtbUrdf:
     name = "rtb-urdf"
     method = "URDF.loadstr + Robot.ets(start=root, end=link).eval (C fknm, batched)"
     evidence: Evidence = "table"
+    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
     imports = RTB_IMPORTS
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 from fkcheck.backends.base import validated_q
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendUnavailable, UnmappedFrameError
+from fkcheck.errors import BackendUnavailable, FrameError, UnmappedFrameError
 from fkcheck.model.types import Model, resolve_frame
 from fkcheck.urdf.locate import ERD_PREFIX
 from fkcheck.urdf.source import load_urdf
@@ -127,7 +127,7 @@ def urdf_twins(
         links: The URDF's link names, listed in the message when a twin is missing.
 
     Raises:
-        FrameError: A name is not a frame of the model.
+        FrameError: A name is not a frame of the model, or its twin is not one of ``links``.
         UnmappedFrameError: A frame has no ``urdf`` twin: the URDF the model
             declares would go unread, which is the backend's error, not a skip.
     """
@@ -143,6 +143,8 @@ def urdf_twins(
                 f"of mapped frames with --from/--to); mapped frames: "
                 f"{', '.join(mapped) or '(none)'}; URDF links: {listed(links)}"
             )
+        if links and spec.urdf not in links:
+            raise FrameError(spec.urdf, f"the URDF (frame {name})", links)
         twins.append(spec.urdf)
     return twins
 

@@ -78,6 +78,7 @@ class YourdfpyUrdf:
     name = "yourdfpy-urdf"
     method = "URDF.update_cfg + URDF.get_transform (loop, own process)"
     evidence: Evidence = "table"
+    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
     #: the engine computes its poses in a process of its own, on the other core.
     isolated = True

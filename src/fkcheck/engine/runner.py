@@ -18,25 +18,25 @@ import functools
 import importlib
 import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
-from fkcheck.engine.jacobian import JacobianSpec, check_fixed_from
 from fkcheck.engine.expected import apply_known_differences
+from fkcheck.engine.jacobian import JacobianSpec, check_fixed_from
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
-from fkcheck.errors import BackendUnavailable, FkcheckError, Skip, UnmappedFrameError
+from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
 from fkcheck.model.frames import (
     resolve_frame,
 )
 from fkcheck.model.sampling import Sampler, Samples, sample_configurations
-from fkcheck.model.types import Model
+from fkcheck.model.types import URDF_FRAME_PREFIX, Model
 from fkcheck.process.isolation import (
     IsolatedDied,
     IsolatedTimeout,
@@ -44,6 +44,9 @@ from fkcheck.process.isolation import (
     run_isolated,
     terminate_all,
 )
+
+if TYPE_CHECKING:
+    from fkcheck.urdf.mapping import LinkFit
 
 __all__ = ["Progress", "run_check"]
 
@@ -210,6 +213,54 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
                 importlib.import_module(module)
 
 
+def _place_urdf_links(model: Model, asked: Sequence[str]) -> tuple[Model, dict[str, LinkFit]]:
+    """The model with ``urdf:LINK`` frames for the undeclared links ``asked`` names.
+
+    Raises:
+        FkcheckError: The URDF cannot be read (example-robot-data missing included),
+            the link is not in it, or it is at no constant offset from any DH frame.
+    """
+    from fkcheck.urdf.chain import urdf_kinematics
+    from fkcheck.urdf.mapping import with_link_frames
+    from fkcheck.urdf.source import load_urdf
+
+    wanted = [
+        name
+        for name in asked
+        if name.startswith(URDF_FRAME_PREFIX)
+        and not any(s.urdf == name[len(URDF_FRAME_PREFIX) :] for s in model.frames.values())
+    ]
+    if not wanted or model.urdf is None:
+        return model, {}  # resolve_frame says what is wrong, if anything
+    try:
+        kin = urdf_kinematics(load_urdf(model))
+    except BackendUnavailable as exc:
+        raise FkcheckError(f"{wanted[0]}: the URDF cannot be read here: {exc}") from None
+    return with_link_frames(model, kin, wanted)
+
+
+def _placed_reason(placed: Mapping[str, LinkFit]) -> str:
+    """Why a backend that does not read the URDF skips a check of a placed ``urdf:LINK``."""
+    name, fit = next(iter(placed.items()))
+    return (
+        f"{name} is declared by no frame: its offset from DH frame {fit.anchor} was taken "
+        f"from the URDF (xyz {list(fit.offset.xyz)} m, rpy {list(fit.offset.rpy)} rad), so only "
+        "URDF backends compare it; declare it in [frames.NAME] to check it with every backend"
+    )
+
+
+def _check_twins(model: Model, pair: Sequence[str], links: Sequence[str], urdf: str) -> None:
+    """The URDF links of the compared frames exist (a frame not compared may lack its link).
+
+    Raises:
+        FrameError: A compared frame names a link the URDF does not have (listing them).
+    """
+    for name in pair:
+        link = resolve_frame(model, name).urdf
+        if link is not None and link not in links:
+            raise FrameError(link, f"URDF {urdf} (frame {name})", links)
+
+
 def run_check(
     model: Model,
     backends: Sequence[Backend],
@@ -266,7 +317,9 @@ def run_check(
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
-    # ``urdf:LINK`` resolves to the declared frame mapped onto that link.
+    # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
+    # frame declares is placed from the URDF, and only URDF backends compare it.
+    model, placed = _place_urdf_links(model, asked)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
     tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
     if jacobian is not None:
@@ -275,7 +328,9 @@ def run_check(
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
         # is not: each URDF backend then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
-            load_urdf(model)
+            info = load_urdf(model)
+            if any(getattr(b, "reads_urdf", False) for b in backends):
+                _check_twins(model, pair, info.links, info.path.name)
     q = _fixed_configurations(model, backends) or sample_configurations(
         model, samples, seed, sampler
     )
@@ -287,7 +342,12 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        outcome = _run_one(Job(backend, model, q.q, pair, tol, jacobian), timeout_s, on_progress)
+        if placed and not getattr(backend, "reads_urdf", False):
+            outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
+        else:
+            outcome = _run_one(
+                Job(backend, model, q.q, pair, tol, jacobian), timeout_s, on_progress
+            )
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)

@@ -3,16 +3,17 @@
 :func:`load_urdf` resolves ``[urdf].path`` (:func:`fkcheck.urdf.locate.locate_urdf`:
 ``example-robot-data:<subpath>`` or a path relative to the model file), reads
 it with :func:`fkcheck.urdf.tree.read_urdf` (screened, its tree checked and
-bounded) and checks the model's mapping against the joints and links (joint
-names, joint types, frame names), so a mismatch is one clear error before any
-backend parses the URDF.
+bounded) and checks the model's joint mapping against the joints (names, types), so a
+mismatch is one clear error before any backend parses the URDF. A frame's
+``urdf`` link is checked where the frame is used (a model copied onto a URDF
+without one of its links still checks its other frames).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from fkcheck.errors import FrameError, UrdfError
+from fkcheck.errors import UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
@@ -39,8 +40,8 @@ def load_urdf(model: Model) -> UrdfInfo:
     Raises:
         UrdfError: Missing, not a regular file, too large, not XML, refused by the
             screen (:mod:`fkcheck.urdf.screen`), not a valid tree, or a mapped
-            joint is missing or of the wrong type.
-        FrameError: A ``[frames.*].urdf`` name is not a link of the URDF.
+            joint is missing or of the wrong type. (A ``[frames.*].urdf`` link
+            the URDF lacks is an error only where that frame is used.)
     """
     path, package_dirs = resolve_urdf_path(model)
     info = read_urdf(path, package_dirs)
@@ -59,7 +60,4 @@ def load_urdf(model: Model) -> UrdfInfo:
             raise UrdfError(
                 path, f"joint {name!r} is {found.type} in the URDF but {joint.type} in the model"
             )
-    for spec in model.frames.values():
-        if spec.urdf is not None and spec.urdf not in info.links:
-            raise FrameError(spec.urdf, f"URDF {path.name} (frame {spec.name})", info.links)
     return info

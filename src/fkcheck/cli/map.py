@@ -1,0 +1,120 @@
+"""``fkcheck map``: propose a model's ``[urdf]`` and ``[frames.*]`` block from a URDF.
+
+Exit codes: 0 when the proposed block, pasted into the model, is a mapping
+``fkcheck check`` can pass on (the table moves like a chain of the URDF, with
+every axis the same way round, and links sit at constant offsets from DH frame
+0 and from the last DH frame); 1 when it is not (no chain moves like the table,
+a joint turns the other way, or no link matches one end: the block then says
+how near the nearest came); 2 for bad input.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """Register the subcommand."""
+    p = sub.add_parser(
+        "map",
+        help="find which URDF joints and links a DH model's joints and frames are",
+        description="Propose the [urdf] and [frames.*] block of MODEL for URDF: which URDF "
+        "joints are the DH joints (found by how they move over sampled configurations, not "
+        "by name, with each axis' direction), and every URDF link at a constant offset from "
+        "DH frame 0 and from the last DH frame (or the TCP), with that offset; frames the "
+        "model declares keep their names. Computed with fkcheck's own DH core and URDF "
+        "geometry: prove the result with fkcheck check, against the independent URDF "
+        "parsers. Exit 0: the block can pass as pasted; 1: it cannot (it says why, and how "
+        "near the nearest link came); 2: bad input.",
+    )
+    p.add_argument("model", metavar="MODEL", help="a bundled model name or a model file")
+    p.add_argument(
+        "urdf",
+        metavar="URDF",
+        nargs="?",
+        help="a URDF file or example-robot-data:<subpath> (default: the model's [urdf] path)",
+    )
+    p.add_argument("--samples", type=int, default=64, help="random configurations (default 64)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the samples (default 0)")
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        metavar="FILE",
+        help="write the block here (default: print it)",
+    )
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Read, map, write the block, summarise."""
+    from fkcheck.cli._outputs import plan
+    from fkcheck.errors import FkcheckError
+    from fkcheck.io.atomic import write_text_atomic
+    from fkcheck.io.text import terminal_text
+    from fkcheck.model.read import load_model
+    from fkcheck.model.sampling import check_sampling_options
+    from fkcheck.urdf.chain import read_urdf_file, urdf_kinematics
+    from fkcheck.urdf.locate import urdf_spec_for
+    from fkcheck.urdf.mapping import map_model, proposal_toml
+    from fkcheck.urdf.source import resolve_urdf_path
+    from fkcheck.urdf.tree import read_urdf
+
+    check_sampling_options(args.samples, args.seed)
+    model = load_model(args.model)
+    if args.urdf is not None:
+        path, _text, kin = read_urdf_file(args.urdf)
+        spec = urdf_spec_for(path, model.path)  # relative to the model file the block goes in
+    elif model.urdf is not None:
+        path, package_dirs = resolve_urdf_path(model)
+        kin = urdf_kinematics(read_urdf(path.resolve(), package_dirs))
+        spec = model.urdf.path
+    else:
+        raise FkcheckError(
+            f"model {model.name} has no [urdf]: give the URDF to map it onto "
+            "(fkcheck map MODEL URDF, a file or example-robot-data:<subpath>)"
+        )
+    plan(args, [("-o", args.output)], [("the model", model.path), ("the URDF", path)])
+    result = map_model(model, kin, spec, samples=args.samples, seed=args.seed)
+    text = proposal_toml(result)
+    linked = [f.spec.name for f in result.frames if f.fit is not None]
+    if result.complete:
+        summary = (
+            f"fkcheck map: {model.name} onto {path.name}: {model.dof} joints, "
+            f"{len(linked)} frames ({', '.join(linked)}); check it: fkcheck check MODEL"
+        )
+    else:
+        summary = f"fkcheck map: {model.name} onto {path.name}: {_why_not(result)}"
+    if args.output is None:
+        sys.stdout.write(text)
+        print(terminal_text(summary), file=sys.stderr)
+    else:
+        write_text_atomic(args.output, text)
+        print(terminal_text(summary))
+        print(f"wrote {terminal_text(args.output)}")
+    return 0 if result.complete else 1
+
+
+def _why_not(result: Any) -> str:
+    """Why the block cannot pass as pasted, in one line."""
+    from fkcheck.io.format import format_deg, format_mm
+
+    if not result.joints_fit:
+        return (
+            "no chain of the URDF moves like the table (the nearest leaves the last DH frame "
+            f"{format_mm(result.fit_m)} / {format_deg(result.fit_rad)} off)"
+        )
+    flipped = [j.dh for j in result.joints if j.flipped]
+    if flipped:
+        return f"joints {', '.join(flipped)} turn the other way in the URDF: toggle their flip"
+    parts = [
+        f"no link at a constant offset from DH frame {n.anchor} (nearest: {n.link}, "
+        f"{format_mm(n.spread_m)} / {format_deg(n.spread_rad)})"
+        for n in result.nearest
+    ]
+    return "; ".join(parts) or "no link at a constant offset from DH frame 0"

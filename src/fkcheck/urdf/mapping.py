@@ -1,0 +1,803 @@
+"""Which URDF joints and links a DH model's joints and frames are, found by behaviour.
+
+``fkcheck map`` proposes a model's ``[urdf]`` and ``[frames.*]`` block; ``fkcheck
+check --to urdf:LINK`` places a link the model does not declare. Both compare the
+in-house DH frames (:meth:`fkcheck.model.Model.fk`) with fkcheck's own URDF
+chain geometry (:mod:`fkcheck.urdf.chain`) over seeded configurations: this is
+a *mapping* tool, not a check (``fkcheck check`` on the result compares the
+model against the independent URDF parsers).
+
+Joints are matched by what they do, never by name. For each window of ``n``
+consecutive movable URDF joints on a path from the root (every arm of a tree is
+tried), and each axis direction, the relative motions of the last DH frame in
+DH frame 0 are fitted to those of the window's last link in its first link's
+parent (hand–eye calibration, ``M(q) = X·U(q)·Y``: rotation axes aligned with
+:meth:`scipy.spatial.transform.Rotation.align_vectors`, then the translation by
+least squares). A joint whose URDF axis turns the other way from the DH joint
+(the URDF receives ``q`` unchanged) needs ``flip`` toggled in the table: the
+directions are found by a beam search over the chain's prefixes, preferring no
+flip where both fit (a planar chain is ambiguous).
+
+Links: a link sits at a *constant* offset from a DH frame when that offset
+varies over the samples by at most the model's check tolerances. Joints the
+model does not map (fingers) take seeded random values then, so links below
+them never count as rigid. Offsets are written with numbers within 1e-9 of a
+round one (0, a multiple of 90°, a whole micrometre) snapped to it
+(:func:`fkcheck.urdf.to_dh.clean_number`).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import json
+import math
+import re
+import warnings
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Literal
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from fkcheck.core.geometry import invert, rpy_from_matrix
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.core.typing import Float
+from fkcheck.errors import FkcheckError, FrameError, UrdfError
+from fkcheck.io.format import format_deg, format_mm
+from fkcheck.model.sampling import sample_configurations, sampling_box
+from fkcheck.model.types import URDF_FRAME_PREFIX, FrameSpec, Model, Offset
+from fkcheck.model.write import frame_toml
+from fkcheck.urdf.chain import UrdfKinematics
+from fkcheck.urdf.to_dh import CLEAN_TOL, clean_number
+from fkcheck.urdf.tree import listed
+
+__all__ = [
+    "COMMON_NAMES",
+    "DEFAULT_SAMPLES",
+    "JointMatch",
+    "LinkFit",
+    "MapResult",
+    "ProposedFrame",
+    "link_frame",
+    "map_model",
+    "proposal_toml",
+    "with_link_frames",
+]
+
+#: Link names by how common they are as a robot's base or tool frame (glob patterns,
+#: most common first); other names follow in the URDF's order.
+COMMON_NAMES = (
+    "base",
+    "base_link",
+    "tool0",
+    "flange",
+    "ee_link",
+    "tcp",
+    "*_link0",
+    "*_link8",
+    "*_base",
+    "*_base_link",
+    "*_tool0",
+    "*_flange",
+    "*_ee_link",
+    "*_hand",
+    "*_tcp",
+    "world",
+)
+#: Random configurations tried on top of the structured ones (poses, corners, edges).
+DEFAULT_SAMPLES = 64
+#: Configuration pairs the hand–eye fit uses, and the largest step between the two
+#: of a pair (rad or m per joint, shrunk for long chains so the motion stays below π).
+_FIT_PAIRS = 48
+_FIT_STEP = 0.2
+#: Sign hypotheses kept per chain prefix while the axis directions are searched.
+_BEAM = 8
+
+Anchor = int | Literal["world", "tcp"]  # a DH frame 0…n, "tcp" or "world"
+
+
+@dataclass(frozen=True)
+class JointMatch:
+    """One DH joint and the URDF joint that moves like it.
+
+    Attributes:
+        dh: The DH joint's name.
+        urdf: The URDF joint's name.
+        flipped: The URDF joint turns (slides) the other way from the DH joint as
+            the table has it: the table needs ``flip`` toggled on that joint.
+    """
+
+    dh: str
+    urdf: str
+    flipped: bool
+
+
+@dataclass(frozen=True)
+class LinkFit:
+    """A URDF link seen from one DH frame over the samples.
+
+    Attributes:
+        link: The URDF link.
+        anchor: The DH frame (``0…n``, ``"tcp"`` or ``"world"``).
+        offset: The offset anchor → link at the first sample, round numbers snapped.
+        spread_m: How far the offset's origin moves over the samples, metres.
+        spread_rad: How far its orientation turns over the samples, radians.
+    """
+
+    link: str
+    anchor: Anchor
+    offset: Offset
+    spread_m: float
+    spread_rad: float
+
+    def fits(self, tol_pos_m: float, tol_rot_rad: float) -> bool:
+        """Whether the offset is constant within the tolerances."""
+        return self.spread_m <= tol_pos_m and self.spread_rad <= tol_rot_rad
+
+    def evidence(self) -> str:
+        """``max deviation 2.2e-16 m, 4.4e-16 rad over the samples`` or the like."""
+        return f"max deviation {self.spread_m:.2g} m, {self.spread_rad:.2g} rad"
+
+
+@dataclass(frozen=True)
+class ProposedFrame:
+    """A ``[frames.NAME]`` table the map proposes.
+
+    Attributes:
+        spec: The frame (name, DH frame, offset, URDF link or ``None``).
+        fit: The evidence for its URDF link, or ``None`` without one.
+        declared: The model already declares a frame of this name.
+        note: What changed from the model's declaration, or why there is no link.
+    """
+
+    spec: FrameSpec
+    fit: LinkFit | None
+    declared: bool
+    note: str = ""
+
+
+@dataclass(frozen=True)
+class MapResult:
+    """What ``fkcheck map`` found.
+
+    Attributes:
+        model: The model mapped.
+        urdf_path: The ``[urdf] path`` to write.
+        joints: The matched joints in DH order (the best window when none fits).
+        fit_m: How far the last DH frame strays from its URDF link, metres, over the samples.
+        fit_rad: The same for orientation, radians.
+        also_fit: Other joint windows that fit as well (a two-armed robot).
+        frames: The proposed frames, DH frame 0's first, each group ranked by name.
+        nearest: When no link fits DH frame 0 (or the last DH frame): the nearest one.
+        configurations: How many configurations were compared.
+        seed: The sampling seed.
+    """
+
+    model: Model
+    urdf_path: str
+    joints: tuple[JointMatch, ...]
+    fit_m: float
+    fit_rad: float
+    also_fit: tuple[tuple[str, ...], ...]
+    frames: tuple[ProposedFrame, ...]
+    nearest: tuple[LinkFit, ...]
+    configurations: int
+    seed: int
+
+    @property
+    def tolerances(self) -> tuple[float, float]:
+        """The model's check tolerances ``(m, rad)``, by which "constant" is judged."""
+        return self.model.check.tol_pos_m, self.model.check.tol_rot_rad
+
+    @property
+    def joints_fit(self) -> bool:
+        """Whether the table moves like the URDF chain found (directions aside)."""
+        return (
+            bool(self.joints)
+            and self.fit_m <= self.tolerances[0]
+            and (self.fit_rad <= self.tolerances[1])
+        )
+
+    @property
+    def complete(self) -> bool:
+        """Whether ``fkcheck check`` can pass on the block as pasted.
+
+        The joints fit with no flip, and both ends have a link.
+        """
+        return (
+            self.joints_fit
+            and not any(j.flipped for j in self.joints)
+            and not self.nearest
+            and any(f.fit is not None and f.spec.dh == 0 for f in self.frames)
+        )
+
+
+# ----------------------------------------------------------------------------- geometry
+
+
+def _dh_in_frame0(model: Model, q: Float) -> Float:
+    """``dh0_T_dhk`` for k = 0…n, ``(N, n+1, 4, 4)``, from the in-house core."""
+    frames = np.asarray(model.fk(q, all_frames=True)).reshape(q.shape[0], model.dof + 1, 4, 4)
+    return invert(frames[:, :1]) @ frames
+
+
+def _anchor_poses(model: Model, dh0: Float, anchor: Anchor) -> Float:
+    """The anchor frame in DH frame 0, ``(N, 4, 4)``."""
+    if anchor == "world":
+        return np.broadcast_to(invert(model.base.matrix), dh0[:, 0].shape)
+    if anchor == "tcp":
+        return dh0[:, -1] @ model.tool.matrix
+    return dh0[:, int(anchor)]
+
+
+def _joint_values(
+    kin: UrdfKinematics,
+    mapped: Sequence[str],
+    signs: Sequence[float],
+    q: Float,
+    rng: np.random.Generator | None,
+) -> dict[str, Float]:
+    """Every movable URDF joint's values: the mapped ones from ``q``, the others random or 0."""
+    N = q.shape[0]
+    values: dict[str, Float] = {}
+    for joint in kin.joints.values():
+        if joint.type == "fixed":
+            continue
+        if rng is None:
+            values[joint.name] = np.zeros(N)
+            continue
+        default = 0.5 if joint.type == "prismatic" else math.pi
+        lo, hi = joint.limits or (-default, default)
+        values[joint.name] = lo + (hi - lo) * np.asarray(rng.random(N), dtype=np.float64)
+    for col, (name, sign) in enumerate(zip(mapped, signs, strict=True)):
+        values[name] = sign * q[:, col]
+    return values
+
+
+def _root_poses(
+    kin: UrdfKinematics, links: Sequence[str], values: Mapping[str, Float], N: int
+) -> dict[str, Float]:
+    """``root_T_link`` ``(N, 4, 4)`` of ``links`` (and of the links on their way).
+
+    Links below a joint fkcheck cannot follow (``floating``, ``planar``) are left out.
+    """
+    out: dict[str, Float] = {kin.root: np.broadcast_to(np.eye(4), (N, 4, 4))}
+    for link in links:
+        if link in out:
+            continue
+        chain = kin.chain(kin.root, link)
+        try:
+            movable = kin.movable(chain)
+        except UrdfError:
+            continue
+        q = np.column_stack([values[j.name] for j in movable]) if movable else np.zeros((N, 0))
+        poses = kin.chain_poses(chain, q)
+        for i, joint in enumerate(chain):
+            out.setdefault(joint.child, poses[:, i])
+    return out
+
+
+def _spread(offsets: Float) -> tuple[float, float]:
+    """How far the offsets ``(N, 4, 4)`` stray from the first one: ``(m, rad)``."""
+    ref = np.broadcast_to(offsets[0], offsets.shape)
+    return (
+        float(position_error_m(ref, offsets).max()),
+        float(rotation_error_rad(ref, offsets).max()),
+    )
+
+
+def _hand_eye(M: Float, U: Float) -> tuple[Float, Float]:
+    """``X``, ``Y`` with ``M ≈ X·U·Y``, from configuration pairs ``(M[2i], M[2i+1])``.
+
+    Each pair's relative motions satisfy ``Y·C = D·Y`` (``C = M_a⁻¹M_b``,
+    ``D = U_a⁻¹U_b``): the rotation maps ``C``'s rotation vectors onto ``D``'s
+    (pure translations use their translation instead), the translation solves
+    ``(I − R_D)·t = t_D − R·t_C`` by least squares.
+    """
+    C = invert(M[0::2]) @ M[1::2]
+    D = invert(U[0::2]) @ U[1::2]
+    c = Rotation.from_matrix(C[:, :3, :3]).as_rotvec()
+    d = Rotation.from_matrix(D[:, :3, :3]).as_rotvec()
+    still = np.linalg.norm(d, axis=1) < 1e-9
+    c[still], d[still] = C[still, :3, 3], D[still, :3, 3]
+    with warnings.catch_warnings():  # a single axis (a one-joint prefix) leaves a spin free
+        warnings.simplefilter("ignore", UserWarning)
+        rotation, _ = Rotation.align_vectors(d, c)
+    R = rotation.as_matrix()
+    lhs = (np.eye(3) - D[:, :3, :3]).reshape(-1, 3)
+    rhs = (D[:, :3, 3] - C[:, :3, 3] @ R.T).reshape(-1)
+    t = np.linalg.lstsq(lhs, rhs, rcond=None)[0]
+    Y = np.eye(4)
+    Y[:3, :3], Y[:3, 3] = R, t
+    X = M[0] @ invert(Y) @ invert(U[0])
+    return X, Y
+
+
+@dataclass(frozen=True, eq=False)
+class _Fit:
+    """A joint window with axis directions, fitted: ``dh0_T_dhn = X · base_T_tip · Y``."""
+
+    joints: tuple[str, ...]
+    signs: tuple[float, ...]
+    base: str
+    X: Float
+    Y: Float
+    dev_m: float
+    dev_rad: float
+
+    def score(self, tol: tuple[float, float]) -> tuple[int, int, float]:
+        """Sort key: fitting first, then fewer flips, then the smaller deviation."""
+        fits = self.dev_m <= tol[0] and self.dev_rad <= tol[1]
+        return (0 if fits else 1, sum(s < 0 for s in self.signs), self.dev_m + self.dev_rad)
+
+
+class _Problem:
+    """A model, a URDF and the configurations both are evaluated at."""
+
+    def __init__(self, model: Model, kin: UrdfKinematics, samples: int, seed: int) -> None:
+        self.model, self.kin = model, kin
+        self.tol = (model.check.tol_pos_m, model.check.tol_rot_rad)
+        self.q = sample_configurations(model, samples, seed).q
+        rng = np.random.default_rng(seed)
+        n = model.dof
+        step = min(_FIT_STEP, 2.0 / max(n, 1))
+        lo, hi = sampling_box(model)
+        first = lo + (hi - lo) * rng.random((_FIT_PAIRS, n))
+        pairs = np.empty((2 * _FIT_PAIRS, n))
+        pairs[0::2], pairs[1::2] = first, first + rng.uniform(-step, step, first.shape)
+        self.fit_q = pairs
+        self.dh_fit = _dh_in_frame0(model, pairs)
+        self.dh = _dh_in_frame0(model, self.q)
+        self.seed = seed
+
+    def relative(
+        self,
+        q: Float,
+        joints: Sequence[str],
+        signs: Sequence[float],
+        base: str,
+        links: Sequence[str],
+        rng: np.random.Generator | None,
+    ) -> dict[str, Float]:
+        """``base_T_link`` for ``links`` at ``q`` (unmapped joints random with ``rng``, else 0)."""
+        values = _joint_values(self.kin, joints, signs, q, rng)
+        poses = _root_poses(self.kin, [base, *links], values, q.shape[0])
+        base_inv = invert(poses[base])
+        return {link: base_inv @ poses[link] for link in links if link in poses}
+
+    def fit(self, joints: Sequence[str], signs: Sequence[float]) -> _Fit:
+        """Fit the first ``len(signs)`` joints of ``joints``: DH frame k vs their last child."""
+        k = len(signs)
+        used = tuple(joints[:k])
+        base = self.kin.joints[used[0]].parent
+        tip = self.kin.joints[used[-1]].child
+        U = self.relative(self.fit_q[:, :k], used, signs, base, [tip], None)[tip]
+        M = self.dh_fit[:, k]
+        X, Y = _hand_eye(M, U)
+        E = invert(M) @ X @ U @ Y
+        eye = np.broadcast_to(np.eye(4), E.shape)
+        return _Fit(
+            used, tuple(signs), base, X, Y,
+            float(position_error_m(eye, E).max()), float(rotation_error_rad(eye, E).max()),
+        )  # fmt: skip
+
+    def search(self, joints: Sequence[str]) -> _Fit:
+        """The axis directions of a window of joints, by a beam search over its prefixes."""
+        beam: list[tuple[float, ...]] = [()]
+        best: list[_Fit] = []
+        for _ in joints:
+            fits = [self.fit(joints, (*signs, s)) for signs in beam for s in (1.0, -1.0)]
+            best = sorted(fits, key=lambda f: f.score(self.tol))[:_BEAM]
+            beam = [f.signs for f in best]
+        return best[0]
+
+    def evaluate(self, fit: _Fit, links: Sequence[str], anchor: Anchor) -> list[LinkFit]:
+        """Each link's offset from ``anchor`` over the evaluation samples.
+
+        DH frame 0 and ``world`` hold the tip to the URDF (``dh0_T_link = M·Y⁻¹·U⁻¹·…``),
+        every other DH frame holds the base (``X·…``): either way the offset stays
+        constant only when the whole chain moves as the URDF does.
+        """
+        q = self.q
+        n = len(fit.joints)
+        rng = np.random.default_rng(self.seed + 1)
+        tip = self.kin.joints[fit.joints[-1]].child
+        rel = self.relative(q[:, :n], fit.joints, fit.signs, fit.base, [tip, *links], rng)
+        if anchor in (0, "world"):
+            W = self.dh[:, -1] @ invert(fit.Y) @ invert(rel[tip])
+        else:
+            W = np.broadcast_to(fit.X, (q.shape[0], 4, 4))
+        P_inv = invert(_anchor_poses(self.model, self.dh, anchor))
+        out = []
+        for link in links:
+            if link not in rel:
+                continue
+            offsets = P_inv @ W @ rel[link]
+            spread_m, spread_rad = _spread(offsets)
+            out.append(LinkFit(link, anchor, _offset(offsets[0]), spread_m, spread_rad))
+        return out
+
+
+def _offset(T: Float) -> Offset:
+    """An offset's xyz and rpy with numbers within 1e-9 of a round one snapped to it.
+
+    The rotation's entries within 1e-9 of 0 or ±1 are snapped first, so that a
+    pitch of ±90° reads as the gimbal lock it is (yaw 0, roll the whole turn).
+    """
+    x, y, z = (clean_number(float(v), angle=False) for v in T[:3, 3])
+    R = np.array(T[:3, :3])
+    for value in (0.0, 1.0, -1.0):
+        R[np.abs(R - value) <= CLEAN_TOL] = value
+    r, p, w = (clean_number(float(v), angle=True) for v in rpy_from_matrix(R))
+    return Offset(xyz=(x, y, z), rpy=(r, p, w))
+
+
+def _windows(kin: UrdfKinematics, model: Model) -> list[tuple[str, ...]]:
+    """Every run of ``n`` consecutive movable joints down from the root whose types fit."""
+    n = model.dof
+    want = [("prismatic",) if j.type == "prismatic" else ("revolute", "continuous")
+            for j in model.joints]  # fmt: skip
+    out: dict[tuple[str, ...], None] = {}
+    for joint in kin.joints.values():
+        if joint.type == "fixed":
+            continue
+        try:
+            movable = kin.movable(kin.chain(kin.root, joint.child))
+        except UrdfError:
+            continue
+        window = tuple(j.name for j in movable[-n:])
+        if len(window) == n and all(
+            kin.joints[name].type in types for name, types in zip(window, want, strict=True)
+        ):
+            out.setdefault(window)
+    return list(out)
+
+
+def _rank(link: str, order: Mapping[str, int]) -> tuple[int, int]:
+    """Sort key of a link: how common its name is, then its place in the URDF."""
+    common = next(
+        (i for i, pattern in enumerate(COMMON_NAMES) if fnmatch.fnmatchcase(link, pattern)),
+        len(COMMON_NAMES),
+    )
+    return common, order.get(link, 0)
+
+
+def _complexity(offset: Offset) -> int:
+    return sum(1 for v in (*offset.xyz, *offset.rpy) if v != 0.0)
+
+
+_NAME = re.compile(r"^[A-Za-z0-9_-]+$")
+
+
+def _frame_name(link: str, taken: set[str]) -> str:
+    """A frame name for an undeclared link: the link's own, unless taken or reserved."""
+    base = (
+        link
+        if _NAME.match(link) and link not in ("world", "tcp")
+        else "urdf_" + re.sub(r"[^A-Za-z0-9_-]", "_", link)
+    )
+    name, k = base, 2
+    while name in taken:
+        name, k = f"{base}_{k}", k + 1
+    return name
+
+
+# ----------------------------------------------------------------------------- the map
+
+
+def map_model(
+    model: Model,
+    kin: UrdfKinematics,
+    urdf_path: str,
+    *,
+    samples: int = DEFAULT_SAMPLES,
+    seed: int = 0,
+) -> MapResult:
+    """Find the model's joints and frames in a URDF.
+
+    Args:
+        model: The DH model (its ``[urdf]`` and ``[frames]`` are only used for names).
+        kin: The URDF's geometry (:func:`fkcheck.urdf.chain.urdf_kinematics`).
+        urdf_path: What ``[urdf] path`` should say.
+        samples: Random configurations on top of the structured ones.
+        seed: Seed of the samples.
+
+    Returns:
+        The proposal; :attr:`MapResult.complete` says whether it can pass as pasted.
+
+    Raises:
+        UrdfError: The URDF has no run of ``n`` movable joints of the table's types.
+    """
+    windows = _windows(kin, model)
+    if not windows:
+        movable = [j.name for j in kin.joints.values() if j.type != "fixed"]
+        raise UrdfError(
+            kin.path,
+            f"has no chain of {model.dof} consecutive movable joints of the types of model "
+            f"{model.name}'s table; movable joints are: {listed(movable)}",
+        )
+    problem = _Problem(model, kin, samples, seed)
+    fits = sorted((problem.search(w) for w in windows), key=lambda f: f.score(problem.tol))
+    best = fits[0]
+    fitting = [f for f in fits if f.score(problem.tol)[0] == 0]
+    joints = tuple(
+        JointMatch(dh.name, urdf, sign < 0)
+        for dh, urdf, sign in zip(model.joints, best.joints, best.signs, strict=True)
+    )
+    frames, nearest = _frames(problem, best)
+    return MapResult(
+        model=model,
+        urdf_path=urdf_path,
+        joints=joints,
+        fit_m=best.dev_m,
+        fit_rad=best.dev_rad,
+        also_fit=tuple(f.joints for f in fitting[1:]),
+        frames=tuple(frames),
+        nearest=tuple(nearest),
+        configurations=problem.q.shape[0],
+        seed=seed,
+    )
+
+
+def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[LinkFit]]:
+    """The frames at DH frame 0 and at the tip, then the model's other declared frames."""
+    model, kin, tol = problem.model, problem.kin, problem.tol
+    n = model.dof
+    links = list(kin.links)
+    order = {link: i for i, link in enumerate(links)}
+    anchors: list[Anchor] = [0, n, "tcp"] if not model.tool.is_identity else [0, n]
+    declared = {s.name: s for s in model.frames.values() if not _builtin(s)}
+    for spec in declared.values():
+        if spec.dh not in anchors:
+            anchors.append(spec.dh)
+    table = {
+        anchor: {f.link: f for f in problem.evaluate(fit, links, anchor)} for anchor in anchors
+    }
+    chain_ok = fit.score(tol)[0] == 0
+
+    def fits(f: LinkFit | None) -> bool:
+        return f is not None and chain_ok and f.fits(*tol)
+
+    proposals: list[ProposedFrame] = []
+    used: set[str] = set()
+    for spec in declared.values():
+        proposals.append(_declared(spec, table, fits, kin))
+        if proposals[-1].fit is not None:
+            used.add(proposals[-1].fit.link)
+    taken = set(model.frames)
+    nearest: list[LinkFit] = []
+    for group in ((0,), (n, "tcp") if "tcp" in anchors else (n,)):
+        found = False
+        for link in sorted(links, key=lambda name: _rank(name, order)):
+            candidates = [table[a][link] for a in group if fits(table[a].get(link))]
+            if not candidates:
+                continue
+            found = True
+            if link in used:
+                continue
+            pick = min(candidates, key=lambda f: (_complexity(f.offset), group.index(f.anchor)))
+            name = _frame_name(link, taken)
+            taken.add(name)
+            proposals.append(
+                ProposedFrame(FrameSpec(name, pick.anchor, pick.offset, link), pick, False)
+            )
+        if not found:
+            nearest.append(
+                min(
+                    (f for a in group for f in table[a].values()),
+                    key=lambda f: f.spread_m + f.spread_rad,
+                )
+            )
+    anchor_order = {0: 0, "world": 0}
+    proposals.sort(
+        key=lambda p: (
+            anchor_order.get(p.spec.dh, 1) if p.spec.dh in (0, "world") else
+            (2 if p.spec.dh in (n, "tcp") else 1),
+            _rank(p.spec.urdf or p.spec.name, order),
+        )
+    )  # fmt: skip
+    return proposals, nearest
+
+
+def _builtin(spec: FrameSpec) -> bool:
+    return spec.name in ("world", "tcp") and spec.dh == spec.name and spec.urdf is None
+
+
+def _declared(
+    spec: FrameSpec,
+    table: Mapping[Anchor, Mapping[str, LinkFit]],
+    fits: Callable[[LinkFit | None], bool],
+    kin: UrdfKinematics,
+) -> ProposedFrame:
+    """A declared frame, checked: its link at its DH frame, or why not."""
+    if spec.urdf is None:
+        return ProposedFrame(spec, None, True, "declared without a URDF link: kept as it is")
+    if spec.urdf not in kin.links:
+        return ProposedFrame(
+            replace(spec, urdf=None),
+            None,
+            True,
+            f"its URDF link {spec.urdf!r} is not a link of {kin.path.name}: kept without one",
+        )
+    here = table[spec.dh].get(spec.urdf)
+    if fits(here):
+        assert here is not None
+        if _same(here.offset, spec.offset):  # the declared numbers, as written
+            return ProposedFrame(spec, replace(here, offset=spec.offset), True)
+        note = (
+            f"the model had xyz {list(spec.offset.xyz)}, rpy {list(spec.offset.rpy)} (rad): "
+            "the URDF says otherwise"
+        )
+        return ProposedFrame(replace(spec, offset=here.offset), here, True, note)
+    elsewhere = [row[spec.urdf] for row in table.values() if fits(row.get(spec.urdf))]
+    if elsewhere:
+        moved = elsewhere[0]
+        return ProposedFrame(
+            replace(spec, dh=moved.anchor, offset=moved.offset),
+            moved,
+            True,
+            f"declared at DH frame {spec.dh}, but {spec.urdf!r} is rigid to DH frame "
+            f"{moved.anchor}",
+        )
+    shown = (
+        f"{format_mm(here.spread_m)} / {format_deg(here.spread_rad)}" if here is not None else "?"
+    )
+    return ProposedFrame(
+        replace(spec, urdf=None),
+        None,
+        True,
+        f"{spec.urdf!r} is at no constant offset from DH frame {spec.dh} (it moves by "
+        f"{shown} over the samples): kept without a URDF link",
+    )
+
+
+def _same(a: Offset, b: Offset) -> bool:
+    return bool(np.allclose(a.matrix, b.matrix, atol=1e-9, rtol=0.0))
+
+
+# ----------------------------------------------------------------------------- the text
+
+
+def proposal_toml(result: MapResult) -> str:
+    """The ``[urdf]`` and ``[frames.*]`` block, with the evidence in comments."""
+    model = result.model
+    unit = model.angle_unit
+    tol_m, tol_rad = result.tolerances
+    out = [
+        f"# fkcheck map: model {model.name} onto {result.urdf_path}",
+        f"# {result.configurations} configurations (seed {result.seed}); a link is at a constant "
+        f"offset when it stays within",
+        f"# the model's check tolerances ({tol_m:g} m, {tol_rad:g} rad); numbers within 1e-9 of "
+        "0, a multiple of 90° or a whole µm are snapped to it.",
+        "",
+        "[urdf]",
+        f"path = {_quoted(result.urdf_path)}",
+    ]
+    if result.joints_fit:
+        out.append(
+            f"# The joints, found by how they move (last DH frame vs URDF link: "
+            f"{result.fit_m:.2g} m, {result.fit_rad:.2g} rad):"
+        )
+    else:
+        out.append(
+            f"# NO chain of the URDF moves like this table: the nearest leaves the last DH frame "
+            f"{format_mm(result.fit_m)} / {format_deg(result.fit_rad)} off its link:"
+        )
+    for j in result.joints:
+        if j.flipped:
+            out.append(
+                f"#   {j.dh} = {j.urdf}: turns the OTHER way; the URDF gets q unchanged, so set "
+                f"flip = {'false' if _flip_of(model, j.dh) else 'true'} on [[joint]] {j.dh}"
+            )
+        else:
+            out.append(f"#   {j.dh} = {j.urdf}: same direction")
+    for other in result.also_fit:
+        out.append(f"# Another chain moves the same way: {', '.join(other)}")
+    out.append(f"joints = [{', '.join(_quoted(j.urdf) for j in result.joints)}]")
+    n = model.dof
+    ends: tuple[Anchor, ...] = (0, "world", n, "tcp")
+    groups: tuple[tuple[str, tuple[Anchor, ...] | None], ...] = (
+        ("DH frame 0", (0, "world")),
+        ("the middle DH frames", None),
+        (f"the last DH frame ({n}) and the TCP", (n, "tcp")),
+    )
+    for title, members in groups:
+        chosen = [
+            p
+            for p in result.frames
+            if (p.spec.dh in members if members is not None else p.spec.dh not in ends)
+        ]
+        if not chosen:
+            continue
+        out += ["", f"# --- Links at a constant offset from {title}, most common name first ---"]
+        for p in chosen:
+            comment = []
+            if p.fit is not None:
+                new = "" if p.declared else " (not declared in the model)"
+                comment.append(f"{p.fit.link}: {p.fit.evidence()}{new}")
+            if p.note:
+                comment.append(p.note)
+            out.append(frame_toml(p.spec, unit, comment).rstrip("\n"))
+    for near in result.nearest:
+        where = "DH frame 0" if near.anchor == 0 else f"DH frame {near.anchor}"
+        out += [
+            "",
+            f"# NO URDF link sits at a constant offset from {where}: the nearest, "
+            f"{near.link}, moves by {format_mm(near.spread_m)} / {format_deg(near.spread_rad)} "
+            "over the samples.",
+        ]
+    return "\n".join(out) + "\n"
+
+
+def _flip_of(model: Model, joint: str) -> bool:
+    return next(j.flip for j in model.joints if j.name == joint)
+
+
+def _quoted(text: str) -> str:
+    """A TOML basic string (JSON's escapes are TOML's)."""
+    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
+
+
+# ----------------------------------------------------------------------------- urdf:LINK
+
+
+def link_frame(model: Model, kin: UrdfKinematics, link: str, *, seed: int = 0) -> LinkFit:
+    """Where an undeclared URDF link sits on the model's DH chain, by its ``[urdf]`` joints.
+
+    The URDF receives each DH joint's value unchanged (as every URDF backend
+    does). The link must stay at a constant offset from one DH frame ``0…n``
+    over the samples.
+
+    Raises:
+        FrameError: ``link`` is not a link of the URDF (listing them).
+        FkcheckError: The model has no ``[urdf]``, or the link is at no constant
+            offset from any DH frame (saying how near it came).
+    """
+    if model.urdf is None:
+        raise FkcheckError(f"{URDF_FRAME_PREFIX}{link}: model {model.name} has no [urdf]")
+    if link not in kin.links:
+        raise FrameError(link, f"URDF {kin.path.name}", kin.links)
+    problem = _Problem(model, kin, DEFAULT_SAMPLES, seed)
+    fit = problem.fit(model.urdf.joints, [1.0] * model.dof)
+    rows = [problem.evaluate(fit, [link], k)[0] for k in range(model.dof + 1)]
+    ok = fit.score(problem.tol)[0] == 0
+    for row in rows:
+        if ok and row.fits(*problem.tol):
+            return row
+    near = min(rows, key=lambda f: f.spread_m + f.spread_rad)
+    raise FkcheckError(
+        f"{URDF_FRAME_PREFIX}{link}: URDF link {link!r} is at no constant offset from any DH "
+        f"frame of model {model.name} (nearest: DH frame {near.anchor}, moving by "
+        f"{format_mm(near.spread_m)} / {format_deg(near.spread_rad)}); the table and the URDF "
+        "disagree (fkcheck diagnose) — declare [frames.NAME] with dh, its offset and "
+        f'urdf = "{link}" to compare it anyway'
+    )
+
+
+def with_link_frames(
+    model: Model, kin: UrdfKinematics, names: Sequence[str]
+) -> tuple[Model, dict[str, LinkFit]]:
+    """The model with a frame ``urdf:LINK`` added for each undeclared link ``names`` ask for.
+
+    A name that is not ``urdf:LINK``, or whose link a declared frame already
+    maps, is left to :func:`fkcheck.model.resolve_frame`.
+
+    Returns:
+        ``(model, placed)``: the model (the same object when nothing was added)
+        and each added frame's placement, by frame name.
+    """
+    placed: dict[str, LinkFit] = {}
+    for name in names:
+        if not name.startswith(URDF_FRAME_PREFIX) or name in placed:
+            continue
+        link = name[len(URDF_FRAME_PREFIX) :]
+        if any(spec.urdf == link for spec in model.frames.values()):
+            continue
+        placed[name] = link_frame(model, kin, link)
+    if not placed:
+        return model, placed
+    frames = dict(model.frames)
+    for name, fit in placed.items():
+        frames[name] = FrameSpec(name, fit.anchor, fit.offset, fit.link)
+    return replace(model, frames=frames), placed
