@@ -3,21 +3,58 @@
 :func:`load_urdf` resolves ``[urdf].path`` (:func:`fkcheck.urdf.locate.locate_urdf`:
 ``example-robot-data:<subpath>`` or a path relative to the model file), reads
 it with :func:`fkcheck.urdf.tree.read_urdf` (screened, its tree checked and
-bounded) and checks the model's mapping against the joints and links (joint
-names, joint types, frame names), so a mismatch is one clear error before any
-backend parses the URDF.
+bounded) — or, when the model opts in with ``xacro = true``, expands it with
+:func:`fkcheck.urdf.xacro.read_xacro` and screens the result the same way —
+and checks the model's mapping against the joints and links (joint names,
+joint types, frame names), so a mismatch is one clear error before any backend
+parses the URDF.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
+from fkcheck.urdf.xacro import read_xacro
 
-__all__ = ["load_urdf", "resolve_urdf_path"]
+__all__ = ["allow_xacro", "load_urdf", "read_model_urdf", "resolve_urdf_path"]
+
+
+def allow_xacro(model: Model) -> Model:
+    """The model with ``xacro = true`` in its ``[urdf]`` (what ``--allow-xacro`` does).
+
+    A model without ``[urdf]`` is returned as it is.
+    """
+    if model.urdf is None or model.urdf.xacro:
+        return model
+    return replace(model, urdf=replace(model.urdf, xacro=True))
+
+
+def read_model_urdf(model: Model) -> UrdfInfo:
+    """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
+
+    With ``xacro = true`` the file is expanded (:func:`fkcheck.urdf.xacro.read_xacro`)
+    with the model's ``xacro_args``, ``$(find …)`` resolving only its
+    ``packages`` (directories relative to the model file); without it a xacro
+    file is refused by the screen, naming the opt-in.
+
+    Raises:
+        UrdfError: As :func:`resolve_urdf_path`, refused by the screen, not a
+            valid tree, or the xacro expansion failed.
+        BackendUnavailable: The path names example-robot-data, which is not installed.
+    """
+    path, package_dirs = resolve_urdf_path(model)
+    assert model.urdf is not None
+    if not model.urdf.xacro:
+        return read_urdf(path, package_dirs)
+    base = Path.cwd() if model.path is None else model.path.parent
+    packages = {name: base / where for name, where in model.urdf.packages.items()}
+    dirs = package_dirs + tuple(p.parent for p in packages.values())
+    return read_xacro(path, model.urdf.xacro_args, packages, dirs)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
@@ -38,12 +75,12 @@ def load_urdf(model: Model) -> UrdfInfo:
 
     Raises:
         UrdfError: Missing, not a regular file, too large, not XML, refused by the
-            screen (:mod:`fkcheck.urdf.screen`), not a valid tree, or a mapped
-            joint is missing or of the wrong type.
+            screen (:mod:`fkcheck.urdf.screen`), not a valid tree, its xacro
+            expansion failed, or a mapped joint is missing or of the wrong type.
         FrameError: A ``[frames.*].urdf`` name is not a link of the URDF.
     """
-    path, package_dirs = resolve_urdf_path(model)
-    info = read_urdf(path, package_dirs)
+    info = read_model_urdf(model)
+    path = info.path
     assert model.urdf is not None
     for name, joint in zip(model.urdf.joints, model.joints, strict=True):
         found = info.joints.get(name)
