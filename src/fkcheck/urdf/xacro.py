@@ -214,10 +214,6 @@ def _expand_job(
         xacro.init_stacks(path)  # relative includes are relative to the file, not to the cwd
         doc = XacroDoc.from_string(io.BytesIO(data), subargs=args, resolve_packages=False)
         text: str = doc.dom.toxml()
-    except MemoryError:
-        return "error", f"it needs more than {XACRO_MEMORY_BYTES // 1024**3} GiB of memory"
-    except RecursionError:
-        return "error", "it recurses without end (a macro calling itself?)"
     except Exception as exc:  # xacro's errors, whatever their type: one line, no traceback
         return "error", _one_line(exc)
     if len(text) > MAX_URDF_BYTES:
@@ -230,11 +226,16 @@ def _expand_job(
 
 def _one_line(exc: BaseException) -> str:
     """The xacro message for ``exc``, unwrapped to ours when it wraps a refusal, on one line."""
-    inner = getattr(exc, "exc", None)
-    while isinstance(inner, Exception) and not isinstance(inner, _Refused):
-        inner = getattr(inner, "exc", None)
-    if isinstance(inner, _Refused) or isinstance(exc, _Refused):
-        return str(inner if isinstance(inner, _Refused) else exc)
+    chain = [exc]  # xacro wraps the error it met in XacroException(…, exc=error)
+    while isinstance(getattr(chain[-1], "exc", None), BaseException) and len(chain) < 100:
+        chain.append(chain[-1].exc)  # type: ignore[attr-defined]
+    for error in chain:
+        if isinstance(error, _Refused):
+            return str(error)
+        if isinstance(error, MemoryError):
+            return f"it needs more than {XACRO_MEMORY_BYTES // 1024**3} GiB of memory"
+        if isinstance(error, RecursionError):
+            return "it recurses without end (a macro calling itself?)"
     text = str(exc).strip() or type(exc).__name__
     if type(exc).__name__ == "XacroException" and "Undefined substitution argument" in text:
         name = text.rsplit(" ", 1)[-1]
