@@ -76,7 +76,7 @@ def write_description(root: Path, top: str = TOP) -> tuple[Path, Path]:
 
 
 def write_model(root: Path, reach: str, urdf_extra: str) -> Path:
-    """A DH model file of the description in ``root/robot/`` (its ``[urdf]`` plus ``urdf_extra``)."""
+    """A DH model file of the description in ``root/robot/``; ``urdf_extra`` ends its [urdf]."""
     path = root / "robot" / "xarm.toml"
     path.write_text(
         f"""name = "xarm"

@@ -44,7 +44,8 @@ def test_expand_refuses_to_overwrite_its_input(tmp_path, capsys):
     top, package = write_description(tmp_path)
     code, _, err = run(capsys, "expand", top, "--package", f"arm_description={package}", "-o", top)
     assert code == 2
-    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.count("\n") == 1
+    assert "Traceback" not in err
     assert top.read_text() == TOP
 
 
@@ -73,7 +74,8 @@ def test_expand_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, edit,
         code, out, err = run(capsys, "expand", top, *packages, *argv, "-o", out_file)
     assert code == 2
     assert out == ""
-    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.count("\n") == 1
+    assert "Traceback" not in err
     assert expected in err, err
     assert not out_file.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["arm_description", "robot"]
@@ -84,16 +86,19 @@ def test_dh_from_urdf_needs_the_opt_in_and_then_writes_a_model_that_checks(tmp_p
     model = tmp_path / "robot" / "derived.toml"
     base = ["dh-from-urdf", top, "--base", "base", "--tip", "tip", "-o", model]
     code, _, err = run(capsys, *base)
-    assert code == 2 and "--allow-xacro" in err
+    assert code == 2
+    assert "--allow-xacro" in err
     code, _, err = run(capsys, *base, "--arg", "reach=0.4")
-    assert code == 2 and "--arg goes with --allow-xacro" in err
+    assert code == 2
+    assert "--arg goes with --allow-xacro" in err
     package_arg = f"arm_description={package}"
     code, _, err = run(
         capsys, *base, "--allow-xacro", "--arg", "reach=0.4", "--package", package_arg
     )
     assert code == 0, err
     derived = load_model(model)
-    assert derived.urdf is not None and derived.urdf.xacro
+    assert derived.urdf is not None
+    assert derived.urdf.xacro
     assert derived.urdf.xacro_args == {"reach": "0.4"}
     assert derived.urdf.packages == {"arm_description": "../arm_description"}
     code, out, err = run(capsys, "check", model, "--quiet", "--samples", "20")

@@ -91,7 +91,8 @@ def test_refused_without_the_opt_in_naming_it(tmp_path, capsys):
     code = main(["check", str(model), "--quiet", "--samples", "20"])
     out, err = capsys.readouterr()
     assert code == 2
-    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.count("\n") == 1
+    assert "Traceback" not in err
     assert "arm.urdf.xacro: line 3: has a xacro element <arg>" in err
     assert OPT_IN in err
     with pytest.raises(UrdfError, match="pass --allow-xacro"):
@@ -115,9 +116,12 @@ def test_diagnose_takes_allow_xacro(tmp_path, capsys):
 def test_allow_xacro_sets_the_flag_only():
     model = load_model("ur5")
     allowed = allow_xacro(model)
-    assert allowed.urdf is not None and model.urdf is not None
-    assert allowed.urdf.xacro and not model.urdf.xacro
-    assert allowed.urdf.path == model.urdf.path and allowed.joints == model.joints
+    assert allowed.urdf is not None
+    assert model.urdf is not None
+    assert allowed.urdf.xacro
+    assert not model.urdf.xacro
+    assert allowed.urdf.path == model.urdf.path
+    assert allowed.joints == model.joints
     planar = load_model("planar2")
     assert allow_xacro(planar) is planar
 
@@ -153,7 +157,7 @@ def test_find_never_looks_at_ros_package_path(tmp_path, monkeypatch):
 
 
 def test_a_declared_package_must_be_a_directory(tmp_path):
-    with pytest.raises(UrdfError, match="package 'arm_description' is declared at .*, not a dir"):
+    with pytest.raises(UrdfError, match=r"package .arm_description. is declared at .*, not a dir"):
         expand_top(tmp_path, TOP, packages={"arm_description": tmp_path / "missing"})
 
 
@@ -272,7 +276,9 @@ def test_model_keys_are_checked(tmp_path, line, field, problem):
     with pytest.raises(ModelError) as caught:
         load_model(path)
     message = str(caught.value)
-    assert "xarm.toml" in message and field in message and problem in message, message
+    assert "xarm.toml" in message, message
+    assert field in message, message
+    assert problem in message, message
 
 
 def test_model_keys_round_trip_through_the_writer(tmp_path):
@@ -280,7 +286,8 @@ def test_model_keys_round_trip_through_the_writer(tmp_path):
     extra = f'xacro = true\nxacro_args = {{ reach = "0.4" }}\n{PACKAGES}'
     model = load_model(write_model(tmp_path, "0.4", extra))
     assert model.urdf is not None
-    assert model.urdf.xacro and model.urdf.xacro_args == {"reach": "0.4"}
+    assert model.urdf.xacro
+    assert model.urdf.xacro_args == {"reach": "0.4"}
     assert model.urdf.packages == {"arm_description": "../arm_description"}
     again = tmp_path / "robot" / "again.toml"
     again.write_text(model_to_toml(model))
