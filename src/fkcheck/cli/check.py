@@ -138,6 +138,12 @@ def add_parser(sub: Any) -> None:
         help="Jacobian tolerance, m/rad (linear rows) and rad/rad (angular rows); default "
         "1e-6; implies --jacobian",
     )
+    p.add_argument(
+        "--allow-xacro",
+        action="store_true",
+        help="expand the models' xacro URDFs, as xacro = true in [urdf] does (${…} is "
+        "Python: only for files you trust)",
+    )
     p.add_argument("--timeout", type=float, metavar="S",
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
@@ -266,6 +272,12 @@ def run(args: argparse.Namespace) -> int:
     _validate(args)
     require_from_args(args)  # bad --require is exit 2 before anything runs
     targets = _targets(args, project)
+    if args.allow_xacro:
+        from dataclasses import replace
+
+        from fkcheck.urdf.source import allow_xacro
+
+        targets = [replace(t, model=allow_xacro(t.model)) for t in targets]
     one_file = len(args.models) == 1 and not _Path(args.models[0]).is_dir()
     if args.all or args.out_dir is not None or not one_file or len(targets) != 1:
         _validate_many(args)

@@ -26,6 +26,7 @@ from fkcheck.model.types import (
     MAX_JOINT_RAD,
     MAX_JOINTS,
     MAX_LENGTH_M,
+    PACKAGE_NAME,
     CheckSpec,
     FrameSpec,
     Joint,
@@ -50,7 +51,7 @@ _TOP_KEYS = {
 }  # fmt: skip
 _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
-_URDF_KEYS = {"path", "joints"}
+_URDF_KEYS = {"path", "joints", "xacro", "xacro_args", "packages"}
 _FRAME_KEYS = {"dh", "xyz", "rpy", "urdf"}
 _CHECK_KEYS = {
     "from", "to", "tol_pos_m", "tol_rot_rad", "require",
@@ -218,6 +219,18 @@ class _Reader:
         return [self.number(v, f"{field_}[{i}]") for i, v in enumerate(value)]
 
 
+def _text_table(r: _Reader, value: Any, field_: str, what: str) -> dict[str, str]:
+    """An inline table of strings (``{ ur_type = "ur5e" }``), each naming ``what``."""
+    if not isinstance(value, dict):
+        raise r.fail(field_, f'expected a table such as {{ name = "…" }}, got {_kind(value)}')
+    for key, item in value.items():
+        if not isinstance(item, str):
+            raise r.fail(
+                f"{field_}.{_key(key)}", f"expected a string ({what}, as text), got {_kind(item)}"
+            )
+    return dict(value)
+
+
 def _key(name: str) -> str:
     """A key or name from the file as it goes into a message: as is when short and printable."""
     return name if name.isprintable() and len(name) <= 64 else show_text(name)
@@ -374,7 +387,18 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             raise r.fail("urdf.joints", f"names {len(raw_uj)} URDF joints but the DH table has {n}")
         if len(set(raw_uj)) != len(raw_uj):
             raise r.fail("urdf.joints", "names a URDF joint twice")
-        urdf = UrdfSpec(path=upath, joints=tuple(raw_uj))
+        xacro = u.get("xacro", False)
+        if not isinstance(xacro, bool):
+            raise r.fail("urdf.xacro", f"expected true or false, got {_kind(xacro)}")
+        xacro_args = _text_table(r, u.get("xacro_args", {}), "urdf.xacro_args", "a value")
+        packages = _text_table(r, u.get("packages", {}), "urdf.packages", "a directory")
+        for pname in packages:
+            if not PACKAGE_NAME.fullmatch(pname):
+                raise r.fail(
+                    f"urdf.packages.{_key(pname)}",
+                    "not a package name (letters, digits, '_', '.', '-')",
+                )
+        urdf = UrdfSpec(upath, tuple(raw_uj), xacro, xacro_args, packages)
 
     frames: dict[str, FrameSpec] = {
         "world": FrameSpec("world", "world"),

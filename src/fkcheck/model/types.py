@@ -20,6 +20,7 @@ value within ±:data:`MAX_JOINT_RAD` (1000 rad, 159 turns). Fixed angles
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -40,6 +41,7 @@ __all__ = [
     "MAX_JOINTS",
     "MAX_JOINT_RAD",
     "MAX_LENGTH_M",
+    "PACKAGE_NAME",
     "URDF_FRAME_PREFIX",
     "CheckSpec",
     "FrameSpec",
@@ -64,6 +66,9 @@ MAX_LENGTH_M = 1e3
 #: Largest revolute limit or pose value, radians (159 turns). Limits make the
 #: sampling box, whose width must stay finite.
 MAX_JOINT_RAD = 1e3
+#: A package name in ``[urdf] packages`` and ``--package``: what a xacro
+#: ``$(find NAME)`` can carry (letters, digits, ``_ . -``).
+PACKAGE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
 
 
 @dataclass(frozen=True)
@@ -117,10 +122,18 @@ class UrdfSpec:
         path: As written: a path (relative to the model file) or
             ``example-robot-data:<subpath>``.
         joints: URDF joint names in DH order, one per DH joint.
+        xacro: Whether the file may be xacro, expanded by fkcheck
+            (:mod:`fkcheck.urdf.xacro`); without it a xacro file is refused.
+        xacro_args: xacro arguments (``<xacro:arg>``) by name, as text.
+        packages: The only packages ``$(find …)`` may resolve: name → directory
+            as written (relative to the model file).
     """
 
     path: str
     joints: tuple[str, ...]
+    xacro: bool = False
+    xacro_args: dict[str, str] = field(default_factory=dict)
+    packages: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
