@@ -24,6 +24,7 @@ from fkcheck.backends.base import Backend
 from fkcheck.backends.registry import default_backends, make_backend
 from fkcheck.core.typing import JacobianReference
 from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
+from fkcheck.diagnose.jacobian import explain_sample
 from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.runner import Progress, run_check
@@ -82,6 +83,7 @@ def check(
     jacobian_reference: JacobianReference | None = None,
     tol_jacobian: float | None = None,
     diagnose: bool = True,
+    explain_jacobians: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
 ) -> Outcome:
@@ -109,6 +111,9 @@ def check(
         tol_jacobian: Jacobian tolerance, m/rad and rad/rad (default: the model's ``[check]``).
         diagnose: When the check fails, run ``fkcheck diagnose`` against each
             distinct disagreeing backend (about a second each).
+        explain_jacobians: Name the convention behind each Jacobian that
+            disagrees (:func:`fkcheck.diagnose.jacobian.explain_sample`, on the
+            kept configurations: milliseconds).
         on_progress: Called as ``(backend, configurations done, total)``.
         on_done: Called with each backend's result as it finishes.
 
@@ -145,6 +150,7 @@ def check(
         timeout_s=timeout_s,
         require=require,
         jacobian=spec,
+        explain_jacobian=explain_sample if explain_jacobians else None,
         on_done=on_done,
         on_progress=on_progress,
     )

@@ -29,14 +29,16 @@ def _cli(argv, tmp_path, env_plugins=False):
 
 
 @pytest.mark.parametrize(
-    ("spec", "verdict", "first"),
+    ("spec", "verdict", "first", "named"),
     [
-        ("ur5_jacobians:correct", "pass", None),
-        ("ur5_jacobians:end_effector", "fail", "shoulder_pan"),
-        ("ur5_jacobians:angular_first", "fail", "shoulder_pan"),
+        ("ur5_jacobians:correct", "pass", None, ""),
+        ("ur5_jacobians:end_effector", "fail", "shoulder_pan", "in the frame's own axes (local"),
+        ("ur5_jacobians:angular_first", "fail", "shoulder_pan", "rows are angular first"),
     ],
 )
-def test_a_plugins_own_jacobian_is_compared(tmp_path, spec, verdict, first):
+def test_a_plugins_own_jacobian_is_compared_and_a_mistake_named(
+    tmp_path, spec, verdict, first, named
+):
     out = tmp_path / "r.json"
     done = _cli(["check", *UR5_TCP, "--jacobian", "--against", spec, "--json", str(out)],
                 tmp_path, env_plugins=True)  # fmt: skip
@@ -47,8 +49,10 @@ def test_a_plugins_own_jacobian_is_compared(tmp_path, spec, verdict, first):
     assert b["jacobian"]["method"] == f"python callable {spec}_jacobian"
     assert b["jacobian"]["status"] == verdict
     assert b["jacobian"]["first_disagreeing_joint"] == first
+    assert named in b["jacobian"]["diagnosis"]
     if verdict == "fail":
         assert "the poses agree, a Jacobian disagrees" in done.stdout
+        assert "diagnosis: the backend's" in done.stdout
 
 
 def test_a_plugin_without_a_jacobian_is_differentiated(tmp_path):

@@ -9,6 +9,7 @@ fail, with the first disagreeing joint column named.
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -17,6 +18,7 @@ from fkcheck.backends.pinocchio_dh import PinocchioDH
 from fkcheck.backends.registry import make_backend
 from fkcheck.core.tolerances import FINITE_DIFFERENCE, ROUNDED_URDF, SAME_CHAIN
 from fkcheck.core.typing import JACOBIAN_REFERENCES
+from fkcheck.diagnose.jacobian import explain_sample
 from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import FkcheckError
@@ -84,15 +86,15 @@ class _Seeded(PinocchioDH):
 
 
 @pytest.mark.parametrize(
-    ("mistake", "first_column"),
+    ("mistake", "first_column", "named"),
     [
-        ("local-for-world-aligned", 0),
-        ("angular-first", 0),
-        ("column-3-flipped", 2),
-        ("tool-offset-left-out", 0),
+        ("local-for-world-aligned", 0, r"in the frame's own axes \(local.*where world-aligned"),
+        ("angular-first", 0, r"rows are angular first, then linear"),
+        ("column-3-flipped", 2, r"joint 3 \(elbow\) has the opposite sign"),
+        ("tool-offset-left-out", 0, r"offset of \(0\.000, 0\.000, -?100\.000\) mm"),
     ],
 )
-def test_seeded_mistakes_fail_and_name_the_first_column(mistake, first_column):
+def test_seeded_mistakes_fail_and_are_named(mistake, first_column, named):
     # ur5 with a 10 cm tool so that the TCP and tool0 differ.
     model = load_model("ur5")
     from dataclasses import replace
@@ -107,6 +109,7 @@ def test_seeded_mistakes_fail_and_name_the_first_column(mistake, first_column):
         frame_from="base",
         frame_to="tcp",
         jacobian=JacobianSpec("world-aligned", 1e-6),
+        explain_jacobian=explain_sample,
     )
     good, bad = check.backends
     assert good.status == "pass"
@@ -115,6 +118,8 @@ def test_seeded_mistakes_fail_and_name_the_first_column(mistake, first_column):
     assert bad.jacobian.status == "fail"
     assert bad.jacobian.first_bad_column == first_column
     assert f"first column to disagree: joint {first_column + 1}" in bad.jacobian.message
+    assert re.search(named, bad.jacobian.diagnosis), bad.jacobian.diagnosis
+    assert good.jacobian.diagnosis == ""  # only a failure is diagnosed
     assert check.verdict == "fail"
     assert check.evidence.implementation.status == "verified"  # what the poses proved stays
 

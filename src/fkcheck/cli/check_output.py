@@ -153,6 +153,10 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
         if r.jacobian is not None and r.jacobian.status == "fail":
             name, message = terminal_markup(r.name), terminal_markup(r.jacobian.message)
             console.print(f"[bold red]{name}[/]: {message}")
+            if r.jacobian.diagnosis:
+                console.print(f"  diagnosis: {terminal_markup(r.jacobian.diagnosis)}")
+                for line in r.jacobian.diagnosis_details:
+                    console.print(f"    {terminal_markup(line)}")
     evidence = check.evidence
     implementation, table_text = evidence_sentences(evidence)
     table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow",

@@ -47,7 +47,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from fkcheck.core.jacobian import REFERENCES, Reference, re_express
 from fkcheck.core.typing import Float
+from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
 from fkcheck.io.format import format_fixed, format_m, format_rad
+from fkcheck.model.types import Model
 
 __all__ = [
     "MISTAKE_ORDER",
@@ -60,6 +62,7 @@ __all__ = [
     "MistakeKind",
     "column_errors",
     "diagnose_jacobian",
+    "explain_sample",
     "first_disagreeing_joint",
     "jacobian_diagnosis_to_dict",
 ]
@@ -682,3 +685,28 @@ def jacobian_diagnosis_to_dict(d: JacobianDiagnosis) -> dict[str, Any]:
         ],
         "tried": list(d.tried),
     }
+
+
+def explain_sample(
+    sample: JacobianSample, model: Model, spec: JacobianSpec, tolerance: float
+) -> tuple[str, tuple[str, ...]]:
+    """Diagnose the kept configurations (the engine's hook: ``Explain`` in engine.jacobian).
+
+    Returns:
+        ``(headline, details)``: the diagnosis's sentence and its further lines.
+    """
+    diagnosis = diagnose_jacobian(
+        sample.ours,
+        sample.theirs,
+        from_T_to=sample.from_T_to,
+        reference=spec.reference,
+        prismatic=model.chain.prismatic,
+        tolerance=tolerance,
+        joint_names=[j.name for j in model.joints],
+    )
+    details: list[str] = []
+    for line in diagnosis.text().splitlines()[1:]:
+        if line.startswith("as given"):  # the columns and the tries stay in `text()`
+            break
+        details.append(line.strip())
+    return diagnosis.headline, tuple(details)

@@ -27,7 +27,7 @@ from fkcheck.engine.evidence import (
     dh_parting,
     urdf_axes,
 )
-from fkcheck.engine.jacobian import JacobianComparison, JacobianSpec
+from fkcheck.engine.jacobian import Explain, JacobianComparison, JacobianSpec
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, JacobianResult, Status
 from fkcheck.model.frames import (
     CHUNK,
@@ -57,6 +57,7 @@ class Job:
         pair: ``(frame_from, frame_to)`` of the compared pose.
         tol: ``(position m, rotation rad)`` tolerances.
         jacobian: Also compare the Jacobian of ``pair[1]`` (``check --jacobian``).
+        explain: Names a Jacobian disagreement (see :data:`fkcheck.engine.jacobian.Explain`).
     """
 
     backend: Backend
@@ -65,6 +66,7 @@ class Job:
     pair: tuple[str, str]
     tol: tuple[float, float]
     jacobian: JacobianSpec | None = None
+    explain: Explain | None = None
 
 
 def evidence_of(backend: Backend) -> Evidence:
@@ -189,6 +191,7 @@ class _JacobianRun:
 
     def __init__(self, job: Job) -> None:
         self.spec = job.jacobian
+        self.explain = job.explain
         self.comparison: JacobianComparison | None = None
         self.failure: str | None = None
         self.skip: str | None = None
@@ -234,6 +237,13 @@ class _JacobianRun:
                 f"max linear difference {lin.max():.3g} m/rad, max angular {ang.max():.3g} "
                 f"rad/rad; first column to disagree: joint {first_bad + 1} ({joint})"
             )
+        sample = comparison.sample()
+        diagnosis, details = "", tuple[str, ...]()
+        if n_bad and self.explain is not None:
+            try:  # evidence never changes a verdict: a failed diagnosis only says so
+                diagnosis, details = self.explain(sample, comparison.model, spec, tol)
+            except Exception as exc:
+                diagnosis = f"the Jacobian diagnosis failed: {type(exc).__name__}: {exc}"
         return JacobianResult(
             "fail" if n_bad else "pass",
             message,
@@ -245,7 +255,9 @@ class _JacobianRun:
             column_linear=comparison.column_linear,
             column_angular=comparison.column_angular,
             worst_index=worst,
-            sample=comparison.sample(),
+            sample=sample,
+            diagnosis=diagnosis,
+            diagnosis_details=details,
         )
 
 

@@ -37,6 +37,7 @@ disagrees.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -51,6 +52,7 @@ from fkcheck.model.types import Model, resolve_frame
 
 __all__ = [
     "SAMPLES_KEPT",
+    "Explain",
     "JacobianComparison",
     "JacobianSample",
     "JacobianSpec",
@@ -92,6 +94,13 @@ class JacobianSample:
     ours: Float
     theirs: Float
     from_T_to: Float
+
+
+#: Names why two Jacobians differ, from the kept configurations: ``(sample, model,
+#: spec, tolerance) → (headline, details)``. The engine cannot import the
+#: diagnosis (a layer above it); :func:`fkcheck.check` hands it
+#: :func:`fkcheck.diagnose.jacobian.explain_sample`.
+Explain = Callable[["JacobianSample", Model, JacobianSpec, float], tuple[str, tuple[str, ...]]]
 
 
 def check_fixed_from(model: Model, frame_from: str) -> None:

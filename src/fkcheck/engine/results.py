@@ -65,6 +65,9 @@ class JacobianResult:
         column_angular: Per joint, the largest angular difference of its column.
         worst_index: The configuration with the largest difference.
         sample: Both Jacobians at the first configurations and the worst.
+        diagnosis: For a failure, which convention would make them agree (or
+            that none does), in one sentence; ``""`` when not diagnosed.
+        diagnosis_details: The diagnosis's further lines.
     """
 
     status: Status
@@ -78,6 +81,8 @@ class JacobianResult:
     column_angular: Float | None = None
     worst_index: int | None = None
     sample: JacobianSample | None = None
+    diagnosis: str = ""
+    diagnosis_details: tuple[str, ...] = ()
 
     @property
     def ran(self) -> bool:

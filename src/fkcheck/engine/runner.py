@@ -28,7 +28,7 @@ from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
 from fkcheck.engine.expected import apply_known_differences
-from fkcheck.engine.jacobian import JacobianSpec, check_fixed_from
+from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
@@ -275,6 +275,7 @@ def run_check(
     timeout_s: float = 120.0,
     require: Sequence[Kind] = (),
     jacobian: JacobianSpec | None = None,
+    explain_jacobian: Explain | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
 ) -> CheckResult:
@@ -300,6 +301,8 @@ def run_check(
             the verdict is ``unverified``.
         jacobian: Also compare each backend's Jacobian of ``frame_to`` with the
             core's (:mod:`fkcheck.engine.jacobian`); a disagreement fails the check.
+        explain_jacobian: Names each Jacobian disagreement (``fkcheck.check`` passes
+            the diagnosis's); without it a failure carries its numbers only.
         on_done: Called with each backend's result as it finishes.
         on_progress: Called as ``(backend name, configurations done, total)`` after
             each chunk a backend finishes (from that backend's thread).
@@ -346,7 +349,9 @@ def run_check(
             outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
         else:
             outcome = _run_one(
-                Job(backend, model, q.q, pair, tol, jacobian), timeout_s, on_progress
+                Job(backend, model, q.q, pair, tol, jacobian, explain_jacobian),
+                timeout_s,
+                on_progress,
             )
         with lock:
             if isinstance(outcome, FkcheckError):

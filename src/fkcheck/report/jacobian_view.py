@@ -48,6 +48,8 @@ class JacobianRow:
         tolerance: The tolerance applied to it, formatted.
         message: Why it failed, errored or was skipped.
         first_column: The first joint whose column disagrees (``""`` when none).
+        diagnosis: Which convention would make it agree (``""`` when not diagnosed).
+        diagnosis_details: The diagnosis's further lines.
         cells: One per joint column (empty if not compared).
     """
 
@@ -59,6 +61,8 @@ class JacobianRow:
     tolerance: str
     message: str
     first_column: str
+    diagnosis: str
+    diagnosis_details: tuple[str, ...]
     cells: tuple[JacobianCell, ...]
 
 
@@ -116,6 +120,8 @@ def jacobian_section(check: CheckResult) -> JacobianSection | None:
                 tolerance=f"{j.tolerance:g}",
                 message=j.message,
                 first_column="" if first is None else joints[first],
+                diagnosis=j.diagnosis,
+                diagnosis_details=j.diagnosis_details,
                 cells=cells,
             )
         )

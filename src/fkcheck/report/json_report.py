@@ -68,6 +68,8 @@ def _jacobian(result: BackendResult, check: CheckResult) -> dict[str, Any]:
         "worst_q": None if j.worst_index is None else check.q[j.worst_index].tolist(),
         "first_disagreeing_joint": None if first is None else check.model.joints[first].name,
         "columns": columns,
+        "diagnosis": j.diagnosis,
+        "diagnosis_details": list(j.diagnosis_details),
     }
 
 

@@ -88,7 +88,9 @@ def _jacobian_case(
         )
         detail = f"{detail}; {numbers}" if detail else numbers
     if j.status == "fail":
-        summary = f"{result.name}'s Jacobian disagrees: {j.message}"
+        summary = f"{result.name}'s Jacobian disagrees: {j.diagnosis or j.message}"
+        if j.diagnosis:
+            detail = "\n".join([detail, f"diagnosis: {j.diagnosis}", *j.diagnosis_details])
         ET.SubElement(case, "failure", message=summary, type="disagreement").text = detail
         counts["failures"] += 1
     elif j.status == "error":

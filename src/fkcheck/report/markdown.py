@@ -205,6 +205,7 @@ def _causes(
                 lines.append(
                     f"- {MARK[j.status]} **{prefix}{escape_markdown(r.name)} (Jacobian)**: "
                     f"{escape_markdown(j.message)}"
+                    + (f" — diagnosis: {escape_markdown(j.diagnosis)}" if j.diagnosis else "")
                 )
     return lines
 
@@ -232,6 +233,8 @@ def _jacobian_table(check: CheckResult) -> list[str]:
                 format_scientific(j.max_angular_error, "rad/rad"),
             ]
         how = j.method if j.ran else j.message
+        if j.diagnosis:
+            how = f"{how} — diagnosis: {j.diagnosis}"
         lines.append(
             f"| {escape_markdown(r.name)} | {_ICON[j.status]} {j.status} | "
             f"{numbers[0]} | {numbers[1]} | {escape_markdown(how)} |"
