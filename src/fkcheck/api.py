@@ -22,7 +22,9 @@ from pathlib import Path
 
 from fkcheck.backends.base import Backend
 from fkcheck.backends.registry import default_backends, make_backend
+from fkcheck.core.typing import JacobianReference
 from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
+from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.runner import Progress, run_check
 from fkcheck.engine.verdict import Verdict, headline
@@ -76,6 +78,9 @@ def check(
     tol_rot_rad: float | None = None,
     timeout_s: float = 120.0,
     require: Sequence[Kind] = (),
+    jacobian: bool | None = None,
+    jacobian_reference: JacobianReference | None = None,
+    tol_jacobian: float | None = None,
     diagnose: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
@@ -97,6 +102,11 @@ def check(
         timeout_s: Time limit per backend, seconds.
         require: Kinds of evidence that must be verified (``"table"``,
             ``"implementation"``); else the verdict is ``unverified``.
+        jacobian: Also compare each backend's Jacobian of ``frame_to`` (default:
+            the model's ``[check] jacobian``); see :mod:`fkcheck.engine.jacobian`.
+        jacobian_reference: ``"world-aligned"``, ``"local"`` or ``"world"``
+            (default: the model's ``[check]``, else ``"world-aligned"``).
+        tol_jacobian: Jacobian tolerance, m/rad and rad/rad (default: the model's ``[check]``).
         diagnose: When the check fails, run ``fkcheck diagnose`` against each
             distinct disagreeing backend (about a second each).
         on_progress: Called as ``(backend, configurations done, total)``.
@@ -113,6 +123,15 @@ def check(
         backends = default_backends()
     else:
         backends = [b if not isinstance(b, str) else make_backend(b) for b in against]
+    wanted = loaded.check.jacobian if jacobian is None else jacobian
+    spec = (
+        JacobianSpec(
+            jacobian_reference or loaded.check.jacobian_reference,
+            tol_jacobian or loaded.check.tol_jacobian,
+        )
+        if wanted
+        else None
+    )
     result = run_check(
         loaded,
         backends,
@@ -125,6 +144,7 @@ def check(
         tol_rot_rad=tol_rot_rad,
         timeout_s=timeout_s,
         require=require,
+        jacobian=spec,
         on_done=on_done,
         on_progress=on_progress,
     )

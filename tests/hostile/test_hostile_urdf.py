@@ -765,5 +765,7 @@ def test_xacro_message_quotes_a_snippet_on_one_line(tmp_path):
     expected = repr("\n  ${1 +\n 2} and then a long tail of text \n…")  # 10 before, 40 after
     assert message.endswith(
         "r.urdf: line 58: contains a xacro expression ${…} in the text after </link>: "
-        f"{expected}; fkcheck never runs xacro: expand it to a plain URDF first and check that"
+        f"{expected}; fkcheck runs xacro only when asked: to expand it, set xacro = true in "
+        "the model's [urdf] table or pass --allow-xacro (or write a plain URDF with fkcheck "
+        "expand)"
     ), message

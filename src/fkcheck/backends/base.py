@@ -70,10 +70,12 @@ class Backend(Protocol):
     engine's process; the object, the model and ``q`` must pickle) and
     ``imports`` (a tuple of module names the engine imports once, in the main
     thread, before backends start: two threads importing one heavy library
-    lazily at the same time can hit Python's import-deadlock detection), and
+    lazily at the same time can hit Python's import-deadlock detection),
     ``reads_urdf = True`` (it computes a link of the model's URDF from the URDF
     itself, so it may compare ``urdf:LINK`` for a link no frame declares; see
-    :func:`fkcheck.urdf.mapping.with_link_frames`).
+    :func:`fkcheck.urdf.mapping.with_link_frames`) and, for a
+    :class:`ProvidesJacobian` backend, ``jacobian_method`` (the library call its
+    Jacobians come from, for the reports).
     """
 
     name: str
@@ -137,8 +139,12 @@ class ProvidesJacobian(Protocol):
 
     def frame_jacobian(
         self, model: Model, q: Float, frame: str, reference: JacobianReference
-    ) -> Float:
-        """The Jacobian of a named frame at each configuration, ``(N, 6, n)``."""
+    ) -> Float | None:
+        """The Jacobian of a named frame at each configuration, ``(N, 6, n)``.
+
+        ``None`` when this backend has no Jacobian of that frame in that
+        reference (a plugin without one): the engine then differentiates its poses.
+        """
         ...
 
 

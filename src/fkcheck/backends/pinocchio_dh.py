@@ -72,6 +72,7 @@ class PinocchioDH:
 
     name = "pinocchio-dh"
     method = "forwardKinematics + updateFramePlacements (loop)"
+    jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "implementation"
     imports = ("pinocchio",)
 

@@ -48,6 +48,7 @@ class PinocchioUrdf:
 
     name = "pinocchio-urdf"
     method = "buildModelFromXML + framesForwardKinematics (loop)"
+    jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "table"
     reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
     imports = ("pinocchio",)

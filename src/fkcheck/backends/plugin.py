@@ -17,6 +17,15 @@ current directory and environment, so the module is found exactly as an
 process and all it started are killed. What the plugin prints goes to its
 stderr, never into its answer.
 
+**Jacobians** (``check --jacobian``): if the module also defines
+``<function>_jacobian``, it receives the same ``q`` and returns the TCP's
+geometric Jacobian ``(N, 6, n)``: linear rows (the TCP origin's velocity) then
+angular, both in world axes — fkcheck's ``world-aligned`` (Pinocchio
+``LOCAL_WORLD_ALIGNED``, Robotics Toolbox ``jacob0``). It is compared as the
+plugin's own Jacobian when the check's ``to`` frame is the TCP and the reference
+is ``world-aligned``; otherwise (or without it) the engine differentiates the
+plugin's poses.
+
 The module is imported (in that process) when poses are first asked for, not
 when the backend is built, so a plugin that cannot be imported shows up as this
 backend's *error* in the check (like every other failure of the callable: it
@@ -37,9 +46,9 @@ import numpy as np
 from fkcheck.backends.base import Evidence, validated_q
 from fkcheck.backends.blackbox import frame_poses_from_tcp, require_tcp_frames
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import BackendNotFoundError
-from fkcheck.model.types import Model
+from fkcheck.model.types import Model, Offset, resolve_frame
 from fkcheck.process.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
 
 __all__ = ["PluginBackend", "PluginError"]
@@ -102,6 +111,7 @@ class PluginBackend:
         self.function = function
         self.name = f"{module}:{function}"
         self.method = f"python callable {self.name}"
+        self.jacobian_method = f"python callable {self.name}_jacobian"
         self.timeout_s = options.timeout_s
 
     def unavailable_reason(self, model: Model) -> str | None:
@@ -141,6 +151,66 @@ class PluginBackend:
             raise PluginError(self.name, str(value))
         world_T_tcp: Float = value
         return frame_poses_from_tcp(model, world_T_tcp, frames)
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float | None:
+        """The plugin's ``<function>_jacobian`` of the TCP, ``(N, 6, n)``, world-aligned.
+
+        Returns:
+            ``None`` when the plugin has no ``<function>_jacobian``, ``frame`` is
+            not the TCP or ``reference`` is not ``"world-aligned"`` (the engine
+            then differentiates the plugin's poses).
+
+        Raises:
+            PluginError: As for :meth:`frame_poses`; also a Jacobian of another shape.
+        """
+        q = validated_q(model, q)
+        if reference != "world-aligned" or resolve_frame(model, frame).dh != "tcp":
+            return None
+        if resolve_frame(model, frame).offset != Offset():
+            return None
+        job = functools.partial(
+            _call_jacobian, self.name, self.module, f"{self.function}_jacobian", q.copy(), model.dof
+        )
+        try:
+            kind, value = run_isolated(job, self.timeout_s, answer_limit(q.shape[0]))
+        except IsolatedTimeout:
+            raise PluginError(
+                self.name, f"timed out after {self.timeout_s:g} s (its process was killed)"
+            ) from None
+        except IsolatedDied as exc:
+            raise PluginError(self.name, str(exc)) from None
+        if kind == "absent":
+            return None
+        if kind != "ok":
+            raise PluginError(self.name, str(value))
+        jacobian: Float = value
+        return jacobian
+
+
+def _call_jacobian(spec: str, module: str, function: str, q: Float, dof: int) -> tuple[str, Any]:
+    """In the plugin's process: ``("ok", J)``, ``("absent", None)`` or ``("error", why)``."""
+    try:
+        mod = importlib.import_module(module)
+        jacobian = getattr(mod, function, None)
+        if jacobian is None:
+            return ("absent", None)
+        if not callable(jacobian):
+            raise PluginError(spec, f"{module}.{function} is not callable")
+        try:
+            arr = np.asarray(jacobian(q), dtype=np.float64)
+        except Exception as exc:
+            raise PluginError(spec, f"{function} raised {type(exc).__name__}: {exc}") from exc
+        if arr.shape != (q.shape[0], 6, dof):
+            raise PluginError(
+                spec, f"{function} returned shape {arr.shape}; expected ({q.shape[0]}, 6, {dof})"
+            )
+        return ("ok", arr)
+    except PluginError as exc:
+        return ("error", exc.problem[:_PROBLEM_CHARS])
+    except Exception as exc:
+        return ("error", f"importing module {module!r} raised {type(exc).__name__}: {exc}")
 
 
 def _call(spec: str, module: str, function: str, q: Float) -> tuple[str, Any]:

@@ -108,6 +108,7 @@ class RtbDH:
 
     name = "rtb-dh"
     method = "DHRobot.ets().eval (C fknm, batched); DH frame k: base + first k links' ETS"
+    jacobian_method = "ETS.jacob0 / ETS.jacobe (loop); world: jacob0 with v + p × ω"
     evidence: Evidence = "implementation"
     imports = RTB_IMPORTS
 

@@ -49,7 +49,7 @@ STEP_SUMMARY = "GITHUB_STEP_SUMMARY"
 def model_inputs(model: Model) -> list[Input]:
     """The model file and, when it has one that exists, its URDF (screened).
 
-    The URDF is screened here (:func:`fkcheck.urdf.tree.read_urdf`), before
+    The URDF is screened here (:func:`fkcheck.urdf.source.read_model_urdf`), before
     any output path is planned: input is refused before anything, even a probe
     of an output directory, touches the disk.
 
@@ -57,16 +57,14 @@ def model_inputs(model: Model) -> list[Input]:
         UrdfError: The URDF is missing, not a regular file, unsafe or broken.
     """
     from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import resolve_urdf_path
-    from fkcheck.urdf.tree import read_urdf
+    from fkcheck.urdf.source import read_model_urdf
 
     found: list[Input] = [(f"the model file of {model.name}", model.path)]
     if model.urdf is not None:
         try:
-            urdf, packages = resolve_urdf_path(model)
+            urdf = read_model_urdf(model).path  # a xacro file is expanded, when allowed
         except BackendUnavailable:  # example-robot-data is not installed: no file here
             return found
-        read_urdf(urdf, packages)
         found.append((f"the URDF of {model.name}", urdf))
     return found
 

@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.cli.progress import PLAIN_INTERVAL_S
+from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import FkcheckError
 
 if TYPE_CHECKING:
@@ -115,6 +116,34 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--to", dest="frame_to", metavar="FRAME", help="frame whose pose is compared")
     p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
     p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
+    p.add_argument(
+        "--jacobian",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="also compare each backend's Jacobian of the --to frame with the core's (its "
+        "library's own, or central differences of its poses); a disagreement fails the check "
+        "(default: the model's [check] jacobian)",
+    )
+    p.add_argument(
+        "--jacobian-reference",
+        choices=JACOBIAN_REFERENCES,
+        help="the Jacobian's reference frame: world-aligned (the --to origin's velocity in "
+        "--from axes; Pinocchio LOCAL_WORLD_ALIGNED, RTB jacob0), local (--to axes; LOCAL, "
+        "jacobe), world (the twist at the --from origin; WORLD); implies --jacobian",
+    )
+    p.add_argument(
+        "--tol-jacobian",
+        type=float,
+        metavar="TOL",
+        help="Jacobian tolerance, m/rad (linear rows) and rad/rad (angular rows); default "
+        "1e-6; implies --jacobian",
+    )
+    p.add_argument(
+        "--allow-xacro",
+        action="store_true",
+        help="expand the models' xacro URDFs, as xacro = true in [urdf] does (${…} is "
+        "Python: only for files you trust)",
+    )
     p.add_argument("--timeout", type=float, metavar="S",
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
@@ -179,6 +208,7 @@ def _validate(args: argparse.Namespace) -> None:
 
     check_sampling_options(args.samples, args.seed)
     for flag, value in (("--tol-pos", args.tol_pos), ("--tol-rot", args.tol_rot),
+                        ("--tol-jacobian", args.tol_jacobian),
                         ("--timeout", args.timeout)):  # fmt: skip
         if value is not None and not (math.isfinite(value) and value > 0):
             raise JointInputError(f"{flag} must be a positive number, got {value}")
@@ -242,6 +272,12 @@ def run(args: argparse.Namespace) -> int:
     _validate(args)
     require_from_args(args)  # bad --require is exit 2 before anything runs
     targets = _targets(args, project)
+    if args.allow_xacro:
+        from dataclasses import replace
+
+        from fkcheck.urdf.source import allow_xacro
+
+        targets = [replace(t, model=allow_xacro(t.model)) for t in targets]
     one_file = len(args.models) == 1 and not _Path(args.models[0]).is_dir()
     if args.all or args.out_dir is not None or not one_file or len(targets) != 1:
         _validate_many(args)

@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 import math
 import shlex
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from fkcheck.io.format import format_angle_console, format_length_console
+from fkcheck.io.format import format_angle_console, format_length_console, format_scientific
 from fkcheck.io.text import terminal_markup, terminal_text
 
 if TYPE_CHECKING:
@@ -31,11 +31,12 @@ __all__ = [
 ]
 
 
-_STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow"}
+_STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow",
+          "xfail": "bold yellow", "xpass": "bold red"}  # fmt: skip
 
 
 def _worst_q(result: BackendResult, check: CheckResult) -> str:
-    if result.worst_index is None or result.status != "fail":
+    if result.worst_index is None or result.status not in ("fail", "xfail"):
         return ""
     q = check.q[result.worst_index]
     parts = [
@@ -143,13 +144,19 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
                 terminal_markup(r.message), "", "", "",
             )  # fmt: skip
     console.print(table)
+    if check.jacobian is not None:
+        console.print(_jacobian_table(check))
     for r in check.backends:
-        if r.status == "fail":
+        if r.status in ("fail", "xfail", "xpass"):
             name, message = terminal_markup(r.name), terminal_markup(r.message)
+            console.print(f"[{_STYLE[r.status]}]{name}[/]: {message}")
+        if r.jacobian is not None and r.jacobian.status == "fail":
+            name, message = terminal_markup(r.name), terminal_markup(r.jacobian.message)
             console.print(f"[bold red]{name}[/]: {message}")
     evidence = check.evidence
     implementation, table_text = evidence_sentences(evidence)
-    table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow"}
+    table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow",
+                   "expected-failure": "bold yellow"}  # fmt: skip
     imp_style = table_style[evidence.implementation.status]
     tab_style = table_style[evidence.table.status]
     console.print(f"evidence: [{imp_style}]{terminal_markup(implementation)}[/]")
@@ -161,6 +168,40 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     answered = len(check.ran)
     count = f" ({answered} backend(s) answered)" if answered else ""
     console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
+
+
+def _jacobian_table(check: CheckResult) -> Any:
+    """The Jacobian comparison, one row per backend (``check --jacobian``)."""
+    from rich.table import Table
+
+    assert check.jacobian is not None
+    table = Table(
+        title=f"Jacobian of {terminal_markup(check.frame_to)}, {check.jacobian.reference}, "
+        f"tolerance {check.jacobian.tol:g} (m/rad, rad/rad)",
+        title_justify="left",
+    )
+    for column in ("backend", "status", "max linear diff", "max angular diff", "first column",
+                   "how"):  # fmt: skip
+        table.add_column(column, overflow="fold", no_wrap=column in ("backend", "status"))
+    for r in check.backends:
+        j = r.jacobian
+        if j is None:
+            continue
+        status = f"[{_STYLE[j.status]}]{j.status}[/]"
+        if not j.ran:
+            table.add_row(terminal_markup(r.name), status, terminal_markup(j.message), "", "", "")
+            continue
+        first = j.first_bad_column
+        column = "" if first is None else terminal_markup(_joint_label(check, first))
+        table.add_row(
+            terminal_markup(r.name), status, format_scientific(j.max_linear_error, "m/rad"),
+            format_scientific(j.max_angular_error, "rad/rad"), column, terminal_markup(j.method),
+        )  # fmt: skip
+    return table
+
+
+def _joint_label(check: CheckResult, index: int) -> str:
+    return f"joint {index + 1} ({check.model.joints[index].name})"
 
 
 def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:

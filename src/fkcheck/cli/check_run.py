@@ -35,6 +35,7 @@ from fkcheck.cli.check_output import (
 __all__ = [
     "backends_from_args",
     "check_with_progress",
+    "jacobian_from_args",
     "model_command",
     "require_from_args",
     "run_many",
@@ -60,6 +61,15 @@ def require_from_args(args: argparse.Namespace) -> tuple[Kind, ...]:
         return parse_require(values, "--require")
     except ValueError as exc:
         raise FkcheckError(str(exc)) from None
+
+
+def jacobian_from_args(args: argparse.Namespace) -> bool | None:
+    """``--jacobian``/``--no-jacobian``; ``--jacobian-reference`` or ``--tol-jacobian`` imply it."""
+    if args.jacobian is not None:
+        return bool(args.jacobian)
+    if args.jacobian_reference is not None or args.tol_jacobian is not None:
+        return True
+    return None  # the model's [check] jacobian
 
 
 def check_with_progress(
@@ -88,6 +98,9 @@ def check_with_progress(
             tol_rot_rad=args.tol_rot,
             timeout_s=args.timeout,
             require=require_from_args(args),
+            jacobian=jacobian_from_args(args),
+            jacobian_reference=args.jacobian_reference,
+            tol_jacobian=args.tol_jacobian,
             diagnose=diagnose,
             on_progress=on_progress,
         )
@@ -131,6 +144,13 @@ def model_command(args: argparse.Namespace, model: str) -> str:
         argv += ["--tol-rot", f"{args.tol_rot:g}"]
     for value in args.require or ():
         argv += ["--require", value]
+    jacobian = jacobian_from_args(args)
+    if jacobian is not None:
+        argv.append("--jacobian" if jacobian else "--no-jacobian")
+    if args.jacobian_reference is not None:
+        argv += ["--jacobian-reference", args.jacobian_reference]
+    if args.tol_jacobian is not None:
+        argv += ["--tol-jacobian", f"{args.tol_jacobian:g}"]
     return "fkcheck " + shlex.join(argv)
 
 
@@ -199,6 +219,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     failed = [label for label, c in labelled if c.verdict != "pass"]
     verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
     unchecked = [label for label, c in labelled if c.evidence.table.status == "not-checked"]
+    expected = [label for label, c in labelled if c.evidence.table.status == "expected-failure"]
     where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
     print(f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; {where}")
     print(
@@ -209,6 +230,11 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         f"fkcheck: implementation only, table not checked: {len(unchecked)} "
         f"({terminal_text(', '.join(unchecked))})"
     )
+    if expected:
+        print(
+            f"fkcheck: table differs from its URDF as recorded (expected failure, not verified): "
+            f"{len(expected)} ({terminal_text(', '.join(expected))})"
+        )
     return 0 if not failed else 1
 
 

@@ -37,6 +37,11 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
     p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
     p.add_argument("--json", type=Path, metavar="PATH", help="write the diagnosis as JSON here")
+    p.add_argument(
+        "--allow-xacro",
+        action="store_true",
+        help="expand the model's xacro URDF, as xacro = true in [urdf] does",
+    )
     p.set_defaults(run=run)
 
 
@@ -58,6 +63,10 @@ def run(args: argparse.Namespace) -> int:
         if value is not None and not (math.isfinite(value) and value > 0):
             raise JointInputError(f"{flag} must be a positive number, got {value}")
     model = load_model(args.model)
+    if args.allow_xacro:
+        from fkcheck.urdf.source import allow_xacro
+
+        model = allow_xacro(model)
     for warning in model.warnings:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     name = args.against

@@ -62,8 +62,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.urdf.chain import read_urdf_file, urdf_kinematics
     from fkcheck.urdf.locate import urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
-    from fkcheck.urdf.source import resolve_urdf_path
-    from fkcheck.urdf.tree import read_urdf
+    from fkcheck.urdf.source import read_model_urdf
 
     check_sampling_options(args.samples, args.seed)
     model = load_model(args.model)
@@ -71,8 +70,8 @@ def run(args: argparse.Namespace) -> int:
         path, _text, kin = read_urdf_file(args.urdf)
         spec = urdf_spec_for(path, model.path)  # relative to the model file the block goes in
     elif model.urdf is not None:
-        path, package_dirs = resolve_urdf_path(model)
-        kin = urdf_kinematics(read_urdf(path.resolve(), package_dirs))
+        info = read_model_urdf(model)  # screened; expanded first when xacro = true
+        path, kin = info.path, urdf_kinematics(info)
         spec = model.urdf.path
     else:
         raise FkcheckError(

@@ -32,6 +32,11 @@ def add_parser(sub: Any) -> None:
         help="also write the model mapped onto the new URDF",
     )
     p.add_argument("--name", help="<robot name> (default: the model's name)")
+    p.add_argument(
+        "--allow-xacro",
+        action="store_true",
+        help="the model's own [urdf] may be xacro (it is read to screen it), as xacro = true does",
+    )
     p.set_defaults(run=run)
 
 
@@ -45,6 +50,10 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.urdf.export import model_for_urdf, urdf_from_model
 
     model = load_model(args.model)
+    if args.allow_xacro:
+        from fkcheck.urdf.source import allow_xacro
+
+        model = allow_xacro(model)
     plan(args, [("-o", args.output), ("--write-model", args.write_model)], model_inputs(model))
     export = urdf_from_model(model, args.name)
     write_text_atomic(args.output, export.text)

@@ -10,6 +10,7 @@ is 3.0e-4 m off).
 from __future__ import annotations
 
 __all__ = [
+    "DEFAULT_TOL_JACOBIAN",
     "DEFAULT_TOL_POS_M",
     "DEFAULT_TOL_ROT_RAD",
     "FAST_CORE",
@@ -56,3 +57,11 @@ FINITE_DIFFERENCE = 1e-7
 #: round-off, far below any real modelling error.
 DEFAULT_TOL_POS_M = 1e-6
 DEFAULT_TOL_ROT_RAD = 1e-6
+
+#: User-facing default tolerance of ``check --jacobian``, on both parts: the linear
+#: rows (m/rad; m/m for a prismatic column) and the angular rows (rad/rad). Same
+#: scale as the pose defaults: Jacobians of one chain agree to ~1e-15, a URDF's
+#: rounded π/2 moves them ~1e-11, finite differences are within
+#: :data:`FINITE_DIFFERENCE`, and a wrong convention (a flipped column, the tool
+#: offset left out, the wrong reference frame) is of the order of the reach.
+DEFAULT_TOL_JACOBIAN = 1e-6

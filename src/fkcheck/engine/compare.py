@@ -27,7 +27,8 @@ from fkcheck.engine.evidence import (
     dh_parting,
     urdf_axes,
 )
-from fkcheck.engine.results import REFERENCE_NAME, BackendResult
+from fkcheck.engine.jacobian import JacobianComparison, JacobianSpec
+from fkcheck.engine.results import REFERENCE_NAME, BackendResult, JacobianResult, Status
 from fkcheck.model.frames import (
     CHUNK,
     reference_poses,
@@ -55,6 +56,7 @@ class Job:
         q: ``(N, n)`` configurations, radians / metres.
         pair: ``(frame_from, frame_to)`` of the compared pose.
         tol: ``(position m, rotation rad)`` tolerances.
+        jacobian: Also compare the Jacobian of ``pair[1]`` (``check --jacobian``).
     """
 
     backend: Backend
@@ -62,6 +64,7 @@ class Job:
     q: Float
     pair: tuple[str, str]
     tol: tuple[float, float]
+    jacobian: JacobianSpec | None = None
 
 
 def evidence_of(backend: Backend) -> Evidence:
@@ -99,6 +102,7 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
     first_non_finite = -1
     tol_pos, tol_rot = job.tol
     tracker = WorstTracker()
+    jac = _JacobianRun(job)
     for first in range(0, q.shape[0], CHUNK):
         chunk = q[first : first + CHUNK]
         poses = np.asarray(backend.frame_poses(model, chunk, pair), dtype=np.float64)
@@ -138,6 +142,7 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
         tracker.add(first, score_chunk, ours, as_returned)
         pos[first : first + CHUNK] = pos_chunk
         rot[first : first + CHUNK] = rot_chunk
+        jac.add(first, chunk, ref, raw)
         if on_progress is not None:
             on_progress(backend.name, first + chunk.shape[0], q.shape[0])
     score = np.maximum(pos / tol_pos, rot / tol_rot)
@@ -175,7 +180,73 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
         rotation_error_rad=rot,
         worst_index=worst,
         detail=detail,
+        jacobian=jac.result(),
     )
+
+
+class _JacobianRun:
+    """The Jacobian part of one backend's comparison: its errors, or why it has none."""
+
+    def __init__(self, job: Job) -> None:
+        self.spec = job.jacobian
+        self.comparison: JacobianComparison | None = None
+        self.failure: str | None = None
+        self.skip: str | None = None
+        if self.spec is None:
+            return
+        self.comparison = JacobianComparison(
+            job.backend, job.model, job.pair, self.spec, job.q.shape[0]
+        )
+        self.skip = self.comparison.applies
+
+    def add(self, first: int, q: Float, ours_root: Float, theirs_root: Float) -> None:
+        if self.comparison is None or self.skip or self.failure:
+            return
+        try:
+            self.comparison.add(first, q, ours_root, theirs_root)
+        except Exception as exc:  # the Jacobian's own error; the poses stand
+            own = type(exc).__module__.startswith("fkcheck.")
+            self.failure = str(exc) if own else f"{type(exc).__name__}: {exc}"
+
+    def result(self) -> JacobianResult | None:
+        spec, comparison = self.spec, self.comparison
+        if spec is None or comparison is None:
+            return None
+        method = "" if self.skip else comparison.method
+        tol = comparison.tolerance
+        if self.skip or self.failure:
+            status: Status = "skipped" if self.skip else "error"
+            return JacobianResult(
+                status, self.skip or self.failure or "", method, spec.reference, tol
+            )
+        lin, ang = comparison.linear_error, comparison.angular_error
+        score = np.maximum(lin, ang)
+        score[np.isnan(score)] = np.inf
+        worst = int(np.argmax(score)) if score.size else None
+        n_bad = int((score > tol).sum())
+        message = ""
+        if n_bad:
+            columns = np.maximum(comparison.column_linear, comparison.column_angular)
+            first_bad = int(np.flatnonzero(~(columns <= tol))[0])
+            joint = comparison.model.joints[first_bad].name or f"joint {first_bad + 1}"
+            message = (
+                f"Jacobian ({spec.reference}): {n_bad} of {score.size} configurations differ: "
+                f"max linear difference {lin.max():.3g} m/rad, max angular {ang.max():.3g} "
+                f"rad/rad; first column to disagree: joint {first_bad + 1} ({joint})"
+            )
+        return JacobianResult(
+            "fail" if n_bad else "pass",
+            message,
+            method,
+            spec.reference,
+            tol,
+            linear_error=lin,
+            angular_error=ang,
+            column_linear=comparison.column_linear,
+            column_angular=comparison.column_angular,
+            worst_index=worst,
+            sample=comparison.sample(),
+        )
 
 
 def _failure_detail(job: Job, worst: int, tracker: WorstTracker) -> FailureDetail:

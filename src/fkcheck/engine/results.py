@@ -6,7 +6,11 @@ tolerance, is not a rigid transform, or is NaN/inf: the message says which, wher
 and by how much, and the errors are still reported); ``error`` — it could not
 answer (import failed, crashed, timed out, returned no poses of the right
 shape, or a URDF it should compare was never mapped); ``skipped`` — it does not
-apply here (library missing, frame out of its reach), with the reason. What the
+apply here (library missing, frame out of its reach), with the reason;
+``xfail`` — it disagrees as the model's ``[[known_difference]]`` records
+(expected failure: the check may pass, the table is not verified by it);
+``xpass`` — it was recorded to disagree but agrees (a stale record: the check
+fails). See :mod:`fkcheck.engine.expected`. What the
 run proved — implementation and table evidence — and the verdict are in
 :mod:`fkcheck.engine.verdict`. A run where no backend ran is never a pass.
 """
@@ -21,15 +25,83 @@ import numpy as np
 from fkcheck.backends.base import Evidence
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import FailureDetail
+from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
 from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize
 from fkcheck.model.types import Model
 
-__all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "Status"]
+__all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "JacobianResult", "Status"]
 
-Status = Literal["pass", "fail", "error", "skipped"]
+Status = Literal["pass", "fail", "error", "skipped", "xfail", "xpass"]
 
 #: Name of the reference row: the in-house DH core.
 REFERENCE_NAME = "fkcheck-dh"
+
+
+def _max(values: Float | None) -> float | None:
+    if values is None or values.size == 0:
+        return None
+    if np.isnan(values).any():  # never hide a NaN behind a max
+        return float("nan")
+    return float(values.max())
+
+
+@dataclass(frozen=True, eq=False)
+class JacobianResult:
+    """One backend's Jacobian against the core's (``check --jacobian``).
+
+    How each side is computed: :mod:`fkcheck.engine.jacobian`.
+
+    Attributes:
+        status: ``pass``, ``fail``, ``error`` or ``skipped``, as for poses.
+        message: Why it was skipped or errored, or a summary of the failure.
+        method: How the backend's Jacobian was obtained (its library, or central
+            differences of its poses with their step).
+        reference: ``world-aligned``, ``local`` or ``world``.
+        tolerance: The tolerance applied, linear m/rad and angular rad/rad (the
+            asked one, floored by finite differences' accuracy for pose-only backends).
+        linear_error: Per configuration, the largest linear column difference (m/rad).
+        angular_error: Per configuration, the largest angular column difference (rad/rad).
+        column_linear: Per joint, the largest linear difference of its column.
+        column_angular: Per joint, the largest angular difference of its column.
+        worst_index: The configuration with the largest difference.
+        sample: Both Jacobians at the first configurations and the worst.
+    """
+
+    status: Status
+    message: str = ""
+    method: str = ""
+    reference: str = "world-aligned"
+    tolerance: float = 0.0
+    linear_error: Float | None = None
+    angular_error: Float | None = None
+    column_linear: Float | None = None
+    column_angular: Float | None = None
+    worst_index: int | None = None
+    sample: JacobianSample | None = None
+
+    @property
+    def ran(self) -> bool:
+        """Whether both Jacobians were computed and compared."""
+        return self.linear_error is not None
+
+    @property
+    def max_linear_error(self) -> float | None:
+        """Largest linear difference, m/rad (``None`` if not compared)."""
+        return _max(self.linear_error)
+
+    @property
+    def max_angular_error(self) -> float | None:
+        """Largest angular difference, rad/rad (``None`` if not compared)."""
+        return _max(self.angular_error)
+
+    @property
+    def first_bad_column(self) -> int | None:
+        """0-based index of the first joint whose column disagrees beyond tolerance."""
+        if self.column_linear is None or self.column_angular is None:
+            return None
+        worse = np.maximum(self.column_linear, self.column_angular)
+        bad = np.flatnonzero(~(worse <= self.tolerance))
+        return int(bad[0]) if bad.size else None
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,7 +110,7 @@ class BackendResult:
 
     Attributes:
         name: Backend name.
-        status: ``pass``, ``fail``, ``error`` or ``skipped``.
+        status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail`` or ``xpass``.
         message: Why it was skipped or errored, or a summary of the failure.
         method: The library call it used.
         duration_s: Wall time of its run, seconds (import included).
@@ -49,6 +121,7 @@ class BackendResult:
             poses at its worst configurations, the chains there; see
             :mod:`fkcheck.engine.evidence`). Reports read it; they never recompute.
         evidence: ``implementation`` or ``table``: what its agreement proves.
+        jacobian: Its Jacobian against the core's, when the check compares Jacobians.
     """
 
     name: str
@@ -61,6 +134,7 @@ class BackendResult:
     worst_index: int | None = None
     detail: FailureDetail | None = None
     evidence: Evidence = "implementation"
+    jacobian: JacobianResult | None = None
 
     @property
     def ran(self) -> bool:
@@ -116,6 +190,7 @@ class CheckResult:
         created: ISO 8601 UTC time the check started.
         duration_s: Wall time of the check, seconds.
         command: The command line that reproduces it (set by the CLI).
+        jacobian: What ``--jacobian`` compared (reference frame, tolerance), or ``None``.
     """
 
     model: Model
@@ -134,6 +209,7 @@ class CheckResult:
     created: str = ""
     duration_s: float = 0.0
     command: str = ""
+    jacobian: JacobianSpec | None = None
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

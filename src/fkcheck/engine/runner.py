@@ -27,6 +27,8 @@ import numpy as np
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
+from fkcheck.engine.expected import apply_known_differences
+from fkcheck.engine.jacobian import JacobianSpec, check_fixed_from
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
@@ -272,6 +274,7 @@ def run_check(
     tol_rot_rad: float | None = None,
     timeout_s: float = 120.0,
     require: Sequence[Kind] = (),
+    jacobian: JacobianSpec | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
 ) -> CheckResult:
@@ -295,6 +298,8 @@ def run_check(
         require: Kinds of evidence (``"table"``, ``"implementation"``) that must be
             verified, on top of the model's ``[check] require``; when one is not,
             the verdict is ``unverified``.
+        jacobian: Also compare each backend's Jacobian of ``frame_to`` with the
+            core's (:mod:`fkcheck.engine.jacobian`); a disagreement fails the check.
         on_done: Called with each backend's result as it finishes.
         on_progress: Called as ``(backend name, configurations done, total)`` after
             each chunk a backend finishes (from that backend's thread).
@@ -317,6 +322,8 @@ def run_check(
     model, placed = _place_urdf_links(model, asked)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
     tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
+    if jacobian is not None:
+        check_fixed_from(model, pair[0])
     if model.urdf is not None:
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
         # is not: each URDF backend then reports itself skipped.
@@ -338,7 +345,9 @@ def run_check(
         if placed and not getattr(backend, "reads_urdf", False):
             outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
         else:
-            outcome = _run_one(Job(backend, model, q.q, pair, tol), timeout_s, on_progress)
+            outcome = _run_one(
+                Job(backend, model, q.q, pair, tol, jacobian), timeout_s, on_progress
+            )
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)
@@ -357,7 +366,10 @@ def run_check(
         worker.join()
     if errors:
         raise errors[0]
-    ordered = tuple(results[i] for i in range(len(backends)))
+    ordered = apply_known_differences(model, pair, [results[i] for i in range(len(backends))])
+    # A Jacobian that disagrees fails the check, one that could not be computed is
+    # its error; the evidence (what the poses proved) is the poses' alone.
+    jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]
     return CheckResult(
         model=model,
         samples=samples,
@@ -370,8 +382,9 @@ def run_check(
         q=q.q,
         origin=q.origin,
         backends=ordered,
-        verdict=verdict_of(ordered, summarize(ordered, required)),
+        verdict=verdict_of((*ordered, *jacobians), summarize(ordered, required)),
         required=required,
         created=created,
         duration_s=time.perf_counter() - t0,
+        jacobian=jacobian,
     )

@@ -11,13 +11,17 @@ A cross-check answers two questions, and they are kept apart:
   or pendant poses, a table published elsewhere (``rtb-model:``).
 
 Each kind gets a status: ``verified`` (a backend of that kind answered and
-agreed, none disagreed), ``failed`` (one answered and disagreed) or
-``not-checked`` (none answered). ``require`` (``--require``, ``[check] require``)
+agreed, none disagreed), ``failed`` (one answered and disagreed, or one the
+model records as disagreeing agrees: a stale ``[[known_difference]]``),
+``expected-failure`` (those that disagree do so as the model's
+``[[known_difference]]`` records; never read as verified) or ``not-checked``
+(none answered). ``require`` (``--require``, ``[check] require``)
 names kinds that must be ``verified``; when one is not, the verdict is
 ``unverified`` (exit 1) even though nothing disagreed.
 
-Verdicts: ``pass`` — every backend that ran agrees and every required kind is
-verified; ``fail`` — a backend answered wrongly; ``error`` — a backend could
+Verdicts: ``pass`` — every backend that ran agrees (or disagrees as recorded,
+``xfail``) and every required kind is verified; ``fail`` — a backend answered
+wrongly, or agreed where the model records a difference (``xpass``); ``error`` — a backend could
 not answer, or none ran at all; ``unverified`` — nothing disagreed, but a
 required kind of evidence is missing.
 """
@@ -43,7 +47,7 @@ __all__ = [
     "verdict_of",
 ]
 
-KindStatus = Literal["verified", "not-checked", "failed"]
+KindStatus = Literal["verified", "not-checked", "failed", "expected-failure"]
 Verdict = Literal["pass", "fail", "error", "unverified"]
 
 
@@ -66,11 +70,13 @@ class EvidenceKind:
 
     Attributes:
         kind: ``implementation`` or ``table``.
-        status: ``verified``, ``failed`` or ``not-checked``.
+        status: ``verified``, ``failed``, ``expected-failure`` or ``not-checked``.
         agreed: Backends of this kind that answered and agreed.
         disagreed: Backends of this kind that answered wrongly.
         unanswered: Backends of this kind that were asked but could not answer
             (error) or did not apply (skipped).
+        expected: Backends that disagree as the model records (``xfail``).
+        stale: Backends the model records as disagreeing that agree (``xpass``).
     """
 
     kind: Kind
@@ -78,6 +84,8 @@ class EvidenceKind:
     agreed: tuple[str, ...] = ()
     disagreed: tuple[str, ...] = ()
     unanswered: tuple[str, ...] = ()
+    expected: tuple[str, ...] = ()
+    stale: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -106,8 +114,18 @@ def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
     agreed = tuple(r.name for r in mine if r.status == "pass")
     disagreed = tuple(r.name for r in mine if r.status == "fail")
     unanswered = tuple(r.name for r in mine if r.status in ("error", "skipped"))
-    status: KindStatus = "failed" if disagreed else "verified" if agreed else "not-checked"
-    return EvidenceKind(kind, status, agreed, disagreed, unanswered)
+    expected = tuple(r.name for r in mine if r.status == "xfail")
+    stale = tuple(r.name for r in mine if r.status == "xpass")
+    status: KindStatus = (
+        "failed"
+        if disagreed or stale
+        else "expected-failure"
+        if expected
+        else "verified"
+        if agreed
+        else "not-checked"
+    )
+    return EvidenceKind(kind, status, agreed, disagreed, unanswered, expected, stale)
 
 
 def summarize(results: Sequence[_Outcome], required: Sequence[Kind] = ()) -> EvidenceSummary:
@@ -123,7 +141,7 @@ def verdict_of(results: Sequence[_Outcome], evidence: EvidenceSummary) -> Verdic
     """The verdict of one check (see the module docstring)."""
     if not any(r.ran for r in results):
         return "error"
-    if any(r.status == "fail" for r in results):
+    if any(r.status in ("fail", "xpass") for r in results):
         return "fail"
     if any(r.status == "error" for r in results):
         return "error"
@@ -139,6 +157,16 @@ def _names(names: Sequence[str]) -> str:
 def _agree(names: Sequence[str], prefix: str = "") -> str:
     """``agrees`` for one backend, ``agree`` for several."""
     return f"{prefix}agrees" if len(names) == 1 else f"{prefix}agree"
+
+
+def _stale(kind: EvidenceKind) -> str:
+    """The clause naming backends whose recorded difference is no longer seen."""
+    if not kind.stale:
+        return ""
+    return (
+        f" known difference no longer seen: {_names(kind.stale)} {_agree(kind.stale)}, "
+        "though the model's [[known_difference]] records a disagreement (stale record)"
+    )
 
 
 def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
@@ -158,6 +186,7 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
             f"implementation FAILED: {_names(imp.disagreed)} {_agree(imp.disagreed, 'dis')} "
             "with the in-house core"
         )
+        imp_text += _stale(imp)
     else:
         imp_text = "implementation not checked: no other implementation of this table answered"
     if tab.status == "verified":
@@ -169,7 +198,18 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
         tab_text = (
             f"table FAILED: {_names(tab.disagreed)} {_agree(tab.disagreed, 'dis')} "
             "(evidence independent of the table)"
+            if tab.disagreed
+            else "table FAILED:"
         )
+        tab_text += _stale(tab)
+    elif tab.status == "expected-failure":
+        tab_text = (
+            f"table NOT VERIFIED, expected failure: {_names(tab.expected)} "
+            f"{_agree(tab.expected, 'dis')} as the model's [[known_difference]] records "
+            "(evidence independent of the table)"
+        )
+        if tab.agreed:
+            tab_text += f"; {_names(tab.agreed)} {_agree(tab.agreed)}"
     else:
         tab_text = (
             "table NOT CHECKED: nothing independent of it (URDF, measured poses, published "
@@ -189,6 +229,17 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
     cannot be read as "the table is right" wherever only the verdict is shown.
     """
     if verdict == "pass":
+        if evidence.table.status == "expected-failure":
+            tail = (
+                "implementation agrees"
+                if evidence.implementation.status == "verified"
+                else "no second implementation ran"
+            )
+            return (
+                "pass — expected failure: the table differs from "
+                f"{_names(evidence.table.expected)} as the model records (known difference; "
+                f"table NOT verified), {tail}"
+            )
         if evidence.table.status == "verified":
             if evidence.implementation.status == "verified":
                 return "pass — table verified independently, implementation agrees"
@@ -201,8 +252,15 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
             evidence.unmet
         )
     if verdict == "fail":
-        kinds = [k for k in KINDS if evidence.of(k).status == "failed"]
-        return "fail — " + " and ".join(f"{k} disagrees" for k in kinds)
+        parts = []
+        for k in KINDS:
+            if evidence.of(k).disagreed:
+                parts.append(f"{k} disagrees")
+            if evidence.of(k).stale:
+                parts.append(f"{k}: known difference no longer seen (stale record)")
+        if not parts:  # only a Jacobian can fail while every pose agrees
+            return "fail — the poses agree, a Jacobian disagrees"
+        return "fail — " + " and ".join(parts)
     if n_ran == 0:
         return "error — no backend gave an answer: nothing was cross-checked"
     return "error — a backend could not answer (see its message)"

@@ -22,6 +22,7 @@ __all__ = [
     "format_microseconds",
     "format_mm",
     "format_rad",
+    "format_scientific",
     "format_seconds",
     "format_value",
 ]
@@ -40,6 +41,11 @@ def _sig3(value: float) -> str:
 def _scientific(value: float | None, unit: str) -> str:
     """Scientific notation, 3 significant digits, then the unit; ``–`` when absent."""
     return _MISSING if value is None else f"{value:.2e} {unit}"
+
+
+def format_scientific(value: float | None, unit: str) -> str:
+    """A quantity in scientific notation, then its unit (``2.10e-11 m/rad``); ``–`` if absent."""
+    return _scientific(value, unit)
 
 
 def format_mm(value_m: float | None) -> str:

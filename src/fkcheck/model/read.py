@@ -16,6 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import ModelError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.numbers import NumberError, parse_number, show_text, split_fields
@@ -25,26 +26,47 @@ from fkcheck.model.types import (
     MAX_JOINT_RAD,
     MAX_JOINTS,
     MAX_LENGTH_M,
+    PACKAGE_NAME,
     CheckSpec,
     FrameSpec,
     Joint,
+    KnownDifference,
     Model,
     Offset,
     UrdfSpec,
 )
 
-__all__ = ["bundled_model_paths", "bundled_models_dir", "load_model", "model_from_dict"]
+__all__ = [
+    "KNOWN_DIFFERENCE_BACKENDS",
+    "KNOWN_DIFFERENCE_PREFIXES",
+    "bundled_model_paths",
+    "bundled_models_dir",
+    "load_model",
+    "model_from_dict",
+]
 
 _TOP_KEYS = {
     "name", "description", "source", "convention", "angle_unit",
-    "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint",
+    "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint", "known_difference",
 }  # fmt: skip
 _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
-_URDF_KEYS = {"path", "joints"}
+_URDF_KEYS = {"path", "joints", "xacro", "xacro_args", "packages"}
 _FRAME_KEYS = {"dh", "xyz", "rpy", "urdf"}
-_CHECK_KEYS = {"from", "to", "tol_pos_m", "tol_rot_rad", "require"}
+_CHECK_KEYS = {
+    "from", "to", "tol_pos_m", "tol_rot_rad", "require",
+    "jacobian", "jacobian_reference", "tol_jacobian",
+}  # fmt: skip
 _LINT_KEYS = {"ignore"}
+_KNOWN_DIFFERENCE_KEYS = {"backends", "finding", "max_position_m", "max_angle_rad"}
+#: Backends a ``[[known_difference]]`` may name: those whose evidence is
+#: independent of the table (the URDF parsers) and the prefixed ones that are
+#: (a published table, measured poses). ``rtb-dh``, ``pinocchio-dh``, plugins and
+#: ``cmd:`` programs run the model's own table: their disagreement is a bug, never
+#: a known difference. (tests/model/test_known_difference.py keeps this in step
+#: with the backend registry.)
+KNOWN_DIFFERENCE_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+KNOWN_DIFFERENCE_PREFIXES = ("rtb-model:", "poses:")
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
 _ANGLE_UNITS = ("rad", "deg")
@@ -195,6 +217,18 @@ class _Reader:
         if length is not None and len(value) != length:
             raise self.fail(field_, f"expected {length} numbers, got {len(value)}")
         return [self.number(v, f"{field_}[{i}]") for i, v in enumerate(value)]
+
+
+def _text_table(r: _Reader, value: Any, field_: str, what: str) -> dict[str, str]:
+    """An inline table of strings (``{ ur_type = "ur5e" }``), each naming ``what``."""
+    if not isinstance(value, dict):
+        raise r.fail(field_, f'expected a table such as {{ name = "…" }}, got {_kind(value)}')
+    for key, item in value.items():
+        if not isinstance(item, str):
+            raise r.fail(
+                f"{field_}.{_key(key)}", f"expected a string ({what}, as text), got {_kind(item)}"
+            )
+    return dict(value)
 
 
 def _key(name: str) -> str:
@@ -353,7 +387,18 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             raise r.fail("urdf.joints", f"names {len(raw_uj)} URDF joints but the DH table has {n}")
         if len(set(raw_uj)) != len(raw_uj):
             raise r.fail("urdf.joints", "names a URDF joint twice")
-        urdf = UrdfSpec(path=upath, joints=tuple(raw_uj))
+        xacro = u.get("xacro", False)
+        if not isinstance(xacro, bool):
+            raise r.fail("urdf.xacro", f"expected true or false, got {_kind(xacro)}")
+        xacro_args = _text_table(r, u.get("xacro_args", {}), "urdf.xacro_args", "a value")
+        packages = _text_table(r, u.get("packages", {}), "urdf.packages", "a directory")
+        for pname in packages:
+            if not PACKAGE_NAME.fullmatch(pname):
+                raise r.fail(
+                    f"urdf.packages.{_key(pname)}",
+                    "not a package name (letters, digits, '_', '.', '-')",
+                )
+        urdf = UrdfSpec(upath, tuple(raw_uj), xacro, xacro_args, packages)
 
     frames: dict[str, FrameSpec] = {
         "world": FrameSpec("world", "world"),
@@ -390,7 +435,7 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                     f"{', '.join(_key(f) for f in frames)}",
                 )
         tols: dict[str, float] = {}
-        for key in ("tol_pos_m", "tol_rot_rad"):
+        for key in ("tol_pos_m", "tol_rot_rad", "tol_jacobian"):
             if key in c:
                 tols[key] = r.number(c[key], f"check.{key}")
                 if tols[key] <= 0:
@@ -404,7 +449,26 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                 require = parse_require(raw_req, "check.require")
             except ValueError as exc:
                 raise r.fail("check.require", str(exc).split(": ", 1)[1]) from None
-        check = CheckSpec(frame_from, frame_to, require=require, **tols)
+        jacobian = c.get("jacobian", False)
+        if not isinstance(jacobian, bool):
+            raise r.fail("check.jacobian", f"expected true or false, got {_value(jacobian)}")
+        reference = r.string(
+            c.get("jacobian_reference", "world-aligned"), "check.jacobian_reference"
+        )
+        if reference not in JACOBIAN_REFERENCES:
+            raise r.fail(
+                "check.jacobian_reference",
+                f"unknown reference frame {show_text(reference)}; references are: "
+                f"{', '.join(JACOBIAN_REFERENCES)}",
+            )
+        check = CheckSpec(
+            frame_from,
+            frame_to,
+            require=require,
+            jacobian=jacobian,
+            jacobian_reference=reference,
+            **tols,
+        )
 
     lint_ignore: tuple[str, ...] = ()
     if "lint" in top:
@@ -419,6 +483,8 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
             lint_ignore = parse_lint_rules(_key(x) for x in raw_ignore)
         except ValueError as exc:
             raise r.fail("lint.ignore", str(exc)) from None
+
+    known = _known_differences(r, top.get("known_difference"))
 
     return Model(
         name=name,
@@ -436,4 +502,58 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         path=path,
         warnings=tuple(warnings),
         lint_ignore=lint_ignore,
+        known_differences=known,
     )
+
+
+def _known_differences(r: _Reader, raw: Any) -> tuple[KnownDifference, ...]:
+    """The ``[[known_difference]]`` entries, validated (see :class:`KnownDifference`)."""
+    if raw is None:
+        return ()
+    if not isinstance(raw, list):
+        raise r.fail(
+            "known_difference",
+            f"expected an array of tables [[known_difference]], got {_kind(raw)}",
+        )
+    allowed = ", ".join((*KNOWN_DIFFERENCE_BACKENDS, *(p + "…" for p in KNOWN_DIFFERENCE_PREFIXES)))
+    entries: list[KnownDifference] = []
+    listed: dict[str, int] = {}
+    for i, item in enumerate(raw):
+        where = f"known_difference[{i}]"
+        tbl = r.table(item, where, _KNOWN_DIFFERENCE_KEYS)
+        for required in ("backends", "finding"):
+            if required not in tbl:
+                raise r.fail(f"{where}.{required}", "missing (required)")
+        names = tbl["backends"]
+        if not isinstance(names, list) or not names or not all(isinstance(x, str) for x in names):
+            raise r.fail(
+                f"{where}.backends", f"expected a non-empty list of backend names: {allowed}"
+            )
+        for k, backend in enumerate(names):
+            ok = backend in KNOWN_DIFFERENCE_BACKENDS or any(
+                backend.startswith(p) and len(backend) > len(p) for p in KNOWN_DIFFERENCE_PREFIXES
+            )
+            if not ok:
+                raise r.fail(
+                    f"{where}.backends[{k}]",
+                    f"{show_text(backend)} is not a backend whose evidence is independent of the "
+                    f"table; known differences may name: {allowed}",
+                )
+            if backend in listed:
+                raise r.fail(
+                    f"{where}.backends[{k}]",
+                    f"{show_text(backend)} is listed already, "
+                    f"in known_difference[{listed[backend]}]",
+                )
+            listed[backend] = i
+        finding = r.string(tbl["finding"], f"{where}.finding")
+        if not finding.strip():
+            raise r.fail(f"{where}.finding", "must not be empty: say what fkcheck diagnose names")
+        bounds: dict[str, float] = {}
+        for key in ("max_position_m", "max_angle_rad"):
+            if key in tbl:
+                bounds[key] = r.number(tbl[key], f"{where}.{key}")
+                if bounds[key] <= 0:
+                    raise r.fail(f"{where}.{key}", "must be positive")
+        entries.append(KnownDifference(tuple(names), finding, **bounds))
+    return tuple(entries)

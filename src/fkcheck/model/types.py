@@ -20,6 +20,7 @@ value within ±:data:`MAX_JOINT_RAD` (1000 rad, 159 turns). Fixed angles
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -32,7 +33,7 @@ from numpy.typing import ArrayLike
 from fkcheck.core import dh
 from fkcheck.core.geometry import matrix_from_xyz_rpy
 from fkcheck.core.jacobian import Reference
-from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
+from fkcheck.core.tolerances import DEFAULT_TOL_JACOBIAN, DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError
 
@@ -40,10 +41,12 @@ __all__ = [
     "MAX_JOINTS",
     "MAX_JOINT_RAD",
     "MAX_LENGTH_M",
+    "PACKAGE_NAME",
     "URDF_FRAME_PREFIX",
     "CheckSpec",
     "FrameSpec",
     "Joint",
+    "KnownDifference",
     "Model",
     "Offset",
     "UrdfSpec",
@@ -63,6 +66,9 @@ MAX_LENGTH_M = 1e3
 #: Largest revolute limit or pose value, radians (159 turns). Limits make the
 #: sampling box, whose width must stay finite.
 MAX_JOINT_RAD = 1e3
+#: A package name in ``[urdf] packages`` and ``--package``: what a xacro
+#: ``$(find NAME)`` can carry (letters, digits, ``_ . -``).
+PACKAGE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
 
 
 @dataclass(frozen=True)
@@ -116,10 +122,18 @@ class UrdfSpec:
         path: As written: a path (relative to the model file) or
             ``example-robot-data:<subpath>``.
         joints: URDF joint names in DH order, one per DH joint.
+        xacro: Whether the file may be xacro, expanded by fkcheck
+            (:mod:`fkcheck.urdf.xacro`); without it a xacro file is refused.
+        xacro_args: xacro arguments (``<xacro:arg>``) by name, as text.
+        packages: The only packages ``$(find …)`` may resolve: name → directory
+            as written (relative to the model file).
     """
 
     path: str
     joints: tuple[str, ...]
+    xacro: bool = False
+    xacro_args: dict[str, str] = field(default_factory=dict)
+    packages: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -140,6 +154,30 @@ class FrameSpec:
 
 
 @dataclass(frozen=True)
+class KnownDifference:
+    """A recorded disagreement between the published table and an independent reference.
+
+    A ``[[known_difference]]`` entry says: these backends are expected to
+    disagree with the table on the model's default check (``[check] from`` →
+    ``to``), for the reason in ``finding``. The engine then reports their
+    failure as an expected failure (``xfail``), which never counts as the table
+    being verified; a listed backend that agrees is a stale expectation and
+    fails the check, as does an error beyond the recorded bounds.
+
+    Attributes:
+        backends: Names of the backends the disagreement is expected from.
+        finding: What ``fkcheck diagnose`` names as the cause.
+        max_position_m: Largest position error it may show, metres (``None``: unbounded).
+        max_angle_rad: Largest rotation error it may show, radians (``None``: unbounded).
+    """
+
+    backends: tuple[str, ...]
+    finding: str
+    max_position_m: float | None = None
+    max_angle_rad: float | None = None
+
+
+@dataclass(frozen=True)
 class CheckSpec:
     """The default check: which frame pair, and the tolerances.
 
@@ -150,6 +188,10 @@ class CheckSpec:
         tol_rot_rad: Rotation tolerance, radians.
         require: Kinds of evidence a check must verify (``"table"``,
             ``"implementation"``; see :mod:`fkcheck.engine.verdict`).
+        jacobian: Also compare Jacobians (``check --jacobian``).
+        jacobian_reference: Their reference frame: ``"world-aligned"``,
+            ``"local"`` or ``"world"`` (see :mod:`fkcheck.core.jacobian`).
+        tol_jacobian: Their tolerance, m/rad (linear) and rad/rad (angular).
     """
 
     frame_from: str = "world"
@@ -157,6 +199,9 @@ class CheckSpec:
     tol_pos_m: float = DEFAULT_TOL_POS_M
     tol_rot_rad: float = DEFAULT_TOL_ROT_RAD
     require: tuple[str, ...] = ()
+    jacobian: bool = False
+    jacobian_reference: Reference = "world-aligned"
+    tol_jacobian: float = DEFAULT_TOL_JACOBIAN
 
 
 @dataclass(frozen=True)
@@ -179,6 +224,8 @@ class Model:
         path: The file it was read from, if any.
         warnings: Things that look wrong but are not errors (e.g. degrees in a radian file).
         lint_ignore: ``fkcheck lint`` rules this model's file turns off (``[lint] ignore``).
+        known_differences: Recorded disagreements with independent references
+            (``[[known_difference]]``), reported as expected failures.
     """
 
     name: str
@@ -196,6 +243,7 @@ class Model:
     path: Path | None = None
     warnings: tuple[str, ...] = ()
     lint_ignore: tuple[str, ...] = ()
+    known_differences: tuple[KnownDifference, ...] = ()
 
     @property
     def dof(self) -> int:

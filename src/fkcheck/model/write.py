@@ -178,6 +178,13 @@ def model_to_toml(
     if model.urdf is not None:
         joints = ", ".join(_string(n) for n in model.urdf.joints)
         out.extend(["", "[urdf]", f"path = {_string(model.urdf.path)}", f"joints = [{joints}]"])
+        if model.urdf.xacro:
+            out.append("xacro = true")
+        for key, table in (("xacro_args", model.urdf.xacro_args),
+                           ("packages", model.urdf.packages)):  # fmt: skip
+            if table:
+                items = ", ".join(f"{_string(k)} = {_string(v)}" for k, v in table.items())
+                out.append(f"{key} = {{ {items} }}")
     for name, spec in model.frames.items():
         if _is_default_frame(spec):
             continue
@@ -189,6 +196,13 @@ def model_to_toml(
     )
     out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
     out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
+    if check.require:
+        out.append(f"require = [{', '.join(_string(k) for k in check.require)}]")
+    if check.jacobian:
+        out.append("jacobian = true")
+    if check.jacobian or check.jacobian_reference != "world-aligned":
+        out.append(f"jacobian_reference = {_string(check.jacobian_reference)}")
+        out.append(f"tol_jacobian = {toml_number(check.tol_jacobian)}")
     if model.lint_ignore:
         rules = ", ".join(_string(rule) for rule in model.lint_ignore)
         out.extend(["", "[lint]", f"ignore = [{rules}]"])
@@ -198,15 +212,19 @@ def model_to_toml(
 def relocate_urdf_path(model: Model, new_file: Path) -> Model:
     """The model with a relative ``[urdf].path`` rewritten for a file written at ``new_file``.
 
-    A relative URDF path is relative to the model file; a model written
-    elsewhere must point at the same URDF. ``example-robot-data:`` and absolute
+    A relative URDF path (and a relative ``[urdf] packages`` directory) is
+    relative to the model file; a model written elsewhere must point at the same
+    files. ``example-robot-data:`` and absolute
     paths are kept as they are.
     """
     if model.urdf is None or model.path is None:
         return model
-    spec = model.urdf.path
-    if spec.startswith("example-robot-data:") or Path(spec).is_absolute():
-        return model
-    target = (model.path.parent / spec).resolve()
-    new_spec = os.path.relpath(target, Path(new_file).resolve().parent)
-    return replace(model, urdf=replace(model.urdf, path=Path(new_spec).as_posix()))
+    old_dir, new_dir = model.path.parent, Path(new_file).resolve().parent
+
+    def moved(spec: str) -> str:
+        if spec.startswith("example-robot-data:") or Path(spec).is_absolute():
+            return spec
+        return Path(os.path.relpath((old_dir / spec).resolve(), new_dir)).as_posix()
+
+    packages = {name: moved(where) for name, where in model.urdf.packages.items()}
+    return replace(model, urdf=replace(model.urdf, path=moved(model.urdf.path), packages=packages))

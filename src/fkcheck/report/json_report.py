@@ -41,6 +41,33 @@ def _backend(result: BackendResult, check: CheckResult) -> dict[str, Any]:
         "message": result.message,
         "method": result.method,
         "duration_s": round(result.duration_s, 6),
+        **({"jacobian": _jacobian(result, check)} if result.jacobian is not None else {}),
+    }
+
+
+def _jacobian(result: BackendResult, check: CheckResult) -> dict[str, Any]:
+    """A backend's Jacobian comparison: errors overall and per joint column."""
+    j = result.jacobian
+    assert j is not None
+    columns = None
+    if j.column_linear is not None and j.column_angular is not None:
+        columns = [
+            {"joint": joint.name, "max_linear": float(lin), "max_angular": float(ang)}
+            for joint, lin, ang in zip(
+                check.model.joints, j.column_linear, j.column_angular, strict=True
+            )
+        ]
+    first = j.first_bad_column
+    return {
+        "status": j.status,
+        "message": j.message,
+        "method": j.method,
+        "tolerance": j.tolerance,
+        "max_linear": j.max_linear_error,
+        "max_angular": j.max_angular_error,
+        "worst_q": None if j.worst_index is None else check.q[j.worst_index].tolist(),
+        "first_disagreeing_joint": None if first is None else check.model.joints[first].name,
+        "columns": columns,
     }
 
 
@@ -65,6 +92,15 @@ def _evidence(check: CheckResult) -> dict[str, Any]:
     }
 
 
+def _jacobian_spec(check: CheckResult) -> dict[str, Any]:
+    """``{"jacobian": …}`` when the check compared Jacobians, else nothing."""
+    if check.jacobian is None:
+        return {}
+    units = {"linear": "m/rad (m/m for a prismatic joint)", "angular": "rad/rad"}
+    spec = {"reference": check.jacobian.reference, "tolerance": check.jacobian.tol}
+    return {"jacobian": {**spec, "units": units}}
+
+
 def result_to_dict(check: CheckResult) -> dict[str, Any]:
     """The JSON document as a dict."""
     return {
@@ -77,6 +113,7 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "to": check.frame_to,
         "tolerance": {"position_m": check.tol_pos_m, "rotation_rad": check.tol_rot_rad},
         "reference": REFERENCE_NAME,
+        **_jacobian_spec(check),
         "backends": [_backend(b, check) for b in check.backends],
         "verdict": check.verdict,
         "headline": headline(check.verdict, check.evidence, len(check.ran)),

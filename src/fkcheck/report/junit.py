@@ -69,6 +69,38 @@ def failure_text(
     return summary, "\n".join(lines)
 
 
+def _jacobian_case(
+    suite: ET.Element, name: str, result: BackendResult, check: CheckResult, counts: dict[str, int]
+) -> None:
+    """One test case for a backend's Jacobian (``check --jacobian``), with the same rules."""
+    j = result.jacobian
+    assert j is not None
+    case = ET.SubElement(
+        suite, "testcase", classname=name,
+        name=f"{result.name} jacobian {check.frame_to} ({j.reference})",
+    )  # fmt: skip
+    counts["tests"] += 1
+    detail = j.message
+    if j.ran:
+        numbers = (
+            f"max linear difference {j.max_linear_error:.3g} m/rad, max angular difference "
+            f"{j.max_angular_error:.3g} rad/rad (tolerance {j.tolerance:g}; {j.method})"
+        )
+        detail = f"{detail}; {numbers}" if detail else numbers
+    if j.status == "fail":
+        summary = f"{result.name}'s Jacobian disagrees: {j.message}"
+        ET.SubElement(case, "failure", message=summary, type="disagreement").text = detail
+        counts["failures"] += 1
+    elif j.status == "error":
+        ET.SubElement(case, "error", message=detail, type="error").text = detail
+        counts["errors"] += 1
+    elif j.status == "skipped":
+        ET.SubElement(case, "skipped", message=detail)
+        counts["skipped"] += 1
+    else:
+        ET.SubElement(case, "system-out").text = detail
+
+
 def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ()) -> bytes:
     """The JUnit document: a suite per check, a case per backend.
 
@@ -103,11 +135,16 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
         elif result.status == "error":
             ET.SubElement(case, "error", message=detail, type="error").text = detail
             counts["errors"] += 1
-        elif result.status == "skipped":
+        elif result.status == "xpass":
+            ET.SubElement(case, "failure", message=result.message, type="stale-known-difference")
+            counts["failures"] += 1
+        elif result.status in ("skipped", "xfail"):
             ET.SubElement(case, "skipped", message=detail)
             counts["skipped"] += 1
         else:
             ET.SubElement(case, "system-out").text = detail
+        if result.jacobian is not None:
+            _jacobian_case(suite, name, result, check, counts)
     evidence = check.evidence
     for kind, sentence in zip(
         ("implementation", "table"), evidence_sentences(evidence), strict=True
@@ -120,10 +157,10 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
         if status == "failed":
             ET.SubElement(case, "failure", message=sentence, type="disagreement").text = sentence
             counts["failures"] += 1
-        elif status == "not-checked" and kind in evidence.unmet:
+        elif status in ("not-checked", "expected-failure") and kind in evidence.unmet:
             ET.SubElement(case, "failure", message=sentence, type="required").text = sentence
             counts["failures"] += 1
-        elif status == "not-checked":
+        elif status in ("not-checked", "expected-failure"):
             ET.SubElement(case, "skipped", message=sentence)
             counts["skipped"] += 1
         else:

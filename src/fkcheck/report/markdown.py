@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
 from fkcheck.engine.verdict import KINDS, evidence_sentences, headline
-from fkcheck.io.format import format_angle_summary, format_length_summary
+from fkcheck.io.format import format_angle_summary, format_length_summary, format_scientific
 from fkcheck.io.text import markdown_text as escape_markdown
 from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
 
@@ -34,16 +34,22 @@ if TYPE_CHECKING:
 __all__ = ["LEGEND", "MARK", "escape_markdown", "markdown_summary", "write_summary"]
 
 #: A backend's status in the several-models table, one character wide.
-MARK = {"pass": "✔", "fail": "✘", "skipped": "–", "error": "!"}
+MARK = {"pass": "✔", "fail": "✘", "skipped": "–", "error": "!", "xfail": "x", "xpass": "✘"}
 
 #: The legend printed under that table.
-LEGEND = "✔ pass · ✘ fail · – skipped or not run · ! error"
+LEGEND = (
+    "✔ pass · ✘ fail (or a recorded difference no longer seen) · x expected failure "
+    "(a recorded known difference) · – skipped or not run · ! error"
+)
 
 _ICON = {
     "pass": "✅",
     "fail": "❌",
     "error": "⚠️",
     "skipped": "⏭️",
+    "xfail": "🔶",
+    "xpass": "❌",
+    "expected-failure": "🔶",
     "unverified": "❔",
     "verified": "✅",
     "failed": "❌",
@@ -80,7 +86,9 @@ def markdown_summary(
         name = escape_markdown(check.model.name)
         partial = overall == "pass" and check.evidence.table.status != "verified"
         heading = (
-            f"{_ICON['not-checked']} PASS (implementation only)"
+            f"{_ICON['expected-failure']} PASS (expected failure: known difference)"
+            if partial and check.evidence.table.status == "expected-failure"
+            else f"{_ICON['not-checked']} PASS (implementation only)"
             if partial
             else (f"{_ICON[overall]} {overall.upper()}")
         )
@@ -111,6 +119,7 @@ def markdown_summary(
                 f"{format_angle_summary(r.max_rotation_error_rad)} | "
                 f"{escape_markdown(r.message)} |"
             )
+        lines.extend(_jacobian_table(check))
     else:
         n_fail = sum(c.verdict != "pass" for c in checks)
         verified = sum(c.evidence.table.status == "verified" for c in checks)
@@ -134,7 +143,7 @@ def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str
     names: list[str] = []
     for check in checks:
         names += [r.name for r in check.backends if r.name not in names]
-    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–"}
+    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–", "expected-failure": "x"}
     head = ["model", "verdict", "table verified", *map(escape_markdown, names)]
     lines = ["| " + " | ".join(head) + " |", "|---|---|" + ":-:|" * (len(head) - 2)]
     for check in checks:
@@ -150,7 +159,8 @@ def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str
         lines.append("| " + " | ".join(cells) + " |")
     lines.append("")
     lines.append(f"{LEGEND}; table verified: ✔ by something independent of the table, "
-                 "✘ it disagrees, – not checked.")  # fmt: skip
+                 "✘ it disagrees, x it differs as recorded (known difference, "
+                 "not verified), – not checked.")  # fmt: skip
     return lines
 
 
@@ -172,7 +182,7 @@ def _causes(
         prefix = f"{escape_markdown(check.model.name)} · " if many else ""
         done: set[str] = set()
         for r in check.backends:
-            if r.status not in ("fail", "error") or r.name in done:
+            if r.status not in ("fail", "error", "xfail", "xpass") or r.name in done:
                 continue
             outcome = diagnosis_for(own, r.name) if r.status == "fail" else None
             group = [r.name]
@@ -180,7 +190,7 @@ def _causes(
                 failed = {b.name for b in check.backends if b.status == "fail"}
                 group = [n for n in (outcome.backend, *outcome.also) if n in failed]
             done.update(group)
-            if not many and outcome is None:
+            if not many and outcome is None and r.status in ("fail", "error"):
                 continue  # one model: its table already holds the message
             who = ", ".join(escape_markdown(n) for n in group)
             text = f"- {MARK[r.status]} **{prefix}{who}**"
@@ -189,6 +199,43 @@ def _causes(
             if outcome is not None:
                 text += f" — diagnosis: {escape_markdown(diagnosis_headline(outcome))}"
             lines.append(text)
+        for r in check.backends:
+            j = r.jacobian
+            if many and j is not None and j.status in ("fail", "error"):
+                lines.append(
+                    f"- {MARK[j.status]} **{prefix}{escape_markdown(r.name)} (Jacobian)**: "
+                    f"{escape_markdown(j.message)}"
+                )
+    return lines
+
+
+def _jacobian_table(check: CheckResult) -> list[str]:
+    """The Jacobian comparison of one check, one row per backend (``check --jacobian``)."""
+    if check.jacobian is None:
+        return []
+    lines = [
+        "",
+        f"Jacobian of {escape_markdown(check.frame_to)} ({check.jacobian.reference}), "
+        f"tolerance {check.jacobian.tol:g} m/rad and rad/rad:",
+        "",
+        "| backend | status | max linear difference | max angular difference | how |",
+        "|---" * 5 + "|",
+    ]
+    for r in check.backends:
+        j = r.jacobian
+        if j is None:
+            continue
+        numbers = ["–", "–"]
+        if j.ran:
+            numbers = [
+                format_scientific(j.max_linear_error, "m/rad"),
+                format_scientific(j.max_angular_error, "rad/rad"),
+            ]
+        how = j.method if j.ran else j.message
+        lines.append(
+            f"| {escape_markdown(r.name)} | {_ICON[j.status]} {j.status} | "
+            f"{numbers[0]} | {numbers[1]} | {escape_markdown(how)} |"
+        )
     return lines
 
 

@@ -45,6 +45,8 @@ def verdict_line(check: CheckResult) -> str:
     failing = [r.name for r in check.backends if r.status == "fail"]
     errored = [r.name for r in check.backends if r.status == "error"]
     skipped = [r.name for r in check.backends if r.status == "skipped"]
+    expected = [r.name for r in check.backends if r.status == "xfail"]
+    stale = [r.name for r in check.backends if r.status == "xpass"]
     parts = []
     if not ran:
         parts.append("No reference backend ran: nothing was cross-checked")
@@ -59,6 +61,16 @@ def verdict_line(check: CheckResult) -> str:
         parts.append(f"{len(errored)} errored: " + ", ".join(errored))
     if skipped:
         parts.append(f"{len(skipped)} skipped: " + ", ".join(skipped))
+    if expected:
+        parts.append(
+            f"{len(expected)} disagree as the model records (expected failure, known "
+            "difference): " + ", ".join(expected)
+        )
+    if stale:
+        parts.append(
+            f"{len(stale)} agree though the model records a difference (known difference no "
+            "longer seen): " + ", ".join(stale)
+        )
     return "; ".join(parts) + "."
 
 
@@ -127,6 +139,7 @@ def build_report_page(
         The page's view model.
     """
     from fkcheck.report.diagnosis import diagnosis_view
+    from fkcheck.report.jacobian_view import jacobian_section
     from fkcheck.report.plots import error_against_joints, error_distribution
     from fkcheck.report.versions import library_versions
 
@@ -182,9 +195,13 @@ def build_report_page(
             EvidenceLine(kind, evidence.of(kind).status, text)
             for kind, text in zip(KINDS, evidence_sentences(evidence), strict=True)
         ),
-        badge_note="implementation only"
-        if check.verdict == "pass" and evidence.table.status != "verified"
-        else "",
+        badge_note=(
+            "expected failure: known difference"
+            if check.verdict == "pass" and evidence.table.status == "expected-failure"
+            else "implementation only"
+            if check.verdict == "pass" and evidence.table.status != "verified"
+            else ""
+        ),
         disagreeing=tuple(r.name for r in failing),
         headline=headline,
         facts=facts,
@@ -196,4 +213,5 @@ def build_report_page(
         model_view=model_view(check),
         generator=f"fkcheck {__version__}",
         diagnoses=diagnosis_views,
+        jacobian=jacobian_section(check),
     )

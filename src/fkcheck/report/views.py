@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from fkcheck.report.jacobian_view import JacobianSection
+
 __all__ = [
     "ArmDrawing",
     "AxisView",
@@ -101,7 +103,7 @@ class BackendRow:
     Attributes:
         name: Backend name.
         anchor: HTML id of its detail section (empty when it has none).
-        status: ``pass``, ``fail``, ``error``, ``skipped``.
+        status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail``, ``xpass``.
         method: The library call it used.
         duration: Wall time, formatted.
         message: Why it was skipped or errored, or the failure summary, in full.
@@ -492,7 +494,7 @@ class EvidenceLine:
 
     Attributes:
         kind: ``implementation`` or ``table``.
-        status: ``verified``, ``failed`` or ``not-checked``.
+        status: ``verified``, ``failed``, ``expected-failure`` or ``not-checked``.
         text: The sentence (see :func:`fkcheck.engine.verdict.evidence_sentences`).
     """
 
@@ -529,6 +531,7 @@ class ReportPage:
         generator: ``fkcheck <version>``.
         diagnoses: What ``fkcheck diagnose`` finds, per distinct disagreement
             (empty when the check passed or the diagnosis was not asked for).
+        jacobian: The Jacobian section (``check --jacobian``), or ``None``.
     """
 
     title: str
@@ -549,6 +552,7 @@ class ReportPage:
     model_view: ModelView
     generator: str
     diagnoses: tuple[DiagnosisView, ...] = ()
+    jacobian: JacobianSection | None = None
 
 
 @dataclass(frozen=True)

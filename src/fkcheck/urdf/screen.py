@@ -18,7 +18,10 @@ one :class:`~fkcheck.errors.UrdfError` naming the file, the line and the problem
   document: element text, text after a closing tag (tails), CDATA sections,
   attribute names and values (character references such as ``&#36;`` are
   decoded first, so they cannot hide one). Xacro evaluates ``${…}`` as Python
-  and ``$(…)`` as substitution arguments that read files and environment;
+  and ``$(…)`` as substitution arguments that read files and environment
+  (a model opts in to xacro with ``xacro = true``, a command with
+  ``--allow-xacro``: :mod:`fkcheck.urdf.xacro` expands it in a child process,
+  then this screen sees the result; each refusal says how, :data:`XACRO_OPT_IN`);
 * any element or attribute in a xacro namespace (``xacro:include``,
   ``xacro:macro``, ``xacro:if`` …) or in the XInclude namespace
   (``xi:include``), and any element named ``include``: a plain URDF has none;
@@ -51,6 +54,7 @@ __all__ = [
     "MAX_URDF_BYTES",
     "MAX_XML_DEPTH",
     "MAX_XML_ELEMENTS",
+    "XACRO_OPT_IN",
     "ScreenedUrdf",
     "check_urdf_path",
     "read_urdf_bytes",
@@ -249,7 +253,7 @@ class _Screen:
         if kind is not None:
             raise _Refused(
                 f"has a {kind} element <{_local(tag)}> ({_namespace(tag)}): fkcheck reads "
-                "plain URDF only; expand it to a plain URDF first"
+                f"plain URDF only{_opt_in(kind)}"
             )
         if _local(tag) == "include":
             raise _Refused(
@@ -263,7 +267,7 @@ class _Screen:
             if kind is not None:
                 raise _Refused(
                     f"has a {kind} attribute {_local(attr)}= on <{_local(tag)}>: fkcheck "
-                    "reads plain URDF only; expand it to a plain URDF first"
+                    f"reads plain URDF only{_opt_in(kind)}"
                 )
             for text, what in ((attr, "an attribute name"), (value, f"attribute {_local(attr)}=")):
                 found = _XACRO.search(text)
@@ -285,9 +289,20 @@ def _xacro_message(where: str, text: str, found: re.Match[str]) -> str:
     closer = "}" if found.group() == "${" else ")"
     return (
         f"contains a xacro expression {found.group()}…{closer} in {where}: "
-        f"{_snippet(text, found)}; fkcheck never runs xacro: expand it to a plain URDF "
-        "first and check that"
+        f"{_snippet(text, found)}; fkcheck runs xacro only when asked{_opt_in('xacro')}"
     )
+
+
+#: How to opt in to xacro, the end of every message refusing xacro.
+XACRO_OPT_IN = (
+    ": to expand it, set xacro = true in the model's [urdf] table or pass --allow-xacro "
+    "(or write a plain URDF with fkcheck expand)"
+)
+
+
+def _opt_in(kind: str) -> str:
+    """The end of a message refusing ``kind``: how to opt in to xacro, or to expand first."""
+    return XACRO_OPT_IN if kind == "xacro" else "; expand it to a plain URDF first"
 
 
 def screen_urdf(path: Path | str, data: bytes) -> ScreenedUrdf:

@@ -3,7 +3,9 @@
 :func:`load_urdf` resolves ``[urdf].path`` (:func:`fkcheck.urdf.locate.locate_urdf`:
 ``example-robot-data:<subpath>`` or a path relative to the model file), reads
 it with :func:`fkcheck.urdf.tree.read_urdf` (screened, its tree checked and
-bounded) and checks the model's joint mapping against the joints (names, types), so a
+bounded) — or, when the model opts in with ``xacro = true``, expands it with
+:func:`fkcheck.urdf.xacro.read_xacro` and screens the result the same way —
+and checks the model's joint mapping against the joints (names, types), so a
 mismatch is one clear error before any backend parses the URDF. A frame's
 ``urdf`` link is checked where the frame is used (a model copied onto a URDF
 without one of its links still checks its other frames).
@@ -11,14 +13,49 @@ without one of its links still checks its other frames).
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 from fkcheck.errors import UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
+from fkcheck.urdf.xacro import read_xacro
 
-__all__ = ["load_urdf", "resolve_urdf_path"]
+__all__ = ["allow_xacro", "load_urdf", "read_model_urdf", "resolve_urdf_path"]
+
+
+def allow_xacro(model: Model) -> Model:
+    """The model with ``xacro = true`` in its ``[urdf]`` (what ``--allow-xacro`` does).
+
+    A model without ``[urdf]`` is returned as it is.
+    """
+    if model.urdf is None or model.urdf.xacro:
+        return model
+    return replace(model, urdf=replace(model.urdf, xacro=True))
+
+
+def read_model_urdf(model: Model) -> UrdfInfo:
+    """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
+
+    With ``xacro = true`` the file is expanded (:func:`fkcheck.urdf.xacro.read_xacro`)
+    with the model's ``xacro_args``, ``$(find …)`` resolving only its
+    ``packages`` (directories relative to the model file); without it a xacro
+    file is refused by the screen, naming the opt-in.
+
+    Raises:
+        UrdfError: As :func:`resolve_urdf_path`, refused by the screen, not a
+            valid tree, or the xacro expansion failed.
+        BackendUnavailable: The path names example-robot-data, which is not installed.
+    """
+    path, package_dirs = resolve_urdf_path(model)
+    assert model.urdf is not None
+    if not model.urdf.xacro:
+        return read_urdf(path, package_dirs)
+    base = Path.cwd() if model.path is None else model.path.parent
+    packages = {name: base / where for name, where in model.urdf.packages.items()}
+    dirs = package_dirs + tuple(p.parent for p in packages.values())
+    return read_xacro(path, model.urdf.xacro_args, packages, dirs)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
@@ -39,12 +76,13 @@ def load_urdf(model: Model) -> UrdfInfo:
 
     Raises:
         UrdfError: Missing, not a regular file, too large, not XML, refused by the
-            screen (:mod:`fkcheck.urdf.screen`), not a valid tree, or a mapped
-            joint is missing or of the wrong type. (A ``[frames.*].urdf`` link
-            the URDF lacks is an error only where that frame is used.)
+            screen (:mod:`fkcheck.urdf.screen`), not a valid tree, its xacro
+            expansion failed, or a mapped joint is missing or of the wrong type.
+            (A ``[frames.*].urdf`` link the URDF lacks is an error only where
+            that frame is used.)
     """
-    path, package_dirs = resolve_urdf_path(model)
-    info = read_urdf(path, package_dirs)
+    info = read_model_urdf(model)
+    path = info.path
     assert model.urdf is not None
     for name, joint in zip(model.urdf.joints, model.joints, strict=True):
         found = info.joints.get(name)

@@ -50,6 +50,7 @@ __all__ = [
     "chain_between",
     "listed",
     "read_urdf",
+    "urdf_info_from_bytes",
 ]
 
 #: Links in one URDF (joints: at most one fewer). Humanoids have about a hundred.
@@ -212,7 +213,25 @@ def read_urdf(path: Path, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
 
 @lru_cache(maxsize=32)
 def _read(path: Path, package_dirs: tuple[Path, ...], mtime_ns: int, size: int) -> UrdfInfo:
-    doc = screen_urdf(path, read_urdf_bytes(path))
+    return urdf_info_from_bytes(path, read_urdf_bytes(path), package_dirs)
+
+
+def urdf_info_from_bytes(path: Path, data: bytes, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
+    """Screen, check and summarise a URDF document already in memory.
+
+    What :func:`read_urdf` does once it has the file's bytes; also the way an
+    expanded xacro (:mod:`fkcheck.urdf.xacro`) goes through the same screen.
+
+    Args:
+        path: The file the document is, or came from (for messages).
+        data: The document's bytes.
+        package_dirs: Directories that contain the ``package://`` packages it names.
+
+    Raises:
+        UrdfError: Not XML, refused by the screen, not a valid tree, or beyond
+            :data:`MAX_URDF_LINKS` / :data:`MAX_URDF_DEPTH`.
+    """
+    doc = screen_urdf(path, data)
     root = doc.root
     if root.tag != "robot":
         raise UrdfError(path, f"root element is <{root.tag}>, expected <robot>")

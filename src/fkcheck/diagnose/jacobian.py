@@ -1,0 +1,684 @@
+"""Diagnose two Jacobians that disagree: which convention would make them agree.
+
+When a backend's pose agrees with fkcheck's but its Jacobian does not, the
+mistake is usually a convention, not a number. Each convention is a
+:class:`JacobianMistake`: a transformation applied to the *expected* Jacobian
+(fkcheck's, in ``reference``) that is then compared with the *observed* one
+(the backend's), entry by entry, at worst over the configurations — the
+linear rows (m/rad, m/m for a prismatic joint) and the angular rows (rad/rad,
+rad/m) separately. A mistake *explains* the disagreement when both are within
+the tolerances. Tried: each reference frame with each row order (six
+combinations, the expected one included), and on each of them the column
+matching and the point-offset fit (a column mistake and an offset together are
+not tried):
+
+* ``reference``: the other two reference frames (any of the six ordered pairs
+  among ``"world-aligned"``, ``"local"`` and ``"world"``, moved with
+  :func:`fkcheck.core.jacobian.re_express`) — the frame's own axes (Robotics
+  Toolbox ``jacobe``, Pinocchio ``LOCAL``) where world axes were expected, or the
+  spatial twist at the world origin (``WORLD``: the reference point at the base)
+  where the frame origin's velocity was expected;
+* ``blocks``: the angular rows first, as many textbooks write it;
+* ``sign``, ``columns``, ``missing``: each observed column matched to the
+  expected column (and sign) it equals — a joint's column with the opposite
+  sign, the columns in another order, a joint's column left zero;
+* ``offset``: the linear part is the velocity of another point of the last
+  link, offset by a constant vector ``r`` in the target frame's axes —
+  ``v_obs − v_exp = ω × (R r)`` — typically the flange's origin where the TCP
+  was expected (the tool offset left out). ``r`` is fitted by linear least
+  squares over every configuration and column (:func:`numpy.linalg.lstsq`); in
+  ``"world"`` it cannot show (the spatial twist is the same for every point of
+  the link), and a tool that also rotates makes ``"local"`` columns differ in
+  their angular rows too, which this hypothesis does not fit.
+
+Pure functions over arrays: no model, no backend. :func:`column_errors` and
+:func:`first_disagreeing_joint` give the per-joint-column breakdown on their
+own (what the check's report shows).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal, get_args
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from fkcheck.core.jacobian import REFERENCES, Reference, re_express
+from fkcheck.core.typing import Float
+from fkcheck.io.format import format_fixed, format_m, format_rad
+
+__all__ = [
+    "MISTAKE_ORDER",
+    "REFERENCE_NAMES",
+    "ColumnError",
+    "JacobianDiagnosis",
+    "JacobianExplanation",
+    "JacobianMistake",
+    "JacobianResidual",
+    "MistakeKind",
+    "column_errors",
+    "diagnose_jacobian",
+    "first_disagreeing_joint",
+    "jacobian_diagnosis_to_dict",
+]
+
+#: The kinds of convention mistake, in the order explanations of equal
+#: complexity are ranked: a reference frame before a row order, before column
+#: signs, order or a missing column, before a fitted point offset.
+MistakeKind = Literal["reference", "blocks", "sign", "columns", "missing", "offset"]
+
+#: The kinds in :data:`MistakeKind`'s order.
+MISTAKE_ORDER: tuple[MistakeKind, ...] = get_args(MistakeKind)
+
+#: Each reference frame in plain words, with its names in the two reference libraries.
+REFERENCE_NAMES: dict[Reference, str] = {
+    "world-aligned": (
+        "world-aligned (the frame origin's velocity in world axes: Pinocchio "
+        "LOCAL_WORLD_ALIGNED, Robotics Toolbox jacob0)"
+    ),
+    "local": "in the frame's own axes (local: Pinocchio LOCAL, Robotics Toolbox jacobe)",
+    "world": (
+        "the spatial twist at the world origin (world: Pinocchio WORLD; the reference "
+        "point at the base, not at the frame)"
+    ),
+}
+
+_ANGULAR_FIRST = (3, 4, 5, 0, 1, 2)
+
+
+@dataclass(frozen=True)
+class JacobianResidual:
+    """The largest entry-wise difference between two Jacobians.
+
+    Attributes:
+        linear: Largest over the linear rows (m/rad; m/m for a prismatic column).
+        angular: Largest over the angular rows (rad/rad; rad/m for a prismatic column).
+    """
+
+    linear: float
+    angular: float
+
+    def within(self, tol_linear: float, tol_angular: float) -> bool:
+        """Both within their tolerances (a non-finite difference never is)."""
+        return bool(self.linear <= tol_linear and self.angular <= tol_angular)
+
+    def text(self) -> str:
+        """``linear 1.00e-03 m/rad, angular 2.00e-01 rad/rad``."""
+        return f"linear {format_m(self.linear)}/rad, angular {format_rad(self.angular)}/rad"
+
+
+@dataclass(frozen=True)
+class ColumnError:
+    """How far one joint's column is from the expected one.
+
+    Attributes:
+        joint: The joint's index, 0-based (the column).
+        name: The joint's name.
+        prismatic: Whether the joint is prismatic (the units are then per metre).
+        linear: Largest difference in the linear rows.
+        angular: Largest difference in the angular rows.
+        agrees: Both within the tolerances.
+    """
+
+    joint: int
+    name: str
+    prismatic: bool
+    linear: float
+    angular: float
+    agrees: bool
+
+    def text(self) -> str:
+        """``joint 3 (elbow): linear 1.00e-01 m/rad, angular 0.00e+00 rad/rad``."""
+        per = "m" if self.prismatic else "rad"
+        return (
+            f"joint {self.joint + 1} ({self.name}): linear {format_m(self.linear)}/{per}, "
+            f"angular {format_rad(self.angular)}/{per}"
+        )
+
+
+@dataclass(frozen=True)
+class JacobianMistake:
+    """A convention mistake, as the transformation it makes of the expected Jacobian.
+
+    The transformations apply in this order: the point offset (in world-aligned
+    axes), the reference frame, the columns, the row order.
+
+    Attributes:
+        reference: The reference frame the observed Jacobian is in (``None``: the
+            expected one).
+        angular_first: The angular rows come first.
+        columns: Observed column ``j`` is expected column ``columns[j]`` times
+            ``signs[j]``, or zero when ``columns[j]`` is ``None`` (``None``: the
+            columns as expected).
+        signs: ``±1`` per observed column (with ``columns``).
+        point_offset_m: The linear part is that of the point ``r`` (m, in the
+            target frame's axes) from the frame's origin (``None``: the origin).
+    """
+
+    reference: Reference | None = None
+    angular_first: bool = False
+    columns: tuple[int | None, ...] | None = None
+    signs: tuple[int, ...] | None = None
+    point_offset_m: tuple[float, float, float] | None = None
+
+    @property
+    def flipped(self) -> tuple[int, ...]:
+        """Joints (0-based) whose own column has the opposite sign."""
+        if self.columns is None or self.signs is None:
+            return ()
+        return tuple(
+            j
+            for j, (k, s) in enumerate(zip(self.columns, self.signs, strict=True))
+            if k == j and s < 0
+        )
+
+    @property
+    def missing(self) -> tuple[int, ...]:
+        """Observed columns (0-based) left zero."""
+        return (
+            ()
+            if self.columns is None
+            else tuple(j for j, k in enumerate(self.columns) if k is None)
+        )
+
+    @property
+    def moved(self) -> tuple[int, ...]:
+        """Observed columns (0-based) that hold another joint's column."""
+        if self.columns is None:
+            return ()
+        return tuple(j for j, k in enumerate(self.columns) if k is not None and k != j)
+
+    @property
+    def kinds(self) -> tuple[MistakeKind, ...]:
+        """The mistakes it combines, in :data:`MISTAKE_ORDER`."""
+        kinds: list[MistakeKind] = []
+        if self.reference is not None:
+            kinds.append("reference")
+        if self.angular_first:
+            kinds.append("blocks")
+        if self.flipped:
+            kinds.append("sign")
+        if self.moved:
+            kinds.append("columns")
+        if self.missing:
+            kinds.append("missing")
+        if self.point_offset_m is not None:
+            kinds.append("offset")
+        return tuple(kinds)
+
+    def apply(self, expected: Float, from_T_to: Float, reference: Reference) -> Float:
+        """The expected Jacobian ``(N, 6, n)`` (in ``reference``) as this mistake makes it.
+
+        Args:
+            expected: The Jacobian without the mistake.
+            from_T_to: The target frame's pose in the Jacobian's root, ``(N, 4, 4)``.
+            reference: The reference frame ``expected`` is in.
+        """
+        jac = np.asarray(expected, dtype=float)
+        if self.point_offset_m is not None:
+            aligned = re_express(jac, from_T_to, reference, "world-aligned")
+            lever = from_T_to[:, :3, :3] @ np.asarray(self.point_offset_m)  # (N, 3) world axes
+            shift = np.cross(aligned[:, 3:], lever[:, :, None], axis=1)
+            aligned = np.concatenate([aligned[:, :3] + shift, aligned[:, 3:]], axis=1)
+            jac = re_express(aligned, from_T_to, "world-aligned", reference)
+        if self.reference is not None:
+            jac = re_express(jac, from_T_to, reference, self.reference)
+        if self.columns is not None:
+            signs = np.ones(len(self.columns)) if self.signs is None else np.asarray(self.signs)
+            picked = [
+                np.zeros_like(jac[:, :, 0]) if k is None else jac[:, :, k] * s
+                for k, s in zip(self.columns, signs, strict=True)
+            ]
+            jac = np.stack(picked, axis=2)
+        if self.angular_first:
+            jac = jac[:, list(_ANGULAR_FIRST)]
+        return jac
+
+
+@dataclass(frozen=True)
+class JacobianExplanation:
+    """One convention mistake that explains the disagreement.
+
+    Attributes:
+        mistake: The transformation.
+        title: What it is, in plain words (one sentence).
+        residual: What is left once the expected Jacobian is transformed this way.
+        details: More evidence, one line each.
+    """
+
+    mistake: JacobianMistake
+    title: str
+    residual: JacobianResidual
+    details: tuple[str, ...] = ()
+
+    @property
+    def kinds(self) -> tuple[MistakeKind, ...]:
+        """The mistakes it combines."""
+        return self.mistake.kinds
+
+
+@dataclass(frozen=True)
+class JacobianDiagnosis:
+    """What the comparison of two Jacobians found.
+
+    Attributes:
+        reference: The reference frame the expected Jacobian is in.
+        configurations: How many configurations were compared.
+        before: The disagreement as given.
+        tolerance: Linear tolerance (m/rad).
+        angular_tolerance: Angular tolerance (rad/rad).
+        columns: The error of each joint's column, as given.
+        explanations: The mistakes that explain it, simplest first (empty when
+            the Jacobians agree or nothing explains it).
+        tried: The hypotheses tried, one line each.
+    """
+
+    reference: Reference
+    configurations: int
+    before: JacobianResidual
+    tolerance: float
+    angular_tolerance: float
+    columns: tuple[ColumnError, ...]
+    explanations: tuple[JacobianExplanation, ...]
+    tried: tuple[str, ...]
+
+    @property
+    def agrees(self) -> bool:
+        """The Jacobians agree as given: nothing to explain."""
+        return self.before.within(self.tolerance, self.angular_tolerance)
+
+    @property
+    def explained(self) -> bool:
+        """Some convention mistake explains the disagreement."""
+        return bool(self.explanations)
+
+    @property
+    def best(self) -> JacobianExplanation | None:
+        """The simplest explanation, if any."""
+        return self.explanations[0] if self.explanations else None
+
+    @property
+    def first_disagreeing(self) -> ColumnError | None:
+        """The first joint (from the base) whose column disagrees, if any."""
+        return next((c for c in self.columns if not c.agrees), None)
+
+    @property
+    def headline(self) -> str:
+        """One sentence: they agree, which convention explains it, or which column differs first."""
+        if self.agrees:
+            return f"the Jacobians agree ({self.before.text()})"
+        if self.best is not None:
+            return self.best.title
+        first = self.first_disagreeing
+        where = (
+            f"; joint {first.joint + 1} ({first.name}) is the first column that disagrees"
+            if first is not None
+            else ""
+        )
+        return f"no convention explains it: the Jacobians differ by {self.before.text()}{where}"
+
+    def text(self) -> str:
+        """The headline, the other explanations, the columns and what was tried, one per line."""
+        lines = [self.headline]
+        for e in self.explanations[:1]:
+            lines.extend(f"  {d}" for d in e.details)
+        lines.extend(f"also explains it: {e.title}" for e in self.explanations[1:])
+        lines.append(f"as given, over {self.configurations} configurations: {self.before.text()}")
+        lines.extend(f"  {c.text()}" + ("" if c.agrees else "  DIFFERS") for c in self.columns)
+        lines.append("tried: " + "; ".join(self.tried))
+        return "\n".join(lines)
+
+
+def column_errors(expected: ArrayLike, observed: ArrayLike) -> tuple[Float, Float]:
+    """The largest difference of each column, in its linear and its angular rows.
+
+    Args:
+        expected: ``(N, 6, n)`` (or ``(6, n)``), linear rows first.
+        observed: The same shape.
+
+    Returns:
+        ``(linear, angular)``, each ``(n,)``; a non-finite entry counts as ``inf``.
+
+    Raises:
+        ValueError: The shapes differ or are not ``(N, 6, n)``.
+    """
+    exp, obs = _pair(expected, observed)
+    diff = np.abs(obs - exp)
+    diff = np.where(np.isnan(diff), np.inf, diff)
+    return diff[:, :3].max(axis=(0, 1)), diff[:, 3:].max(axis=(0, 1))
+
+
+def first_disagreeing_joint(
+    linear: ArrayLike, angular: ArrayLike, tolerance: float, angular_tolerance: float | None = None
+) -> int | None:
+    """The first column (0-based joint index) over a tolerance, or ``None``.
+
+    Args:
+        linear: ``(n,)`` largest linear differences (from :func:`column_errors`).
+        angular: ``(n,)`` largest angular differences.
+        tolerance: Linear tolerance (m/rad).
+        angular_tolerance: Angular tolerance (rad/rad); ``tolerance`` when ``None``.
+    """
+    tol_a = tolerance if angular_tolerance is None else angular_tolerance
+    bad = ~((np.asarray(linear) <= tolerance) & (np.asarray(angular) <= tol_a))
+    hits = np.flatnonzero(bad)
+    return int(hits[0]) if hits.size else None
+
+
+def _pair(expected: ArrayLike, observed: ArrayLike) -> tuple[Float, Float]:
+    exp = np.asarray(expected, dtype=float)
+    obs = np.asarray(observed, dtype=float)
+    if exp.ndim == 2:
+        exp = exp[None]
+    if obs.ndim == 2:
+        obs = obs[None]
+    if exp.ndim != 3 or exp.shape[1] != 6 or exp.shape[0] == 0 or exp.shape[2] == 0:
+        raise ValueError(f"expected Jacobian has shape {exp.shape}; a Jacobian is (N, 6, n)")
+    if obs.shape != exp.shape:
+        raise ValueError(
+            f"observed Jacobian has shape {obs.shape}, the expected one {exp.shape}; "
+            "they must match"
+        )
+    return exp, obs
+
+
+def _residual(a: Float, b: Float) -> JacobianResidual:
+    diff = np.abs(a - b)
+    diff = np.where(np.isnan(diff), np.inf, diff)
+    return JacobianResidual(float(diff[:, :3].max()), float(diff[:, 3:].max()))
+
+
+def _joint(names: Sequence[str], j: int) -> str:
+    return f"joint {j + 1} ({names[j]})"
+
+
+def _joints(names: Sequence[str], js: Sequence[int]) -> str:
+    texts = [_joint(names, j) for j in js]
+    return texts[0] if len(texts) == 1 else ", ".join(texts[:-1]) + " and " + texts[-1]
+
+
+def _mm(r: Sequence[float]) -> str:
+    return "(" + ", ".join(format_fixed(v * 1e3, 3) for v in r) + ") mm"
+
+
+def _describe(m: JacobianMistake, expected_ref: Reference, names: Sequence[str]) -> str:
+    parts: list[str] = []
+    if m.reference is not None:
+        parts.append(
+            f"the backend's Jacobian is {REFERENCE_NAMES[m.reference]} where "
+            f"{REFERENCE_NAMES[expected_ref]} was expected"
+        )
+    if m.angular_first:
+        parts.append(
+            "the backend's rows are angular first, then linear (the textbook order), "
+            "where fkcheck's are linear first"
+        )
+    if m.flipped:
+        whose = _joints(names, m.flipped)
+        verb = "has" if len(m.flipped) == 1 else "have"
+        parts.append(
+            f"the column of {whose} {verb} the opposite sign (the joint turns the other way "
+            "in the backend)"
+        )
+    if m.moved and m.columns is not None:
+        holds = ", ".join(
+            f"column {j + 1} holds {_joint(names, k)}'s"
+            for j in m.moved
+            if (k := m.columns[j]) is not None
+        )
+        parts.append(f"the backend's columns are in another order: {holds}")
+    if m.missing:
+        whose = _joints(names, m.missing)
+        verb = "is" if len(m.missing) == 1 else "are"
+        parts.append(f"the column of {whose} {verb} zero in the backend (the joint is left out)")
+    if m.point_offset_m is not None:
+        r = m.point_offset_m
+        parts.append(
+            f"the backend's linear part is the velocity of the point {_mm(r)} from the frame's "
+            f"origin, in its axes — a tool offset of {_mm([-v for v in r])} left out (the "
+            "flange's origin where the TCP was expected)"
+        )
+    return "; and ".join(parts)
+
+
+def _match_columns(
+    predicted: Float, observed: Float, tol_l: float, tol_a: float
+) -> tuple[tuple[int | None, ...], tuple[int, ...]] | None:
+    """Each observed column matched to a predicted column and sign, or zero; ``None`` if not all.
+
+    Preference for each column: itself, itself negated, zero, another column,
+    another column negated — the first that agrees within the tolerances.
+    """
+    n = predicted.shape[2]
+
+    def agrees(diff: Float) -> NDArray[np.bool_]:
+        """``(N, 6, m)`` differences → ``(m,)``: each column within both tolerances."""
+        diff = np.where(np.isnan(diff), np.inf, np.abs(diff))
+        ok: NDArray[np.bool_] = (diff[:, :3].max(axis=(0, 1)) <= tol_l) & (
+            diff[:, 3:].max(axis=(0, 1)) <= tol_a
+        )
+        return ok
+
+    columns: list[int | None] = []
+    signs: list[int] = []
+    for j in range(n):
+        column = observed[:, :, j : j + 1]  # one observed column at a time: O(N·6·n) memory
+        same = {s: agrees(column - s * predicted) for s in (1, -1)}
+        options: list[tuple[int | None, int]] = [(j, 1), (j, -1), (None, 1)]
+        options += [(k, s) for s in (1, -1) for k in range(n) if k != j]
+        for k, s in options:
+            if agrees(column)[0] if k is None else same[s][k]:
+                columns.append(k)
+                signs.append(s)
+                break
+        else:
+            return None
+    return tuple(columns), tuple(signs)
+
+
+def _fit_offset(
+    expected: Float,
+    observed: Float,
+    from_T_to: Float,
+    reference: Reference,
+    frame: JacobianMistake,
+) -> tuple[float, float, float] | None:
+    """The point offset ``r`` that best explains the linear part, under ``frame``."""
+    obs = observed[:, list(_ANGULAR_FIRST)] if frame.angular_first else observed
+    obs_ref = frame.reference or reference
+    obs_aligned = re_express(obs, from_T_to, obs_ref, "world-aligned")
+    exp_aligned = re_express(expected, from_T_to, reference, "world-aligned")
+    b = obs_aligned[:, :3] - exp_aligned[:, :3]  # (N, 3, n)
+    omega = np.moveaxis(exp_aligned[:, 3:], 1, 2)  # (N, n, 3)
+    R = from_T_to[:, :3, :3]
+    # ω × (R r) = Σᵢ rᵢ · ω × R[:, i]: one matrix column per component of r.
+    A = np.stack([np.cross(omega, R[:, None, :, i]) for i in range(3)], axis=-1)  # (N, n, 3, 3)
+    if not (np.isfinite(A).all() and np.isfinite(b).all()) or not np.any(A):
+        return None
+    sol, *_ = np.linalg.lstsq(A.reshape(-1, 3), np.moveaxis(b, 1, 2).reshape(-1), rcond=None)
+    return (float(sol[0]), float(sol[1]), float(sol[2]))
+
+
+def diagnose_jacobian(
+    expected: ArrayLike,
+    observed: ArrayLike,
+    *,
+    from_T_to: ArrayLike,
+    reference: Reference,
+    prismatic: ArrayLike,
+    tolerance: float,
+    angular_tolerance: float | None = None,
+    joint_names: Sequence[str] = (),
+) -> JacobianDiagnosis:
+    """Say which convention, if any, makes the observed Jacobian agree with the expected one.
+
+    Args:
+        expected: fkcheck's Jacobian, ``(N, 6, n)``, linear rows first, in ``reference``.
+        observed: The backend's, same shape, meant to be in ``reference`` too.
+        from_T_to: The target frame's pose in the Jacobians' root, ``(N, 4, 4)``.
+        reference: ``"world-aligned"``, ``"local"`` or ``"world"``.
+        prismatic: ``(n,)`` booleans, the prismatic joints (their columns are per metre).
+        tolerance: Linear tolerance (m/rad), > 0.
+        angular_tolerance: Angular tolerance (rad/rad), > 0; ``tolerance`` when ``None``.
+        joint_names: The joints' names (``j1…jn`` when empty).
+
+    Returns:
+        The diagnosis; its :attr:`~JacobianDiagnosis.headline` says it in one sentence.
+
+    Raises:
+        ValueError: Shapes that do not match, an unknown reference, a tolerance
+            that is not positive, non-finite expected values or poses.
+    """
+    exp, obs = _pair(expected, observed)
+    N, _, n = exp.shape
+    T = np.asarray(from_T_to, dtype=float)
+    if T.shape == (4, 4):
+        T = T[None]
+    if T.shape != (N, 4, 4):
+        raise ValueError(
+            f"from_T_to has shape {T.shape}; expected ({N}, 4, 4), one per configuration"
+        )
+    if reference not in REFERENCES:
+        raise ValueError(
+            f"unknown reference {reference!r}; references are: {', '.join(REFERENCES)}"
+        )
+    is_prismatic = np.asarray(prismatic, dtype=bool).reshape(-1)
+    if is_prismatic.shape != (n,):
+        raise ValueError(
+            f"prismatic has {is_prismatic.size} entries; the Jacobians have {n} columns"
+        )
+    names = tuple(joint_names) or tuple(f"j{j + 1}" for j in range(n))
+    if len(names) != n:
+        raise ValueError(f"joint_names has {len(names)} names; the Jacobians have {n} columns")
+    tol_l = float(tolerance)
+    tol_a = tol_l if angular_tolerance is None else float(angular_tolerance)
+    if not (tol_l > 0 and tol_a > 0):
+        raise ValueError(f"tolerances must be positive, got {tol_l!r} and {tol_a!r}")
+    if not (np.isfinite(exp).all() and np.isfinite(T).all()):
+        raise ValueError("the expected Jacobian and the poses must be finite")
+
+    lin, ang = column_errors(exp, obs)
+    columns = tuple(
+        ColumnError(
+            j,
+            names[j],
+            bool(is_prismatic[j]),
+            float(lin[j]),
+            float(ang[j]),
+            bool(lin[j] <= tol_l and ang[j] <= tol_a),
+        )
+        for j in range(n)
+    )
+    before = _residual(exp, obs)
+    others = [r for r in REFERENCES if r != reference]
+    tried = (
+        f"the observed Jacobian in another reference frame ({', '.join(others)})",
+        "angular rows first",
+        "column signs, order and zero columns (a joint left out)",
+        "a constant point offset in the frame's axes, fitted by least squares (tool left out)",
+        "each alone and combined with a reference frame and a row order",
+    )
+    found: list[JacobianExplanation] = []
+    if not before.within(tol_l, tol_a):
+        for ref in (None, *others):
+            for angular_first in (False, True):
+                frame = JacobianMistake(reference=ref, angular_first=angular_first)
+                found += _explain(exp, obs, T, reference, frame, names, tol_l, tol_a)
+    found.sort(key=lambda e: (len(e.kinds), [MISTAKE_ORDER.index(k) for k in e.kinds]))
+    return JacobianDiagnosis(reference, N, before, tol_l, tol_a, columns, tuple(found), tried)
+
+
+def _explain(
+    exp: Float,
+    obs: Float,
+    T: Float,
+    reference: Reference,
+    frame: JacobianMistake,
+    names: Sequence[str],
+    tol_l: float,
+    tol_a: float,
+) -> list[JacobianExplanation]:
+    """The explanations built on one reference frame and row order."""
+    out: list[JacobianExplanation] = []
+
+    def accept(m: JacobianMistake, details: tuple[str, ...] = ()) -> bool:
+        residual = _residual(m.apply(exp, T, reference), obs)
+        if residual.within(tol_l, tol_a):
+            out.append(JacobianExplanation(m, _describe(m, reference, names), residual, details))
+            return True
+        return False
+
+    if frame.kinds and accept(frame):
+        return out
+    framed = frame.apply(exp, T, reference)
+    matched = _match_columns(framed, obs, tol_l, tol_a)  # columns and rows commute
+    if matched is not None:
+        cols, signs = matched
+        if cols != tuple(range(exp.shape[2])) or any(s < 0 for s in signs):
+            accept(JacobianMistake(frame.reference, frame.angular_first, cols, signs))
+    if (frame.reference or reference) == "world":
+        return out  # the spatial twist is the same for every point of the link
+    r = _fit_offset(exp, obs, T, reference, frame)
+    if r is not None:
+        m = JacobianMistake(frame.reference, frame.angular_first, point_offset_m=r)
+        accept(
+            m,
+            (
+                f"fitted by least squares: r = {_mm(r)} in the frame's axes; the tool offset "
+                "left out is −r in the TCP's axes (the tool's xyz when the tool does not rotate)",
+            ),
+        )
+    return out
+
+
+def jacobian_diagnosis_to_dict(d: JacobianDiagnosis) -> dict[str, Any]:
+    """The diagnosis as JSON-ready data (a contract: keys are only ever added)."""
+
+    def residual(r: JacobianResidual) -> dict[str, float]:
+        return {"linear": r.linear, "angular": r.angular}
+
+    return {
+        "reference": d.reference,
+        "configurations": d.configurations,
+        "tolerance": {"linear": d.tolerance, "angular": d.angular_tolerance},
+        "before": residual(d.before),
+        "agrees": d.agrees,
+        "explained": d.explained,
+        "headline": d.headline,
+        "first_disagreeing_joint": None
+        if d.first_disagreeing is None
+        else d.first_disagreeing.joint + 1,
+        "columns": [
+            {
+                "joint": c.joint + 1,
+                "name": c.name,
+                "prismatic": c.prismatic,
+                "linear": c.linear,
+                "angular": c.angular,
+                "agrees": c.agrees,
+            }
+            for c in d.columns
+        ],
+        "explanations": [
+            {
+                "kinds": list(e.kinds),
+                "title": e.title,
+                "after": residual(e.residual),
+                "observed_reference": e.mistake.reference or d.reference,
+                "angular_first": e.mistake.angular_first,
+                "flipped_joints": [j + 1 for j in e.mistake.flipped],
+                "missing_joints": [j + 1 for j in e.mistake.missing],
+                "columns": None
+                if e.mistake.columns is None
+                else [None if k is None else k + 1 for k in e.mistake.columns],
+                "point_offset_m": None
+                if e.mistake.point_offset_m is None
+                else list(e.mistake.point_offset_m),
+                "details": list(e.details),
+            }
+            for e in d.explanations
+        ],
+        "tried": list(d.tried),
+    }

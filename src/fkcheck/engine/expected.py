@@ -1,0 +1,105 @@
+"""Known differences: a recorded disagreement turns a backend's failure into an expected one.
+
+A model file may record, in ``[[known_difference]]``, that some backends whose
+evidence is independent of the table (a URDF's parsers, a published table)
+disagree with it, and why (what ``fkcheck diagnose`` named). On the model's
+default check (its ``[check] from`` → ``to``) this module rewrites those
+backends' results, like pytest's strict ``xfail``:
+
+* it failed, within the recorded bounds → ``xfail`` (expected failure): the
+  check can still pass, but the table is never counted as verified by it;
+* it failed beyond a recorded bound → stays ``fail``, the message names the bound;
+* it agreed → ``xpass`` (known difference no longer seen): the check fails,
+  because the record in the model file is stale;
+* it errored or was skipped → unchanged (nothing was compared).
+
+Checks of another frame pair are left as they are: the finding was recorded
+for the default pair only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+from fkcheck.engine.results import BackendResult
+from fkcheck.io.format import format_angle_summary, format_length_summary
+from fkcheck.model.types import KnownDifference, Model
+
+__all__ = ["apply_known_differences", "known_difference_for"]
+
+
+def known_difference_for(model: Model, backend: str) -> KnownDifference | None:
+    """The model's recorded difference that names ``backend``, if any."""
+    for entry in model.known_differences:
+        if backend in entry.backends:
+            return entry
+    return None
+
+
+def _beyond(result: BackendResult, entry: KnownDifference) -> list[str]:
+    """The recorded bounds the result's errors exceed, as text."""
+    over: list[str] = []
+    pos, rot = result.max_position_error_m, result.max_rotation_error_rad
+    if entry.max_position_m is not None and not (pos is not None and pos <= entry.max_position_m):
+        shown = "NaN" if pos is None else format_length_summary(pos)
+        over.append(
+            f"position error {shown} > recorded {format_length_summary(entry.max_position_m)}"
+        )
+    if entry.max_angle_rad is not None and not (rot is not None and rot <= entry.max_angle_rad):
+        shown = "NaN" if rot is None else format_angle_summary(rot)
+        over.append(
+            f"rotation error {shown} > recorded {format_angle_summary(entry.max_angle_rad)}"
+        )
+    return over
+
+
+def _apply(result: BackendResult, entry: KnownDifference) -> BackendResult:
+    if result.status == "pass":
+        return replace(
+            result,
+            status="xpass",
+            message=(
+                "known difference no longer seen: the model file records that this backend "
+                f"disagrees ({entry.finding}), but it agrees; remove or correct its "
+                "[[known_difference]]"
+            ),
+        )
+    if result.status != "fail":
+        return result
+    over = _beyond(result, entry)
+    if over:
+        return replace(
+            result,
+            message=(f"beyond the recorded known difference ({'; '.join(over)}): {result.message}"),
+        )
+    return replace(
+        result,
+        status="xfail",
+        message=f"expected failure, known difference: {entry.finding} — {result.message}",
+    )
+
+
+def apply_known_differences(
+    model: Model, frame_pair: tuple[str, str], results: Sequence[BackendResult]
+) -> tuple[BackendResult, ...]:
+    """The results with the model's recorded differences applied (see the module docstring).
+
+    Args:
+        model: The model checked.
+        frame_pair: The ``(from, to)`` frames the check compared.
+        results: One result per backend.
+
+    Returns:
+        The results, those of listed backends rewritten.
+    """
+    if not model.known_differences or frame_pair != (
+        model.check.frame_from,
+        model.check.frame_to,
+    ):
+        return tuple(results)
+    out: list[BackendResult] = []
+    for result in results:
+        entry = known_difference_for(model, result.name)
+        out.append(result if entry is None else _apply(result, entry))
+    return tuple(out)

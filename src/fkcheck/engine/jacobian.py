@@ -1,0 +1,267 @@
+"""One backend's Jacobian against the in-house core's, chunk by chunk (``check --jacobian``).
+
+The compared Jacobian is the one of the check's ``to`` frame, velocities taken
+relative to its ``from`` frame — which must be fixed to the base, so that the
+velocity relative to it is the velocity relative to the backend's root — in one
+of three reference frames (:mod:`fkcheck.core.jacobian`):
+
+* ``"world-aligned"``: the ``to`` origin's velocity and the angular velocity, in
+  ``from`` axes (Pinocchio ``LOCAL_WORLD_ALIGNED``, Robotics Toolbox ``jacob0``
+  when ``from`` is the root);
+* ``"local"``: the same twist in ``to`` axes (``LOCAL``, ``jacobe``);
+* ``"world"``: the spatial twist at the ``from`` origin, in ``from`` axes (``WORLD``).
+
+**Where each side comes from.** fkcheck's side is the core's own geometric
+Jacobian (:func:`fkcheck.model.frames.frame_jacobian`). A backend whose library
+computes Jacobians (:class:`~fkcheck.backends.base.ProvidesJacobian`) is asked
+for the reference itself, in its own root; the engine then only moves the
+numbers from that root to ``from`` with the backend's *own* pose of ``from``
+(nothing at all for ``local``, or when ``from`` is its root). A backend that
+has none for the frame and reference asked (its ``frame_jacobian`` returns
+``None``: a plugin without ``<function>_jacobian``) or only gives poses
+(yourdfpy, rtb-urdf, ``cmd:`` programs) is differentiated: central differences
+of *its* ``from_T_to`` with step
+:data:`~fkcheck.core.tolerances.FINITE_DIFFERENCE_STEP`, the rotation part as
+the rotation vector of ``R(q+h) R(q−h)ᵀ`` over ``2h`` (scipy), all its
+``2n`` neighbours of a chunk in one call. Its truncation and round-off error
+(:data:`~fkcheck.core.tolerances.FINITE_DIFFERENCE`, 1e-7) sets a floor under
+the tolerance. Measured poses are left out: they hold no neighbouring
+configurations.
+
+**Errors.** Per configuration, the largest over the columns of the norm of the
+difference of the linear 3-vectors (m/rad; m/m for a prismatic column) and of
+the angular ones (rad/rad; 0 for a prismatic column); per column, the largest
+over the configurations — the report names the first joint whose column
+disagrees.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
+from fkcheck.core.jacobian import re_express
+from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP
+from fkcheck.core.typing import Float, JacobianReference
+from fkcheck.errors import FkcheckError
+from fkcheck.model.frames import frame_jacobian, relative_pose
+from fkcheck.model.types import Model, resolve_frame
+
+__all__ = [
+    "SAMPLES_KEPT",
+    "JacobianComparison",
+    "JacobianSample",
+    "JacobianSpec",
+    "check_fixed_from",
+    "finite_difference_jacobian",
+    "method_of",
+]
+
+#: Configurations whose two Jacobians are kept for the diagnosis and the report
+#: (the first ones compared, plus the worst).
+SAMPLES_KEPT = 32
+
+
+@dataclass(frozen=True)
+class JacobianSpec:
+    """What ``--jacobian`` compares.
+
+    Attributes:
+        reference: ``"world-aligned"``, ``"local"`` or ``"world"``.
+        tol: Tolerance on both parts: linear (m/rad) and angular (rad/rad).
+    """
+
+    reference: JacobianReference
+    tol: float
+
+
+@dataclass(frozen=True, eq=False)
+class JacobianSample:
+    """Both Jacobians at some configurations, kept for the diagnosis and the report.
+
+    Attributes:
+        index: ``(K,)`` indices into the check's configurations.
+        ours: fkcheck's Jacobians there, ``(K, 6, n)``.
+        theirs: The backend's, ``(K, 6, n)``.
+        from_T_to: fkcheck's pose of the ``to`` frame there, ``(K, 4, 4)``.
+    """
+
+    index: tuple[int, ...]
+    ours: Float
+    theirs: Float
+    from_T_to: Float
+
+
+def check_fixed_from(model: Model, frame_from: str) -> None:
+    """Refuse a ``from`` frame that joints move: velocities relative to it are not a Jacobian's.
+
+    Raises:
+        FkcheckError: ``frame_from`` sits on a DH frame after a joint.
+    """
+    spec = resolve_frame(model, frame_from)
+    if spec.dh not in (0, "world"):
+        moving = model.dof if spec.dh == "tcp" else spec.dh
+        raise FkcheckError(
+            f"--jacobian: frame {frame_from!r} moves with joints 1–{moving}; the Jacobian is "
+            "taken relative to a frame fixed to the base: use --from world, the base frame "
+            "or a frame on DH frame 0"
+        )
+
+
+def method_of(backend: Backend, *, own: bool) -> str:
+    """How a backend's Jacobian was obtained: its own (``own``), or finite differences."""
+    if own:
+        return str(getattr(backend, "jacobian_method", f"{backend.method}: its own Jacobian"))
+    return f"central differences of its poses, step {FINITE_DIFFERENCE_STEP:g}"
+
+
+def finite_difference_jacobian(
+    backend: Backend, model: Model, q: Float, pair: tuple[str, str]
+) -> Float:
+    """Jacobian of ``to`` by central differences of the backend's ``from_T_to``.
+
+    All ``2n`` neighbours of every configuration go to the backend in one call.
+
+    Returns:
+        ``(N, 6, n)``: linear (the ``to`` origin's velocity) then angular, in ``from`` axes.
+    """
+    from scipy.spatial.transform import Rotation  # only a check with --jacobian needs it
+
+    n, h = model.dof, FINITE_DIFFERENCE_STEP
+    steps = np.concatenate([np.eye(n), -np.eye(n)]) * h  # (2n, n)
+    stacked = (q[None, :, :] + steps[:, None, :]).reshape(-1, n)  # (2n·N, n)
+    poses = np.asarray(backend.frame_poses(model, stacked, pair), dtype=np.float64)
+    if poses.shape != (2, stacked.shape[0], 4, 4):
+        raise FkcheckError(
+            f"returned shape {poses.shape} at the finite-difference neighbours, "
+            f"expected {(2, stacked.shape[0], 4, 4)}"
+        )
+    from_T_to = relative_pose(poses[0], poses[1]).reshape(2, n, q.shape[0], 4, 4)
+    plus, minus = from_T_to[0], from_T_to[1]  # (n, N, 4, 4)
+    linear = (plus[..., :3, 3] - minus[..., :3, 3]) / (2 * h)  # (n, N, 3)
+    turn = plus[..., :3, :3] @ np.swapaxes(minus[..., :3, :3], -1, -2)
+    angular = Rotation.from_matrix(turn.reshape(-1, 3, 3)).as_rotvec().reshape(n, -1, 3) / (2 * h)
+    return np.concatenate([linear, angular], axis=2).transpose(1, 2, 0)  # (N, 6, n)
+
+
+def _into_from(jac: Float, root_T_from: Float, reference: JacobianReference) -> Float:
+    """A Jacobian in a root frame's terms moved to a fixed ``from`` frame of that root."""
+    if reference == "local":
+        return jac
+    R_t = np.swapaxes(root_T_from[:, :3, :3], 1, 2)
+    lin, ang = jac[:, :3], jac[:, 3:]
+    if reference == "world":  # the body point at from's origin: v0 + ω × p_from
+        lin = lin + np.cross(ang, root_T_from[:, :3, 3][:, :, None], axis=1)
+    return np.concatenate([R_t @ lin, R_t @ ang], axis=1)
+
+
+@dataclass(eq=False)
+class JacobianComparison:
+    """Accumulates one backend's Jacobian errors over the chunks of a check.
+
+    Call :meth:`add` with each chunk's configurations and both sides' root poses
+    of ``(from, to)``; the arrays are then complete.
+    """
+
+    backend: Backend
+    model: Model
+    pair: tuple[str, str]
+    spec: JacobianSpec
+    total: int
+    linear_error: Float = field(init=False)
+    angular_error: Float = field(init=False)
+    column_linear: Float = field(init=False)
+    column_angular: Float = field(init=False)
+    own: bool | None = field(init=False, default=None)
+    _kept: list[tuple[int, Float, Float, Float]] = field(init=False, default_factory=list)
+    _worst: tuple[float, int, Float, Float, Float] | None = field(init=False, default=None)
+
+    def __post_init__(self) -> None:
+        self.linear_error = np.empty(self.total)
+        self.angular_error = np.empty(self.total)
+        self.column_linear = np.zeros(self.model.dof)
+        self.column_angular = np.zeros(self.model.dof)
+
+    @property
+    def applies(self) -> str | None:
+        """Why this backend's Jacobian is not compared, or ``None``."""
+        if isinstance(self.backend, FixedConfigurations):
+            return "measured poses hold no neighbouring configurations to differentiate"
+        return None
+
+    @property
+    def tolerance(self) -> float:
+        """The tolerance applied: the asked one, floored by finite differences' accuracy."""
+        if self.own:
+            return self.spec.tol
+        return max(self.spec.tol, FINITE_DIFFERENCE)
+
+    @property
+    def method(self) -> str:
+        """How the backend's Jacobian was obtained (after :meth:`add`)."""
+        return method_of(self.backend, own=bool(self.own))
+
+    def add(self, first: int, q: Float, ours_root: Float, theirs_root: Float) -> None:
+        """Compare one chunk.
+
+        Args:
+            first: Index of the chunk's first configuration.
+            q: The chunk's configurations, ``(m, n)``.
+            ours_root: The core's world poses of ``(from, to)``, ``(2, m, 4, 4)``.
+            theirs_root: The backend's root poses of ``(from, to)``, ``(2, m, 4, 4)``.
+        """
+        ref, frame_to = self.spec.reference, self.pair[1]
+        ours_from_T_to = relative_pose(ours_root[0], ours_root[1])
+        ours_wa = _into_from(
+            frame_jacobian(self.model, q, frame_to, "world-aligned"), ours_root[0], "world-aligned"
+        )
+        ours = re_express(ours_wa, ours_from_T_to, "world-aligned", ref)
+        native = None
+        if isinstance(self.backend, ProvidesJacobian) and self.own is not False:
+            native = self.backend.frame_jacobian(self.model, q, frame_to, ref)
+            self.own = native is not None
+        if native is not None:
+            native = np.asarray(native, dtype=np.float64)
+            if native.shape != ours.shape:
+                raise FkcheckError(
+                    f"returned a Jacobian of shape {native.shape}, expected {ours.shape}"
+                )
+            theirs = _into_from(native, theirs_root[0], ref)
+        else:
+            self.own = False
+            fd = finite_difference_jacobian(self.backend, self.model, q, self.pair)
+            theirs_from_T_to = relative_pose(theirs_root[0], theirs_root[1])
+            theirs = re_express(fd, theirs_from_T_to, "world-aligned", ref)
+        diff = theirs - ours
+        lin = np.linalg.norm(diff[:, :3], axis=1)  # (m, n)
+        ang = np.linalg.norm(diff[:, 3:], axis=1)
+        bad = ~np.isfinite(diff).all(axis=1)
+        lin[bad] = np.inf
+        ang[bad] = np.inf
+        m = q.shape[0]
+        self.linear_error[first : first + m] = lin.max(axis=1, initial=0.0)
+        self.angular_error[first : first + m] = ang.max(axis=1, initial=0.0)
+        self.column_linear = np.maximum(self.column_linear, lin.max(axis=0, initial=0.0))
+        self.column_angular = np.maximum(self.column_angular, ang.max(axis=0, initial=0.0))
+        room = SAMPLES_KEPT - len(self._kept)
+        for k in range(min(room, m)):
+            self._kept.append((first + k, ours[k], theirs[k], ours_from_T_to[k]))
+        score = np.maximum(lin.max(axis=1, initial=0.0), ang.max(axis=1, initial=0.0))
+        k = int(np.argmax(score))
+        if self._worst is None or score[k] > self._worst[0]:
+            self._worst = (float(score[k]), first + k, ours[k], theirs[k], ours_from_T_to[k])
+
+    def sample(self) -> JacobianSample:
+        """The kept configurations (the first ones, and the worst), both Jacobians."""
+        rows = list(self._kept)
+        if self._worst is not None and all(r[0] != self._worst[1] for r in rows):
+            rows.append(self._worst[1:])
+        n = self.model.dof
+        return JacobianSample(
+            index=tuple(r[0] for r in rows),
+            ours=np.array([r[1] for r in rows]).reshape(-1, 6, n),
+            theirs=np.array([r[2] for r in rows]).reshape(-1, 6, n),
+            from_T_to=np.array([r[3] for r in rows]).reshape(-1, 4, 4),
+        )

@@ -1,0 +1,238 @@
+"""``check --jacobian``: every bundled model against the references, and seeded mistakes caught.
+
+The references' own Jacobians (Robotics Toolbox, Pinocchio from DH and from the
+URDF) in all three reference frames, and central differences of yourdfpy's
+poses, must agree with the core's; backends that get a convention wrong must
+fail, with the first disagreeing joint column named.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from fkcheck.backends.pinocchio_dh import PinocchioDH
+from fkcheck.backends.registry import make_backend
+from fkcheck.core.tolerances import FINITE_DIFFERENCE, ROUNDED_URDF, SAME_CHAIN
+from fkcheck.core.typing import JACOBIAN_REFERENCES
+from fkcheck.engine.jacobian import JacobianSpec
+from fkcheck.engine.runner import run_check
+from fkcheck.errors import FkcheckError
+from fkcheck.model.read import bundled_model_paths, load_model
+from tests.paths import DATA_DIR
+
+MODELS = sorted(bundled_model_paths())
+
+
+def _urdf_models() -> list[str]:
+    return [name for name in MODELS if load_model(name).urdf is not None]
+
+
+@pytest.mark.parametrize("name", MODELS)
+@pytest.mark.parametrize("reference", JACOBIAN_REFERENCES)
+def test_every_model_agrees_with_both_dh_references_in_every_reference_frame(name, reference):
+    model = load_model(name)
+    backends = [make_backend("rtb-dh"), make_backend("pinocchio-dh")]
+    check = run_check(model, backends, samples=40, seed=3, jacobian=JacobianSpec(reference, 1e-6))
+    assert check.verdict == "pass", [(b.name, b.message, b.jacobian) for b in check.backends]
+    for b in check.backends:
+        assert b.jacobian is not None
+        assert b.jacobian.status == "pass", b.jacobian
+        assert "its own" not in b.jacobian.method  # the library's call is named
+        assert b.jacobian.max_linear_error < SAME_CHAIN
+        assert b.jacobian.max_angular_error < SAME_CHAIN
+
+
+@pytest.mark.parametrize("name", _urdf_models())
+@pytest.mark.parametrize("reference", JACOBIAN_REFERENCES)
+def test_urdf_models_agree_with_pinocchio_urdf_and_yourdfpy_differences(name, reference):
+    model = load_model(name)
+    backends = [make_backend("pinocchio-urdf"), make_backend("yourdfpy-urdf")]
+    check = run_check(model, backends, samples=10, seed=5, jacobian=JacobianSpec(reference, 1e-6))
+    assert check.verdict == "pass", [(b.name, b.message, b.jacobian) for b in check.backends]
+    pin, yourdfpy = check.backends
+    assert pin.jacobian.max_linear_error < ROUNDED_URDF
+    assert pin.jacobian.max_angular_error < ROUNDED_URDF
+    assert "central differences" in yourdfpy.jacobian.method
+    assert yourdfpy.jacobian.tolerance == max(1e-6, FINITE_DIFFERENCE)
+    assert yourdfpy.jacobian.max_linear_error < FINITE_DIFFERENCE
+    assert yourdfpy.jacobian.max_angular_error < FINITE_DIFFERENCE
+
+
+class _Seeded(PinocchioDH):
+    """Pinocchio from DH with one convention mistake in its Jacobian."""
+
+    def __init__(self, mistake: str) -> None:
+        super().__init__()
+        self.mistake = mistake
+        self.name = f"seeded-{mistake}"
+
+    def frame_jacobian(self, model, q, frame, reference):
+        if self.mistake == "local-for-world-aligned":
+            return super().frame_jacobian(model, q, frame, "local")
+        if self.mistake == "tool-offset-left-out":
+            return super().frame_jacobian(model, q, "tool0", reference)
+        jac = np.array(super().frame_jacobian(model, q, frame, reference))
+        if self.mistake == "angular-first":
+            return np.concatenate([jac[:, 3:], jac[:, :3]], axis=1)
+        if self.mistake == "column-3-flipped":
+            jac[:, :, 2] *= -1
+            return jac
+        raise AssertionError(self.mistake)
+
+
+@pytest.mark.parametrize(
+    ("mistake", "first_column"),
+    [
+        ("local-for-world-aligned", 0),
+        ("angular-first", 0),
+        ("column-3-flipped", 2),
+        ("tool-offset-left-out", 0),
+    ],
+)
+def test_seeded_mistakes_fail_and_name_the_first_column(mistake, first_column):
+    # ur5 with a 10 cm tool so that the TCP and tool0 differ.
+    model = load_model("ur5")
+    from dataclasses import replace
+
+    from fkcheck.model.types import Offset
+
+    model = replace(model, tool=Offset(xyz=(0.0, 0.0, 0.1)))
+    check = run_check(
+        model,
+        [make_backend("rtb-dh"), _Seeded(mistake)],
+        samples=30,
+        frame_from="base",
+        frame_to="tcp",
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )
+    good, bad = check.backends
+    assert good.status == "pass"
+    assert good.jacobian.status == "pass"
+    assert bad.status == "pass"  # the poses agree
+    assert bad.jacobian.status == "fail"
+    assert bad.jacobian.first_bad_column == first_column
+    assert f"first column to disagree: joint {first_column + 1}" in bad.jacobian.message
+    assert check.verdict == "fail"
+    assert check.evidence.implementation.status == "verified"  # what the poses proved stays
+
+
+def test_a_flipped_column_leaves_the_other_columns_in_agreement():
+    check = run_check(
+        load_model("panda"),
+        [_Seeded("column-3-flipped")],
+        samples=30,
+        jacobian=JacobianSpec("local", 1e-6),
+    )
+    j = check.backends[0].jacobian
+    columns = np.maximum(j.column_linear, j.column_angular)
+    assert columns[2] > 0.1
+    assert np.delete(columns, 2).max() < SAME_CHAIN
+
+
+def test_a_moving_from_frame_is_refused_before_anything_runs():
+    with pytest.raises(FkcheckError, match=r"moves with joints 1–3.*fixed to the base"):
+        run_check(
+            load_model("panda"),
+            [make_backend("rtb-dh")],
+            samples=5,
+            frame_from="panda_link3",
+            jacobian=JacobianSpec("world-aligned", 1e-6),
+        )
+
+
+def test_measured_poses_have_no_jacobian_and_say_why():
+    check = run_check(
+        load_model("ur5"),
+        [make_backend(f"poses:{DATA_DIR / 'ur5_pendant.csv'}")],
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )
+    (measured,) = check.backends
+    assert measured.jacobian.status == "skipped"
+    assert "no neighbouring configurations" in measured.jacobian.message
+
+
+def test_a_jacobian_that_raises_is_that_backends_jacobian_error_and_the_poses_stand():
+    class Broken(PinocchioDH):
+        name = "broken-jacobian"
+
+        def frame_jacobian(self, model, q, frame, reference):
+            raise RuntimeError("no Jacobian today")
+
+    check = run_check(
+        load_model("ur5"), [Broken()], samples=5, jacobian=JacobianSpec("world", 1e-6)
+    )
+    (b,) = check.backends
+    assert b.status == "pass"
+    assert b.jacobian.status == "error"
+    assert b.jacobian.message == "RuntimeError: no Jacobian today"
+    assert check.verdict == "error"
+
+
+def test_a_jacobian_of_the_wrong_shape_is_an_error_naming_both_shapes():
+    class Wrong(PinocchioDH):
+        name = "wrong-shape"
+
+        def frame_jacobian(self, model, q, frame, reference):
+            return np.zeros((q.shape[0], 6, model.dof + 1))
+
+    check = run_check(load_model("ur5"), [Wrong()], samples=5, jacobian=JacobianSpec("world", 1e-6))
+    assert check.backends[0].jacobian.status == "error"
+    assert "shape (" in check.backends[0].jacobian.message
+    assert ", 6, 7)" in check.backends[0].jacobian.message
+
+
+def test_without_jacobian_nothing_is_compared():
+    check = run_check(load_model("ur5"), [make_backend("rtb-dh")], samples=5)
+    assert check.jacobian is None
+    assert check.backends[0].jacobian is None
+
+
+def test_json_junit_and_markdown_carry_the_jacobian(tmp_path):
+    from fkcheck.report.json_report import result_to_dict
+    from fkcheck.report.junit import junit_xml
+    from fkcheck.report.markdown import markdown_summary
+
+    check = run_check(
+        load_model("ur5"),
+        [make_backend("rtb-dh"), _Seeded("column-3-flipped")],
+        samples=10,
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )
+    doc = json.loads(json.dumps(result_to_dict(check)))
+    assert doc["jacobian"]["reference"] == "world-aligned"
+    assert doc["jacobian"]["tolerance"] == 1e-6
+    good, bad = doc["backends"]
+    assert good["jacobian"]["status"] == "pass"
+    assert bad["jacobian"]["status"] == "fail"
+    assert bad["jacobian"]["first_disagreeing_joint"] == "elbow"
+    assert [c["joint"] for c in bad["jacobian"]["columns"]][2] == "elbow"
+    assert bad["jacobian"]["columns"][2]["max_angular"] == pytest.approx(2.0)
+    xml = junit_xml(check).decode()
+    assert 'name="seeded-column-3-flipped jacobian tool0 (world-aligned)"' in xml
+    assert "seeded-column-3-flipped&apos;s Jacobian disagrees" in xml or (
+        "seeded-column-3-flipped's Jacobian disagrees" in xml
+    )
+    assert 'failures="1"' in xml
+    md = markdown_summary([check])
+    assert "Jacobian of tool0 (world-aligned)" in md
+    assert "| seeded-column-3-flipped | " in md
+
+
+def test_the_html_report_has_the_per_column_section(tmp_path):
+    from fkcheck.report.html import write_html
+
+    check = run_check(
+        load_model("ur5"),
+        [make_backend("rtb-dh"), _Seeded("column-3-flipped")],
+        samples=10,
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )
+    path = write_html(check, tmp_path / "r.html", plots=False)
+    html = path.read_text()
+    assert 'id="jacobian"' in html
+    assert 'id="jacobian-columns"' in html
+    assert html.count('data-first="1"') == 1
+    assert "3 elbow" in html

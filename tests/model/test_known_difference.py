@@ -1,0 +1,107 @@
+"""``[[known_difference]]``: the schema, strictly validated (one clear line, exit 2)."""
+
+from __future__ import annotations
+
+import pytest
+
+from fkcheck import ModelError, load_model
+from fkcheck.backends.registry import BUILTIN, PREFIXED
+from fkcheck.cli.main import main
+from fkcheck.model.read import KNOWN_DIFFERENCE_BACKENDS, KNOWN_DIFFERENCE_PREFIXES
+from fkcheck.model.types import KnownDifference
+
+TOP = 'name = "m"\nconvention = "standard"\n'
+JOINT = "[[joint]]\na = 0.1\nalpha = 0.0\nd = 0.2\n"
+HEAD = TOP + JOINT
+GOOD = '[[known_difference]]\nbackends = ["pinocchio-urdf"]\nfinding = "d1 0.3 mm"\n'
+
+
+def test_a_known_difference_is_read_with_its_bounds(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(
+        HEAD + GOOD + "max_position_m = 0.001\nmax_angle_rad = 2e-5\n"
+        '[[known_difference]]\nbackends = ["rtb-urdf", "rtb-model:UR5"]\nfinding = "x"\n'
+    )
+    model = load_model(path)
+    assert model.known_differences == (
+        KnownDifference(("pinocchio-urdf",), "d1 0.3 mm", 0.001, 2e-5),
+        KnownDifference(("rtb-urdf", "rtb-model:UR5"), "x"),
+    )
+
+
+def test_the_names_it_accepts_are_backends_the_registry_knows():
+    assert set(KNOWN_DIFFERENCE_BACKENDS) <= set(BUILTIN)
+    assert set(KNOWN_DIFFERENCE_PREFIXES) <= set(PREFIXED)
+
+
+BAD = {
+    "not_an_array": ('known_difference = "x"\n', r"known_difference: expected an array of tables"),
+    "unknown_key": (GOOD + "why = 1\n", r"known_difference\[0\]\.why: unknown key; allowed"),
+    "missing_finding": (
+        '[[known_difference]]\nbackends = ["rtb-urdf"]\n',
+        r"known_difference\[0\]\.finding: missing",
+    ),
+    "missing_backends": (
+        '[[known_difference]]\nfinding = "x"\n',
+        r"known_difference\[0\]\.backends: missing",
+    ),
+    "backends_not_a_list": (
+        '[[known_difference]]\nbackends = "rtb-urdf"\nfinding = "x"\n',
+        r"backends: expected a non-empty list of backend names: pinocchio-urdf",
+    ),
+    "backends_empty": (
+        '[[known_difference]]\nbackends = []\nfinding = "x"\n',
+        r"backends: expected a non-empty list",
+    ),
+    "unknown_backend": (
+        '[[known_difference]]\nbackends = ["pinocchio-urdff"]\nfinding = "x"\n',
+        r"backends\[0\]: 'pinocchio-urdff' is not a backend .*may name: pinocchio-urdf, "
+        r"yourdfpy-urdf, rtb-urdf, rtb-model:…, poses:…",
+    ),
+    "implementation_backend": (
+        '[[known_difference]]\nbackends = ["rtb-dh"]\nfinding = "x"\n',
+        r"'rtb-dh' is not a backend whose evidence is independent of the table",
+    ),
+    "bare_prefix": (
+        '[[known_difference]]\nbackends = ["rtb-model:"]\nfinding = "x"\n',
+        r"'rtb-model:' is not a backend",
+    ),
+    "listed_twice": (
+        GOOD + '[[known_difference]]\nbackends = ["pinocchio-urdf"]\nfinding = "y"\n',
+        r"known_difference\[1\]\.backends\[0\]: 'pinocchio-urdf' is listed already",
+    ),
+    "finding_not_text": (
+        '[[known_difference]]\nbackends = ["rtb-urdf"]\nfinding = 3\n',
+        r"finding: expected a string, got an integer",
+    ),
+    "finding_blank": (
+        '[[known_difference]]\nbackends = ["rtb-urdf"]\nfinding = "  "\n',
+        r"finding: must not be empty",
+    ),
+    "bound_not_a_number": (GOOD + 'max_position_m = "1mm"\n', r"max_position_m: expected a number"),
+    "bound_zero": (GOOD + "max_angle_rad = 0\n", r"max_angle_rad: must be positive"),
+    "bound_bool": (GOOD + "max_angle_rad = true\n", r"max_angle_rad: expected a number"),
+    "bound_nan": (GOOD + "max_position_m = nan\n", r"max_position_m: must be a finite number"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_known_difference_is_one_clear_error(tmp_path, case):
+    text, match = BAD[case]
+    path = tmp_path / f"{case}.toml"
+    path.write_text(TOP + text + JOINT)  # top-level keys first, then the table
+    with pytest.raises(ModelError, match=match) as info:
+        load_model(path)
+    assert str(info.value).startswith(str(path))
+    assert "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize("case", ["unknown_key", "unknown_backend", "bound_zero"])
+def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case):
+    path = tmp_path / f"{case}.toml"
+    path.write_text(TOP + BAD[case][0] + JOINT)
+    assert main(["lint", str(path)]) == 2
+    _out, err = capsys.readouterr()
+    assert "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1
+    assert str(path) in err

@@ -1,0 +1,294 @@
+"""xacro, opt in: expanded in a fenced child process, then screened like a plain URDF.
+
+The description (tests/xacro_cases.py) uses a macro three times, an argument
+with a default and an override, ``${pi/2}`` and ``${a*2}``, and a ``$(find …)``
+include of a declared package; it is compared with its hand-expanded twin.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fkcheck.cli.main import main
+from fkcheck.errors import ModelError, UrdfError
+from fkcheck.model.read import load_model
+from fkcheck.model.write import model_to_toml
+from fkcheck.urdf.chain import urdf_kinematics
+from fkcheck.urdf.source import allow_xacro, load_urdf
+from fkcheck.urdf.tree import read_urdf
+from fkcheck.urdf.xacro import XACRO_MEMORY_BYTES, expand_xacro, read_xacro
+from tests.helpers import deadline
+from tests.xacro_cases import TOP, twin_urdf, write_description, write_model
+
+#: Exact agreement, up to the last bits of the chain products.
+SAME = 1e-12
+
+OPT_IN = (
+    "set xacro = true in the model's [urdf] table or pass --allow-xacro "
+    "(or write a plain URDF with fkcheck expand)"
+)
+PACKAGES = 'packages = { arm_description = "../arm_description" }'
+
+
+def poses(info, q):
+    kin = urdf_kinematics(info)
+    chain = kin.chain("base", "tip")
+    return kin.chain_poses(chain, q)
+
+
+@pytest.mark.parametrize(("args", "reach"), [({}, "0.3"), ({"reach": "0.4"}, "0.4")])
+def test_expansion_equals_the_hand_expanded_twin(tmp_path, args, reach):
+    top, package = write_description(tmp_path)
+    twin = tmp_path / "twin.urdf"
+    twin.write_text(twin_urdf(reach))
+    expanded = read_xacro(top, args, {"arm_description": package})
+    plain = read_urdf(twin)
+    assert expanded.links == plain.links
+    assert expanded.joints == plain.joints
+    q = np.random.default_rng(3).uniform(-3, 3, size=(64, 3))
+    a, b = poses(expanded, q), poses(plain, q)
+    np.testing.assert_allclose(a, b, rtol=0, atol=SAME)
+    # The argument reaches the pose: the tip is `reach` along x of l3 at q = 0.
+    at_zero = poses(expanded, np.zeros((1, 3)))[0][-1]
+    assert at_zero[0, 3] == pytest.approx(0.5 + float(reach), abs=SAME)
+
+
+def test_expansion_leaves_no_file_behind(tmp_path):
+    top, package = write_description(tmp_path)
+    before = sorted(tmp_path.rglob("*"))
+    expand_xacro(top, {}, {"arm_description": package})
+    assert sorted(tmp_path.rglob("*")) == before
+
+
+def test_check_passes_with_xacro_true(tmp_path, capsys):
+    write_description(tmp_path)
+    extra = f'xacro = true\nxacro_args = {{ reach = "0.4" }}\n{PACKAGES}'
+    model = write_model(tmp_path, "0.4", extra)
+    code = main(["check", str(model), "--quiet", "--samples", "40"])
+    out, err = capsys.readouterr()
+    assert code == 0, out + err
+    assert "verdict: pass — table verified independently" in out
+    for backend in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"):
+        row = next(line for line in out.splitlines() if f" {backend} " in line)
+        assert " pass " in row, row
+
+
+def test_check_fails_when_the_argument_disagrees_with_the_table(tmp_path, capsys):
+    # Without the override, reach is its default 0.3 while the table says 0.4: the
+    # URDF backends must see the difference (the argument really reaches them).
+    write_description(tmp_path)
+    model = write_model(tmp_path, "0.4", f"xacro = true\n{PACKAGES}")
+    code = main(["check", str(model), "--quiet", "--samples", "20", "--no-diagnose"])
+    out, err = capsys.readouterr()
+    assert code == 1, out + err
+    assert "verdict: fail" in out
+
+
+def test_refused_without_the_opt_in_naming_it(tmp_path, capsys):
+    write_description(tmp_path)
+    model = write_model(tmp_path, "0.4", f'xacro_args = {{ reach = "0.4" }}\n{PACKAGES}')
+    code = main(["check", str(model), "--quiet", "--samples", "20"])
+    out, err = capsys.readouterr()
+    assert code == 2
+    assert err.count("\n") == 1
+    assert "Traceback" not in err
+    assert "arm.urdf.xacro: line 3: has a xacro element <arg>" in err
+    assert OPT_IN in err
+    with pytest.raises(UrdfError, match="pass --allow-xacro"):
+        load_urdf(load_model(model))
+    # --allow-xacro on the command line is the same opt-in.
+    code = main(["check", str(model), "--allow-xacro", "--quiet", "--samples", "20"])
+    out, err = capsys.readouterr()
+    assert code == 0, out + err
+
+
+def test_diagnose_takes_allow_xacro(tmp_path, capsys):
+    write_description(tmp_path)
+    model = write_model(tmp_path, "0.4", f'xacro_args = {{ reach = "0.4" }}\n{PACKAGES}')
+    assert main(["diagnose", str(model), "--samples", "20"]) == 2
+    assert "--allow-xacro" in capsys.readouterr().err
+    code = main(["diagnose", str(model), "--samples", "20", "--allow-xacro"])
+    out, err = capsys.readouterr()
+    assert code == 0, out + err
+
+
+def test_allow_xacro_sets_the_flag_only():
+    model = load_model("ur5")
+    allowed = allow_xacro(model)
+    assert allowed.urdf is not None
+    assert model.urdf is not None
+    assert allowed.urdf.xacro
+    assert not model.urdf.xacro
+    assert allowed.urdf.path == model.urdf.path
+    assert allowed.joints == model.joints
+    planar = load_model("planar2")
+    assert allow_xacro(planar) is planar
+
+
+# --- the fence: packages, files, environment, time, memory, the screen afterwards ----
+
+
+def expand_top(tmp_path, top, args=None, packages=None, timeout_s=30.0):
+    path, package = write_description(tmp_path, top)
+    declared = {"arm_description": package} if packages is None else packages
+    return expand_xacro(path, args or {}, declared, timeout_s)
+
+
+def test_undeclared_package_is_one_line_naming_the_declared(tmp_path):
+    with pytest.raises(UrdfError) as caught:
+        expand_top(tmp_path, TOP, packages={"other_pkg": tmp_path})
+    message = str(caught.value)
+    assert "\n" not in message
+    assert (
+        "arm.urdf.xacro: xacro expansion failed: $(find arm_description): package "
+        "'arm_description' is not declared; declared packages: other_pkg" in message
+    )
+    assert "--package arm_description=DIR" in message
+
+
+def test_find_never_looks_at_ros_package_path(tmp_path, monkeypatch):
+    # A ROS environment that does have the package: fkcheck must not use it.
+    _, package = write_description(tmp_path / "ros")
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(package.parent))
+    monkeypatch.setenv("AMENT_PREFIX_PATH", str(package.parent))
+    with pytest.raises(UrdfError, match="declared packages: none"):
+        expand_top(tmp_path / "mine", TOP, packages={})
+
+
+def test_a_declared_package_must_be_a_directory(tmp_path):
+    with pytest.raises(UrdfError, match=r"package .arm_description. is declared at .*, not a dir"):
+        expand_top(tmp_path, TOP, packages={"arm_description": tmp_path / "missing"})
+
+
+def test_include_outside_the_allowed_directories_is_refused(tmp_path):
+    secret = tmp_path / "secret.xacro"
+    secret.write_text('<robot><link name="stolen"/></robot>')
+    top = TOP.replace(
+        '<link name="base"/>', f'<xacro:include filename="{secret}"/><link name="base"/>'
+    )
+    with pytest.raises(UrdfError, match=r"include of '.*secret\.xacro': outside the xacro file's"):
+        expand_top(tmp_path, top)
+
+
+def test_load_yaml_outside_the_allowed_directories_is_refused(tmp_path):
+    (tmp_path / "secret.yaml").write_text("a: 1\n")
+    top = TOP.replace(
+        '<link name="base"/>',
+        f'<xacro:property name="s" value="${{xacro.load_yaml(\'{tmp_path / "secret.yaml"}\')}}"/>'
+        '<link name="base"/><link name="y${s[\'a\']}"/>',
+    )
+    with pytest.raises(UrdfError, match=r"load_yaml of '.*secret\.yaml': outside"):
+        expand_top(tmp_path, top)
+
+
+@pytest.mark.parametrize("expression", ["$(env HOME)", "$(optenv HOME fallback)"])
+def test_the_environment_is_never_read(tmp_path, expression):
+    top = TOP.replace('<link name="tip"/>', f'<link name="tip"><!-- x -->{expression}</link>')
+    with pytest.raises(UrdfError, match=r"fkcheck does not read the environment for xacro"):
+        expand_top(tmp_path, top)
+
+
+def test_eval_is_evaluated_as_xacro_does(tmp_path):
+    # $(eval …) is Python, like ${…}: opting in trusts the file (documented).
+    top = TOP.replace('xyz="0 0 0.2"', 'xyz="0 0 $(eval 0.1 * 2)"')
+    path, package = write_description(tmp_path, top)
+    info = read_xacro(path, {}, {"arm_description": package})
+    assert 'xyz="0 0 0.2"' in info.text
+
+
+def test_a_loop_is_stopped_by_the_time_limit(tmp_path):
+    top = TOP.replace('value="0.25"', 'value="${python.sum(python.range(10**15))}"')
+    with deadline(20), pytest.raises(UrdfError, match=r"did not end within 2 s \(stopped\)"):
+        expand_top(tmp_path, top, timeout_s=2.0)
+
+
+def test_a_huge_value_is_stopped_by_the_memory_limit(tmp_path):
+    top = TOP.replace('value="0.25"', "value=\"${'x' * 10**10}\"")
+    gib = XACRO_MEMORY_BYTES // 1024**3
+    with deadline(20), pytest.raises(UrdfError, match=f"needs more than {gib} GiB of memory"):
+        expand_top(tmp_path, top)
+
+
+def test_a_huge_expansion_is_refused_by_size(tmp_path):
+    top = TOP.replace('<link name="tip"/>', "<link name=\"tip\">${'x' * 40 * 2**20}</link>")
+    with (
+        deadline(30),
+        pytest.raises(UrdfError, match="its expansion is larger than 33554432 bytes"),
+    ):
+        expand_top(tmp_path, top)
+
+
+def test_an_expansion_keeping_a_dtd_is_refused_by_the_screen(tmp_path):
+    top = TOP.replace(
+        '<?xml version="1.0"?>', '<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY e "0.3">]>'
+    )
+    path, package = write_description(tmp_path, top)
+    assert "<!DOCTYPE" in expand_xacro(path, {}, {"arm_description": package})  # xacro keeps it
+    with pytest.raises(UrdfError, match=r"has a DTD \(<!DOCTYPE …>\)"):
+        read_xacro(path, {}, {"arm_description": package})
+
+
+def test_xacro_left_after_expansion_is_refused_by_the_screen(tmp_path):
+    # xacro does not evaluate a CDATA section: ${…} in one comes out as written.
+    top = TOP.replace('<link name="tip"/>', '<link name="tip"><![CDATA[${1 + 1}]]></link>')
+    path, package = write_description(tmp_path, top)
+    with pytest.raises(UrdfError, match=r"contains a xacro expression \$\{…\}"):
+        read_xacro(path, {}, {"arm_description": package})
+
+
+def test_a_missing_argument_names_the_ways_to_give_it(tmp_path):
+    # xacro 2 requires a default on <xacro:arg>; an undeclared $(arg …) is the missing one.
+    top = TOP.replace("$(arg reach)", "$(arg offset)")
+    with pytest.raises(UrdfError) as caught:
+        expand_top(tmp_path, top)
+    assert "xacro argument 'offset' is not given and has no default" in str(caught.value)
+    assert "--arg offset=VALUE" in str(caught.value)
+    assert expand_top(tmp_path / "given", top, args={"offset": "0.1"}).count('xyz="0.1 0 0"') == 1
+
+
+def test_a_xacro_error_is_one_line(tmp_path):
+    top = TOP.replace('value="0.25"', 'value="${1/0}"')
+    with pytest.raises(UrdfError) as caught:
+        expand_top(tmp_path, top)
+    message = str(caught.value)
+    assert "\n" not in message
+    assert "xacro expansion failed: division by zero" in message
+
+
+# --- the model file's [urdf] keys -------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("line", "field", "problem"),
+    [
+        ('xacro = "yes"', "urdf.xacro", "expected true or false, got a string"),
+        ("xacro_args = { reach = 0.4 }", "urdf.xacro_args.reach", "expected a string"),
+        ('xacro_args = ["reach"]', "urdf.xacro_args", "expected a table"),
+        ('packages = { "bad name" = "x" }', "urdf.packages.bad name", "not a package name"),
+        ("packages = { p = 1 }", "urdf.packages.p", "expected a string (a directory"),
+        ("xacro_arg = {}", "urdf.xacro_arg", "unknown key; allowed keys are: joints, packages"),
+    ],
+)
+def test_model_keys_are_checked(tmp_path, line, field, problem):
+    write_description(tmp_path)
+    path = write_model(tmp_path, "0.4", line)
+    with pytest.raises(ModelError) as caught:
+        load_model(path)
+    message = str(caught.value)
+    assert "xarm.toml" in message, message
+    assert field in message, message
+    assert problem in message, message
+
+
+def test_model_keys_round_trip_through_the_writer(tmp_path):
+    write_description(tmp_path)
+    extra = f'xacro = true\nxacro_args = {{ reach = "0.4" }}\n{PACKAGES}'
+    model = load_model(write_model(tmp_path, "0.4", extra))
+    assert model.urdf is not None
+    assert model.urdf.xacro
+    assert model.urdf.xacro_args == {"reach": "0.4"}
+    assert model.urdf.packages == {"arm_description": "../arm_description"}
+    again = tmp_path / "robot" / "again.toml"
+    again.write_text(model_to_toml(model))
+    assert load_model(again).urdf == model.urdf
