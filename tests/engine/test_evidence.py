@@ -211,11 +211,11 @@ def test_a_urdf_link_names_the_frame_mapped_onto_it(capsys, tmp_path):
     assert doc["evidence"]["table"]["status"] == "verified"
 
 
-def test_a_urdf_link_without_a_declared_frame_is_bad_input_listing_the_mapped_links(capsys):
-    assert main(["check", "ur5", "--to", "urdf:wrist_3_link"]) == 2
+def test_a_urdf_link_of_a_model_without_a_urdf_is_bad_input(capsys):
+    # (A model with a [urdf] compares any of its links: tests/cli/test_map.py.)
+    assert main(["check", "puma560", "--to", "urdf:link6"]) == 2
     err = capsys.readouterr().err
-    assert "no declared frame has URDF twin 'wrist_3_link'" in err
-    assert "urdf:base_link (= base_link)" in err
+    assert "no declared frame has URDF twin 'link6'" in err
     assert err.count("\n") == 1
 
 

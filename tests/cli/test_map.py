@@ -1,0 +1,135 @@
+"""``fkcheck map`` and ``check --from/--to urdf:LINK`` from the command line."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from fkcheck.cli.main import main
+from fkcheck.urdf.locate import locate_urdf
+from tests.paths import REPO_ROOT
+
+UR5_URDF = "example-robot-data:ur_description/urdf/ur5_robot.urdf"
+FAST = ["--samples", "16"]
+
+
+def test_map_prints_a_block_to_paste(capsys):
+    assert main(["map", "ur5"]) == 0
+    out, err = capsys.readouterr()
+    block = tomllib.loads(out)
+    assert block["urdf"] == {
+        "path": UR5_URDF,
+        "joints": [
+            "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+            "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
+        ],
+    }  # fmt: skip
+    assert block["frames"]["base_link"] == {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}
+    assert block["frames"]["tool0"] == {"dh": 6, "urdf": "tool0"}
+    assert "# tool0: max deviation" in out
+    assert "fkcheck map: ur5 onto ur5_robot.urdf: 6 joints" in err
+
+
+def test_map_writes_the_block_to_a_file(tmp_path, capsys):
+    target = tmp_path / "block.toml"
+    assert main(["map", "panda", "-o", str(target)]) == 0
+    frames = tomllib.loads(target.read_text(encoding="utf-8"))["frames"]
+    assert frames["panda_link8"] == {"dh": "tcp", "urdf": "panda_link8"}
+    assert f"wrote {target}" in capsys.readouterr().out
+
+
+def test_map_onto_another_urdf_names_it_relative_to_the_model(tmp_path, capsys):
+    model = tmp_path / "ur5.toml"
+    model.write_text((REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8"))
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes(locate_urdf(UR5_URDF)[0].read_bytes())
+    assert main(["map", str(model), str(urdf)]) == 0
+    assert tomllib.loads(capsys.readouterr().out)["urdf"]["path"] == "robot.urdf"
+
+
+def test_a_wrong_table_exits_1_saying_how_near_the_nearest_came(tmp_path, capsys):
+    text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
+    wrong = tmp_path / "ur5_wrong.toml"
+    wrong.write_text(text.replace("alpha = 90\nd = 0.10915", "alpha = -90\nd = 0.10915"))
+    assert main(["map", str(wrong)]) == 1
+    out, err = capsys.readouterr()
+    assert "no chain of the URDF moves like the table (the nearest leaves the last DH frame" in err
+    assert "NO URDF link sits at a constant offset from DH frame 6: the nearest" in out
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["map", "nosuch"], "no bundled model of that name"),
+        (["map", "puma560"], "has no [urdf]: give the URDF"),
+        (["map", "ur5", "missing.urdf"], "missing.urdf"),
+        (["map", "ur5", "--samples", "-1"], "--samples"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(argv, message, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert err.count("\n") == 1
+
+
+def test_check_to_an_undeclared_link(tmp_path, capsys):
+    report = tmp_path / "r.json"
+    argv = ["check", "ur5", "--to", "urdf:wrist_2_link", *FAST, "--json", str(report)]
+    assert main([*argv, "--against", "pinocchio-urdf,pinocchio-dh"]) == 0
+    assert "base → urdf:wrist_2_link" in capsys.readouterr().out
+    backends = {b["name"]: b for b in json.loads(report.read_text(encoding="utf-8"))["backends"]}
+    assert backends["pinocchio-urdf"]["status"] == "pass"
+    # The DH backend is skipped, saying the offset came from the URDF.
+    skipped = backends["pinocchio-dh"]
+    assert skipped["status"] == "skipped"
+    assert "urdf:wrist_2_link is declared by no frame" in skipped["message"]
+    assert "only URDF backends compare it" in skipped["message"]
+
+
+def test_check_to_an_unknown_link_lists_the_links(capsys):
+    assert main(["check", "ur5", "--to", "urdf:nosuch", *FAST]) == 2
+    err = capsys.readouterr().err
+    assert "'nosuch'" in err
+    assert "wrist_2_link" in err
+    assert err.count("\n") == 1
+
+
+@pytest.fixture
+def ur5_without_base(tmp_path: Path) -> Path:
+    """ur5.toml copied next to a URDF without UR's `base` link (as in a user's own)."""
+    root = ET.parse(locate_urdf(UR5_URDF)[0]).getroot()
+    for el in list(root):
+        child = el.find("child")
+        if (el.tag == "link" and el.get("name") == "base") or (
+            el.tag == "joint" and child is not None and child.get("link") == "base"
+        ):
+            root.remove(el)
+    ET.ElementTree(root).write(tmp_path / "robot.urdf")
+    text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
+    model = tmp_path / "ur5.toml"
+    model.write_text(text.replace(UR5_URDF, "robot.urdf"), encoding="utf-8")
+    return model
+
+
+def test_a_frame_whose_link_is_absent_is_an_error_only_where_used(ur5_without_base, capsys):
+    model = str(ur5_without_base)
+    assert main(["check", model, "--from", "base_link", *FAST, "--against", "pinocchio-urdf"]) == 0
+    capsys.readouterr()
+    assert main(["check", model, *FAST, "--against", "pinocchio-urdf"]) == 2  # [check] from base
+    err = capsys.readouterr().err
+    assert "'base' not in URDF robot.urdf (frame base)" in err
+    assert "base_link" in err
+    assert err.count("\n") == 1
+
+
+def test_map_keeps_a_frame_whose_link_is_absent_without_one(ur5_without_base, capsys):
+    assert main(["map", str(ur5_without_base)]) == 0
+    out = capsys.readouterr().out
+    assert tomllib.loads(out)["frames"]["base"] == {"dh": 0}
+    assert "its URDF link 'base' is not a link of robot.urdf" in out

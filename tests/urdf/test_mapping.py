@@ -1,0 +1,189 @@
+"""fkcheck map's logic: joints by behaviour, links at constant offsets, urdf:LINK placement.
+
+Every bundled model with a ``[urdf]`` is covered (the list is read from
+``models/``, so arms added later are too): the map must propose exactly the
+joints and frames bundled, and a model rebuilt from the proposal must pass the
+check against pinocchio-urdf.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import fkcheck.backends.registry as registry
+from fkcheck.engine.runner import run_check
+from fkcheck.errors import FkcheckError, FrameError
+from fkcheck.model.read import bundled_model_paths, load_model, model_from_dict
+from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.write import model_to_toml
+from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
+from fkcheck.urdf.locate import ERD_PREFIX
+from fkcheck.urdf.mapping import MapResult, link_frame, map_model, proposal_toml
+from fkcheck.urdf.source import load_urdf
+
+#: Every bundled model that names a URDF, read from models/ (new arms are covered).
+MAPPED = [name for name, path in bundled_model_paths().items() if load_model(path).urdf]
+
+
+def _kin(model: Model) -> UrdfKinematics:
+    return urdf_kinematics(load_urdf(model))
+
+
+def _mapped(name: str) -> tuple[Model, MapResult]:
+    model = load_model(name)
+    assert model.urdf is not None
+    return model, map_model(model, _kin(model), model.urdf.path)
+
+
+def _passes_pinocchio_urdf(model: Model) -> bool:
+    result = run_check(model, [registry.make_backend("pinocchio-urdf")], samples=32, seed=1)
+    return result.backends[0].status == "pass"
+
+
+def test_the_bundled_models_with_a_urdf_are_found():
+    assert {"ur3", "ur5", "ur10", "panda"} <= set(MAPPED)
+
+
+@pytest.mark.parametrize("name", MAPPED)
+def test_map_proposes_the_bundled_joints_and_frames(name):
+    """The map agrees with the bundled mapping exactly where the bundled model passes."""
+    model, result = _mapped(name)
+    assert model.urdf is not None
+    if not _passes_pinocchio_urdf(model):
+        # A recorded disagreement between the vendor's table and the URDF: the map
+        # must not paper over it, and must say how near the nearest link came.
+        assert not result.complete
+        assert "NO " in proposal_toml(result)
+        return
+    assert result.complete
+    assert tuple(j.urdf for j in result.joints) == model.urdf.joints
+    assert not any(j.flipped for j in result.joints)
+    proposed = {p.spec.name: p for p in result.frames}
+    kin = _kin(model)
+    for spec in model.frames.values():
+        if spec.urdf is None or spec.urdf not in kin.links:
+            continue
+        got = proposed[spec.name]  # declared frames keep their names
+        assert got.fit is not None
+        assert got.spec.urdf == spec.urdf
+        assert got.spec.dh == spec.dh
+        np.testing.assert_allclose(got.spec.offset.matrix, spec.offset.matrix, atol=1e-9)
+        assert got.fit.spread_m <= 1e-9
+        assert got.fit.spread_rad <= 1e-9
+    # Both ends have a link (the bundled check's frames included).
+    assert any(p.fit is not None and p.spec.dh == 0 for p in result.frames)
+    assert any(p.fit is not None and p.spec.dh in (model.dof, "tcp") for p in result.frames)
+
+
+def _rebuilt(model: Model, result: MapResult, tmp_path: Path) -> Model:
+    """The model's table (and poses, tool, check) with the map's block instead of its own."""
+    builtin = {k: v for k, v in model.frames.items() if k in ("world", "tcp") and v.urdf is None}
+    table = model_to_toml(replace(model, urdf=None, frames=builtin))
+    text = table + "\n" + proposal_toml(result)
+    path = tmp_path / f"{model.name}_mapped.toml"
+    path.write_text(text, encoding="utf-8")
+    return model_from_dict(tomllib.loads(text), path)
+
+
+@pytest.mark.parametrize("name", MAPPED)
+def test_check_passes_on_a_model_rebuilt_from_the_map(name, tmp_path):
+    model, result = _mapped(name)
+    if not result.complete:
+        assert not _passes_pinocchio_urdf(model)  # see the test above
+        return
+    assert model.urdf is not None
+    assert model.urdf.path.startswith(ERD_PREFIX)
+    rebuilt = _rebuilt(model, result, tmp_path)
+    assert rebuilt.urdf == model.urdf
+    assert _passes_pinocchio_urdf(rebuilt)
+    for p in result.frames:  # every proposed link, at both ends
+        if p.fit is not None:
+            checked = run_check(
+                rebuilt,
+                [registry.make_backend("pinocchio-urdf")],
+                samples=16,
+                frame_from=rebuilt.check.frame_from,
+                frame_to=p.spec.name,
+            )
+            assert checked.backends[0].status == "pass", p.spec.name
+
+
+def test_names_are_ranked_by_how_common_they_are():
+    _model, result = _mapped("ur5")
+    at_base = [p.spec.urdf for p in result.frames if p.spec.dh == 0 and p.fit is not None]
+    assert at_base == ["base", "base_link", "world"]
+    at_tip = [p.spec.urdf for p in result.frames if p.spec.dh == 6 and p.fit is not None]
+    assert at_tip[:2] == ["tool0", "ee_link"]
+    assert "wrist_3_link" in at_tip
+    frames = {p.spec.name: p.spec for p in result.frames}
+    # An undeclared link gets a frame of its own name ('world' is taken by fkcheck).
+    assert frames["urdf_world"].urdf == "world"
+    assert frames["wrist_3_link"].offset.xyz == (0.0, 0.0, -0.0823)  # snapped: exact
+    assert frames["flange"].urdf is None  # declared without a link: kept
+
+
+def test_the_panda_flange_frames_stay_at_the_tcp():
+    _model, result = _mapped("panda")
+    frames = {p.spec.name: p.spec for p in result.frames}
+    assert frames["panda_link8"] == FrameSpec("panda_link8", "tcp", urdf="panda_link8")
+    assert frames["panda_hand_tcp"].urdf == "panda_hand_tcp"
+    # The fingers move (their joints take random values): never rigid to the flange.
+    assert "panda_leftfinger" not in {p.spec.urdf for p in result.frames}
+
+
+def _with_row(model: Model, index: int, **change: object) -> Model:
+    joints = list(model.joints)
+    joints[index] = replace(joints[index], **change)  # type: ignore[arg-type]
+    return replace(model, joints=tuple(joints))
+
+
+def test_a_flipped_alpha_matches_no_link_and_says_how_near():
+    model = load_model("ur5")
+    wrong = _with_row(model, 3, alpha=-model.joints[3].alpha)  # α4 = -90° instead of 90°
+    result = map_model(wrong, _kin(model), "ur5.urdf")
+    assert not result.complete
+    assert not result.joints_fit
+    assert result.fit_m > 1e-3  # millimetres off, not round-off
+    assert {n.anchor for n in result.nearest} == {0, 6}
+    text = proposal_toml(result)
+    assert "NO chain of the URDF moves like this table" in text
+    assert "NO URDF link sits at a constant offset from DH frame 6: the nearest" in text
+    assert " mm / " in text
+
+
+def test_a_joint_turning_the_other_way_is_named_with_the_fix():
+    model = load_model("ur5")
+    flipped = _with_row(model, 4, flip=True)
+    result = map_model(flipped, _kin(model), "ur5.urdf")
+    assert result.joints_fit
+    assert not result.complete
+    assert [j.dh for j in result.joints if j.flipped] == ["wrist_2"]
+    assert [j.urdf for j in result.joints] == list(model.urdf.joints)  # type: ignore[union-attr]
+    assert "set flip = false on [[joint]] wrist_2" in proposal_toml(result)
+
+
+def test_an_undeclared_link_is_placed_on_its_dh_frame():
+    model = load_model("ur5")
+    fit = link_frame(model, _kin(model), "wrist_2_link")
+    assert fit.anchor == 5
+    assert fit.offset.xyz == (0.0, 0.09465, 0.0)
+    assert fit.spread_m < 1e-9
+    assert fit.spread_rad < 1e-9
+
+
+def test_an_unknown_link_lists_the_links():
+    model = load_model("ur5")
+    with pytest.raises(FrameError, match="wrist_2_link"):
+        link_frame(model, _kin(model), "nosuch")
+
+
+def test_a_link_on_no_dh_frame_of_a_wrong_table_is_refused_with_how_near():
+    model = load_model("ur5")
+    wrong = _with_row(model, 3, alpha=-model.joints[3].alpha)
+    with pytest.raises(FkcheckError, match=r"no constant offset from any DH frame .*nearest"):
+        link_frame(wrong, _kin(model), "wrist_3_link")
