@@ -46,6 +46,7 @@ from fkcheck.core._kernels import (
     _Y,
     _Z,
     _V8,
+    _lanes,
     BLOCK,
     PARALLEL_MIN_BLOCKS,
     _fetch_add,
@@ -74,13 +75,14 @@ _J = _ROWS
 
 @nb.njit(cache=True)
 def _scratch(k: int, n: int) -> Float:  # pragma: no cover - compiled
-    """One worker's scratch, the result's rows of the joints after ``k`` set to zero."""
-    w = np.empty((_J + 6 * k + 6 * n) * _STRIDE)
-    for r in range(6):
-        for i in range(k, n):
-            row = (_J + 6 * k + r * n + i) * _STRIDE
-            for j in range(_STRIDE):
-                w[row + j] = 0.0
+    """One worker's scratch, its result rows zero (those of joints after ``k`` stay so).
+
+    The result rows are padded to a multiple of eight: the output's 8 × 8
+    transposes read whole groups of eight rows.
+    """
+    rows = _J + 6 * k + (6 * n + 7) // 8 * 8
+    w = np.empty(rows * _STRIDE)
+    w[(_J + 6 * k) * _STRIDE :] = 0.0
     return w
 
 
@@ -239,36 +241,47 @@ def _columns(
 # took half the kernel's time (measured: 44 of 85 ns per UR5 Jacobian).
 
 
-def _transpose_store_typer(
-    typingctx: Any, w: Any, src: Any, flat: Any, dst: Any, size: Any
-) -> Any:  # pragma: no cover
-    """Typing and code of ``_transpose_store(w, src, flat, dst, size)``.
+def _transpose_store_typer(lanes: int) -> Any:
+    """The typer of an intrinsic ``store(w, src, flat, dst, size)`` writing ``lanes`` entries.
 
-    For ``p, e`` in ``0 … 7``: ``flat[dst + p·size + e] = w[src + e·_STRIDE + p]``.
+    For ``p`` in ``0 … 7`` and ``e`` in ``0 … lanes-1``:
+    ``flat[dst + p·size + e] = w[src + e·_STRIDE + p]`` (it reads eight rows).
     """
-    sig = types.void(w, src, flat, dst, size)
 
-    def codegen(context: Any, builder: ir.IRBuilder, signature: Any, args: Any) -> Any:
-        w_arr = context.make_array(signature.args[0])(context, builder, args[0])
-        out_arr = context.make_array(signature.args[2])(context, builder, args[2])
-        intp = context.get_value_type(types.intp)
+    def typer(typingctx: Any, w: Any, src: Any, flat: Any, dst: Any, size: Any) -> Any:
+        sig = types.void(w, src, flat, dst, size)
 
-        def load(row: int) -> ir.Value:
-            idx = builder.add(args[1], ir.Constant(intp, row * _STRIDE))
-            ptr = builder.gep(w_arr.data, [idx], inbounds=True)
-            return builder.load(builder.bitcast(ptr, _V8.as_pointer()), align=8)
+        def codegen(context: Any, builder: ir.IRBuilder, signature: Any, args: Any) -> Any:
+            w_arr = context.make_array(signature.args[0])(context, builder, args[0])
+            out_arr = context.make_array(signature.args[2])(context, builder, args[2])
+            intp = context.get_value_type(types.intp)
+            vec = ir.VectorType(ir.DoubleType(), lanes)
 
-        rows = _transpose8(builder, [load(e) for e in range(8)])
-        for p in range(8):
-            idx = builder.add(args[3], builder.mul(args[4], ir.Constant(intp, p)))
-            ptr = builder.gep(out_arr.data, [idx], inbounds=True)
-            builder.store(rows[p], builder.bitcast(ptr, _V8.as_pointer()), align=8)
-        return context.get_dummy_value()
+            def load(row: int) -> ir.Value:
+                idx = builder.add(args[1], ir.Constant(intp, row * _STRIDE))
+                ptr = builder.gep(w_arr.data, [idx], inbounds=True)
+                return builder.load(builder.bitcast(ptr, _V8.as_pointer()), align=8)
 
-    return sig, codegen
+            rows = _transpose8(builder, [load(e) for e in range(8)])
+            for p in range(8):
+                value = rows[p]
+                if lanes < 8:
+                    value = builder.shuffle_vector(value, value, _lanes(*range(lanes)))
+                idx = builder.add(args[3], builder.mul(args[4], ir.Constant(intp, p)))
+                ptr = builder.gep(out_arr.data, [idx], inbounds=True)
+                builder.store(value, builder.bitcast(ptr, vec.as_pointer()), align=8)
+            return context.get_dummy_value()
+
+        return sig, codegen
+
+    return typer
 
 
-_transpose_store: Any = intrinsic(_transpose_store_typer)
+# Eight entries at a time, and the 2, 4 or 6 left over when 6·n is not a multiple of 8.
+_store_8: Any = intrinsic(_transpose_store_typer(8))
+_store_6: Any = intrinsic(_transpose_store_typer(6))
+_store_4: Any = intrinsic(_transpose_store_typer(4))
+_store_2: Any = intrinsic(_transpose_store_typer(2))
 
 
 @nb.njit(cache=True, fastmath=_FASTMATH)
@@ -278,15 +291,20 @@ def _store(
     """Write the block's ``(6, n)`` Jacobians into ``flat``, pose ``start`` first."""
     size = 6 * n
     res = _J + 6 * k
-    whole = size - size % 8  # entries stored eight at a time; the rest one by one
+    whole = size - size % 8  # the last 2, 4 or 6 entries read padding rows (never stored)
+    rest = size - whole
     j = 0
     while j + 8 <= m:
         o = (start + j) * size
         for e in range(0, whole, 8):
-            _transpose_store(w, (res + e) * _STRIDE + j, flat, o + e, size)
-        for p in range(8):
-            for e in range(whole, size):
-                flat[o + p * size + e] = w[(res + e) * _STRIDE + j + p]
+            _store_8(w, (res + e) * _STRIDE + j, flat, o + e, size)
+        src = (res + whole) * _STRIDE + j
+        if rest == 6:
+            _store_6(w, src, flat, o + whole, size)
+        elif rest == 4:
+            _store_4(w, src, flat, o + whole, size)
+        elif rest == 2:
+            _store_2(w, src, flat, o + whole, size)
         j += 8
     for jj in range(j, m):
         o = (start + jj) * size
