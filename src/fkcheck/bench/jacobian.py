@@ -45,13 +45,14 @@ from fkcheck.bench.timing import (
 from fkcheck.core import dh
 from fkcheck.core import jacobian as core_jacobian
 from fkcheck.core.typing import Float
+from fkcheck.core.typing import JacobianReference as Reference
 from fkcheck.model.sampling import sampling_box
 from fkcheck.model.types import Model
 
 __all__ = ["CHECK_CONFIGS", "JACOBIAN_CONFIGS", "REFERENCE", "run_jacobian_bench"]
 
 #: The reference frame every contender computes (both peers have it natively).
-REFERENCE = "world-aligned"
+REFERENCE: Reference = "world-aligned"
 
 #: Configurations each peer's Jacobians are checked on before it is timed.
 CHECK_CONFIGS = 64
@@ -114,8 +115,8 @@ def run_jacobian_bench(
     path_peer = "JIT" if k_peer >= dh.JIT_MIN_POSES and jit else "NumPy path"
     timings.append(
         Timing(f"in-house Jacobian, {path_peer}, like for like", "in-house", k_peer, seconds,
-               note=f"jacobian(chain, Q, out=buffer), 1 thread: the peers' n, threads and "
-               f"allocation", mode=JACOBIAN_LIKE_FOR_LIKE)
+               note="jacobian(chain, Q, out=buffer), 1 thread: the peers' n, threads and "
+               "allocation", mode=JACOBIAN_LIKE_FOR_LIKE)
     )  # fmt: skip
 
     say("in-house Jacobian, batch")

@@ -108,7 +108,7 @@ class BenchResult:
 
     @property
     def like_for_like(self) -> str:
-        """The mode the headline pair shares: :data:`LIKE_FOR_LIKE` or :data:`JACOBIAN_LIKE_FOR_LIKE`."""
+        """The headline pair's mode: :data:`LIKE_FOR_LIKE` or :data:`JACOBIAN_LIKE_FOR_LIKE`."""
         return JACOBIAN_LIKE_FOR_LIKE if self.quantity == "jacobian" else LIKE_FOR_LIKE
 
     @property
