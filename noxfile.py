@@ -102,7 +102,9 @@ def bench(session: nox.Session) -> None:
     """Time the in-house core against its peers: reports/bench.json and reports/bench.png.
 
     Runs `fkcheck bench ur5 --n 1000000` (the table is printed; exit 1 if a peer
-    disagrees), then plots the JSON. Extra arguments go to `fkcheck bench`, e.g.
+    disagrees) and plots the JSON; then times Jacobians the same way,
+    `fkcheck bench ur5 --jacobian --n 1000000` (reports/bench-jacobian.json).
+    Extra arguments go to both `fkcheck bench` runs, e.g.
     `nox -s bench -- --repeat 9`. The pytest-benchmark suite is separate:
     `python -m pytest benchmarks`.
     """
@@ -112,3 +114,7 @@ def bench(session: nox.Session) -> None:
         *session.posargs,
     )  # fmt: skip
     session.run("python", "benchmarks/plot_bench.py", "reports/bench.json", "reports/bench.png")
+    session.run(
+        "fkcheck", "bench", "ur5", "--jacobian", "--n", "1000000",
+        "--json", "reports/bench-jacobian.json", *session.posargs,
+    )  # fmt: skip

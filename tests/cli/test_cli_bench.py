@@ -14,6 +14,7 @@ import pytest
 
 from fkcheck import load_model
 from fkcheck.bench import harness, peers, timing
+from fkcheck.bench import jacobian as bench_jacobian
 from fkcheck.cli.bench import write_json
 from fkcheck.cli.main import main
 from fkcheck.model.read import model_from_dict
@@ -147,3 +148,96 @@ def test_a_peer_that_crashes_fails_the_bench(capsys, tmp_path, monkeypatch):
         "Pinocchio FK loop (RuntimeError: segfault-like failure inside the peer)"
     ]
     assert "peers failed: Pinocchio FK loop" in err
+
+
+# --------------------------------------------------------------------------- --jacobian
+
+JACOBIAN_PEERS = ("RTB ETS.jacob0 loop", "Pinocchio computeFrameJacobian loop")
+
+
+def test_bench_jacobian_times_the_core_and_both_peers_on_the_same_configurations(capsys, tmp_path):
+    code, out, err, data = bench(capsys, tmp_path, "stanford", "--jacobian", "--n", "300")
+    assert code == 0, err
+    assert (data["quantity"], data["reference"], data["model"], data["n"]) == (
+        "jacobian", "world-aligned", "stanford", 300
+    )  # fmt: skip
+    rows = {t["name"]: t for t in data["timings"]}
+    # Below JIT_MIN_POSES the core takes its NumPy path, and the rows say so.
+    for name in ("in-house Jacobian, NumPy path, like for like",
+                 "in-house Jacobian, NumPy path, 1 thread",
+                 "in-house FK (TCP pose), NumPy path, 1 thread",
+                 "in-house Jacobian, NumPy path", *JACOBIAN_PEERS):  # fmt: skip
+        assert name in rows, sorted(rows)
+        assert (rows[name]["skipped"], rows[name]["error"]) == ("", "")
+        assert rows[name]["seconds"] > 0
+        assert rows[name]["ns_per_config"] == pytest.approx(rows[name]["us_per_pose"] * 1e3)
+    for name in JACOBIAN_PEERS:  # checked against the core, timed like for like
+        peer = rows[name]
+        assert peer["n"] == 300
+        assert peer["mode"] == timing.JACOBIAN_LIKE_FOR_LIKE
+        assert 0 <= peer["max_jac_err"] <= data["tol_jacobian"]
+        assert peer["max_jac_err"] < 1e-12  # same chain: round-off only
+    ours = rows["in-house Jacobian, NumPy path, like for like"]
+    assert ours["mode"] == timing.JACOBIAN_LIKE_FOR_LIKE
+    assert ours["n"] == 300
+    assert sorted(ours["speedup_vs_peers"]) == sorted(JACOBIAN_PEERS)
+    for peer, ratio in ours["speedup_vs_peers"].items():
+        assert ratio == pytest.approx(rows[peer]["us_per_pose"] / ours["us_per_pose"])
+        assert ratio > 0
+    assert data["headline"]["peer"] == "Pinocchio computeFrameJacobian loop"
+    assert data["headline"]["in_house"] == ours["name"]
+    assert data["headline"]["mode"] == timing.JACOBIAN_LIKE_FOR_LIKE
+    assert (data["disagree"], data["failed"]) == ([], [])
+    assert "tol_pos_m" not in data
+    text = " ".join(out.split())
+    for name in rows:
+        assert name in text
+    assert "Headline, like for like (1 thread, out=, n = 300)" in text
+    assert "× PEER: that peer's time per configuration divided by this row's" in text
+
+
+def test_bench_jacobian_headline_at_the_jit_threshold(capsys, tmp_path):
+    """At 20 000 configurations the like-for-like row is the kernel on one thread."""
+    code, out, err, data = bench(capsys, tmp_path, "ur5", "--jacobian", "--n", "20000")
+    assert code == 0, err
+    rows = {t["name"]: t for t in data["timings"]}
+    ours = rows["in-house Jacobian, JIT, like for like"]
+    assert ours["n"] == rows["Pinocchio computeFrameJacobian loop"]["n"] == 20000
+    assert data["headline"]["in_house"] == ours["name"]
+    assert data["headline"]["speedup"] == pytest.approx(
+        rows["Pinocchio computeFrameJacobian loop"]["us_per_pose"] / ours["us_per_pose"]
+    )
+    assert rows["in-house Jacobian, NumPy path"]["max_jac_err"] < 1e-12  # vs the kernel
+    assert "Jacobian vs pose: the batched Jacobian takes" in " ".join(out.split())
+
+
+def test_bench_jacobian_refuses_to_time_a_peer_that_disagrees(capsys, tmp_path, monkeypatch):
+    wrong = model_from_dict(
+        {"name": "planar2", "convention": "standard",
+         "joint": [{"a": 1.0, "alpha": 0, "d": 0}, {"a": 0.8001, "alpha": 0, "d": 0}]}
+    )  # fmt: skip
+    monkeypatch.setattr(bench_jacobian, "rtb_robot", lambda _model: _real_rtb_robot(wrong))
+    code, out, err, data = bench(capsys, tmp_path, "planar2", "--jacobian", "--n", "100")
+    assert code == 1
+    rows = {t["name"]: t for t in data["timings"]}
+    rtb = rows["RTB ETS.jacob0 loop"]
+    assert rtb["seconds"] is None  # not timed
+    assert rtb["max_jac_err"] == pytest.approx(1e-4, rel=0.5)  # a₂ off by 0.1 mm
+    assert rtb["note"].startswith("not timed: its Jacobians differ from the core's by")
+    assert data["disagree"] == ["RTB ETS.jacob0 loop"]
+    assert rows["Pinocchio computeFrameJacobian loop"]["seconds"] > 0
+    assert "disagree with the in-house core by more than 1e-06" in err
+    assert "not timed" in out
+
+
+def test_bench_jacobian_reports_a_missing_peer_as_skipped(capsys, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pinocchio", None)  # as if not installed
+    code, out, err, data = bench(capsys, tmp_path, "planar2", "--jacobian", "--n", "50")
+    assert code == 0, err
+    rows = {t["name"]: t for t in data["timings"]}
+    pin = rows["Pinocchio computeFrameJacobian loop"]
+    assert pin["skipped"].startswith("not installed")
+    assert pin["seconds"] is None
+    assert rows["RTB ETS.jacob0 loop"]["seconds"] > 0
+    assert data["headline"] is None  # its peer did not run
+    assert "no like-for-like pair ran" in out

@@ -29,7 +29,7 @@ from fkcheck.core.typing import Float
 from fkcheck.model.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model.types import Model
 
-__all__ = ["PEERS", "Measure", "pinocchio_model", "rtb_robot"]
+__all__ = ["PEERS", "Measure", "pinocchio_chain", "pinocchio_model", "rtb_robot"]
 
 #: Times one peer: ``(model, q, in-house poses for q, repeat) -> Timing``.
 Measure = Callable[[Model, Float, Float, int], Timing]
@@ -46,15 +46,24 @@ def rtb_robot(model: Model) -> Any:
     return dh_robot(model)
 
 
-def pinocchio_model(model: Model) -> Any:
-    """The ``pinocchio-dh`` backend's Pinocchio model of the DH chain with only a ``tcp`` frame.
+def pinocchio_chain(model: Model) -> Any:
+    """The ``pinocchio-dh`` backend's ``PinocchioChain`` of the DH chain with only a ``tcp`` frame.
 
     Raises:
         BackendUnavailable: Pinocchio is not installed.
     """
     from fkcheck.backends.pinocchio_dh import PinocchioChain
 
-    return PinocchioChain(model, tcp_only=True).pmodel
+    return PinocchioChain(model, tcp_only=True)
+
+
+def pinocchio_model(model: Model) -> Any:
+    """The ``pinocchio-dh`` backend's Pinocchio model of the DH chain with only a ``tcp`` frame.
+
+    Raises:
+        BackendUnavailable: Pinocchio is not installed.
+    """
+    return pinocchio_chain(model).pmodel
 
 
 def _rtb_eval(model: Model, q: Float, ours: Float, repeat: int) -> Timing:

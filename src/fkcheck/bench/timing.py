@@ -4,7 +4,8 @@ A :class:`Timing` is one contender's row; a :class:`BenchResult` holds every row
 of a run with the facts needed to read them (machine, versions, JIT, threads) and
 derives the headline ratio and the speed-ups. Every time is
 :func:`median_seconds` (the median of ``repeat`` runs after one warm-up run);
-every result is compared with the in-house core's by :func:`max_pos_err`.
+every result is compared with the in-house core's by :func:`max_pos_err` (poses)
+or :func:`max_entry_err` (Jacobians, ``fkcheck bench --jacobian``).
 """
 
 from __future__ import annotations
@@ -20,20 +21,31 @@ from fkcheck.core.typing import Float
 
 __all__ = [
     "HEADLINE_PEER",
+    "JACOBIAN_HEADLINE_PEER",
+    "JACOBIAN_LIKE_FOR_LIKE",
     "LIKE_FOR_LIKE",
     "BenchResult",
     "Kind",
+    "Quantity",
     "Timing",
+    "max_entry_err",
     "max_pos_err",
     "median_seconds",
 ]
 
 Kind = Literal["in-house", "peer", "bound"]
+#: What a bench times: poses (``fkcheck bench``) or Jacobians (``--jacobian``).
+Quantity = Literal["pose", "jacobian"]
 
 #: The peers' conditions: one thread, a new result array per call.
 LIKE_FOR_LIKE = "1 thread, new array"
 #: The peer the headline ratio is taken against (the fastest batched peer).
 HEADLINE_PEER = "RTB ETS.eval (C batch)"
+#: The Jacobian bench's conditions: one thread, every result written into one
+#: preallocated ``(N, 6, n)`` array (the peers' per-call result copied into it).
+JACOBIAN_LIKE_FOR_LIKE = "1 thread, out="
+#: The peer the Jacobian bench's headline ratio is taken against (the fastest).
+JACOBIAN_HEADLINE_PEER = "Pinocchio computeFrameJacobian loop"
 
 
 @dataclass
@@ -52,6 +64,8 @@ class Timing:
         mode: Threads and allocation, e.g. ``"1 thread, new array"``; in-house rows
             that differ from the peers' conditions say ``"extra: …"``.
         error: The peer is installed but failed (the bench then fails).
+        max_jac_err: Jacobian bench: largest entry difference from the in-house
+            core's Jacobians of the same configurations (m/rad or rad/rad).
     """
 
     name: str
@@ -63,6 +77,7 @@ class Timing:
     skipped: str = ""
     mode: str = ""
     error: str = ""
+    max_jac_err: float | None = None
 
     @property
     def us_per_pose(self) -> float | None:
@@ -88,15 +103,28 @@ class BenchResult:
     threads: int
     machine: dict[str, Any] = field(default_factory=dict)
     versions: dict[str, str] = field(default_factory=dict)
+    quantity: Quantity = "pose"
+    reference: str = ""
+
+    @property
+    def like_for_like(self) -> str:
+        """The headline pair's mode: :data:`LIKE_FOR_LIKE` or :data:`JACOBIAN_LIKE_FOR_LIKE`."""
+        return JACOBIAN_LIKE_FOR_LIKE if self.quantity == "jacobian" else LIKE_FOR_LIKE
 
     @property
     def headline(self) -> tuple[Timing, Timing, float] | None:
-        """``(in-house like-for-like row, RTB ETS.eval row, speedup)``, if both ran."""
-        peer = next((t for t in self.timings if t.name == HEADLINE_PEER and t.seconds), None)
+        """``(in-house like-for-like row, headline peer's row, speedup)``, if both ran.
+
+        The headline peer is RTB's ``ETS.eval`` for poses, Pinocchio's
+        ``computeFrameJacobian`` loop for Jacobians.
+        """
+        name = JACOBIAN_HEADLINE_PEER if self.quantity == "jacobian" else HEADLINE_PEER
+        peer = next((t for t in self.timings if t.name == name and t.seconds), None)
         if peer is None:
             return None
-        ours = next((t for t in self.timings if t.mode == LIKE_FOR_LIKE and t.kind == "in-house"
-                     and t.seconds is not None and t.n == peer.n), None)  # fmt: skip
+        ours = next((t for t in self.timings if t.mode == self.like_for_like
+                     and t.kind == "in-house" and t.seconds is not None and t.n == peer.n),
+                    None)  # fmt: skip
         if ours is None or ours.us_per_pose is None or peer.us_per_pose is None:
             return None
         return ours, peer, peer.us_per_pose / ours.us_per_pose
@@ -114,10 +142,22 @@ class BenchResult:
             return None
         return best.us_per_pose / timing.us_per_pose
 
+    def ratios(self, timing: Timing) -> dict[str, float]:
+        """Per-configuration time of each peer that ran divided by ``timing``'s."""
+        if timing.us_per_pose is None:
+            return {}
+        return {
+            t.name: t.us_per_pose / timing.us_per_pose
+            for t in self.timings
+            if t.kind == "peer" and t.us_per_pose is not None
+        }
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON: every timing with its derived numbers."""
         best = self.fastest_peer
         return {
+            "quantity": self.quantity,
+            "reference": self.reference or None,
             "model": self.model,
             "n": self.n,
             "repeat": self.repeat,
@@ -133,7 +173,7 @@ class BenchResult:
                 "in_house": self.headline[0].name,
                 "peer": self.headline[1].name,
                 "n": self.headline[0].n,
-                "mode": LIKE_FOR_LIKE,
+                "mode": self.like_for_like,
                 "speedup": self.headline[2],
             },
             "timings": [
@@ -142,6 +182,8 @@ class BenchResult:
                     "us_per_pose": t.us_per_pose,
                     "poses_per_s": t.poses_per_s,
                     "speedup_vs_fastest_peer": self.speedup(t),
+                    "ns_per_config": None if t.us_per_pose is None else t.us_per_pose * 1e3,
+                    "speedup_vs_peers": self.ratios(t),
                 }
                 for t in self.timings
             ],
@@ -157,6 +199,14 @@ def median_seconds(run: Callable[[], object], repeat: int) -> float:
         run()
         times.append(time.perf_counter() - t0)
     return float(np.median(times))
+
+
+def max_entry_err(jacobians: Float, reference: Float) -> float:
+    """Largest entry difference between two ``(n, 6, dof)`` stacks of Jacobians (NaN counts)."""
+    if jacobians.shape != reference.shape:
+        raise ValueError(f"Jacobians of shape {jacobians.shape}, expected {reference.shape}")
+    diff = np.abs(jacobians - reference)
+    return float("inf") if np.isnan(diff).any() else float(diff.max(initial=0.0))
 
 
 def max_pos_err(poses: Float, reference: Float) -> float:

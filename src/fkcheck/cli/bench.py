@@ -1,4 +1,8 @@
-"""``fkcheck bench``: time the in-house DH core against its peers on the same poses."""
+"""``fkcheck bench``: time the in-house DH core against its peers on the same poses.
+
+``fkcheck bench --jacobian`` times the batched Jacobian instead (see
+:mod:`fkcheck.bench.jacobian`).
+"""
 
 from __future__ import annotations
 
@@ -7,7 +11,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from fkcheck.io.format import format_length_console, format_microseconds
+from fkcheck.io.format import format_length_console, format_microseconds, format_scientific
 
 __all__ = ["add_parser", "run", "write_json"]
 
@@ -55,12 +59,20 @@ def add_parser(sub: Any) -> None:
     )
     p.add_argument("--seed", type=int, default=0, help="seed of the configurations (default: 0)")
     p.add_argument("--json", type=Path, metavar="PATH", help="also write the numbers as JSON")
+    p.add_argument(
+        "--jacobian",
+        action="store_true",
+        help="time the TCP's world-aligned Jacobian instead of the pose: the in-house batch "
+        "against Robotics Toolbox's ETS.jacob0 and Pinocchio's computeFrameJacobian, one "
+        "thread and one preallocated output for all (numba's threads as an extra row)",
+    )
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run the benchmark, print the table, write the JSON; 1 if a peer disagrees or fails."""
     from fkcheck.bench.harness import run_bench
+    from fkcheck.bench.jacobian import run_jacobian_bench
     from fkcheck.cli._console import console
     from fkcheck.cli._outputs import model_inputs, plan
     from fkcheck.io.text import terminal_markup, terminal_text
@@ -68,31 +80,41 @@ def run(args: argparse.Namespace) -> int:
 
     model = load_model(args.model)
     plan(args, [("--json", args.json)], model_inputs(model))
+    bench = run_jacobian_bench if args.jacobian else run_bench
     with console(stderr=True).status("timing…") as status:
-        result = run_bench(
+        result = bench(
             model,
             args.n,
             args.repeat,
             seed=args.seed,
             progress=lambda name: status.update(f"timing {terminal_markup(name)}…"),
         )
-    tol = model.check.tol_pos_m
-    disagree = [
-        t.name for t in result.timings if t.max_pos_err_m is not None and not t.max_pos_err_m <= tol
-    ]
-    console().print(_table(result, tol))
+    if args.jacobian:
+        tol, unit = model.check.tol_jacobian, "m/rad or rad/rad"
+        errors = [(t.name, t.max_jac_err) for t in result.timings]
+        console().print(_jacobian_table(result, tol))
+    else:
+        tol, unit = model.check.tol_pos_m, "m"
+        errors = [(t.name, t.max_pos_err_m) for t in result.timings]
+        console().print(_table(result, tol))
+    disagree = [name for name, err in errors if err is not None and not err <= tol]
     failed = [f"{t.name} ({t.error})" for t in result.timings if t.error]
     if args.json is not None:
         write_json(
             args.json,
-            {**result.to_dict(), "tol_pos_m": tol, "disagree": disagree, "failed": failed},
+            {
+                **result.to_dict(),
+                ("tol_jacobian" if args.jacobian else "tol_pos_m"): tol,
+                "disagree": disagree,
+                "failed": failed,
+            },
         )
     if failed:
         print(f"fkcheck bench: peers failed: {terminal_text('; '.join(failed))}", file=sys.stderr)
         return 1
     if disagree:
         print(
-            f"fkcheck bench: disagree with the in-house core by more than {tol:g} m: "
+            f"fkcheck bench: disagree with the in-house core by more than {tol:g} {unit}: "
             f"{terminal_text(', '.join(disagree))}",
             file=sys.stderr,
         )
@@ -169,6 +191,94 @@ def _table(result: Any, tol: float) -> Any:
         f"load average {load}.",
     ]
     return Group(table, Text("\n".join([*notes, "", *facts])))
+
+
+def _jacobian_table(result: Any, tol: float) -> Any:
+    """The ``--jacobian`` table: ns per Jacobian, the ratio to each peer, the agreement."""
+    from rich.console import Group
+    from rich.table import Table
+    from rich.text import Text
+
+    from fkcheck.io.text import terminal_markup, terminal_text
+
+    peers = [t for t in result.timings if t.kind == "peer" and t.seconds is not None]
+    table = Table(
+        title=f"fkcheck bench --jacobian {terminal_markup(result.model)}: {result.reference} "
+        f"Jacobian of the TCP, N = {result.n:,}, median of {result.repeat} runs"
+    )
+    for header, justify in (("implementation", "left"), ("n", "right"), ("mode", "left"),
+                            ("ns/config", "right")):  # fmt: skip
+        table.add_column(header, justify=justify, no_wrap=True)  # type: ignore[arg-type]
+    for peer in peers:
+        table.add_column(f"× {terminal_markup(peer.name.split()[0])}", justify="right",
+                         no_wrap=True)  # fmt: skip
+    table.add_column("max |ΔJ|", justify="right", no_wrap=True)
+    notes = []
+    for t in result.timings:
+        name = terminal_markup(t.name)
+        blank = [""] * len(peers)
+        if t.skipped:
+            notes.append(terminal_text(f"{t.name}: skipped, {t.skipped}"))
+            table.add_row(name, f"{t.n:,}", "", "skipped", *blank, "", style="dim")
+            continue
+        err = "" if t.max_jac_err is None else format_scientific(t.max_jac_err, "").strip()
+        if t.max_jac_err is not None and not t.max_jac_err <= tol:
+            err = f"[bold red]{err}[/]"
+        if t.error or t.seconds is None:
+            notes.append(terminal_text(f"{t.name}: FAILED, {t.error}" if t.error else
+                                       f"{t.name}: {t.note}"))  # fmt: skip
+            status = "[bold red]FAILED[/]" if t.error else "[bold red]not timed[/]"
+            table.add_row(name, f"{t.n:,}", terminal_markup(t.mode), status, *blank, err)
+            continue
+        notes.append(terminal_text(f"{t.name}: {t.note}"))
+        ratios = result.ratios(t)
+        table.add_row(
+            name,
+            f"{t.n:,}",
+            terminal_markup(t.mode),
+            f"{t.us_per_pose * 1e3:,.1f}",
+            *(f"{ratios[p.name]:,.2f}" if p is not t else "1" for p in peers),
+            err,
+        )
+    headline = result.headline
+    load = ", ".join(f"{v:.2f}" for v in result.machine.get("load_average") or [])
+    facts = [
+        (
+            f"Headline, like for like ({headline[0].mode}, n = {headline[0].n:,}): "
+            f"{headline[0].name} {headline[0].us_per_pose * 1e3:,.1f} ns vs {headline[1].name} "
+            f"{headline[1].us_per_pose * 1e3:,.1f} ns per Jacobian: {headline[2]:,.1f}× as fast."
+            if headline
+            else "Headline: no like-for-like pair ran (needs Pinocchio)."
+        ),
+        *_jacobian_over_fk(result),
+        "× PEER: that peer's time per configuration divided by this row's (above 1: this "
+        "row is faster). Rows whose mode starts with 'extra:' use what the peers do not "
+        "(threads, a larger N) or time poses, for scale: they are not like for like.",
+        f"max |ΔJ|: largest entry difference from the in-house batch on the same "
+        f"configurations (the model's Jacobian tolerance is {tol:g}); a peer beyond it is "
+        "not timed.",
+        f"Configurations: seeded (seed {result.seed}), uniform within the joint limits; "
+        "a smaller n runs on the first n of them.",
+        f"Jacobian kernel {result.jit}; numba threads: {result.threads}.",
+        f"Machine: {result.machine.get('cpu')}, {result.machine.get('cpus')} CPUs, "
+        f"load average {load}.",
+    ]
+    return Group(table, Text("\n".join([*notes, "", *facts])))
+
+
+def _jacobian_over_fk(result: Any) -> list[str]:
+    """One line: the Jacobian's time per configuration over the FK's, per thread count."""
+    rows = {t.name: t for t in result.timings if t.seconds is not None}
+    found = []
+    for jac in rows.values():
+        fk = rows.get(jac.name.replace("Jacobian", "FK (TCP pose)"))
+        if jac.mode.startswith("extra: N") and fk is not None and fk.n == jac.n:
+            threads = jac.name.rsplit(", ", 1)[-1]
+            found.append(f"{jac.seconds / fk.seconds:.1f}× ({threads})")
+    if not found:
+        return []
+    return [f"Jacobian vs pose: the batched Jacobian takes {', '.join(found)} the FK's time "
+            "per configuration, same N and out=."]  # fmt: skip
 
 
 def write_json(path: Path, data: dict[str, Any]) -> None:

@@ -23,18 +23,211 @@ defined as Pinocchio's ``ReferenceFrame``:
 * ``"world"`` (``WORLD``): the spatial twist at the **world origin**, in world
   axes: linear ``v + p × ω`` (the velocity of the body point passing through
   the world origin), angular ``ω``.
+
+:func:`jacobian` computes it for a chain and a batch of configurations, picking
+the path from the call alone, with the FK's rules (:mod:`fkcheck.core.dh`):
+
+* **JIT batch** (``fkcheck.core._jacobian_kernels``, numba): ``N >=``
+  :data:`~fkcheck.core.dh.JIT_MIN_POSES`. The DH frames and the columns in one
+  pass per block of configurations, no ``(N, n+1, 4, 4)`` stack of frames, on
+  numba's threads. Its own sin/cos and fused multiply-adds: its last bits differ
+  from the NumPy path's, by at most :data:`fkcheck.core.tolerances.FAST_CORE`
+  (tested).
+* **NumPy**: everything else, and every batch without numba: the DH frames of
+  :func:`fkcheck.core.dh.fk` (``all_frames=True``) and :func:`geometric_jacobian`,
+  in chunks of :data:`~fkcheck.core.dh.NUMPY_CHUNK` configurations so the
+  frames' stack stays a few MB whatever ``N``.
 """
 
 from __future__ import annotations
 
+import importlib
+import logging
+from types import ModuleType
+
 import numpy as np
 from numpy.typing import NDArray
 
+from fkcheck.core import dh
+from fkcheck.core.joint_array import require_finite
 from fkcheck.core.typing import JACOBIAN_REFERENCES as REFERENCES
 from fkcheck.core.typing import Float
 from fkcheck.core.typing import JacobianReference as Reference
 
-__all__ = ["REFERENCES", "Reference", "geometric_jacobian", "re_express"]
+__all__ = [
+    "REFERENCES",
+    "Reference",
+    "geometric_jacobian",
+    "jacobian",
+    "jacobian_numpy",
+    "kernel_status",
+    "load_kernel",
+    "re_express",
+]
+
+_log = logging.getLogger(__name__)
+
+
+def jacobian(
+    chain: dh.DHChain,
+    q: Float,
+    *,
+    moving: int,
+    target: Float,
+    reference: Reference = "world-aligned",
+    out: Float | None = None,
+) -> Float:
+    """The geometric Jacobian of a frame carried by the chain, for every row of ``q``.
+
+    Picks the path from the call alone (see the module docstring); both agree
+    with :func:`geometric_jacobian` on the frames of :func:`fkcheck.core.dh.fk`.
+
+    Args:
+        chain: The chain.
+        q: ``(N, n)`` joint values (validated: see :func:`fkcheck.core.dh.joint_values`).
+        moving: How many joints, from the base, move the frame: it sits on DH
+            frame ``moving`` (``0`` for a frame fixed to the base or the world:
+            the Jacobian is zero).
+        target: ``(4, 4)`` the frame in DH frame ``moving`` (for the TCP:
+            ``flange_T_tool`` times the TCP's offset).
+        reference: ``"world-aligned"``, ``"local"`` or ``"world"``.
+        out: Optional C-contiguous float64 ``(N, 6, n)`` array to write into (and return).
+
+    Returns:
+        ``(N, 6, n)``: linear rows then angular rows.
+
+    Raises:
+        JointInputError: ``q`` has the wrong shape or non-finite values.
+        ValueError: An unknown ``reference``, ``moving`` outside ``0 … n``, or a bad ``out``.
+    """
+    q2, result, target = _prepare(chain, q, moving, target, reference, out)
+    if moving == 0:
+        result[...] = 0.0
+        return result
+    if q2.shape[0] >= dh.JIT_MIN_POSES and load_kernel():
+        assert _kernel is not None
+        if not q2.flags.writeable:  # numba would compile read-only arrays as another type
+            q2 = q2.copy()
+        code = _kernel.REFERENCE_CODES[reference]
+        modified = chain.convention == "modified"
+        workers = int(_kernel.nb.get_num_threads())
+        if _kernel.jacobian_batch(q2, chain.program, modified, moving, target, code, result,
+                                  workers):  # fmt: skip
+            return result
+        # s·q + θ overflowed: the NumPy path gives the reference's NaNs.
+    _jacobian_numpy_into(chain, q2, moving, target, reference, result)
+    return result
+
+
+def jacobian_numpy(
+    chain: dh.DHChain,
+    q: Float,
+    *,
+    moving: int,
+    target: Float,
+    reference: Reference = "world-aligned",
+    out: Float | None = None,
+) -> Float:
+    """:func:`jacobian` on the NumPy path only, whether or not the JIT is available.
+
+    The fallback :func:`jacobian` uses without numba; public so that it can be timed
+    and tested on its own. Same arguments, shapes and errors as :func:`jacobian`.
+    """
+    q2, result, target = _prepare(chain, q, moving, target, reference, out)
+    if moving == 0:
+        result[...] = 0.0
+        return result
+    _jacobian_numpy_into(chain, q2, moving, target, reference, result)
+    return result
+
+
+def _prepare(
+    chain: dh.DHChain,
+    q: Float,
+    moving: int,
+    target: Float,
+    reference: Reference,
+    out: Float | None,
+) -> tuple[Float, Float, Float]:
+    """Validated ``(q, out, target)`` for :func:`jacobian`."""
+    if reference not in REFERENCES:
+        raise ValueError(
+            f"unknown reference {reference!r}; references are: {', '.join(REFERENCES)}"
+        )
+    n = chain.dof
+    if not 0 <= moving <= n:
+        raise ValueError(f"moving must be between 0 and {n} (the joints), got {moving}")
+    q2 = dh.joint_values(chain, q)
+    target = np.ascontiguousarray(target, dtype=np.float64)
+    if target.shape != (4, 4):
+        raise ValueError(f"target must be a 4×4 transform, got shape {target.shape}")
+    # The FK's check of an out= buffer (shape, dtype, layout, overlap with q).
+    result = dh._output(out, (q2.shape[0], 6, n), q2)
+    return q2, result, target
+
+
+def _jacobian_numpy_into(
+    chain: dh.DHChain, q: Float, moving: int, target: Float, reference: Reference, out: Float
+) -> None:
+    """The NumPy path, chunk by chunk: DH frames, then :func:`geometric_jacobian`."""
+    require_finite(q)
+    modified = chain.convention == "modified"
+    for start in range(0, q.shape[0], dh.NUMPY_CHUNK):
+        chunk = q[start : start + dh.NUMPY_CHUNK]
+        world_T_dh = dh.fk_numpy(chain, chunk, all_frames=True)
+        out[start : start + dh.NUMPY_CHUNK] = geometric_jacobian(
+            world_T_dh,
+            world_T_dh[:, moving] @ target,
+            modified=modified,
+            prismatic=chain.prismatic,
+            sign=chain.sign,
+            moving=moving,
+            reference=reference,
+        )
+
+
+# --------------------------------------------------------------------------- JIT loading
+
+_kernel: ModuleType | None = None
+_kernel_error: str | None = None
+
+
+def load_kernel() -> bool:
+    """Load the Jacobian's numba kernel now (compiling it on the first run on a machine).
+
+    Loads the FK kernels first (:func:`fkcheck.core.dh.load_jit`): the Jacobian's
+    kernel is built from their steps.
+
+    Returns:
+        Whether the kernel is usable; when it is not, :func:`jacobian` keeps the
+        NumPy path and :func:`kernel_status` says why.
+    """
+    global _kernel, _kernel_error
+    if _kernel is not None:
+        return True
+    if _kernel_error is not None:
+        return False
+    if not dh.load_jit():
+        _kernel_error = f"the FK kernels are {dh.jit_status()}"
+        return False
+    try:
+        kernel = importlib.import_module("fkcheck.core._jacobian_kernels")
+        kernel.warm_up()
+    except Exception as exc:  # any failure means "no JIT": recorded, logged, and queryable
+        _kernel_error = f"{type(exc).__name__}: {exc}".strip()
+        _log.info("fkcheck: Jacobian kernel unavailable (%s); using NumPy", _kernel_error)
+        return False
+    _kernel = kernel
+    return True
+
+
+def kernel_status() -> str:
+    """One line: whether the Jacobian kernel is loaded, not yet loaded, or unavailable and why."""
+    if _kernel is not None:
+        return f"loaded (numba {_kernel.nb.__version__}, {_kernel.nb.get_num_threads()} threads)"
+    if _kernel_error is not None:
+        return f"unavailable: {_kernel_error}"
+    return "not loaded"
 
 
 def geometric_jacobian(

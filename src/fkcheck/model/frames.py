@@ -16,7 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from fkcheck.core.geometry import invert
-from fkcheck.core.jacobian import Reference, geometric_jacobian
+from fkcheck.core.jacobian import Reference, jacobian
 from fkcheck.core.typing import Float
 from fkcheck.model.types import Model, resolve_frame
 
@@ -81,7 +81,8 @@ def frame_jacobian(
 ) -> Float:
     """The in-house geometric Jacobian of a named frame, ``(N, 6, n)``.
 
-    See :mod:`fkcheck.core.jacobian` for the formula and the reference frames.
+    See :mod:`fkcheck.core.jacobian` for the formula, the reference frames and
+    the paths (numba kernel for large batches, NumPy otherwise).
 
     Args:
         model: The model.
@@ -90,17 +91,11 @@ def frame_jacobian(
         reference: ``"world-aligned"``, ``"local"`` or ``"world"``.
     """
     spec = resolve_frame(model, frame)
-    world_T_dh = np.asarray(model.fk(q, all_frames=True)).reshape(-1, model.dof + 1, 4, 4)
-    world_T_tcp = np.asarray(model.fk(q)).reshape(-1, 4, 4)
-    world_T_frame = frame_poses_from_dh(model, world_T_dh, world_T_tcp, [spec.name])[0]
-    moving = {"world": 0, "tcp": model.dof}.get(str(spec.dh), spec.dh)
     chain = model.chain
-    return geometric_jacobian(
-        world_T_dh,
-        world_T_frame,
-        modified=model.convention == "modified",
-        prismatic=chain.prismatic,
-        sign=chain.sign,
-        moving=int(moving),
-        reference=reference,
-    )
+    if spec.dh == "world":
+        moving, target = 0, spec.offset.matrix
+    elif spec.dh == "tcp":
+        moving, target = model.dof, chain.flange_T_tool @ spec.offset.matrix
+    else:
+        moving, target = spec.dh, spec.offset.matrix
+    return jacobian(chain, q, moving=moving, target=target, reference=reference)
