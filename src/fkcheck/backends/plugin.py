@@ -139,6 +139,14 @@ class PluginBackend:
         q = validated_q(model, q)
         require_tcp_frames(model, frames)
         job = functools.partial(_call, self.name, self.module, self.function, q.copy())
+        kind, value = self._in_child(job, q)
+        if kind != "ok":
+            raise PluginError(self.name, str(value))
+        world_T_tcp: Float = value
+        return frame_poses_from_tcp(model, world_T_tcp, frames)
+
+    def _in_child(self, job: Callable[[], tuple[str, Any]], q: Float) -> tuple[str, Any]:
+        """Run one call of the plugin in its own process, within the time limit."""
         try:
             kind, value = run_isolated(job, self.timeout_s, answer_limit(q.shape[0]))
         except IsolatedTimeout:
@@ -147,10 +155,7 @@ class PluginBackend:
             ) from None
         except IsolatedDied as exc:
             raise PluginError(self.name, str(exc)) from None
-        if kind != "ok":
-            raise PluginError(self.name, str(value))
-        world_T_tcp: Float = value
-        return frame_poses_from_tcp(model, world_T_tcp, frames)
+        return str(kind), value
 
     def frame_jacobian(
         self, model: Model, q: Float, frame: str, reference: JacobianReference
@@ -173,14 +178,7 @@ class PluginBackend:
         job = functools.partial(
             _call_jacobian, self.name, self.module, f"{self.function}_jacobian", q.copy(), model.dof
         )
-        try:
-            kind, value = run_isolated(job, self.timeout_s, answer_limit(q.shape[0]))
-        except IsolatedTimeout:
-            raise PluginError(
-                self.name, f"timed out after {self.timeout_s:g} s (its process was killed)"
-            ) from None
-        except IsolatedDied as exc:
-            raise PluginError(self.name, str(exc)) from None
+        kind, value = self._in_child(job, q)
         if kind == "absent":
             return None
         if kind != "ok":
