@@ -188,6 +188,13 @@ class ModelItem(pytest.Item):
         if result.status not in ("pass", "xfail"):  # xfail: as the model file records
             head = check_message(outcome, backends=())
             raise FkcheckFailure(f"{head}\n{backend_message(outcome, result)}")
+        jac = result.jacobian  # [check] jacobian = true: the Jacobian must agree too
+        if jac is not None and jac.status in ("fail", "error"):
+            head = check_message(outcome, backends=())
+            cause = f"\ndiagnosis: {jac.diagnosis}" if jac.diagnosis else ""
+            raise FkcheckFailure(
+                f"{head}\n{result.name} Jacobian {jac.status}: {jac.message}{cause}"
+            )
 
     def repr_failure(
         self,
