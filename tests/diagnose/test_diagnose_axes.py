@@ -52,7 +52,11 @@ def test_shipped_models_with_a_urdf_are_found():
     assert {"ur3", "ur5", "ur10", "panda"} <= set(WITH_URDF)
 
 
-@pytest.mark.parametrize("name", WITH_URDF)
+#: Models whose URDF agrees with the table (a recorded known difference moves axes).
+AGREEING = [n for n in WITH_URDF if not load_model(n).known_differences]
+
+
+@pytest.mark.parametrize("name", AGREEING)
 def test_every_joint_axis_lies_on_the_urdfs(name, rng):
     model = load_model(name)
     for q in random_q(model, rng, 20):
