@@ -19,6 +19,8 @@ from fkcheck.cli.main import main
 ARMS = {
     "xarm7": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
     "baxter_left": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
+    "baxter_right": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
+    "jaco2_6s": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
 }
 
 
