@@ -246,3 +246,64 @@ def test_the_html_report_has_the_per_column_section(tmp_path):
     assert 'id="jacobian-columns"' in html
     assert html.count('data-first="1"') == 1
     assert "3 elbow" in html
+
+
+@pytest.mark.parametrize("reference", ["local", "world"])
+@pytest.mark.parametrize("backend", ["rtb-dh", "yourdfpy-urdf"])
+def test_a_core_mistake_in_the_local_or_world_jacobian_fails_the_check(
+    monkeypatch, reference, backend
+):
+    """The core's own local/world code is what is compared, not its world-aligned one moved."""
+    import fkcheck.model.frames as frames
+
+    core_jacobian = frames.jacobian
+
+    def broken(*args, **kwargs):
+        out = core_jacobian(*args, **kwargs)
+        if kwargs.get("reference", "world-aligned") != "world-aligned":
+            out = out.copy()
+            out[:, 3:, 0] += 0.5  # a wrong angular row of joint 1
+        return out
+
+    monkeypatch.setattr(frames, "jacobian", broken)
+    check = run_check(
+        load_model("ur5"),
+        [make_backend(backend)],
+        samples=5,
+        jacobian=JacobianSpec(reference, 1e-6),
+    )
+    assert check.backends[0].jacobian.status == "fail"
+    assert check.backends[0].jacobian.first_bad_column == 0
+    assert check.verdict == "fail"
+
+
+@pytest.mark.parametrize("tol", [float("nan"), 0.0, -1e-6, float("inf")])
+def test_a_jacobian_tolerance_that_is_not_a_positive_number_is_refused(tol):
+    with pytest.raises(FkcheckError, match="Jacobian tolerance must be a positive number"):
+        JacobianSpec("world-aligned", tol)
+
+
+def test_a_recorded_known_difference_makes_the_jacobian_an_expected_failure_too():
+    model = load_model("jaco2_6s")
+    entry = model.known_differences[0]
+    check = run_check(
+        model,
+        [make_backend("pinocchio-urdf"), make_backend("pinocchio-dh")],
+        samples=10,
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )
+    urdf, dh = check.backends
+    assert urdf.status == "xfail"
+    assert urdf.jacobian.status == "xfail"  # the 0.05 mm wrist lengths move the Jacobian too
+    assert urdf.jacobian.message.startswith(f"expected failure, known difference: {entry.finding}")
+    assert dh.jacobian.status == "pass"
+    assert check.verdict == "pass"
+
+
+def test_a_known_difference_applies_only_at_the_models_own_tolerances():
+    """jaco2's recorded 0.1 mm is inside 1 mm: that is a pass, not a stale record."""
+    check = run_check(
+        load_model("jaco2_6s"), [make_backend("pinocchio-urdf")], samples=10, tol_pos_m=1e-3
+    )
+    assert check.backends[0].status == "pass"
+    assert check.verdict == "pass"

@@ -178,6 +178,8 @@ def _jacobian_table(check: CheckResult) -> Any:
     """The Jacobian comparison, one row per backend (``check --jacobian``)."""
     from rich.table import Table
 
+    from fkcheck.engine.compare import joint_label
+
     assert check.jacobian is not None
     table = Table(
         title=f"Jacobian of {terminal_markup(check.frame_to)}, {check.jacobian.reference}, "
@@ -196,16 +198,12 @@ def _jacobian_table(check: CheckResult) -> Any:
             table.add_row(terminal_markup(r.name), status, terminal_markup(j.message), "", "", "")
             continue
         first = j.first_bad_column
-        column = "" if first is None else terminal_markup(_joint_label(check, first))
+        column = "" if first is None else terminal_markup(joint_label(check.model, first))
         table.add_row(
             terminal_markup(r.name), status, format_scientific(j.max_linear_error, "m/rad"),
             format_scientific(j.max_angular_error, "rad/rad"), column, terminal_markup(j.method),
         )  # fmt: skip
     return table
-
-
-def _joint_label(check: CheckResult, index: int) -> str:
-    return f"joint {index + 1} ({check.model.joints[index].name})"
 
 
 def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:

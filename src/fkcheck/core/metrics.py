@@ -6,7 +6,7 @@ import numpy as np
 
 from fkcheck.core.typing import Float
 
-__all__ = ["position_error_m", "rotation_error_rad", "se3_defect"]
+__all__ = ["jacobian_column_errors", "position_error_m", "rotation_error_rad", "se3_defect"]
 
 
 def position_error_m(T_a: Float, T_b: Float) -> Float:
@@ -30,6 +30,25 @@ def rotation_error_rad(T_a: Float, T_b: Float) -> Float:
     cos_angle = (R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0) / 2.0
     angle: Float = np.arctan2(sin_angle, cos_angle)
     return angle
+
+
+def jacobian_column_errors(J_a: Float, J_b: Float) -> tuple[Float, Float]:
+    """How far two Jacobians ``(..., 6, n)`` (linear rows first) are apart, column by column.
+
+    The one measure every Jacobian comparison uses (the check, its diagnosis, the
+    bench): the length of the difference of a column's linear 3-vector (m/rad;
+    m/m for a prismatic joint) and of its angular one (rad/rad). A non-finite
+    entry makes that part of its column's error ``inf``.
+
+    Returns:
+        ``(linear, angular)``, each ``(..., n)``.
+    """
+    diff = np.asarray(J_b, dtype=np.float64) - np.asarray(J_a, dtype=np.float64)
+    linear: Float = np.linalg.norm(diff[..., :3, :], axis=-2)
+    angular: Float = np.linalg.norm(diff[..., 3:, :], axis=-2)
+    linear[~np.isfinite(diff[..., :3, :]).all(axis=-2)] = np.inf
+    angular[~np.isfinite(diff[..., 3:, :]).all(axis=-2)] = np.inf
+    return linear, angular
 
 
 def se3_defect(T: Float) -> Float:

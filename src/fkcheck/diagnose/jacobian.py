@@ -31,21 +31,24 @@ not tried):
   the link), and a tool that also rotates makes ``"local"`` columns differ in
   their angular rows too, which this hypothesis does not fit.
 
-Pure functions over arrays: no model, no backend. :func:`column_errors` and
-:func:`first_disagreeing_joint` give the per-joint-column breakdown on their
-own (what the check's report shows).
+:func:`diagnose_jacobian` works on arrays alone (no model, no backend);
+:func:`explain_sample` is the hook ``fkcheck check --jacobian`` calls with the
+configurations the engine kept. Differences are measured as the check measures
+them (:func:`fkcheck.core.metrics.jacobian_column_errors`: the length of a
+column's linear and angular 3-vectors).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal, get_args
+from typing import Literal, get_args
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from fkcheck.core.jacobian import REFERENCES, Reference, re_express
+from fkcheck.core.metrics import jacobian_column_errors
 from fkcheck.core.typing import Float
 from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
 from fkcheck.io.format import format_fixed, format_m, format_rad
@@ -63,8 +66,6 @@ __all__ = [
     "column_errors",
     "diagnose_jacobian",
     "explain_sample",
-    "first_disagreeing_joint",
-    "jacobian_diagnosis_to_dict",
 ]
 
 #: The kinds of convention mistake, in the order explanations of equal
@@ -335,39 +336,23 @@ class JacobianDiagnosis:
 
 
 def column_errors(expected: ArrayLike, observed: ArrayLike) -> tuple[Float, Float]:
-    """The largest difference of each column, in its linear and its angular rows.
+    """The largest difference of each column over the configurations, linear and angular.
 
     Args:
         expected: ``(N, 6, n)`` (or ``(6, n)``), linear rows first.
         observed: The same shape.
 
     Returns:
-        ``(linear, angular)``, each ``(n,)``; a non-finite entry counts as ``inf``.
+        ``(linear, angular)``, each ``(n,)``: the largest length of the difference
+        of the column's 3-vectors (:func:`~fkcheck.core.metrics.jacobian_column_errors`);
+        a non-finite entry counts as ``inf``.
 
     Raises:
         ValueError: The shapes differ or are not ``(N, 6, n)``.
     """
     exp, obs = _pair(expected, observed)
-    diff = np.abs(obs - exp)
-    diff = np.where(np.isnan(diff), np.inf, diff)
-    return diff[:, :3].max(axis=(0, 1)), diff[:, 3:].max(axis=(0, 1))
-
-
-def first_disagreeing_joint(
-    linear: ArrayLike, angular: ArrayLike, tolerance: float, angular_tolerance: float | None = None
-) -> int | None:
-    """The first column (0-based joint index) over a tolerance, or ``None``.
-
-    Args:
-        linear: ``(n,)`` largest linear differences (from :func:`column_errors`).
-        angular: ``(n,)`` largest angular differences.
-        tolerance: Linear tolerance (m/rad).
-        angular_tolerance: Angular tolerance (rad/rad); ``tolerance`` when ``None``.
-    """
-    tol_a = tolerance if angular_tolerance is None else angular_tolerance
-    bad = ~((np.asarray(linear) <= tolerance) & (np.asarray(angular) <= tol_a))
-    hits = np.flatnonzero(bad)
-    return int(hits[0]) if hits.size else None
+    linear, angular = jacobian_column_errors(exp, obs)
+    return linear.max(axis=0), angular.max(axis=0)
 
 
 def _pair(expected: ArrayLike, observed: ArrayLike) -> tuple[Float, Float]:
@@ -388,9 +373,8 @@ def _pair(expected: ArrayLike, observed: ArrayLike) -> tuple[Float, Float]:
 
 
 def _residual(a: Float, b: Float) -> JacobianResidual:
-    diff = np.abs(a - b)
-    diff = np.where(np.isnan(diff), np.inf, diff)
-    return JacobianResidual(float(diff[:, :3].max()), float(diff[:, 3:].max()))
+    linear, angular = jacobian_column_errors(a, b)
+    return JacobianResidual(float(linear.max()), float(angular.max()))
 
 
 def _joint(names: Sequence[str], j: int) -> str:
@@ -458,10 +442,8 @@ def _match_columns(
 
     def agrees(diff: Float) -> NDArray[np.bool_]:
         """``(N, 6, m)`` differences → ``(m,)``: each column within both tolerances."""
-        diff = np.where(np.isnan(diff), np.inf, np.abs(diff))
-        ok: NDArray[np.bool_] = (diff[:, :3].max(axis=(0, 1)) <= tol_l) & (
-            diff[:, 3:].max(axis=(0, 1)) <= tol_a
-        )
+        linear, angular = jacobian_column_errors(np.zeros_like(diff), diff)
+        ok: NDArray[np.bool_] = (linear.max(axis=0) <= tol_l) & (angular.max(axis=0) <= tol_a)
         return ok
 
     columns: list[int | None] = []
@@ -636,57 +618,6 @@ def _explain(
     return out
 
 
-def jacobian_diagnosis_to_dict(d: JacobianDiagnosis) -> dict[str, Any]:
-    """The diagnosis as JSON-ready data (a contract: keys are only ever added)."""
-
-    def residual(r: JacobianResidual) -> dict[str, float]:
-        return {"linear": r.linear, "angular": r.angular}
-
-    return {
-        "reference": d.reference,
-        "configurations": d.configurations,
-        "tolerance": {"linear": d.tolerance, "angular": d.angular_tolerance},
-        "before": residual(d.before),
-        "agrees": d.agrees,
-        "explained": d.explained,
-        "headline": d.headline,
-        "first_disagreeing_joint": None
-        if d.first_disagreeing is None
-        else d.first_disagreeing.joint + 1,
-        "columns": [
-            {
-                "joint": c.joint + 1,
-                "name": c.name,
-                "prismatic": c.prismatic,
-                "linear": c.linear,
-                "angular": c.angular,
-                "agrees": c.agrees,
-            }
-            for c in d.columns
-        ],
-        "explanations": [
-            {
-                "kinds": list(e.kinds),
-                "title": e.title,
-                "after": residual(e.residual),
-                "observed_reference": e.mistake.reference or d.reference,
-                "angular_first": e.mistake.angular_first,
-                "flipped_joints": [j + 1 for j in e.mistake.flipped],
-                "missing_joints": [j + 1 for j in e.mistake.missing],
-                "columns": None
-                if e.mistake.columns is None
-                else [None if k is None else k + 1 for k in e.mistake.columns],
-                "point_offset_m": None
-                if e.mistake.point_offset_m is None
-                else list(e.mistake.point_offset_m),
-                "details": list(e.details),
-            }
-            for e in d.explanations
-        ],
-        "tried": list(d.tried),
-    }
-
-
 def explain_sample(
     sample: JacobianSample, model: Model, spec: JacobianSpec, tolerance: float
 ) -> tuple[str, tuple[str, ...]]:
@@ -704,9 +635,7 @@ def explain_sample(
         tolerance=tolerance,
         joint_names=[j.name for j in model.joints],
     )
-    details: list[str] = []
-    for line in diagnosis.text().splitlines()[1:]:
-        if line.startswith("as given"):  # the columns and the tries stay in `text()`
-            break
-        details.append(line.strip())
-    return diagnosis.headline, tuple(details)
+    best = diagnosis.best
+    details = () if best is None else best.details
+    also = tuple(f"also explains it: {e.title}" for e in diagnosis.explanations[1:])
+    return diagnosis.headline, (*details, *also)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -36,7 +36,15 @@ from fkcheck.model.frames import (
 )
 from fkcheck.model.types import Model
 
-__all__ = ["SE3_TOLERANCE", "Job", "NoAnswerError", "Progress", "compare", "evidence_of"]
+__all__ = [
+    "SE3_TOLERANCE",
+    "Job",
+    "NoAnswerError",
+    "Progress",
+    "compare",
+    "evidence_of",
+    "joint_label",
+]
 
 Progress = Callable[[str, int, int], None]
 
@@ -144,7 +152,7 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
         tracker.add(first, score_chunk, ours, as_returned)
         pos[first : first + CHUNK] = pos_chunk
         rot[first : first + CHUNK] = rot_chunk
-        jac.add(first, chunk, ref, raw)
+        jac.add(first, chunk, ref, ours, raw)
         if on_progress is not None:
             on_progress(backend.name, first + chunk.shape[0], q.shape[0])
     score = np.maximum(pos / tol_pos, rot / tol_rot)
@@ -200,13 +208,15 @@ class _JacobianRun:
         self.comparison = JacobianComparison(
             job.backend, job.model, job.pair, self.spec, job.q.shape[0]
         )
-        self.skip = self.comparison.applies
+        self.skip = self.comparison.skip_reason
 
-    def add(self, first: int, q: Float, ours_root: Float, theirs_root: Float) -> None:
+    def add(
+        self, first: int, q: Float, ours_root: Float, ours_from_T_to: Float, theirs_root: Float
+    ) -> None:
         if self.comparison is None or self.skip or self.failure:
             return
         try:
-            self.comparison.add(first, q, ours_root, theirs_root)
+            self.comparison.add(first, q, ours_root, ours_from_T_to, theirs_root)
         except Exception as exc:  # the Jacobian's own error; the poses stand
             own = type(exc).__module__.startswith("fkcheck.")
             self.failure = str(exc) if own else f"{type(exc).__name__}: {exc}"
@@ -215,7 +225,8 @@ class _JacobianRun:
         spec, comparison = self.spec, self.comparison
         if spec is None or comparison is None:
             return None
-        method = "" if self.skip else comparison.method
+        # A Jacobian that never came (skipped, or it raised) names no method it did not use.
+        method = comparison.method if comparison.own is not None else ""
         tol = comparison.tolerance
         if self.skip or self.failure:
             status: Status = "skipped" if self.skip else "error"
@@ -225,28 +236,10 @@ class _JacobianRun:
         lin, ang = comparison.linear_error, comparison.angular_error
         score = np.maximum(lin, ang)
         score[np.isnan(score)] = np.inf
-        worst = int(np.argmax(score)) if score.size else None
-        n_bad = int((score > tol).sum())
-        message = ""
-        if n_bad:
-            columns = np.maximum(comparison.column_linear, comparison.column_angular)
-            first_bad = int(np.flatnonzero(~(columns <= tol))[0])
-            joint = comparison.model.joints[first_bad].name or f"joint {first_bad + 1}"
-            message = (
-                f"Jacobian ({spec.reference}): {n_bad} of {score.size} configurations differ: "
-                f"max linear difference {lin.max():.3g} m/rad, max angular {ang.max():.3g} "
-                f"rad/rad; first column to disagree: joint {first_bad + 1} ({joint})"
-            )
         sample = comparison.sample()
-        diagnosis, details = "", tuple[str, ...]()
-        if n_bad and self.explain is not None:
-            try:  # evidence never changes a verdict: a failed diagnosis only says so
-                diagnosis, details = self.explain(sample, comparison.model, spec, tol)
-            except Exception as exc:
-                diagnosis = f"the Jacobian diagnosis failed: {type(exc).__name__}: {exc}"
-        return JacobianResult(
-            "fail" if n_bad else "pass",
-            message,
+        result = JacobianResult(
+            "pass",
+            "",
             method,
             spec.reference,
             tol,
@@ -254,11 +247,42 @@ class _JacobianRun:
             angular_error=ang,
             column_linear=comparison.column_linear,
             column_angular=comparison.column_angular,
-            worst_index=worst,
+            worst_index=int(np.argmax(score)) if score.size else None,
             sample=sample,
+        )
+        n_bad = int((~(score <= tol)).sum())
+        if not n_bad:
+            return result
+        first = result.first_bad_column
+        where = (
+            ""
+            if first is None
+            else f"; first column to disagree: {joint_label(comparison.model, first)}"
+        )
+        message = (
+            f"Jacobian ({spec.reference}): {n_bad} of {score.size} configurations differ: "
+            f"max linear difference {lin.max():.3g} m/rad, max angular {ang.max():.3g} "
+            f"rad/rad{where}"
+        )
+        diagnosis, details = "", tuple[str, ...]()
+        if self.explain is not None:
+            try:  # evidence never changes a verdict: a failed diagnosis only says so
+                diagnosis, details = self.explain(sample, comparison.model, spec, tol)
+            except Exception as exc:
+                diagnosis = f"the Jacobian diagnosis failed: {type(exc).__name__}: {exc}"
+        return replace(
+            result,
+            status="fail",
+            message=message,
             diagnosis=diagnosis,
             diagnosis_details=details,
         )
+
+
+def joint_label(model: Model, index: int) -> str:
+    """``joint 3 (elbow)``: a 0-based joint index as the reports name it."""
+    name = model.joints[index].name
+    return f"joint {index + 1} ({name})" if name else f"joint {index + 1}"
 
 
 def _failure_detail(job: Job, worst: int, tracker: WorstTracker) -> FailureDetail:

@@ -13,8 +13,12 @@ backends' results, like pytest's strict ``xfail``:
   because the record in the model file is stale;
 * it errored or was skipped → unchanged (nothing was compared).
 
-Checks of another frame pair are left as they are: the finding was recorded
-for the default pair only.
+Checks of another frame pair, or with other tolerances than the model's
+``[check]``, are left as they are: the finding was recorded for the default
+check only (a looser tolerance may rightly pass it, a tighter one fail it).
+A Jacobian compared on an expected failure (``check --jacobian``) inherits it:
+a table whose poses differ as recorded has Jacobians that differ too, so its
+failing Jacobian is ``xfail`` with the same finding, never a new failure.
 """
 
 from __future__ import annotations
@@ -73,30 +77,43 @@ def _apply(result: BackendResult, entry: KnownDifference) -> BackendResult:
             result,
             message=(f"beyond the recorded known difference ({'; '.join(over)}): {result.message}"),
         )
+    jacobian = result.jacobian
+    if jacobian is not None and jacobian.status == "fail":
+        jacobian = replace(
+            jacobian,
+            status="xfail",
+            message=f"expected failure, known difference: {entry.finding} — {jacobian.message}",
+        )
     return replace(
         result,
         status="xfail",
         message=f"expected failure, known difference: {entry.finding} — {result.message}",
+        jacobian=jacobian,
     )
 
 
 def apply_known_differences(
-    model: Model, frame_pair: tuple[str, str], results: Sequence[BackendResult]
+    model: Model,
+    frame_pair: tuple[str, str],
+    tol: tuple[float, float],
+    results: Sequence[BackendResult],
 ) -> tuple[BackendResult, ...]:
     """The results with the model's recorded differences applied (see the module docstring).
 
     Args:
         model: The model checked.
         frame_pair: The ``(from, to)`` frames the check compared.
+        tol: The ``(position m, rotation rad)`` tolerances it used.
         results: One result per backend.
 
     Returns:
         The results, those of listed backends rewritten.
     """
-    if not model.known_differences or frame_pair != (
-        model.check.frame_from,
-        model.check.frame_to,
-    ):
+    default = (
+        frame_pair == (model.check.frame_from, model.check.frame_to)
+        and tol == (model.check.tol_pos_m, model.check.tol_rot_rad)
+    )
+    if not model.known_differences or not default:
         return tuple(results)
     out: list[BackendResult] = []
     for result in results:

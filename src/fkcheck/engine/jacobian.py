@@ -12,15 +12,18 @@ of three reference frames (:mod:`fkcheck.core.jacobian`):
 * ``"world"``: the spatial twist at the ``from`` origin, in ``from`` axes (``WORLD``).
 
 **Where each side comes from.** fkcheck's side is the core's own geometric
-Jacobian (:func:`fkcheck.model.frames.frame_jacobian`). A backend whose library
-computes Jacobians (:class:`~fkcheck.backends.base.ProvidesJacobian`) is asked
-for the reference itself, in its own root; the engine then only moves the
-numbers from that root to ``from`` with the backend's *own* pose of ``from``
-(nothing at all for ``local``, or when ``from`` is its root). A backend that
-has none for the frame and reference asked (its ``frame_jacobian`` returns
-``None``: a plugin without ``<function>_jacobian``) or only gives poses
-(yourdfpy, rtb-urdf, ``cmd:`` programs) is differentiated: central differences
-of *its* ``from_T_to`` with step
+Jacobian in the reference asked (:func:`fkcheck.model.frames.frame_jacobian`),
+moved from the world to ``from``. A backend whose library computes Jacobians
+(:class:`~fkcheck.backends.base.ProvidesJacobian`) is asked for the reference
+itself (or, if its ``jacobian_references`` lack it, for ``world-aligned``), in
+its own root; the engine then only moves the numbers from that root to
+``from`` with the backend's *own* pose of ``from`` (nothing at all for
+``local``), and re-expresses a ``world-aligned`` answer with the backend's own
+``from_T_to`` and the engine's own few lines (:func:`_from_world_aligned`),
+never the core's. A backend that has none for the frame asked (its
+``frame_jacobian`` returns ``None``: a plugin without ``<function>_jacobian``)
+or only gives poses (yourdfpy, rtb-urdf, ``cmd:`` programs) is differentiated:
+central differences of *its* ``from_T_to`` with step
 :data:`~fkcheck.core.tolerances.FINITE_DIFFERENCE_STEP`, the rotation part as
 the rotation vector of ``R(q+h) R(q−h)ᵀ`` over ``2h`` (scipy), all its
 ``2n`` neighbours of a chunk in one call. Its truncation and round-off error
@@ -28,8 +31,9 @@ the rotation vector of ``R(q+h) R(q−h)ᵀ`` over ``2h`` (scipy), all its
 the tolerance. Measured poses are left out: they hold no neighbouring
 configurations.
 
-**Errors.** Per configuration, the largest over the columns of the norm of the
-difference of the linear 3-vectors (m/rad; m/m for a prismatic column) and of
+**Errors** (:func:`fkcheck.core.metrics.jacobian_column_errors`). Per
+configuration, the largest over the columns of the norm of the difference of
+the linear 3-vectors (m/rad; m/m for a prismatic column) and of
 the angular ones (rad/rad; 0 for a prismatic column); per column, the largest
 over the configurations — the report names the first joint whose column
 disagrees.
@@ -37,15 +41,16 @@ disagrees.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
-from fkcheck.core.jacobian import re_express
+from fkcheck.core.metrics import jacobian_column_errors
 from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP
-from fkcheck.core.typing import Float, JacobianReference
+from fkcheck.core.typing import JACOBIAN_REFERENCES, Float, JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.model.frames import frame_jacobian, relative_pose
 from fkcheck.model.types import Model, resolve_frame
@@ -77,6 +82,15 @@ class JacobianSpec:
 
     reference: JacobianReference
     tol: float
+
+    def __post_init__(self) -> None:
+        if self.reference not in JACOBIAN_REFERENCES:
+            raise FkcheckError(
+                f"Jacobian reference {self.reference!r} unknown; references are: "
+                f"{', '.join(JACOBIAN_REFERENCES)}"
+            )
+        if not (math.isfinite(self.tol) and self.tol > 0):
+            raise FkcheckError(f"Jacobian tolerance must be a positive number, got {self.tol}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -166,6 +180,23 @@ def _into_from(jac: Float, root_T_from: Float, reference: JacobianReference) -> 
     return np.concatenate([R_t @ lin, R_t @ ang], axis=1)
 
 
+def _from_world_aligned(jac: Float, from_T_to: Float, reference: JacobianReference) -> Float:
+    """A backend's world-aligned Jacobian (``from`` axes) in ``reference``, with its own pose.
+
+    The engine's own few lines, on purpose: a backend's side never goes through
+    the core's :func:`fkcheck.core.jacobian.re_express`, so a mistake there
+    cannot cancel out.
+    """
+    if reference == "world-aligned":
+        return jac
+    lin, ang = jac[:, :3], jac[:, 3:]
+    if reference == "local":
+        R_t = np.swapaxes(from_T_to[:, :3, :3], 1, 2)
+        return np.concatenate([R_t @ lin, R_t @ ang], axis=1)
+    # world: the body point passing through from's origin, v_to + p_to × ω
+    return np.concatenate([lin + np.cross(from_T_to[:, :3, 3][:, :, None], ang, axis=1), ang], 1)
+
+
 @dataclass(eq=False)
 class JacobianComparison:
     """Accumulates one backend's Jacobian errors over the chunks of a check.
@@ -194,9 +225,10 @@ class JacobianComparison:
         self.column_angular = np.zeros(self.model.dof)
 
     @property
-    def applies(self) -> str | None:
+    def skip_reason(self) -> str | None:
         """Why this backend's Jacobian is not compared, or ``None``."""
-        if isinstance(self.backend, FixedConfigurations):
+        inner = getattr(self.backend, "backend", self.backend)  # an isolated one's own
+        if isinstance(inner, FixedConfigurations):
             return "measured poses hold no neighbouring configurations to differentiate"
         return None
 
@@ -212,43 +244,42 @@ class JacobianComparison:
         """How the backend's Jacobian was obtained (after :meth:`add`)."""
         return method_of(self.backend, own=bool(self.own))
 
-    def add(self, first: int, q: Float, ours_root: Float, theirs_root: Float) -> None:
+    def add(
+        self, first: int, q: Float, ours_root: Float, ours_from_T_to: Float, theirs: Float
+    ) -> None:
         """Compare one chunk.
 
         Args:
             first: Index of the chunk's first configuration.
             q: The chunk's configurations, ``(m, n)``.
             ours_root: The core's world poses of ``(from, to)``, ``(2, m, 4, 4)``.
-            theirs_root: The backend's root poses of ``(from, to)``, ``(2, m, 4, 4)``.
+            ours_from_T_to: The core's ``from_T_to``, ``(m, 4, 4)``.
+            theirs: The backend's root poses of ``(from, to)``, ``(2, m, 4, 4)``.
         """
         ref, frame_to = self.spec.reference, self.pair[1]
-        ours_from_T_to = relative_pose(ours_root[0], ours_root[1])
-        ours_wa = _into_from(
-            frame_jacobian(self.model, q, frame_to, "world-aligned"), ours_root[0], "world-aligned"
-        )
-        ours = re_express(ours_wa, ours_from_T_to, "world-aligned", ref)
+        # The core's own Jacobian in the reference asked (its local/world code runs too).
+        ours = _into_from(frame_jacobian(self.model, q, frame_to, ref), ours_root[0], ref)
         native = None
         if isinstance(self.backend, ProvidesJacobian) and self.own is not False:
-            native = self.backend.frame_jacobian(self.model, q, frame_to, ref)
+            references = getattr(self.backend, "jacobian_references", JACOBIAN_REFERENCES)
+            asked = ref if ref in references else "world-aligned"
+            native = self.backend.frame_jacobian(self.model, q, frame_to, asked)
             self.own = native is not None
+        theirs_from_T_to = relative_pose(theirs[0], theirs[1])
         if native is not None:
             native = np.asarray(native, dtype=np.float64)
             if native.shape != ours.shape:
                 raise FkcheckError(
                     f"returned a Jacobian of shape {native.shape}, expected {ours.shape}"
                 )
-            theirs = _into_from(native, theirs_root[0], ref)
+            in_from = _into_from(native, theirs[0], asked)
+            if asked != ref:
+                in_from = _from_world_aligned(in_from, theirs_from_T_to, ref)
         else:
             self.own = False
             fd = finite_difference_jacobian(self.backend, self.model, q, self.pair)
-            theirs_from_T_to = relative_pose(theirs_root[0], theirs_root[1])
-            theirs = re_express(fd, theirs_from_T_to, "world-aligned", ref)
-        diff = theirs - ours
-        lin = np.linalg.norm(diff[:, :3], axis=1)  # (m, n)
-        ang = np.linalg.norm(diff[:, 3:], axis=1)
-        bad = ~np.isfinite(diff).all(axis=1)
-        lin[bad] = np.inf
-        ang[bad] = np.inf
+            in_from = _from_world_aligned(fd, theirs_from_T_to, ref)
+        lin, ang = jacobian_column_errors(ours, in_from)  # (m, n) each
         m = q.shape[0]
         self.linear_error[first : first + m] = lin.max(axis=1, initial=0.0)
         self.angular_error[first : first + m] = ang.max(axis=1, initial=0.0)
@@ -256,11 +287,11 @@ class JacobianComparison:
         self.column_angular = np.maximum(self.column_angular, ang.max(axis=0, initial=0.0))
         room = SAMPLES_KEPT - len(self._kept)
         for k in range(min(room, m)):
-            self._kept.append((first + k, ours[k], theirs[k], ours_from_T_to[k]))
+            self._kept.append((first + k, ours[k], in_from[k], ours_from_T_to[k]))
         score = np.maximum(lin.max(axis=1, initial=0.0), ang.max(axis=1, initial=0.0))
         k = int(np.argmax(score))
         if self._worst is None or score[k] > self._worst[0]:
-            self._worst = (float(score[k]), first + k, ours[k], theirs[k], ours_from_T_to[k])
+            self._worst = (float(score[k]), first + k, ours[k], in_from[k], ours_from_T_to[k])
 
     def sample(self) -> JacobianSample:
         """The kept configurations (the first ones, and the worst), both Jacobians."""

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from fkcheck.backends.base import Evidence
 from fkcheck.core.typing import Float
@@ -100,13 +101,22 @@ class JacobianResult:
         return _max(self.angular_error)
 
     @property
-    def first_bad_column(self) -> int | None:
-        """0-based index of the first joint whose column disagrees beyond tolerance."""
+    def bad_columns(self) -> NDArray[np.bool_] | None:
+        """``(n,)``: which joints' columns disagree beyond tolerance somewhere (NaN counts)."""
         if self.column_linear is None or self.column_angular is None:
             return None
-        worse = np.maximum(self.column_linear, self.column_angular)
-        bad = np.flatnonzero(~(worse <= self.tolerance))
-        return int(bad[0]) if bad.size else None
+        bad: NDArray[np.bool_] = ~(
+            (self.column_linear <= self.tolerance) & (self.column_angular <= self.tolerance)
+        )
+        return bad
+
+    @property
+    def first_bad_column(self) -> int | None:
+        """0-based index of the first joint whose column disagrees beyond tolerance."""
+        bad = self.bad_columns
+        if bad is None or not bad.any():
+            return None
+        return int(np.argmax(bad))
 
 
 @dataclass(frozen=True, eq=False)

@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations
-from fkcheck.core.typing import Float
+from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
 from fkcheck.engine.expected import apply_known_differences
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
@@ -130,17 +130,18 @@ def _outcome(job: Job, on_progress: Progress | None = None) -> BackendResult | F
         return _error(backend, detail, time.perf_counter() - start)
 
 
-def _poses_in_child(
-    backend: Backend, model: Model, q: Float, frames: tuple[str, ...]
-) -> tuple[str, Any]:
-    """In an isolated backend's own process: its poses, or why not.
+def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
+    """In an isolated backend's own process: its answer (poses or a Jacobian), or why not.
 
     Exceptions with their own constructors do not round-trip through pickle, so
-    the outcome travels as ``("ok", poses)``, ``("skip", reason)``,
-    ``("bad-input", message)`` or ``("error", message)``.
+    the outcome travels as ``("ok", array)``, ``("none", None)`` (no Jacobian),
+    ``("skip", reason)``, ``("bad-input", message)`` or ``("error", message)``.
     """
     try:
-        return "ok", np.asarray(backend.frame_poses(model, q, frames), dtype=np.float64)
+        answer = call()
+        if answer is None:
+            return "none", None
+        return "ok", np.asarray(answer, dtype=np.float64)
     except Skip as exc:
         return "skip", str(exc)
     except FkcheckError as exc:
@@ -153,7 +154,7 @@ def _poses_in_child(
 class _InChild:
     """An isolated backend (``isolated = True``) as the engine sees it.
 
-    Only the backend's poses are computed in a process of its own
+    Only the backend's poses (and its own Jacobians) are computed in a process of its own
     (:func:`~fkcheck.process.isolation.run_isolated`); the reference and the comparison
     stay in this process, like every other backend's. A slow pure-Python backend
     that holds the GIL then uses the second core; a crash of its process (e.g.
@@ -167,6 +168,9 @@ class _InChild:
         self.name = backend.name
         self.method = backend.method
         self.evidence = evidence_of(backend)
+        for attribute in ("jacobian_method", "jacobian_references"):
+            if hasattr(backend, attribute):
+                setattr(self, attribute, getattr(backend, attribute))
         self.timeout_s = timeout_s
         self.deadline = time.monotonic() + min(timeout_s, threading.TIMEOUT_MAX)
 
@@ -174,17 +178,36 @@ class _InChild:
         return self.backend.unavailable_reason(model)
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
-        job = functools.partial(_poses_in_child, self.backend, model, q, tuple(frames))
+        poses: Float = self._run(
+            functools.partial(self.backend.frame_poses, model, q, tuple(frames)), q
+        )
+        return poses
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float | None:
+        """The backend's own Jacobian, computed in its process; ``None`` if it has none."""
+        if not isinstance(self.backend, ProvidesJacobian):
+            return None
+        jac: Float | None = self._run(
+            functools.partial(self.backend.frame_jacobian, model, q, frame, reference), q
+        )
+        return jac
+
+    def _run(self, call: Callable[[], Any], q: Float) -> Any:
         remaining = max(0.0, self.deadline - time.monotonic())
         try:
-            kind, value = run_isolated(job, remaining, answer_limit(q.shape[0]))
+            kind, value = run_isolated(
+                functools.partial(_in_child, call), remaining, answer_limit(q.shape[0])
+            )
         except IsolatedTimeout:
             raise NoAnswerError(f"timed out after {self.timeout_s:g} s") from None
         except IsolatedDied as exc:
             raise NoAnswerError(str(exc)) from None
         if kind == "ok":
-            poses: Float = value
-            return poses
+            return value
+        if kind == "none":
+            return None
         if kind == "skip":
             raise Skip(value)
         if kind == "bad-input":
@@ -371,7 +394,9 @@ def run_check(
         worker.join()
     if errors:
         raise errors[0]
-    ordered = apply_known_differences(model, pair, [results[i] for i in range(len(backends))])
+    ordered = apply_known_differences(
+        model, pair, tol, [results[i] for i in range(len(backends))]
+    )
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.
     jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]
