@@ -249,3 +249,34 @@ def test_plugin_that_never_returns_is_killed_at_its_time_limit(
     )
     assert 2.0 <= elapsed < 2.0 + TERMINATE_GRACE_S + 1.0
     assert_gone(wait_for_pids(hostile, 1.0), within_s=1.0)
+
+
+@pytest.mark.usefixtures("plugins_importable")
+@pytest.mark.parametrize(
+    ("function", "problem"),
+    [
+        ("wrong_shape", r"wrong_shape_jacobian returned shape \(7, 6, 5\); expected \(7, 6, 6\)"),
+        ("float32", r"float32_jacobian returned dtype float32: too coarse"),
+        ("complex_out", r"complex_out_jacobian returned dtype complex128; expected real numbers"),
+        ("strings", r"strings_jacobian returned dtype <U\d+; expected real numbers"),
+        ("raises", r"raises_jacobian raised ValueError: no Jacobian here"),
+        ("not_callable", r"ur5_jacobians\.not_callable_jacobian is a int, not callable"),
+    ],
+)
+def test_a_plugins_jacobian_is_checked_like_its_poses(ur5: Model, function, problem) -> None:
+    q = random_q(ur5, np.random.default_rng(0), 7)
+    with pytest.raises(PluginError, match=problem):
+        plugin(f"ur5_jacobians:{function}").frame_jacobian(ur5, q, "tcp", "world-aligned")
+
+
+@pytest.mark.usefixtures("plugins_importable")
+def test_a_plugins_jacobian_is_its_own_at_every_frame_posed_as_the_tcp(ur5: Model) -> None:
+    q = random_q(ur5, np.random.default_rng(1), 5)
+    backend = plugin("ur5_jacobians:correct")
+    for frame in ("tcp", "tool0"):  # tool0: DH frame 6 with the (zero) tool's offset
+        jac = backend.frame_jacobian(ur5, q, frame, "world-aligned")
+        assert jac is not None
+        assert jac.shape == (5, 6, 6)
+    assert backend.frame_jacobian(ur5, q, "flange", "world-aligned") is None  # turned: not the TCP
+    assert backend.frame_jacobian(ur5, q, "tcp", "local") is None  # the engine asks world-aligned
+    assert plugin("ur5_closed_form:forward").frame_jacobian(ur5, q, "tcp", "world-aligned") is None

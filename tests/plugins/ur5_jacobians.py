@@ -66,3 +66,30 @@ def end_effector_jacobian(q: np.ndarray) -> np.ndarray:
 def angular_first_jacobian(q: np.ndarray) -> np.ndarray:
     jac = _world_aligned(q)
     return np.concatenate([jac[:, 3:], jac[:, :3]], axis=1)
+
+
+# Jacobians a plugin must not get away with (poses right, Jacobian unusable).
+wrong_shape = float32 = complex_out = strings = raises = not_callable = correct
+
+
+def wrong_shape_jacobian(q: np.ndarray) -> np.ndarray:
+    return _world_aligned(q)[:, :, :5]
+
+
+def float32_jacobian(q: np.ndarray) -> np.ndarray:
+    return _world_aligned(q).astype(np.float32)
+
+
+def complex_out_jacobian(q: np.ndarray) -> np.ndarray:
+    return _world_aligned(q) + 1j
+
+
+def strings_jacobian(q: np.ndarray) -> np.ndarray:
+    return _world_aligned(q).astype(str)
+
+
+def raises_jacobian(q: np.ndarray) -> np.ndarray:
+    raise ValueError("no Jacobian here")
+
+
+not_callable_jacobian = 3

@@ -87,10 +87,13 @@ class PluginBackend:
         module: The module's dotted name.
         function: The callable's name in that module.
         evidence: ``"implementation"``: the user's code runs the model's table.
-        timeout_s: Time limit of one :meth:`frame_poses` call, seconds.
+        jacobian_method: ``"python callable module:function_jacobian"``.
+        timeout_s: Time limit of one call of the plugin, seconds.
     """
 
     evidence: Evidence = "implementation"
+    #: The one reference ``<function>_jacobian`` answers in (the engine re-expresses it).
+    jacobian_references: tuple[JacobianReference, ...] = ("world-aligned",)
     #: Imported by the engine before backend threads start (fixed frames use SciPy).
     imports = ("scipy.spatial.transform",)
 
@@ -138,7 +141,8 @@ class PluginBackend:
         """
         q = validated_q(model, q)
         require_tcp_frames(model, frames)
-        job = functools.partial(_call, self.name, self.module, self.function, q.copy())
+        shape = (q.shape[0], 4, 4)
+        job = functools.partial(_call, self.name, self.module, self.function, q.copy(), shape)
         kind, value = self._in_child(job, q)
         if kind != "ok":
             raise PluginError(self.name, str(value))
@@ -162,22 +166,27 @@ class PluginBackend:
     ) -> Float | None:
         """The plugin's ``<function>_jacobian`` of the TCP, ``(N, 6, n)``, world-aligned.
 
+        ``frame`` may be any frame whose pose is the TCP's (``tcp``, or the last
+        DH frame with the tool's offset). The engine asks for ``world-aligned``
+        only (:attr:`jacobian_references`) and re-expresses it itself.
+
         Returns:
-            ``None`` when the plugin has no ``<function>_jacobian``, ``frame`` is
-            not the TCP or ``reference`` is not ``"world-aligned"`` (the engine
-            then differentiates the plugin's poses).
+            ``None`` when the plugin has no ``<function>_jacobian``, or ``frame``
+            is not the TCP (the engine then differentiates the plugin's poses).
 
         Raises:
-            PluginError: As for :meth:`frame_poses`; also a Jacobian of another shape.
+            PluginError: As for :meth:`frame_poses`, for ``(N, 6, n)``.
         """
         q = validated_q(model, q)
-        if reference != "world-aligned" or resolve_frame(model, frame).dh != "tcp":
-            return None
-        if resolve_frame(model, frame).offset != Offset():
-            return None
-        job = functools.partial(
-            _call_jacobian, self.name, self.module, f"{self.function}_jacobian", q.copy(), model.dof
+        spec = resolve_frame(model, frame)
+        at_tcp = (spec.dh == "tcp" and spec.offset == Offset()) or (
+            spec.dh == model.dof and spec.offset == model.tool
         )
+        if reference != "world-aligned" or not at_tcp:
+            return None
+        shape = (q.shape[0], 6, model.dof)
+        function = f"{self.function}_jacobian"
+        job = functools.partial(_call, self.name, self.module, function, q.copy(), shape)
         kind, value = self._in_child(job, q)
         if kind == "absent":
             return None
@@ -187,39 +196,27 @@ class PluginBackend:
         return jacobian
 
 
-def _call_jacobian(spec: str, module: str, function: str, q: Float, dof: int) -> tuple[str, Any]:
-    """In the plugin's process: ``("ok", J)``, ``("absent", None)`` or ``("error", why)``."""
+def _call(
+    spec: str, module: str, function: str, q: Float, shape: tuple[int, ...]
+) -> tuple[str, Any]:
+    """In the plugin's own process: import, call, check.
+
+    Returns:
+        ``("ok", array)``, ``("absent", None)`` (an optional ``…_jacobian`` the
+        module does not define) or ``("error", why)``.
+    """
     try:
-        mod = importlib.import_module(module)
-        jacobian = getattr(mod, function, None)
-        if jacobian is None:
+        optional = function.endswith("_jacobian") and shape[1:2] == (6,)
+        who = f"{function} " if optional else ""  # the pose callable is the spec's own
+        mod = _import(spec, module)
+        if optional and not hasattr(mod, function):
             return ("absent", None)
-        if not callable(jacobian):
-            raise PluginError(spec, f"{module}.{function} is not callable")
-        try:
-            arr = np.asarray(jacobian(q), dtype=np.float64)
-        except Exception as exc:
-            raise PluginError(spec, f"{function} raised {type(exc).__name__}: {exc}") from exc
-        if arr.shape != (q.shape[0], 6, dof):
-            raise PluginError(
-                spec, f"{function} returned shape {arr.shape}; expected ({q.shape[0]}, 6, {dof})"
-            )
-        return ("ok", arr)
-    except PluginError as exc:
-        return ("error", exc.problem[:_PROBLEM_CHARS])
-    except Exception as exc:
-        return ("error", f"importing module {module!r} raised {type(exc).__name__}: {exc}")
-
-
-def _call(spec: str, module: str, function: str, q: Float) -> tuple[str, Any]:
-    """In the plugin's own process: import, call, check; ``("ok", poses)`` or ``("error", why)``."""
-    try:
-        forward = _load(spec, module, function)
+        forward = _callable(spec, mod, module, function)
         try:
             result = forward(q)
         except Exception as exc:
-            raise PluginError(spec, f"raised {type(exc).__name__}: {exc}") from exc
-        return ("ok", _validated(spec, result, q))
+            raise PluginError(spec, f"{who}raised {type(exc).__name__}: {exc}") from exc
+        return ("ok", _validated(spec, result, shape, who))
     except PluginError as exc:
         problem = exc.problem
         if len(problem) > _PROBLEM_CHARS:
@@ -227,16 +224,20 @@ def _call(spec: str, module: str, function: str, q: Float) -> tuple[str, Any]:
         return ("error", problem)
 
 
-def _load(spec: str, module: str, function: str) -> Callable[[Float], Any]:
-    """Import the module and return the callable."""
+def _import(spec: str, module: str) -> Any:
+    """Import the plugin's module."""
     try:
-        mod = importlib.import_module(module)
+        return importlib.import_module(module)
     except ImportError as exc:
         raise PluginError(spec, f"cannot import module {module!r}: {exc}") from exc
     except Exception as exc:
         raise PluginError(
             spec, f"importing module {module!r} raised {type(exc).__name__}: {exc}"
         ) from exc
+
+
+def _callable(spec: str, mod: Any, module: str, function: str) -> Callable[[Float], Any]:
+    """The module's callable ``function``."""
     if not hasattr(mod, function):
         found = sorted(k for k, v in vars(mod).items() if callable(v) and not k.startswith("_"))
         raise PluginError(
@@ -251,22 +252,28 @@ def _load(spec: str, module: str, function: str) -> Callable[[Float], Any]:
     return checked
 
 
-def _validated(spec: str, result: Any, q: Float) -> Float:
-    """The plugin's return value as finite float64 ``(N, 4, 4)``, or PluginError."""
-    n_configs = q.shape[0]
+def _validated(spec: str, result: Any, shape: tuple[int, ...], who: str = "") -> Float:
+    """The plugin's return value as float64 of ``shape``, or PluginError.
+
+    ``(N, 4, 4)`` is one ``world_T_tcp`` per configuration, ``(N, 6, n)`` one
+    Jacobian. Only real numbers at least as precise as float64 pass (integers
+    too); float32, complex, strings and objects are refused. ``who`` names the
+    callable in the message (``"fk_jacobian "``; empty for the spec's own).
+    """
+    what = "one world_T_tcp" if shape[1:] == (4, 4) else "one Jacobian (6 rows)"
     try:
         arr = np.asarray(result)
     except Exception as exc:
         raise PluginError(
             spec,
-            f"returned a {type(result).__name__} that is not an array "
-            f"({type(exc).__name__}: {exc}); expected shape ({n_configs}, 4, 4)",
+            f"{who}returned a {type(result).__name__} that is not an array "
+            f"({type(exc).__name__}: {exc}); expected shape {shape}",
         ) from exc
-    if arr.shape != (n_configs, 4, 4):
+    if arr.shape != shape:
         raise PluginError(
             spec,
-            f"returned shape {arr.shape}; expected ({n_configs}, 4, 4) for q of "
-            f"shape ({n_configs}, n): one world_T_tcp per configuration",
+            f"{who}returned shape {arr.shape}; expected {shape} for q of "
+            f"shape ({shape[0]}, n): {what} per configuration",
         )
     if arr.dtype.kind not in _EXACT_KINDS and arr.dtype not in _EXACT_FLOATS:
         hint = (
@@ -274,7 +281,7 @@ def _validated(spec: str, result: Any, q: Float) -> Float:
             if arr.dtype.kind == "f"
             else "; expected real numbers (float64)"
         )
-        raise PluginError(spec, f"returned dtype {arr.dtype}{hint}")
+        raise PluginError(spec, f"{who}returned dtype {arr.dtype}{hint}")
     # NaN or inf is an answer, and a wrong one: the engine reports it as a failure
     # (with how many configurations and where), not as "no answer".
     return arr.astype(np.float64)

@@ -109,9 +109,9 @@ def apply_known_differences(
     Returns:
         The results, those of listed backends rewritten.
     """
-    default = (
-        frame_pair == (model.check.frame_from, model.check.frame_to)
-        and tol == (model.check.tol_pos_m, model.check.tol_rot_rad)
+    default = frame_pair == (model.check.frame_from, model.check.frame_to) and tol == (
+        model.check.tol_pos_m,
+        model.check.tol_rot_rad,
     )
     if not model.known_differences or not default:
         return tuple(results)

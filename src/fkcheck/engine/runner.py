@@ -394,9 +394,7 @@ def run_check(
         worker.join()
     if errors:
         raise errors[0]
-    ordered = apply_known_differences(
-        model, pair, tol, [results[i] for i in range(len(backends))]
-    )
+    ordered = apply_known_differences(model, pair, tol, [results[i] for i in range(len(backends))])
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.
     jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]
