@@ -26,8 +26,10 @@ __all__ = [
     "model_to_toml",
     "offset_toml",
     "relocate_urdf_path",
+    "toml_comment",
     "toml_key",
     "toml_number",
+    "toml_string",
 ]
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
@@ -43,10 +45,10 @@ def toml_number(value: float) -> str:
 
 def toml_key(key: str) -> str:
     """A table key: bare when it can be, else a quoted string."""
-    return key if _BARE_KEY.match(key) else _string(key)
+    return key if _BARE_KEY.match(key) else toml_string(key)
 
 
-def _string(text: str) -> str:
+def toml_string(text: str) -> str:
     """A TOML basic string: JSON's escapes are TOML's, and TOML escapes DEL too."""
     return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
 
@@ -55,7 +57,8 @@ def _numbers(values: Sequence[float]) -> str:
     return "[" + ", ".join(toml_number(v) for v in values) + "]"
 
 
-def _comment(lines: str | Sequence[str] | None) -> list[str]:
+def toml_comment(lines: str | Sequence[str] | None) -> list[str]:
+    """Comment lines (``# …``); text from input shows its control characters escaped."""
     if not lines:
         return []
     items = lines.splitlines() if isinstance(lines, str) else list(lines)
@@ -91,19 +94,19 @@ def frame_toml(
     spec: FrameSpec, unit: Literal["rad", "deg"] = "rad", comment: str | Sequence[str] | None = None
 ) -> str:
     """One ``[frames.NAME]`` table, angles in ``unit``."""
-    lines = _comment(comment)
+    lines = toml_comment(comment)
     lines.append(f"[frames.{toml_key(spec.name)}]")
-    lines.append(f"dh = {spec.dh}" if isinstance(spec.dh, int) else f"dh = {_string(spec.dh)}")
+    lines.append(f"dh = {spec.dh}" if isinstance(spec.dh, int) else f"dh = {toml_string(spec.dh)}")
     lines.extend(_offset_lines(spec.offset, unit))
     if spec.urdf is not None:
-        lines.append(f"urdf = {_string(spec.urdf)}")
+        lines.append(f"urdf = {toml_string(spec.urdf)}")
     return "\n".join(lines) + "\n"
 
 
 def _joint_lines(joint: Joint, unit: Literal["rad", "deg"]) -> list[str]:
-    lines = ["[[joint]]", f"name = {_string(joint.name)}"]
+    lines = ["[[joint]]", f"name = {toml_string(joint.name)}"]
     if joint.type != "revolute":
-        lines.append(f"type = {_string(joint.type)}")
+        lines.append(f"type = {toml_string(joint.type)}")
     lines.append(f"a = {toml_number(joint.a)}")
     lines.append(f"alpha = {toml_number(_angle(joint.alpha, unit))}")
     lines.append(f"d = {toml_number(joint.d)}")
@@ -150,19 +153,19 @@ def model_to_toml(
     unit: Literal["rad", "deg"] = angle_unit or model.angle_unit
     joint_comments = joint_comments or {}
     frame_comments = frame_comments or {}
-    out: list[str] = _comment(header)
+    out: list[str] = toml_comment(header)
     if out:
         out.append("")
-    out.append(f"name = {_string(model.name)}")
+    out.append(f"name = {toml_string(model.name)}")
     if model.description:
-        out.append(f"description = {_string(model.description)}")
+        out.append(f"description = {toml_string(model.description)}")
     if model.source:
-        out.append(f"source = {_string(model.source)}")
-    out.append(f"convention = {_string(model.convention)}")
-    out.append(f"angle_unit = {_string(unit)}")
+        out.append(f"source = {toml_string(model.source)}")
+    out.append(f"convention = {toml_string(model.convention)}")
+    out.append(f"angle_unit = {toml_string(unit)}")
     for i, joint in enumerate(model.joints):
         out.append("")
-        out.extend(_comment(joint_comments.get(i)))
+        out.extend(toml_comment(joint_comments.get(i)))
         out.extend(_joint_lines(joint, unit))
     for label, offset in (("base", model.base), ("tool", model.tool)):
         if not offset.is_identity:
@@ -176,14 +179,14 @@ def model_to_toml(
             ]
             out.append(f"{toml_key(pname)} = {_numbers(shown)}")
     if model.urdf is not None:
-        joints = ", ".join(_string(n) for n in model.urdf.joints)
-        out.extend(["", "[urdf]", f"path = {_string(model.urdf.path)}", f"joints = [{joints}]"])
+        joints = ", ".join(toml_string(n) for n in model.urdf.joints)
+        out.extend(["", "[urdf]", f"path = {toml_string(model.urdf.path)}", f"joints = [{joints}]"])
         if model.urdf.xacro:
             out.append("xacro = true")
         for key, table in (("xacro_args", model.urdf.xacro_args),
                            ("packages", model.urdf.packages)):  # fmt: skip
             if table:
-                items = ", ".join(f"{_string(k)} = {_string(v)}" for k, v in table.items())
+                items = ", ".join(f"{toml_string(k)} = {toml_string(v)}" for k, v in table.items())
                 out.append(f"{key} = {{ {items} }}")
     for name, spec in model.frames.items():
         if _is_default_frame(spec):
@@ -192,19 +195,24 @@ def model_to_toml(
         out.append(frame_toml(spec, unit, frame_comments.get(name)).rstrip("\n"))
     check = model.check
     out.extend(
-        ["", "[check]", f"from = {_string(check.frame_from)}", f"to = {_string(check.frame_to)}"]
+        [
+            "",
+            "[check]",
+            f"from = {toml_string(check.frame_from)}",
+            f"to = {toml_string(check.frame_to)}",
+        ]
     )
     out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
     out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
     if check.require:
-        out.append(f"require = [{', '.join(_string(k) for k in check.require)}]")
+        out.append(f"require = [{', '.join(toml_string(k) for k in check.require)}]")
     if check.jacobian:
         out.append("jacobian = true")
     if check.jacobian or check.jacobian_reference != "world-aligned":
-        out.append(f"jacobian_reference = {_string(check.jacobian_reference)}")
+        out.append(f"jacobian_reference = {toml_string(check.jacobian_reference)}")
         out.append(f"tol_jacobian = {toml_number(check.tol_jacobian)}")
     if model.lint_ignore:
-        rules = ", ".join(_string(rule) for rule in model.lint_ignore)
+        rules = ", ".join(toml_string(rule) for rule in model.lint_ignore)
         out.extend(["", "[lint]", f"ignore = [{rules}]"])
     return "\n".join(out) + "\n"
 

@@ -29,7 +29,6 @@ round one (0, a multiple of 90°, a whole micrometre) snapped to it
 from __future__ import annotations
 
 import fnmatch
-import json
 import math
 import re
 import warnings
@@ -47,7 +46,7 @@ from fkcheck.errors import FkcheckError, FrameError, UrdfError
 from fkcheck.io.format import format_deg, format_mm
 from fkcheck.model.sampling import sample_configurations, sampling_box
 from fkcheck.model.types import URDF_FRAME_PREFIX, FrameSpec, Model, Offset
-from fkcheck.model.write import frame_toml
+from fkcheck.model.write import frame_toml, toml_comment, toml_string
 from fkcheck.urdf.chain import UrdfKinematics
 from fkcheck.urdf.to_dh import CLEAN_TOL, clean_number
 from fkcheck.urdf.tree import listed
@@ -660,41 +659,47 @@ def _same(a: Offset, b: Offset) -> bool:
 
 
 def proposal_toml(result: MapResult) -> str:
-    """The ``[urdf]`` and ``[frames.*]`` block, with the evidence in comments."""
+    """The ``[urdf]`` and ``[frames.*]`` block, with the evidence in comments.
+
+    Every comment goes through :func:`~fkcheck.model.write.toml_comment`: names
+    from the URDF or the model (which may hold newlines) can never start a line
+    of TOML of their own.
+    """
     model = result.model
     unit = model.angle_unit
     tol_m, tol_rad = result.tolerances
-    out = [
-        f"# fkcheck map: model {model.name} onto {result.urdf_path}",
-        f"# {result.configurations} configurations (seed {result.seed}); a link is at a constant "
-        f"offset when it stays within",
-        f"# the model's check tolerances ({tol_m:g} m, {tol_rad:g} rad); numbers within 1e-9 of "
-        "0, a multiple of 90° or a whole µm are snapped to it.",
-        "",
-        "[urdf]",
-        f"path = {_quoted(result.urdf_path)}",
-    ]
+    out = toml_comment(
+        [
+            f"fkcheck map: model {model.name} onto {result.urdf_path}",
+            f"{result.configurations} configurations (seed {result.seed}); a link is at a "
+            "constant offset when it stays within",
+            f"the model's check tolerances ({tol_m:g} m, {tol_rad:g} rad); numbers within 1e-9 "
+            "of 0, a multiple of 90° or a whole µm are snapped to it.",
+        ]
+    )
+    out += ["", "[urdf]", f"path = {toml_string(result.urdf_path)}"]
+    notes: list[str] = []
     if result.joints_fit:
-        out.append(
-            f"# The joints, found by how they move (last DH frame vs URDF link: "
+        notes.append(
+            f"The joints, found by how they move (last DH frame vs URDF link: "
             f"{result.fit_m:.2g} m, {result.fit_rad:.2g} rad):"
         )
     else:
-        out.append(
-            f"# NO chain of the URDF moves like this table: the nearest leaves the last DH frame "
+        notes.append(
+            f"NO chain of the URDF moves like this table: the nearest leaves the last DH frame "
             f"{format_mm(result.fit_m)} / {format_deg(result.fit_rad)} off its link:"
         )
     for j in result.joints:
         if j.flipped:
-            out.append(
-                f"#   {j.dh} = {j.urdf}: turns the OTHER way; the URDF gets q unchanged, so set "
+            notes.append(
+                f"  {j.dh} = {j.urdf}: turns the OTHER way; the URDF gets q unchanged, so set "
                 f"flip = {'false' if _flip_of(model, j.dh) else 'true'} on [[joint]] {j.dh}"
             )
         else:
-            out.append(f"#   {j.dh} = {j.urdf}: same direction")
-    for other in result.also_fit:
-        out.append(f"# Another chain moves the same way: {', '.join(other)}")
-    out.append(f"joints = [{', '.join(_quoted(j.urdf) for j in result.joints)}]")
+            notes.append(f"  {j.dh} = {j.urdf}: same direction")
+    notes += [f"Another chain moves the same way: {', '.join(other)}" for other in result.also_fit]
+    out += toml_comment(notes)
+    out.append(f"joints = [{', '.join(toml_string(j.urdf) for j in result.joints)}]")
     n = model.dof
     ends: tuple[Anchor, ...] = (0, "world", n, "tcp")
     groups: tuple[tuple[str, tuple[Anchor, ...] | None], ...] = (
@@ -710,7 +715,12 @@ def proposal_toml(result: MapResult) -> str:
         ]
         if not chosen:
             continue
-        out += ["", f"# --- Links at a constant offset from {title}, most common name first ---"]
+        out += [
+            "",
+            *toml_comment(
+                f"--- Links at a constant offset from {title}, most common name first ---"
+            ),
+        ]
         for p in chosen:
             comment = []
             if p.fit is not None:
@@ -723,20 +733,17 @@ def proposal_toml(result: MapResult) -> str:
         where = "DH frame 0" if near.anchor == 0 else f"DH frame {near.anchor}"
         out += [
             "",
-            f"# NO URDF link sits at a constant offset from {where}: the nearest, "
-            f"{near.link}, moves by {format_mm(near.spread_m)} / {format_deg(near.spread_rad)} "
-            "over the samples.",
+            *toml_comment(
+                f"NO URDF link sits at a constant offset from {where}: the nearest, "
+                f"{near.link}, moves by {format_mm(near.spread_m)} / {format_deg(near.spread_rad)} "
+                "over the samples."
+            ),
         ]
     return "\n".join(out) + "\n"
 
 
 def _flip_of(model: Model, joint: str) -> bool:
     return next(j.flip for j in model.joints if j.name == joint)
-
-
-def _quoted(text: str) -> str:
-    """A TOML basic string (JSON's escapes are TOML's)."""
-    return json.dumps(text, ensure_ascii=False).replace("\x7f", "\\u007f")
 
 
 # ----------------------------------------------------------------------------- urdf:LINK
