@@ -292,3 +292,20 @@ def test_model_keys_round_trip_through_the_writer(tmp_path):
     again = tmp_path / "robot" / "again.toml"
     again.write_text(model_to_toml(model))
     assert load_model(again).urdf == model.urdf
+
+
+@pytest.mark.parametrize(
+    ("expression", "refusal"),
+    [
+        # dunders inside a lambda or a comprehension, which xacro's own check does not see
+        ("${(lambda: ().__class__.__base__.__subclasses__())()}",
+         r"use of invalid name\(s\) __base__, __class__, __subclasses__"),
+        ("${[c for c in ().__class__.__mro__]}", r"use of invalid name\(s\) __class__, __mro__"),
+        ("${python.vars(python)}", r"name 'vars' is not defined"),  # any object's namespace
+        ("${python.type(1)}", r"name 'type' is not defined"),  # the class of anything
+    ],
+)  # fmt: skip
+def test_the_ways_out_of_xacros_expression_check_are_closed(tmp_path, expression, refusal):
+    top = TOP.replace('xyz="0 0 0.2"', f'xyz="0 0 {expression}"')
+    with pytest.raises(UrdfError, match=f"xacro expansion failed: .*{refusal}"):
+        expand_top(tmp_path, top)

@@ -49,20 +49,24 @@ STEP_SUMMARY = "GITHUB_STEP_SUMMARY"
 def model_inputs(model: Model) -> list[Input]:
     """The model file and, when it has one that exists, its URDF (screened).
 
-    The URDF is screened here (:func:`fkcheck.urdf.source.read_model_urdf`), before
-    any output path is planned: input is refused before anything, even a probe
-    of an output directory, touches the disk.
+    A plain URDF is screened here (:func:`fkcheck.urdf.source.read_model_urdf`),
+    before any output path is planned: input is refused before anything, even a
+    probe of an output directory, touches the disk. A xacro file (``xacro = true``)
+    is only located: expanding it runs its Python, which only the commands that
+    read the URDF do (``check`` before any backend runs, when one reads it).
 
     Raises:
         UrdfError: The URDF is missing, not a regular file, unsafe or broken.
     """
     from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import read_model_urdf
+    from fkcheck.urdf.source import read_model_urdf, resolve_urdf_path
 
     found: list[Input] = [(f"the model file of {model.name}", model.path)]
     if model.urdf is not None:
         try:
-            urdf = read_model_urdf(model).path  # a xacro file is expanded, when allowed
+            # A xacro file is located only: expanding runs it, which is left to its readers.
+            xacro = model.urdf.xacro
+            urdf = resolve_urdf_path(model)[0] if xacro else read_model_urdf(model).path
         except BackendUnavailable:  # example-robot-data is not installed: no file here
             return found
         found.append((f"the URDF of {model.name}", urdf))

@@ -350,13 +350,17 @@ def run_check(
     tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
     if jacobian is not None:
         check_fixed_from(model, pair[0])
-    if model.urdf is not None:
+    reads_urdf = any(getattr(b, "reads_urdf", False) for b in backends)
+    # A xacro file is expanded (its Python run) only when a backend reads the URDF.
+    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
         # is not: each URDF backend then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
             info = load_urdf(model)
-            if any(getattr(b, "reads_urdf", False) for b in backends):
+            if reads_urdf:
                 _check_twins(model, pair, info.links, info.path.name)
+            if model.urdf.xacro:  # the expansion travels with the model: run the file once
+                model = replace(model, urdf=replace(model.urdf, expanded=info.text))
     q = _fixed_configurations(model, backends) or sample_configurations(
         model, samples, seed, sampler
     )

@@ -127,6 +127,9 @@ class UrdfSpec:
         xacro_args: xacro arguments (``<xacro:arg>``) by name, as text.
         packages: The only packages ``$(find …)`` may resolve: name → directory
             as written (relative to the model file).
+        expanded: A xacro file's expansion once the check has made it (the engine
+            sets it, so that backends in processes of their own read it instead
+            of running the file again); never read from a model file.
     """
 
     path: str
@@ -134,6 +137,7 @@ class UrdfSpec:
     xacro: bool = False
     xacro_args: dict[str, str] = field(default_factory=dict)
     packages: dict[str, str] = field(default_factory=dict)
+    expanded: str | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from fkcheck.errors import UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
-from fkcheck.urdf.xacro import read_xacro
+from fkcheck.urdf.xacro import read_xacro, screen_expansion
 
 __all__ = ["allow_xacro", "load_urdf", "read_model_urdf", "resolve_urdf_path"]
 
@@ -38,7 +38,8 @@ def allow_xacro(model: Model) -> Model:
 def read_model_urdf(model: Model) -> UrdfInfo:
     """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
 
-    With ``xacro = true`` the file is expanded (:func:`fkcheck.urdf.xacro.read_xacro`)
+    With ``xacro = true`` the file is expanded (:func:`fkcheck.urdf.xacro.read_xacro`;
+    or its ``expanded`` text, which the engine keeps, is screened again)
     with the model's ``xacro_args``, ``$(find …)`` resolving only its
     ``packages`` (directories relative to the model file); without it a xacro
     file is refused by the screen, naming the opt-in.
@@ -55,6 +56,8 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     base = Path.cwd() if model.path is None else model.path.parent
     packages = {name: base / where for name, where in model.urdf.packages.items()}
     dirs = package_dirs + tuple(p.parent for p in packages.values())
+    if model.urdf.expanded is not None:  # expanded once by this check: screened, not re-run
+        return screen_expansion(path, model.urdf.expanded, dirs)
     return read_xacro(path, model.urdf.xacro_args, packages, dirs)
 
 

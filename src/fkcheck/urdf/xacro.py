@@ -3,16 +3,20 @@
 fkcheck reads plain URDF; a xacro file is refused by the screen
 (:mod:`fkcheck.urdf.screen`) unless the model says ``xacro = true`` in its
 ``[urdf]`` table or the command line says ``--allow-xacro``. Opting in means
-trusting the file: xacro evaluates ``${…}`` and ``$(eval …)`` as Python (with
-xacro's own restrictions — no builtins beyond a few, no ``__`` names — which
-are not a sandbox). So the expansion, by xacrodoc (xacro without ROS), is
-fenced in as far as fkcheck can:
+trusting the file: xacro evaluates ``${…}`` and ``$(eval …)`` as Python, and no
+check on Python expressions is a sandbox — an opted-in file can do what Python
+can, with the user's rights. What follows keeps a trusted file reproducible
+and closes the ways out known here; the expansion, by xacrodoc (xacro without
+ROS), is fenced in as far as fkcheck can:
 
 * it runs in a child process (:func:`fkcheck.process.isolation.run_isolated`)
-  with a time limit (:data:`XACRO_TIMEOUT_S`), an address-space limit
-  (:data:`XACRO_MEMORY_BYTES`) and a bounded answer: a ``${…}`` that loops
-  forever or builds a huge text is stopped, and fkcheck's own process never
-  runs the file's Python;
+  with a time limit (:data:`XACRO_TIMEOUT_S`), a hard address-space limit
+  (:data:`XACRO_MEMORY_BYTES`), an empty environment and a bounded answer: a
+  ``${…}`` that loops forever or builds a huge text is stopped, and fkcheck's
+  own process never runs the file's Python;
+* names starting with ``__`` are refused anywhere in an expression, inside
+  lambdas and comprehensions too (xacro checks only the outer expression), and
+  ``python.type`` and ``python.vars`` are removed;
 * ``$(find PKG)`` (and ``find()`` in ``$(eval …)``) resolves only to the
   packages the caller declares (``packages`` in ``[urdf]``, ``--package`` on the
   command line) — never ``ROS_PACKAGE_PATH``, ament, a walk up the directories
@@ -35,7 +39,8 @@ from __future__ import annotations
 import functools
 import io
 import os
-from collections.abc import Mapping
+import types
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -205,8 +210,9 @@ def _expand_job(
 
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
     limit = XACRO_MEMORY_BYTES if hard == resource.RLIM_INFINITY else min(hard, XACRO_MEMORY_BYTES)
-    if soft == resource.RLIM_INFINITY or soft > limit:
-        resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+    if soft == resource.RLIM_INFINITY or soft > limit or hard != limit:
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))  # hard too: it cannot be raised
+    os.environ.clear()  # nothing of the user's environment is there to be read
     try:
         xacro = _fenced_xacro(packages, roots)
         from xacrodoc import XacroDoc
@@ -299,4 +305,26 @@ def _fenced_xacro(packages: dict[str, str], roots: list[str]) -> Any:
     symbols = xacro._global_symbols
     symbols["load_yaml"] = confined_load_yaml
     symbols["xacro"]["load_yaml"] = confined_load_yaml
+    for name in ("type", "vars"):  # the class of anything, and any object's namespace
+        symbols["python"].pop(name, None)
+    safe_eval = xacro.safe_eval
+
+    def stricter_eval(expr: str, globals: Any, locals: Any = None) -> Any:
+        # xacro checks the expression's own names for ``__``, not those of a lambda
+        # or comprehension inside it: every nested code object is checked too.
+        code = compile(expr.strip(), "<expression>", "eval")
+        dunder = sorted({name for name in _names(code) if name.startswith("__")})
+        if dunder:
+            raise _Refused(f"${{{expr.strip()[:80]}}}: use of invalid name(s) {', '.join(dunder)}")
+        return safe_eval(expr, globals, locals)
+
+    xacro.safe_eval = stricter_eval
     return xacro
+
+
+def _names(code: types.CodeType) -> Iterator[str]:
+    """The names a code object and every code object nested in it refer to."""
+    yield from code.co_names
+    for const in code.co_consts:
+        if isinstance(const, types.CodeType):
+            yield from _names(const)
