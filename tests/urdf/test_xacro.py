@@ -309,3 +309,41 @@ def test_the_ways_out_of_xacros_expression_check_are_closed(tmp_path, expression
     top = TOP.replace('xyz="0 0 0.2"', f'xyz="0 0 {expression}"')
     with pytest.raises(UrdfError, match=f"xacro expansion failed: .*{refusal}"):
         expand_top(tmp_path, top)
+
+
+def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
+    tmp_path, monkeypatch
+):
+    """The expansion runs the file's Python: once for all backends, never for DH-only checks."""
+    import fkcheck.urdf.source as source
+    from fkcheck.backends.registry import make_backend
+    from fkcheck.engine.runner import run_check
+
+    write_description(tmp_path)
+    extra = f'xacro = true\nxacro_args = {{ reach = "0.4" }}\n{PACKAGES}'
+    model = load_model(write_model(tmp_path, "0.4", extra))
+    calls: list[str] = []
+    expand = source.read_xacro
+
+    def counted(*args, **kwargs):
+        calls.append("expanded")
+        return expand(*args, **kwargs)
+
+    monkeypatch.setattr(source, "read_xacro", counted)
+    check = run_check(model, [make_backend("rtb-dh")], samples=5)
+    assert check.verdict == "pass"
+    assert calls == []  # no backend reads the URDF: the file never ran
+    from fkcheck.urdf.xacro import _read
+
+    _read.cache_clear()
+    backends = [make_backend(n) for n in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")]
+    check = run_check(model, backends, samples=5)
+    assert check.verdict == "pass"
+    assert calls == ["expanded"]  # once, here
+    # What an isolated backend's own process does with the model it is sent: the text
+    # the engine kept is screened again, the file is not run again.
+    sent = check.model
+    assert sent.urdf is not None
+    assert sent.urdf.expanded is not None
+    monkeypatch.setattr(source, "read_xacro", lambda *a, **k: pytest.fail("expanded again"))
+    assert source.read_model_urdf(sent).joints.keys() == load_urdf(sent).joints.keys()
