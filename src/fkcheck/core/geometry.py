@@ -70,8 +70,8 @@ def rpy_from_matrix(R: ArrayLike) -> Float:
     ``(yaw, pitch, roll)``.
 
     Gimbal lock: where ``cos(pitch) ≤`` :data:`GIMBAL_LOCK_COS` (pitch = ±π/2), yaw is
-    0 and roll carries the whole rotation about the locked axis. The angles still
-    reproduce the matrix exactly.
+    0 and roll carries the whole rotation about the locked axis. The angles
+    reproduce the matrix to round-off at every pitch, near the lock too.
 
     Args:
         R: Shape ``(..., 3, 3)`` rotation(s) or ``(..., 4, 4)`` transform(s); only
@@ -84,12 +84,15 @@ def rpy_from_matrix(R: ArrayLike) -> Float:
     cos_pitch = np.hypot(M[..., 0, 0], M[..., 1, 0])
     pitch = np.arctan2(-M[..., 2, 0], cos_pitch)
     locked = cos_pitch <= GIMBAL_LOCK_COS
-    # Free: yaw from the first column, roll from the last row. Locked: R = Ry(±π/2)·Rx(roll),
-    # so roll is read from the second row and yaw is 0.
+    # Yaw from the first column (0 when locked). Roll from the second row of
+    # Rz(yaw)ᵀ·R = Ry(pitch)·Rx(roll), whose second row is (0, cos roll, −sin roll)
+    # at any pitch: the last row of R (cos pitch · …) would lose roll's digits near
+    # pitch = ±π/2 (a pitch 5e-12 from 90° read roll 1e-5 rad off).
     yaw = np.where(locked, 0.0, np.arctan2(M[..., 1, 0], M[..., 0, 0]))
-    roll = np.where(
-        locked, np.arctan2(-M[..., 1, 2], M[..., 1, 1]), np.arctan2(M[..., 2, 1], M[..., 2, 2])
-    )
+    cy, sy = np.cos(yaw), np.sin(yaw)
+    row1 = -sy[..., None] * M[..., 0, :] + cy[..., None] * M[..., 1, :]
+    roll = np.arctan2(-row1[..., 2], row1[..., 1])
+    roll = np.where(roll == -np.pi, np.pi, roll)  # (-π, π]: −0.0 rounding gives −π for π
     return np.stack([roll, pitch, yaw], axis=-1) + 0.0  # + 0.0: no -0.0 from arctan2
 
 

@@ -39,7 +39,7 @@ from typing import Literal
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from fkcheck.core.geometry import invert, rpy_from_matrix
+from fkcheck.core.geometry import invert
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError, FrameError, UrdfError
@@ -48,7 +48,7 @@ from fkcheck.model.sampling import sample_configurations, sampling_box
 from fkcheck.model.types import URDF_FRAME_PREFIX, FrameSpec, Model, Offset
 from fkcheck.model.write import frame_toml, toml_comment, toml_string
 from fkcheck.urdf.chain import UrdfKinematics
-from fkcheck.urdf.to_dh import CLEAN_TOL, clean_number
+from fkcheck.urdf.to_dh import clean_offset
 from fkcheck.urdf.tree import listed
 
 __all__ = [
@@ -414,22 +414,8 @@ class _Problem:
                 continue
             offsets = P_inv @ W @ rel[link]
             spread_m, spread_rad = _spread(offsets)
-            out.append(LinkFit(link, anchor, _offset(offsets[0]), spread_m, spread_rad))
+            out.append(LinkFit(link, anchor, clean_offset(offsets[0]), spread_m, spread_rad))
         return out
-
-
-def _offset(T: Float) -> Offset:
-    """An offset's xyz and rpy with numbers within 1e-9 of a round one snapped to it.
-
-    The rotation's entries within 1e-9 of 0 or ±1 are snapped first, so that a
-    pitch of ±90° reads as the gimbal lock it is (yaw 0, roll the whole turn).
-    """
-    x, y, z = (clean_number(float(v), angle=False) for v in T[:3, 3])
-    R = np.array(T[:3, :3])
-    for value in (0.0, 1.0, -1.0):
-        R[np.abs(R - value) <= CLEAN_TOL] = value
-    r, p, w = (clean_number(float(v), angle=True) for v in rpy_from_matrix(R))
-    return Offset(xyz=(x, y, z), rpy=(r, p, w))
 
 
 def _windows(kin: UrdfKinematics, model: Model) -> list[tuple[str, ...]]:

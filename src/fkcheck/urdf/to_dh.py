@@ -50,10 +50,10 @@ from typing import Literal
 import numpy as np
 
 from fkcheck.core.dh import Convention, dh_matrix
-from fkcheck.core.geometry import invert
+from fkcheck.core.geometry import invert, rpy_from_matrix
 from fkcheck.core.typing import Float
 from fkcheck.errors import UrdfError
-from fkcheck.model.offsets import offset_from_matrix, snap
+from fkcheck.model.offsets import snap
 from fkcheck.model.types import CheckSpec, FrameSpec, Joint, Model, Offset, UrdfSpec
 from fkcheck.urdf.chain import JointGeometry, UrdfKinematics
 
@@ -64,6 +64,7 @@ __all__ = [
     "AxisRelation",
     "DhExtraction",
     "clean_number",
+    "clean_offset",
     "dh_from_urdf",
 ]
 
@@ -102,9 +103,18 @@ def _clean_limits(limits: tuple[float, float] | None, *, angle: bool) -> tuple[f
     return (max(lo, limits[0]), min(hi, limits[1]))
 
 
-def _clean_offset(offset: Offset) -> Offset:
-    x, y, z = (clean_number(v, angle=False) for v in offset.xyz)
-    roll, pitch, yaw = (clean_number(v, angle=True) for v in offset.rpy)
+def clean_offset(T: Float) -> Offset:
+    """A fixed transform's xyz and rpy, numbers within :data:`CLEAN_TOL` of a round one snapped.
+
+    The rotation's entries within :data:`CLEAN_TOL` of 0 or ±1 are snapped first,
+    so that a pitch of ±90° reads as the gimbal lock it is (yaw 0, roll the whole
+    turn) rather than as two large angles that cancel.
+    """
+    x, y, z = (clean_number(float(v), angle=False) for v in T[:3, 3])
+    R = np.array(T[:3, :3], dtype=np.float64)
+    for value in (0.0, 1.0, -1.0):
+        R[np.abs(R - value) <= CLEAN_TOL] = value
+    roll, pitch, yaw = (clean_number(float(v), angle=True) for v in rpy_from_matrix(R))
     return Offset(xyz=(x, y, z), rpy=(roll, pitch, yaw))
 
 
@@ -359,8 +369,8 @@ def dh_from_urdf(
         )
         notes.append(_row_note(i, joint, relations, convention, n))
 
-    base_offset = _clean_offset(offset_from_matrix(frames[0]))
-    tool_offset = _clean_offset(offset_from_matrix(invert(frames[-1]) @ tip_T))
+    base_offset = clean_offset(frames[0])
+    tool_offset = clean_offset(invert(frames[-1]) @ tip_T)
     named = _named_frames(chain, zero_poses, frames, base, tip)
     robot = name or kin.name
     model = Model(
@@ -434,7 +444,7 @@ def _named_frames(
             continue
         if link in ("world", "tcp"):
             continue  # would redefine a built-in frame name
-        offset = _clean_offset(offset_from_matrix(invert(frames[body]) @ pose))
+        offset = clean_offset(invert(frames[body]) @ pose)
         out[link] = FrameSpec(link, body, offset, link)
     out[tip] = FrameSpec(tip, "tcp", Offset(), tip)
     return out
