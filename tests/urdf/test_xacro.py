@@ -347,3 +347,20 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     assert sent.urdf.expanded is not None
     monkeypatch.setattr(source, "read_xacro", lambda *a, **k: pytest.fail("expanded again"))
     assert source.read_model_urdf(sent).joints.keys() == load_urdf(sent).joints.keys()
+
+
+def test_map_takes_allow_xacro_as_every_refusal_says(tmp_path, capsys):
+    write_description(tmp_path)
+    model = write_model(tmp_path, "0.4", f'xacro_args = {{ reach = "0.4" }}\n{PACKAGES}')
+    assert main(["map", str(model)]) == 2
+    assert "pass --allow-xacro" in capsys.readouterr().err
+    assert main(["map", str(model), "--allow-xacro"]) == 0
+    out, err = capsys.readouterr()
+    assert 'joints = ["j1", "j2", "j3"]' in out
+    assert "fkcheck map: xarm onto arm.urdf.xacro: 3 joints" in err
+    # And a xacro URDF named on the command line, with its arguments and package.
+    package = tmp_path / "arm_description"
+    top = tmp_path / "robot" / "arm.urdf.xacro"
+    argv = ["map", str(model), str(top), "--allow-xacro", "--arg", "reach=0.4",
+            "--package", f"arm_description={package}"]  # fmt: skip
+    assert main(argv) == 0, capsys.readouterr().err

@@ -62,6 +62,8 @@ DEFAULTS: dict[str, Any] = {"samples": 1000, "seed": 0, "sampler": "sobol", "tim
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli.expand import add_allow_xacro
+
     p = sub.add_parser(
         "check",
         help="cross-check the in-house DH core against reference libraries",
@@ -138,12 +140,7 @@ def add_parser(sub: Any) -> None:
         help="Jacobian tolerance, m/rad (linear rows) and rad/rad (angular rows); default "
         "1e-6; implies --jacobian",
     )
-    p.add_argument(
-        "--allow-xacro",
-        action="store_true",
-        help="expand the models' xacro URDFs, as xacro = true in [urdf] does (${…} is "
-        "Python: only for files you trust)",
-    )
+    add_allow_xacro(p)
     p.add_argument("--timeout", type=float, metavar="S",
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")

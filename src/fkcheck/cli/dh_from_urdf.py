@@ -71,16 +71,9 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.urdf.to_dh import dh_from_urdf
 
     values, packages = xacro_inputs(args)
-    if args.allow_xacro:
-        from fkcheck.urdf.chain import urdf_kinematics
-        from fkcheck.urdf.locate import locate_urdf
-        from fkcheck.urdf.xacro import read_xacro
-
-        path, package_dirs = locate_urdf(args.urdf)
-        kin = urdf_kinematics(read_xacro(path.resolve(), values, packages, package_dirs))
-        path = kin.path
-    else:
-        path, _text, kin = read_urdf_file(args.urdf)
+    path, _text, kin = read_urdf_file(
+        args.urdf, xacro_args=values if args.allow_xacro else None, packages=packages
+    )
     plan(args, [("-o", args.output)], [("the URDF", path)])
     spec = urdf_spec_for(path, args.output)
     result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name, urdf_spec=spec)

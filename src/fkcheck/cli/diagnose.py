@@ -13,6 +13,8 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli.expand import add_allow_xacro
+
     p = sub.add_parser(
         "diagnose",
         help="explain why a table disagrees with a reference (frames, parameters, mistakes)",
@@ -37,11 +39,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
     p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
     p.add_argument("--json", type=Path, metavar="PATH", help="write the diagnosis as JSON here")
-    p.add_argument(
-        "--allow-xacro",
-        action="store_true",
-        help="expand the model's xacro URDF, as xacro = true in [urdf] does",
-    )
+    add_allow_xacro(p)
     p.set_defaults(run=run)
 
 

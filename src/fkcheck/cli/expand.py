@@ -13,18 +13,23 @@ from typing import Any
 
 from fkcheck.errors import FkcheckError
 
-__all__ = ["add_parser", "add_xacro_options", "run", "xacro_inputs"]
+__all__ = ["add_allow_xacro", "add_parser", "add_xacro_options", "run", "xacro_inputs"]
+
+
+def add_allow_xacro(p: argparse.ArgumentParser) -> None:
+    """Add ``--allow-xacro``: the one opt-in to expanding a xacro URDF, same words everywhere."""
+    p.add_argument(
+        "--allow-xacro",
+        action="store_true",
+        help="expand a xacro URDF, as xacro = true in the model's [urdf] does (in a limited "
+        "child process; ${…} is Python that runs with your rights: only for files you trust)",
+    )
 
 
 def add_xacro_options(p: argparse.ArgumentParser, *, allow: bool = True) -> None:
     """Add ``--arg`` and ``--package`` (and, with ``allow``, ``--allow-xacro``) to ``p``."""
     if allow:
-        p.add_argument(
-            "--allow-xacro",
-            action="store_true",
-            help="expand a xacro URDF (in a time-limited child process; ${…} is Python, so "
-            "only for files you trust), as xacro = true in the model's [urdf] does",
-        )
+        add_allow_xacro(p)
     p.add_argument(
         "--arg",
         dest="xacro_args",

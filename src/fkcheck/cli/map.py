@@ -20,6 +20,8 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli.expand import add_xacro_options
+
     p = sub.add_parser(
         "map",
         help="find which URDF joints and links a DH model's joints and frames are",
@@ -48,12 +50,14 @@ def add_parser(sub: Any) -> None:
         metavar="FILE",
         help="write the block here (default: print it)",
     )
+    add_xacro_options(p)  # --allow-xacro (for the model's [urdf] or URDF), --arg, --package
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Read, map, write the block, summarise."""
     from fkcheck.cli._outputs import plan
+    from fkcheck.cli.expand import xacro_inputs
     from fkcheck.errors import FkcheckError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
@@ -62,12 +66,16 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.urdf.chain import read_urdf_file, urdf_kinematics
     from fkcheck.urdf.locate import urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
-    from fkcheck.urdf.source import read_model_urdf
+    from fkcheck.urdf.source import allow_xacro, read_model_urdf
 
     check_sampling_options(args.samples, args.seed)
     model = load_model(args.model)
+    values, packages = xacro_inputs(args)
+    if args.allow_xacro:
+        model = allow_xacro(model)
     if args.urdf is not None:
-        path, _text, kin = read_urdf_file(args.urdf)
+        xacro = values if args.allow_xacro else None
+        path, _text, kin = read_urdf_file(args.urdf, xacro_args=xacro, packages=packages)
         spec = urdf_spec_for(path, model.path)  # relative to the model file the block goes in
     elif model.urdf is not None:
         info = read_model_urdf(model)  # screened; expanded first when xacro = true

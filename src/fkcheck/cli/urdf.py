@@ -12,6 +12,8 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli.expand import add_allow_xacro
+
     p = sub.add_parser(
         "urdf",
         help="write a URDF from a DH model",
@@ -32,11 +34,7 @@ def add_parser(sub: Any) -> None:
         help="also write the model mapped onto the new URDF",
     )
     p.add_argument("--name", help="<robot name> (default: the model's name)")
-    p.add_argument(
-        "--allow-xacro",
-        action="store_true",
-        help="the model's own [urdf] may be xacro (it is read to screen it), as xacro = true does",
-    )
+    add_allow_xacro(p)
     p.set_defaults(run=run)
 
 

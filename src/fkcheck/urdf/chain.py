@@ -298,24 +298,40 @@ def urdf_kinematics(info: UrdfInfo) -> UrdfKinematics:
     return UrdfKinematics(path, str(root.get("name", path.stem)), joints, info.links, info.root)
 
 
-def read_urdf_file(spec: str | Path) -> tuple[Path, str, UrdfKinematics]:
+def read_urdf_file(
+    spec: str | Path,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, Path] | None = None,
+) -> tuple[Path, str, UrdfKinematics]:
     """Resolve, screen and parse a URDF given on the command line.
 
     Args:
         spec: A file path, or ``example-robot-data:<subpath>``.
+        xacro_args: Given (even empty): the file may be xacro, expanded with
+            these arguments (:func:`fkcheck.urdf.xacro.read_xacro`), as a model's
+            ``xacro = true`` does; ``None``: a xacro file is refused.
+        packages: The packages ``$(find …)`` may resolve (with ``xacro_args``).
 
     Returns:
         ``(path, screened text, kinematics)``.
 
     Raises:
         UrdfError: Missing, not a regular file, too large, refused by the screen
-            (:mod:`fkcheck.urdf.screen`), or not a valid URDF tree.
+            (:mod:`fkcheck.urdf.screen`), its expansion failed, or not a valid URDF tree.
         BackendUnavailable: ``example-robot-data:`` is used but not installed.
     """
     from fkcheck.urdf.locate import locate_urdf
     from fkcheck.urdf.tree import read_urdf
 
     path, package_dirs = locate_urdf(str(spec))
-    # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
-    info = read_urdf(path.resolve(), package_dirs)
+    if xacro_args is None:
+        # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
+        info = read_urdf(path.resolve(), package_dirs)
+    else:
+        from fkcheck.urdf.xacro import read_xacro
+
+        declared = dict(packages or {})
+        dirs = package_dirs + tuple(d.parent for d in declared.values())  # as a model's
+        info = read_xacro(path.resolve(), xacro_args, declared, dirs)
     return info.path, info.text, urdf_kinematics(info)
