@@ -113,3 +113,18 @@ def test_no_model_and_no_project_says_what_to_give(repo, capsys):
     assert main(["check"]) == 2
     err = capsys.readouterr().err
     assert "give a MODEL (e.g. ur5) or --all, or list models in [tool.fkcheck]" in err
+
+
+def test_each_models_recorded_command_reproduces_its_frames(repo, capsys):
+    argv = ["check", "robots/good.toml", "robots/good2.toml", "--from", "world", "--to", "tcp",
+            "--samples", "2", "--against", "rtb-dh", "--out-dir", "r"]  # fmt: skip
+    (repo / "robots" / "good2.toml").write_text(
+        (repo / "robots" / "good.toml")
+        .read_text(encoding="utf-8")
+        .replace('name = "ur5"', 'name = "ur5b"'),
+        encoding="utf-8",
+    )
+    assert main(argv) == 0, capsys.readouterr()
+    doc = json.loads((repo / "r" / "good.json").read_text())
+    assert (doc["from"], doc["to"]) == ("world", "tcp")
+    assert "--from world --to tcp" in doc["command"]

@@ -307,3 +307,22 @@ def test_a_known_difference_applies_only_at_the_models_own_tolerances():
     )
     assert check.backends[0].status == "pass"
     assert check.verdict == "pass"
+
+
+def test_a_jacobian_only_failure_is_named_by_the_verdict_line_and_the_annotations():
+    from fkcheck.report.annotations import github_annotations
+    from fkcheck.report.page import verdict_line
+
+    check = run_check(
+        load_model("ur5"),
+        [make_backend("rtb-dh"), _Seeded("column-3-flipped")],
+        samples=10,
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )
+    line = verdict_line(check)
+    assert line.startswith("2 of 2 backends that ran agree with the in-house core")
+    assert "the Jacobian of 1 disagrees: seeded-column-3-flipped" in line
+    (annotation,) = github_annotations(check, ())
+    assert annotation.startswith("::error ")
+    assert "seeded-column-3-flipped's Jacobian fails" in annotation
+    assert "first column to disagree: joint 3 (elbow)" in annotation

@@ -248,9 +248,13 @@ def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
     console.print(table)
     for label, check in checks:
         for r in check.backends:
-            if r.status in ("fail", "error"):
-                name, message = terminal_markup(label), terminal_markup(r.message)
+            name = terminal_markup(label)
+            if r.status in ("fail", "error", "xpass"):
+                message = terminal_markup(r.message)
                 console.print(f"[bold red]{name}[/]: {terminal_markup(r.name)}: {message}")
+            if r.jacobian is not None and r.jacobian.status in ("fail", "error"):
+                message = terminal_markup(r.jacobian.message)
+                console.print(f"[bold red]{name}[/]: {terminal_markup(r.name)} Jacobian: {message}")
 
 
 def annotate() -> bool:

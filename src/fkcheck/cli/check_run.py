@@ -144,6 +144,11 @@ def model_command(args: argparse.Namespace, model: str) -> str:
         argv += ["--tol-rot", f"{args.tol_rot:g}"]
     for value in args.require or ():
         argv += ["--require", value]
+    for flag, value in (("--from", args.frame_from), ("--to", args.frame_to)):
+        if value is not None:
+            argv += [flag, value]
+    if getattr(args, "allow_xacro", False):
+        argv.append("--allow-xacro")
     jacobian = jacobian_from_args(args)
     if jacobian is not None:
         argv.append("--jacobian" if jacobian else "--no-jacobian")

@@ -141,6 +141,14 @@ def github_annotations(
     lines: list[str] = []
     done: set[str] = set()
     for r in check.backends:
+        jac = r.jacobian
+        if jac is not None and jac.status in ("fail", "error"):
+            title = terminal_text(f"fkcheck {name}: {r.name}'s Jacobian {jac.status}s")
+            cause = f"; diagnosis: {jac.diagnosis}" if jac.diagnosis else ""
+            lines.append(_command(file, None, title, terminal_text(jac.message + cause)))
+        if r.status == "xpass":
+            title = terminal_text(f"fkcheck {name}: {r.name}: known difference no longer seen")
+            lines.append(_command(file, None, title, terminal_text(r.message)))
         if r.name in done or r.status not in ("fail", "error"):
             continue
         if r.status == "error":

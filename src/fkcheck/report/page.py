@@ -56,7 +56,8 @@ def verdict_line(check: CheckResult) -> str:
             + ", ".join(failing)
         )
     else:
-        parts.append(f"All {len(ran)} backends that ran agree with the in-house core")
+        agreed = sum(r.status == "pass" for r in ran)
+        parts.append(f"{agreed} of {len(ran)} backends that ran agree with the in-house core")
     if errored:
         parts.append(f"{len(errored)} errored: " + ", ".join(errored))
     if skipped:
@@ -71,6 +72,12 @@ def verdict_line(check: CheckResult) -> str:
             f"{len(stale)} agree though the model records a difference (known difference no "
             "longer seen): " + ", ".join(stale)
         )
+    jac_bad = [r.name for r in check.backends if r.jacobian and r.jacobian.status == "fail"]
+    jac_error = [r.name for r in check.backends if r.jacobian and r.jacobian.status == "error"]
+    if jac_bad:
+        parts.append(f"the Jacobian of {len(jac_bad)} disagrees: " + ", ".join(jac_bad))
+    if jac_error:
+        parts.append(f"the Jacobian of {len(jac_error)} errored: " + ", ".join(jac_error))
     return "; ".join(parts) + "."
 
 
