@@ -35,6 +35,7 @@ __all__ = [
     "assert_fk_matches",
     "assert_pose_close",
     "backend_message",
+    "backend_ok",
     "check_message",
     "diagnosis_headline",
     "worst_q_text",
@@ -84,7 +85,23 @@ def backend_message(outcome: Outcome, result: BackendResult) -> str:
         diagnosis = diagnosis_headline(outcome, result.name)
         if diagnosis:
             lines.append(f"  diagnosis: {terminal_text(diagnosis)}")
+    jac = result.jacobian
+    if jac is not None and jac.status in ("fail", "error"):
+        lines.append(f"  Jacobian {jac.status}: {terminal_text(jac.message)}")
+        if jac.diagnosis:
+            lines.append(f"  Jacobian diagnosis: {terminal_text(jac.diagnosis)}")
     return "\n".join(lines)
+
+
+def backend_ok(result: BackendResult) -> bool:
+    """Whether a backend's result lets a test pass.
+
+    It agreed, or disagreed as the model file records (``xfail``), and its
+    Jacobian, when compared, did too (or did not apply, e.g. measured poses).
+    """
+    jac = result.jacobian
+    jacobian_ok = jac is None or jac.status in ("pass", "xfail", "skipped")
+    return result.status in ("pass", "xfail") and jacobian_ok
 
 
 def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> str:
@@ -106,7 +123,7 @@ def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> st
 def assert_fk_matches(
     model_or_path: Model | str | Path,
     against: str | Backend | Sequence[str | Backend] = "pinocchio-urdf",
-    frames: tuple[str, str] | None = ("base", "tool0"),
+    frames: tuple[str, str] | None = None,
     *,
     samples: int = 200,
     seed: int = 0,
@@ -118,14 +135,16 @@ def assert_fk_matches(
     """Assert that a model's forward kinematics matches one or more reference backends.
 
     Runs :func:`fkcheck.check` and passes only when its verdict is ``pass`` and
-    every backend asked answered and agreed: a backend that was skipped (library
-    missing, frame out of its reach) fails the assertion, since it proved
-    nothing.
+    every backend asked answered and agreed (:func:`backend_ok`: or disagreed as
+    the model file's ``[[known_difference]]`` records; its Jacobian too, when the
+    model's ``[check] jacobian`` compares it): a backend that was skipped
+    (library missing, frame out of its reach) fails the assertion, since it
+    proved nothing.
 
     Args:
         model_or_path: A loaded model, a bundled model's name or a model file.
         against: One backend (name or object) or several.
-        frames: ``(from, to)`` frame pair compared; ``None`` for the model's ``[check]``.
+        frames: ``(from, to)`` frame pair compared; default the model's ``[check]``.
         samples: Random samples, on top of named poses, zero, mid-range and limit corners.
         seed: Seed of the random samples.
         require: Kinds of evidence that must be verified (``"table"``, ``"implementation"``).
@@ -155,7 +174,7 @@ def assert_fk_matches(
         require=require,
         diagnose=diagnose,
     )
-    if outcome.verdict != "pass" or any(b.status != "pass" for b in outcome.backends):
+    if outcome.verdict != "pass" or not all(backend_ok(b) for b in outcome.backends):
         raise AssertionError(check_message(outcome))
     return outcome
 

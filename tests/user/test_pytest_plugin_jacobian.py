@@ -35,6 +35,7 @@ def test_a_jacobian_that_disagrees_fails_its_test_with_the_diagnosis(tmp_path: P
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
     assert "FAILED robots/jac.toml::fkcheck[ur5_jacobians:end_effector]" in out
-    assert "ur5_jacobians:end_effector Jacobian fail: Jacobian (world-aligned)" in out
-    assert "diagnosis: the backend's Jacobian is in the frame's own axes (local" in out
+    assert "ur5_jacobians:end_effector: pass — max position error" in out  # the poses agree
+    assert "  Jacobian fail: Jacobian (world-aligned)" in out
+    assert "  Jacobian diagnosis: the backend's Jacobian is in the frame's own axes (local" in out
     assert "Traceback" not in out

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from fkcheck.core.geometry import matrix_from_xyz_rpy
+from fkcheck.model.read import load_model
 from fkcheck.testing import assert_fk_matches, assert_pose_close
 from tests.user.userrepo import WRONG_ALPHA, bad_ur5_text
 
@@ -89,3 +90,11 @@ def test_fk_matches_fails_when_the_backend_is_skipped() -> None:
     text = str(info.value)
     assert "rtb-dh: pass" in text
     assert re.search(r"pinocchio-urdf: skipped — .*urdf", text), text
+
+
+def test_assert_fk_matches_uses_the_models_check_and_honours_its_known_differences():
+    """jaco2_6s has no tool0 frame, and its URDF differs as its model file records."""
+    outcome = assert_fk_matches("jaco2_6s", against="pinocchio-urdf", samples=10)
+    (result,) = outcome.backends
+    assert result.status == "xfail"
+    assert outcome.check.frame_to == load_model("jaco2_6s").check.frame_to
