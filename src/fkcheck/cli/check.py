@@ -260,8 +260,6 @@ def _targets(args: argparse.Namespace, project: ProjectConfig | None) -> list[Ta
 
 def run(args: argparse.Namespace) -> int:
     """Run the check, print, write the requested files."""
-    from pathlib import Path as _Path
-
     from fkcheck.cli._targets import project_config
 
     project = project_config()
@@ -275,8 +273,8 @@ def run(args: argparse.Namespace) -> int:
         from fkcheck.urdf.source import allow_xacro
 
         targets = [replace(t, model=allow_xacro(t.model)) for t in targets]
-    one_file = len(args.models) == 1 and not _Path(args.models[0]).is_dir()
-    if args.all or args.out_dir is not None or not one_file or len(targets) != 1:
+    one_file = len(args.models) == 1 and not Path(args.models[0]).is_dir()
+    if args.all or args.out_dir is not None or not one_file:
         _validate_many(args)
         out_dir = args.out_dir or (DEFAULT_OUT_DIR if args.all else None)
         return run_many(args, targets, out_dir)

@@ -38,14 +38,9 @@ def _sig3(value: float) -> str:
     return text[:-1] if text.endswith(".") else text
 
 
-def _scientific(value: float | None, unit: str) -> str:
-    """Scientific notation, 3 significant digits, then the unit; ``–`` when absent."""
-    return _MISSING if value is None else f"{value:.2e} {unit}"
-
-
 def format_scientific(value: float | None, unit: str) -> str:
     """A quantity in scientific notation, then its unit (``2.10e-11 m/rad``); ``–`` if absent."""
-    return _scientific(value, unit)
+    return _MISSING if value is None else f"{value:.2e} {unit}"
 
 
 def format_mm(value_m: float | None) -> str:
@@ -55,12 +50,12 @@ def format_mm(value_m: float | None) -> str:
 
 def format_m(value_m: float | None) -> str:
     """A length in metres, scientific notation (3 significant digits)."""
-    return _scientific(value_m, "m")
+    return format_scientific(value_m, "m")
 
 
 def format_rad(value_rad: float | None) -> str:
     """An angle in radians, scientific notation (3 significant digits)."""
-    return _scientific(value_rad, "rad")
+    return format_scientific(value_rad, "rad")
 
 
 def format_deg(value_rad: float | None) -> str:

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from fkcheck.engine.results import CheckResult
 from fkcheck.io.format import format_scientific
+from fkcheck.report.views import JacobianCell, JacobianRow, JacobianSection
 
-__all__ = ["JacobianCell", "JacobianRow", "JacobianSection", "jacobian_section"]
+__all__ = ["jacobian_section"]
 
 #: What each reference frame means, in the page's words.
 _MEANING = {
@@ -16,75 +15,6 @@ _MEANING = {
     "local": "the same twist in {to}'s own axes (Pinocchio LOCAL; Robotics Toolbox jacobe)",
     "world": "the spatial twist at the {frm} origin, in {frm} axes (Pinocchio WORLD)",
 }
-
-
-@dataclass(frozen=True)
-class JacobianCell:
-    """One joint column of one backend: its largest differences.
-
-    Attributes:
-        linear: Largest linear difference of the column (m/rad), formatted.
-        angular: Largest angular difference (rad/rad), formatted.
-        bad: Beyond the tolerance.
-        first: The first joint whose column disagrees, for this backend.
-    """
-
-    linear: str
-    angular: str
-    bad: bool
-    first: bool
-
-
-@dataclass(frozen=True)
-class JacobianRow:
-    """One backend's Jacobian comparison.
-
-    Attributes:
-        name: Backend name.
-        status: ``pass``, ``fail``, ``error`` or ``skipped``.
-        linear: Largest linear difference, formatted (``–`` if not compared).
-        angular: Largest angular difference, formatted.
-        method: Its library's Jacobian, or the finite differences of its poses.
-        tolerance: The tolerance applied to it, formatted.
-        message: Why it failed, errored or was skipped.
-        first_column: The first joint whose column disagrees (``""`` when none).
-        diagnosis: Which convention would make it agree (``""`` when not diagnosed).
-        diagnosis_details: The diagnosis's further lines.
-        cells: One per joint column (empty if not compared).
-    """
-
-    name: str
-    status: str
-    linear: str
-    angular: str
-    method: str
-    tolerance: str
-    message: str
-    first_column: str
-    diagnosis: str
-    diagnosis_details: tuple[str, ...]
-    cells: tuple[JacobianCell, ...]
-
-
-@dataclass(frozen=True)
-class JacobianSection:
-    """The Jacobian section of a report.
-
-    Attributes:
-        reference: ``world-aligned``, ``local`` or ``world``.
-        target: The frame whose Jacobian is compared (the check's ``to``).
-        meaning: What that reference frame is, for this check's frames.
-        tolerance: The asked tolerance, formatted.
-        joints: Column headers, one per joint.
-        rows: One per backend that was asked.
-    """
-
-    reference: str
-    target: str
-    meaning: str
-    tolerance: str
-    joints: tuple[str, ...]
-    rows: tuple[JacobianRow, ...]
 
 
 def jacobian_section(check: CheckResult) -> JacobianSection | None:
@@ -98,17 +28,20 @@ def jacobian_section(check: CheckResult) -> JacobianSection | None:
         j = r.jacobian
         if j is None:
             continue
-        first = j.first_bad_column
+        first, bad = j.first_bad_column, j.bad_columns
         cells: tuple[JacobianCell, ...] = ()
-        if j.column_linear is not None and j.column_angular is not None:
+        if j.column_linear is not None and j.column_angular is not None and bad is not None:
+            per = ("m" if joint.type == "prismatic" else "rad" for joint in check.model.joints)
             cells = tuple(
                 JacobianCell(
-                    format_scientific(float(lin), "m/rad"),
-                    format_scientific(float(ang), "rad/rad"),
-                    not (max(lin, ang) <= j.tolerance),
+                    format_scientific(float(lin), f"m/{unit}"),
+                    format_scientific(float(ang), f"rad/{unit}"),
+                    bool(bad[k]),
                     k == first,
                 )
-                for k, (lin, ang) in enumerate(zip(j.column_linear, j.column_angular, strict=True))
+                for k, (lin, ang, unit) in enumerate(
+                    zip(j.column_linear, j.column_angular, per, strict=True)
+                )
             )
         rows.append(
             JacobianRow(
