@@ -132,17 +132,34 @@ def test_model_jacobian_takes_the_kernel_for_large_batches_only(kernel, rng):
 
 
 def test_threads_share_blocks_without_changing_a_bit(kernel, rng):
+    """Worker counts given to the kernel itself: the parallel loop runs on any machine."""
     model = load_model("puma560")
     q = random_q(model, rng, kernel.PARALLEL_MIN_BLOCKS * kernel.BLOCK + 100)
-    before = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
-        one = model.jacobian(q, reference="local")
-        numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
-        many = model.jacobian(q, reference="local")
-    finally:
-        numba.set_num_threads(before)
-    np.testing.assert_array_equal(one, many)
+    target = model.chain.flange_T_tool
+    results = []
+    for workers in (1, 2, 3, 64):
+        out = np.empty((q.shape[0], 6, model.dof))
+        code = kernel.REFERENCE_CODES["local"]
+        assert kernel.jacobian_batch(q, model.chain.program, False, 6, target, code, out, workers)
+        results.append(out)
+    assert_close(results[0], core_jacobian.jacobian_numpy(
+        model.chain, q, moving=6, target=target, reference="local"))  # fmt: skip
+    for out in results[1:]:
+        np.testing.assert_array_equal(out, results[0])
+
+
+def test_an_overflowing_row_in_any_block_is_reported_by_the_parallel_loop(kernel):
+    model = model_from_dict(
+        {"name": "offset", "convention": "standard",
+         "joint": [{"a": 0.5, "alpha": 0.3, "d": 0.1, "theta": 1e308}] * 2}
+    )  # fmt: skip
+    n = kernel.PARALLEL_MIN_BLOCKS * kernel.BLOCK + 5
+    for row in (0, n // 2, n - 1):
+        q = np.zeros((n, 2))
+        q[row, 1] = 1e308  # finite, but q + θ overflows: the NumPy path must take over
+        out = np.empty((n, 6, 2))
+        with np.errstate(over="ignore", invalid="ignore"):
+            assert not kernel.jacobian_batch(q, model.chain.program, False, 2, np.eye(4), 0, out, 2)
 
 
 def test_angles_beyond_the_polynomial_range_take_libm(jit_batches, rng):
@@ -197,6 +214,14 @@ def test_read_only_q_and_a_frame_fixed_to_the_base(jit_batches, rng):
     q = random_q(model, rng, 30)
     q.flags.writeable = False
     assert_close(*both_paths(model, q, "tool0", "local"))
+    target = np.eye(4)
+    target.flags.writeable = False  # a new numba type: it would be compiled again (seconds)
+    big = random_q(model, rng, dh.JIT_MIN_POSES)
+    kernel = core_jacobian._kernel
+    assert kernel is not None
+    compiled = len(kernel.jacobian_batch.signatures)
+    core_jacobian.jacobian(model.chain, big, moving=6, target=target)
+    assert len(kernel.jacobian_batch.signatures) == compiled
     zero = core_jacobian.jacobian(model.chain, q, moving=0, target=np.eye(4))
     np.testing.assert_array_equal(zero, np.zeros((30, 6, 6)))
 

@@ -64,6 +64,7 @@ __all__ = [
     "fk_numpy",
     "fk_reference",
     "jit_status",
+    "jit_tasks",
     "joint_values",
     "load_jit",
 ]
@@ -212,7 +213,7 @@ def fk(
         # The kernel checks finiteness on the way (saving a pass over q) and refuses
         # non-finite angles: then either q is not finite (raised below) or only
         # s·q + θ0 overflowed, and the NumPy path gives the reference's NaNs.
-        if _jit.fk_tcp(q2, chain.program, modified, batch, _jit.tasks()):
+        if _jit.fk_tcp(q2, chain.program, modified, batch, jit_tasks()):
             return result
     require_finite(q2)
     if not all_frames and single and _jit is not None:
@@ -262,6 +263,12 @@ def _output(out: Float | None, shape: tuple[int, ...], q: Float) -> Float:
 
 _jit: ModuleType | None = None
 _jit_error: str | None = None
+
+
+def jit_tasks() -> int:
+    """Worker count of the numba kernels (FK and Jacobian): numba's thread count."""
+    assert _jit is not None
+    return int(_jit.tasks())
 
 
 def load_jit() -> bool:

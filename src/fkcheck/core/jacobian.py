@@ -49,7 +49,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.core import dh
-from fkcheck.core.joint_array import require_finite
 from fkcheck.core.typing import JACOBIAN_REFERENCES as REFERENCES
 from fkcheck.core.typing import Float
 from fkcheck.core.typing import JacobianReference as Reference
@@ -101,18 +100,14 @@ def jacobian(
         ValueError: An unknown ``reference``, ``moving`` outside ``0 … n``, or a bad ``out``.
     """
     q2, result, target = _prepare(chain, q, moving, target, reference, out)
-    if moving == 0:
-        result[...] = 0.0
-        return result
-    if q2.shape[0] >= dh.JIT_MIN_POSES and load_kernel():
+    if moving and q2.shape[0] >= dh.JIT_MIN_POSES and load_kernel():
         assert _kernel is not None
         if not q2.flags.writeable:  # numba would compile read-only arrays as another type
             q2 = q2.copy()
         code = _kernel.REFERENCE_CODES[reference]
         modified = chain.convention == "modified"
-        workers = int(_kernel.nb.get_num_threads())
         if _kernel.jacobian_batch(q2, chain.program, modified, moving, target, code, result,
-                                  workers):  # fmt: skip
+                                  dh.jit_tasks()):  # fmt: skip
             return result
         # s·q + θ overflowed: the NumPy path gives the reference's NaNs.
     _jacobian_numpy_into(chain, q2, moving, target, reference, result)
@@ -134,9 +129,6 @@ def jacobian_numpy(
     and tested on its own. Same arguments, shapes and errors as :func:`jacobian`.
     """
     q2, result, target = _prepare(chain, q, moving, target, reference, out)
-    if moving == 0:
-        result[...] = 0.0
-        return result
     _jacobian_numpy_into(chain, q2, moving, target, reference, result)
     return result
 
@@ -158,7 +150,8 @@ def _prepare(
     if not 0 <= moving <= n:
         raise ValueError(f"moving must be between 0 and {n} (the joints), got {moving}")
     q2 = dh.joint_values(chain, q)
-    target = np.ascontiguousarray(target, dtype=np.float64)
+    # A fresh, writeable copy (16 numbers): a read-only one would make numba compile again.
+    target = np.array(target, dtype=np.float64, order="C")
     if target.shape != (4, 4):
         raise ValueError(f"target must be a 4×4 transform, got shape {target.shape}")
     # The FK's check of an out= buffer (shape, dtype, layout, overlap with q).
@@ -169,8 +162,14 @@ def _prepare(
 def _jacobian_numpy_into(
     chain: dh.DHChain, q: Float, moving: int, target: Float, reference: Reference, out: Float
 ) -> None:
-    """The NumPy path, chunk by chunk: DH frames, then :func:`geometric_jacobian`."""
-    require_finite(q)
+    """The NumPy path, chunk by chunk: DH frames, then :func:`geometric_jacobian`.
+
+    ``q`` was validated (:func:`fkcheck.core.dh.joint_values`); a frame fixed to
+    the base (``moving == 0``) has a zero Jacobian.
+    """
+    if moving == 0:
+        out[...] = 0.0
+        return
     modified = chain.convention == "modified"
     for start in range(0, q.shape[0], dh.NUMPY_CHUNK):
         chunk = q[start : start + dh.NUMPY_CHUNK]

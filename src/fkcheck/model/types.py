@@ -330,8 +330,7 @@ class Model:
         """
         from fkcheck.model.frames import frame_jacobian
 
-        q_arr = dh.joint_values(self.chain, q)
-        jac = frame_jacobian(self, q_arr, frame, reference)
+        jac = frame_jacobian(self, np.asarray(q), frame, reference)  # validated there, once
         return jac[0] if np.ndim(q) == 1 else jac
 
 
