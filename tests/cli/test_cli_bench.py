@@ -163,8 +163,9 @@ def test_bench_jacobian_times_the_core_and_both_peers_on_the_same_configurations
     )  # fmt: skip
     rows = {t["name"]: t for t in data["timings"]}
     # Below JIT_MIN_POSES the core takes its NumPy path, and the rows say so.
+    # At n = the peers' n the all-N 1-thread run is the like-for-like row itself: no twin.
+    assert "in-house Jacobian, NumPy path, 1 thread" not in rows
     for name in ("in-house Jacobian, NumPy path, like for like",
-                 "in-house Jacobian, NumPy path, 1 thread",
                  "in-house FK (TCP pose), NumPy path, 1 thread",
                  "in-house Jacobian, NumPy path", *JACOBIAN_PEERS):  # fmt: skip
         assert name in rows, sorted(rows)
@@ -209,6 +210,11 @@ def test_bench_jacobian_headline_at_the_jit_threshold(capsys, tmp_path):
     )
     assert rows["in-house Jacobian, NumPy path"]["max_jac_err"] < 1e-12  # vs the kernel
     assert "Jacobian vs pose: the batched Jacobian takes" in " ".join(out.split())
+    assert set(data["jacobian_over_fk"]) >= {"1 thread"}
+    for label, ratio in data["jacobian_over_fk"].items():
+        fk = rows[f"in-house FK (TCP pose), JIT, {label}"]
+        assert fk["n"] == 20000
+        assert ratio > 0
 
 
 def test_bench_jacobian_refuses_to_time_a_peer_that_disagrees(capsys, tmp_path, monkeypatch):

@@ -1,7 +1,8 @@
 """Benchmarks of the in-house core against the reference libraries, like for like.
 
-Owns the run (:mod:`~fkcheck.bench.harness`: the in-house contenders, the
-memory bound, :func:`~fkcheck.bench.harness.run_bench`), the peers built by the
+Owns the runs (:mod:`~fkcheck.bench.harness`: the in-house contenders, the
+memory bound, :func:`~fkcheck.bench.harness.run_bench`; :mod:`~fkcheck.bench.jacobian`:
+``fkcheck bench --jacobian``), the peers built by the
 backends' own builders (:mod:`~fkcheck.bench.peers`), the rows and how each
 time is taken (:mod:`~fkcheck.bench.timing`) and the machine facts recorded
 beside them (:mod:`~fkcheck.bench.machine`).

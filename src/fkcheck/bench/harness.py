@@ -32,10 +32,18 @@ import numpy as np
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.bench import peers
 from fkcheck.bench.machine import library_versions, machine_info
-from fkcheck.bench.timing import LIKE_FOR_LIKE, BenchResult, Timing, max_pos_err, median_seconds
+from fkcheck.bench.timing import (
+    LIKE_FOR_LIKE,
+    BenchResult,
+    Timing,
+    bench_configurations,
+    max_pos_err,
+    median_seconds,
+    numba_threads,
+    one_thread,
+)
 from fkcheck.core import dh
 from fkcheck.core.typing import Float
-from fkcheck.model.sampling import sampling_box
 from fkcheck.model.types import Model
 
 __all__ = ["OUTPUT_BYTES_PER_POSE", "PEER_POSES", "run_bench"]
@@ -77,9 +85,7 @@ def run_bench(
         The timings, in-house first, then the peers, then the memory bound.
     """
     say = progress or (lambda _name: None)
-    rng = np.random.default_rng(seed)
-    lo, hi = sampling_box(model)
-    q = rng.uniform(lo, hi, size=(n, model.dof))
+    q = bench_configurations(model, n, seed)
     chain = model.chain
     timings: list[Timing] = []
 
@@ -103,7 +109,7 @@ def run_bench(
     jit = dh.load_jit() and n >= dh.JIT_MIN_POSES
     path = "JIT" if jit else "NumPy path"
     out = np.empty((n, 4, 4))
-    threads = _numba_threads() if jit else 1
+    threads = numba_threads() if jit else 1
     extra = f"extra: {threads} thread{'s' if threads > 1 else ''}"
     seconds = median_seconds(lambda: dh.fk(chain, q, out=out), repeat)
     timings.append(
@@ -169,7 +175,7 @@ def run_bench(
         seed=seed,
         timings=timings,
         jit=dh.jit_status(),
-        threads=_numba_threads(),
+        threads=numba_threads(),
         machine=machine_info(),
         versions=library_versions(),
     )
@@ -192,14 +198,8 @@ def _batch_row(
 
 def _like_for_like(chain: dh.DHChain, q: Float, repeat: int) -> Timing:
     """The JIT batch as the peers run: one thread, a new result array, the peer's N."""
-    import numba
-
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
+    with one_thread():
         seconds = median_seconds(lambda: dh.fk(chain, q), repeat)
-    finally:
-        numba.set_num_threads(before)
     return Timing(
         "in-house batch, JIT, like for like",
         "in-house",
@@ -209,14 +209,6 @@ def _like_for_like(chain: dh.DHChain, q: Float, repeat: int) -> Timing:
         "as RTB ETS.eval",
         mode=LIKE_FOR_LIKE,
     )
-
-
-def _numba_threads() -> int:
-    if dh.jit_status().startswith("loaded"):
-        import numba
-
-        return int(numba.get_num_threads())
-    return 1
 
 
 def _memory_bound(n: int, repeat: int) -> Timing:

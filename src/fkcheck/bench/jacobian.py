@@ -25,28 +25,28 @@ This module imports no peer library at import time.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from fkcheck.backends.base import BackendUnavailable
-from fkcheck.bench.harness import _numba_threads
 from fkcheck.bench.machine import library_versions, machine_info
 from fkcheck.bench.peers import pinocchio_chain, rtb_robot
 from fkcheck.bench.timing import (
     JACOBIAN_LIKE_FOR_LIKE,
     BenchResult,
     Timing,
-    max_entry_err,
+    bench_configurations,
+    max_jacobian_err,
     median_seconds,
+    numba_threads,
+    one_thread,
 )
 from fkcheck.core import dh
 from fkcheck.core import jacobian as core_jacobian
 from fkcheck.core.typing import Float
 from fkcheck.core.typing import JacobianReference as Reference
-from fkcheck.model.sampling import sampling_box
 from fkcheck.model.types import Model
 
 __all__ = ["CHECK_CONFIGS", "JACOBIAN_CONFIGS", "REFERENCE", "run_jacobian_bench"]
@@ -91,15 +91,13 @@ def run_jacobian_bench(
         for scale, the NumPy fallback, then the peers.
     """
     say = progress or (lambda _name: None)
-    rng = np.random.default_rng(seed)
-    lo, hi = sampling_box(model)
-    q = rng.uniform(lo, hi, size=(n, model.dof))
+    q = bench_configurations(model, n, seed)
     chain = model.chain
     target = chain.flange_T_tool
     k_peer = min(n, JACOBIAN_CONFIGS["rtb"], JACOBIAN_CONFIGS["pinocchio"])
     jit = core_jacobian.load_kernel() and n >= dh.JIT_MIN_POSES
     path = "JIT" if jit else "NumPy path"
-    threads = _numba_threads() if jit else 1
+    threads = numba_threads() if jit else 1
     timings: list[Timing] = []
 
     def ours(x: Float, out: Float) -> Float:
@@ -109,7 +107,7 @@ def run_jacobian_bench(
 
     out = np.empty((n, 6, model.dof))
     say("in-house Jacobian, like for like")
-    with _one_thread():
+    with one_thread():
         small = out[:k_peer]
         seconds = median_seconds(lambda: ours(q[:k_peer], small), repeat)
     path_peer = "JIT" if k_peer >= dh.JIT_MIN_POSES and jit else "NumPy path"
@@ -120,37 +118,39 @@ def run_jacobian_bench(
     )  # fmt: skip
 
     say("in-house Jacobian, batch")
-    with _one_thread():
-        seconds = median_seconds(lambda: ours(q, out), repeat)
-    timings.append(
-        Timing(f"in-house Jacobian, {path}, 1 thread", "in-house", n, seconds,
-               note="jacobian(chain, Q, out=buffer) on all N", mode="extra: N, 1 thread")
-    )  # fmt: skip
-    if threads > 1:
-        seconds = median_seconds(lambda: ours(q, out), repeat)
+    jacobian_s: dict[str, float] = {}
+    with one_thread():
+        jacobian_s["1 thread"] = median_seconds(lambda: ours(q, out), repeat)
+    if n > k_peer:  # at n = k_peer the like-for-like row is this very run
         timings.append(
-            Timing(f"in-house Jacobian, {path}, {threads} threads", "in-house", n, seconds,
-                   note="jacobian(chain, Q, out=buffer) on all N",
-                   mode=f"extra: N, {threads} threads")
+            Timing(f"in-house Jacobian, {path}, 1 thread", "in-house", n,
+                   jacobian_s["1 thread"], note="jacobian(chain, Q, out=buffer) on all N",
+                   mode="extra: N, 1 thread")
         )  # fmt: skip
-    expected = ours(q, out).copy()  # the reference every other row is compared with
+    if threads > 1:
+        label = f"{threads} threads"
+        jacobian_s[label] = median_seconds(lambda: ours(q, out), repeat)
+        timings.append(
+            Timing(f"in-house Jacobian, {path}, {label}", "in-house", n, jacobian_s[label],
+                   note="jacobian(chain, Q, out=buffer) on all N", mode=f"extra: N, {label}")
+        )  # fmt: skip
+    expected = out  # the last timed run's Jacobians: what every other row is compared with
 
     say("in-house FK, for scale")
     poses = np.empty((n, 4, 4))
-    with _one_thread():
-        seconds = median_seconds(lambda: dh.fk(chain, q, out=poses), repeat)
     fk_path = "JIT" if jit else "NumPy path"
-    timings.append(
-        Timing(f"in-house FK (TCP pose), {fk_path}, 1 thread", "in-house", n, seconds,
-               note="fk(chain, Q, out=buffer): poses of the same configurations, for scale",
-               mode="extra: poses, 1 thread")
-    )  # fmt: skip
-    if threads > 1:
-        seconds = median_seconds(lambda: dh.fk(chain, q, out=poses), repeat)
+    over_fk: dict[str, float] = {}
+    for label in jacobian_s:
+        if label == "1 thread":
+            with one_thread():
+                seconds = median_seconds(lambda: dh.fk(chain, q, out=poses), repeat)
+        else:
+            seconds = median_seconds(lambda: dh.fk(chain, q, out=poses), repeat)
+        over_fk[label] = jacobian_s[label] / seconds
         timings.append(
-            Timing(f"in-house FK (TCP pose), {fk_path}, {threads} threads", "in-house", n,
-                   seconds, note="fk(chain, Q, out=buffer): poses, for scale",
-                   mode=f"extra: poses, {threads} threads")
+            Timing(f"in-house FK (TCP pose), {fk_path}, {label}", "in-house", n, seconds,
+                   note="fk(chain, Q, out=buffer): poses of the same configurations, for scale",
+                   mode=f"extra: poses, {label}")
         )  # fmt: skip
 
     say("in-house Jacobian, NumPy path")
@@ -166,7 +166,7 @@ def run_jacobian_bench(
     timings.append(
         Timing("in-house Jacobian, NumPy path", "in-house", k, seconds,
                note="jacobian_numpy(chain, Q, out=buffer): the fallback without numba",
-               mode="1 thread, out=", max_jac_err=max_entry_err(numpy_path(), expected[:k]))
+               mode="1 thread, out=", max_jac_err=max_jacobian_err(numpy_out, expected[:k]))
     )  # fmt: skip
 
     tol = model.check.tol_jacobian
@@ -188,11 +188,12 @@ def run_jacobian_bench(
         seed=seed,
         timings=timings,
         jit=core_jacobian.kernel_status(),
-        threads=_numba_threads(),
+        threads=numba_threads(),
         machine=machine_info(),
         versions=library_versions(),
         quantity="jacobian",
         reference=REFERENCE,
+        jacobian_over_fk=over_fk,
     )
 
 
@@ -205,7 +206,7 @@ def _peer_row(
     head = min(len(rows), CHECK_CONFIGS)
     for i in range(head):
         out[i] = call(rows[i])
-    err = max_entry_err(out[:head], expected[:head])
+    err = max_jacobian_err(out[:head], expected[:head])
     if not err <= tol:  # refused: a time for wrong numbers would mean nothing
         return Timing(
             name, "peer", len(rows), max_jac_err=err, mode=JACOBIAN_LIKE_FOR_LIKE,
@@ -220,7 +221,7 @@ def _peer_row(
     seconds = median_seconds(loop, repeat)
     return Timing(
         name, "peer", len(rows), seconds, note=note, mode=JACOBIAN_LIKE_FOR_LIKE,
-        max_jac_err=max_entry_err(out, expected),
+        max_jac_err=max_jacobian_err(out, expected),
     )  # fmt: skip
 
 
@@ -251,19 +252,3 @@ _PEERS: list[tuple[str, str, Callable[[Model], tuple[PeerCall, str]]]] = [
     ("RTB ETS.jacob0 loop", "rtb", _rtb),
     ("Pinocchio computeFrameJacobian loop", "pinocchio", _pinocchio),
 ]
-
-
-@contextmanager
-def _one_thread() -> Iterator[None]:
-    """Run the block with numba on one thread (nothing to do without the JIT)."""
-    if not dh.jit_status().startswith("loaded"):
-        yield
-        return
-    import numba
-
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
-        yield
-    finally:
-        numba.set_num_threads(before)

@@ -5,19 +5,23 @@ of a run with the facts needed to read them (machine, versions, JIT, threads) an
 derives the headline ratio and the speed-ups. Every time is
 :func:`median_seconds` (the median of ``repeat`` runs after one warm-up run);
 every result is compared with the in-house core's by :func:`max_pos_err` (poses)
-or :func:`max_entry_err` (Jacobians, ``fkcheck bench --jacobian``).
+or :func:`max_jacobian_err` (Jacobians, ``fkcheck bench --jacobian``).
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
 import numpy as np
 
+from fkcheck.core.metrics import jacobian_column_errors
 from fkcheck.core.typing import Float
+from fkcheck.model.sampling import sampling_box
+from fkcheck.model.types import Model
 
 __all__ = [
     "HEADLINE_PEER",
@@ -28,9 +32,12 @@ __all__ = [
     "Kind",
     "Quantity",
     "Timing",
-    "max_entry_err",
+    "bench_configurations",
+    "max_jacobian_err",
     "max_pos_err",
     "median_seconds",
+    "numba_threads",
+    "one_thread",
 ]
 
 Kind = Literal["in-house", "peer", "bound"]
@@ -55,8 +62,9 @@ class Timing:
     Attributes:
         name: What was timed.
         kind: ``in-house``, ``peer`` (another library) or ``bound`` (memory copy).
-        n: Poses per run.
-        seconds: Median seconds per run (``None`` if skipped or failed).
+        n: Configurations per run (poses, or Jacobians with ``--jacobian``).
+        seconds: Median seconds per run (``None`` if skipped, failed, or — a
+            Jacobian peer — refused because it disagrees).
         max_pos_err_m: Largest position difference from the in-house core on the
             same poses (``None`` where not compared).
         note: How it was called, and why ``n`` is smaller than asked.
@@ -64,8 +72,9 @@ class Timing:
         mode: Threads and allocation, e.g. ``"1 thread, new array"``; in-house rows
             that differ from the peers' conditions say ``"extra: …"``.
         error: The peer is installed but failed (the bench then fails).
-        max_jac_err: Jacobian bench: largest entry difference from the in-house
-            core's Jacobians of the same configurations (m/rad or rad/rad).
+        max_jac_err: Jacobian bench: largest difference of a column's linear or
+            angular 3-vector from the in-house core's Jacobians of the same
+            configurations (m/rad or rad/rad; :func:`max_jacobian_err`).
     """
 
     name: str
@@ -105,6 +114,9 @@ class BenchResult:
     versions: dict[str, str] = field(default_factory=dict)
     quantity: Quantity = "pose"
     reference: str = ""
+    #: ``fkcheck bench --jacobian``: per thread count (``"1 thread"``, ``"2 threads"``),
+    #: the batched Jacobian's time over the FK's on the same N configurations and ``out=``.
+    jacobian_over_fk: dict[str, float] = field(default_factory=dict)
 
     @property
     def like_for_like(self) -> str:
@@ -167,6 +179,7 @@ class BenchResult:
             "machine": self.machine,
             "versions": self.versions,
             "fastest_peer": None if best is None else best.name,
+            "jacobian_over_fk": self.jacobian_over_fk or None,
             "headline": None
             if self.headline is None
             else {
@@ -201,14 +214,58 @@ def median_seconds(run: Callable[[], object], repeat: int) -> float:
     return float(np.median(times))
 
 
-def max_entry_err(jacobians: Float, reference: Float) -> float:
-    """Largest entry difference between two ``(n, 6, dof)`` stacks of Jacobians (NaN counts)."""
+def max_jacobian_err(jacobians: Float, reference: Float) -> float:
+    """Largest difference between two ``(n, 6, dof)`` stacks of Jacobians (NaN counts).
+
+    Measured as ``check --jacobian`` measures it
+    (:func:`fkcheck.core.metrics.jacobian_column_errors`: the length of a
+    column's linear or angular 3-vector difference), so the bench's gate and the
+    check judge a peer alike.
+    """
     if jacobians.shape != reference.shape:
         raise ValueError(f"Jacobians of shape {jacobians.shape}, expected {reference.shape}")
-    diff = np.abs(jacobians - reference)
-    return float("inf") if np.isnan(diff).any() else float(diff.max(initial=0.0))
+    linear, angular = jacobian_column_errors(reference, jacobians)
+    worst = max(float(linear.max(initial=0.0)), float(angular.max(initial=0.0)))
+    return float("inf") if np.isnan(worst) else worst
 
 
 def max_pos_err(poses: Float, reference: Float) -> float:
     """Largest distance between the translations of two ``(n, 4, 4)`` stacks (m)."""
     return float(np.linalg.norm(poses[:, :3, 3] - reference[:, :3, 3], axis=-1).max())
+
+
+def numba_threads() -> int:
+    """Numba's thread count when the core's kernels are loaded, else 1."""
+    from fkcheck.core import dh
+
+    if dh.jit_status().startswith("loaded"):
+        import numba
+
+        return int(numba.get_num_threads())
+    return 1
+
+
+@contextmanager
+def one_thread() -> Iterator[None]:
+    """Run the block with numba on one thread (nothing to do without the kernels)."""
+    from fkcheck.core import dh
+
+    if not dh.jit_status().startswith("loaded"):
+        yield
+        return
+    import numba
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
+def bench_configurations(model: Model, n: int, seed: int) -> Float:
+    """``n`` seeded configurations, uniform within the joint limits: what every row times."""
+    rng = np.random.default_rng(seed)
+    lo, hi = sampling_box(model)
+    configurations: Float = rng.uniform(lo, hi, size=(n, model.dof))
+    return configurations

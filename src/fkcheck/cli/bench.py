@@ -254,7 +254,8 @@ def _jacobian_table(result: Any, tol: float) -> Any:
         "× PEER: that peer's time per configuration divided by this row's (above 1: this "
         "row is faster). Rows whose mode starts with 'extra:' use what the peers do not "
         "(threads, a larger N) or time poses, for scale: they are not like for like.",
-        f"max |ΔJ|: largest entry difference from the in-house batch on the same "
+        f"max |ΔJ|: largest difference of a column's linear or angular 3-vector from the "
+        "in-house batch on the same "
         f"configurations (the model's Jacobian tolerance is {tol:g}); a peer beyond it is "
         "not timed.",
         f"Configurations: seeded (seed {result.seed}), uniform within the joint limits; "
@@ -268,16 +269,10 @@ def _jacobian_table(result: Any, tol: float) -> Any:
 
 def _jacobian_over_fk(result: Any) -> list[str]:
     """One line: the Jacobian's time per configuration over the FK's, per thread count."""
-    rows = {t.name: t for t in result.timings if t.seconds is not None}
-    found = []
-    for jac in rows.values():
-        fk = rows.get(jac.name.replace("Jacobian", "FK (TCP pose)"))
-        if jac.mode.startswith("extra: N") and fk is not None and fk.n == jac.n:
-            threads = jac.name.rsplit(", ", 1)[-1]
-            found.append(f"{jac.seconds / fk.seconds:.1f}× ({threads})")
-    if not found:
+    if not result.jacobian_over_fk:
         return []
-    return [f"Jacobian vs pose: the batched Jacobian takes {', '.join(found)} the FK's time "
+    found = ", ".join(f"{ratio:.1f}× ({label})" for label, ratio in result.jacobian_over_fk.items())
+    return [f"Jacobian vs pose: the batched Jacobian takes {found} the FK's time "
             "per configuration, same N and out=."]  # fmt: skip
 
 
