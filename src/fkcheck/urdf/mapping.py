@@ -574,14 +574,12 @@ def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[Lin
                     key=lambda f: f.spread_m + f.spread_rad,
                 )
             )
-    anchor_order = {0: 0, "world": 0}
     proposals.sort(
         key=lambda p: (
-            anchor_order.get(p.spec.dh, 1) if p.spec.dh in (0, "world") else
-            (2 if p.spec.dh in (n, "tcp") else 1),
+            0 if p.spec.dh in (0, "world") else 2 if p.spec.dh in (n, "tcp") else 1,
             _rank(p.spec.urdf or p.spec.name, order),
         )
-    )  # fmt: skip
+    )
     return proposals, nearest
 
 
