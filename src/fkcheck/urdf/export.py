@@ -196,7 +196,9 @@ def model_for_urdf(model: Model, export: UrdfExport, urdf_path: str) -> Model:
     """The model with ``[urdf]`` pointing at the exported file and every frame mapped onto it.
 
     Adds a named frame ``dh_frame_<i>`` for each DH frame (so every DH frame can be
-    compared too), and maps ``world`` and ``tcp`` onto their links.
+    compared too), and maps ``world`` and ``tcp`` onto their links. The model's
+    ``[[known_difference]]`` records are dropped: they were found against its
+    old URDF, and the new one is written from the table itself.
 
     Args:
         model: The model the URDF was written from.
@@ -209,4 +211,5 @@ def model_for_urdf(model: Model, export: UrdfExport, urdf_path: str) -> Model:
     for i in range(model.dof + 1):
         name = f"dh_frame_{i}"
         frames.setdefault(name, FrameSpec(name, i, Offset(), name))
-    return replace(model, urdf=UrdfSpec(urdf_path, export.joint_names), frames=frames)
+    urdf = UrdfSpec(urdf_path, export.joint_names)
+    return replace(model, urdf=urdf, frames=frames, known_differences=())
