@@ -25,8 +25,13 @@ def tests(session: nox.Session) -> None:
 
 @nox.session
 def lint(session: nox.Session) -> None:
-    """Ruff lint, and the import contract (reference backends never import fkcheck's maths)."""
-    _install(session, "lint")
+    """Ruff lint, and the import contract (reference backends never import fkcheck's maths).
+
+    Neither reads fkcheck's dependencies (import-linter parses the sources and
+    only needs the package found), so they are not installed: 1.8 GB less on disk.
+    """
+    session.install("--no-deps", "-e", ".")
+    session.install(*nox.project.dependency_groups(PYPROJECT, "lint"))
     session.run("ruff", "check", "src", "tests", "noxfile.py")
     session.run("lint-imports")
 
