@@ -15,10 +15,11 @@ from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
 
 URDF = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
-RECORD = (
+HEAD = (
     '\n[[known_difference]]\nbackends = ["pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]\n'
     'finding = "d1 +0.3 mm: the table has the older d1"\n'
 )
+RECORD = HEAD + "max_position_m = 1e-3\nmax_angle_rad = 1e-3\n"  # the error is 0.3 mm
 
 
 def ur5(tmp_path: Path, *, older_d1: bool, record: str) -> Path:
@@ -84,7 +85,7 @@ def test_known_difference_no_longer_seen_fails_the_check(capsys, tmp_path):
 
 
 def test_an_error_beyond_the_recorded_bound_fails(capsys, tmp_path):
-    bounded = RECORD + "max_position_m = 1e-4\n"  # the error is 0.3 mm
+    bounded = HEAD + "max_position_m = 1e-4\nmax_angle_rad = 1e-3\n"  # the error is 0.3 mm
     code, doc, _text, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=bounded))
     assert code == 1
     rows = {b["name"]: b for b in doc["backends"]}
@@ -95,7 +96,7 @@ def test_an_error_beyond_the_recorded_bound_fails(capsys, tmp_path):
 
 
 def test_within_the_recorded_bounds_is_still_expected(capsys, tmp_path):
-    bounded = RECORD + "max_position_m = 1e-3\nmax_angle_rad = 1e-3\n"
+    bounded = HEAD + "max_position_m = 4e-4\nmax_angle_rad = 1e-9\n"  # 0.3 mm, no rotation
     code, doc, _, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=bounded))
     assert code == 0
     assert {b["status"] for b in doc["backends"] if b["name"] in URDF} == {"xfail"}

@@ -13,19 +13,21 @@ from fkcheck.model.types import KnownDifference
 TOP = 'name = "m"\nconvention = "standard"\n'
 JOINT = "[[joint]]\na = 0.1\nalpha = 0.0\nd = 0.2\n"
 HEAD = TOP + JOINT
-GOOD = '[[known_difference]]\nbackends = ["pinocchio-urdf"]\nfinding = "d1 0.3 mm"\n'
+RECORD = '[[known_difference]]\nbackends = ["pinocchio-urdf"]\nfinding = "d1 0.3 mm"\n'
+BOUNDS = "max_position_m = 0.001\nmax_angle_rad = 2e-5\n"
+GOOD = RECORD + BOUNDS
 
 
 def test_a_known_difference_is_read_with_its_bounds(tmp_path):
     path = tmp_path / "m.toml"
     path.write_text(
-        HEAD + GOOD + "max_position_m = 0.001\nmax_angle_rad = 2e-5\n"
-        '[[known_difference]]\nbackends = ["rtb-urdf", "rtb-model:UR5"]\nfinding = "x"\n'
+        HEAD + GOOD + '[[known_difference]]\nbackends = ["rtb-urdf", "rtb-model:UR5"]\n'
+        'finding = "x"\nmax_position_m = 1\nmax_angle_rad = 0.5\n'
     )
     model = load_model(path)
     assert model.known_differences == (
         KnownDifference(("pinocchio-urdf",), "d1 0.3 mm", 0.001, 2e-5),
-        KnownDifference(("rtb-urdf", "rtb-model:UR5"), "x"),
+        KnownDifference(("rtb-urdf", "rtb-model:UR5"), "x", 1.0, 0.5),
     )
 
 
@@ -78,10 +80,27 @@ BAD = {
         '[[known_difference]]\nbackends = ["rtb-urdf"]\nfinding = "  "\n',
         r"finding: must not be empty",
     ),
-    "bound_not_a_number": (GOOD + 'max_position_m = "1mm"\n', r"max_position_m: expected a number"),
-    "bound_zero": (GOOD + "max_angle_rad = 0\n", r"max_angle_rad: must be positive"),
-    "bound_bool": (GOOD + "max_angle_rad = true\n", r"max_angle_rad: expected a number"),
-    "bound_nan": (GOOD + "max_position_m = nan\n", r"max_position_m: must be a finite number"),
+    "bound_missing": (
+        RECORD + "max_angle_rad = 1\n",
+        r"known_difference\[0\]\.max_position_m: missing \(required: the largest error",
+    ),
+    "angle_bound_missing": (RECORD + "max_position_m = 1\n", r"max_angle_rad: missing"),
+    "bound_not_a_number": (
+        RECORD + 'max_position_m = "1mm"\nmax_angle_rad = 1\n',
+        r"max_position_m: expected a number",
+    ),
+    "bound_zero": (
+        RECORD + "max_position_m = 1\nmax_angle_rad = 0\n",
+        r"max_angle_rad: must be positive",
+    ),
+    "bound_bool": (
+        RECORD + "max_position_m = 1\nmax_angle_rad = true\n",
+        r"max_angle_rad: expected a number",
+    ),
+    "bound_nan": (
+        RECORD + "max_position_m = nan\nmax_angle_rad = 1\n",
+        r"max_position_m: must be a finite number",
+    ),
 }
 
 

@@ -45,12 +45,12 @@ def _beyond(result: BackendResult, entry: KnownDifference) -> list[str]:
     """The recorded bounds the result's errors exceed, as text."""
     over: list[str] = []
     pos, rot = result.max_position_error_m, result.max_rotation_error_rad
-    if entry.max_position_m is not None and not (pos is not None and pos <= entry.max_position_m):
+    if not (pos is not None and pos <= entry.max_position_m):
         shown = "NaN" if pos is None else format_length_summary(pos)
         over.append(
             f"position error {shown} > recorded {format_length_summary(entry.max_position_m)}"
         )
-    if entry.max_angle_rad is not None and not (rot is not None and rot <= entry.max_angle_rad):
+    if not (rot is not None and rot <= entry.max_angle_rad):
         shown = "NaN" if rot is None else format_angle_summary(rot)
         over.append(
             f"rotation error {shown} > recorded {format_angle_summary(entry.max_angle_rad)}"

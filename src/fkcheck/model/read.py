@@ -551,9 +551,14 @@ def _known_differences(r: _Reader, raw: Any) -> tuple[KnownDifference, ...]:
             raise r.fail(f"{where}.finding", "must not be empty: say what fkcheck diagnose names")
         bounds: dict[str, float] = {}
         for key in ("max_position_m", "max_angle_rad"):
-            if key in tbl:
-                bounds[key] = r.number(tbl[key], f"{where}.{key}")
-                if bounds[key] <= 0:
-                    raise r.fail(f"{where}.{key}", "must be positive")
+            if key not in tbl:
+                raise r.fail(
+                    f"{where}.{key}",
+                    "missing (required: the largest error the recorded difference shows, "
+                    "so that a larger one still fails)",
+                )
+            bounds[key] = r.number(tbl[key], f"{where}.{key}")
+            if bounds[key] <= 0:
+                raise r.fail(f"{where}.{key}", "must be positive")
         entries.append(KnownDifference(tuple(names), finding, **bounds))
     return tuple(entries)

@@ -171,14 +171,16 @@ class KnownDifference:
     Attributes:
         backends: Names of the backends the disagreement is expected from.
         finding: What ``fkcheck diagnose`` names as the cause.
-        max_position_m: Largest position error it may show, metres (``None``: unbounded).
-        max_angle_rad: Largest rotation error it may show, radians (``None``: unbounded).
+        max_position_m: Largest position error it may show, metres. Required: an
+            unbounded record would turn any later failure of the backend, however
+            large, into an expected one.
+        max_angle_rad: Largest rotation error it may show, radians (required too).
     """
 
     backends: tuple[str, ...]
     finding: str
-    max_position_m: float | None = None
-    max_angle_rad: float | None = None
+    max_position_m: float
+    max_angle_rad: float
 
 
 @dataclass(frozen=True)

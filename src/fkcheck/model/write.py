@@ -218,10 +218,8 @@ def model_to_toml(
         names = ", ".join(toml_string(name) for name in known.backends)
         out += ["", "[[known_difference]]", f"backends = [{names}]"]
         out.append(f"finding = {toml_string(known.finding)}")
-        if known.max_position_m is not None:
-            out.append(f"max_position_m = {toml_number(known.max_position_m)}")
-        if known.max_angle_rad is not None:
-            out.append(f"max_angle_rad = {toml_number(known.max_angle_rad)}")
+        out.append(f"max_position_m = {toml_number(known.max_position_m)}")
+        out.append(f"max_angle_rad = {toml_number(known.max_angle_rad)}")
     return "\n".join(out) + "\n"
 
 
