@@ -49,6 +49,22 @@ def test_expand_refuses_to_overwrite_its_input(tmp_path, capsys):
     assert top.read_text() == TOP
 
 
+def test_expand_refuses_to_overwrite_a_file_it_includes(tmp_path, capsys):
+    top, package = write_description(tmp_path)
+    parts = package / "urdf" / "parts.xacro"
+    before = parts.read_text()
+    # through a symlink too: the included file is named by its resolved path
+    (tmp_path / "link.xacro").symlink_to(parts)
+    for target in (parts, tmp_path / "link.xacro"):
+        code, _, err = run(
+            capsys, "expand", top, "--package", f"arm_description={package}", "-o", target
+        )
+        assert code == 2, err
+        assert err.count("\n") == 1
+        assert "a file the xacro file includes" in err, err
+        assert parts.read_text() == before
+
+
 @pytest.mark.parametrize(
     ("edit", "argv", "expected"),
     [

@@ -98,8 +98,9 @@ def add_parser(sub: Any) -> None:
         "limit; $(find NAME) resolves only to the packages given with --package (never "
         "ROS_PACKAGE_PATH), $(env …) is refused, includes are read only from the file's "
         "directory and those packages, and the result must pass the screen every URDF "
-        "passes (no DTD or entity, no xacro left, a valid tree). Exit 2 with one line on "
-        "any problem; nothing is written then.",
+        "passes (no DTD or entity, no xacro left, a valid tree). -o may not name the xacro "
+        "file or any file it includes. Exit 2 with one line on any problem; nothing is "
+        "written then.",
     )
     p.add_argument("xacro", type=Path, metavar="FILE.xacro", help="the xacro file")
     add_xacro_options(p, allow=False)
@@ -128,9 +129,12 @@ def run(args: argparse.Namespace) -> int:
     if not (math.isfinite(timeout) and timeout > 0):
         raise FkcheckError(f"--timeout must be a positive number, got {args.timeout}")
     values, packages = xacro_inputs(args)
-    text = expand_xacro(args.xacro, values, packages, timeout)
+    expansion = expand_xacro(args.xacro, values, packages, timeout)
+    text = expansion.text
     info = screen_expansion(args.xacro, text)
-    plan(args, [("-o", args.output)], [("the xacro file", args.xacro)])
+    sources = [("the xacro file", args.xacro)]
+    sources += [("a file the xacro file includes", f) for f in expansion.files[1:]]
+    plan(args, [("-o", args.output)], sources)
     write_text_atomic(args.output, text if text.endswith("\n") else text + "\n")
     movable = sum(1 for joint in info.joints.values() if joint.type != "fixed")
     print(

@@ -41,6 +41,7 @@ import io
 import os
 import types
 from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -53,6 +54,7 @@ from fkcheck.urdf.tree import UrdfInfo, urdf_info_from_bytes
 __all__ = [
     "XACRO_MEMORY_BYTES",
     "XACRO_TIMEOUT_S",
+    "XacroExpansion",
     "check_package_name",
     "expand_xacro",
     "read_xacro",
@@ -65,6 +67,20 @@ XACRO_TIMEOUT_S = 60.0
 XACRO_MEMORY_BYTES = 2 * 1024**3
 #: The answer's limit: the largest URDF, UTF-8 (up to 4 bytes a character), plus framing.
 _ANSWER_BYTES = 4 * MAX_URDF_BYTES + 64 * 1024
+
+
+@dataclass(frozen=True)
+class XacroExpansion:
+    """A xacro file expanded: the URDF text and the files it was made of.
+
+    Attributes:
+        text: The expanded document (not screened yet: :func:`screen_expansion`).
+        files: Every file the expansion read, resolved: the xacro file first, then
+            its includes and ``load_yaml`` files in the order they were read.
+    """
+
+    text: str
+    files: tuple[Path, ...]
 
 
 def check_package_name(name: str) -> str:
@@ -81,7 +97,7 @@ def expand_xacro(
     args: Mapping[str, str] | None = None,
     packages: Mapping[str, Path] | None = None,
     timeout_s: float = XACRO_TIMEOUT_S,
-) -> str:
+) -> XacroExpansion:
     """Expand a xacro file to plain URDF text, in a time- and memory-limited child process.
 
     The text is not screened here: :func:`read_xacro` screens it as a URDF.
@@ -94,7 +110,7 @@ def expand_xacro(
         timeout_s: The time limit of the expansion, s.
 
     Returns:
-        The expanded document.
+        The expanded document and the files it was made of.
 
     Raises:
         UrdfError: The file cannot be read, a declared package is not a
@@ -123,7 +139,9 @@ def expand_xacro(
         raise UrdfError(path, f"xacro expansion failed: {exc}") from None
     if kind != "ok":
         raise UrdfError(path, f"xacro expansion failed: {value}")
-    return str(value)
+    text, included = value
+    files = dict.fromkeys([path.resolve(), *(Path(name) for name in included)])
+    return XacroExpansion(str(text), tuple(files))
 
 
 def read_xacro(
@@ -171,8 +189,8 @@ def _read(
     mtime_ns: int,
     size: int,
 ) -> UrdfInfo:
-    return screen_expansion(path, expand_xacro(path, dict(args), dict(packages), timeout_s),
-                            package_dirs)  # fmt: skip
+    expansion = expand_xacro(path, dict(args), dict(packages), timeout_s)
+    return screen_expansion(path, expansion.text, package_dirs)
 
 
 def screen_expansion(path: Path, text: str, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
@@ -204,8 +222,8 @@ class _Refused(Exception):
 
 def _expand_job(
     data: bytes, path: str, args: dict[str, str], packages: dict[str, str], roots: list[str]
-) -> tuple[str, str]:
-    """Expand in the child: ``("ok", urdf)`` or ``("error", one line)``."""
+) -> tuple[str, str | tuple[str, list[str]]]:
+    """Expand in the child: ``("ok", (urdf, files read))`` or ``("error", one line)``."""
     import resource
 
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
@@ -213,8 +231,9 @@ def _expand_job(
     if soft == resource.RLIM_INFINITY or soft > limit or hard != limit:
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))  # hard too: it cannot be raised
     os.environ.clear()  # nothing of the user's environment is there to be read
+    read: list[str] = []
     try:
-        xacro = _fenced_xacro(packages, roots)
+        xacro = _fenced_xacro(packages, roots, read)
         from xacrodoc import XacroDoc
 
         xacro.init_stacks(path)  # relative includes are relative to the file, not to the cwd
@@ -227,7 +246,7 @@ def _expand_job(
             "error",
             f"its expansion is larger than {MAX_URDF_BYTES} bytes (the limit for a URDF)",
         )
-    return "ok", text
+    return "ok", (text, read)
 
 
 def _one_line(exc: BaseException) -> str:
@@ -253,8 +272,11 @@ def _one_line(exc: BaseException) -> str:
     return "; ".join(lines)[:500]
 
 
-def _fenced_xacro(packages: dict[str, str], roots: list[str]) -> Any:
-    """Import xacro (through xacrodoc) and fence its file, package and environment access."""
+def _fenced_xacro(packages: dict[str, str], roots: list[str], read: list[str]) -> Any:
+    """Import xacro (through xacrodoc) and fence its file, package and environment access.
+
+    Every file it is let read is appended to ``read``.
+    """
     import xacro  # type: ignore[import-untyped]  # (no stubs; xacrodoc's dependency)
     import xacrodoc  # noqa: F401  (it patches $(find …) on import: patch after it)
     from xacro import substitution_args
@@ -282,6 +304,7 @@ def _fenced_xacro(packages: dict[str, str], roots: list[str]) -> Any:
                 f"{what} {filename!r}: outside the xacro file's directory and the declared "
                 f"packages ({', '.join(roots)})"
             )
+        read.append(str(target))
         return str(target)
 
     parse = xacro.parse
