@@ -26,6 +26,7 @@ __all__ = [
     "Skip",
     "UnmappedFrameError",
     "UrdfError",
+    "XacroRefused",
 ]
 
 
@@ -90,6 +91,10 @@ class UrdfError(FkcheckError):
         self.path = str(path)
         self.problem = problem
         super().__init__(f"{self.path}: {problem}")
+
+
+class XacroRefused(UrdfError):
+    """A file refused as a URDF because it is xacro: expanding it needs the opt-in."""
 
 
 class BackendNotFoundError(FkcheckError):

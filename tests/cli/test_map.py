@@ -133,3 +133,42 @@ def test_map_keeps_a_frame_whose_link_is_absent_without_one(ur5_without_base, ca
     out = capsys.readouterr().out
     assert tomllib.loads(out)["frames"]["base"] == {"dh": 0}
     assert "its URDF link 'base' is not a link of robot.urdf" in out
+
+
+def test_map_of_a_xacro_file_opts_the_block_in_and_check_passes_on_it(tmp_path, capsys):
+    from tests.xacro_cases import write_description, write_model
+
+    top, package = write_description(tmp_path)
+    full = write_model(tmp_path, "0.4", "").read_text(encoding="utf-8")
+    table = tmp_path / "robot" / "table.toml"
+    table.write_text(full[: full.index("[urdf]")], encoding="utf-8")  # the joints only
+    block = tmp_path / "robot" / "block.toml"
+    argv = ["map", str(table), str(top), "-o", str(block), *FAST]
+    assert main(argv) == 2  # xacro, and no opt-in: refused, naming it
+    assert "--allow-xacro" in capsys.readouterr().err
+    xacro = ["--allow-xacro", "--arg", "reach=0.4", "--package", f"arm_description={package}"]
+    assert main([*argv, *xacro]) == 0, capsys.readouterr().err
+    urdf = tomllib.loads(block.read_text(encoding="utf-8"))["urdf"]
+    assert urdf == {
+        "path": "arm.urdf.xacro",
+        "joints": ["j1", "j2", "j3"],
+        "xacro": True,
+        "xacro_args": {"reach": "0.4"},
+        "packages": {"arm_description": "../arm_description"},
+    }
+    pasted = tmp_path / "robot" / "pasted.toml"
+    pasted.write_text(table.read_text() + "\n" + block.read_text(), encoding="utf-8")
+    capsys.readouterr()
+    code = main(["check", str(pasted), "--samples", "40", "--from", "base", "--to", "tip"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "table verified" in out
+
+
+def test_map_of_a_plain_urdf_with_the_opt_in_does_not_opt_the_block_in(tmp_path, capsys):
+    model = tmp_path / "ur5.toml"
+    model.write_text((REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8"))
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes(locate_urdf(UR5_URDF)[0].read_bytes())
+    assert main(["map", str(model), str(urdf), "--allow-xacro", *FAST]) == 0
+    assert set(tomllib.loads(capsys.readouterr().out)["urdf"]) == {"path", "joints"}

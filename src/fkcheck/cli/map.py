@@ -58,13 +58,13 @@ def run(args: argparse.Namespace) -> int:
     """Read, map, write the block, summarise."""
     from fkcheck.cli._outputs import plan
     from fkcheck.cli.expand import xacro_inputs
-    from fkcheck.errors import FkcheckError
+    from fkcheck.errors import FkcheckError, XacroRefused
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.model.read import load_model
     from fkcheck.model.sampling import check_sampling_options
     from fkcheck.urdf.chain import read_urdf_file, urdf_kinematics
-    from fkcheck.urdf.locate import urdf_spec_for
+    from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
     from fkcheck.urdf.source import allow_xacro, read_model_urdf
 
@@ -73,21 +73,35 @@ def run(args: argparse.Namespace) -> int:
     values, packages = xacro_inputs(args)
     if args.allow_xacro:
         model = allow_xacro(model)
+    # The block opts in to xacro (with its arguments and packages) when the URDF is xacro.
+    xacro_args: dict[str, str] | None = None
+    declared: dict[str, str] = {}
     if args.urdf is not None:
-        xacro = values if args.allow_xacro else None
-        path, _text, kin = read_urdf_file(args.urdf, xacro_args=xacro, packages=packages)
+        try:
+            path, _text, kin = read_urdf_file(args.urdf)
+        except XacroRefused:
+            if not args.allow_xacro:
+                raise
+            path, _text, kin = read_urdf_file(args.urdf, xacro_args=values, packages=packages)
+            xacro_args = values
+            declared = {name: path_for(where, model.path) for name, where in packages.items()}
         spec = urdf_spec_for(path, model.path)  # relative to the model file the block goes in
     elif model.urdf is not None:
         info = read_model_urdf(model)  # screened; expanded first when xacro = true
         path, kin = info.path, urdf_kinematics(info)
         spec = model.urdf.path
+        if model.urdf.xacro:
+            xacro_args, declared = dict(model.urdf.xacro_args), dict(model.urdf.packages)
     else:
         raise FkcheckError(
             f"model {model.name} has no [urdf]: give the URDF to map it onto "
             "(fkcheck map MODEL URDF, a file or example-robot-data:<subpath>)"
         )
     plan(args, [("-o", args.output)], [("the model", model.path), ("the URDF", path)])
-    result = map_model(model, kin, spec, samples=args.samples, seed=args.seed)
+    result = map_model(
+        model, kin, spec, samples=args.samples, seed=args.seed,
+        xacro_args=xacro_args, packages=declared,
+    )  # fmt: skip
     text = proposal_toml(result)
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:

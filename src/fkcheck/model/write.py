@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Literal
 
 from fkcheck.io.text import terminal_text
-from fkcheck.model.types import FrameSpec, Joint, Model, Offset
+from fkcheck.model.types import FrameSpec, Joint, Model, Offset, UrdfSpec
 
 __all__ = [
     "frame_toml",
@@ -30,6 +30,7 @@ __all__ = [
     "toml_key",
     "toml_number",
     "toml_string",
+    "xacro_toml",
 ]
 
 _BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
@@ -121,6 +122,16 @@ def _joint_lines(joint: Joint, unit: Literal["rad", "deg"]) -> list[str]:
     return lines
 
 
+def xacro_toml(urdf: UrdfSpec) -> list[str]:
+    """The ``[urdf]`` lines of the xacro opt-in: ``xacro``, ``xacro_args``, ``packages``."""
+    out = ["xacro = true"] if urdf.xacro else []
+    for key, table in (("xacro_args", urdf.xacro_args), ("packages", urdf.packages)):
+        if table:
+            items = ", ".join(f"{toml_string(k)} = {toml_string(v)}" for k, v in table.items())
+            out.append(f"{key} = {{ {items} }}")
+    return out
+
+
 def _is_default_frame(spec: FrameSpec) -> bool:
     return (
         spec.name in ("world", "tcp")
@@ -181,13 +192,7 @@ def model_to_toml(
     if model.urdf is not None:
         joints = ", ".join(toml_string(n) for n in model.urdf.joints)
         out.extend(["", "[urdf]", f"path = {toml_string(model.urdf.path)}", f"joints = [{joints}]"])
-        if model.urdf.xacro:
-            out.append("xacro = true")
-        for key, table in (("xacro_args", model.urdf.xacro_args),
-                           ("packages", model.urdf.packages)):  # fmt: skip
-            if table:
-                items = ", ".join(f"{toml_string(k)} = {toml_string(v)}" for k, v in table.items())
-                out.append(f"{key} = {{ {items} }}")
+        out.extend(xacro_toml(model.urdf))
     for name, spec in model.frames.items():
         if _is_default_frame(spec):
             continue

@@ -24,7 +24,7 @@ import numpy as np
 
 from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.typing import Float
-from fkcheck.errors import FrameError, UrdfError
+from fkcheck.errors import FrameError, UrdfError, XacroRefused
 from fkcheck.urdf.tree import UrdfInfo, chain_between
 
 __all__ = [
@@ -310,7 +310,9 @@ def read_urdf_file(
         spec: A file path, or ``example-robot-data:<subpath>``.
         xacro_args: Given (even empty): the file may be xacro, expanded with
             these arguments (:func:`fkcheck.urdf.xacro.read_xacro`), as a model's
-            ``xacro = true`` does; ``None``: a xacro file is refused.
+            ``xacro = true`` does — only if the screen finds xacro in it: a plain
+            URDF is read as one, xacro never runs on it; ``None``: a xacro file
+            is refused.
         packages: The packages ``$(find …)`` may resolve (with ``xacro_args``).
 
     Returns:
@@ -325,10 +327,12 @@ def read_urdf_file(
     from fkcheck.urdf.tree import read_urdf
 
     path, package_dirs = locate_urdf(str(spec))
-    if xacro_args is None:
+    try:
         # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
         info = read_urdf(path.resolve(), package_dirs)
-    else:
+    except XacroRefused:
+        if xacro_args is None:
+            raise
         from fkcheck.urdf.xacro import read_xacro
 
         declared = dict(packages or {})

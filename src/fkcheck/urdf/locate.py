@@ -16,7 +16,7 @@ from pathlib import Path
 from fkcheck.errors import BackendUnavailable
 from fkcheck.urdf.screen import check_urdf_path
 
-__all__ = ["ERD_PREFIX", "example_robot_data_dir", "locate_urdf", "urdf_spec_for"]
+__all__ = ["ERD_PREFIX", "example_robot_data_dir", "locate_urdf", "path_for", "urdf_spec_for"]
 
 #: A ``[urdf].path`` starting with this names a file of example-robot-data.
 ERD_PREFIX = "example-robot-data:"
@@ -87,6 +87,17 @@ def urdf_spec_for(path: Path, output: Path | None) -> str:
         robots = None
     if robots is not None and resolved.is_relative_to(robots):
         return ERD_PREFIX + resolved.relative_to(robots).as_posix()
+    return path_for(path, output)
+
+
+def path_for(path: Path, output: Path | None) -> str:
+    """How a generated model file should name ``path``: relative to it, or absolute.
+
+    Args:
+        path: A file or directory.
+        output: The model file to be written (``None``: printed, so the path is absolute).
+    """
+    resolved = path.resolve()
     if output is None:
         return str(resolved)
     return Path(os.path.relpath(resolved, output.resolve().parent)).as_posix()

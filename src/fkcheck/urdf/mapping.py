@@ -33,7 +33,7 @@ import math
 import re
 import warnings
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -45,8 +45,8 @@ from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError, FrameError, UrdfError
 from fkcheck.io.format import format_deg, format_mm
 from fkcheck.model.sampling import sample_configurations, sampling_box
-from fkcheck.model.types import URDF_FRAME_PREFIX, FrameSpec, Model, Offset
-from fkcheck.model.write import frame_toml, toml_comment, toml_string
+from fkcheck.model.types import URDF_FRAME_PREFIX, FrameSpec, Model, Offset, UrdfSpec
+from fkcheck.model.write import frame_toml, toml_comment, toml_string, xacro_toml
 from fkcheck.urdf.chain import UrdfKinematics
 from fkcheck.urdf.to_dh import clean_offset
 from fkcheck.urdf.tree import listed
@@ -171,6 +171,9 @@ class MapResult:
         nearest: When no link fits DH frame 0 (or the last DH frame): the nearest one.
         configurations: How many configurations were compared.
         seed: The sampling seed.
+        xacro_args: The URDF is xacro, expanded with these arguments (``None``: plain).
+        packages: The packages its ``$(find …)`` resolves, directories as ``[urdf]``
+            writes them (relative to the model file).
     """
 
     model: Model
@@ -183,6 +186,8 @@ class MapResult:
     nearest: tuple[LinkFit, ...]
     configurations: int
     seed: int
+    xacro_args: dict[str, str] | None = None
+    packages: dict[str, str] = field(default_factory=dict)
 
     @property
     def tolerances(self) -> tuple[float, float]:
@@ -478,6 +483,8 @@ def map_model(
     *,
     samples: int = DEFAULT_SAMPLES,
     seed: int = 0,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, str] | None = None,
 ) -> MapResult:
     """Find the model's joints and frames in a URDF.
 
@@ -487,6 +494,9 @@ def map_model(
         urdf_path: What ``[urdf] path`` should say.
         samples: Random configurations on top of the structured ones.
         seed: Seed of the samples.
+        xacro_args: The URDF is xacro, expanded with these arguments: the block
+            opts in (``xacro = true``) with them. ``None``: a plain URDF.
+        packages: With ``xacro_args``: the ``packages`` line, as written.
 
     Returns:
         The proposal; :attr:`MapResult.complete` says whether it can pass as pasted.
@@ -522,6 +532,8 @@ def map_model(
         nearest=tuple(nearest),
         configurations=problem.q.shape[0],
         seed=seed,
+        xacro_args=None if xacro_args is None else dict(xacro_args),
+        packages=dict(packages or {}) if xacro_args is not None else {},
     )
 
 
@@ -684,6 +696,12 @@ def proposal_toml(result: MapResult) -> str:
     notes += [f"Another chain moves the same way: {', '.join(other)}" for other in result.also_fit]
     out += toml_comment(notes)
     out.append(f"joints = [{', '.join(toml_string(j.urdf) for j in result.joints)}]")
+    if result.xacro_args is not None:
+        out += toml_comment(
+            "A xacro file: fkcheck expands it only with this opt-in (it runs the file's Python)."
+        )
+        urdf = UrdfSpec(result.urdf_path, (), True, dict(result.xacro_args), dict(result.packages))
+        out += xacro_toml(urdf)
     n = model.dof
     ends: tuple[Anchor, ...] = (0, "world", n, "tcp")
     groups: tuple[tuple[str, tuple[Anchor, ...] | None], ...] = (

@@ -47,7 +47,7 @@ import xml.parsers.expat as expat
 from dataclasses import dataclass
 from pathlib import Path
 
-from fkcheck.errors import UrdfError
+from fkcheck.errors import UrdfError, XacroRefused
 from fkcheck.io.files import InputFileError, check_regular_file, read_bytes
 
 __all__ = [
@@ -144,11 +144,13 @@ class _Refused(Exception):
 
     Attributes:
         line: The line the problem is on (``None``: where expat stopped).
+        xacro: Whether what was refused is xacro (an opt-in would expand it).
     """
 
-    def __init__(self, message: str, line: int | None = None) -> None:
+    def __init__(self, message: str, line: int | None = None, *, xacro: bool = False) -> None:
         super().__init__(message)
         self.line = line
+        self.xacro = xacro
 
 
 def _clark(name: str) -> str:
@@ -237,7 +239,7 @@ class _Screen:
         if found:
             where = f"the text after </{self.tag}>" if self.closed else f"the text of <{self.tag}>"
             line = self.run_line + text.count("\n", 0, found.start())
-            raise _Refused(_xacro_message(where, text, found), line)
+            raise _Refused(_xacro_message(where, text, found), line, xacro=True)
         self.builder.data(text)
 
     def _start(self, name: str, attrs: dict[str, str]) -> None:
@@ -253,7 +255,8 @@ class _Screen:
         if kind is not None:
             raise _Refused(
                 f"has a {kind} element <{_local(tag)}> ({_namespace(tag)}): fkcheck reads "
-                f"plain URDF only{_opt_in(kind)}"
+                f"plain URDF only{_opt_in(kind)}",
+                xacro=kind == "xacro",
             )
         if _local(tag) == "include":
             raise _Refused(
@@ -267,12 +270,15 @@ class _Screen:
             if kind is not None:
                 raise _Refused(
                     f"has a {kind} attribute {_local(attr)}= on <{_local(tag)}>: fkcheck "
-                    f"reads plain URDF only{_opt_in(kind)}"
+                    f"reads plain URDF only{_opt_in(kind)}",
+                    xacro=kind == "xacro",
                 )
             for text, what in ((attr, "an attribute name"), (value, f"attribute {_local(attr)}=")):
                 found = _XACRO.search(text)
                 if found:
-                    raise _Refused(_xacro_message(f"{what} of <{_local(tag)}>", text, found))
+                    raise _Refused(
+                        _xacro_message(f"{what} of <{_local(tag)}>", text, found), xacro=True
+                    )
             attrib[attr] = value
         element = self.builder.start(tag, attrib)
         self.lines[id(element)] = self.parser.CurrentLineNumber
@@ -318,7 +324,8 @@ def screen_urdf(path: Path | str, data: bytes) -> ScreenedUrdf:
         The screened tree.
 
     Raises:
-        UrdfError: Not well-formed XML, or anything the screen refuses.
+        XacroRefused: It is xacro (a xacro element, attribute or substitution).
+        UrdfError: Not well-formed XML, or anything else the screen refuses.
     """
     screen = _Screen()
     try:
@@ -326,7 +333,8 @@ def screen_urdf(path: Path | str, data: bytes) -> ScreenedUrdf:
         screen._flush()
     except _Refused as exc:
         line = exc.line or screen.parser.CurrentLineNumber
-        raise UrdfError(path, f"line {line}: {exc}") from None
+        error = XacroRefused if exc.xacro else UrdfError
+        raise error(path, f"line {line}: {exc}") from None
     except expat.ExpatError as exc:
         raise UrdfError(path, f"not valid XML: {exc}") from None
     except (ValueError, LookupError) as exc:  # an encoding expat and Python cannot decode
