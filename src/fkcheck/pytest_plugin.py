@@ -145,6 +145,9 @@ class ModelFile(pytest.File):
                 tol_pos_m=p.tol_pos_m,
                 tol_rot_rad=p.tol_rot_rad,
                 require=p.require,
+                jacobian=p.wants_jacobian,
+                jacobian_reference=p.jacobian_reference,
+                tol_jacobian=p.tol_jacobian,
             )
         except FkcheckError as exc:
             self._error = str(exc)

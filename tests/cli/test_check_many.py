@@ -84,6 +84,29 @@ def test_project_gives_the_models_and_defaults_and_flags_win(repo, capsys):
     assert "--samples 2 --seed 5" in doc["command"]
 
 
+def test_project_jacobian_keys_are_defaults_the_flags_override(repo, capsys):
+    (repo / "pyproject.toml").write_text(
+        '[tool.fkcheck]\nmodels = ["robots/good.toml"]\nsamples = 3\n'
+        'against = ["pinocchio-urdf"]\njacobian_reference = "local"\ntol_jacobian = 1e-5\n',
+        encoding="utf-8",
+    )
+
+    def jacobian(out: str, *flags: str) -> tuple[dict | None, str | None]:
+        """The check's Jacobian settings and the backend's Jacobian status."""
+        assert main(["check", "--out-dir", out, *flags]) == 0, capsys.readouterr()
+        doc = json.loads((repo / out / "good.json").read_text())
+        (backend,) = doc["backends"]
+        return doc.get("jacobian"), backend.get("jacobian", {}).get("status")
+
+    spec, status = jacobian("r")
+    assert spec is not None
+    assert (spec["reference"], spec["tolerance"], status) == ("local", 1e-5, "pass")
+    assert jacobian("r2", "--no-jacobian") == (None, None)
+    spec, status = jacobian("r3", "--jacobian-reference", "world")
+    assert spec is not None
+    assert (spec["reference"], spec["tolerance"], status) == ("world", 1e-5, "pass")
+
+
 def test_bad_input_in_any_file_is_exit_2_before_anything_runs(repo, capsys):
     (repo / "robots" / "broken.toml").write_text("name = 'x'\n", encoding="utf-8")
     assert main(["check", "robots", *FAST, "--out-dir", "r"]) == 2

@@ -43,6 +43,23 @@ def test_directories_give_their_model_files_sorted_and_each_once(tmp_path):
     assert [p.name for p in config.model_paths()] == ["a.toml", "b.toml", "c.csv"]
 
 
+@pytest.mark.parametrize(
+    ("table", "wanted"),
+    [
+        ("", None),  # the model's [check] jacobian decides
+        ("jacobian = true", True),
+        ("jacobian = false", False),
+        ('jacobian_reference = "local"', True),  # implies it, as --jacobian-reference does
+        ("tol_jacobian = 1e-5", True),
+        ("jacobian = false\ntol_jacobian = 1e-5", False),
+    ],
+)
+def test_jacobian_keys_read_as_the_flags(tmp_path, table, wanted):
+    config = load_project(_project(tmp_path, table))
+    assert config is not None
+    assert config.wants_jacobian is wanted
+
+
 def test_no_table_means_no_project(tmp_path):
     (tmp_path / "pyproject.toml").write_text("[project]\nname = 'x'\n")
     assert load_project(tmp_path) is None
@@ -59,6 +76,13 @@ def test_no_table_means_no_project(tmp_path):
         ('sampler = "grid"', r"tool\.fkcheck\.sampler: 'grid' unknown; samplers are"),
         ("tol_pos_m = nan", r"tool\.fkcheck\.tol_pos_m: must be positive and finite"),
         ("timeout = 0", r"tool\.fkcheck\.timeout: must be positive and finite"),
+        ("jacobian = 1", r"tool\.fkcheck\.jacobian: must be true or false"),
+        (
+            'jacobian_reference = "base"',
+            r"tool\.fkcheck\.jacobian_reference: 'base' unknown; references are: world, local, "
+            "world-aligned",
+        ),
+        ("tol_jacobian = -1e-6", r"tool\.fkcheck\.tol_jacobian: must be positive and finite"),
     ],
 )
 def test_a_bad_table_is_one_line_naming_the_key(tmp_path, table, match):

@@ -178,8 +178,12 @@ def add_parser(sub: Any) -> None:
 
 def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> None:
     """Fill the options not given on the command line from ``[tool.fkcheck]``, then defaults."""
+    from fkcheck.cli.check_run import jacobian_from_args
+
     from_project: dict[str, Any] = {}
     if project is not None:
+        if jacobian_from_args(args) is None:  # the command line's own say wins
+            args.jacobian = project.wants_jacobian
         from_project = {
             "samples": project.samples,
             "seed": project.seed,
@@ -189,6 +193,8 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
             "tol_rot": project.tol_rot_rad,
             "against": list(project.against) if project.against is not None else None,
             "require": list(project.require) or None,
+            "jacobian_reference": project.jacobian_reference,
+            "tol_jacobian": project.tol_jacobian,
         }
     for key, value in from_project.items():
         if getattr(args, key) is None and value is not None:

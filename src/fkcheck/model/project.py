@@ -6,6 +6,7 @@ A repository that keeps its robots' tables sets its defaults once::
     models = ["robots/*.toml", "calib/arm.csv"]   # files, directories, globs
     samples = 2000
     require = ["table"]
+    jacobian = true                               # also compare Jacobians
 
 ``fkcheck check`` / ``fkcheck lint`` without files, the pytest plugin and the
 pre-commit hooks read it; a command-line flag always wins over it. Paths and
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
 from fkcheck.model.lint_rules import parse_lint_rules
@@ -46,7 +48,7 @@ MAX_MODEL_FILES = 10_000
 
 _KEYS = (
     "models", "against", "samples", "seed", "sampler", "timeout", "require",
-    "tol_pos_m", "tol_rot_rad", "lint_ignore",
+    "tol_pos_m", "tol_rot_rad", "lint_ignore", "jacobian", "jacobian_reference", "tol_jacobian",
 )  # fmt: skip
 _SAMPLERS = ("sobol", "uniform")
 
@@ -83,6 +85,9 @@ class ProjectConfig:
         tol_pos_m: Position tolerance, metres.
         tol_rot_rad: Rotation tolerance, radians.
         lint_ignore: Lint rules to ignore for every model.
+        jacobian: Also compare Jacobians (as ``check --jacobian``/``--no-jacobian``).
+        jacobian_reference: Their reference frame (as ``--jacobian-reference``).
+        tol_jacobian: Their tolerance, m/rad and rad/rad (as ``--tol-jacobian``).
     """
 
     path: Path
@@ -96,6 +101,23 @@ class ProjectConfig:
     tol_pos_m: float | None = None
     tol_rot_rad: float | None = None
     lint_ignore: tuple[str, ...] = ()
+    jacobian: bool | None = None
+    jacobian_reference: JacobianReference | None = None
+    tol_jacobian: float | None = None
+
+    @property
+    def wants_jacobian(self) -> bool | None:
+        """Whether Jacobians are compared, read as the flags are.
+
+        ``jacobian`` if set; else ``True`` when ``jacobian_reference`` or
+        ``tol_jacobian`` is (they imply it, like ``--jacobian-reference`` and
+        ``--tol-jacobian``); else ``None`` (the model's ``[check] jacobian``).
+        """
+        if self.jacobian is not None:
+            return self.jacobian
+        if self.jacobian_reference is not None or self.tol_jacobian is not None:
+            return True
+        return None
 
     @property
     def root(self) -> Path:
@@ -160,6 +182,16 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         require = parse_require(_strings(path, "require", table.get("require", [])), "")
     except ValueError as exc:
         raise ProjectError(path, "tool.fkcheck.require", str(exc).lstrip(": ")) from None
+    jacobian = table.get("jacobian")
+    if jacobian is not None and not isinstance(jacobian, bool):
+        raise ProjectError(path, "tool.fkcheck.jacobian", "must be true or false")
+    reference = table.get("jacobian_reference")
+    if reference is not None and reference not in JACOBIAN_REFERENCES:
+        raise ProjectError(
+            path,
+            "tool.fkcheck.jacobian_reference",
+            f"{reference!r} unknown; references are: {', '.join(JACOBIAN_REFERENCES)}",
+        )
     try:
         lint_ignore = parse_lint_rules(_strings(path, "lint_ignore", table.get("lint_ignore", [])))
     except ValueError as exc:
@@ -182,6 +214,11 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         if "tol_rot_rad" in table
         else None,
         lint_ignore=lint_ignore,
+        jacobian=jacobian,
+        jacobian_reference=reference,
+        tol_jacobian=_positive(path, "tol_jacobian", table["tol_jacobian"])
+        if "tol_jacobian" in table
+        else None,
     )
 
 
