@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 
 import numpy as np
 import pytest
@@ -326,3 +327,78 @@ def test_a_jacobian_only_failure_is_named_by_the_verdict_line_and_the_annotation
     assert annotation.startswith("::error ")
     assert "seeded-column-3-flipped's Jacobian fails" in annotation
     assert "first column to disagree: joint 3 (elbow)" in annotation
+
+
+# --- a pose-only backend whose poses are too coarse to differentiate -------------------
+
+
+class _PosesOnly(PinocchioDH):
+    """Pinocchio's poses of ``model``, rounded to ``decimals``; no Jacobian of its own."""
+
+    name = "poses-only"
+
+    def __init__(self, decimals: int | None = None, a2_m: float = 0.0) -> None:
+        super().__init__()
+        self.decimals, self.a2_m = decimals, a2_m
+
+    def frame_jacobian(self, model, q, frame, reference):
+        return None  # differentiated by the engine
+
+    def frame_poses(self, model, q, frames):
+        from dataclasses import replace
+
+        if self.a2_m:  # a table that differs a little: a smooth, real difference
+            joints = list(model.joints)
+            joints[1] = replace(joints[1], a=joints[1].a + self.a2_m)
+            model = replace(model, joints=tuple(joints))
+        poses = super().frame_poses(model, q, frames)
+        return poses if self.decimals is None else np.round(poses, self.decimals)
+
+
+def test_poses_too_coarse_to_differentiate_are_an_error_not_a_wrong_jacobian():
+    # Rounded to 7 decimals the poses agree (5e-8 m < 1e-6 m); their differences
+    # over a 1e-6 step are off by up to ~0.05 m/rad: no finding, and no pass.
+    check = run_check(
+        load_model("ur5"), [_PosesOnly(decimals=7)], samples=20,
+        jacobian=JacobianSpec("world-aligned", 1e-6), explain_jacobian=explain_sample,
+    )  # fmt: skip
+    (b,) = check.backends
+    assert b.status == "pass"
+    assert b.jacobian.status == "error"
+    assert b.jacobian.message.startswith(
+        "Jacobian (world-aligned) not compared: the backend's poses are too coarse"
+    )
+    stray = re.search(r"smooth chain by up to (\S+) m / (\S+) rad", b.jacobian.message)
+    assert stray is not None
+    assert 1e-8 < float(stray.group(1)) < 4e-7  # rounding to 7 decimals: ≤ 4 × 5e-8
+    assert "print every digit (%.17g, repr)" in b.jacobian.message
+    assert check.verdict == "error"
+
+
+def test_a_smooth_backend_whose_jacobian_differs_still_fails():
+    # a2 longer by 0.5 µm: poses within 1e-6 m, the Jacobian off by ~5e-7 m/rad > 1e-7.
+    check = run_check(
+        load_model("ur5"), [_PosesOnly(a2_m=5e-7)], samples=20,
+        jacobian=JacobianSpec("world-aligned", FINITE_DIFFERENCE),
+    )  # fmt: skip
+    (b,) = check.backends
+    assert b.status == "pass"
+    assert b.jacobian.status == "fail", b.jacobian.message
+    assert 2e-7 < b.jacobian.max_linear_error < 1e-6
+
+
+def test_a_program_printing_seven_digits_is_too_coarse_for_its_jacobian():
+    from fkcheck.backends.command import CommandBackend
+    from fkcheck.backends.registry import BackendOptions
+    from tests.paths import PLUGINS_DIR
+
+    spec = f"{sys.executable} {PLUGINS_DIR / 'fk_stdio.py'} seven-digits"
+    program = CommandBackend(spec, BackendOptions(timeout_s=60.0))
+    check = run_check(
+        load_model("ur5"), [program], samples=10, frame_from="world", frame_to="tcp",
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )  # fmt: skip
+    (b,) = check.backends
+    assert b.status == "pass"  # 7 digits: poses within 1e-6
+    assert b.jacobian.status == "error"
+    assert "too coarse to differentiate" in b.jacobian.message

@@ -4,6 +4,7 @@ Reads CSV joint lines on stdin, prints 16 numbers per line (UR5, closed form).
 The first argument picks a behaviour:
 
 * ok: space-separated output; comma: comma-separated output;
+  seven-digits: every number printed with 7 significant digits (``%.7g``);
 * garbage: a word instead of a number; short: 15 numbers on the first line;
   missing: one line too few; nan: a NaN in the last pose;
 * exit: status 3 with a message on stderr; echo-argv: its arguments on stderr, status 4;
@@ -48,7 +49,8 @@ def main() -> int:
         T[-1, 1, 1] = np.nan
     out = []
     for k, pose in enumerate(T):
-        values = [repr(v) for v in pose.ravel().tolist()]
+        fmt = "{:.7g}" if mode == "seven-digits" else "{!r}"
+        values = [fmt.format(v) for v in pose.ravel().tolist()]
         if mode == "garbage" and k == 1:
             values[5] = "zero"
         if mode == "short" and k == 0:

@@ -253,6 +253,9 @@ class _JacobianRun:
         n_bad = int((~(score <= tol)).sum())
         if not n_bad:
             return result
+        rough = comparison.too_rough(tol)
+        if rough is not None:  # no finding either way: the method could not resolve it
+            return JacobianResult("error", rough, method, spec.reference, tol)
         first = result.first_bad_column
         where = (
             ""

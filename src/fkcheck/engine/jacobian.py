@@ -31,6 +31,18 @@ the rotation vector of ``R(q+h) R(q−h)ᵀ`` over ``2h`` (scipy), all its
 the tolerance. Measured poses are left out: they hold no neighbouring
 configurations.
 
+**Poses too coarse to differentiate.** Differences of a backend whose poses
+carry noise — a program printing six decimals, a float32 library — divide that
+noise by the step: a pose off by 5e-7 m (within the pose tolerance) makes a
+Jacobian off by ~0.5 m/rad. The same neighbours measure it: the backend's
+second difference ``p(q+h) + p(q−h) − 2p(q)`` against the core's (a smooth
+chain's is ~h²·reach ≈ 1e-12; the core's is subtracted, so the measure is the
+backend's roughness, not a table difference) bounds the noise, and
+``roughness / h`` what it can do to the differences. A failing differentiated
+Jacobian whose every disagreement is within its tolerance plus that bound is
+not a finding: it is reported as an *error* (the Jacobian could not be
+compared), naming the roughness, never as a wrong Jacobian and never as a pass.
+
 **Errors** (:func:`fkcheck.core.metrics.jacobian_column_errors`). Per
 configuration, the largest over the columns of the norm of the difference of
 the linear 3-vectors (m/rad; m/m for a prismatic column) and of
@@ -52,12 +64,13 @@ from fkcheck.core.metrics import jacobian_column_errors
 from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP
 from fkcheck.core.typing import JACOBIAN_REFERENCES, Float, JacobianReference
 from fkcheck.errors import FkcheckError
-from fkcheck.model.frames import frame_jacobian, relative_pose
+from fkcheck.model.frames import frame_jacobian, reference_poses, relative_pose
 from fkcheck.model.types import Model, resolve_frame
 
 __all__ = [
     "SAMPLES_KEPT",
     "Explain",
+    "FiniteDifference",
     "JacobianComparison",
     "JacobianSample",
     "JacobianSpec",
@@ -140,15 +153,39 @@ def method_of(backend: Backend, *, own: bool) -> str:
     return f"central differences of its poses, step {FINITE_DIFFERENCE_STEP:g}"
 
 
+@dataclass(frozen=True, eq=False)
+class FiniteDifference:
+    """A Jacobian by central differences, and how much the backend's pose noise can move it.
+
+    Attributes:
+        jacobian: ``(N, 6, n)``: linear then angular, in ``from`` axes.
+        noise_linear: ``(N,)``: per configuration, the largest over the joints of
+            the backend's roughness (its second difference less the core's, m)
+            over the step: what noise can add to the linear part, m/rad.
+        noise_angular: ``(N,)``: the same for the angular part, rad/rad.
+    """
+
+    jacobian: Float
+    noise_linear: Float
+    noise_angular: Float
+
+
 def finite_difference_jacobian(
-    backend: Backend, model: Model, q: Float, pair: tuple[str, str]
-) -> Float:
+    backend: Backend, model: Model, q: Float, pair: tuple[str, str], theirs_from_T_to: Float
+) -> FiniteDifference:
     """Jacobian of ``to`` by central differences of the backend's ``from_T_to``.
 
     All ``2n`` neighbours of every configuration go to the backend in one call.
+    The core's poses there are computed too, only to subtract a smooth chain's
+    curvature from the backend's second difference (the noise bound, see the
+    module docstring); the Jacobian itself is the backend's alone.
 
-    Returns:
-        ``(N, 6, n)``: linear (the ``to`` origin's velocity) then angular, in ``from`` axes.
+    Args:
+        backend: The backend differentiated.
+        model: The model.
+        q: The configurations, ``(N, n)``.
+        pair: The ``(from, to)`` frames.
+        theirs_from_T_to: The backend's ``from_T_to`` at ``q``, ``(N, 4, 4)``.
     """
     from scipy.spatial.transform import Rotation  # only a check with --jacobian needs it
 
@@ -166,7 +203,24 @@ def finite_difference_jacobian(
     linear = (plus[..., :3, 3] - minus[..., :3, 3]) / (2 * h)  # (n, N, 3)
     turn = plus[..., :3, :3] @ np.swapaxes(minus[..., :3, :3], -1, -2)
     angular = Rotation.from_matrix(turn.reshape(-1, 3, 3)).as_rotvec().reshape(n, -1, 3) / (2 * h)
-    return np.concatenate([linear, angular], axis=2).transpose(1, 2, 0)  # (N, 6, n)
+    jacobian = np.concatenate([linear, angular], axis=2).transpose(1, 2, 0)  # (N, 6, n)
+
+    def second_difference(side: Float, center: Float) -> tuple[Float, Float]:
+        """``p+ + p− − 2p0`` and ``rotvec(R+ R0ᵀ) + rotvec(R− R0ᵀ)``, ``(n, N, 3)`` each."""
+        lin = side[0, ..., :3, 3] + side[1, ..., :3, 3] - 2 * center[None, :, :3, 3]
+        back = np.swapaxes(center[:, :3, :3], -1, -2)[None]
+        ang = [Rotation.from_matrix((s[..., :3, :3] @ back).reshape(-1, 3, 3)).as_rotvec()
+               for s in side]  # fmt: skip
+        return lin, (ang[0] + ang[1]).reshape(n, -1, 3)
+
+    ours_root = reference_poses(model, stacked, pair)
+    ours = relative_pose(ours_root[0], ours_root[1]).reshape(2, n, q.shape[0], 4, 4)
+    center = relative_pose(*reference_poses(model, q, pair))
+    b_lin, b_ang = second_difference(from_T_to, theirs_from_T_to)
+    c_lin, c_ang = second_difference(ours, center)
+    noise_linear = np.linalg.norm(b_lin - c_lin, axis=2).max(axis=0) / h  # (N,)
+    noise_angular = np.linalg.norm(b_ang - c_ang, axis=2).max(axis=0) / h
+    return FiniteDifference(jacobian, noise_linear, noise_angular)
 
 
 def _into_from(jac: Float, root_T_from: Float, reference: JacobianReference) -> Float:
@@ -215,6 +269,8 @@ class JacobianComparison:
     column_linear: Float = field(init=False)
     column_angular: Float = field(init=False)
     own: bool | None = field(init=False, default=None)
+    noise_linear: Float = field(init=False)
+    noise_angular: Float = field(init=False)
     _kept: list[tuple[int, Float, Float, Float]] = field(init=False, default_factory=list)
     _worst: tuple[float, int, Float, Float, Float] | None = field(init=False, default=None)
 
@@ -223,6 +279,8 @@ class JacobianComparison:
         self.angular_error = np.empty(self.total)
         self.column_linear = np.zeros(self.model.dof)
         self.column_angular = np.zeros(self.model.dof)
+        self.noise_linear = np.zeros(self.total)  # stays 0 for a backend's own Jacobian
+        self.noise_angular = np.zeros(self.total)
 
     @property
     def skip_reason(self) -> str | None:
@@ -277,8 +335,11 @@ class JacobianComparison:
                 in_from = _from_world_aligned(in_from, theirs_from_T_to, ref)
         else:
             self.own = False
-            fd = finite_difference_jacobian(self.backend, self.model, q, self.pair)
-            in_from = _from_world_aligned(fd, theirs_from_T_to, ref)
+            fd = finite_difference_jacobian(self.backend, self.model, q, self.pair,
+                                            theirs_from_T_to)  # fmt: skip
+            in_from = _from_world_aligned(fd.jacobian, theirs_from_T_to, ref)
+            self.noise_linear[first : first + q.shape[0]] = fd.noise_linear
+            self.noise_angular[first : first + q.shape[0]] = fd.noise_angular
         lin, ang = jacobian_column_errors(ours, in_from)  # (m, n) each
         m = q.shape[0]
         self.linear_error[first : first + m] = lin.max(axis=1, initial=0.0)
@@ -292,6 +353,36 @@ class JacobianComparison:
         k = int(np.argmax(score))
         if self._worst is None or score[k] > self._worst[0]:
             self._worst = (float(score[k]), first + k, ours[k], in_from[k], ours_from_T_to[k])
+
+    def too_rough(self, tol: float) -> str | None:
+        """Why a failing differentiated Jacobian is no finding: its poses are too rough.
+
+        ``None`` when the backend gave its own Jacobian, or some disagreement
+        exceeds the tolerance plus what the backend's pose noise can explain
+        (a real finding); else the sentence the result reports as an error.
+        """
+        if self.own is not False:
+            return None
+        lin, ang = self.linear_error, self.angular_error
+        # Over the whole run: noise's sign differs at the two neighbours of one joint
+        # (the first difference) independently of its second difference, so a bound
+        # holds for the largest values, not configuration by configuration.
+        explained = lin.max() <= tol + self.noise_linear.max() and (
+            ang.max() <= tol + self.noise_angular.max()
+        )
+        if not explained:
+            return None
+        rough_m = float(self.noise_linear.max()) * FINITE_DIFFERENCE_STEP
+        rough_rad = float(self.noise_angular.max()) * FINITE_DIFFERENCE_STEP
+        return (
+            f"Jacobian ({self.spec.reference}) not compared: the backend's poses are too "
+            f"coarse to differentiate (too few digits printed? float32?): between neighbours "
+            f"{FINITE_DIFFERENCE_STEP:g} apart they stray from a smooth chain by up to "
+            f"{rough_m:.2g} m / {rough_rad:.2g} rad, up to {self.noise_linear.max():.2g} m/rad / "
+            f"{self.noise_angular.max():.2g} rad/rad in central differences, as large as every "
+            f"difference seen ({lin.max():.2g} m/rad, {ang.max():.2g} rad/rad); print every "
+            "digit (%.17g, repr) or give the backend a Jacobian of its own"
+        )
 
     def sample(self) -> JacobianSample:
         """The kept configurations (the first ones, and the worst), both Jacobians."""
