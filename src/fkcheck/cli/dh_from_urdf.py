@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -53,13 +52,6 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(run=run)
 
 
-def _relative(directory: Path, output: Path | None) -> str:
-    """``directory`` as the model file at ``output`` names it (absolute when printed)."""
-    if output is None:
-        return str(directory.resolve())
-    return Path(os.path.relpath(directory.resolve(), output.resolve().parent)).as_posix()
-
-
 def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
     from fkcheck.cli._outputs import plan
@@ -67,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.io.text import terminal_text
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.chain import read_urdf_file
-    from fkcheck.urdf.locate import urdf_spec_for
+    from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.to_dh import dh_from_urdf
 
     values, packages = xacro_inputs(args)
@@ -85,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
                 model.urdf,
                 xacro=True,
                 xacro_args=values,
-                packages={name: _relative(d, args.output) for name, d in packages.items()},
+                packages={name: path_for(d, args.output) for name, d in packages.items()},
             ),
         )
     header = [
