@@ -365,3 +365,17 @@ def test_map_takes_allow_xacro_as_every_refusal_says(tmp_path, capsys):
     argv = ["map", str(model), str(top), "--allow-xacro", "--arg", "reach=0.4",
             "--package", f"arm_description={package}"]  # fmt: skip
     assert main(argv) == 0, capsys.readouterr().err
+
+
+def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(monkeypatch, capsys):
+    import fkcheck.urdf.xacro as xacro_module
+
+    def never(*_args, **_kwargs):
+        raise AssertionError("xacro ran on a plain URDF")
+
+    monkeypatch.setattr(xacro_module, "expand_xacro", never)
+    argv = ["check", "ur5", "--allow-xacro", "--samples", "8", "--against", "pinocchio-urdf"]
+    code = main(argv)
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "table verified" in out

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from fkcheck.errors import UrdfError
+from fkcheck.errors import UrdfError, XacroRefused
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
@@ -38,11 +38,12 @@ def allow_xacro(model: Model) -> Model:
 def read_model_urdf(model: Model) -> UrdfInfo:
     """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
 
-    With ``xacro = true`` the file is expanded (:func:`fkcheck.urdf.xacro.read_xacro`;
-    or its ``expanded`` text, which the engine keeps, is screened again)
-    with the model's ``xacro_args``, ``$(find …)`` resolving only its
-    ``packages`` (directories relative to the model file); without it a xacro
-    file is refused by the screen, naming the opt-in.
+    With ``xacro = true`` a file the screen finds xacro in is expanded
+    (:func:`fkcheck.urdf.xacro.read_xacro`) with the model's ``xacro_args``,
+    ``$(find …)`` resolving only its ``packages`` (directories relative to the
+    model file) — or its ``expanded`` text, which the engine keeps, is screened
+    again; a plain URDF is read as one, xacro never runs on it. Without the
+    opt-in a xacro file is refused by the screen, naming the opt-in.
 
     Raises:
         UrdfError: As :func:`resolve_urdf_path`, refused by the screen, not a
@@ -58,7 +59,10 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     dirs = package_dirs + tuple(p.parent for p in packages.values())
     if model.urdf.expanded is not None:  # expanded once by this check: screened, not re-run
         return screen_expansion(path, model.urdf.expanded, dirs)
-    return read_xacro(path, model.urdf.xacro_args, packages, dirs)
+    try:
+        return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
+    except XacroRefused:
+        return read_xacro(path, model.urdf.xacro_args, packages, dirs)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
