@@ -301,6 +301,30 @@ def test_a_recorded_known_difference_makes_the_jacobian_an_expected_failure_too(
     assert check.verdict == "pass"
 
 
+@pytest.mark.parametrize("name", ["xarm7", "jaco2_6s", "baxter_left"])
+def test_a_wrong_core_jacobian_is_not_excused_by_a_pose_record(name, monkeypatch):
+    """The record bounds the Jacobian too: a flipped column of the core's fails."""
+    import fkcheck.engine.jacobian as engine_jacobian
+
+    real = engine_jacobian.frame_jacobian
+
+    def flipped(model, q, frame, reference):
+        jac = np.array(real(model, q, frame, reference))
+        jac[..., 2] *= -1
+        return jac
+
+    monkeypatch.setattr(engine_jacobian, "frame_jacobian", flipped)
+    check = run_check(
+        load_model(name), [make_backend("pinocchio-urdf")], samples=10,
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )  # fmt: skip
+    (urdf,) = check.backends
+    assert urdf.status == "xfail"  # the poses differ as recorded
+    assert urdf.jacobian.status == "fail"
+    assert urdf.jacobian.message.startswith("beyond the recorded known difference (linear")
+    assert check.verdict == "fail"
+
+
 def test_a_known_difference_applies_only_at_the_models_own_tolerances():
     """jaco2's recorded 0.1 mm is inside 1 mm: that is a pass, not a stale record."""
     check = run_check(
@@ -373,6 +397,48 @@ def test_poses_too_coarse_to_differentiate_are_an_error_not_a_wrong_jacobian():
     assert 1e-8 < float(stray.group(1)) < 4e-7  # rounding to 7 decimals: ≤ 4 × 5e-8
     assert "print every digit (%.17g, repr)" in b.jacobian.message
     assert check.verdict == "error"
+
+
+def test_coarse_poses_far_from_the_origin_are_an_error_in_the_world_reference_too():
+    # world: v + p × ω, so the angular noise, times |p| = 10 m, reaches the linear part
+    # (counted in the allowance; at 10 m the factor of 3 alone would also cover it).
+    from dataclasses import replace
+
+    from fkcheck.model.types import Offset
+
+    model = replace(load_model("ur5"), base=Offset(xyz=(10.0, 0.0, 0.0)))
+    check = run_check(
+        model, [_PosesOnly(decimals=7)], samples=20, frame_from="world", frame_to="tcp",
+        jacobian=JacobianSpec("world", 1e-6),
+    )  # fmt: skip
+    assert check.backends[0].jacobian.status == "error", check.backends[0].jacobian.message
+    assert "too coarse to differentiate" in check.backends[0].jacobian.message
+
+
+def test_a_wrong_jacobian_is_not_excused_by_a_few_rough_configurations(monkeypatch):
+    """A backend rough only at some configurations excuses only those, not the run."""
+    import fkcheck.engine.jacobian as engine_jacobian
+
+    real = engine_jacobian.frame_jacobian
+
+    def off(model, q, frame, reference):
+        jac = np.array(real(model, q, frame, reference))
+        jac[..., :3, 1] *= 1.2  # the core's column 2, linear part, 20 % off
+        return jac
+
+    class RoughAtZero(_PosesOnly):
+        def frame_poses(self, model, q, frames):
+            poses = super().frame_poses(model, q, frames)
+            near = np.all(np.abs(q) < 1e-3, axis=1)  # rough only around q = 0
+            poses[:, near, :3, 3] = np.round(poses[:, near, :3, 3], 4)
+            return poses
+
+    monkeypatch.setattr(engine_jacobian, "frame_jacobian", off)
+    check = run_check(
+        load_model("ur5"), [RoughAtZero()], samples=40,
+        jacobian=JacobianSpec("world-aligned", 1e-6),
+    )  # fmt: skip
+    assert check.backends[0].jacobian.status == "fail", check.backends[0].jacobian.message
 
 
 def test_a_smooth_backend_whose_jacobian_differs_still_fails():

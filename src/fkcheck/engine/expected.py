@@ -16,9 +16,12 @@ backends' results, like pytest's strict ``xfail``:
 Checks of another frame pair, or with other tolerances than the model's
 ``[check]``, are left as they are: the finding was recorded for the default
 check only (a looser tolerance may rightly pass it, a tighter one fail it).
-A Jacobian compared on an expected failure (``check --jacobian``) inherits it:
-a table whose poses differ as recorded has Jacobians that differ too, so its
-failing Jacobian is ``xfail`` with the same finding, never a new failure.
+A Jacobian compared on an expected failure (``check --jacobian``) inherits it
+within the same bounds, read per radian: a table whose lengths differ by δ
+(m) and angles by ε (rad) has Jacobian columns that differ by about δ m/rad
+and ε rad/rad, so its failing Jacobian is ``xfail`` with the same finding
+while ``max_linear <= max_position_m`` and ``max_angular <= max_angle_rad``;
+beyond them it stays ``fail`` (a wrong Jacobian is never excused by a pose record).
 """
 
 from __future__ import annotations
@@ -79,11 +82,20 @@ def _apply(result: BackendResult, entry: KnownDifference) -> BackendResult:
         )
     jacobian = result.jacobian
     if jacobian is not None and jacobian.status == "fail":
-        jacobian = replace(
-            jacobian,
-            status="xfail",
-            message=f"expected failure, known difference: {entry.finding} — {jacobian.message}",
-        )
+        lin, ang = jacobian.max_linear_error, jacobian.max_angular_error
+        beyond = []
+        if not (lin is not None and lin <= entry.max_position_m):
+            shown = "NaN" if lin is None else f"{lin:.3g}"
+            beyond.append(f"linear {shown} m/rad > recorded {entry.max_position_m:g} m")
+        if not (ang is not None and ang <= entry.max_angle_rad):
+            shown = "NaN" if ang is None else f"{ang:.3g}"
+            beyond.append(f"angular {shown} rad/rad > recorded {entry.max_angle_rad:g} rad")
+        if beyond:
+            message = f"beyond the recorded known difference ({'; '.join(beyond)}): "
+            jacobian = replace(jacobian, message=message + jacobian.message)
+        else:
+            excused = f"expected failure, known difference: {entry.finding} — "
+            jacobian = replace(jacobian, status="xfail", message=excused + jacobian.message)
     return replace(
         result,
         status="xfail",

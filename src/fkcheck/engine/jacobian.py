@@ -37,11 +37,14 @@ noise by the step: a pose off by 5e-7 m (within the pose tolerance) makes a
 Jacobian off by ~0.5 m/rad. The same neighbours measure it: the backend's
 second difference ``p(q+h) + p(q−h) − 2p(q)`` against the core's (a smooth
 chain's is ~h²·reach ≈ 1e-12; the core's is subtracted, so the measure is the
-backend's roughness, not a table difference) bounds the noise, and
-``roughness / h`` what it can do to the differences. A failing differentiated
-Jacobian whose every disagreement is within its tolerance plus that bound is
-not a finding: it is reported as an *error* (the Jacobian could not be
-compared), naming the roughness, never as a wrong Jacobian and never as a pass.
+backend's roughness, not a table difference) gives the noise's size, and
+``roughness / h`` its size in the differences (for ``world``, the angular part's
+times ``|p|`` counts as linear too). A failing differentiated Jacobian whose
+error, configuration by configuration, is within its tolerance plus
+:data:`NOISE_FACTOR` times that (at least the run's :data:`NOISE_QUANTILE`
+level, so that a few rough configurations excuse only themselves) is not a
+finding: it is reported as an *error* (the Jacobian could not be compared),
+naming the roughness — not as a wrong Jacobian, and never as a pass.
 
 **Errors** (:func:`fkcheck.core.metrics.jacobian_column_errors`). Per
 configuration, the largest over the columns of the norm of the difference of
@@ -68,9 +71,10 @@ from fkcheck.model.frames import frame_jacobian, reference_poses, relative_pose
 from fkcheck.model.types import Model, resolve_frame
 
 __all__ = [
+    "NOISE_FACTOR",
+    "NOISE_QUANTILE",
     "SAMPLES_KEPT",
     "Explain",
-    "FiniteDifference",
     "JacobianComparison",
     "JacobianSample",
     "JacobianSpec",
@@ -130,6 +134,22 @@ class JacobianSample:
 Explain = Callable[["JacobianSample", Model, JacobianSpec, float], tuple[str, tuple[str, ...]]]
 
 
+#: How far above the measured roughness a differentiated Jacobian's error may be and
+#: still be put down to the backend's noise: the second difference only measures the
+#: noise's size (its first difference, which reaches the Jacobian, is uncorrelated
+#: with it), so one configuration's pair may be unlucky; 3 covers that.
+NOISE_FACTOR = 3.0
+#: The run-wide noise level is this quantile of the per-configuration roughness: a
+#: few rough configurations (a backend that clamps at its limits) excuse only
+#: themselves, not the whole run.
+NOISE_QUANTILE = 0.9
+
+
+def _noise_level(noise: Float) -> Float:
+    """Per configuration: what its error may be and still be noise (see :data:`NOISE_FACTOR`)."""
+    return NOISE_FACTOR * np.maximum(noise, np.quantile(noise, NOISE_QUANTILE))
+
+
 def check_fixed_from(model: Model, frame_from: str) -> None:
     """Refuse a ``from`` frame that joints move: velocities relative to it are not a Jacobian's.
 
@@ -171,7 +191,12 @@ class FiniteDifference:
 
 
 def finite_difference_jacobian(
-    backend: Backend, model: Model, q: Float, pair: tuple[str, str], theirs_from_T_to: Float
+    backend: Backend,
+    model: Model,
+    q: Float,
+    pair: tuple[str, str],
+    theirs_from_T_to: Float,
+    ours_from_T_to: Float,
 ) -> FiniteDifference:
     """Jacobian of ``to`` by central differences of the backend's ``from_T_to``.
 
@@ -186,6 +211,7 @@ def finite_difference_jacobian(
         q: The configurations, ``(N, n)``.
         pair: The ``(from, to)`` frames.
         theirs_from_T_to: The backend's ``from_T_to`` at ``q``, ``(N, 4, 4)``.
+        ours_from_T_to: The core's, ``(N, 4, 4)``.
     """
     from scipy.spatial.transform import Rotation  # only a check with --jacobian needs it
 
@@ -215,9 +241,8 @@ def finite_difference_jacobian(
 
     ours_root = reference_poses(model, stacked, pair)
     ours = relative_pose(ours_root[0], ours_root[1]).reshape(2, n, q.shape[0], 4, 4)
-    center = relative_pose(*reference_poses(model, q, pair))
     b_lin, b_ang = second_difference(from_T_to, theirs_from_T_to)
-    c_lin, c_ang = second_difference(ours, center)
+    c_lin, c_ang = second_difference(ours, ours_from_T_to)
     noise_linear = np.linalg.norm(b_lin - c_lin, axis=2).max(axis=0) / h  # (N,)
     noise_angular = np.linalg.norm(b_ang - c_ang, axis=2).max(axis=0) / h
     return FiniteDifference(jacobian, noise_linear, noise_angular)
@@ -336,9 +361,13 @@ class JacobianComparison:
         else:
             self.own = False
             fd = finite_difference_jacobian(self.backend, self.model, q, self.pair,
-                                            theirs_from_T_to)  # fmt: skip
+                                            theirs_from_T_to, ours_from_T_to)  # fmt: skip
             in_from = _from_world_aligned(fd.jacobian, theirs_from_T_to, ref)
-            self.noise_linear[first : first + q.shape[0]] = fd.noise_linear
+            noise_linear = fd.noise_linear
+            if ref == "world":  # v + p × ω: the angular noise, times |p|, is linear noise too
+                reach = np.linalg.norm(theirs_from_T_to[:, :3, 3], axis=1)
+                noise_linear = noise_linear + reach * fd.noise_angular
+            self.noise_linear[first : first + q.shape[0]] = noise_linear
             self.noise_angular[first : first + q.shape[0]] = fd.noise_angular
         lin, ang = jacobian_column_errors(ours, in_from)  # (m, n) each
         m = q.shape[0]
@@ -364,13 +393,10 @@ class JacobianComparison:
         if self.own is not False:
             return None
         lin, ang = self.linear_error, self.angular_error
-        # Over the whole run: noise's sign differs at the two neighbours of one joint
-        # (the first difference) independently of its second difference, so a bound
-        # holds for the largest values, not configuration by configuration.
-        explained = lin.max() <= tol + self.noise_linear.max() and (
-            ang.max() <= tol + self.noise_angular.max()
+        explained = (lin <= tol + _noise_level(self.noise_linear)) & (
+            ang <= tol + _noise_level(self.noise_angular)
         )
-        if not explained:
+        if not explained.all():  # NaN is never explained
             return None
         rough_m = float(self.noise_linear.max()) * FINITE_DIFFERENCE_STEP
         rough_rad = float(self.noise_angular.max()) * FINITE_DIFFERENCE_STEP
