@@ -52,7 +52,7 @@ _TOP_KEYS = {
 _JOINT_KEYS = {"name", "type", "a", "alpha", "d", "theta", "flip", "limits"}
 _OFFSET_KEYS = {"xyz", "rpy"}
 _URDF_KEYS = {"path", "joints", "xacro", "xacro_args", "packages"}
-_FRAME_KEYS = {"dh", "xyz", "rpy", "urdf"}
+_FRAME_KEYS = {"dh", "xyz", "rpy", "urdf", "source"}
 _CHECK_KEYS = {
     "from", "to", "tol_pos_m", "tol_rot_rad", "require",
     "jacobian", "jacobian_reference", "tol_jacobian",
@@ -420,7 +420,10 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                 raise r.fail(f"{where}.dh", f'expected 0…{n}, "tcp" or "world", got {_value(idx)}')
             off = offset({k: tbl[k] for k in ("xyz", "rpy") if k in tbl}, where)
             twin = r.string(tbl["urdf"], f"{where}.urdf") if "urdf" in tbl else None
-            frames[fname] = FrameSpec(fname, idx, off, twin)
+            source = r.string(tbl["source"], f"{where}.source") if "source" in tbl else ""
+            if "source" in tbl and not source.strip():
+                raise r.fail(f"{where}.source", "empty: say where the offset comes from")
+            frames[fname] = FrameSpec(fname, idx, off, twin, source)
 
     check = CheckSpec()
     if "check" in top:

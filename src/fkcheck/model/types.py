@@ -149,12 +149,17 @@ class FrameSpec:
         dh: DH frame index ``0…n``, ``"tcp"`` (after the tool) or ``"world"``.
         offset: Fixed transform from that DH frame to this frame.
         urdf: Name of the same frame in the URDF, or ``None``.
+        source: Where the offset comes from, when the model vouches for it (e.g.
+            ``"UR's ROS 2 description: flange = tool0 · rpy(−90°, −90°, 0)"``):
+            the check then takes the offset as given instead of counting the
+            table numbers it could absorb as unverified (:mod:`fkcheck.model.coverage`).
     """
 
     name: str
     dh: DhIndex
     offset: Offset = field(default_factory=Offset)
     urdf: str | None = None
+    source: str = ""
 
 
 @dataclass(frozen=True)

@@ -101,6 +101,8 @@ def frame_toml(
     lines.extend(_offset_lines(spec.offset, unit))
     if spec.urdf is not None:
         lines.append(f"urdf = {toml_string(spec.urdf)}")
+    if spec.source:
+        lines.append(f"source = {toml_string(spec.source)}")
     return "\n".join(lines) + "\n"
 
 

@@ -1,0 +1,609 @@
+"""Which numbers of a model one check can vouch for: per-number evidence.
+
+A check compares one relative pose, ``from_T_to(q)``, with evidence that does not
+come from the table (a URDF, measured poses, a published table). Agreement proves
+what that pose depends on — and only where nothing else in the model could have
+absorbed an error. This module decides, for every number of the model, what a
+check of one frame pair can say about it:
+
+* the table: each row's ``a``, ``α``, ``d``, ``θ`` (by their textbook names,
+  :mod:`fkcheck.model.names`) and its direction (``flip``);
+* a declared ``[base]`` and ``[tool]`` (six components each: translations along
+  and rotations about their own axes);
+* the offsets of the two compared frames (``[frames.NAME]``).
+
+Statuses (:data:`Status`):
+
+``verified``
+    The compared pose depends on it, and no offset of a compared frame carries
+    what it produces: alone, an error in it larger than its *resolution* (shown;
+    at most :data:`RESOLUTION_LIMIT` tolerances) would have failed the check.
+    Numbers that trade only against each other inside the compared chain (UR's
+    d2, d3, d4 along parallel axes) describe the same kinematics however they
+    are split: each is verified, and :attr:`NumberEvidence.trades_with` says that
+    only their combination is.
+``not-identifiable``
+    An offset of a compared frame carries a component this number produces over
+    every configuration (``d1 ≡ translation along z of DH frame 0, carried by
+    [frames.base]``): a wrong number and an offset fitted around it (``fkcheck
+    map``, ``--to urdf:LINK``) agree with any reference. Also a number whose
+    effect survives the offsets only so faintly that an error more than
+    :data:`RESOLUTION_LIMIT` tolerances would pass.
+``not-covered``
+    The compared pose does not depend on it: it is outside the frame pair.
+``vouched``
+    A compared frame's offset that the model vouches for with its ``source``
+    (``[frames.NAME] source = "…"``): taken as given, it hides nothing, and every
+    output shows the source.
+
+*Decided from the kinematics, not from names.* The sensitivity of ``from_T_to``
+to each number is taken by central differences of the in-house core on seeded
+configurations within limits (first order), as body twists in units of the
+check's tolerances. A compared frame's offset can absorb a number when the
+number's column lies in the span of the offset's six columns; it *carries* that
+direction when the offset is not indifferent to it: the distance of the offset
+from the identity (``angle² + (|t|/L)²``, ``L = tol_pos / tol_rot``) has a
+non-zero slope along it. A frame that sits exactly on a DH frame (no offset)
+carries nothing, so the numbers next to it stay verified; so does a
+translation across the first joint's axis, which no table number produces. A
+90° turn about the first joint's axis is carried: it is exactly what a wrong θ1
+looks like.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import Literal
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from fkcheck.core import dh
+from fkcheck.core.geometry import invert
+from fkcheck.core.typing import Float
+from fkcheck.model.names import PARAMS, param_symbol
+from fkcheck.model.sampling import sampling_box
+from fkcheck.model.types import FrameSpec, Model, Offset, resolve_frame
+
+__all__ = [
+    "CARRY_EPS",
+    "MOVING_EPS",
+    "RESOLUTION_LIMIT",
+    "SAMPLES",
+    "SPAN_RTOL",
+    "STEP",
+    "Coverage",
+    "NumberEvidence",
+    "Status",
+    "coverage",
+]
+
+Status = Literal["verified", "not-identifiable", "not-covered", "vouched"]
+Unit = Literal["m", "rad", ""]
+
+#: Configurations the sensitivities are taken at (seeded, uniform within limits).
+#: Generic configurations: 64 × 6 rows for at most 4·256 + 24 numbers.
+SAMPLES = 64
+#: Central-difference step of every number (m or rad). Columns are O(1) per unit;
+#: truncation ~h² ≈ 1e-12, round-off ~ε·reach/h ≈ 1e-10 relative.
+STEP = 1e-6
+#: A column lies in a span when what is left of it is below this fraction of its
+#: length: far above the differences' ~1e-10, far below what an independent
+#: direction leaves over 64 random configurations (≥ 1e-3 on every bundled arm).
+SPAN_RTOL = 1e-6
+#: An offset carries a direction when its distance from the identity changes
+#: along it faster than this (rad, or m at ``L``): above the round-off of a
+#: URDF's rounded π/2 (~5e-12) and of ``fkcheck map``'s snapped numbers (1e-9).
+CARRY_EPS = 1e-9
+#: A number moves the compared pose when some configuration's twist per unit of it
+#: exceeds this (m/m, rad/rad…): an unobstructed number moves it 1:1, central
+#: differences leave ~1e-10.
+MOVING_EPS = 1e-6
+#: A number is verified only if an error of this many tolerances (in its own
+#: unit: tol_pos for lengths, tol_rot for angles), alone, would fail the check.
+#: An unobstructed length or angle shows 1:1 (resolution = one tolerance); 10
+#: leaves room for a partial overlap with a carried offset.
+RESOLUTION_LIMIT = 10.0
+
+_AXES = ("x", "y", "z")
+_COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")  # translations along, rotations about
+
+
+@dataclass(frozen=True)
+class NumberEvidence:
+    """What one check can say about one number of the model.
+
+    Attributes:
+        name: ``d1``, ``α4`` (a row's number), ``flip2``, ``[base] z``,
+            ``[frames.base_link] rz`` (a component of an offset, in its own axes).
+        group: ``joint 1 (shoulder_pan)``, ``[base]``, ``[tool]``, ``[frames.NAME]``.
+        unit: ``m`` or ``rad``; ``""`` for a joint's direction.
+        status: ``verified``, ``not-identifiable``, ``not-covered`` or ``vouched``.
+        table: Part of the table the headline speaks of (rows, ``[base]``,
+            ``[tool]``); ``False`` for a compared frame's offset.
+        resolution: The smallest error of it alone that the check would catch, in
+            ``unit`` (first order); ``None`` when nothing catches it.
+        absorbed_by: For ``not-identifiable``: which offset carries it, and how.
+        trades_with: Other verified numbers that only its combination with is
+            checked (parallel axes).
+        source: For ``vouched``: the model's source for the offset.
+    """
+
+    name: str
+    group: str
+    unit: Unit
+    status: Status
+    table: bool
+    resolution: float | None = None
+    absorbed_by: str = ""
+    trades_with: tuple[str, ...] = ()
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class Coverage:
+    """Every number of a model against one compared frame pair.
+
+    Attributes:
+        frame_from: The frame the compared pose is expressed in.
+        frame_to: The frame whose pose is compared.
+        numbers: One entry per number, rows first, then base, tool, frames.
+        joints_spanned: 1-based joints whose motion moves ``from_T_to``.
+        tol_pos_m: Position tolerance the resolutions are measured in, metres.
+        tol_rot_rad: Rotation tolerance, radians.
+    """
+
+    frame_from: str
+    frame_to: str
+    numbers: tuple[NumberEvidence, ...]
+    joints_spanned: tuple[int, ...]
+    tol_pos_m: float
+    tol_rot_rad: float
+
+    @property
+    def table_numbers(self) -> tuple[NumberEvidence, ...]:
+        """The numbers of the table (rows, declared base and tool)."""
+        return tuple(n for n in self.numbers if n.table)
+
+    def count(self, status: Status) -> int:
+        """How many table numbers have ``status``."""
+        return sum(n.status == status for n in self.table_numbers)
+
+    @property
+    def complete(self) -> bool:
+        """Whether every table number is verified (what "table verified" needs)."""
+        return all(n.status == "verified" for n in self.table_numbers)
+
+    @property
+    def spans_no_joint(self) -> bool:
+        """The pair moves with no joint: it cannot verify any row of the table."""
+        return not self.joints_spanned
+
+    def by_status(self, status: Status) -> tuple[NumberEvidence, ...]:
+        """Table numbers with ``status``, in table order."""
+        return tuple(n for n in self.table_numbers if n.status == status)
+
+    @property
+    def vouched(self) -> tuple[NumberEvidence, ...]:
+        """Compared frames' offsets taken from their ``source``."""
+        return tuple(n for n in self.numbers if n.status == "vouched")
+
+    @property
+    def counts_text(self) -> str:
+        """``22 of 24 table numbers verified, 2 not identifiable, 0 not covered``."""
+        total = len(self.table_numbers)
+        return (
+            f"{self.count('verified')} of {total} table numbers verified, "
+            f"{self.count('not-identifiable')} not identifiable, "
+            f"{self.count('not-covered')} not covered"
+        )
+
+    def gaps(self) -> str:
+        """What keeps the table from being verified, one clause; ``""`` when nothing does.
+
+        E.g. ``d1, θ6 not identifiable ([frames.base], [frames.tool0] carry offsets
+        along them); [base] not covered (outside base → tool0)``.
+        """
+        if self.spans_no_joint:
+            return f"the pair {self.frame_from} → {self.frame_to} spans no joint"
+        parts = []
+        hidden = self.by_status("not-identifiable")
+        if hidden:
+            carriers = [c for c in _unique(_carrier(n.absorbed_by) for n in hidden) if c]
+            why = (
+                f"the offset{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} "
+                "could absorb "
+                f"{'it' if len(hidden) == 1 else 'them'}"
+                if carriers
+                else "their effect is too faint for the tolerance"
+            )
+            parts.append(f"{_short(hidden)} not identifiable ({why})")
+        uncovered = self.by_status("not-covered")
+        if uncovered:
+            parts.append(
+                f"{_short(uncovered)} not covered (outside {self.frame_from} → {self.frame_to})"
+            )
+        return "; ".join(parts)
+
+    def summary(self) -> str:
+        """``table verified``, ``table verified except …`` or ``table partly verified: …``."""
+        if self.spans_no_joint:
+            return f"table not verified: {self.gaps()}"
+        if self.complete:
+            return "table verified"
+        rows = _rows_verified(self)
+        if rows == len(_row_groups(self)):
+            return f"table verified except {self.gaps()}"
+        return f"table partly verified: {rows} of {len(_row_groups(self))} joints; {self.gaps()}"
+
+
+def _row_groups(c: Coverage) -> list[str]:
+    return _unique(n.group for n in c.table_numbers if n.group.startswith("joint "))
+
+
+def _rows_verified(c: Coverage) -> int:
+    groups = _row_groups(c)
+    return sum(
+        all(n.status == "verified" for n in c.table_numbers if n.group == g) for g in groups
+    )
+
+
+def _unique(items: Sequence[str] | object) -> list[str]:
+    out: list[str] = []
+    for item in items:  # type: ignore[attr-defined]
+        if item not in out:
+            out.append(item)
+    return out
+
+
+def _carrier(absorbed_by: str) -> str:
+    """``[frames.base]`` out of ``"[frames.base]: translation along z of DH frame 0"``."""
+    return absorbed_by.split(":", 1)[0] if absorbed_by.startswith("[") else ""
+
+
+def _short(numbers: Sequence[NumberEvidence]) -> str:
+    """Names, with a whole offset group shown once: ``d1, θ6, [base]``."""
+    out: list[str] = []
+    for n in numbers:
+        label = n.group if n.group.startswith("[") else n.name
+        if label not in out:
+            out.append(label)
+    return ", ".join(out)
+
+
+# ----------------------------------------------------------------------------- sensitivities
+
+
+@dataclass(frozen=True)
+class _Number:
+    """A number to nudge: where it lives and how."""
+
+    name: str
+    group: str
+    unit: Unit
+    kind: Literal["row", "base", "tool", "from", "to", "joint"]
+    index: int  # row (0-based) for row and joint, component 0…5 for offsets
+    param: str = ""
+
+    @property
+    def table(self) -> bool:
+        return self.kind in ("row", "base", "tool")
+
+
+def _twist_matrix(component: int, h: float) -> Float:
+    """``exp(h·e_component)`` as a 4×4: a translation along or a rotation about an axis."""
+    E = np.eye(4)
+    if component < 3:
+        E[component, 3] = h
+    else:
+        rotvec = np.zeros(3)
+        rotvec[component - 3] = h
+        E[:3, :3] = Rotation.from_rotvec(rotvec).as_matrix()
+    return E
+
+
+class _Pose:
+    """``from_T_to`` of one model and frame pair, with any one number nudged."""
+
+    def __init__(self, model: Model, q: Float, spec_from: FrameSpec, spec_to: FrameSpec) -> None:
+        self.chain, self.q = model.chain, q
+        self.spec = {"from": spec_from, "to": spec_to}
+
+    @staticmethod
+    def _anchor(spec: FrameSpec, frames: Float, tool: Float) -> Float:
+        if spec.dh == "world":
+            return np.broadcast_to(np.eye(4), frames[:, 0].shape)
+        if spec.dh == "tcp":
+            return frames[:, -1] @ tool
+        return frames[:, int(spec.dh)]
+
+    def pose(self, number: _Number | None = None, h: float = 0.0) -> Float:
+        chain, q = self.chain, self.q
+        base, tool = chain.world_T_base, chain.flange_T_tool
+        offsets = {side: spec.offset.matrix for side, spec in self.spec.items()}
+        kind = number.kind if number is not None else None
+        if number is not None and kind == "row":
+            values = getattr(chain, number.param).copy()
+            values[number.index] += h
+            chain = replace(chain, **{number.param: values})
+        elif number is not None and kind == "joint":
+            q = q.copy()
+            q[:, number.index] += h
+        elif number is not None and kind == "base":
+            base = base @ _twist_matrix(number.index, h)
+        elif number is not None and kind == "tool":
+            tool = tool @ _twist_matrix(number.index, h)
+        elif number is not None and kind in ("from", "to"):
+            offsets[kind] = offsets[kind] @ _twist_matrix(number.index, h)
+        chain = replace(chain, world_T_base=base, flange_T_tool=tool)
+        frames = np.asarray(dh.fk(chain, q, all_frames=True))
+        ends = {
+            side: self._anchor(spec, frames, tool) @ offsets[side]
+            for side, spec in self.spec.items()
+        }
+        return invert(ends["from"]) @ ends["to"]
+
+
+def _twists(pose: _Pose, F_inv: Float, number: _Number) -> Float:
+    """The body twist of ``from_T_to`` per unit of ``number``, ``(N, 6)`` (m and rad)."""
+    G = (F_inv @ pose.pose(number, STEP) - F_inv @ pose.pose(number, -STEP)) / (2.0 * STEP)
+    W = G[:, :3, :3]
+    w = np.stack([W[:, 2, 1] - W[:, 1, 2], W[:, 0, 2] - W[:, 2, 0], W[:, 1, 0] - W[:, 0, 1]], 1)
+    twists: Float = np.concatenate([G[:, :3, 3], w / 2.0], axis=1)
+    return twists
+
+
+def _numbers(model: Model, pair: tuple[FrameSpec, FrameSpec]) -> list[_Number]:
+    """The table's numbers, a declared base and tool, and the compared frames' offsets."""
+    out: list[_Number] = []
+    for i, joint in enumerate(model.joints):
+        group = f"joint {i + 1} ({joint.name})"
+        for param in PARAMS:
+            unit: Unit = "m" if param in ("a", "d") else "rad"
+            out.append(_Number(param_symbol(model, i, param), group, unit, "row", i, param))
+    for kind, offset in (("base", model.base), ("tool", model.tool)):
+        if not offset.is_identity:
+            out.extend(
+                _Number(f"[{kind}] {comp}", f"[{kind}]", _unit(c), kind, c)  # type: ignore[arg-type]
+                for c, comp in enumerate(_COMPONENTS)
+            )
+    sides = (("from", pair[0]), ("to", pair[1])) if pair[0].name != pair[1].name else ()
+    for side, spec in sides:
+        if not spec.offset.is_identity:
+            group = f"[frames.{spec.name}]"
+            out.extend(
+                _Number(f"{group} {comp}", group, _unit(c), side, c)  # type: ignore[arg-type]
+                for c, comp in enumerate(_COMPONENTS)
+            )
+    return out
+
+
+def _unit(component: int) -> Unit:
+    return "m" if component < 3 else "rad"
+
+
+def _configurations(model: Model, samples: int, seed: int) -> Float:
+    lo, hi = sampling_box(model)
+    rng = np.random.default_rng(seed)
+    q: Float = lo + (hi - lo) * rng.random((samples, model.dof))
+    return q
+
+
+# ----------------------------------------------------------------------------- carrying
+
+
+def _carries(offset: Offset, xi: Float, length_m: float) -> bool:
+    """Whether ``offset`` has a component along the twist ``xi`` (its own axes, m and rad).
+
+    The slope at 0 of ``s ↦ angle(R·exp(−s·ω))² + |t − s·R·v|²/L²`` (the offset
+    moved back along ``xi``) is ``−2(φ·ω + (R·v)·t/L²)``, with ``φ`` the offset's
+    rotation vector. Zero slope: the offset is as near the identity as it gets
+    along ``xi`` and carries none of it.
+    """
+    M = offset.matrix
+    R, t = M[:3, :3], M[:3, 3]
+    v, w = xi[:3], xi[3:]
+    norm = float(np.hypot(np.linalg.norm(v) / length_m, np.linalg.norm(w)))
+    if norm == 0.0:
+        return False
+    phi = Rotation.from_matrix(R).as_rotvec()
+    slope = float(phi @ w + (R @ v) @ t / length_m**2) / norm
+    return abs(slope) > CARRY_EPS
+
+
+def _describe(xi: Float, spec: FrameSpec) -> str:
+    """``translation along z of DH frame 0`` for a twist ``xi`` in the frame's own axes."""
+    M = spec.offset.matrix
+    R, t = M[:3, :3], M[:3, 3]
+    w = R @ xi[3:]  # in the anchor's axes
+    v = R @ xi[:3] + np.cross(t, w)  # the same twist seen from the anchor's origin
+    anchor = {"world": "the world", "tcp": "the TCP"}.get(str(spec.dh), f"DH frame {spec.dh}")
+
+    def axis(u: Float) -> str:
+        u = u / np.linalg.norm(u)
+        k = int(np.argmax(np.abs(u)))
+        if abs(abs(u[k]) - 1.0) < 1e-6:
+            return _AXES[k]
+        return "(" + ", ".join(f"{x:.3g}" for x in u) + ")"
+
+    wn, vn = float(np.linalg.norm(w)), float(np.linalg.norm(v))
+    if wn < 1e-9 * max(vn, 1.0):
+        return f"translation along {axis(v)} of {anchor}"
+    through = np.cross(w, v) / (wn * wn)  # the axis' point nearest the anchor's origin
+    where = "" if np.linalg.norm(through) < 1e-9 else " (an axis off its origin)"
+    kind = "screw" if abs(v @ w) > 1e-9 * wn * max(vn, 1.0) else "rotation"
+    return f"{kind} about {axis(w)} of {anchor}{where}"
+
+
+# ----------------------------------------------------------------------------- the analysis
+
+
+def coverage(
+    model: Model,
+    frame_from: str,
+    frame_to: str,
+    tol_pos_m: float,
+    tol_rot_rad: float,
+    *,
+    samples: int = SAMPLES,
+    seed: int = 0,
+) -> Coverage:
+    """Every number of ``model`` against a check of ``frame_from → frame_to``.
+
+    Args:
+        model: The model (its frames include any placed ``urdf:LINK``).
+        frame_from: The frame the compared pose is expressed in.
+        frame_to: The frame whose pose is compared.
+        tol_pos_m: The check's position tolerance, metres.
+        tol_rot_rad: The check's rotation tolerance, radians.
+        samples: Configurations the sensitivities are taken at.
+        seed: Their seed.
+
+    Raises:
+        FrameError: An unknown frame.
+    """
+    specs = {"from": resolve_frame(model, frame_from), "to": resolve_frame(model, frame_to)}
+    q = _configurations(model, samples, seed)
+    pose = _Pose(model, q, specs["from"], specs["to"])
+    F_inv = invert(pose.pose())
+    numbers = _numbers(model, (specs["from"], specs["to"]))
+    twists = np.stack([_twists(pose, F_inv, n) for n in numbers], axis=2)  # (N, 6, P)
+    moving = np.abs(twists).max(axis=(0, 1)) > MOVING_EPS
+    joints = [_Number("", "", "", "joint", i) for i in range(model.dof)]
+    spanned = tuple(
+        i + 1
+        for i, j in enumerate(joints)
+        if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
+    )
+    scale = np.array([1.0 / tol_pos_m] * 3 + [1.0 / tol_rot_rad] * 3)
+    J = (twists * scale[None, :, None]).reshape(-1, len(numbers))  # in tolerances per unit
+    norms = np.linalg.norm(J, axis=0)
+    to_si = np.array([tol_pos_m] * 3 + [tol_rot_rad] * 3)
+
+    absorbed: dict[int, str] = {}  # table number → which offset carries it, how
+    carrying: dict[int, list[str]] = {}  # offset component → the table numbers it trades with
+    directions: list[Float] = []
+    for side in ("from", "to"):
+        spec = specs[side]
+        cols = [i for i, n in enumerate(numbers) if n.kind == side]
+        if not cols or spec.source:
+            continue
+        A = J[:, cols]
+        for i, n in enumerate(numbers):
+            if not n.table or not moving[i]:
+                continue
+            coef = np.linalg.lstsq(A, J[:, i], rcond=None)[0]
+            if np.linalg.norm(J[:, i] - A @ coef) > SPAN_RTOL * norms[i]:
+                continue
+            if not _carries(spec.offset, coef * to_si, tol_pos_m / tol_rot_rad):
+                continue
+            absorbed.setdefault(i, f"[frames.{spec.name}]: {_describe(coef * to_si, spec)}")
+            directions.append(A @ coef)
+            weight = np.abs(coef) * norms[cols]
+            for k, c in enumerate(cols):
+                if weight[k] > SPAN_RTOL * weight.max():
+                    carrying.setdefault(c, []).append(n.name)
+
+    residual = _without(J, directions)
+    worst = np.abs(residual.reshape(q.shape[0], 6, -1)).max(axis=(0, 1))
+    trades = _trades(residual, [moving[i] and n.table and i not in absorbed
+                                for i, n in enumerate(numbers)])  # fmt: skip
+    out: list[NumberEvidence] = []
+    for i, n in enumerate(numbers):
+        status: Status = "verified"
+        resolution: float | None = None
+        why = source = ""
+        if n.kind in ("from", "to") and specs[n.kind].source:
+            status, source = "vouched", specs[n.kind].source
+        elif not moving[i]:
+            status = "not-covered"
+        elif i in absorbed:
+            status, why = "not-identifiable", absorbed[i]
+        elif i in carrying:
+            status = "not-identifiable"
+            why = f"{n.group}: carries what {', '.join(carrying[i])} produce"
+        else:
+            resolution = 1.0 / float(worst[i]) if worst[i] > 0 else None
+            tol = tol_pos_m if n.unit == "m" else tol_rot_rad
+            if resolution is None or resolution > RESOLUTION_LIMIT * tol:
+                status = "not-identifiable"
+                why = (
+                    f"an error up to {resolution:.3g} {n.unit} would stay within tolerance"
+                    if resolution is not None
+                    else "no error of it would show"
+                )
+                resolution = None
+        out.append(
+            NumberEvidence(
+                n.name, n.group, n.unit, status, n.table, resolution, why,
+                tuple(numbers[j].name for j in trades.get(i, ())), source,
+            )
+        )  # fmt: skip
+    return Coverage(
+        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad
+    )
+
+
+def _without(J: Float, directions: Sequence[Float]) -> Float:
+    """``J`` with the span of ``directions`` projected out."""
+    if not directions:
+        return J
+    basis, sv, _ = np.linalg.svd(np.stack(directions, axis=1), full_matrices=False)
+    basis = basis[:, sv > SPAN_RTOL * sv.max()]
+    out: Float = J - basis @ (basis.T @ J)
+    return out
+
+
+def _trades(residual: Float, candidates: Sequence[bool]) -> dict[int, tuple[int, ...]]:
+    """Numbers whose columns depend on each other only: ``{i: (j, …)}``.
+
+    The dependencies are the null space of the (column-normalised) candidates;
+    its reduced row echelon basis has the smallest supports, so independent
+    groups (UR's d2, d3, d4 and, elsewhere, a base z and d1) stay apart.
+    """
+    idx = [i for i, c in enumerate(candidates) if c]
+    if len(idx) < 2:
+        return {}
+    A = residual[:, idx] / np.linalg.norm(residual[:, idx], axis=0)
+    _, sv, vt = np.linalg.svd(A, full_matrices=True)
+    rank = int((sv > SPAN_RTOL * sv.max()).sum())
+    parent = {i: i for i in idx}
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            i = parent[i]
+        return i
+
+    for vec in _rref(vt[rank:]):
+        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > 1e-6)]
+        for m in support[1:]:
+            parent[root(m)] = root(support[0])
+    groups: dict[int, list[int]] = {}
+    for i in idx:
+        groups.setdefault(root(i), []).append(i)
+    return {
+        m: tuple(x for x in members if x != m)
+        for members in groups.values()
+        if len(members) > 1
+        for m in members
+    }
+
+
+def _rref(rows: Float) -> Float:
+    """Reduced row echelon form of a few rows (partial pivoting)."""
+    M = np.array(rows, dtype=np.float64)
+    r = 0
+    for c in range(M.shape[1]):
+        if r == M.shape[0]:
+            break
+        p = r + int(np.argmax(np.abs(M[r:, c])))
+        if abs(M[p, c]) < 1e-9:
+            continue
+        M[[r, p]] = M[[p, r]]
+        M[r] /= M[r, c]
+        for k in range(M.shape[0]):
+            if k != r:
+                M[k] -= M[k, c] * M[r]
+        r += 1
+    return M[:r]
