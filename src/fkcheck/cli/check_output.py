@@ -100,7 +100,7 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
 
     from fkcheck.cli._console import console as make_console
     from fkcheck.cli._console import is_terminal
-    from fkcheck.engine.verdict import evidence_sentences, headline
+    from fkcheck.engine.verdict import evidence_sentences, headline, numbers_line
 
     console = make_console(highlight=False)
     described = (
@@ -160,11 +160,14 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     evidence = check.evidence
     implementation, table_text = evidence_sentences(evidence)
     table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow",
-                   "expected-failure": "bold yellow"}  # fmt: skip
+                   "expected-failure": "bold yellow", "partly-verified": "bold yellow"}  # fmt: skip
     imp_style = table_style[evidence.implementation.status]
     tab_style = table_style[evidence.table.status]
     console.print(f"evidence: [{imp_style}]{terminal_markup(implementation)}[/]")
     console.print(f"          [{tab_style}]{terminal_markup(table_text)}[/]")
+    if check.numbers is not None:
+        line = numbers_line(check.numbers, evidence.table.status)
+        console.print(f"          [{tab_style}]{terminal_markup(line)}[/]")
     line = headline(check.verdict, evidence, len(check.ran))
     style = "bold green" if check.verdict == "pass" else "bold red"
     if check.verdict == "pass" and evidence.table.status != "verified":

@@ -223,6 +223,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     print_models_table(labelled)
     failed = [label for label, c in labelled if c.verdict != "pass"]
     verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
+    partly = [label for label, c in labelled if c.evidence.table.status == "partly-verified"]
     unchecked = [label for label, c in labelled if c.evidence.table.status == "not-checked"]
     expected = [label for label, c in labelled if c.evidence.table.status == "expected-failure"]
     where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
@@ -231,6 +232,11 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         f"fkcheck: table verified independently: {len(verified)} "
         f"({terminal_text(', '.join(verified))})"
     )
+    if partly:
+        print(
+            f"fkcheck: table partly verified (numbers the frame pair cannot verify): "
+            f"{len(partly)} ({terminal_text(', '.join(partly))})"
+        )
     print(
         f"fkcheck: implementation only, table not checked: {len(unchecked)} "
         f"({terminal_text(', '.join(unchecked))})"

@@ -28,6 +28,7 @@ from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import FailureDetail
 from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
 from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize
+from fkcheck.model.coverage import Coverage
 from fkcheck.model.types import Model
 
 __all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "JacobianResult", "Status"]
@@ -206,6 +207,8 @@ class CheckResult:
         duration_s: Wall time of the check, seconds.
         command: The command line that reproduces it (set by the CLI).
         jacobian: What ``--jacobian`` compared (reference frame, tolerance), or ``None``.
+        numbers: What the compared frame pair can verify, number by number
+            (:mod:`fkcheck.model.coverage`); ``None`` when not analysed.
     """
 
     model: Model
@@ -225,6 +228,7 @@ class CheckResult:
     duration_s: float = 0.0
     command: str = ""
     jacobian: JacobianSpec | None = None
+    numbers: Coverage | None = None
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:
@@ -234,4 +238,4 @@ class CheckResult:
     @property
     def evidence(self) -> EvidenceSummary:
         """What the run proved, by kind (implementation, table), and what was required."""
-        return summarize(self.backends, self.required)
+        return summarize(self.backends, self.required, self.numbers)

@@ -35,6 +35,7 @@ from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, U
 from fkcheck.model.frames import (
     resolve_frame,
 )
+from fkcheck.model.coverage import coverage
 from fkcheck.model.sampling import Sampler, Samples, sample_configurations
 from fkcheck.model.types import URDF_FRAME_PREFIX, Model
 from fkcheck.process.isolation import (
@@ -365,6 +366,13 @@ def run_check(
         model, samples, seed, sampler
     )
     required = tuple(k for k in KINDS if k in (*model.check.require, *require))
+    numbers = coverage(model, pair[0], pair[1], tol[0], tol[1])
+    if "table" in required and numbers.spans_no_joint:
+        raise FkcheckError(
+            f"require table: the frame pair {pair[0]} → {pair[1]} spans no joint of model "
+            f"{model.name}, so it cannot verify the table; compare a pair with joints "
+            "between them (e.g. the model's [check] from/to)"
+        )
     _import_libraries(model, backends)
 
     results: dict[int, BackendResult] = {}
@@ -414,9 +422,10 @@ def run_check(
         q=q.q,
         origin=q.origin,
         backends=ordered,
-        verdict=verdict_of((*ordered, *jacobians), summarize(ordered, required)),
+        verdict=verdict_of((*ordered, *jacobians), summarize(ordered, required, numbers)),
         required=required,
         created=created,
         duration_s=time.perf_counter() - t0,
         jacobian=jacobian,
+        numbers=numbers,
     )

@@ -11,7 +11,10 @@ A cross-check answers two questions, and they are kept apart:
   or pendant poses, a table published elsewhere (``rtb-model:``).
 
 Each kind gets a status: ``verified`` (a backend of that kind answered and
-agreed, none disagreed), ``failed`` (one answered and disagreed, or one the
+agreed, none disagreed — and, for the table, every number of the table is
+verified by the compared frame pair: :mod:`fkcheck.model.coverage`),
+``partly-verified`` (the table's backends agree, but the pair leaves numbers of
+the table not identifiable or not covered: said which), ``failed`` (one answered and disagreed, or one the
 model records as disagreeing agrees: a stale ``[[known_difference]]``),
 ``expected-failure`` (those that disagree do so as the model's
 ``[[known_difference]]`` records; never read as verified) or ``not-checked``
@@ -29,9 +32,10 @@ required kind of evidence is missing.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal, Protocol
 
+from fkcheck.model.coverage import Coverage
 from fkcheck.model.require import KINDS, Kind
 
 __all__ = [
@@ -43,11 +47,13 @@ __all__ = [
     "Verdict",
     "evidence_sentences",
     "headline",
+    "number_status",
+    "numbers_line",
     "summarize",
     "verdict_of",
 ]
 
-KindStatus = Literal["verified", "not-checked", "failed", "expected-failure"]
+KindStatus = Literal["verified", "partly-verified", "not-checked", "failed", "expected-failure"]
 Verdict = Literal["pass", "fail", "error", "unverified"]
 
 
@@ -70,13 +76,16 @@ class EvidenceKind:
 
     Attributes:
         kind: ``implementation`` or ``table``.
-        status: ``verified``, ``failed``, ``expected-failure`` or ``not-checked``.
+        status: ``verified``, ``partly-verified`` (table only), ``failed``,
+            ``expected-failure`` or ``not-checked``.
         agreed: Backends of this kind that answered and agreed.
         disagreed: Backends of this kind that answered wrongly.
         unanswered: Backends of this kind that were asked but could not answer
             (error) or did not apply (skipped).
         expected: Backends that disagree as the model records (``xfail``).
         stale: Backends the model records as disagreeing that agree (``xpass``).
+        gaps: For ``partly-verified``: the numbers of the table the frame pair
+            leaves unverified, one clause (:meth:`fkcheck.model.coverage.Coverage.gaps`).
     """
 
     kind: Kind
@@ -86,6 +95,7 @@ class EvidenceKind:
     unanswered: tuple[str, ...] = ()
     expected: tuple[str, ...] = ()
     stale: tuple[str, ...] = ()
+    gaps: str = ""
 
 
 @dataclass(frozen=True)
@@ -97,12 +107,15 @@ class EvidenceSummary:
         table: Evidence, independent of the table, that the table is right.
         required: Kinds that must be ``verified``.
         unmet: Required kinds that are not.
+        numbers: What the compared frame pair can verify, number by number
+            (``None`` when not analysed).
     """
 
     implementation: EvidenceKind
     table: EvidenceKind
     required: tuple[Kind, ...] = ()
     unmet: tuple[Kind, ...] = ()
+    numbers: Coverage | None = None
 
     def of(self, kind: Kind) -> EvidenceKind:
         """The evidence of one kind."""
@@ -128,13 +141,23 @@ def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
     return EvidenceKind(kind, status, agreed, disagreed, unanswered, expected, stale)
 
 
-def summarize(results: Sequence[_Outcome], required: Sequence[Kind] = ()) -> EvidenceSummary:
-    """Sort backend results into the two kinds of evidence."""
+def summarize(
+    results: Sequence[_Outcome],
+    required: Sequence[Kind] = (),
+    numbers: Coverage | None = None,
+) -> EvidenceSummary:
+    """Sort backend results into the two kinds of evidence.
+
+    With ``numbers``, agreeing table evidence is ``verified`` only when every
+    number of the table is; otherwise ``partly-verified``, naming the rest.
+    """
     implementation = _kind("implementation", results)
     table = _kind("table", results)
+    if table.status == "verified" and numbers is not None and not numbers.complete:
+        table = replace(table, status="partly-verified", gaps=numbers.gaps())
     by_kind = {"implementation": implementation, "table": table}
     unmet = tuple(k for k in required if by_kind[k].status != "verified")
-    return EvidenceSummary(implementation, table, tuple(required), unmet)
+    return EvidenceSummary(implementation, table, tuple(required), unmet, numbers)
 
 
 def verdict_of(results: Sequence[_Outcome], evidence: EvidenceSummary) -> Verdict:
@@ -194,6 +217,11 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
             f"table verified: {_names(tab.agreed)} {_agree(tab.agreed)} "
             "(evidence independent of the table)"
         )
+    elif tab.status == "partly-verified":
+        tab_text = (
+            f"table PARTLY verified: {_names(tab.agreed)} {_agree(tab.agreed)} "
+            f"(evidence independent of the table), but {tab.gaps}"
+        )
     elif tab.status == "failed":
         tab_text = (
             f"table FAILED: {_names(tab.disagreed)} {_agree(tab.disagreed, 'dis')} "
@@ -244,6 +272,13 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
             if evidence.implementation.status == "verified":
                 return "pass — table verified independently, implementation agrees"
             return "pass — table verified independently; no second implementation ran"
+        if evidence.table.status == "partly-verified" and evidence.numbers is not None:
+            tail = (
+                "implementation agrees"
+                if evidence.implementation.status == "verified"
+                else "no second implementation ran"
+            )
+            return f"pass — {evidence.numbers.summary()}; {tail}"
         if evidence.implementation.status == "verified":
             return "pass — implementation only; table not checked against anything independent"
         return "pass"
@@ -264,3 +299,66 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
     if n_ran == 0:
         return "error — no backend gave an answer: nothing was cross-checked"
     return "error — a backend could not answer (see its message)"
+
+
+NumberStatus = Literal[
+    "verified", "not-identifiable", "not-covered", "vouched", "failed", "not-checked"
+]
+
+
+def number_status(status: str, table: KindStatus) -> NumberStatus:
+    """A number's status after the check: what the pair can verify, and what the table showed.
+
+    A number the pair could verify is ``verified`` only when the table's evidence
+    agreed, ``failed`` when it disagreed (or disagrees as recorded), and
+    ``not-checked`` when nothing independent answered.
+    """
+    if status != "verified":
+        return status  # type: ignore[return-value]
+    if table in ("verified", "partly-verified"):
+        return "verified"
+    if table in ("failed", "expected-failure"):
+        return "failed"
+    return "not-checked"
+
+
+def numbers_line(numbers: Coverage, table: KindStatus) -> str:
+    """The model's numbers in one line, the same in every output format.
+
+    ``numbers: 24 of 24 table numbers verified (d2, d3, d4 only as their sum) …``
+    """
+    total = len(numbers.table_numbers)
+    counts: dict[str, int] = {}
+    for n in numbers.table_numbers:
+        s = number_status(n.status, table)
+        counts[s] = counts.get(s, 0) + 1
+    order = ("verified", "failed", "not-checked", "not-identifiable", "not-covered")
+    shown = [f"{counts[s]} {s.replace('-', ' ')}" for s in order if counts.get(s)]
+    text = f"numbers ({numbers.frame_from} → {numbers.frame_to}): {total} in the table: "
+    text += ", ".join(shown) if shown else "none"
+    groups = _trade_groups(numbers)
+    if groups and counts.get("verified"):
+        text += "; only as a combination: " + ", ".join(groups)
+    vouched = _unique_groups(n for n in numbers.numbers if n.status == "vouched")
+    if vouched:
+        text += "; vouched for by the model's source: " + ", ".join(vouched)
+    return text
+
+
+def _trade_groups(numbers: Coverage) -> list[str]:
+    seen: list[str] = []
+    for n in numbers.table_numbers:
+        if n.trades_with and n.status == "verified":
+            group = " + ".join([n.name, *n.trades_with])
+            key = "+".join(sorted([n.name, *n.trades_with]))
+            if key not in [("+".join(sorted(g.split(" + ")))) for g in seen]:
+                seen.append(group)
+    return seen
+
+
+def _unique_groups(items: object) -> list[str]:
+    out: list[str] = []
+    for n in items:  # type: ignore[attr-defined]
+        if n.group not in out:
+            out.append(n.group)
+    return out

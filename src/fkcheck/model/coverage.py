@@ -232,21 +232,31 @@ class Coverage:
             return f"table not verified: {self.gaps()}"
         if self.complete:
             return "table verified"
-        rows = _rows_verified(self)
-        if rows == len(_row_groups(self)):
+        dof = len(_row_groups(self))
+        if len(self.joints_spanned) == dof:
             return f"table verified except {self.gaps()}"
-        return f"table partly verified: {rows} of {len(_row_groups(self))} joints; {self.gaps()}"
+        return (
+            f"table partly verified: joints {_ranges(self.joints_spanned)} of {dof}; "
+            f"{self.gaps()}"
+        )
+
+
+def _ranges(joints: Sequence[int]) -> str:
+    """``1–3, 5`` for ``(1, 2, 3, 5)``."""
+    parts: list[str] = []
+    start = prev = joints[0]
+    for j in (*joints[1:], None):
+        if j is not None and j == prev + 1:
+            prev = j
+            continue
+        parts.append(str(start) if start == prev else f"{start}–{prev}")
+        if j is not None:
+            start = prev = j
+    return ", ".join(parts)
 
 
 def _row_groups(c: Coverage) -> list[str]:
     return _unique(n.group for n in c.table_numbers if n.group.startswith("joint "))
-
-
-def _rows_verified(c: Coverage) -> int:
-    groups = _row_groups(c)
-    return sum(
-        all(n.status == "verified" for n in c.table_numbers if n.group == g) for g in groups
-    )
 
 
 def _unique(items: Sequence[str] | object) -> list[str]:

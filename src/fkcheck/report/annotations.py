@@ -100,14 +100,16 @@ def _relative(path: Path) -> str:
         return path.as_posix()
 
 
-def _command(file: str | None, line: int | None, title: str, message: str) -> str:
+def _command(
+    file: str | None, line: int | None, title: str, message: str, level: str = "error"
+) -> str:
     props = []
     if file is not None:
         props.append(f"file={escape_property(file)}")
         if line is not None:
             props.append(f"line={line}")
     props.append(f"title={escape_property(title)}")
-    return f"::error {','.join(props)}::{escape_data(message)}"
+    return f"::{level} {','.join(props)}::{escape_data(message)}"
 
 
 def github_annotations(
@@ -173,4 +175,8 @@ def github_annotations(
     if check.verdict == "unverified":
         sentence = evidence_sentences(check.evidence)[1]
         lines.append(_command(file, None, f"fkcheck {name}: unverified", terminal_text(sentence)))
+    elif check.verdict == "pass" and check.evidence.table.status == "partly-verified":
+        sentence = evidence_sentences(check.evidence)[1]
+        title = f"fkcheck {name}: table partly verified"
+        lines.append(_command(file, None, title, terminal_text(sentence), level="warning"))
     return lines

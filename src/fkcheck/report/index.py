@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck._version import __version__
 from fkcheck.engine.results import CheckResult
-from fkcheck.engine.verdict import evidence_sentences
+from fkcheck.engine.verdict import evidence_sentences, numbers_line
 from fkcheck.report.views import (
     Fact,
     IndexModel,
@@ -89,6 +89,11 @@ def build_index_page(
             configurations=int(e.check.q.shape[0]),
             table_evidence=e.check.evidence.table.status,
             evidence_text=evidence_sentences(e.check.evidence)[1],
+            numbers_text=(
+                numbers_line(e.check.numbers, e.check.evidence.table.status)
+                if e.check.numbers is not None
+                else ""
+            ),
             rows=tuple(
                 IndexRow(
                     backend=r.name,

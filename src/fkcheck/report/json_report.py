@@ -13,7 +13,7 @@ from typing import Any
 
 from fkcheck._version import __version__
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
-from fkcheck.engine.verdict import evidence_sentences, headline
+from fkcheck.engine.verdict import evidence_sentences, headline, number_status, numbers_line
 from fkcheck.io.atomic import write_text_atomic
 from fkcheck.io.strict_json import strict_json
 
@@ -82,6 +82,7 @@ def _evidence(check: CheckResult) -> dict[str, Any]:
             "agreed": list(kind.agreed),
             "disagreed": list(kind.disagreed),
             "unanswered": list(kind.unanswered),
+            "gaps": kind.gaps,
         }
         for kind in (evidence.implementation, evidence.table)
     }
@@ -91,6 +92,42 @@ def _evidence(check: CheckResult) -> dict[str, Any]:
         **kinds,
         "required": list(evidence.required),
         "unmet": list(evidence.unmet),
+    }
+
+
+def _numbers(check: CheckResult) -> dict[str, Any] | None:
+    """Every number of the model, with what this check verified of it."""
+    numbers = check.numbers
+    if numbers is None:
+        return None
+    table = check.evidence.table.status
+    rows = [
+        {
+            "name": n.name,
+            "group": n.group,
+            "unit": n.unit,
+            "table": n.table,
+            "status": number_status(n.status, table),
+            "pair_can": n.status,
+            "resolution": n.resolution,
+            "absorbed_by": n.absorbed_by,
+            "trades_with": list(n.trades_with),
+            "source": n.source,
+        }
+        for n in numbers.numbers
+    ]
+    counts: dict[str, int] = {}
+    for row in rows:
+        if row["table"]:
+            counts[row["status"]] = counts.get(row["status"], 0) + 1
+    return {
+        "from": numbers.frame_from,
+        "to": numbers.frame_to,
+        "joints_spanned": list(numbers.joints_spanned),
+        "summary": numbers.summary(),
+        "line": numbers_line(numbers, table),
+        "counts": counts,
+        "numbers": rows,
     }
 
 
@@ -120,6 +157,7 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "verdict": check.verdict,
         "headline": headline(check.verdict, check.evidence, len(check.ran)),
         "evidence": _evidence(check),
+        "numbers": _numbers(check),
         "cross_checked": len(check.ran),
         "fkcheck_version": __version__,
         "command": check.command,

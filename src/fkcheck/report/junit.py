@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.engine.verdict import evidence_sentences
+from fkcheck.engine.verdict import evidence_sentences, numbers_line
 from fkcheck.io.atomic import write_bytes_atomic
 from fkcheck.io.text import xml_safe_tree
 from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
@@ -156,17 +156,20 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
         )
         counts["tests"] += 1
         status = evidence.of(kind).status  # type: ignore[arg-type]
+        text = sentence
+        if kind == "table" and check.numbers is not None:
+            text += "\n" + numbers_line(check.numbers, status)
         if status == "failed":
-            ET.SubElement(case, "failure", message=sentence, type="disagreement").text = sentence
+            ET.SubElement(case, "failure", message=sentence, type="disagreement").text = text
             counts["failures"] += 1
-        elif status in ("not-checked", "expected-failure") and kind in evidence.unmet:
-            ET.SubElement(case, "failure", message=sentence, type="required").text = sentence
+        elif status != "verified" and kind in evidence.unmet:
+            ET.SubElement(case, "failure", message=sentence, type="required").text = text
             counts["failures"] += 1
-        elif status in ("not-checked", "expected-failure"):
-            ET.SubElement(case, "skipped", message=sentence)
+        elif status != "verified":
+            ET.SubElement(case, "skipped", message=sentence).text = text
             counts["skipped"] += 1
         else:
-            ET.SubElement(case, "system-out").text = sentence
+            ET.SubElement(case, "system-out").text = text
     if not check.ran:
         case = ET.SubElement(suite, "testcase", classname=name, name="cross-check ran")
         text = "no reference backend ran: nothing was cross-checked"

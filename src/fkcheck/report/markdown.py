@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
-from fkcheck.engine.verdict import KINDS, evidence_sentences, headline
+from fkcheck.engine.verdict import KINDS, evidence_sentences, headline, numbers_line
 from fkcheck.io.format import format_angle_summary, format_length_summary, format_scientific
 from fkcheck.io.text import markdown_text as escape_markdown
 from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
@@ -54,6 +54,7 @@ _ICON = {
     "verified": "✅",
     "failed": "❌",
     "not-checked": "❔",
+    "partly-verified": "🟡",
 }
 
 
@@ -88,6 +89,8 @@ def markdown_summary(
         heading = (
             f"{_ICON['expected-failure']} PASS (expected failure: known difference)"
             if partial and check.evidence.table.status == "expected-failure"
+            else f"{_ICON['partly-verified']} PASS (table partly verified)"
+            if partial and check.evidence.table.status == "partly-verified"
             else f"{_ICON['not-checked']} PASS (implementation only)"
             if partial
             else (f"{_ICON[overall]} {overall.upper()}")
@@ -107,6 +110,11 @@ def markdown_summary(
             f"{check.q.shape[0]} configurations (seed {check.seed}), tolerance "
             f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
         )
+        if check.numbers is not None:
+            lines.append("")
+            lines.append(
+                escape_markdown(numbers_line(check.numbers, check.evidence.table.status))
+            )
         lines.append("")
         lines.append("| backend | status | max position error | max rotation error | message |")
         lines.append("|---" * 5 + "|")
@@ -143,7 +151,8 @@ def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str
     names: list[str] = []
     for check in checks:
         names += [r.name for r in check.backends if r.name not in names]
-    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–", "expected-failure": "x"}
+    table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–", "expected-failure": "x",
+                  "partly-verified": "½"}  # fmt: skip
     head = ["model", "verdict", "table verified", *map(escape_markdown, names)]
     lines = ["| " + " | ".join(head) + " |", "|---|---|" + ":-:|" * (len(head) - 2)]
     for check in checks:

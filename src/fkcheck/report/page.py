@@ -34,6 +34,7 @@ if TYPE_CHECKING:
 
 from fkcheck.report.backend_view import backend_detail, backend_row
 from fkcheck.report.model_view import frame_sides, model_view
+from fkcheck.report.numbers_view import numbers_view
 from fkcheck.report.partings import partings
 
 __all__ = ["build_report_page", "verdict_line"]
@@ -205,6 +206,8 @@ def build_report_page(
         badge_note=(
             "expected failure: known difference"
             if check.verdict == "pass" and evidence.table.status == "expected-failure"
+            else "table partly verified"
+            if check.verdict == "pass" and evidence.table.status == "partly-verified"
             else "implementation only"
             if check.verdict == "pass" and evidence.table.status != "verified"
             else ""
@@ -221,4 +224,5 @@ def build_report_page(
         generator=f"fkcheck {__version__}",
         diagnoses=diagnosis_views,
         jacobian=jacobian_section(check),
+        numbers=numbers_view(check),
     )

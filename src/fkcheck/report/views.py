@@ -35,6 +35,8 @@ __all__ = [
     "MatrixView",
     "Measure",
     "ModelView",
+    "NumberRow",
+    "NumbersView",
     "PartingRow",
     "PartingView",
     "PoseForms",
@@ -574,6 +576,39 @@ class EvidenceLine:
 
 
 @dataclass(frozen=True)
+class NumberRow:
+    """One number of the model in the report's table of numbers.
+
+    Attributes:
+        name: ``d1``, ``[base] z``, ``[frames.base_link] rz``.
+        group: ``joint 1 (shoulder_pan)``, ``[base]``, ``[frames.NAME]``.
+        value: Its value in the model, formatted (mm or degrees).
+        status: After the check: ``verified``, ``failed``, ``not-checked``,
+            ``not-identifiable``, ``not-covered`` or ``vouched``.
+        note: Its resolution, what could absorb it, what it trades with, its source.
+    """
+
+    name: str
+    group: str
+    value: str
+    status: str
+    note: str
+
+
+@dataclass(frozen=True)
+class NumbersView:
+    """What the compared frame pair verified of the model, number by number.
+
+    Attributes:
+        line: The one-line summary every output shows.
+        rows: One row per number.
+    """
+
+    line: str
+    rows: tuple[NumberRow, ...]
+
+
+@dataclass(frozen=True)
 class ReportPage:
     """One model's report page.
 
@@ -602,6 +637,7 @@ class ReportPage:
         diagnoses: What ``fkcheck diagnose`` finds, per distinct disagreement
             (empty when the check passed or the diagnosis was not asked for).
         jacobian: The Jacobian section (``check --jacobian``), or ``None``.
+        numbers: The model's numbers and what the check verified of each, or ``None``.
     """
 
     title: str
@@ -623,6 +659,7 @@ class ReportPage:
     generator: str
     diagnoses: tuple[DiagnosisView, ...] = ()
     jacobian: JacobianSection | None = None
+    numbers: NumbersView | None = None
 
 
 @dataclass(frozen=True)
@@ -657,8 +694,11 @@ class IndexModel:
         pair: The compared frame pair, e.g. ``"base → tool0"``.
         configurations: Number of configurations checked.
         rows: One row per backend.
-        table_evidence: ``verified``, ``failed`` or ``not-checked``.
+        table_evidence: ``verified``, ``partly-verified``, ``failed``,
+            ``expected-failure`` or ``not-checked``.
         evidence_text: What verified the table, or why nothing did.
+        numbers_text: How many table numbers the check verified, left not
+            identifiable and did not cover.
     """
 
     name: str
@@ -671,6 +711,7 @@ class IndexModel:
     rows: tuple[IndexRow, ...]
     table_evidence: str = "not-checked"
     evidence_text: str = ""
+    numbers_text: str = ""
 
 
 @dataclass(frozen=True)
