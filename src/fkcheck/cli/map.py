@@ -105,18 +105,33 @@ def run(args: argparse.Namespace) -> int:
     text = proposal_toml(result)
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:
-        summary = (
+        summary = [
             f"fkcheck map: {model.name} onto {path.name}: {model.dof} joints, "
             f"{len(linked)} frames ({', '.join(linked)}); check it: fkcheck check MODEL"
-        )
+        ]
+        if result.numbers is not None and result.pair is not None:
+            summary.append(
+                f"fkcheck map: the proposed check {result.pair[0]} → {result.pair[1]} can verify "
+                f"{result.numbers.scope()}"
+            )
+        hiding = [name for name in result.absorbs if result.pair and name in result.pair]
+        if hiding:
+            summary.append(
+                f"fkcheck map: {', '.join(hiding)} "
+                f"{'carries an offset' if len(hiding) == 1 else 'carry offsets'} that a table "
+                "error would also produce: either the URDF defines it so, or the table is off "
+                "— fkcheck cannot tell (see the NOT IDENTIFIABLE comments)"
+            )
     else:
-        summary = f"fkcheck map: {model.name} onto {path.name}: {_why_not(result)}"
+        summary = [f"fkcheck map: {model.name} onto {path.name}: {_why_not(result)}"]
     if args.output is None:
         sys.stdout.write(text)
-        print(terminal_text(summary), file=sys.stderr)
+        for line in summary:
+            print(terminal_text(line), file=sys.stderr)
     else:
         write_text_atomic(args.output, text)
-        print(terminal_text(summary))
+        for line in summary:
+            print(terminal_text(line))
         print(f"wrote {terminal_text(args.output)}")
     return 0 if result.complete else 1
 

@@ -226,6 +226,16 @@ class Coverage:
             )
         return "; ".join(parts)
 
+    def scope(self) -> str:
+        """What the pair can verify, before any check: ``every number of the table except …``."""
+        if self.spans_no_joint:
+            return f"no number of the table ({self.gaps()})"
+        if self.complete:
+            return "every number of the table"
+        if len(self.joints_spanned) == len(_row_groups(self)):
+            return f"every number of the table except {self.gaps()}"
+        return f"joints {_ranges(self.joints_spanned)} of {len(_row_groups(self))}; {self.gaps()}"
+
     def summary(self) -> str:
         """``table verified``, ``table verified except …`` or ``table partly verified: …``."""
         if self.spans_no_joint:

@@ -31,21 +31,32 @@ from __future__ import annotations
 import fnmatch
 import math
 import re
+import tomllib
 import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
+from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
 from fkcheck.core.geometry import invert
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError, FrameError, UrdfError
+from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.format import format_deg, format_mm
+from fkcheck.model.coverage import Coverage, coverage
 from fkcheck.model.sampling import sample_configurations, sampling_box
-from fkcheck.model.types import URDF_FRAME_PREFIX, FrameSpec, Model, Offset, UrdfSpec
+from fkcheck.model.types import (
+    URDF_FRAME_PREFIX,
+    CheckSpec,
+    FrameSpec,
+    Model,
+    Offset,
+    UrdfSpec,
+)
 from fkcheck.model.write import frame_toml, toml_comment, toml_string, xacro_toml
 from fkcheck.urdf.chain import UrdfKinematics
 from fkcheck.urdf.to_dh import clean_offset
@@ -92,6 +103,10 @@ _FIT_PAIRS = 48
 _FIT_STEP = 0.2
 #: Sign hypotheses kept per chain prefix while the axis directions are searched.
 _BEAM = 8
+#: Hypotheses polished by least squares when no closed-form fit fits, and the
+#: spins each starts from (:func:`_refine`).
+_REFINE = 4
+_SPINS = 8
 
 Anchor = int | Literal["world", "tcp"]  # a DH frame 0…n, "tcp" or "world"
 
@@ -174,6 +189,12 @@ class MapResult:
         xacro_args: The URDF is xacro, expanded with these arguments (``None``: plain).
         packages: The packages its ``$(find …)`` resolves, directories as ``[urdf]``
             writes them (relative to the model file).
+        pair: The proposed ``[check]`` frame pair: the outermost frames whose offsets
+            hide the fewest table numbers (``None`` when an end has no link).
+        numbers: What that pair can verify of the table (:mod:`fkcheck.model.coverage`).
+        absorbs: Proposed frame → the table numbers its offset could absorb
+            (``d1: translation along z of DH frame 0``): a table error there and an
+            offset fitted around it look the same, so fkcheck cannot tell them apart.
     """
 
     model: Model
@@ -188,6 +209,9 @@ class MapResult:
     seed: int
     xacro_args: dict[str, str] | None = None
     packages: dict[str, str] = field(default_factory=dict)
+    pair: tuple[str, str] | None = None
+    numbers: Coverage | None = None
+    absorbs: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     @property
     def tolerances(self) -> tuple[float, float]:
@@ -213,7 +237,7 @@ class MapResult:
             self.joints_fit
             and not any(j.flipped for j in self.joints)
             and not self.nearest
-            and any(f.fit is not None and f.spec.dh == 0 for f in self.frames)
+            and any(f.fit is not None and f.spec.dh in (0, "world") for f in self.frames)
         )
 
 
@@ -318,6 +342,40 @@ def _hand_eye(M: Float, U: Float) -> tuple[Float, Float]:
     return X, Y
 
 
+def _refine(M: Float, U: Float, X: Float, Y: Float) -> tuple[Float, Float]:
+    """``X``, ``Y`` with ``M ≈ X·U·Y`` by least squares on every configuration.
+
+    When every relative turn of ``U`` is about one direction (parallel axes, a
+    single revolute joint among slides) the rotation fit leaves ``Y``'s spin about
+    it free, and the closed form picks one at random: the translations decide it.
+    Starts from :data:`_SPINS` spins of ``Y`` about that direction and keeps the best.
+    """
+    D = invert(U[0::2]) @ U[1::2]
+    d = Rotation.from_matrix(D[:, :3, :3]).as_rotvec()
+    d = d[np.linalg.norm(d, axis=1) > 1e-9]
+    axis = np.linalg.svd(d)[2][0] if len(d) else np.array([0.0, 0.0, 1.0])
+    M_inv = invert(M)
+
+    def pose(p: Float) -> Float:
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = Rotation.from_rotvec(p[:3]).as_matrix(), p[3:]
+        return T
+
+    def residual(p: Float, X0: Float, Y0: Float) -> Float:
+        E = M_inv @ (X0 @ pose(p[:6])) @ U @ (pose(p[6:]) @ Y0)
+        rot = Rotation.from_matrix(E[:, :3, :3]).as_rotvec()
+        return np.concatenate([rot.reshape(-1), E[:, :3, 3].reshape(-1)])
+
+    best = (np.inf, X, Y)
+    for spin in np.linspace(0.0, 2.0 * math.pi, _SPINS, endpoint=False):
+        Y0 = pose(np.concatenate([spin * axis, np.zeros(3)])) @ Y
+        X0 = M[0] @ invert(Y0) @ invert(U[0])
+        sol = least_squares(residual, np.zeros(12), args=(X0, Y0), method="lm", xtol=1e-15)
+        if sol.cost < best[0]:
+            best = (float(sol.cost), X0 @ pose(sol.x[:6]), pose(sol.x[6:]) @ Y0)
+    return best[1], best[2]
+
+
 @dataclass(frozen=True, eq=False)
 class _Fit:
     """A joint window with axis directions, fitted: ``dh0_T_dhn = X · base_T_tip · Y``."""
@@ -370,8 +428,12 @@ class _Problem:
         base_inv = invert(poses[base])
         return {link: base_inv @ poses[link] for link in links if link in poses}
 
-    def fit(self, joints: Sequence[str], signs: Sequence[float]) -> _Fit:
-        """Fit the first ``len(signs)`` joints of ``joints``: DH frame k vs their last child."""
+    def fit(self, joints: Sequence[str], signs: Sequence[float], refine: bool = False) -> _Fit:
+        """Fit the first ``len(signs)`` joints of ``joints``: DH frame k vs their last child.
+
+        With ``refine``, the closed-form fit is polished by least squares on every
+        pair (:func:`_refine`): needed when the joints' turns leave a spin free.
+        """
         k = len(signs)
         used = tuple(joints[:k])
         base = self.kin.joints[used[0]].parent
@@ -379,6 +441,8 @@ class _Problem:
         U = self.relative(self.fit_q[:, :k], used, signs, base, [tip], None)[tip]
         M = self.dh_fit[:, k]
         X, Y = _hand_eye(M, U)
+        if refine:
+            X, Y = _refine(M, U, X, Y)
         E = invert(M) @ X @ U @ Y
         eye = np.broadcast_to(np.eye(4), E.shape)
         return _Fit(
@@ -394,6 +458,9 @@ class _Problem:
             fits = [self.fit(joints, (*signs, s)) for signs in beam for s in (1.0, -1.0)]
             best = sorted(fits, key=lambda f: f.score(self.tol))[:_BEAM]
             beam = [f.signs for f in best]
+        if best[0].score(self.tol)[0] != 0:  # parallel turns, slides: polish the likeliest
+            polished = [self.fit(joints, f.signs, refine=True) for f in best[:_REFINE]]
+            best = sorted([*polished, *best], key=lambda f: f.score(self.tol))
         return best[0]
 
     def evaluate(self, fit: _Fit, links: Sequence[str], anchor: Anchor) -> list[LinkFit]:
@@ -521,6 +588,7 @@ def map_model(
         for dh, urdf, sign in zip(model.joints, best.joints, best.signs, strict=True)
     )
     frames, nearest = _frames(problem, best)
+    pair, numbers, absorbs = _check_pair(model, frames, best.score(problem.tol)[0] == 0)
     return MapResult(
         model=model,
         urdf_path=urdf_path,
@@ -534,7 +602,57 @@ def map_model(
         seed=seed,
         xacro_args=None if xacro_args is None else dict(xacro_args),
         packages=dict(packages or {}) if xacro_args is not None else {},
+        pair=pair,
+        numbers=numbers,
+        absorbs=absorbs,
     )
+
+
+def _check_pair(
+    model: Model, frames: Sequence[ProposedFrame], chain_ok: bool
+) -> tuple[tuple[str, str] | None, Coverage | None, dict[str, tuple[str, ...]]]:
+    """The ``[check]`` pair to propose, what it verifies, and what each frame could hide.
+
+    Each end is judged alone against the other end of the chain (the TCP, the
+    world): a frame whose offset carries what a table number produces could be
+    hiding an error in that number. The pair takes, at each end, the linked frame
+    hiding the fewest table numbers, then the outermost (``world`` over DH frame
+    0, the TCP over the last DH frame: they cover ``[base]`` and ``[tool]``).
+    """
+    n = model.dof
+    linked = [p.spec for p in frames if p.fit is not None]
+    specs = {s.name: s for s in model.frames.values() if s.name in ("world", "tcp")}
+    specs.update({s.name: s for s in linked})
+    mapped = replace(model, frames=specs)
+    tol = (model.check.tol_pos_m, model.check.tol_rot_rad)
+    absorbs: dict[str, tuple[str, ...]] = {}
+    score: dict[str, tuple[int, int, int]] = {}
+    for spec in linked:
+        if spec.dh in (0, "world"):
+            c = coverage(mapped, spec.name, "tcp", *tol)
+            outer = 0 if spec.dh == "world" else 1
+        elif spec.dh in (n, "tcp"):
+            c = coverage(mapped, "world", spec.name, *tol)
+            outer = 0 if spec.dh == "tcp" else 1
+        else:
+            continue
+        mine = f"[frames.{spec.name}]"
+        hidden = tuple(
+            f"{e.name}: {e.absorbed_by.split(': ', 1)[1]}"
+            for e in c.table_numbers
+            if e.status == "not-identifiable" and e.absorbed_by.startswith(mine + ":")
+        )
+        if hidden:
+            absorbs[spec.name] = hidden
+        score[spec.name] = (len(hidden), outer, _complexity(spec.offset))
+    base = sorted((s for s in linked if s.dh in (0, "world") and s.name in score),
+                  key=lambda s: score[s.name])  # fmt: skip
+    tip = sorted((s for s in linked if s.dh in (n, "tcp") and s.name in score),
+                 key=lambda s: score[s.name])  # fmt: skip
+    if not (chain_ok and base and tip):
+        return None, None, absorbs
+    pair = (base[0].name, tip[0].name)
+    return pair, coverage(mapped, pair[0], pair[1], *tol), absorbs
 
 
 def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[LinkFit]]:
@@ -543,7 +661,7 @@ def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[Lin
     n = model.dof
     links = list(kin.links)
     order = {link: i for i, link in enumerate(links)}
-    anchors: list[Anchor] = [0, n, "tcp"] if not model.tool.is_identity else [0, n]
+    anchors: list[Anchor] = [0, "world", n, "tcp"]
     declared = {s.name: s for s in model.frames.values() if not _builtin(s)}
     for spec in declared.values():
         if spec.dh not in anchors:
@@ -564,7 +682,7 @@ def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[Lin
             used.add(proposals[-1].fit.link)
     taken = set(model.frames)
     nearest: list[LinkFit] = []
-    for group in ((0,), (n, "tcp") if "tcp" in anchors else (n,)):
+    for group in ((0, "world"), (n, "tcp")):
         found = False
         for link in sorted(links, key=lambda name: _rank(name, order)):
             candidates = [table[a][link] for a in group if fits(table[a].get(link))]
@@ -730,6 +848,7 @@ def proposal_toml(result: MapResult) -> str:
                 comment.append(f"{p.fit.link}: {p.fit.evidence()}{new}")
             if p.note:
                 comment.append(p.note)
+            comment += _absorb_warning(p, result.absorbs.get(p.spec.name, ()))
             out.append(frame_toml(p.spec, unit, comment).rstrip("\n"))
     for near in result.nearest:
         where = "DH frame 0" if near.anchor == 0 else f"DH frame {near.anchor}"
@@ -741,7 +860,60 @@ def proposal_toml(result: MapResult) -> str:
                 "over the samples."
             ),
         ]
+    out += _check_block(result)
     return "\n".join(out) + "\n"
+
+
+def _absorb_warning(p: ProposedFrame, hidden: Sequence[str]) -> list[str]:
+    """The comment over a frame whose offset could be hiding table numbers."""
+    if not hidden or p.spec.source:
+        return []
+    anchor = "the world" if p.spec.dh == "world" else "the TCP" if p.spec.dh == "tcp" else (
+        f"DH frame {p.spec.dh}"
+    )
+    names = ", ".join(h.split(":", 1)[0] for h in hidden)
+    return [
+        f"NOT IDENTIFIABLE: this offset from {anchor} carries what {names} of the table "
+        f"{'produces' if len(hidden) == 1 else 'produce'}:",
+        *(f"  {h}" for h in hidden),
+        "either the URDF defines the link so, or the table is off by it: fkcheck cannot tell "
+        "(a check through this frame does not verify those numbers). If the vendor defines "
+        'the link so, vouch for it: source = "<where the vendor says so>".',
+    ]
+
+
+def _check_block(result: MapResult) -> list[str]:
+    """The proposed ``[check]`` pair, live when the model declares no check of its own."""
+    if result.pair is None or result.numbers is None:
+        return []
+    frm, to = result.pair
+    lines = [
+        "",
+        *toml_comment(
+            [
+                "--- The check: at each end the outermost link whose offset hides the fewest "
+                "table numbers ---",
+                f"It can verify {result.numbers.scope()}.",
+            ]
+        ),
+    ]
+    body = ["[check]", f"from = {toml_string(frm)}", f"to = {toml_string(to)}"]
+    if _declares_check(result.model):  # a second [check] would not parse
+        lines += toml_comment(["The model declares its own [check]: set from and to there:"])
+        lines += toml_comment(body)
+    else:
+        lines += body
+    return lines
+
+
+def _declares_check(model: Model) -> bool:
+    """Whether the model's file has a ``[check]`` table (a model built in memory: not default)."""
+    if model.path is None or model.path.suffix.lower() != ".toml":
+        return model.check != CheckSpec()
+    try:
+        return "check" in tomllib.loads(read_text(model.path, MAX_MODEL_FILE_BYTES))
+    except (InputFileError, FkcheckError, ValueError, RecursionError):  # it was read before
+        return True
 
 
 def _flip_of(model: Model, joint: str) -> bool:

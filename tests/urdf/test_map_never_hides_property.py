@@ -1,0 +1,172 @@
+"""Done-when of "Every number accounted for": a table with one wrong number is never verified.
+
+A random standard or modified table (revolute and prismatic joints, random base,
+tool and named frames) is exported as a URDF, whose moving links are then given
+random frames of their own (as a vendor's URDF places them: the robot is the
+same, the file is not fkcheck's export). One random number of the table —
+a row's a, α, d or θ, or a component of [base] or [tool] — is then changed by a
+random amount of at least 20 tolerances; the changed table is mapped onto that
+URDF with ``fkcheck map`` (its proposed block, [check] included, pasted as a
+user would) and checked against Pinocchio's URDF reader. Whatever the map
+absorbed into frame offsets, the verdict never says "table verified"; and the
+same run on the unchanged table always does.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, note, settings
+from hypothesis import strategies as st
+
+from fkcheck.backends.registry import make_backend
+from fkcheck.core.geometry import invert, matrix_from_xyz_rpy, rpy_from_matrix
+from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
+from fkcheck.engine.runner import run_check
+from fkcheck.model.read import load_model
+from fkcheck.model.types import Model, Offset
+from fkcheck.model.write import model_to_toml
+from fkcheck.urdf.chain import read_urdf_file
+from fkcheck.urdf.export import urdf_from_model
+from fkcheck.urdf.mapping import map_model, proposal_toml
+from tests.strategies import dh_models
+
+#: Smallest change of the one wrong number, in tolerances (the issue's bar).
+MIN_TOLERANCES = 20.0
+
+pytestmark = pytest.mark.slow
+
+
+def _xyz_rpy(T: np.ndarray) -> tuple[str, str]:
+    xyz = " ".join(repr(float(v)) for v in T[:3, 3])
+    rpy = " ".join(repr(float(v)) for v in rpy_from_matrix(T[:3, :3]))
+    return xyz, rpy
+
+
+def reframe_moving_links(text: str, rng: np.random.Generator) -> str:
+    """The same robot with every moving link given a random frame of its own.
+
+    A link's frame moved by ``X`` (any turn, a slide along its joint's axis, so the
+    joint frame stays on the axis): its joint's origin becomes ``origin·X`` and
+    its axis ``Rᵀ·axis``; each joint leaving it gets ``X⁻¹·origin``. Every other
+    link keeps its pose, so the kinematics do not change.
+    """
+    root = ET.fromstring(text)
+    joints = root.findall("joint")
+    for joint in joints:
+        if joint.get("type") == "fixed":
+            continue
+        link = joint.find("child").get("link")
+        axis = joint.find("axis")
+        a = np.array([float(v) for v in axis.get("xyz").split()])
+        # Any turn, and a slide along the axis: the joint frame stays on its axis.
+        X = matrix_from_xyz_rpy(rng.uniform(-0.2, 0.2) * a, rng.uniform(-math.pi, math.pi, 3))
+        origin = joint.find("origin")
+        O = matrix_from_xyz_rpy(
+            [float(v) for v in origin.get("xyz").split()],
+            [float(v) for v in origin.get("rpy").split()],
+        )
+        origin.set("xyz", _xyz_rpy(O @ X)[0])
+        origin.set("rpy", _xyz_rpy(O @ X)[1])
+        axis.set("xyz", " ".join(repr(float(v)) for v in X[:3, :3].T @ a))
+        for child in joints:
+            if child.find("parent").get("link") == link:
+                c_origin = child.find("origin")
+                C = invert(X) @ matrix_from_xyz_rpy(
+                    [float(v) for v in c_origin.get("xyz").split()],
+                    [float(v) for v in c_origin.get("rpy").split()],
+                )
+                c_origin.set("xyz", _xyz_rpy(C)[0])
+                c_origin.set("rpy", _xyz_rpy(C)[1])
+    return ET.tostring(root, encoding="unicode")
+
+
+NUMBERS = ("a", "alpha", "d", "theta", "base", "tool")
+
+
+def parallel_axes(model: Model) -> bool:
+    """Every joint axis parallel to the first (a planar or single-axis chain)."""
+    tilts = model.joints[:-1] if model.convention == "standard" else model.joints[1:]
+    return all(abs(math.sin(j.alpha)) < 1e-6 for j in tilts)
+
+
+def perturbed(model: Model, which: str, row: int, component: int, delta: float) -> Model:
+    """The model with one number changed by ``delta`` (m or rad)."""
+    if which in ("base", "tool"):
+        offset: Offset = getattr(model, which)
+        xyz, rpy = list(offset.xyz), list(offset.rpy)
+        (xyz if component < 3 else rpy)[component % 3] += delta
+        return replace(model, **{which: Offset(tuple(xyz), tuple(rpy))})  # type: ignore[arg-type]
+    joints = list(model.joints)
+    joints[row] = replace(joints[row], **{which: getattr(joints[row], which) + delta})
+    return replace(model, joints=tuple(joints))
+
+
+def mapped_check(model: Model, urdf_text: str, directory: Any) -> tuple[str, str, Any]:
+    """``fkcheck map`` the model onto the URDF, paste its block, check against the URDF."""
+    urdf = directory / "robot.urdf"
+    urdf.write_text(urdf_text, encoding="utf-8")
+    bare = replace(model, urdf=None, frames={k: v for k, v in model.frames.items()
+                                            if k in ("world", "tcp")})  # fmt: skip
+    path, _text, kin = read_urdf_file(str(urdf))
+    result = map_model(bare, kin, "robot.urdf", samples=32)
+    block = proposal_toml(result)
+    note(block)
+    model_file = directory / "model.toml"
+    # The user's model: the table with no [check] of its own (the block brings one).
+    table = model_to_toml(bare).split("\n[check]\n")[0]
+    model_file.write_text(table + "\n" + block, encoding="utf-8")
+    if not result.complete:
+        return "map-incomplete", block, result
+    mapped = load_model(model_file)
+    check = run_check(mapped, [make_backend("pinocchio-urdf")], samples=64, seed=1)
+    note(check.evidence.table.gaps)
+    return check.evidence.table.status, block, check
+
+
+@st.composite
+def cases(draw: st.DrawFn) -> tuple[Model, str, int, int, float, int]:
+    model = draw(dh_models(max_joints=6))
+    which = draw(st.sampled_from(NUMBERS))
+    row = draw(st.integers(0, model.dof - 1))
+    component = draw(st.integers(0, 5))
+    unit_tol = DEFAULT_TOL_POS_M if which in ("a", "d") or (
+        which in ("base", "tool") and component < 3
+    ) else DEFAULT_TOL_ROT_RAD
+    size = draw(st.floats(math.log(MIN_TOLERANCES * unit_tol), math.log(0.5)))
+    sign = draw(st.sampled_from((-1.0, 1.0)))
+    seed = draw(st.integers(0, 2**32 - 1))
+    return model, which, row, component, sign * math.exp(size), seed
+
+
+@settings(
+    max_examples=max(10, settings().max_examples // 2),
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(case=cases())
+def test_property_one_wrong_number_is_never_table_verified(case, tmp_path_factory):
+    model, which, row, component, delta, seed = case
+    # The map needs the joints to move: a joint whose limits leave it still is no arm.
+    lo, hi = model.limits[:, 0], model.limits[:, 1]
+    assume(bool(np.all(hi - lo > 0.05)))
+    # Joints whose axes are all parallel (one joint, a planar chain) move the same
+    # under a slide along that direction at either end, and their relative turns
+    # leave the spin about it free: the map's hand–eye fit is not unique there and
+    # it may find no mapping, or one whose offsets carry that free choice (then
+    # reported as not identifiable, never as verified). Not this property's chains.
+    assume(not parallel_axes(model))
+    urdf_text = reframe_moving_links(urdf_from_model(model).text, np.random.default_rng(seed))
+    directory = tmp_path_factory.mktemp("case")
+
+    status, _block, _ = mapped_check(model, urdf_text, directory)
+    assert status == "verified", "the unchanged table must be verified"
+
+    wrong = perturbed(model, which, row, component, delta)
+    note(f"changed {which} row {row} component {component} by {delta!r}")
+    status, _block, _ = mapped_check(wrong, urdf_text, directory)
+    assert status != "verified"
