@@ -22,6 +22,7 @@ from pathlib import Path
 
 from fkcheck.backends.base import Backend
 from fkcheck.backends.registry import default_backends, make_backend
+from fkcheck.core.tolerances import check_limit
 from fkcheck.core.typing import JacobianReference
 from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
 from fkcheck.diagnose.jacobian import explain_sample
@@ -121,8 +122,15 @@ def check(
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
 
     Raises:
-        FkcheckError: Bad input (unknown model, backend or frame, bad file…).
+        FkcheckError: Bad input (unknown model, backend or frame, bad file…); a
+            tolerance out of its range is a ``ToleranceError`` (also a ``ValueError``).
     """
+    if tol_pos_m is not None:
+        check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
+    if tol_rot_rad is not None:
+        check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
+    if tol_jacobian is not None:
+        check_limit(tol_jacobian, "tol_jacobian", "tol_jacobian")
     loaded = model if isinstance(model, Model) else load_model(model)
     if against is None:
         backends = default_backends()
@@ -132,7 +140,7 @@ def check(
     spec = (
         JacobianSpec(
             jacobian_reference or loaded.check.jacobian_reference,
-            tol_jacobian or loaded.check.tol_jacobian,
+            loaded.check.tol_jacobian if tol_jacobian is None else tol_jacobian,
         )
         if wanted
         else None

@@ -24,6 +24,7 @@ __all__ = [
     "JointInputError",
     "ModelError",
     "Skip",
+    "ToleranceError",
     "UnmappedFrameError",
     "UrdfError",
     "XacroRefused",
@@ -61,6 +62,22 @@ class JointInputError(FkcheckError, ValueError):
 
     It is also a :class:`ValueError`, so numeric code can catch it as such.
     """
+
+
+class ToleranceError(FkcheckError, ValueError):
+    """A tolerance or a known difference's bound out of range (:mod:`fkcheck.core.tolerances`).
+
+    It is also a :class:`ValueError`, so numeric code can catch it as such.
+
+    Attributes:
+        where: The argument or flag it came in (``--tol-pos``, ``tol_pos_m``).
+        problem: The range it must be in, and the value given.
+    """
+
+    def __init__(self, where: str, problem: str) -> None:
+        self.where = where
+        self.problem = problem
+        super().__init__(f"{where}: {problem}")
 
 
 class FrameError(FkcheckError):

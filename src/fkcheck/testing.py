@@ -8,14 +8,14 @@ Example:
 Both raise :class:`AssertionError` with a message a person can act on: for a
 check, the verdict, each backend's largest errors in mm and degrees, the worst
 configuration and the diagnosis's headline; for two poses, the differences in mm
-and degrees and the index of the worst pose. :func:`check_message` is that text
+and degrees and the index of the worst pose (and a matrix that is not a rigid
+transform is refused, naming its defect). :func:`check_message` is that text
 for any finished check (the pytest plugin, :mod:`fkcheck.pytest_plugin`, shows
 the same). Nothing here imports pytest.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -24,7 +24,10 @@ from numpy.typing import ArrayLike
 
 from fkcheck.api import Outcome, check
 from fkcheck.backends.base import Backend
-from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
+from fkcheck.core.tolerances import check_limit
+from fkcheck.core.typing import Float
+from fkcheck.engine.compare import SE3_TOLERANCE
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.io.format import format_deg, format_mm, format_value
 from fkcheck.io.text import terminal_text
@@ -183,6 +186,45 @@ def _index(flat: int, shape: tuple[int, ...]) -> str:
     return str(tuple(int(i) for i in np.unravel_index(flat, shape))) if shape else "()"
 
 
+def _defect_text(T: Float) -> str:
+    """What keeps one ``(4, 4)`` matrix from being a rigid transform, a few words."""
+    last = T[3]
+    if np.abs(last - np.array([0.0, 0.0, 0.0, 1.0])).max() > SE3_TOLERANCE:
+        return f"its bottom row is [{', '.join(f'{v:g}' for v in last)}], not [0, 0, 0, 1]"
+    R = T[:3, :3]
+    det = float(np.linalg.det(R))
+    if det < 0:
+        return f"its 3×3 part has det {det:.3g}: a reflection, not a rotation"
+    s = np.linalg.svd(R, compute_uv=False)
+    if s[0] - s[-1] <= SE3_TOLERANCE:
+        return f"its 3×3 part is a rotation scaled by {float(s.mean()):.6g}"
+    values = ", ".join(f"{float(v):.4g}" for v in s)
+    return f"its 3×3 part is sheared or unevenly scaled (singular values {values}), not a rotation"
+
+
+def _refuse_non_rigid(name: str, x: Float, tol_rot_rad: float, head: str) -> None:
+    """Raise AssertionError for the first pose of ``x`` that is not a rigid transform.
+
+    The bottom row must be ``0 0 0 1`` to :data:`~fkcheck.engine.compare.SE3_TOLERANCE`
+    (it is exact in any printed form); the 3×3 part orthonormal with det +1 to
+    ``tol_rot_rad`` (at least ``SE3_TOLERANCE``): a rotation angle read from a
+    matrix that far from a rotation is off by about as much, so the comparison
+    would mean nothing at that tolerance. Matrices typed with six decimals are
+    within 2e-6, with four within 2e-4.
+    """
+    flat = x.reshape(-1, 4, 4)
+    last = np.abs(flat[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
+    bad = (last > SE3_TOLERANCE) | (se3_defect(flat) > max(SE3_TOLERANCE, tol_rot_rad))
+    if not bad.any():
+        return
+    k = int(np.argmax(bad))
+    where = f" at index {_index(k, x.shape[:-2])}" if x.ndim > 2 else ""
+    raise AssertionError(
+        f"{head}Poses not comparable: {name} is not a rigid transform{where}: "
+        f"{_defect_text(flat[k])}"
+    )
+
+
 def assert_pose_close(
     actual: ArrayLike,
     desired: ArrayLike,
@@ -193,25 +235,31 @@ def assert_pose_close(
     """Assert that poses agree in position and rotation within tolerances.
 
     Compares the distance between the origins (metres) and the angle of
-    ``R_aᵀ R_b`` (radians, accurate near 0 and π) of each pose; the last row is
-    not compared. Both must be rigid transforms for the angle to mean anything.
+    ``R_aᵀ R_b`` (radians, accurate near 0 and π) of each pose. Both must be
+    rigid transforms for the angle to mean anything: a matrix whose bottom row is
+    not ``0 0 0 1``, or whose 3×3 part is scaled, sheared or a reflection beyond
+    ``tol_rot_rad`` (at least :data:`~fkcheck.engine.compare.SE3_TOLERANCE`), is
+    refused as not comparable, like NaN.
 
     Args:
         actual: One pose ``(4, 4)`` or a batch ``(..., 4, 4)``.
         desired: The same shape.
-        tol_pos_m: Largest allowed position difference, metres.
-        tol_rot_rad: Largest allowed rotation difference, radians.
+        tol_pos_m: Largest allowed position difference, metres: more than 0, at
+            most :data:`~fkcheck.core.tolerances.MAX_TOL_POS_M` (1 cm).
+        tol_rot_rad: Largest allowed rotation difference, radians: more than 0,
+            at most :data:`~fkcheck.core.tolerances.MAX_TOL_ROT_RAD` (0.1 rad).
         err_msg: Text put first in the message.
 
     Raises:
-        AssertionError: Shapes differ, a value is NaN or infinite, or a pose is
-            beyond a tolerance; the message gives the number of mismatched poses,
-            the largest differences in mm and degrees, and the index of each.
-        ValueError: A tolerance is negative or not finite.
+        AssertionError: Shapes differ, a value is NaN or infinite, a matrix is not
+            a rigid transform (the message names which input, the index and the
+            defect), or a pose is beyond a tolerance; the message then gives the
+            number of mismatched poses, the largest differences in mm and degrees,
+            and the index of each.
+        ToleranceError: A tolerance out of its range; it is a ``ValueError``.
     """
-    for name, tol in (("tol_pos_m", tol_pos_m), ("tol_rot_rad", tol_rot_rad)):
-        if not (math.isfinite(tol) and tol >= 0):
-            raise ValueError(f"{name} must be a finite number >= 0, got {tol}")
+    check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
+    check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
     a = np.asarray(actual, dtype=np.float64)
     b = np.asarray(desired, dtype=np.float64)
     head = f"{err_msg}\n" if err_msg else ""
@@ -227,6 +275,8 @@ def assert_pose_close(
                 f"{head}Poses not comparable: {name} has NaN or infinite values at index "
                 f"{_index(bad, x.shape[:-2])}"
             )
+    for name, x in (("actual", a), ("desired", b)):
+        _refuse_non_rigid(name, x, tol_rot_rad, head)
     pos = np.atleast_1d(position_error_m(a, b))
     rot = np.atleast_1d(rotation_error_rad(a, b))
     bad_mask = (pos > tol_pos_m) | (rot > tol_rot_rad)

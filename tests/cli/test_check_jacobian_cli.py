@@ -100,7 +100,11 @@ def test_the_models_check_section_turns_it_on_and_no_jacobian_off(tmp_path, caps
             r"check\.jacobian_reference: unknown reference frame.*"
             r"references are: world, local, world-aligned",
         ),
-        ("tol_jacobian = -1", r"check\.tol_jacobian: must be positive"),
+        ("tol_jacobian = -1", r"check\.tol_jacobian: must be > 0 and at most 0\.01 .*, got -1$"),
+        (
+            "tol_jacobian = 1e300",
+            r"check\.tol_jacobian: must be > 0 and at most 0\.01 .*, got 1e\+300$",
+        ),
     ],
 )
 def test_bad_check_keys_are_one_line_and_exit_2(tmp_path, capsys, line, message):
@@ -115,7 +119,9 @@ def test_bad_check_keys_are_one_line_and_exit_2(tmp_path, capsys, line, message)
 
 def test_bad_tolerance_and_moving_from_frame_exit_2(capsys):
     assert main(["check", *UR5_TCP, "--tol-jacobian", "0", "--against", "rtb-dh"]) == 2
-    assert "--tol-jacobian must be a positive number" in capsys.readouterr().err
+    assert (
+        "--tol-jacobian: must be > 0 and at most 0.01 m/rad and rad/rad" in capsys.readouterr().err
+    )
     argv = ["check", "panda", "--from", "panda_link2", "--jacobian", "--against", "rtb-dh"]
     assert main(argv) == 2
     assert "moves with joints 1–2" in capsys.readouterr().err

@@ -150,7 +150,7 @@ def test_plugin_through_the_cli(capsys, tmp_path, monkeypatch):
     [
         (["--against", "rtb-model:UR7"], r"unknown backend 'UR7'|UR7"),
         (["--to", "tool"], r"frame 'tool' not in model ur5"),
-        (["--tol-pos", "-1"], r"--tol-pos must be a positive number"),
+        (["--tol-pos", "-1"], r"--tol-pos: must be > 0 and at most 0\.01 m .*, got -1$"),
     ],
 )
 def test_bad_input_is_exit_2(capsys, argv, match):

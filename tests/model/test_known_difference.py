@@ -22,12 +22,12 @@ def test_a_known_difference_is_read_with_its_bounds(tmp_path):
     path = tmp_path / "m.toml"
     path.write_text(
         HEAD + GOOD + '[[known_difference]]\nbackends = ["rtb-urdf", "rtb-model:UR5"]\n'
-        'finding = "x"\nmax_position_m = 1\nmax_angle_rad = 0.5\n'
+        'finding = "x"\nmax_position_m = 0.1\nmax_angle_rad = 0.1\n'  # the bounds: allowed
     )
     model = load_model(path)
     assert model.known_differences == (
         KnownDifference(("pinocchio-urdf",), "d1 0.3 mm", 0.001, 2e-5),
-        KnownDifference(("rtb-urdf", "rtb-model:UR5"), "x", 1.0, 0.5),
+        KnownDifference(("rtb-urdf", "rtb-model:UR5"), "x", 0.1, 0.1),
     )
 
 
@@ -84,22 +84,45 @@ BAD = {
         RECORD + "max_angle_rad = 1\n",
         r"known_difference\[0\]\.max_position_m: missing \(required: the largest error",
     ),
-    "angle_bound_missing": (RECORD + "max_position_m = 1\n", r"max_angle_rad: missing"),
+    "angle_bound_missing": (RECORD + "max_position_m = 0.01\n", r"max_angle_rad: missing"),
     "bound_not_a_number": (
         RECORD + 'max_position_m = "1mm"\nmax_angle_rad = 1\n',
         r"max_position_m: expected a number",
     ),
     "bound_zero": (
-        RECORD + "max_position_m = 1\nmax_angle_rad = 0\n",
-        r"max_angle_rad: must be positive",
+        RECORD + "max_position_m = 0.01\nmax_angle_rad = 0\n",
+        r"max_angle_rad: must be > 0 and at most 0\.1 rad .*, got 0$",
     ),
     "bound_bool": (
-        RECORD + "max_position_m = 1\nmax_angle_rad = true\n",
+        RECORD + "max_position_m = 0.01\nmax_angle_rad = true\n",
         r"max_angle_rad: expected a number",
     ),
     "bound_nan": (
         RECORD + "max_position_m = nan\nmax_angle_rad = 1\n",
         r"max_position_m: must be a finite number",
+    ),
+    # Bounds beyond any finding would excuse a wrong model (a 500 mm error as "expected").
+    "position_bound_huge": (
+        RECORD + "max_position_m = 1e300\nmax_angle_rad = 1e-3\n",
+        r"known_difference\[0\]\.max_position_m: must be > 0 and at most 0\.1 m \(a larger "
+        r"difference is a wrong model, not a known difference\), got 1e\+300$",
+    ),
+    "position_bound_arm_sized": (
+        RECORD + "max_position_m = 0.5\nmax_angle_rad = 1e-3\n",
+        r"max_position_m: must be > 0 and at most 0\.1 m .*, got 0\.5$",
+    ),
+    "angle_bound_huge": (
+        RECORD + "max_position_m = 1e-3\nmax_angle_rad = 10\n",
+        r"known_difference\[0\]\.max_angle_rad: must be > 0 and at most 0\.1 rad \(5\.7°: a "
+        r"larger one, such as a missing 90° θ offset, is a wrong model.*\), got 10$",
+    ),
+    "angle_bound_quarter_turn": (
+        RECORD + "max_position_m = 1e-3\nmax_angle_rad = 1.5707963\n",
+        r"max_angle_rad: must be > 0 and at most 0\.1 rad .*, got 1\.5708$",
+    ),
+    "position_bound_negative": (
+        RECORD + "max_position_m = -1e-3\nmax_angle_rad = 1e-3\n",
+        r"max_position_m: must be > 0 and at most 0\.1 m .*, got -0\.001$",
     ),
 }
 
@@ -115,7 +138,10 @@ def test_bad_known_difference_is_one_clear_error(tmp_path, case):
     assert "\n" not in str(info.value)
 
 
-@pytest.mark.parametrize("case", ["unknown_key", "unknown_backend", "bound_zero"])
+@pytest.mark.parametrize(
+    "case",
+    ["unknown_key", "unknown_backend", "bound_zero", "position_bound_huge", "angle_bound_huge"],
+)
 def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case):
     path = tmp_path / f"{case}.toml"
     path.write_text(TOP + BAD[case][0] + JOINT)
@@ -124,3 +150,16 @@ def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case):
     assert "Traceback" not in err
     assert len(err.strip().splitlines()) == 1
     assert str(path) in err
+
+
+@pytest.mark.parametrize(
+    ("position", "angle", "match"),
+    [
+        (0.2, 1e-3, r"KnownDifference\.max_position_m: must be > 0 and at most 0\.1 m"),
+        (1e-3, 3.2, r"KnownDifference\.max_angle_rad: must be > 0 and at most 0\.1 rad"),
+        (1e-3, float("nan"), r"KnownDifference\.max_angle_rad: .*, got nan$"),
+    ],
+)
+def test_a_known_difference_built_in_memory_is_bounded_too(position, angle, match):
+    with pytest.raises(ValueError, match=match):  # a ToleranceError: also an FkcheckError
+        KnownDifference(("pinocchio-urdf",), "x", position, angle)

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from fkcheck import ModelError, load_model
 from fkcheck.core.tolerances import SAME_CHAIN
+from fkcheck.errors import ToleranceError
 from fkcheck.model.read import bundled_model_paths
 from fkcheck.model.types import MAX_JOINTS
 from tests.helpers import BUNDLED, assert_pose_close, random_q
@@ -199,7 +201,25 @@ BAD_FILES = {
     ),
     "check_negative_tol": (
         GOOD_HEAD + JOINT + "[check]\ntol_pos_m = -1.0\n",
-        r"check\.tol_pos_m: must be positive",
+        r"check\.tol_pos_m: must be > 0 and at most 0\.01 m .*, got -1$",
+    ),
+    # Limits without limits: each tolerance has an upper bound (fkcheck.core.tolerances).
+    "check_huge_tol_pos": (
+        GOOD_HEAD + JOINT + "[check]\ntol_pos_m = 1000\n",
+        r"check\.tol_pos_m: must be > 0 and at most 0\.01 m \(1 cm: a looser check cannot tell a "
+        r"wrong link length from a right one\), got 1000$",
+    ),
+    "check_huge_tol_rot": (
+        GOOD_HEAD + JOINT + "[check]\ntol_rot_rad = 3.1416\n",
+        r"check\.tol_rot_rad: must be > 0 and at most 0\.1 rad \(5\.7°: .*\), got 3\.1416$",
+    ),
+    "check_huge_tol_jacobian": (
+        GOOD_HEAD + JOINT + "[check]\ntol_jacobian = 1e300\n",
+        r"check\.tol_jacobian: must be > 0 and at most 0\.01 m/rad and rad/rad .*, got 1e\+300$",
+    ),
+    "check_zero_tol_rot": (
+        GOOD_HEAD + JOINT + "[check]\ntol_rot_rad = 0\n",
+        r"check\.tol_rot_rad: must be > 0 .*, got 0$",
     ),
 }
 
@@ -214,6 +234,20 @@ def test_bad_model_file_is_one_clear_error(tmp_path, case):
     message = str(info.value)
     assert message.startswith(str(path))
     assert "\n" not in message
+
+
+def test_a_check_spec_built_in_memory_is_bounded_too():
+    # Not only files: a model changed in memory cannot carry a limit without limits.
+    check = load_model("ur5").check
+    for key, value, match in [
+        ("tol_pos_m", 1000.0, r"^CheckSpec\.tol_pos_m: must be > 0 and at most 0\.01 m"),
+        ("tol_rot_rad", math.pi, r"^CheckSpec\.tol_rot_rad: must be > 0 and at most 0\.1 rad"),
+        ("tol_jacobian", 1e300, r"^CheckSpec\.tol_jacobian: must be > 0 and at most 0\.01"),
+        ("tol_pos_m", 0.0, r"^CheckSpec\.tol_pos_m: .*, got 0$"),
+    ]:
+        with pytest.raises(ToleranceError, match=match):
+            replace(check, **{key: value})
+    assert replace(check, tol_pos_m=0.01, tol_rot_rad=0.1, tol_jacobian=0.01).tol_rot_rad == 0.1
 
 
 @pytest.mark.parametrize(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -74,7 +75,24 @@ def test_no_table_means_no_project(tmp_path):
         ('require = ["tabel"]', r"tool\.fkcheck\.require: 'tabel' is not a kind of evidence"),
         ("models = [1]", r"tool\.fkcheck\.models: must be a string or a list of strings"),
         ('sampler = "grid"', r"tool\.fkcheck\.sampler: 'grid' unknown; samplers are"),
-        ("tol_pos_m = nan", r"tool\.fkcheck\.tol_pos_m: must be positive and finite"),
+        (
+            "tol_pos_m = nan",
+            r"tool\.fkcheck\.tol_pos_m: must be > 0 and at most 0\.01 m .*, got nan$",
+        ),
+        # Limits without limits: 1000 m or 10 rad accept any table, π or more any rotation.
+        (
+            "tol_pos_m = 1000",
+            r"tool\.fkcheck\.tol_pos_m: must be > 0 and at most 0\.01 m \(1 cm: a looser check "
+            r"cannot tell a wrong link length from a right one\), got 1000$",
+        ),
+        (
+            "tol_rot_rad = 10",
+            r"tool\.fkcheck\.tol_rot_rad: must be > 0 and at most 0\.1 rad \(5\.7°: .*at π accepts "
+            r"every rotation\), got 10$",
+        ),
+        ("tol_rot_rad = 3.15", r"tool\.fkcheck\.tol_rot_rad: must be > 0 .*, got 3\.15$"),
+        ('tol_pos_m = "1mm"', r"tool\.fkcheck\.tol_pos_m: must be > 0 .*, got '1mm'$"),
+        ("tol_pos_m = true", r"tool\.fkcheck\.tol_pos_m: must be > 0 .*, got True$"),
         ("timeout = 0", r"tool\.fkcheck\.timeout: must be positive and finite"),
         ("jacobian = 1", r"tool\.fkcheck\.jacobian: must be true or false"),
         (
@@ -82,7 +100,12 @@ def test_no_table_means_no_project(tmp_path):
             r"tool\.fkcheck\.jacobian_reference: 'base' unknown; references are: world, local, "
             "world-aligned",
         ),
-        ("tol_jacobian = -1e-6", r"tool\.fkcheck\.tol_jacobian: must be positive and finite"),
+        ("tol_jacobian = -1e-6", r"tool\.fkcheck\.tol_jacobian: must be > 0 .*, got -1e-06$"),
+        (
+            "tol_jacobian = 1e300",
+            r"tool\.fkcheck\.tol_jacobian: must be > 0 and at most 0\.01 m/rad and rad/rad .*, "
+            r"got 1e\+300$",
+        ),
     ],
 )
 def test_a_bad_table_is_one_line_naming_the_key(tmp_path, table, match):
@@ -91,6 +114,27 @@ def test_a_bad_table_is_one_line_naming_the_key(tmp_path, table, match):
         load_project(tmp_path)
     assert "\n" not in str(info.value)
     assert str(info.value).startswith(str(tmp_path / "pyproject.toml"))
+
+
+def test_a_tolerance_beyond_its_bound_in_a_parent_directory_names_that_file(tmp_path):
+    # The nearest pyproject.toml may sit far above: the error says which one it is.
+    root = _project(tmp_path, "tol_pos_m = 1000\ntol_rot_rad = 1e-3")
+    deep = root / "robots" / "sub"
+    deep.mkdir()
+    with pytest.raises(
+        ProjectError,
+        match=r"^"
+        + re.escape(str((root / "pyproject.toml").resolve()))
+        + r": tool\.fkcheck\.tol_pos_m: must be > 0 and at most 0\.01 m .*, got 1000$",
+    ):
+        load_project(deep)
+
+
+def test_tolerances_within_their_bounds_are_read(tmp_path):
+    _project(tmp_path, "tol_pos_m = 0.01\ntol_rot_rad = 0.1\ntol_jacobian = 1e-2")
+    config = load_project(tmp_path)
+    assert config is not None
+    assert (config.tol_pos_m, config.tol_rot_rad, config.tol_jacobian) == (0.01, 0.1, 0.01)
 
 
 def test_not_toml_is_one_line(tmp_path):

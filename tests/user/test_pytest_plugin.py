@@ -168,6 +168,41 @@ def test_a_bad_tool_fkcheck_table_is_one_usage_error(tmp_path: Path) -> None:
     assert "Traceback" not in result.stderr
 
 
+def test_a_tolerance_beyond_its_bound_in_tool_fkcheck_is_one_usage_error(tmp_path: Path) -> None:
+    # `tol_pos_m = 1000` accepted any table, and still said "table verified".
+    repo = make_user_repo(tmp_path / "repo", 'models = ["robots/*.toml"]\ntol_pos_m = 1000\n')
+    result = subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider"],
+        cwd=repo, env=_env(tmp_path), capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert result.returncode == 4, result.stdout + result.stderr  # pytest: usage error
+    assert re.search(
+        r"fkcheck: .*pyproject\.toml: tool\.fkcheck\.tol_pos_m: must be > 0 and at most 0\.01 m "
+        r"\(.*\), got 1000$",
+        result.stderr,
+        re.MULTILINE,
+    ), result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_a_models_tolerance_beyond_its_bound_is_its_failing_load_test(tmp_path: Path) -> None:
+    repo = make_user_repo(tmp_path / "repo", 'models = ["robots/"]\nsamples = 5\n')
+    (repo / "robots" / "bad.toml").unlink()
+    good = repo / "robots" / "good.toml"
+    good.write_text(good.read_text("utf-8") + "tol_rot_rad = 10\n", "utf-8")  # in [check]
+    result = subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-rA"],
+        cwd=repo, env=_env(tmp_path), capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert result.returncode == 1, result.stdout
+    assert "collected 1 item" in result.stdout
+    assert re.search(r"^FAILED robots/good\.toml::fkcheck\[load\]", result.stdout, re.MULTILINE)
+    assert re.search(
+        r"good\.toml: check\.tol_rot_rad: must be > 0 and at most 0\.1 rad \(.*\), got 10",
+        result.stdout,
+    ), result.stdout
+
+
 def test_an_unreadable_model_is_one_failing_test(tmp_path: Path) -> None:
     repo = make_user_repo(tmp_path / "repo", 'models = ["robots/"]\nsamples = 5\n')
     (repo / "robots" / "good.toml").unlink()

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from fkcheck.core.geometry import matrix_from_xyz_rpy
+from fkcheck.errors import ToleranceError
 from fkcheck.model.read import load_model
 from fkcheck.testing import assert_fk_matches, assert_pose_close
 from tests.user.userrepo import WRONG_ALPHA, bad_ur5_text
@@ -56,8 +57,88 @@ def test_pose_close_refuses_shapes_and_nan() -> None:
     bad[1, 0, 0] = np.nan
     with pytest.raises(AssertionError, match=r"actual has NaN or infinite values at index \(1,\)"):
         assert_pose_close(bad, np.stack([_pose()] * 3))
-    with pytest.raises(ValueError, match="tol_pos_m must be a finite number"):
+    with pytest.raises(ValueError, match=r"^tol_pos_m: must be > 0 and at most 0\.01 m"):
         assert_pose_close(_pose(), _pose(), tol_pos_m=-1.0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"tol_pos_m": 1000.0}, r"^tol_pos_m: must be > 0 and at most 0\.01 m .*, got 1000$"),
+        ({"tol_pos_m": 0.0}, r"^tol_pos_m: must be > 0 .*, got 0$"),
+        ({"tol_rot_rad": 10.0}, r"^tol_rot_rad: must be > 0 and at most 0\.1 rad .*, got 10$"),
+        ({"tol_rot_rad": math.pi}, r"^tol_rot_rad: .*at π accepts every rotation\), got 3\.14159$"),
+        ({"tol_rot_rad": float("nan")}, r"^tol_rot_rad: .*, got nan$"),
+    ],
+)
+def test_pose_close_tolerances_are_bounded(kwargs, match):
+    with pytest.raises(ToleranceError, match=match):  # a ValueError too
+        assert_pose_close(_pose(), _pose(), **kwargs)
+    assert_pose_close(_pose(), _pose(x=0.105), tol_pos_m=0.01, tol_rot_rad=0.1)  # the bounds
+
+
+def _scaled(T: np.ndarray) -> np.ndarray:
+    out = T.copy()
+    out[:3, :3] *= 2.0
+    return out
+
+
+def _sheared(T: np.ndarray) -> np.ndarray:
+    out = T.copy()
+    out[:3, :3] = out[:3, :3] @ np.array([[1.0, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    return out
+
+
+def _bottom_row(T: np.ndarray) -> np.ndarray:
+    out = T.copy()
+    out[3] = 5.0
+    return out
+
+
+def _reflected(T: np.ndarray) -> np.ndarray:
+    out = T.copy()
+    out[:3, 2] *= -1.0
+    return out
+
+
+NOT_RIGID = {
+    "scaled": (_scaled, r"its 3×3 part is a rotation scaled by 2$"),
+    "sheared": (
+        _sheared,
+        r"its 3×3 part is sheared or unevenly scaled \(singular values 1\.281, 1, 0\.7808\), "
+        r"not a rotation$",
+    ),
+    "bottom_row": (_bottom_row, r"its bottom row is \[5, 5, 5, 5\], not \[0, 0, 0, 1\]$"),
+    "reflected": (_reflected, r"its 3×3 part has det -1: a reflection, not a rotation$"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(NOT_RIGID))
+def test_pose_close_refuses_a_matrix_that_is_not_a_rigid_transform(case):
+    # Before, a matrix scaled by 2, a sheared one and one ending [5, 5, 5, 5] passed.
+    make, defect = NOT_RIGID[case]
+    good = _pose()
+    with pytest.raises(AssertionError, match=r"^Poses not comparable: desired is not a rigid "
+                       r"transform: " + defect):  # fmt: skip
+        assert_pose_close(good, make(good), tol_pos_m=0.01, tol_rot_rad=0.1)
+    batch = np.stack([good, good, make(good)])
+    with pytest.raises(AssertionError, match=r"^ur5\nPoses not comparable: actual is not a rigid "
+                       r"transform at index \(2,\): " + defect):  # fmt: skip
+        assert_pose_close(batch, np.stack([good] * 3), err_msg="ur5")
+
+
+def test_pose_close_accepts_matrices_as_rigid_as_their_printed_digits():
+    # A 3×3 part typed with six decimals is within 2e-6 of a rotation, with four within 2e-4:
+    # rigid enough at a rotation tolerance of that size; a scale beyond it is refused.
+    exact = _pose()
+    typed = np.round(exact, 6)
+    assert_pose_close(typed, exact, tol_pos_m=1e-6, tol_rot_rad=2e-6)
+    assert_pose_close(np.round(exact, 4), exact, tol_pos_m=1e-4, tol_rot_rad=3e-4)
+    slightly = exact.copy()
+    slightly[:3, :3] *= 1.0 + 1e-4
+    with pytest.raises(AssertionError, match=r"rotation scaled by 1\.0001$"):
+        assert_pose_close(exact, slightly, tol_rot_rad=1e-5)
+    assert_pose_close(exact, slightly, tol_rot_rad=1e-3)  # within the precision asked for
 
 
 def test_fk_matches_returns_the_outcome_when_it_agrees() -> None:

@@ -42,6 +42,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.cli.progress import PLAIN_INTERVAL_S
+from fkcheck.core.tolerances import MAX_TOL_JACOBIAN, MAX_TOL_POS_M, MAX_TOL_ROT_RAD
 from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import FkcheckError
 
@@ -116,8 +117,10 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--sampler", choices=("sobol", "uniform"), help="(default sobol)")
     p.add_argument("--from", dest="frame_from", metavar="FRAME", help="frame the pose is in")
     p.add_argument("--to", dest="frame_to", metavar="FRAME", help="frame whose pose is compared")
-    p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
-    p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
+    p.add_argument("--tol-pos", type=float, metavar="M",
+                   help=f"position tolerance, metres (at most {MAX_TOL_POS_M:g})")  # fmt: skip
+    p.add_argument("--tol-rot", type=float, metavar="RAD",
+                   help=f"rotation tolerance, radians (at most {MAX_TOL_ROT_RAD:g})")  # fmt: skip
     p.add_argument(
         "--jacobian",
         action=argparse.BooleanOptionalAction,
@@ -138,7 +141,7 @@ def add_parser(sub: Any) -> None:
         type=float,
         metavar="TOL",
         help="Jacobian tolerance, m/rad (linear rows) and rad/rad (angular rows); default "
-        "1e-6; implies --jacobian",
+        f"1e-6, at most {MAX_TOL_JACOBIAN:g}; implies --jacobian",
     )
     add_allow_xacro(p)
     p.add_argument("--timeout", type=float, metavar="S",
@@ -206,15 +209,20 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
 
 def _validate(args: argparse.Namespace) -> None:
     from fkcheck.backends.registry import MAX_TIMEOUT_S
+    from fkcheck.core.tolerances import check_limit
     from fkcheck.errors import JointInputError
     from fkcheck.model.sampling import check_sampling_options
 
     check_sampling_options(args.samples, args.seed)
-    for flag, value in (("--tol-pos", args.tol_pos), ("--tol-rot", args.tol_rot),
-                        ("--tol-jacobian", args.tol_jacobian),
-                        ("--timeout", args.timeout)):  # fmt: skip
-        if value is not None and not (math.isfinite(value) and value > 0):
-            raise JointInputError(f"{flag} must be a positive number, got {value}")
+    # A value from [tool.fkcheck] is within range already (refused naming its file).
+    if args.tol_pos is not None:
+        check_limit(args.tol_pos, "tol_pos", "--tol-pos")
+    if args.tol_rot is not None:
+        check_limit(args.tol_rot, "tol_rot", "--tol-rot")
+    if args.tol_jacobian is not None:
+        check_limit(args.tol_jacobian, "tol_jacobian", "--tol-jacobian")
+    if not (math.isfinite(args.timeout) and args.timeout > 0):
+        raise JointInputError(f"--timeout must be a positive number, got {args.timeout}")
     if args.timeout > MAX_TIMEOUT_S:
         raise JointInputError(
             f"--timeout must be at most {MAX_TIMEOUT_S:g} s, got {args.timeout:g}"

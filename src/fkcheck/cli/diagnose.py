@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -14,6 +13,7 @@ __all__ = ["add_parser", "run"]
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
     from fkcheck.cli.expand import add_allow_xacro
+    from fkcheck.core.tolerances import MAX_TOL_POS_M, MAX_TOL_ROT_RAD
 
     p = sub.add_parser(
         "diagnose",
@@ -36,8 +36,10 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--to", dest="frame_to", metavar="FRAME", help="frame whose pose is compared")
     p.add_argument("--samples", type=int, default=200, help="random samples (default 200)")
     p.add_argument("--seed", type=int, default=0, help="seed of the random samples (default 0)")
-    p.add_argument("--tol-pos", type=float, metavar="M", help="position tolerance, metres")
-    p.add_argument("--tol-rot", type=float, metavar="RAD", help="rotation tolerance, radians")
+    p.add_argument("--tol-pos", type=float, metavar="M",
+                   help=f"position tolerance, metres (at most {MAX_TOL_POS_M:g})")  # fmt: skip
+    p.add_argument("--tol-rot", type=float, metavar="RAD",
+                   help=f"rotation tolerance, radians (at most {MAX_TOL_ROT_RAD:g})")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the diagnosis as JSON here")
     add_allow_xacro(p)
     p.set_defaults(run=run)
@@ -48,8 +50,9 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.backends.base import BackendUnavailable
     from fkcheck.backends.registry import make_backend
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan
+    from fkcheck.core.tolerances import check_limit
     from fkcheck.diagnose import diagnose, format_text, to_dict
-    from fkcheck.errors import BackendNotFoundError, JointInputError
+    from fkcheck.errors import BackendNotFoundError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_lines, terminal_text
@@ -57,9 +60,10 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.model.sampling import check_sampling_options
 
     check_sampling_options(args.samples, args.seed, min_samples=1)
-    for flag, value in (("--tol-pos", args.tol_pos), ("--tol-rot", args.tol_rot)):
-        if value is not None and not (math.isfinite(value) and value > 0):
-            raise JointInputError(f"{flag} must be a positive number, got {value}")
+    if args.tol_pos is not None:
+        check_limit(args.tol_pos, "tol_pos", "--tol-pos")
+    if args.tol_rot is not None:
+        check_limit(args.tol_rot, "tol_rot", "--tol-rot")
     model = load_model(args.model)
     if args.allow_xacro:
         from fkcheck.urdf.source import allow_xacro

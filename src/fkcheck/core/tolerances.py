@@ -5,9 +5,23 @@ chain agree to ~1e-15 (a few ulps per joint); a URDF that writes π/2 as
 1.57079632679 differs from exact π/2 by ~4.9e-12 rad per joint, which shows up
 as ~1e-11 in poses; real modelling errors start around 1e-4 m (UR5's rounded d1
 is 3.0e-4 m off).
+
+A user's tolerances, and a ``[[known_difference]]``'s bounds, are limits a check
+obeys: each is refused unless it is within ``(0, MAX_…]`` (:func:`limit_problem`,
+the one rule every way in uses: flags, model files, ``[tool.fkcheck]``, the
+Python API, the pytest plugin, :mod:`fkcheck.testing`).
 """
 
 from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Literal
+
+from fkcheck.errors import ToleranceError
 
 __all__ = [
     "DEFAULT_TOL_JACOBIAN",
@@ -16,9 +30,19 @@ __all__ = [
     "FAST_CORE",
     "FINITE_DIFFERENCE",
     "FINITE_DIFFERENCE_STEP",
+    "LIMITS",
+    "MAX_KNOWN_ANGLE_RAD",
+    "MAX_KNOWN_POSITION_M",
+    "MAX_TOL_JACOBIAN",
+    "MAX_TOL_POS_M",
+    "MAX_TOL_ROT_RAD",
     "ROUNDED_URDF",
     "SAME_CHAIN",
     "SIX_DECIMALS",
+    "Limit",
+    "LimitKind",
+    "check_limit",
+    "limit_problem",
 ]
 
 #: Same chain, two float64 implementations (poses of unit-scale arms, m or rad).
@@ -65,3 +89,131 @@ DEFAULT_TOL_ROT_RAD = 1e-6
 #: :data:`FINITE_DIFFERENCE`, and a wrong convention (a flipped column, the tool
 #: offset left out, the wrong reference frame) is of the order of the reach.
 DEFAULT_TOL_JACOBIAN = 1e-6
+
+#: Loosest position tolerance a check accepts, metres: 1 cm. Arms are about a metre
+#: across; published tables round lengths to 0.1–1 mm and measured poses of an
+#: uncalibrated arm are a few mm off, all below 1 cm. A looser check cannot tell a
+#: wrong link length from a right one (a UR5 table with d1 10 mm long is wrong).
+MAX_TOL_POS_M = 1e-2
+
+#: Loosest rotation tolerance, radians: 0.1 rad (5.7°). Every rotation angle is at
+#: most π, so a tolerance near π accepts any rotation at all. An angle error inside
+#: the chain already moves the tool by angle × reach (0.1 rad at a metre is 10 cm,
+#: ten times :data:`MAX_TOL_POS_M`); what this bound alone guards is the tool's own
+#: orientation, whose lever is the tool's length (~10 cm: 0.1 rad moves its tip
+#: 1 cm). Angles published to 0.1° are 9e-4 rad off, far below it.
+MAX_TOL_ROT_RAD = 0.1
+
+#: Loosest Jacobian tolerance, m/rad (linear rows) and rad/rad (angular rows): 0.01.
+#: A column's angular part is a unit axis (0.01 is its direction 0.6° off), its
+#: linear part about the reach, ~1 m/rad (0.01 is 1 cm per radian at a metre, as
+#: :data:`MAX_TOL_POS_M`). A wrong convention, a flipped column or an all-zero
+#: Jacobian is off by about 1 and still fails.
+MAX_TOL_JACOBIAN = 1e-2
+
+#: Largest position error a ``[[known_difference]]`` may record, metres: 0.1 m. A
+#: known difference is one finding (a rounded length, a mm offset): the largest a
+#: bundled model records is Baxter's 61.8 mm (rounded lengths and a last d that ends
+#: at another link). A difference the size of a link (UR5's upper arm is 0.425 m)
+#: is a wrong model, and a record that large would excuse one.
+MAX_KNOWN_POSITION_M = 0.1
+
+#: Largest rotation error a ``[[known_difference]]`` may record, radians: 0.1 rad
+#: (5.7°). Recorded findings are rounded angles (xarm7's ±1.5708: 2.1e-5 rad) or a
+#: rounded mount yaw (Baxter: 1.8e-6 rad); angles published to 0.1° are 9e-4 rad off.
+#: A missing θ offset (π/2) or a reversed axis (π) is a wrong table, never a known
+#: difference.
+MAX_KNOWN_ANGLE_RAD = 0.1
+
+LimitKind = Literal["tol_pos", "tol_rot", "tol_jacobian", "known_position", "known_angle"]
+
+
+@dataclass(frozen=True)
+class Limit:
+    """The range ``(0, upper]`` of one kind of limit, and why it ends there.
+
+    Attributes:
+        upper: The largest value allowed (inclusive).
+        unit: Its unit, as printed.
+        why: The reason for ``upper``, a few words for the error message.
+    """
+
+    upper: float
+    unit: str
+    why: str
+
+
+#: Every limit a user sets, by kind.
+LIMITS: Mapping[LimitKind, Limit] = MappingProxyType(
+    {
+        "tol_pos": Limit(
+            MAX_TOL_POS_M,
+            "m",
+            "1 cm: a looser check cannot tell a wrong link length from a right one",
+        ),
+        "tol_rot": Limit(
+            MAX_TOL_ROT_RAD,
+            "rad",
+            "5.7°: a looser one lets a wrong joint offset through, and at π accepts every rotation",
+        ),
+        "tol_jacobian": Limit(
+            MAX_TOL_JACOBIAN,
+            "m/rad and rad/rad",
+            "a Jacobian column is about 1 m/rad or 1 rad/rad: a looser one passes wrong columns",
+        ),
+        "known_position": Limit(
+            MAX_KNOWN_POSITION_M,
+            "m",
+            "a larger difference is a wrong model, not a known difference",
+        ),
+        "known_angle": Limit(
+            MAX_KNOWN_ANGLE_RAD,
+            "rad",
+            "5.7°: a larger one, such as a missing 90° θ offset, is a wrong model, not a known "
+            "difference",
+        ),
+    }
+)
+
+
+def _number(value: object) -> float:
+    """``value`` as a float; NaN for a boolean or a non-number, inf for a huge integer."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return math.nan
+    try:
+        return float(value)
+    except OverflowError:  # an integer of hundreds of digits: refused whatever its sign
+        return math.inf
+
+
+def limit_problem(value: object, kind: LimitKind) -> str | None:
+    """Why ``value`` cannot be a limit of this kind, one phrase; ``None`` when it can.
+
+    The phrase names the range and the value: ``must be > 0 and at most 0.01 m
+    (…), got 1000``. NaN, infinities, zero, negatives, booleans and non-numbers
+    are all refused.
+    """
+    limit = LIMITS[kind]
+    number = _number(value)
+    if 0.0 < number <= limit.upper:
+        return None
+    if isinstance(value, float) or (math.isfinite(number) and not isinstance(value, bool)):
+        shown = f"{number:g}"
+    elif isinstance(value, int) and not isinstance(value, bool):
+        shown = "an integer too large for a float"
+    else:
+        text = repr(value)
+        shown = text if len(text) <= 40 else text[:39] + "…"
+    return f"must be > 0 and at most {limit.upper:g} {limit.unit} ({limit.why}), got {shown}"
+
+
+def check_limit(value: object, kind: LimitKind, where: str) -> float:
+    """``value`` as a float when it is within its range (see :func:`limit_problem`).
+
+    Raises:
+        ToleranceError: It is not; the message names ``where`` (a flag, an argument).
+    """
+    problem = limit_problem(value, kind)
+    if problem is not None:
+        raise ToleranceError(where, problem)
+    return _number(value)

@@ -6,6 +6,7 @@ import time
 from dataclasses import replace
 
 from fkcheck.backends.base import Backend, FixedConfigurations
+from fkcheck.core.tolerances import check_limit
 from fkcheck.core.typing import Float
 from fkcheck.diagnose.axes import axes_note, compare_axes
 from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
@@ -58,11 +59,19 @@ def diagnose(
 
     Raises:
         FrameError: An unknown frame name.
+        ToleranceError: A tolerance out of its range (:mod:`fkcheck.core.tolerances`).
         BackendUnavailable, FrameUnavailable, FkcheckError: The reference cannot run.
     """
     start = time.perf_counter()
     pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
-    tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
+    if tol_pos_m is not None:
+        check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
+    if tol_rot_rad is not None:
+        check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
+    tol = (
+        model.check.tol_pos_m if tol_pos_m is None else tol_pos_m,
+        model.check.tol_rot_rad if tol_rot_rad is None else tol_rot_rad,
+    )
     if q is None and isinstance(backend, FixedConfigurations):
         q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)

@@ -56,7 +56,6 @@ disagrees.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -64,7 +63,7 @@ import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
 from fkcheck.core.metrics import jacobian_column_errors
-from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP
+from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP, check_limit
 from fkcheck.core.typing import JACOBIAN_REFERENCES, Float, JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.model.frames import frame_jacobian, reference_poses, relative_pose
@@ -106,8 +105,7 @@ class JacobianSpec:
                 f"Jacobian reference {self.reference!r} unknown; references are: "
                 f"{', '.join(JACOBIAN_REFERENCES)}"
             )
-        if not (math.isfinite(self.tol) and self.tol > 0):
-            raise FkcheckError(f"Jacobian tolerance must be a positive number, got {self.tol}")
+        check_limit(self.tol, "tol_jacobian", "Jacobian tolerance")
 
 
 @dataclass(frozen=True, eq=False)

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
+from fkcheck.core.tolerances import check_limit
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
 from fkcheck.engine.expected import apply_known_differences
@@ -336,6 +337,7 @@ def run_check(
 
     Raises:
         FrameError: An unknown frame name.
+        ToleranceError: A tolerance out of its range (:mod:`fkcheck.core.tolerances`).
         UrdfError: The model's URDF is missing, unsafe or does not fit the model.
         FkcheckError: Other bad input reported by a backend.
     """
@@ -348,7 +350,14 @@ def run_check(
     # frame declares is placed from the URDF, and only URDF backends compare it.
     model, placed = _place_urdf_links(model, asked)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
-    tol = (tol_pos_m or model.check.tol_pos_m, tol_rot_rad or model.check.tol_rot_rad)
+    if tol_pos_m is not None:
+        check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
+    if tol_rot_rad is not None:
+        check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
+    tol = (
+        model.check.tol_pos_m if tol_pos_m is None else tol_pos_m,
+        model.check.tol_rot_rad if tol_rot_rad is None else tol_rot_rad,
+    )
     if jacobian is not None:
         check_fixed_from(model, pair[0])
     reads_urdf = any(getattr(b, "reads_urdf", False) for b in backends)

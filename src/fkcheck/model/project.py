@@ -25,6 +25,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from fkcheck.core.tolerances import LimitKind, limit_problem
 from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
@@ -162,6 +163,16 @@ def _positive(path: Path, key: str, value: Any) -> float:
     return number
 
 
+def _limit(path: Path, table: Mapping[str, Any], key: str, kind: LimitKind) -> float | None:
+    """A tolerance within its range (:func:`~fkcheck.core.tolerances.limit_problem`), if set."""
+    if key not in table:
+        return None
+    problem = limit_problem(table[key], kind)
+    if problem is not None:
+        raise ProjectError(path, f"tool.fkcheck.{key}", problem)
+    return float(table[key])
+
+
 def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
     """Validate a ``[tool.fkcheck]`` table read from ``path``.
 
@@ -207,18 +218,12 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         sampler=sampler,
         timeout=_positive(path, "timeout", table["timeout"]) if "timeout" in table else None,
         require=require,
-        tol_pos_m=_positive(path, "tol_pos_m", table["tol_pos_m"])
-        if "tol_pos_m" in table
-        else None,
-        tol_rot_rad=_positive(path, "tol_rot_rad", table["tol_rot_rad"])
-        if "tol_rot_rad" in table
-        else None,
+        tol_pos_m=_limit(path, table, "tol_pos_m", "tol_pos"),
+        tol_rot_rad=_limit(path, table, "tol_rot_rad", "tol_rot"),
         lint_ignore=lint_ignore,
         jacobian=jacobian,
         jacobian_reference=reference,
-        tol_jacobian=_positive(path, "tol_jacobian", table["tol_jacobian"])
-        if "tol_jacobian" in table
-        else None,
+        tol_jacobian=_limit(path, table, "tol_jacobian", "tol_jacobian"),
     )
 
 

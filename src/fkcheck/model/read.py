@@ -4,7 +4,8 @@ Files are read by :mod:`fkcheck.io.files` (a regular file of at most 1 MiB,
 UTF-8, a leading byte-order mark skipped), the CSV's numbers by
 :func:`fkcheck.io.numbers.parse_number` (plain ASCII decimals only). Every bad
 field raises :class:`~fkcheck.errors.ModelError` naming the file, the field and
-the problem; the bounds are those of :mod:`fkcheck.model.types`.
+the problem; the bounds are those of :mod:`fkcheck.model.types`, and of
+:mod:`fkcheck.core.tolerances` for ``[check]`` tolerances and known differences.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from fkcheck.core.tolerances import LimitKind, limit_problem
 from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import ModelError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
@@ -59,6 +61,12 @@ _CHECK_KEYS = {
 }  # fmt: skip
 _LINT_KEYS = {"ignore"}
 _KNOWN_DIFFERENCE_KEYS = {"backends", "finding", "max_position_m", "max_angle_rad"}
+_CHECK_LIMITS: dict[str, LimitKind] = {
+    "tol_pos_m": "tol_pos", "tol_rot_rad": "tol_rot", "tol_jacobian": "tol_jacobian",
+}  # fmt: skip
+_KNOWN_DIFFERENCE_LIMITS: dict[str, LimitKind] = {
+    "max_position_m": "known_position", "max_angle_rad": "known_angle",
+}  # fmt: skip
 #: Backends a ``[[known_difference]]`` may name: those whose evidence is
 #: independent of the table (the URDF parsers) and the prefixed ones that are
 #: (a published table, measured poses). ``rtb-dh``, ``pinocchio-dh``, plugins and
@@ -196,6 +204,13 @@ class _Reader:
                 field_, f"{value:g} {unit} is beyond ±{bound:g} {unit}, more than any arm needs"
             )
         return value
+
+    def limit(self, value: Any, field_: str, kind: LimitKind) -> float:
+        number = self.number(value, field_)
+        problem = limit_problem(number, kind)
+        if problem is not None:
+            raise self.fail(field_, problem)
+        return number
 
     def length(self, value: Any, field_: str) -> float:
         return self.bounded(self.number(value, field_), field_, MAX_LENGTH_M, "m")
@@ -438,11 +453,9 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
                     f"{', '.join(_key(f) for f in frames)}",
                 )
         tols: dict[str, float] = {}
-        for key in ("tol_pos_m", "tol_rot_rad", "tol_jacobian"):
+        for key, kind in _CHECK_LIMITS.items():
             if key in c:
-                tols[key] = r.number(c[key], f"check.{key}")
-                if tols[key] <= 0:
-                    raise r.fail(f"check.{key}", "must be positive")
+                tols[key] = r.limit(c[key], f"check.{key}", kind)
         require: tuple[str, ...] = ()
         if "require" in c:
             raw_req = c["require"]
@@ -553,15 +566,13 @@ def _known_differences(r: _Reader, raw: Any) -> tuple[KnownDifference, ...]:
         if not finding.strip():
             raise r.fail(f"{where}.finding", "must not be empty: say what fkcheck diagnose names")
         bounds: dict[str, float] = {}
-        for key in ("max_position_m", "max_angle_rad"):
+        for key, kind in _KNOWN_DIFFERENCE_LIMITS.items():
             if key not in tbl:
                 raise r.fail(
                     f"{where}.{key}",
                     "missing (required: the largest error the recorded difference shows, "
                     "so that a larger one still fails)",
                 )
-            bounds[key] = r.number(tbl[key], f"{where}.{key}")
-            if bounds[key] <= 0:
-                raise r.fail(f"{where}.{key}", "must be positive")
+            bounds[key] = r.limit(tbl[key], f"{where}.{key}", kind)
         entries.append(KnownDifference(tuple(names), finding, **bounds))
     return tuple(entries)

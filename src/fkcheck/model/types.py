@@ -33,7 +33,12 @@ from numpy.typing import ArrayLike
 from fkcheck.core import dh
 from fkcheck.core.geometry import matrix_from_xyz_rpy
 from fkcheck.core.jacobian import Reference
-from fkcheck.core.tolerances import DEFAULT_TOL_JACOBIAN, DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
+from fkcheck.core.tolerances import (
+    DEFAULT_TOL_JACOBIAN,
+    DEFAULT_TOL_POS_M,
+    DEFAULT_TOL_ROT_RAD,
+    check_limit,
+)
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError
 
@@ -178,14 +183,23 @@ class KnownDifference:
         finding: What ``fkcheck diagnose`` names as the cause.
         max_position_m: Largest position error it may show, metres. Required: an
             unbounded record would turn any later failure of the backend, however
-            large, into an expected one.
-        max_angle_rad: Largest rotation error it may show, radians (required too).
+            large, into an expected one. At most
+            :data:`~fkcheck.core.tolerances.MAX_KNOWN_POSITION_M` (0.1 m).
+        max_angle_rad: Largest rotation error it may show, radians (required too),
+            at most :data:`~fkcheck.core.tolerances.MAX_KNOWN_ANGLE_RAD` (0.1 rad).
+
+    Raises:
+        ToleranceError: A bound is not within its range.
     """
 
     backends: tuple[str, ...]
     finding: str
     max_position_m: float
     max_angle_rad: float
+
+    def __post_init__(self) -> None:
+        check_limit(self.max_position_m, "known_position", "KnownDifference.max_position_m")
+        check_limit(self.max_angle_rad, "known_angle", "KnownDifference.max_angle_rad")
 
 
 @dataclass(frozen=True)
@@ -203,6 +217,11 @@ class CheckSpec:
         jacobian_reference: Their reference frame: ``"world-aligned"``,
             ``"local"`` or ``"world"`` (see :mod:`fkcheck.core.jacobian`).
         tol_jacobian: Their tolerance, m/rad (linear) and rad/rad (angular).
+
+    Raises:
+        ToleranceError: A tolerance is not within its range (at most
+            :data:`~fkcheck.core.tolerances.MAX_TOL_POS_M`, ``MAX_TOL_ROT_RAD``,
+            ``MAX_TOL_JACOBIAN``).
     """
 
     frame_from: str = "world"
@@ -213,6 +232,11 @@ class CheckSpec:
     jacobian: bool = False
     jacobian_reference: Reference = "world-aligned"
     tol_jacobian: float = DEFAULT_TOL_JACOBIAN
+
+    def __post_init__(self) -> None:
+        check_limit(self.tol_pos_m, "tol_pos", "CheckSpec.tol_pos_m")
+        check_limit(self.tol_rot_rad, "tol_rot", "CheckSpec.tol_rot_rad")
+        check_limit(self.tol_jacobian, "tol_jacobian", "CheckSpec.tol_jacobian")
 
 
 @dataclass(frozen=True)
