@@ -43,7 +43,8 @@ def test_the_joints_between_the_anchors(ur5, pair, spanned):
 
 
 @pytest.mark.parametrize(
-    "pair", [("world", "tcp"), ("on1", "tool0"), ("world", "on1"), ("tcp", "tool0"), ("base", "on0")]
+    "pair",
+    [("world", "tcp"), ("on1", "tool0"), ("world", "on1"), ("tcp", "tool0"), ("base", "on0")],
 )
 def test_a_joint_moves_the_pose_exactly_when_it_is_spanned(ur5, pair):
     rng = np.random.default_rng(7)
