@@ -63,7 +63,9 @@ def apply_provenance(
         for i, (b, r) in enumerate(zip(backends, results, strict=True))
         if r.evidence == "table" and getattr(b, "reads_urdf", False)
     ]
-    derivation = urdf_derivation(model, tol) if readers else None
+    # Only when one of them answered: a URDF none could read proves nothing either way.
+    answered = any(results[i].ran for i in readers)
+    derivation = urdf_derivation(model, tol) if answered else None
     if derivation is None:
         return tuple(results)
     out = list(results)
