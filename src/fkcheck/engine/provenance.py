@@ -1,4 +1,4 @@
-"""A URDF written from the model's own table is no evidence for it: its backends prove the arithmetic.
+"""A URDF written from the model's own table is no evidence for it: it proves the arithmetic.
 
 URDF backends count as *table* evidence because a robot's URDF does not come
 from the DH table. One that ``fkcheck urdf`` wrote from this very table does
