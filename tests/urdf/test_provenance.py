@@ -145,3 +145,14 @@ def test_no_bundled_model_takes_its_real_urdf_for_a_copy(name):
     info = load_urdf(model)
     assert next(ET.fromstring(info.text).iter(MARKER_TAG), None) is None
     assert derived_from_table(model, info, TOL) is None
+
+
+def test_a_marks_model_name_is_shown_short_and_on_one_line():
+    model, text = _exported("ur5")
+    long_name = "line&#10;break" + "x" * 100_000
+    forged = text.replace('model="ur5"', f'model="{long_name}"')
+    found = derived_from_table(model, _read(forged), TOL)
+    assert found is not None
+    assert "\n" not in found.message
+    assert len(found.message) < 400
+    assert "(100010 characters)" in found.message

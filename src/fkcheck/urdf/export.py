@@ -12,9 +12,9 @@ Layout (link names are what the companion model maps frames to):
   joint has axis ``0 0 -1``;
 * the TCP is link ``tcp`` (``[tool]`` from the last DH frame) and every other named
   frame is a link fixed to its DH frame (or to ``world``/``tcp``) by its offset;
-* the first child of ``<robot>`` is fkcheck's mark (:mod:`fkcheck.urdf.marker`), an
-  element that names the model and its table's fingerprint: the check never counts
-  this URDF as evidence for that table (:mod:`fkcheck.urdf.provenance`).
+* ``<robot>`` opens with fkcheck's mark (:mod:`fkcheck.urdf.marker`), an element
+  that names the model and its table's fingerprint: the check never counts this
+  URDF as evidence for that table (:mod:`fkcheck.urdf.provenance`).
 
 Joints with limits are ``revolute``/``prismatic`` with those limits; a revolute
 joint without limits is ``continuous``; a prismatic joint without limits gets

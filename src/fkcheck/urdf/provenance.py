@@ -38,6 +38,7 @@ import numpy as np
 
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.errors import FkcheckError
+from fkcheck.io.numbers import show_text
 from fkcheck.model.types import FrameSpec, Model
 from fkcheck.urdf.chain import JointGeometry, UrdfKinematics, urdf_kinematics
 from fkcheck.urdf.export import urdf_from_model
@@ -189,7 +190,8 @@ def derived_from_table(
     if mark is not None and mark.table == fingerprint:
         return Derivation(
             "mark",
-            f"its fkcheck mark names model {mark.model!r} and table {mark.table}, this table",
+            f"its fkcheck mark names model {show_text(mark.model)} and table {mark.table}, "
+            "this table",
         )
     if model.urdf is None:
         return None
