@@ -21,6 +21,13 @@ never a pass; required evidence that is not verified fails its own test. A
 model file that cannot be read is one failing test, ``fkcheck[load]``, with
 the one-line error.
 
+Two checks compare nothing, and fail every test of their model, as
+``fkcheck check`` reports them: one in which no backend answered (each skipped
+one fails with its reason instead of skipping: the CLI's ``error — nothing was
+cross-checked``), and one whose frame pair spans no joint
+(:func:`fkcheck.model.span.joints_spanned`: ``from = to = "tcp"``, or ``world``
+and a frame on DH frame 0), whose pose is the same in every configuration.
+
 Each model's check runs once per pytest process, when its first test runs,
 with every backend (``[tool.fkcheck] against``, default: the standard set);
 under pytest-xdist (``-n auto``) every worker computes what its own tests need,
@@ -40,6 +47,7 @@ if TYPE_CHECKING:
     from _pytest._code.code import ExceptionInfo, TerminalRepr
 
     from fkcheck.api import Outcome
+    from fkcheck.engine.results import CheckResult
     from fkcheck.model.project import ProjectConfig
 
 __all__ = ["FkcheckFailure", "ModelFile", "ModelItem"]
@@ -154,6 +162,35 @@ class ModelFile(pytest.File):
             return None
 
 
+def _where(anchor: object) -> str:
+    """An anchor (``FrameSpec.dh``) in words."""
+    return {"world": "the world", "tcp": "the TCP"}.get(str(anchor), f"DH frame {anchor}")
+
+
+def _pair_spans_no_joint(check: CheckResult) -> str | None:
+    """Why the check's frame pair compares nothing, or ``None`` when it spans a joint."""
+    from fkcheck.io.text import terminal_text
+    from fkcheck.model.span import joints_spanned
+    from fkcheck.model.types import resolve_frame
+
+    model, pair = check.model, (check.frame_from, check.frame_to)
+    if joints_spanned(model, *pair):
+        return None
+    a, b = (resolve_frame(model, name).dh for name in pair)
+    shown = [terminal_text(repr(name)) for name in pair]
+    why = (
+        "a frame compared with itself"
+        if pair[0] == pair[1]
+        else f"{shown[0]} is on {_where(a)}, {shown[1]} on {_where(b)}; no joint moves one and "
+        "not the other"
+    )
+    return (
+        f"fkcheck {terminal_text(model.name)}: the frame pair {shown[0]} → {shown[1]} spans no "
+        f"joint ({why}): its pose is the same in every configuration, so comparing it verifies "
+        "none of the table; set [check] from and to to frames with at least one joint between them"
+    )
+
+
 class ModelItem(pytest.Item):
     """One backend's answer for a model, or one required kind of evidence."""
 
@@ -176,6 +213,9 @@ class ModelItem(pytest.Item):
 
         outcome = self.model_file.outcome()  # raises FkcheckFailure for "load" too
         c = outcome.check
+        degenerate = _pair_spans_no_joint(c)
+        if degenerate is not None:
+            raise FkcheckFailure(f"{degenerate}\n{check_message(outcome)}")
         if self.target in KINDS:
             kind = c.evidence.of(self.target)
             if kind.status != "verified":
@@ -186,6 +226,13 @@ class ModelItem(pytest.Item):
                 )
             return
         result = next(b for b in c.backends if b.name == self.target)
+        if result.status == "skipped" and not c.ran:  # a skip must not hide that nothing ran
+            raise FkcheckFailure(
+                f"{check_message(outcome, backends=())}\n{backend_message(outcome, result)}\n"
+                "no backend of this model answered, so nothing was cross-checked: make one "
+                "of them apply (install its library, give the model what it needs) or change "
+                "[tool.fkcheck] against"
+            )
         if result.status == "skipped":  # reported at the model file, not at this line
             raise pytest.skip.Exception(f"{result.name}: {result.message}", _use_item_location=True)
         if not backend_ok(result):  # xfail (as the model file records) passes; Jacobian too

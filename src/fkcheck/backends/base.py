@@ -19,7 +19,10 @@ Every backend declares which question its agreement answers (:data:`Evidence`):
   d1 is wrong in both.
 * ``"table"`` — *is the table right, for the robot?* The backend's poses do not
   come from the table: the robot's URDF read by its parsers, measured or
-  pendant poses, a table published elsewhere (``rtb-model:``).
+  pendant poses, a table published elsewhere (``rtb-model:``). A URDF that
+  ``fkcheck urdf`` wrote from the checked table does come from it: the engine
+  then counts the URDF backends' results as implementation evidence
+  (:mod:`fkcheck.engine.provenance`).
 
 Independence is a rule: no backend uses fkcheck's own kinematics (the DH core,
 its rotation helpers, its frame offsets, its URDF export) for anything it is

@@ -146,6 +146,12 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     console.print(table)
     if check.jacobian is not None:
         console.print(_jacobian_table(check))
+    notes: dict[str, list[str]] = {}  # a pass's message (a URDF from this table), once each
+    for r in check.backends:
+        if r.status == "pass" and r.message:
+            notes.setdefault(r.message, []).append(r.name)
+    for message, names in notes.items():
+        console.print(f"[yellow]{terminal_markup(', '.join(names))}[/]: {terminal_markup(message)}")
     for r in check.backends:
         if r.status in ("fail", "xfail", "xpass"):
             name, message = terminal_markup(r.name), terminal_markup(r.message)

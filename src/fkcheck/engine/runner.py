@@ -30,6 +30,7 @@ from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
 from fkcheck.engine.expected import apply_known_differences
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
+from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
@@ -416,6 +417,7 @@ def run_check(
     if errors:
         raise errors[0]
     ordered = apply_known_differences(model, pair, tol, [results[i] for i in range(len(backends))])
+    ordered = apply_provenance(model, backends, tol, ordered)  # a URDF from this very table
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.
     jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]

@@ -11,7 +11,10 @@ Layout (link names are what the companion model maps frames to):
 * a prismatic row slides along the same z (``Tz`` commutes with ``Rz``); a flipped
   joint has axis ``0 0 -1``;
 * the TCP is link ``tcp`` (``[tool]`` from the last DH frame) and every other named
-  frame is a link fixed to its DH frame (or to ``world``/``tcp``) by its offset.
+  frame is a link fixed to its DH frame (or to ``world``/``tcp``) by its offset;
+* ``<robot>`` opens with fkcheck's mark (:mod:`fkcheck.urdf.marker`), an element
+  that names the model and its table's fingerprint: the check never counts this
+  URDF as evidence for that table (:mod:`fkcheck.urdf.provenance`).
 
 Joints with limits are ``revolute``/``prismatic`` with those limits; a revolute
 joint without limits is ``continuous``; a prismatic joint without limits gets
@@ -38,6 +41,7 @@ from fkcheck.model.offsets import offset_from_matrix
 from fkcheck.model.sampling import UNLIMITED_PRISMATIC_M
 from fkcheck.model.types import FrameSpec, Model, Offset, UrdfSpec
 from fkcheck.model.write import toml_number
+from fkcheck.urdf.marker import marker_element
 
 __all__ = ["UrdfExport", "model_for_urdf", "urdf_from_model"]
 
@@ -120,6 +124,7 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     )
     # repr() escaped the name's control characters; "--" may not appear in a comment.
     robot.append(ET.Comment(re.sub(r"-(?=-)", "- ", comment)))
+    robot.append(marker_element(model))  # an element: it survives stripped comments
     generated = {"world", "tcp"} | {f"dh_frame_{i}" for i in range(n + 1)}
     if model.convention == "standard":
         generated |= {f"dh_joint_{i}" for i in range(1, n + 1)}

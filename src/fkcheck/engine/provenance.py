@@ -1,0 +1,76 @@
+"""A URDF written from the model's own table is no evidence for it: it proves the arithmetic.
+
+URDF backends count as *table* evidence because a robot's URDF does not come
+from the DH table. One that ``fkcheck urdf`` wrote from this very table does
+(:func:`fkcheck.urdf.provenance.derived_from_table` finds it by its mark or by
+its numbers): a wrong table is wrong in it too. So after the run, the results of
+the backends that read the model's URDF are counted as *implementation*
+evidence, as a backend built from the table is, with the reason added to their
+message; ``--require table`` then finds the table unverified.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+from fkcheck.backends.base import Backend
+from fkcheck.engine.results import BackendResult
+from fkcheck.errors import FkcheckError, Skip
+from fkcheck.model.types import Model
+from fkcheck.urdf.provenance import Derivation, derived_from_table
+from fkcheck.urdf.source import load_urdf
+
+__all__ = ["apply_provenance", "urdf_derivation"]
+
+
+def urdf_derivation(model: Model, tol: tuple[float, float]) -> Derivation | None:
+    """How the model's URDF was written from its own table, or ``None``.
+
+    ``None`` too when the model has no URDF or it cannot be read here: the URDF
+    backends then say so themselves, and answer nothing.
+    """
+    if model.urdf is None:
+        return None
+    try:
+        info = load_urdf(model)
+    except (FkcheckError, Skip):
+        return None
+    return derived_from_table(model, info, tol)
+
+
+def apply_provenance(
+    model: Model,
+    backends: Sequence[Backend],
+    tol: tuple[float, float],
+    results: Sequence[BackendResult],
+) -> tuple[BackendResult, ...]:
+    """The results, those of URDF backends reading a URDF written from this table demoted.
+
+    Args:
+        model: The model checked.
+        backends: The backends, in the order of ``results``.
+        tol: The check's ``(position m, rotation rad)`` tolerances.
+        results: One result per backend.
+
+    Returns:
+        The results, where a table-evidence backend that reads the model's URDF
+        (``reads_urdf``) now counts as implementation evidence, its message
+        saying why, when that URDF was written from the model's own table.
+    """
+    readers = [
+        i
+        for i, (b, r) in enumerate(zip(backends, results, strict=True))
+        if r.evidence == "table" and getattr(b, "reads_urdf", False)
+    ]
+    # Only when one of them answered: a URDF none could read proves nothing either way.
+    answered = any(results[i].ran for i in readers)
+    derivation = urdf_derivation(model, tol) if answered else None
+    if derivation is None:
+        return tuple(results)
+    out = list(results)
+    for i in readers:
+        r = out[i]
+        message = f"{r.message}; {derivation.message}" if r.message else derivation.message
+        out[i] = replace(r, evidence="implementation", message=message)
+    return tuple(out)

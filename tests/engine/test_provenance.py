@@ -1,0 +1,87 @@
+"""A URDF fkcheck wrote from the checked table never verifies it, however it was renamed.
+
+Issue 20, item 4: ``fkcheck urdf --write-model`` from a wrong table, then
+``check --require table``, said "table verified independently".
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from fkcheck.backends.registry import make_backend
+from fkcheck.cli.main import main
+from fkcheck.engine.runner import run_check
+from fkcheck.model.read import bundled_model_paths, load_model
+
+URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+
+
+def _wrong_ur5(directory: Path) -> Path:
+    """The UR5 with d1 10 mm too long."""
+    text = bundled_model_paths()["ur5"].read_text(encoding="utf-8")
+    assert "d = 0.089159\n" in text
+    path = directory / "wrong.toml"
+    path.write_text(text.replace("d = 0.089159\n", "d = 0.099159\n", 1), encoding="utf-8")
+    return path
+
+
+def _disguised_export(tmp_path: Path, *, unmark: bool) -> Path:
+    """``fkcheck urdf --write-model`` of the wrong table, its URDF renamed and stripped.
+
+    Returns:
+        The written model, pointing at the renamed URDF: comments gone, and with
+        ``unmark`` fkcheck's mark gone and every generated link renamed too.
+    """
+    table = _wrong_ur5(tmp_path)
+    urdf, mapped = tmp_path / "out" / "robot.urdf", tmp_path / "mapped.toml"
+    assert main(["urdf", str(table), "-o", str(urdf), "--write-model", str(mapped)]) == 0
+    text = re.sub(r"<!--.*?-->", "", urdf.read_text(encoding="utf-8"), flags=re.DOTALL)
+    model = re.sub(r"#[^\n]*", "", mapped.read_text(encoding="utf-8")).replace(
+        "out/robot.urdf", "out/ur5_vendor.urdf"
+    )
+    if unmark:
+        text = re.sub(r"<fkcheck:written-from[^>]*/>", "", text)
+        text = text.replace(' xmlns:fkcheck="urn:fkcheck:urdf-provenance"', "")
+        text, model = (s.replace("dh_frame_", "link_") for s in (text, model))
+    urdf.unlink()
+    (tmp_path / "out" / "ur5_vendor.urdf").write_text(text, encoding="utf-8")
+    mapped.write_text(model, encoding="utf-8")
+    return mapped
+
+
+@pytest.mark.parametrize("unmark", [False, True], ids=["comments-stripped", "mark-removed"])
+def test_a_self_written_urdf_of_a_wrong_table_leaves_it_unverified(tmp_path, capsys, unmark):
+    model = _disguised_export(tmp_path, unmark=unmark)
+    capsys.readouterr()
+    code = main(["check", str(model), "--require", "table", "--samples", "20"])
+    out = capsys.readouterr().out
+    assert code == 1, out
+    assert "table verified" not in out
+    assert "verdict: unverified" in out
+    assert "table NOT CHECKED" in out
+    flat = " ".join(out.split())  # the console folds long lines
+    how = "is what fkcheck urdf writes" if unmark else "was written by fkcheck"
+    assert f"pinocchio-urdf, yourdfpy-urdf, rtb-urdf: the URDF {how} from this table" in flat
+    assert "it cannot verify the table" in flat
+
+
+def test_its_urdf_backends_count_as_implementation_evidence(tmp_path):
+    model = load_model(_disguised_export(tmp_path, unmark=False))
+    check = run_check(model, [make_backend(n) for n in URDF_BACKENDS], samples=8)
+    assert [(r.name, r.status, r.evidence) for r in check.backends] == [
+        (name, "pass", "implementation") for name in URDF_BACKENDS
+    ]
+    assert all("it cannot verify the table" in r.message for r in check.backends)
+    assert check.evidence.table.status == "not-checked"
+
+
+def test_a_bundled_model_with_its_real_urdf_is_still_table_verified(capsys):
+    pytest.importorskip("example_robot_data")
+    code = main(["check", "ur5", "--require", "table", "--samples", "20"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert "verdict: pass — table verified independently" in out
+    assert "cannot verify the table" not in out
