@@ -24,6 +24,7 @@ from fkcheck.diagnose.findings import Change
 from fkcheck.diagnose.problem import Residual
 from fkcheck.engine.evidence import FailureDetail, WorstCases, arm_pose, dh_parting
 from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.model.coverage import coverage
 from fkcheck.model.frames import frame_poses_from_dh, reference_poses, relative_pose
 from fkcheck.model.read import model_from_dict
 from fkcheck.model.types import Model
@@ -202,6 +203,7 @@ def golden_check(model: Model | None = None, message_extra: str = "") -> CheckRe
         created="2026-01-02T03:04:05+00:00",
         duration_s=1.25,
         command="fkcheck check golden-3r --samples 3 --seed 7",
+        numbers=coverage(model, "base", "tool", 1e-6, 1e-6),
     )
 
 

@@ -28,6 +28,7 @@ def test_map_prints_a_block_to_paste(capsys):
             "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
         ],
     }  # fmt: skip
+    assert block["frames"]["base_link"].pop("source").startswith("ROS-Industrial ur_description")
     assert block["frames"]["base_link"] == {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}
     assert block["frames"]["tool0"] == {"dh": 6, "urdf": "tool0"}
     assert "# tool0: max deviation" in out

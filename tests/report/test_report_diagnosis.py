@@ -173,8 +173,9 @@ def test_base_link_without_its_rz_pi_says_base_link_vs_base_and_the_fix_passes(t
     assert "the reference&#39;s base_link is the table&#39;s turned Rz(π): base_link vs base" in (
         best
     )
-    snippet = fix_toml(best)
-    assert tomllib.loads(snippet) == {
+    snippet = tomllib.loads(fix_toml(best))
+    assert snippet["frames"]["base_link"].pop("source").startswith("ROS-Industrial")  # kept
+    assert snippet == {
         "frames": {"base_link": {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}}
     }
     # Paste the printed fix over the broken table: the check passes, and a passing

@@ -69,12 +69,12 @@ def reframe_moving_links(text: str, rng: np.random.Generator) -> str:
         # Any turn, and a slide along the axis: the joint frame stays on its axis.
         X = matrix_from_xyz_rpy(rng.uniform(-0.2, 0.2) * a, rng.uniform(-math.pi, math.pi, 3))
         origin = joint.find("origin")
-        O = matrix_from_xyz_rpy(
+        parent_T_joint = matrix_from_xyz_rpy(
             [float(v) for v in origin.get("xyz").split()],
             [float(v) for v in origin.get("rpy").split()],
         )
-        origin.set("xyz", _xyz_rpy(O @ X)[0])
-        origin.set("rpy", _xyz_rpy(O @ X)[1])
+        origin.set("xyz", _xyz_rpy(parent_T_joint @ X)[0])
+        origin.set("rpy", _xyz_rpy(parent_T_joint @ X)[1])
         axis.set("xyz", " ".join(repr(float(v)) for v in X[:3, :3].T @ a))
         for child in joints:
             if child.find("parent").get("link") == link:
@@ -126,7 +126,7 @@ def mapped_check(model: Model, urdf_text: str, directory: Any) -> tuple[str, str
     urdf.write_text(urdf_text, encoding="utf-8")
     bare = replace(model, urdf=None, frames={k: v for k, v in model.frames.items()
                                             if k in ("world", "tcp")})  # fmt: skip
-    path, _text, kin = read_urdf_file(str(urdf))
+    _path, _text, kin = read_urdf_file(str(urdf))
     result = map_model(bare, kin, "robot.urdf", samples=32)
     block = proposal_toml(result)
     note(block)
@@ -162,9 +162,11 @@ def cases(draw: st.DrawFn) -> tuple[Model, str, int, int, float, int]:
     which = draw(st.sampled_from(NUMBERS))
     row = draw(st.integers(0, model.dof - 1))
     component = draw(st.integers(0, 5))
-    unit_tol = DEFAULT_TOL_POS_M if which in ("a", "d") or (
-        which in ("base", "tool") and component < 3
-    ) else DEFAULT_TOL_ROT_RAD
+    unit_tol = (
+        DEFAULT_TOL_POS_M
+        if which in ("a", "d") or (which in ("base", "tool") and component < 3)
+        else DEFAULT_TOL_ROT_RAD
+    )
     size = draw(st.floats(math.log(MIN_TOLERANCES * unit_tol), math.log(0.5)))
     sign = draw(st.sampled_from((-1.0, 1.0)))
     seed = draw(st.integers(0, 2**32 - 1))

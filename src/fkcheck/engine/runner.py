@@ -34,10 +34,10 @@ from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
+from fkcheck.model.coverage import coverage
 from fkcheck.model.frames import (
     resolve_frame,
 )
-from fkcheck.model.coverage import coverage
 from fkcheck.model.sampling import Sampler, Samples, sample_configurations
 from fkcheck.model.types import URDF_FRAME_PREFIX, Model
 from fkcheck.process.isolation import (

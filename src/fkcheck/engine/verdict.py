@@ -14,8 +14,9 @@ Each kind gets a status: ``verified`` (a backend of that kind answered and
 agreed, none disagreed — and, for the table, every number of the table is
 verified by the compared frame pair: :mod:`fkcheck.model.coverage`),
 ``partly-verified`` (the table's backends agree, but the pair leaves numbers of
-the table not identifiable or not covered: said which), ``failed`` (one answered and disagreed, or one the
-model records as disagreeing agrees: a stale ``[[known_difference]]``),
+the table not identifiable or not covered: said which), ``failed`` (one answered
+and disagreed, or one the model records as disagreeing agrees: a stale
+``[[known_difference]]``),
 ``expected-failure`` (those that disagree do so as the model's
 ``[[known_difference]]`` records; never read as verified) or ``not-checked``
 (none answered). ``require`` (``--require``, ``[check] require``)

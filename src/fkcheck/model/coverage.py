@@ -57,7 +57,6 @@ from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from fkcheck.core import dh
 from fkcheck.core.geometry import invert
@@ -246,8 +245,7 @@ class Coverage:
         if len(self.joints_spanned) == dof:
             return f"table verified except {self.gaps()}"
         return (
-            f"table partly verified: joints {_ranges(self.joints_spanned)} of {dof}; "
-            f"{self.gaps()}"
+            f"table partly verified: joints {_ranges(self.joints_spanned)} of {dof}; {self.gaps()}"
         )
 
 
@@ -313,6 +311,8 @@ class _Number:
 
 def _twist_matrix(component: int, h: float) -> Float:
     """``exp(h·e_component)`` as a 4×4: a translation along or a rotation about an axis."""
+    from scipy.spatial.transform import Rotation
+
     E = np.eye(4)
     if component < 3:
         E[component, 3] = h
@@ -421,6 +421,8 @@ def _carries(offset: Offset, xi: Float, length_m: float) -> bool:
     rotation vector. Zero slope: the offset is as near the identity as it gets
     along ``xi`` and carries none of it.
     """
+    from scipy.spatial.transform import Rotation
+
     M = offset.matrix
     R, t = M[:3, :3], M[:3, 3]
     v, w = xi[:3], xi[3:]
@@ -441,14 +443,17 @@ def _describe(xi: Float, spec: FrameSpec) -> str:
     anchor = {"world": "the world", "tcp": "the TCP"}.get(str(spec.dh), f"DH frame {spec.dh}")
 
     def axis(u: Float) -> str:
-        u = u / np.linalg.norm(u)
+        size = float(np.linalg.norm(u))
+        if size == 0.0:
+            return "(no direction)"
+        u = u / size
         k = int(np.argmax(np.abs(u)))
         if abs(abs(u[k]) - 1.0) < 1e-6:
             return _AXES[k]
         return "(" + ", ".join(f"{x:.3g}" for x in u) + ")"
 
     wn, vn = float(np.linalg.norm(w)), float(np.linalg.norm(v))
-    if wn < 1e-9 * max(vn, 1.0):
+    if wn <= 1e-9 * vn:
         return f"translation along {axis(v)} of {anchor}"
     through = np.cross(w, v) / (wn * wn)  # the axis' point nearest the anchor's origin
     where = "" if np.linalg.norm(through) < 1e-9 else " (an axis off its origin)"
@@ -492,9 +497,7 @@ def coverage(
     moving = np.abs(twists).max(axis=(0, 1)) > MOVING_EPS
     joints = [_Number("", "", "", "joint", i) for i in range(model.dof)]
     spanned = tuple(
-        i + 1
-        for i, j in enumerate(joints)
-        if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
+        i + 1 for i, j in enumerate(joints) if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
     )
     scale = np.array([1.0 / tol_pos_m] * 3 + [1.0 / tol_rot_rad] * 3)
     J = (twists * scale[None, :, None]).reshape(-1, len(numbers))  # in tolerances per unit

@@ -112,9 +112,7 @@ def markdown_summary(
         )
         if check.numbers is not None:
             lines.append("")
-            lines.append(
-                escape_markdown(numbers_line(check.numbers, check.evidence.table.status))
-            )
+            lines.append(escape_markdown(numbers_line(check.numbers, check.evidence.table.status)))
         lines.append("")
         lines.append("| backend | status | max position error | max rotation error | message |")
         lines.append("|---" * 5 + "|")

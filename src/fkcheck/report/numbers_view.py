@@ -23,11 +23,12 @@ def _value(model: Model, n: NumberEvidence) -> str:
     return format_mm(value) if n.unit == "m" else format_deg(value)
 
 
-def _note(n: NumberEvidence) -> str:
+def _note(n: NumberEvidence, status: str) -> str:
     parts = []
     if n.resolution is not None:
         shown = format_mm(n.resolution) if n.unit == "m" else format_deg(n.resolution)
-        parts.append(f"an error above {shown} would fail")
+        verb = "failed" if status == "verified" else "failed, had the table been compared"
+        parts.append(f"an error above {shown} alone would have {verb}")
     if n.absorbed_by:
         parts.append(n.absorbed_by)
     if n.trades_with:
@@ -45,8 +46,8 @@ def numbers_view(check: CheckResult) -> NumbersView | None:
     if numbers is None:
         return None
     table = check.evidence.table.status
-    rows = tuple(
-        NumberRow(n.name, n.group, _value(check.model, n), number_status(n.status, table), _note(n))
-        for n in numbers.numbers
-    )
-    return NumbersView(numbers_line(numbers, table), rows)
+    rows = []
+    for n in numbers.numbers:
+        status = number_status(n.status, table)
+        rows.append(NumberRow(n.name, n.group, _value(check.model, n), status, _note(n, status)))
+    return NumbersView(numbers_line(numbers, table), tuple(rows))

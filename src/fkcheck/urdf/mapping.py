@@ -868,8 +868,12 @@ def _absorb_warning(p: ProposedFrame, hidden: Sequence[str]) -> list[str]:
     """The comment over a frame whose offset could be hiding table numbers."""
     if not hidden or p.spec.source:
         return []
-    anchor = "the world" if p.spec.dh == "world" else "the TCP" if p.spec.dh == "tcp" else (
-        f"DH frame {p.spec.dh}"
+    anchor = (
+        "the world"
+        if p.spec.dh == "world"
+        else "the TCP"
+        if p.spec.dh == "tcp"
+        else (f"DH frame {p.spec.dh}")
     )
     names = ", ".join(h.split(":", 1)[0] for h in hidden)
     return [
