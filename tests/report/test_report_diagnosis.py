@@ -173,16 +173,18 @@ def test_base_link_without_its_rz_pi_says_base_link_vs_base_and_the_fix_passes(t
     assert "the reference&#39;s base_link is the table&#39;s turned Rz(π): base_link vs base" in (
         best
     )
-    snippet = tomllib.loads(fix_toml(best))
-    assert snippet["frames"]["base_link"].pop("source").startswith("ROS-Industrial")  # kept
-    assert snippet == {
+    snippet = fix_toml(best)
+    fix = tomllib.loads(snippet)
+    assert fix["frames"]["base_link"].pop("source").startswith("ROS-Industrial")  # kept
+    assert fix == {
         "frames": {"base_link": {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}}
     }
     # Paste the printed fix over the broken table: the check passes, and a passing
     # report has no Diagnosis section.
     text = broken.read_text(encoding="utf-8")
-    block = '[frames.base_link]\ndh = 0\nurdf = "base_link"\n'
-    assert block in text
+    assert '[frames.base_link]\ndh = 0\nurdf = "base_link"\nsource = ' in text
+    start = text.index("[frames.base_link]")
+    block = text[start : text.index("\n\n", start) + 1]  # with its source line
     fixed = tmp_path / "fixed.toml"
     fixed.write_text(text.replace(block, snippet), encoding="utf-8")
     fixed_page = tmp_path / "fixed.html"
