@@ -25,7 +25,7 @@ Two checks compare nothing, and fail every test of their model, as
 ``fkcheck check`` reports them: one in which no backend answered (each skipped
 one fails with its reason instead of skipping: the CLI's ``error — nothing was
 cross-checked``), and one whose frame pair spans no joint
-(:func:`fkcheck.model.span.joints_spanned`: ``from = to = "tcp"``, or ``world``
+(:mod:`fkcheck.model.coverage`: ``from = to = "tcp"``, or ``world``
 and a frame on DH frame 0), whose pose is the same in every configuration.
 
 Each model's check runs once per pytest process, when its first test runs,
@@ -168,13 +168,16 @@ def _where(anchor: object) -> str:
 
 
 def _pair_spans_no_joint(check: CheckResult) -> str | None:
-    """Why the check's frame pair compares nothing, or ``None`` when it spans a joint."""
+    """Why the check's frame pair compares nothing, or ``None`` when it spans a joint.
+
+    Decided from the kinematics (:mod:`fkcheck.model.coverage`): no joint moves
+    the compared pose.
+    """
     from fkcheck.io.text import terminal_text
-    from fkcheck.model.span import joints_spanned
     from fkcheck.model.types import resolve_frame
 
     model, pair = check.model, (check.frame_from, check.frame_to)
-    if joints_spanned(model, *pair):
+    if check.numbers is None or not check.numbers.spans_no_joint:
         return None
     a, b = (resolve_frame(model, name).dh for name in pair)
     shown = [terminal_text(repr(name)) for name in pair]

@@ -529,7 +529,11 @@ def coverage(
                     carrying.setdefault(c, []).append(n.name)
 
     residual = _without(J, directions)
-    worst = np.abs(residual.reshape(q.shape[0], 6, -1)).max(axis=(0, 1))
+    # What the check measures per configuration: |Δp| / tol_pos and angle / tol_rot.
+    per = residual.reshape(q.shape[0], 6, -1)
+    worst = np.maximum(np.linalg.norm(per[:, :3], axis=1), np.linalg.norm(per[:, 3:], axis=1)).max(
+        axis=0
+    )
     trades = _trades(residual, [moving[i] and n.table and i not in absorbed
                                 for i, n in enumerate(numbers)])  # fmt: skip
     out: list[NumberEvidence] = []

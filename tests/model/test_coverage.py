@@ -1,0 +1,198 @@
+"""Per-number evidence (fkcheck.model.coverage): what one frame pair can verify of a model.
+
+The joints a pair spans, each kind of number the issue found counted as verified
+while the check never tested it (uncovered base and tool, pairs spanning no
+joint, offsets that absorb a table number), and the resolutions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from fkcheck.errors import FrameError
+from fkcheck.model.frames import reference_poses, relative_pose
+from fkcheck.model.read import load_model
+from fkcheck.model.coverage import RESOLUTION_LIMIT, coverage
+from fkcheck.model.types import FrameSpec, Offset
+
+
+TOL = 1e-6
+
+
+def joints_spanned(model, frame_from, frame_to):
+    return coverage(model, frame_from, frame_to, TOL, TOL).joints_spanned
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    model = load_model("ur5")
+    frames = dict(model.frames)
+    frames["on1"] = FrameSpec("on1", 1, Offset((0.1, 0.0, 0.0)))
+    frames["on0"] = FrameSpec("on0", 0, Offset((0.0, 0.0, 0.2), (0.0, 0.0, 1.0)))
+    return replace(model, frames=frames)
+
+
+@pytest.mark.parametrize(
+    ("pair", "spanned"),
+    [
+        (("base", "tool0"), (1, 2, 3, 4, 5, 6)),
+        (("tool0", "base"), (1, 2, 3, 4, 5, 6)),
+        (("world", "tcp"), (1, 2, 3, 4, 5, 6)),
+        (("tcp", "tcp"), ()),
+        (("tool0", "flange"), ()),  # both on DH frame 6
+        (("world", "base"), ()),  # DH frame 0 never moves
+        (("world", "on0"), ()),
+        (("world", "on1"), (1,)),
+        (("on1", "tcp"), (2, 3, 4, 5, 6)),
+        (("urdf:base", "urdf:tool0"), (1, 2, 3, 4, 5, 6)),
+    ],
+)
+def test_the_joints_between_the_anchors(ur5, pair, spanned):
+    assert joints_spanned(ur5, *pair) == spanned
+
+
+@pytest.mark.parametrize(
+    "pair",
+    [("world", "tcp"), ("on1", "tool0"), ("world", "on1"), ("tcp", "tool0"), ("base", "on0")],
+)
+def test_a_joint_moves_the_pose_exactly_when_it_is_spanned(ur5, pair):
+    rng = np.random.default_rng(7)
+    q = rng.uniform(-3.0, 3.0, size=(5, ur5.dof))
+    before = relative_pose(*reference_poses(ur5, q, pair))
+    spanned = joints_spanned(ur5, *pair)
+    for joint in range(1, ur5.dof + 1):
+        moved = q.copy()
+        moved[:, joint - 1] += 0.3
+        after = relative_pose(*reference_poses(ur5, moved, pair))
+        changed = bool(np.abs(after - before).max() > 1e-9)
+        assert changed == (joint in spanned), joint
+
+
+def test_an_unknown_frame_is_a_frame_error(ur5):
+    with pytest.raises(FrameError, match="nowhere"):
+        joints_spanned(ur5, "world", "nowhere")
+
+
+def statuses(c):
+    return {n.name: n.status for n in c.numbers}
+
+
+def unvouched(model):
+    frames = {k: replace(v, source="") for k, v in model.frames.items()}
+    return replace(model, frames=frames)
+
+
+def test_the_bundled_ur5_check_verifies_every_number_and_names_the_parallel_axes(ur5):
+    c = coverage(ur5, "base", "tool0", TOL, TOL)
+    assert c.complete and c.summary() == "table verified"
+    assert len(c.table_numbers) == 24 and c.count("verified") == 24
+    by_name = {n.name: n for n in c.numbers}
+    # d2, d3, d4 translate along UR's three parallel axes: only their sum is seen.
+    assert set(by_name["d2"].trades_with) == {"d3", "d4"}
+    assert by_name["a2"].trades_with == ()
+    # Unobstructed, a length shows 1:1 in position and an angle 1:1 in rotation.
+    for n in c.table_numbers:
+        assert n.resolution == pytest.approx(TOL, rel=1e-3), n.name
+
+
+@pytest.mark.parametrize(
+    ("pair", "hidden"),
+    [
+        (("base_link", "tool0"), {"θ1"}),  # base_link = base · Rz(π): a missing θ offset
+        (("base", "ee_link"), {"α6", "θ6"}),  # ee_link = tool0 · rpy(90°, −90°, 0)
+        (("base_link", "ee_link"), {"θ1", "α6", "θ6"}),
+    ],
+)
+def test_an_offset_carrying_what_a_table_number_produces_hides_it(ur5, pair, hidden):
+    c = coverage(unvouched(ur5), *pair, TOL, TOL)
+    assert {n.name for n in c.by_status("not-identifiable")} == hidden
+    assert not c.complete
+    for n in c.by_status("not-identifiable"):
+        assert n.absorbed_by.startswith("[frames.")
+    assert "not identifiable" in c.summary()
+
+
+def test_a_vouched_offset_hides_nothing_and_is_shown(ur5):
+    c = coverage(ur5, "base_link", "ee_link", TOL, TOL)  # the bundled UR5 vouches for both
+    assert c.complete
+    vouched = {n.group for n in c.vouched}
+    assert vouched == {"[frames.base_link]", "[frames.ee_link]"}
+    assert all(n.source for n in c.vouched)
+
+
+def test_d1_ten_mm_long_mapped_into_the_base_frame_is_not_identifiable(ur5):
+    wrong = replace(ur5, joints=(replace(ur5.joints[0], d=ur5.joints[0].d + 0.01), *ur5.joints[1:]))
+    frames = dict(wrong.frames)
+    frames["base"] = FrameSpec("base", 0, Offset((0.0, 0.0, 0.01)), "base")
+    c = coverage(replace(wrong, frames=frames), "base", "tool0", TOL, TOL)
+    assert [n.name for n in c.by_status("not-identifiable")] == ["d1"]
+    d1 = next(n for n in c.numbers if n.name == "d1")
+    assert d1.absorbed_by == "[frames.base]: translation along z of DH frame 0"
+    assert c.summary().startswith("table verified except d1 not identifiable")
+
+
+def test_a_translation_across_the_first_axis_hides_nothing(ur5):
+    frames = dict(ur5.frames)
+    frames["side"] = FrameSpec("side", 0, Offset((0.3, -0.2, 0.0)))
+    c = coverage(replace(ur5, frames=frames), "side", "tool0", TOL, TOL)
+    assert c.complete, c.gaps()
+
+
+@pytest.mark.parametrize(("field", "offset"), [
+    ("base", Offset(rpy=(0.0, 0.0, np.pi))),  # a [base] turned π
+    ("tool", Offset(xyz=(0.0, 0.0, 0.1))),  # a [tool] 100 mm off
+    ("tool", Offset(rpy=(0.0, 0.0, np.pi / 2))),  # or 90° off
+])  # fmt: skip
+def test_base_and_tool_outside_the_pair_are_not_covered(ur5, field, offset):
+    c = coverage(replace(ur5, **{field: offset}), "base", "tool0", TOL, TOL)
+    assert {n.group for n in c.by_status("not-covered")} == {f"[{field}]"}
+    assert not c.complete
+    assert f"[{field}] not covered (outside base → tool0)" in c.summary()
+    # The pair through world and TCP covers it: its numbers then trade with d1, θ…
+    wide = coverage(replace(ur5, **{field: offset}), "world", "tcp", TOL, TOL)
+    assert wide.complete, wide.gaps()
+
+
+@pytest.mark.parametrize("pair", [("tcp", "tcp"), ("tool0", "flange"), ("world", "base")])
+def test_a_pair_spanning_no_joint_verifies_no_table_number(ur5, pair):
+    c = coverage(ur5, *pair, TOL, TOL)
+    assert c.spans_no_joint and not c.complete
+    assert c.count("verified") == 0
+    assert c.summary() == f"table not verified: the pair {pair[0]} → {pair[1]} spans no joint"
+
+
+def test_a_pair_spanning_only_the_first_joint_is_partial(ur5):
+    c = coverage(ur5, "world", "on1", TOL, TOL)
+    assert c.joints_spanned == (1,)
+    assert c.summary().startswith("table partly verified: joints 1 of 6;")
+    assert {n.name for n in c.by_status("not-covered")} >= {"a2", "θ6"}
+
+
+def test_a_number_the_offsets_almost_absorb_is_not_identifiable_with_its_resolution():
+    from fkcheck.model.read import model_from_dict
+
+    # z1 is 1e-4 rad from z0: an offset along z0 at DH frame 0 takes all of d1 and
+    # all but 1e-4 of d2, so d2 errors up to ~tol / 1e-4 = 10 mm would pass.
+    model = model_from_dict({
+        "name": "almost", "convention": "standard",
+        "joint": [
+            {"name": "j1", "a": 0.0, "alpha": 1e-4, "d": 0.1, "theta": 0.0},
+            {"name": "j2", "a": 0.5, "alpha": 1.2, "d": 0.2, "theta": 0.0},
+            {"name": "j3", "a": 0.3, "alpha": 0.0, "d": 0.0, "theta": 0.0},
+        ],
+        "frames": {"lifted": {"dh": 0, "xyz": [0.0, 0.0, 0.01]}},
+    })  # fmt: skip
+    c = coverage(model, "lifted", "tcp", TOL, TOL)
+    by_name = {n.name: n for n in c.numbers}
+    assert by_name["d1"].status == "not-identifiable"
+    assert by_name["d1"].absorbed_by.startswith("[frames.lifted]: translation along z")
+    d2 = by_name["d2"]
+    assert d2.status == "not-identifiable"
+    assert "would stay within tolerance" in d2.absorbed_by
+    # Without the offset, both are verified, each to its tolerance.
+    clean = coverage(model, "world", "tcp", TOL, TOL)
+    assert clean.complete
+    assert RESOLUTION_LIMIT == 10.0
