@@ -13,11 +13,10 @@ import numpy as np
 import pytest
 
 from fkcheck.errors import FrameError
+from fkcheck.model.coverage import RESOLUTION_LIMIT, coverage
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.read import load_model
-from fkcheck.model.coverage import RESOLUTION_LIMIT, coverage
 from fkcheck.model.types import FrameSpec, Offset
-
 
 TOL = 1e-6
 
@@ -87,8 +86,10 @@ def unvouched(model):
 
 def test_the_bundled_ur5_check_verifies_every_number_and_names_the_parallel_axes(ur5):
     c = coverage(ur5, "base", "tool0", TOL, TOL)
-    assert c.complete and c.summary() == "table verified"
-    assert len(c.table_numbers) == 24 and c.count("verified") == 24
+    assert c.complete
+    assert c.summary() == "table verified"
+    assert len(c.table_numbers) == 24
+    assert c.count("verified") == 24
     by_name = {n.name: n for n in c.numbers}
     # d2, d3, d4 translate along UR's three parallel axes: only their sum is seen.
     assert set(by_name["d2"].trades_with) == {"d3", "d4"}
@@ -159,7 +160,8 @@ def test_base_and_tool_outside_the_pair_are_not_covered(ur5, field, offset):
 @pytest.mark.parametrize("pair", [("tcp", "tcp"), ("tool0", "flange"), ("world", "base")])
 def test_a_pair_spanning_no_joint_verifies_no_table_number(ur5, pair):
     c = coverage(ur5, *pair, TOL, TOL)
-    assert c.spans_no_joint and not c.complete
+    assert c.spans_no_joint
+    assert not c.complete
     assert c.count("verified") == 0
     assert c.summary() == f"table not verified: the pair {pair[0]} → {pair[1]} spans no joint"
 
