@@ -87,6 +87,7 @@ def check(
     explain_jacobians: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
+    tolerance_source: str = "",
 ) -> Outcome:
     """Cross-check a model's forward kinematics, and diagnose a failure.
 
@@ -117,6 +118,8 @@ def check(
             kept configurations: milliseconds).
         on_progress: Called as ``(backend, configurations done, total)``.
         on_done: Called with each backend's result as it finishes.
+        tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, named in
+            the headline when looser than the default (default: "the caller").
 
     Returns:
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
@@ -161,6 +164,7 @@ def check(
         explain_jacobian=explain_sample if explain_jacobians else None,
         on_done=on_done,
         on_progress=on_progress,
+        tolerance_source=tolerance_source,
     )
     diagnoses = diagnose_failures(result, backends) if diagnose else ()
     return Outcome(result, diagnoses)

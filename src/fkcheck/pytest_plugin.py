@@ -156,6 +156,7 @@ class ModelFile(pytest.File):
                 jacobian=p.wants_jacobian,
                 jacobian_reference=p.jacobian_reference,
                 tol_jacobian=p.tol_jacobian,
+                tolerance_source=f"[tool.fkcheck] in {p.path}",
             )
         except FkcheckError as exc:
             self._error = str(exc)

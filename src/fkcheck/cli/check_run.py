@@ -103,6 +103,7 @@ def check_with_progress(
             tol_jacobian=args.tol_jacobian,
             diagnose=diagnose,
             on_progress=on_progress,
+            tolerance_source=getattr(args, "tol_source", ""),
         )
 
 

@@ -27,7 +27,7 @@ from fkcheck.backends.base import Evidence
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import FailureDetail
 from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
-from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize
+from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize, tolerance_note
 from fkcheck.model.coverage import Coverage
 from fkcheck.model.types import Model
 
@@ -209,6 +209,8 @@ class CheckResult:
         jacobian: What ``--jacobian`` compared (reference frame, tolerance), or ``None``.
         numbers: What the compared frame pair can verify, number by number
             (:mod:`fkcheck.model.coverage`); ``None`` when not analysed.
+        tolerance_source: Where the tolerances came from (``--tol-pos``, the
+            model's ``[check]``, ``[tool.fkcheck] in …/pyproject.toml``).
     """
 
     model: Model
@@ -229,6 +231,7 @@ class CheckResult:
     command: str = ""
     jacobian: JacobianSpec | None = None
     numbers: Coverage | None = None
+    tolerance_source: str = ""
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:
@@ -238,4 +241,5 @@ class CheckResult:
     @property
     def evidence(self) -> EvidenceSummary:
         """What the run proved, by kind (implementation, table), and what was required."""
-        return summarize(self.backends, self.required, self.numbers)
+        loose = tolerance_note(self.tol_pos_m, self.tol_rot_rad, self.tolerance_source)
+        return summarize(self.backends, self.required, self.numbers, loose)

@@ -304,6 +304,7 @@ def run_check(
     explain_jacobian: Explain | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
+    tolerance_source: str = "",
 ) -> CheckResult:
     """Check ``backends`` against the in-house core on sampled configurations.
 
@@ -332,6 +333,8 @@ def run_check(
         on_done: Called with each backend's result as it finishes.
         on_progress: Called as ``(backend name, configurations done, total)`` after
             each chunk a backend finishes (from that backend's thread).
+        tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, for the
+            headline (default: "the caller"); the model's own say where not given.
 
     Returns:
         The check result.
@@ -439,4 +442,15 @@ def run_check(
         duration_s=time.perf_counter() - t0,
         jacobian=jacobian,
         numbers=numbers,
+        tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
     )
+
+
+def _tolerance_source(
+    model: Model, tol_pos_m: float | None, tol_rot_rad: float | None, given: str
+) -> str:
+    """Where the check's tolerances came from, in words."""
+    if tol_pos_m is None and tol_rot_rad is None:
+        where = f" of {model.path}" if model.path is not None else ""
+        return f"the model's [check]{where}"
+    return given or "the caller"

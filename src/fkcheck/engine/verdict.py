@@ -34,10 +34,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Literal, Protocol
+from typing import TYPE_CHECKING, Literal, Protocol
 
-from fkcheck.model.coverage import Coverage
+from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.model.require import KINDS, Kind
+
+if TYPE_CHECKING:
+    from fkcheck.model.coverage import Coverage
 
 __all__ = [
     "KINDS",
@@ -51,6 +54,7 @@ __all__ = [
     "number_status",
     "numbers_line",
     "summarize",
+    "tolerance_note",
     "verdict_of",
 ]
 
@@ -110,6 +114,9 @@ class EvidenceSummary:
         unmet: Required kinds that are not.
         numbers: What the compared frame pair can verify, number by number
             (``None`` when not analysed).
+        loose: When a tolerance is looser than the default: which, and where it
+            came from (``--tol-pos``, the model's ``[check]``, a ``pyproject.toml``);
+            every headline ends with it.
     """
 
     implementation: EvidenceKind
@@ -117,6 +124,7 @@ class EvidenceSummary:
     required: tuple[Kind, ...] = ()
     unmet: tuple[Kind, ...] = ()
     numbers: Coverage | None = None
+    loose: str = ""
 
     def of(self, kind: Kind) -> EvidenceKind:
         """The evidence of one kind."""
@@ -146,6 +154,7 @@ def summarize(
     results: Sequence[_Outcome],
     required: Sequence[Kind] = (),
     numbers: Coverage | None = None,
+    loose: str = "",
 ) -> EvidenceSummary:
     """Sort backend results into the two kinds of evidence.
 
@@ -158,7 +167,23 @@ def summarize(
         table = replace(table, status="partly-verified", gaps=numbers.gaps())
     by_kind = {"implementation": implementation, "table": table}
     unmet = tuple(k for k in required if by_kind[k].status != "verified")
-    return EvidenceSummary(implementation, table, tuple(required), unmet, numbers)
+    return EvidenceSummary(implementation, table, tuple(required), unmet, numbers, loose)
+
+
+def tolerance_note(tol_pos_m: float, tol_rot_rad: float, source: str) -> str:
+    """``tolerance 1 mm / 1e-06 rad, looser than the default 0.001 mm (from --tol-pos)``.
+
+    Empty when neither tolerance is looser than the default.
+    """
+    looser = []
+    if tol_pos_m > DEFAULT_TOL_POS_M:
+        looser.append(f"{tol_pos_m:g} m (default {DEFAULT_TOL_POS_M:g} m)")
+    if tol_rot_rad > DEFAULT_TOL_ROT_RAD:
+        looser.append(f"{tol_rot_rad:g} rad (default {DEFAULT_TOL_ROT_RAD:g} rad)")
+    if not looser:
+        return ""
+    where = f", from {source}" if source else ""
+    return f"tolerance looser than the default: {' and '.join(looser)}{where}"
 
 
 def verdict_of(results: Sequence[_Outcome], evidence: EvidenceSummary) -> Verdict:
@@ -255,8 +280,14 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
     """The verdict with what it proved, one line: ``pass — implementation only; …``.
 
     A pass that never checked the table says so in the verdict itself, so it
-    cannot be read as "the table is right" wherever only the verdict is shown.
+    cannot be read as "the table is right" wherever only the verdict is shown;
+    a tolerance looser than the default is named at its end, with its source.
     """
+    line = _headline(verdict, evidence, n_ran)
+    return f"{line} [{evidence.loose}]" if evidence.loose else line
+
+
+def _headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
     if verdict == "pass":
         if evidence.table.status == "expected-failure":
             tail = (
