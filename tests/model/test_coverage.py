@@ -198,3 +198,11 @@ def test_a_number_the_offsets_almost_absorb_is_not_identifiable_with_its_resolut
     clean = coverage(model, "world", "tcp", TOL, TOL)
     assert clean.complete
     assert RESOLUTION_LIMIT == 10.0
+
+
+def test_a_placed_urdf_link_named_with_a_colon_is_named_whole(ur5):
+    wrong = replace(ur5, joints=(replace(ur5.joints[0], d=ur5.joints[0].d + 0.01), *ur5.joints[1:]))
+    frames = {k: v for k, v in wrong.frames.items() if k != "base"}  # placed from the URDF:
+    frames["urdf:base"] = FrameSpec("urdf:base", 0, Offset((0.0, 0.0, 0.01)), "base")
+    c = coverage(replace(wrong, frames=frames), "urdf:base", "tool0", TOL, TOL)
+    assert c.gaps() == "d1 not identifiable (the offset of [frames.urdf:base] could absorb it)"
