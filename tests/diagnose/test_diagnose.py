@@ -102,7 +102,7 @@ def test_base_link_vs_base_is_named_and_the_printed_fix_passes(tmp_path, referen
     assert fix == {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}  # ur5.toml is in deg
     # Apply the printed TOML to the broken model file and run the real check.
     text = model_to_toml(bad)
-    start = text.index("[frames.base_link]\ndh = 0\nurdf = \"base_link\"\nsource = ")
+    start = text.index('[frames.base_link]\ndh = 0\nurdf = "base_link"\nsource = ')
     broken = text[start : text.index("\n\n", start) + 1]
     path = tmp_path / "fixed.toml"
     path.write_text(text.replace(broken, best.fix_toml), encoding="utf-8")

@@ -52,7 +52,7 @@ looks like.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Literal
 
@@ -267,9 +267,9 @@ def _row_groups(c: Coverage) -> list[str]:
     return _unique(n.group for n in c.table_numbers if n.group.startswith("joint "))
 
 
-def _unique(items: Sequence[str] | object) -> list[str]:
+def _unique(items: Iterable[str]) -> list[str]:
     out: list[str] = []
-    for item in items:  # type: ignore[attr-defined]
+    for item in items:
         if item not in out:
             out.append(item)
     return out

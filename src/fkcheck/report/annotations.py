@@ -118,7 +118,10 @@ def github_annotations(
     *,
     source: str | None = None,
 ) -> list[str]:
-    """The ``::error`` lines for a check that did not pass (none when it passed).
+    """The ``::error`` lines for a check that did not pass; for a pass, at most a warning.
+
+    A pass whose table is only partly verified gets one ``::warning``, naming
+    the numbers the compared pair leaves unverified.
 
     One line per distinct disagreement (backends one diagnosis stands for share
     it): the numbers and the diagnosis headline, at the line of the first
@@ -135,11 +138,15 @@ def github_annotations(
         Workflow-command lines, without newlines (every control character of
         input is escaped).
     """
-    if check.verdict == "pass":
-        return []
     model = check.model
     file = _relative(model.path) if model.path is not None else None
     name = terminal_text(model.name)
+    if check.verdict == "pass":
+        if check.evidence.table.status != "partly-verified":
+            return []
+        title = f"fkcheck {name}: table partly verified"
+        sentence = terminal_text(evidence_sentences(check.evidence)[1])
+        return [_command(file, None, title, sentence, level="warning")]
     lines: list[str] = []
     done: set[str] = set()
     for r in check.backends:
@@ -175,8 +182,4 @@ def github_annotations(
     if check.verdict == "unverified":
         sentence = evidence_sentences(check.evidence)[1]
         lines.append(_command(file, None, f"fkcheck {name}: unverified", terminal_text(sentence)))
-    elif check.verdict == "pass" and check.evidence.table.status == "partly-verified":
-        sentence = evidence_sentences(check.evidence)[1]
-        title = f"fkcheck {name}: table partly verified"
-        lines.append(_command(file, None, title, terminal_text(sentence), level="warning"))
     return lines

@@ -117,9 +117,9 @@ def _numbers(check: CheckResult) -> dict[str, Any] | None:
         for n in numbers.numbers
     ]
     counts: dict[str, int] = {}
-    for row in rows:
-        if row["table"]:
-            counts[row["status"]] = counts.get(row["status"], 0) + 1
+    for n in numbers.table_numbers:
+        status = number_status(n.status, table)
+        counts[status] = counts.get(status, 0) + 1
     return {
         "from": numbers.frame_from,
         "to": numbers.frame_to,
