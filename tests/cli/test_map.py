@@ -173,3 +173,55 @@ def test_map_of_a_plain_urdf_with_the_opt_in_does_not_opt_the_block_in(tmp_path,
     urdf.write_bytes(locate_urdf(UR5_URDF)[0].read_bytes())
     assert main(["map", str(model), str(urdf), "--allow-xacro", *FAST]) == 0
     assert set(tomllib.loads(capsys.readouterr().out)["urdf"]) == {"path", "joints"}
+
+
+def _ur5_table_only(tmp_path, old="", new=""):
+    """The bundled UR5's table, no [urdf], no frames, no [check]; one number changed."""
+    text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8").split("\n[urdf]")[0]
+    text = text.split("# The ROS UR description")[0]
+    if old:
+        assert old in text
+        text = text.replace(old, new, 1)
+    path = tmp_path / "arm.toml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "frame", "hidden"),
+    [
+        ("d = 0.089159", "d = 0.099159", "base", "d1: translation along z of DH frame 0"),
+        ("d = 0.0823\ntheta = 0", "d = 0.0823\ntheta = 20", "tool0",
+         "θ6: rotation about z of DH frame 6"),
+    ],
+)  # fmt: skip
+def test_map_never_hides_a_first_or_last_row_error_in_an_offset(
+    capsys, tmp_path, old, new, frame, hidden
+):
+    model = _ur5_table_only(tmp_path, old, new)
+    assert main(["map", str(model), UR5_URDF]) == 0
+    out, err = capsys.readouterr()
+    # The frame over which the error went is flagged, in the block and the summary.
+    head = out[: out.index(f"[frames.{frame}]")]
+    assert "NOT IDENTIFIABLE" in head[head.rindex("# ") - 400 :]
+    assert f"#   {hidden}" in out
+    assert "fkcheck cannot tell" in err
+    # Pasted with its [check], the check passes — and says the table is not all verified.
+    block = tmp_path / "block.toml"
+    block.write_text(out, encoding="utf-8")
+    model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
+    assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf"]) == 0
+    verdict = capsys.readouterr().out
+    assert "table verified except" in verdict
+    assert "table verified independently" not in verdict
+
+
+def test_map_on_the_right_table_proposes_a_check_that_verifies_every_number(capsys, tmp_path):
+    model = _ur5_table_only(tmp_path)
+    assert main(["map", str(model), UR5_URDF]) == 0
+    out, err = capsys.readouterr()
+    assert tomllib.loads(out)["check"] == {"from": "base", "to": "tool0"}
+    assert "can verify every number of the table" in err
+    model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
+    assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf"]) == 0
+    assert "table verified independently" in capsys.readouterr().out
