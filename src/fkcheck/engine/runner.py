@@ -379,7 +379,7 @@ def run_check(
         model, samples, seed, sampler
     )
     required = tuple(k for k in KINDS if k in (*model.check.require, *require))
-    numbers = coverage(model, pair[0], pair[1], tol[0], tol[1])
+    numbers = coverage(model, pair[0], pair[1], tol[0], tol[1], q=q.q)  # what it exercises
     if "table" in required and numbers.spans_no_joint:
         raise FkcheckError(
             f"require table: the frame pair {pair[0]} → {pair[1]} spans no joint of model "

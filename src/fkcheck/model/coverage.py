@@ -208,16 +208,23 @@ class Coverage:
             return f"the pair {self.frame_from} → {self.frame_to} spans no joint"
         parts = []
         hidden = self.by_status("not-identifiable")
-        if hidden:
-            carriers = [c for c in _unique(_carrier(n.absorbed_by) for n in hidden) if c]
-            why = (
-                f"the offset{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} "
-                "could absorb "
-                f"{'it' if len(hidden) == 1 else 'them'}"
-                if carriers
-                else "their effect is too faint for the tolerance"
+        by_offset = [n for n in hidden if _carrier(n.absorbed_by)]
+        if by_offset:
+            carriers = _unique(_carrier(n.absorbed_by) for n in by_offset)
+            parts.append(
+                f"{_short(by_offset)} not identifiable (the offset"
+                f"{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} could absorb "
+                f"{'it' if len(by_offset) == 1 else 'them'})"
             )
-            parts.append(f"{_short(hidden)} not identifiable ({why})")
+        sampled = [n for n in hidden if n.absorbed_by.startswith("the check's")]
+        if sampled:
+            parts.append(
+                f"{_short(sampled)} not identifiable (the check's configurations cannot tell "
+                "them apart: compare more)"
+            )
+        faint = [n for n in hidden if n not in by_offset and n not in sampled]
+        if faint:
+            parts.append(f"{_short(faint)} not identifiable (too faint for the tolerance)")
         uncovered = self.by_status("not-covered")
         if uncovered:
             parts.append(
@@ -241,6 +248,8 @@ class Coverage:
             return f"table not verified: {self.gaps()}"
         if self.complete:
             return "table verified"
+        if not self.count("verified"):
+            return f"table not verified: {self.gaps()}"
         dof = len(_row_groups(self))
         if len(self.joints_spanned) == dof:
             return f"table verified except {self.gaps()}"
@@ -284,6 +293,10 @@ def _carrier(absorbed_by: str) -> str:
 
 def _short(numbers: Sequence[NumberEvidence]) -> str:
     """Names, with a whole offset group shown once: ``d1, θ6, [base]``."""
+    rows = [n for n in numbers if n.group.startswith("joint ")]
+    if len(rows) > 8:  # a whole table's worth: count, don't list
+        rest = _short([n for n in numbers if not n.group.startswith("joint ")])
+        return f"{len(rows)} numbers of the rows" + (f", {rest}" if rest else "")
     out: list[str] = []
     for n in numbers:
         label = n.group if n.group.startswith("[") else n.name
@@ -405,6 +418,16 @@ def _unit(component: int) -> Unit:
     return "m" if component < 3 else "rad"
 
 
+def _subset(q: Float, samples: int, seed: int) -> Float:
+    """At most ``samples`` rows of ``q``, a seeded choice (all of them when fewer)."""
+    q = np.asarray(q, dtype=np.float64)
+    if q.shape[0] <= samples:
+        return q
+    rows = np.sort(np.random.default_rng(seed).choice(q.shape[0], samples, replace=False))
+    subset: Float = q[rows]
+    return subset
+
+
 def _configurations(model: Model, samples: int, seed: int) -> Float:
     lo, hi = sampling_box(model)
     rng = np.random.default_rng(seed)
@@ -475,8 +498,15 @@ def coverage(
     *,
     samples: int = SAMPLES,
     seed: int = 0,
+    q: Float | None = None,
 ) -> Coverage:
     """Every number of ``model`` against a check of ``frame_from → frame_to``.
+
+    A check verifies only what its own configurations exercise: pass them as
+    ``q`` (a seeded subset of ``samples`` of them is used when there are more;
+    a few measured poses identify less than a thousand samples, and the
+    analysis then says so). Without ``q``, ``samples`` seeded configurations
+    within limits.
 
     Args:
         model: The model (its frames include any placed ``urdf:LINK``).
@@ -484,31 +514,25 @@ def coverage(
         frame_to: The frame whose pose is compared.
         tol_pos_m: The check's position tolerance, metres.
         tol_rot_rad: The check's rotation tolerance, radians.
-        samples: Configurations the sensitivities are taken at.
-        seed: Their seed.
+        samples: Configurations the sensitivities are taken at (at most).
+        seed: Their seed (or of the subset of ``q``).
+        q: The check's configurations ``(N, n)``, radians / metres.
 
     Raises:
         FrameError: An unknown frame.
     """
     specs = {"from": resolve_frame(model, frame_from), "to": resolve_frame(model, frame_to)}
-    q = _configurations(model, samples, seed)
-    pose = _Pose(model, q, specs["from"], specs["to"])
-    F_inv = invert(pose.pose())
     numbers = _numbers(model, (specs["from"], specs["to"]))
-    twists = np.stack([_twists(pose, F_inv, n) for n in numbers], axis=2)  # (N, 6, P)
-    moving = np.abs(twists).max(axis=(0, 1)) > MOVING_EPS
-    joints = [_Number("", "", "", "joint", i) for i in range(model.dof)]
-    spanned = tuple(
-        i + 1 for i, j in enumerate(joints) if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
-    )
-    scale = np.array([1.0 / tol_pos_m] * 3 + [1.0 / tol_rot_rad] * 3)
-    J = (twists * scale[None, :, None]).reshape(-1, len(numbers))  # in tolerances per unit
+    tols = (tol_pos_m, tol_rot_rad)
+    # What the pair can tell, over generic configurations (the kinematics) …
+    generic = _configurations(model, samples, seed)
+    J, moving, spanned = _sensitivities(model, specs, numbers, generic, tols)
     norms = np.linalg.norm(J, axis=0)
     to_si = np.array([tol_pos_m] * 3 + [tol_rot_rad] * 3)
 
     absorbed: dict[int, str] = {}  # table number → which offset carries it, how
     carrying: dict[int, list[str]] = {}  # offset component → the table numbers it trades with
-    directions: list[Float] = []
+    absorbing: list[tuple[list[int], Float]] = []  # offset columns and their combination
     for side in ("from", "to"):
         spec = specs[side]
         cols = [i for i, n in enumerate(numbers) if n.kind == side]
@@ -518,26 +542,32 @@ def coverage(
         for i, n in enumerate(numbers):
             if not n.table or not moving[i]:
                 continue
-            coef = np.linalg.lstsq(A, J[:, i], rcond=None)[0]
+            coef = np.asarray(np.linalg.lstsq(A, J[:, i], rcond=None)[0], dtype=np.float64)
             if np.linalg.norm(J[:, i] - A @ coef) > SPAN_RTOL * norms[i]:
                 continue
             if not _carries(spec.offset, coef * to_si, tol_pos_m / tol_rot_rad):
                 continue
             absorbed.setdefault(i, f"[frames.{spec.name}]: {_describe(coef * to_si, spec)}")
-            directions.append(A @ coef)
+            absorbing.append((cols, coef))
             weight = np.abs(coef) * norms[cols]
             for k, c in enumerate(cols):
                 if weight[k] > SPAN_RTOL * weight.max():
                     carrying.setdefault(c, []).append(n.name)
 
-    residual = _without(J, directions)
+    candidates = [bool(moving[i] and n.table and i not in absorbed) for i, n in enumerate(numbers)]
+    trades = _trades(_without(J, [J[:, c] @ k for c, k in absorbing]), candidates)
+    # … and what the check's own configurations exercise: its resolution, its trades.
+    if q is not None:
+        checked = _subset(q, samples, seed)
+        J_check = _sensitivities(model, specs, numbers, checked, tols)[0]
+    else:
+        checked, J_check = generic, J
+    residual = _without(J_check, [J_check[:, c] @ k for c, k in absorbing])
+    tied = _trades(residual, candidates) if q is not None else trades
     # What the check measures per configuration: |Δp| / tol_pos and angle / tol_rot.
-    per = residual.reshape(q.shape[0], 6, -1)
-    worst = np.maximum(np.linalg.norm(per[:, :3], axis=1), np.linalg.norm(per[:, 3:], axis=1)).max(
-        axis=0
-    )
-    trades = _trades(residual, [moving[i] and n.table and i not in absorbed
-                                for i, n in enumerate(numbers)])  # fmt: skip
+    per = residual.reshape(checked.shape[0], 6, -1)
+    worst = np.maximum(np.linalg.norm(per[:, :3], axis=1), np.linalg.norm(per[:, 3:], axis=1))
+    worst = worst.max(axis=0)
     out: list[NumberEvidence] = []
     for i, n in enumerate(numbers):
         status: Status = "verified"
@@ -552,6 +582,13 @@ def coverage(
         elif i in carrying:
             status = "not-identifiable"
             why = f"{n.group}: carries what {', '.join(carrying[i])} produce"
+        elif set(tied.get(i, ())) - set(trades.get(i, ())):
+            status = "not-identifiable"
+            others = ", ".join(numbers[j].name for j in tied[i] if j not in trades.get(i, ()))
+            why = (
+                f"the check's {checked.shape[0]} configurations cannot tell it from {others} "
+                "(more configurations would)"
+            )
         else:
             resolution = 1.0 / float(worst[i]) if worst[i] > 0 else None
             tol = tol_pos_m if n.unit == "m" else tol_rot_rad
@@ -572,6 +609,27 @@ def coverage(
     return Coverage(
         specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad
     )
+
+
+def _sensitivities(
+    model: Model,
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    q: Float,
+    tol: tuple[float, float],
+) -> tuple[Float, Float, tuple[int, ...]]:
+    """Columns in tolerances per unit ``(N·6, P)``, which numbers move the pose, joints spanned."""
+    pose = _Pose(model, q, specs["from"], specs["to"])
+    F_inv = invert(pose.pose())
+    twists = np.stack([_twists(pose, F_inv, n) for n in numbers], axis=2)  # (N, 6, P)
+    moving = np.abs(twists).max(axis=(0, 1)) > MOVING_EPS
+    joints = [_Number("", "", "", "joint", i) for i in range(model.dof)]
+    spanned = tuple(
+        i + 1 for i, j in enumerate(joints) if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
+    )
+    scale = np.array([1.0 / tol[0]] * 3 + [1.0 / tol[1]] * 3)
+    J: Float = (twists * scale[None, :, None]).reshape(-1, len(numbers))
+    return J, moving, spanned
 
 
 def _without(J: Float, directions: Sequence[Float]) -> Float:
