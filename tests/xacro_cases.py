@@ -19,6 +19,7 @@ __all__ = [
     "UR_LIMITS",
     "UR_MACRO",
     "UR_TOP",
+    "grow_macro",
     "twin_urdf",
     "write_description",
     "write_model",
@@ -73,6 +74,16 @@ def twin_urdf(reach: str = "0.3") -> str:
         f'<?xml version="1.0"?>\n<robot name="xarm">\n<link name="base"/>\n{body}'
         '<link name="tip"/><joint name="tip_joint" type="fixed"><parent link="l3"/>'
         f'<child link="tip"/><origin xyz="{reach} 0 0" rpy="0 0 0"/></joint>\n</robot>\n'
+    )
+
+
+def grow_macro(leaf: str, depth: int) -> str:
+    """A macro that calls itself twice a level, called ``depth`` levels deep: 2**depth ``leaf``."""
+    return (
+        '<xacro:macro name="grow" params="n"><xacro:if value="${n > 0}">'
+        '<xacro:grow n="${n - 1}"/><xacro:grow n="${n - 1}"/></xacro:if>'
+        f'<xacro:unless value="${{n > 0}}">{leaf}</xacro:unless></xacro:macro>'
+        f'<xacro:grow n="{depth}"/>'
     )
 
 
@@ -180,7 +191,8 @@ UR_MACRO = f"""<?xml version="1.0"?>
     </link>
     <joint name="${{name}}" type="${{'continuous' if continuous else 'revolute'}}">
       <parent link="${{parent}}"/><child link="${{child}}"/>
-      <origin xyz="${{sec['x']}} ${{sec['y']}} ${{sec['z']}}" rpy="${{sec.roll}} ${{sec.pitch}} ${{sec.yaw}}"/>
+      <origin xyz="${{sec['x']}} ${{sec['y']}} ${{sec['z']}}"
+              rpy="${{sec.roll}} ${{sec.pitch}} ${{sec.yaw}}"/>
       <axis xyz="0 0 1"/>
       <xacro:unless value="${{continuous}}">
         <limit lower="${{lim['min_position']}}" upper="${{lim['max_position']}}"
@@ -191,7 +203,8 @@ UR_MACRO = f"""<?xml version="1.0"?>
       </xacro:if>
       <xacro:if value="${{safety_limits and not continuous}}">
         <safety_controller soft_lower_limit="${{lim['min_position'] + margin}}"
-                           soft_upper_limit="${{lim['max_position'] - margin}}" k_position="20" k_velocity="0.0"/>
+                           soft_upper_limit="${{lim['max_position'] - margin}}"
+                           k_position="20" k_velocity="0.0"/>
       </xacro:if>
     </joint>
   </xacro:macro>
