@@ -206,8 +206,8 @@ def run_supervised(
         max_stdout_bytes: It may print at most this many bytes on stdout.
         max_line_bytes: If given, no stdout line may be longer (newline excluded).
         max_lines: If given, stdout may hold at most this many lines.
-        env: The environment the supervisor, hence the program, is executed
-            with (``{}``: none at all; default: this process's).
+        env: The environment the supervisor and the program are executed with,
+            exactly (``{}``: none at all; default: this process's).
 
     Returns:
         What it printed and how it ended, once it (and all it started) ended.
@@ -228,8 +228,8 @@ def run_supervised(
     status_r, status_w = os.pipe()
     try:
         proc = subprocess.Popen(
-            [sys.executable, "-I", "-S", _SUPERVISOR, str(os.getpid()), str(status_w), "--",
-             *argv],
+            [sys.executable, "-I", "-S", _SUPERVISOR, str(os.getpid()), str(status_w),
+             "inherit" if env is None else "exact", "--", *argv],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
