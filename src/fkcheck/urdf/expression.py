@@ -587,9 +587,20 @@ class _Walk:
                 return Function(name, functools.partial(MAPPING_METHODS[name], found))
             if name in found:
                 return found[name]
+            if calling:
+                raise ExpressionError(
+                    f"mapping method .{name}() is not allowed in a xacro expression "
+                    f"(only {', '.join(MAPPING_METHODS)})"
+                )
             raise ExpressionError(f"the mapping has no key {name!r}")
+        if kind is str and calling:
+            raise ExpressionError(
+                f"string method .{name}() is not allowed in a xacro expression "
+                f"(only {', '.join(STRING_METHODS)})"
+            )
+        what = f"{found.name} (a function)" if kind is Function else _a(kind.__name__)
         raise ExpressionError(
-            f"attribute .{name} of {_a(kind.__name__)} is not allowed in a xacro expression "
+            f"attribute .{name} of {what} is not allowed in a xacro expression "
             "(a.b is a namespace member, a yaml key or one of a few string methods)"
         )
 

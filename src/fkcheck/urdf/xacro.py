@@ -520,7 +520,10 @@ def _yaml_loader(xacro: Any, names: dict[str, object]) -> type[Any]:
     def unit(tag: str, factor: float) -> Any:
         def construct(loader: Any, node: Any) -> float:
             text = str(loader.construct_scalar(node))
-            value = evaluate(text, names.__getitem__)
+            try:
+                value = evaluate(text, names.__getitem__)
+            except ExpressionError as exc:
+                raise ExpressionError(f"{tag} {_shown(text)}: {exc}") from None
             if type(value) not in (bool, int, float):
                 raise ExpressionError(f"{tag} {_shown(text)}: not a number")
             return float(value) * factor  # type: ignore[arg-type]
