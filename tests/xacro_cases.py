@@ -19,6 +19,7 @@ __all__ = [
     "UR_LIMITS",
     "UR_MACRO",
     "UR_TOP",
+    "environ_job",
     "grow_macro",
     "twin_urdf",
     "write_description",
@@ -75,6 +76,23 @@ def twin_urdf(reach: str = "0.3") -> str:
         '<link name="tip"/><joint name="tip_joint" type="fixed"><parent link="l3"/>'
         f'<child link="tip"/><origin xyz="{reach} 0 0" rpy="0 0 0"/></joint>\n</robot>\n'
     )
+
+
+def environ_job(
+    data: bytes, path: str, args: dict[str, str], packages: dict[str, str], roots: list[str]
+) -> tuple[str, tuple[str, list[str]]]:
+    """In place of the expansion's job: what the child's environment is, as text.
+
+    ``repr((its /proc/self/environ, its supervisor's /proc/PID/environ, os.environ's names))``
+    — the kernel's record is what the process was executed with.
+    """
+    import os
+
+    with open("/proc/self/environ", "rb") as f:
+        own = f.read()
+    with open(f"/proc/{os.getppid()}/environ", "rb") as f:
+        supervisor = f.read()
+    return "ok", (repr((own, supervisor, sorted(os.environ))), [])
 
 
 def grow_macro(leaf: str, depth: int) -> str:

@@ -7,6 +7,9 @@ include of a declared package; it is compared with its hand-expanded twin.
 
 from __future__ import annotations
 
+import ast
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -19,7 +22,16 @@ from fkcheck.urdf.source import allow_xacro, load_urdf
 from fkcheck.urdf.tree import read_urdf
 from fkcheck.urdf.xacro import XACRO_MEMORY_BYTES, expand_xacro, read_xacro
 from tests.helpers import deadline
-from tests.xacro_cases import TOP, grow_macro, twin_urdf, write_description, write_model
+from tests.processes import LINUX_ONLY
+from tests.xacro_cases import (
+    TOP,
+    environ_job,
+    grow_macro,
+    twin_urdf,
+    write_description,
+    write_model,
+    write_ur_description,
+)
 
 #: Exact agreement, up to the last bits of the chain products.
 SAME = 1e-12
@@ -180,6 +192,21 @@ def test_load_yaml_outside_the_allowed_directories_is_refused(tmp_path):
     )
     with pytest.raises(UrdfError, match=r"load_yaml of '.*secret\.yaml': outside"):
         expand_top(tmp_path, top)
+
+
+@LINUX_ONLY
+def test_the_expansion_process_is_executed_with_an_empty_environment(tmp_path, monkeypatch):
+    # Not cleared after start: /proc/PID/environ keeps what a process was executed with.
+    import fkcheck.urdf.xacro as xacro_module
+
+    monkeypatch.setenv("FKCHECK_TEST_SECRET", "s3cr3t")
+    monkeypatch.setattr(xacro_module, "_expand_job", environ_job)  # pickled by name: runs there
+    text = expand_top(tmp_path, TOP)
+    own, supervisor, names = ast.literal_eval(text)
+    assert own == b""
+    assert supervisor == b""
+    assert "FKCHECK_TEST_SECRET" not in names
+    assert "PATH" not in names
 
 
 @pytest.mark.parametrize("expression", ["$(env HOME)", "$(optenv HOME fallback)"])
@@ -396,3 +423,57 @@ def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(monkeypa
     out = capsys.readouterr().out
     assert code == 0, out
     assert "table verified" in out
+
+
+# --- a UR-style description: the same text as xacro's own evaluation gave -----------
+
+GOLDEN = Path(__file__).parents[1] / "golden"
+
+
+@pytest.mark.parametrize("variant", ["find", "relative"])
+@pytest.mark.parametrize(
+    ("args", "golden"),
+    [({}, "xacro_ur_style.urdf"),
+     ({"safety_limits": "true", "prefix": "a_", "ur_type": "ur5"}, "xacro_ur_style_safety.urdf")],
+)  # fmt: skip
+def test_a_ur_style_description_expands_as_xacro_expanded_it(tmp_path, variant, args, golden):
+    """Properties, yaml with units, dotted keys, a namespace, macros, conditionals, math, eval.
+
+    The golden files are what xacro's own evaluation (Python's eval, before fkcheck's
+    evaluator) made of the ``find`` variant; the ``relative`` variant names its files
+    with ``$(dirname)`` and paths relative to the xacro file (which failed then).
+    """
+    top, package = write_ur_description(tmp_path, variant)
+    expansion = expand_xacro(top, args, {"ur_description": package})
+    assert expansion.text == (GOLDEN / golden).read_text()
+    config = package / "config" / "ur5"
+    assert set(expansion.files) == {
+        top, package / "urdf" / "ur_macro.xacro", package / "urdf" / "colors.xacro",
+        config / "default_kinematics.yaml", config / "joint_limits.yaml",
+    }  # fmt: skip
+    info = read_xacro(top, args, {"ur_description": package})
+    assert len(info.joints) == 9
+    if args:
+        assert "a_shoulder_pan_joint" in info.joints
+
+
+def test_load_yaml_and_dirname_are_relative_to_the_file_being_read(tmp_path, monkeypatch):
+    # Not to the working directory, nor to the top file: to the file that names them,
+    # when it is read (a macro's body is read where the macro is called, as in xacro).
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    top, package = write_description(tmp_path)
+    (package / "urdf" / "names.yaml").write_text("link: from_yaml\n")
+    (top.parent / "names.yaml").write_text("link: wrong_file\n")
+    parts = package / "urdf" / "parts.xacro"
+    parts.write_text(
+        parts.read_text().replace(
+            "</robot>",
+            "<link name=\"${xacro.load_yaml('names.yaml')['link']}\"/>"
+            '<link name="$(dirname)/x"/></robot>',
+        )
+    )
+    text = expand_xacro(top, {}, {"arm_description": package}).text
+    assert '<link name="from_yaml"/>' in text
+    assert f'<link name="{package.resolve() / "urdf"}/x"/>' in text
