@@ -332,14 +332,15 @@ def _fenced_xacro(top: str, packages: dict[str, str], roots: list[str], read: li
                 f"{what} {name!r}: outside the xacro file's directory and the declared "
                 f"packages ({', '.join(roots)})"
             )
-        read.append(str(target))
         return target
 
     def read_file(target: Path, what: str, name: str) -> bytes:
         try:
-            return read_bytes(target, MAX_URDF_BYTES)
+            data = read_bytes(target, MAX_URDF_BYTES)
         except InputFileError as exc:
             raise _Refused(f"{what} {name!r}: {exc.problem}") from None
+        read.append(str(target))
+        return data
 
     parse = xacro.parse
 
