@@ -8,6 +8,7 @@ include of a declared package; it is compared with its hand-expanded twin.
 from __future__ import annotations
 
 import ast
+import time
 from pathlib import Path
 
 import numpy as np
@@ -477,3 +478,16 @@ def test_load_yaml_and_dirname_are_relative_to_the_file_being_read(tmp_path, mon
     text = expand_xacro(top, {}, {"arm_description": package}).text
     assert '<link name="from_yaml"/>' in text
     assert f'<link name="{package.resolve() / "urdf"}/x"/>' in text
+
+
+def test_check_timeout_bounds_the_expansion_too(tmp_path, capsys):
+    write_description(tmp_path, growing("", 40))
+    model = write_model(tmp_path, "0.3", f"xacro = true\n{PACKAGES}")
+    start = time.perf_counter()
+    with deadline(30):
+        code = main(["check", str(model), "--samples", "5", "--timeout", "2"])
+    out, err = capsys.readouterr()
+    assert code == 2, out + err
+    assert err.count("\n") == 1
+    assert "xacro expansion did not end within 2 s (stopped)" in err
+    assert time.perf_counter() - start < 15
