@@ -238,7 +238,7 @@ def _expand_job(
     limit = XACRO_MEMORY_BYTES if hard == resource.RLIM_INFINITY else min(hard, XACRO_MEMORY_BYTES)
     if soft == resource.RLIM_INFINITY or soft > limit or hard != limit:
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))  # hard too: it cannot be raised
-    # Executed with no environment (XACRO_ENV); what Python itself set at start-up goes too.
+    # Executed with no environment (_CHILD_ENV); what Python itself set at start-up goes too.
     os.environ.clear()
     read: list[str] = []
     try:
