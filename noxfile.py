@@ -81,8 +81,9 @@ def bounded(session: nox.Session) -> None:
     session.run(
         "python", "-c", _BOUNDED_PYTEST, str(BOUNDED_AS_BYTES), "-p", "no:cacheprovider",
         "tests/hostile/test_hostile_inputs.py", "tests/hostile/test_hostile_urdf.py",
-        "tests/hostile/test_hostile_outputs.py", "tests/hostile/test_hostile_processes.py",
-        "tests/hostile/test_bounded_memory.py", *session.posargs,
+        "tests/hostile/test_hostile_xacro.py", "tests/hostile/test_hostile_outputs.py",
+        "tests/hostile/test_hostile_processes.py", "tests/hostile/test_bounded_memory.py",
+        *session.posargs,
     )  # fmt: skip
 
 

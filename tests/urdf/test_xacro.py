@@ -7,6 +7,10 @@ include of a declared package; it is compared with its hand-expanded twin.
 
 from __future__ import annotations
 
+import ast
+import time
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -19,7 +23,16 @@ from fkcheck.urdf.source import allow_xacro, load_urdf
 from fkcheck.urdf.tree import read_urdf
 from fkcheck.urdf.xacro import XACRO_MEMORY_BYTES, expand_xacro, read_xacro
 from tests.helpers import deadline
-from tests.xacro_cases import TOP, twin_urdf, write_description, write_model
+from tests.processes import LINUX_ONLY
+from tests.xacro_cases import (
+    TOP,
+    environ_job,
+    grow_macro,
+    twin_urdf,
+    write_description,
+    write_model,
+    write_ur_description,
+)
 
 #: Exact agreement, up to the last bits of the chain products.
 SAME = 1e-12
@@ -182,6 +195,21 @@ def test_load_yaml_outside_the_allowed_directories_is_refused(tmp_path):
         expand_top(tmp_path, top)
 
 
+@LINUX_ONLY
+def test_the_expansion_process_is_executed_with_an_empty_environment(tmp_path, monkeypatch):
+    # Not cleared after start: /proc/PID/environ keeps what a process was executed with.
+    import fkcheck.urdf.xacro as xacro_module
+
+    monkeypatch.setenv("FKCHECK_TEST_SECRET", "s3cr3t")
+    monkeypatch.setattr(xacro_module, "_expand_job", environ_job)  # pickled by name: runs there
+    text = expand_top(tmp_path, TOP)
+    own, supervisor, names = ast.literal_eval(text)
+    assert own == b""
+    assert supervisor == b""
+    assert "FKCHECK_TEST_SECRET" not in names
+    assert "PATH" not in names
+
+
 @pytest.mark.parametrize("expression", ["$(env HOME)", "$(optenv HOME fallback)"])
 def test_the_environment_is_never_read(tmp_path, expression):
     top = TOP.replace('<link name="tip"/>', f'<link name="tip"><!-- x -->{expression}</link>')
@@ -190,28 +218,44 @@ def test_the_environment_is_never_read(tmp_path, expression):
 
 
 def test_eval_is_evaluated_as_xacro_does(tmp_path):
-    # $(eval …) is Python, like ${…}: opting in trusts the file (documented).
+    # $(eval …) is evaluated like ${…}, by fkcheck's evaluator, with the arguments as names.
     top = TOP.replace('xyz="0 0 0.2"', 'xyz="0 0 $(eval 0.1 * 2)"')
     path, package = write_description(tmp_path, top)
     info = read_xacro(path, {}, {"arm_description": package})
     assert 'xyz="0 0 0.2"' in info.text
 
 
+def growing(leaf: str, depth: int) -> str:
+    """TOP with a macro that calls itself twice per level, ``depth`` levels: 2**depth leaves."""
+    return TOP.replace('<link name="base"/>', grow_macro(leaf, depth) + '<link name="base"/>')
+
+
 def test_a_loop_is_stopped_by_the_time_limit(tmp_path):
-    top = TOP.replace('value="0.25"', 'value="${python.sum(python.range(10**15))}"')
+    # No expression loops; macros can: 2**40 calls.
+    top = growing("", 40)
     with deadline(20), pytest.raises(UrdfError, match=r"did not end within 2 s \(stopped\)"):
         expand_top(tmp_path, top, timeout_s=2.0)
 
 
-def test_a_huge_value_is_stopped_by_the_memory_limit(tmp_path):
-    top = TOP.replace('value="0.25"', "value=\"${'x' * 10**10}\"")
+def test_a_huge_expansion_is_stopped_by_the_memory_limit(tmp_path):
+    # Each value is bounded (32 Mi characters); 256 of them are not.
+    top = growing("<link name=\"${'x' * 30 * 2**20}\"/>", 8)
     gib = XACRO_MEMORY_BYTES // 1024**3
-    with deadline(20), pytest.raises(UrdfError, match=f"needs more than {gib} GiB of memory"):
+    with deadline(30), pytest.raises(UrdfError, match=f"needs more than {gib} GiB of memory"):
+        expand_top(tmp_path, top)
+
+
+def test_a_huge_value_is_refused_before_it_is_built(tmp_path):
+    top = TOP.replace('value="0.25"', "value=\"${'x' * 10**10}\"")
+    with deadline(20), pytest.raises(UrdfError, match=r"\$\{'x' \* 10\*\*10\}: a string longer"):
         expand_top(tmp_path, top)
 
 
 def test_a_huge_expansion_is_refused_by_size(tmp_path):
-    top = TOP.replace('<link name="tip"/>', "<link name=\"tip\">${'x' * 40 * 2**20}</link>")
+    # Each value within the limit, the text they make is not.
+    top = TOP.replace(
+        '<link name="tip"/>', "<link name=\"tip\">${'x' * 20 * 2**20}${'y' * 20 * 2**20}</link>"
+    )
     with (
         deadline(30),
         pytest.raises(UrdfError, match="its expansion is larger than 33554432 bytes"),
@@ -254,7 +298,7 @@ def test_a_xacro_error_is_one_line(tmp_path):
         expand_top(tmp_path, top)
     message = str(caught.value)
     assert "\n" not in message
-    assert "xacro expansion failed: division by zero" in message
+    assert "xacro expansion failed: ${1/0}: division by zero" in message
 
 
 # --- the model file's [urdf] keys -------------------------------------------------
@@ -298,12 +342,13 @@ def test_model_keys_round_trip_through_the_writer(tmp_path):
 @pytest.mark.parametrize(
     ("expression", "refusal"),
     [
-        # dunders inside a lambda or a comprehension, which xacro's own check does not see
-        ("${(lambda: ().__class__.__base__.__subclasses__())()}",
-         r"use of invalid name\(s\) __base__, __class__, __subclasses__"),
-        ("${[c for c in ().__class__.__mro__]}", r"use of invalid name\(s\) __class__, __mro__"),
-        ("${python.vars(python)}", r"name 'vars' is not defined"),  # any object's namespace
-        ("${python.type(1)}", r"name 'type' is not defined"),  # the class of anything
+        # round two's ways out (dunders inside a lambda or a comprehension, python.type and
+        # python.vars): refused by what they are, not by their names
+        (r"${(lambda: ().__class__.__base__.__subclasses__())()}",
+         r"\$\{\(lambda: \(\)\.__class__.*\}: a lambda is not allowed"),
+        (r"${[c for c in ().__class__.__mro__]}", r"a comprehension is not allowed"),
+        (r"${python.vars(python)}", r"vars is not available .*\(it gives an object's namespace\)"),
+        (r"${python.type(1)}", r"type is not available .*\(it gives Python classes\)"),
     ],
 )  # fmt: skip
 def test_the_ways_out_of_xacros_expression_check_are_closed(tmp_path, expression, refusal):
@@ -379,3 +424,70 @@ def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(monkeypa
     out = capsys.readouterr().out
     assert code == 0, out
     assert "table verified" in out
+
+
+# --- a UR-style description: the same text as xacro's own evaluation gave -----------
+
+GOLDEN = Path(__file__).parents[1] / "golden"
+
+
+@pytest.mark.parametrize("variant", ["find", "relative"])
+@pytest.mark.parametrize(
+    ("args", "golden"),
+    [({}, "xacro_ur_style.urdf"),
+     ({"safety_limits": "true", "prefix": "a_", "ur_type": "ur5"}, "xacro_ur_style_safety.urdf")],
+)  # fmt: skip
+def test_a_ur_style_description_expands_as_xacro_expanded_it(tmp_path, variant, args, golden):
+    """Properties, yaml with units, dotted keys, a namespace, macros, conditionals, math, eval.
+
+    The golden files are what xacro's own evaluation (Python's eval, before fkcheck's
+    evaluator) made of the ``find`` variant; the ``relative`` variant names its files
+    with ``$(dirname)`` and paths relative to the xacro file (which failed then).
+    """
+    top, package = write_ur_description(tmp_path, variant)
+    expansion = expand_xacro(top, args, {"ur_description": package})
+    assert expansion.text == (GOLDEN / golden).read_text()
+    config = package / "config" / "ur5"
+    assert set(expansion.files) == {
+        top, package / "urdf" / "ur_macro.xacro", package / "urdf" / "colors.xacro",
+        config / "default_kinematics.yaml", config / "joint_limits.yaml",
+    }  # fmt: skip
+    info = read_xacro(top, args, {"ur_description": package})
+    assert len(info.joints) == 9
+    if args:
+        assert "a_shoulder_pan_joint" in info.joints
+
+
+def test_load_yaml_and_dirname_are_relative_to_the_file_being_read(tmp_path, monkeypatch):
+    # Not to the working directory, nor to the top file: to the file that names them,
+    # when it is read (a macro's body is read where the macro is called, as in xacro).
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    top, package = write_description(tmp_path)
+    (package / "urdf" / "names.yaml").write_text("link: from_yaml\n")
+    (top.parent / "names.yaml").write_text("link: wrong_file\n")
+    parts = package / "urdf" / "parts.xacro"
+    parts.write_text(
+        parts.read_text().replace(
+            "</robot>",
+            "<link name=\"${xacro.load_yaml('names.yaml')['link']}\"/>"
+            '<link name="$(dirname)/x"/></robot>',
+        )
+    )
+    text = expand_xacro(top, {}, {"arm_description": package}).text
+    assert '<link name="from_yaml"/>' in text
+    assert f'<link name="{package.resolve() / "urdf"}/x"/>' in text
+
+
+def test_check_timeout_bounds_the_expansion_too(tmp_path, capsys):
+    write_description(tmp_path, growing("", 40))
+    model = write_model(tmp_path, "0.3", f"xacro = true\n{PACKAGES}")
+    start = time.perf_counter()
+    with deadline(30):
+        code = main(["check", str(model), "--samples", "5", "--timeout", "2"])
+    out, err = capsys.readouterr()
+    assert code == 2, out + err
+    assert err.count("\n") == 1
+    assert "xacro expansion did not end within 2 s (stopped)" in err
+    assert time.perf_counter() - start < 15

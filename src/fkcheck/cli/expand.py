@@ -93,11 +93,13 @@ def add_parser(sub: Any) -> None:
         "expand",
         help="expand a xacro description to a plain URDF",
         description="Expand a xacro file to a plain URDF (with xacrodoc, no ROS needed), the "
-        "file fkcheck and every URDF parser read. xacro evaluates ${…} as Python: expand "
-        "only files you trust. The expansion runs in a child process with a time and memory "
-        "limit; $(find NAME) resolves only to the packages given with --package (never "
-        "ROS_PACKAGE_PATH), $(env …) is refused, includes are read only from the file's "
-        "directory and those packages, and the result must pass the screen every URDF "
+        "file fkcheck and every URDF parser read. ${…} and $(eval …) are evaluated by "
+        "fkcheck's own evaluator, never as Python (arithmetic, properties, arguments, math, "
+        "lists and mappings; attribute access, lambdas, comprehensions and format strings are "
+        "refused). The expansion runs in a child process with no environment and a time and "
+        "memory limit; $(find NAME) resolves only to the packages given with --package (never "
+        "ROS_PACKAGE_PATH), $(env …) is refused, includes and load_yaml read only from the "
+        "file's directory and those packages, and the result must pass the screen every URDF "
         "passes (no DTD or entity, no xacro left, a valid tree). -o may not name the xacro "
         "file or any file it includes. Exit 2 with one line on any problem; nothing is "
         "written then.",

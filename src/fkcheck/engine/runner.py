@@ -239,8 +239,12 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
                 importlib.import_module(module)
 
 
-def _place_urdf_links(model: Model, asked: Sequence[str]) -> tuple[Model, dict[str, LinkFit]]:
+def _place_urdf_links(
+    model: Model, asked: Sequence[str], xacro_timeout_s: float
+) -> tuple[Model, dict[str, LinkFit]]:
     """The model with ``urdf:LINK`` frames for the undeclared links ``asked`` names.
+
+    ``xacro_timeout_s`` is the time limit of a xacro expansion.
 
     Raises:
         FkcheckError: The URDF cannot be read (example-robot-data missing included),
@@ -259,7 +263,7 @@ def _place_urdf_links(model: Model, asked: Sequence[str]) -> tuple[Model, dict[s
     if not wanted or model.urdf is None:
         return model, {}  # resolve_frame says what is wrong, if anything
     try:
-        kin = urdf_kinematics(load_urdf(model))
+        kin = urdf_kinematics(load_urdf(model, xacro_timeout_s))
     except BackendUnavailable as exc:
         raise FkcheckError(f"{wanted[0]}: the URDF cannot be read here: {exc}") from None
     return with_link_frames(model, kin, wanted)
@@ -322,7 +326,8 @@ def run_check(
         frame_to: Frame whose pose is compared (default: the model's ``[check]``).
         tol_pos_m: Position tolerance, metres (default: the model's ``[check]``).
         tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
-        timeout_s: Time limit per backend, seconds.
+        timeout_s: Time limit per backend, seconds (and of a xacro expansion, when
+            shorter than :data:`~fkcheck.urdf.xacro.XACRO_TIMEOUT_S`).
         require: Kinds of evidence (``"table"``, ``"implementation"``) that must be
             verified, on top of the model's ``[check] require``; when one is not,
             the verdict is ``unverified``.
@@ -346,13 +351,15 @@ def run_check(
         FkcheckError: Other bad input reported by a backend.
     """
     from fkcheck.urdf.source import load_urdf
+    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
     # frame declares is placed from the URDF, and only URDF backends compare it.
-    model, placed = _place_urdf_links(model, asked)
+    xacro_timeout_s = min(timeout_s, XACRO_TIMEOUT_S)  # the check's limit, when shorter
+    model, placed = _place_urdf_links(model, asked, xacro_timeout_s)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
     if tol_pos_m is not None:
         check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
@@ -365,12 +372,12 @@ def run_check(
     if jacobian is not None:
         check_fixed_from(model, pair[0])
     reads_urdf = any(getattr(b, "reads_urdf", False) for b in backends)
-    # A xacro file is expanded (its Python run) only when a backend reads the URDF.
+    # A xacro file is expanded (its macros run) only when a backend reads the URDF.
     if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
         # is not: each URDF backend then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
-            info = load_urdf(model)
+            info = load_urdf(model, xacro_timeout_s)
             if reads_urdf:
                 _check_twins(model, pair, info.links, info.path.name)
             if model.urdf.xacro:  # the expansion travels with the model: run the file once

@@ -2,9 +2,14 @@
 
 fkcheck runs every piece of code it does not trust — a ``cmd:`` program, a
 Python plugin, an isolated backend — under this small supervisor, started as
-``python -I -S _supervisor.py PARENT_PID STATUS_FD -- PROGRAM ARGS…`` by
+``python -I -S _supervisor.py PARENT_PID STATUS_FD ENV -- PROGRAM ARGS…`` by
 :func:`fkcheck.process.supervise.run_supervised` in a session of its own. It imports
 nothing but the standard library, so it starts in a few tens of milliseconds.
+``ENV`` is ``inherit`` (the program gets the supervisor's environment) or
+``exact``: the program gets exactly the environment the supervisor was executed
+with, read back from ``/proc/self/environ`` on Linux — Python adds ``LC_CTYPE``
+to its own environment when executed without a locale (PEP 538), and an empty
+environment must stay empty.
 
 What it does:
 
@@ -135,11 +140,25 @@ def _finish(status_fd: int, line: str) -> NoReturn:
     os._exit(0)
 
 
+def _environment(mode: str) -> dict[str, str] | None:
+    """The program's environment: ``None`` (inherit), or with ``exact`` the one executed with."""
+    if mode != "exact":
+        return None
+    try:
+        with open("/proc/self/environ", "rb") as f:
+            raw = f.read()
+    except OSError:  # not Linux: what Python left of it
+        return dict(os.environ)
+    items = (entry.partition(b"=") for entry in raw.split(b"\0") if b"=" in entry)
+    return {os.fsdecode(key): os.fsdecode(value) for key, _, value in items}
+
+
 def main(argv: list[str]) -> None:
-    """Supervise ``argv[3:]`` (after ``PARENT_PID STATUS_FD --``)."""
+    """Supervise ``argv[4:]`` (after ``PARENT_PID STATUS_FD ENV --``)."""
     signal.signal(signal.SIGTERM, _on_signal)
     parent, status_fd = int(argv[0]), int(argv[1])
-    program = argv[3:]
+    env = _environment(argv[2])
+    program = argv[4:]
     worker = 0
     try:
         if _LINUX:
@@ -149,7 +168,9 @@ def main(argv: list[str]) -> None:
             raise _Stop
         resource.setrlimit(resource.RLIMIT_CORE, (0, resource.getrlimit(resource.RLIMIT_CORE)[1]))
         try:
-            proc = subprocess.Popen(program, preexec_fn=_die_with_supervisor if _LINUX else None)
+            proc = subprocess.Popen(
+                program, env=env, preexec_fn=_die_with_supervisor if _LINUX else None
+            )
         except OSError as exc:
             code = exc.errno or errno.EIO
             _finish(status_fd, f"spawn-error {code} {exc.strerror or exc}")

@@ -24,6 +24,7 @@ import pickle
 import struct
 import sys
 import traceback
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, NoReturn
 
@@ -64,12 +65,19 @@ def answer_limit(n_configs: int) -> int:
     return ANSWER_BASE_BYTES + ANSWER_BYTES_PER_CONFIG * n_configs
 
 
-def run_isolated(job: Any, timeout_s: float, max_answer_bytes: int = ANSWER_BASE_BYTES) -> Any:
+def run_isolated(
+    job: Any,
+    timeout_s: float,
+    max_answer_bytes: int = ANSWER_BASE_BYTES,
+    *,
+    env: Mapping[str, str] | None = None,
+) -> Any:
     """Run ``job()`` in a fresh interpreter and return what it returns.
 
     ``job`` must pickle (e.g. a ``functools.partial`` of a module-level function).
     The child gets this process's ``sys.path`` before it unpickles the job, and
-    the same current directory and environment.
+    the same current directory; its environment is this process's, or ``env``
+    (``{}``: an empty one), given when it is executed.
 
     Raises:
         IsolatedTimeout: No answer within ``timeout_s``; the child is killed.
@@ -89,6 +97,7 @@ def run_isolated(job: Any, timeout_s: float, max_answer_bytes: int = ANSWER_BASE
             payload,
             timeout_s,
             max_stdout_bytes=frame + max_answer_bytes,
+            env=env,
         )
     except IsolatedOutputLimit:
         raise IsolatedDied(

@@ -42,6 +42,7 @@ import sys
 import threading
 import time
 import weakref
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -193,6 +194,7 @@ def run_supervised(
     max_stdout_bytes: int,
     max_line_bytes: int | None = None,
     max_lines: int | None = None,
+    env: Mapping[str, str] | None = None,
 ) -> Finished:
     """Run ``argv`` under the supervisor: feed ``stdin``, collect its output, bounded.
 
@@ -204,6 +206,8 @@ def run_supervised(
         max_stdout_bytes: It may print at most this many bytes on stdout.
         max_line_bytes: If given, no stdout line may be longer (newline excluded).
         max_lines: If given, stdout may hold at most this many lines.
+        env: The environment the supervisor and the program are executed with,
+            exactly (``{}``: none at all; default: this process's).
 
     Returns:
         What it printed and how it ended, once it (and all it started) ended.
@@ -224,13 +228,14 @@ def run_supervised(
     status_r, status_w = os.pipe()
     try:
         proc = subprocess.Popen(
-            [sys.executable, "-I", "-S", _SUPERVISOR, str(os.getpid()), str(status_w), "--",
-             *argv],
+            [sys.executable, "-I", "-S", _SUPERVISOR, str(os.getpid()), str(status_w),
+             "inherit" if env is None else "exact", "--", *argv],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
             pass_fds=(status_w,),
             start_new_session=True,  # a group of its own, out of reach of the terminal
+            env=None if env is None else dict(env),  # given at exec: /proc/PID/environ too
         )  # fmt: skip
     except BaseException:
         os.close(status_r)

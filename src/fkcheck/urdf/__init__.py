@@ -7,8 +7,9 @@ checked robot tree and the one walk down a joint chain
 (:mod:`~fkcheck.urdf.source`), the URDF's kinematic geometry
 (:mod:`~fkcheck.urdf.chain`), writing a URDF from a DH model
 (:mod:`~fkcheck.urdf.export`), a DH table from a URDF
-(:mod:`~fkcheck.urdf.to_dh`) and a xacro file expanded when asked
-(:mod:`~fkcheck.urdf.xacro`). May import: :mod:`fkcheck.core`,
+(:mod:`~fkcheck.urdf.to_dh`), a xacro file expanded when asked
+(:mod:`~fkcheck.urdf.xacro`) with fkcheck's own evaluator of its expressions
+(:mod:`~fkcheck.urdf.expression`). May import: :mod:`fkcheck.core`,
 :mod:`fkcheck.model`, :mod:`fkcheck.io`, :mod:`fkcheck.process`, :mod:`fkcheck.errors`.
 """
 

@@ -17,11 +17,12 @@ one :class:`~fkcheck.errors.UrdfError` naming the file, the line and the problem
 * any xacro substitution, ``${…}`` or ``$(…)``, in the *decoded* text of the
   document: element text, text after a closing tag (tails), CDATA sections,
   attribute names and values (character references such as ``&#36;`` are
-  decoded first, so they cannot hide one). Xacro evaluates ``${…}`` as Python
-  and ``$(…)`` as substitution arguments that read files and environment
-  (a model opts in to xacro with ``xacro = true``, a command with
-  ``--allow-xacro``: :mod:`fkcheck.urdf.xacro` expands it in a child process,
-  then this screen sees the result; each refusal says how, :data:`XACRO_OPT_IN`);
+  decoded first, so they cannot hide one). xacro itself evaluates ``${…}`` as
+  Python and ``$(…)`` as substitution arguments that read files and environment;
+  a model opts in to xacro with ``xacro = true``, a command with
+  ``--allow-xacro``: :mod:`fkcheck.urdf.xacro` then expands it in a child
+  process, with fkcheck's own evaluator of expressions, and this screen sees
+  the result (each refusal says how, :data:`XACRO_OPT_IN`);
 * any element or attribute in a xacro namespace (``xacro:include``,
   ``xacro:macro``, ``xacro:if`` …) or in the XInclude namespace
   (``xi:include``), and any element named ``include``: a plain URDF has none;

@@ -20,7 +20,7 @@ from fkcheck.errors import UrdfError, XacroRefused
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
-from fkcheck.urdf.xacro import read_xacro, screen_expansion
+from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, read_xacro, screen_expansion
 
 __all__ = ["allow_xacro", "load_urdf", "read_model_urdf", "resolve_urdf_path"]
 
@@ -35,7 +35,7 @@ def allow_xacro(model: Model) -> Model:
     return replace(model, urdf=replace(model.urdf, xacro=True))
 
 
-def read_model_urdf(model: Model) -> UrdfInfo:
+def read_model_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> UrdfInfo:
     """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
 
     With ``xacro = true`` a file the screen finds xacro in is expanded
@@ -44,6 +44,7 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     model file) — or its ``expanded`` text, which the engine keeps, is screened
     again; a plain URDF is read as one, xacro never runs on it. Without the
     opt-in a xacro file is refused by the screen, naming the opt-in.
+    ``xacro_timeout_s`` is the expansion's time limit.
 
     Raises:
         UrdfError: As :func:`resolve_urdf_path`, refused by the screen, not a
@@ -62,7 +63,7 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     try:
         return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
     except XacroRefused:
-        return read_xacro(path, model.urdf.xacro_args, packages, dirs)
+        return read_xacro(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
@@ -78,8 +79,10 @@ def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
     return locate_urdf(model.urdf.path, None if model.path is None else model.path.parent)
 
 
-def load_urdf(model: Model) -> UrdfInfo:
+def load_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> UrdfInfo:
     """Resolve, screen and summarise the model's URDF, and check the mapping.
+
+    ``xacro_timeout_s`` is the time limit of a xacro expansion.
 
     Raises:
         UrdfError: Missing, not a regular file, too large, not XML, refused by the
@@ -88,7 +91,7 @@ def load_urdf(model: Model) -> UrdfInfo:
             (A ``[frames.*].urdf`` link the URDF lacks is an error only where
             that frame is used.)
     """
-    info = read_model_urdf(model)
+    info = read_model_urdf(model, xacro_timeout_s)
     path = info.path
     assert model.urdf is not None
     for name, joint in zip(model.urdf.joints, model.joints, strict=True):

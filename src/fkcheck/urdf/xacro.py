@@ -2,21 +2,18 @@
 
 fkcheck reads plain URDF; a xacro file is refused by the screen
 (:mod:`fkcheck.urdf.screen`) unless the model says ``xacro = true`` in its
-``[urdf]`` table or the command line says ``--allow-xacro``. Opting in means
-trusting the file: xacro evaluates ``${…}`` and ``$(eval …)`` as Python, and no
-check on Python expressions is a sandbox — an opted-in file can do what Python
-can, with the user's rights. What follows keeps a trusted file reproducible
-and closes the ways out known here; the expansion, by xacrodoc (xacro without
-ROS), is fenced in as far as fkcheck can:
+``[urdf]`` table or the command line says ``--allow-xacro``. The expansion is
+xacrodoc's (xacro without ROS), with what a description can do cut down to
+xacro's macros and properties over plain data:
 
-* it runs in a child process (:func:`fkcheck.process.isolation.run_isolated`)
-  with a time limit (:data:`XACRO_TIMEOUT_S`), a hard address-space limit
-  (:data:`XACRO_MEMORY_BYTES`), an empty environment and a bounded answer: a
-  ``${…}`` that loops forever or builds a huge text is stopped, and fkcheck's
-  own process never runs the file's Python;
-* names starting with ``__`` are refused anywhere in an expression, inside
-  lambdas and comprehensions too (xacro checks only the outer expression), and
-  ``python.type`` and ``python.vars`` are removed;
+* ``${…}`` and ``$(eval …)`` are never Python: fkcheck's own evaluator
+  (:mod:`fkcheck.urdf.expression`) takes the place of xacro's ``eval``. It
+  evaluates numbers, strings, properties and arguments, arithmetic,
+  comparisons, conditionals, lists and mappings, the math functions and the
+  builtins xacro documents, and refuses everything else in one line naming the
+  file and the expression — attribute access on values, lambdas,
+  comprehensions, format strings — so no expression reaches a class, a frame
+  or a builtin, whatever it is named. xacro's own global names are emptied;
 * ``$(find PKG)`` (and ``find()`` in ``$(eval …)``) resolves only to the
   packages the caller declares (``packages`` in ``[urdf]``, ``--package`` on the
   command line) — never ``ROS_PACKAGE_PATH``, ament, a walk up the directories
@@ -24,10 +21,18 @@ ROS), is fenced in as far as fkcheck can:
   names the declared ones;
 * ``$(env …)`` and ``$(optenv …)`` (and ``env()``/``optenv()`` in ``$(eval …)``)
   are refused: the environment is not an input of a check; pass the value as a
-  xacro argument instead. ``$(arg …)``, ``$(dirname)`` and ``$(eval …)`` work as
-  in xacro;
-* ``<xacro:include>`` and ``xacro.load_yaml`` read files only inside the
-  directory of the xacro file and the declared packages;
+  xacro argument instead. ``$(arg …)``, ``$(dirname)`` (the directory of the
+  file being read) and ``$(eval …)`` work as in xacro;
+* ``<xacro:include>`` (wildcards too) and ``xacro.load_yaml`` read files only
+  inside the directory of the xacro file and the declared packages, regular
+  files of at most :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`, named relative to
+  the file that names them, as xacro does; yaml is read with yaml's safe loader
+  (and xacro's unit tags, ``!degrees 90``) and becomes plain data;
+* it runs in a child process (:func:`fkcheck.process.isolation.run_isolated`)
+  executed with an empty environment, with a time limit
+  (:data:`XACRO_TIMEOUT_S`), a hard address-space limit
+  (:data:`XACRO_MEMORY_BYTES`) and a bounded answer: macros that recurse or
+  multiply without end are stopped;
 * the expanded text stays in memory (no file is written) and then goes through
   the very screen a plain URDF goes through (:func:`fkcheck.urdf.tree.urdf_info_from_bytes`:
   size, no DTD or entity, no xacro left, tree checks); ``package://`` mesh names
@@ -39,8 +44,9 @@ from __future__ import annotations
 import functools
 import io
 import os
+import re
 import types
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -67,6 +73,8 @@ XACRO_TIMEOUT_S = 60.0
 XACRO_MEMORY_BYTES = 2 * 1024**3
 #: The answer's limit: the largest URDF, UTF-8 (up to 4 bytes a character), plus framing.
 _ANSWER_BYTES = 4 * MAX_URDF_BYTES + 64 * 1024
+#: The environment the expansion's process is executed with: none.
+_CHILD_ENV: Mapping[str, str] = types.MappingProxyType({})
 
 
 @dataclass(frozen=True)
@@ -130,7 +138,7 @@ def expand_xacro(
         _expand_job, data, str(path.resolve()), dict(args or {}), declared, roots
     )
     try:
-        kind, value = run_isolated(job, timeout_s, _ANSWER_BYTES)
+        kind, value = run_isolated(job, timeout_s, _ANSWER_BYTES, env=_CHILD_ENV)
     except IsolatedTimeout:
         raise UrdfError(
             path, f"xacro expansion did not end within {timeout_s:g} s (stopped)"
@@ -230,10 +238,11 @@ def _expand_job(
     limit = XACRO_MEMORY_BYTES if hard == resource.RLIM_INFINITY else min(hard, XACRO_MEMORY_BYTES)
     if soft == resource.RLIM_INFINITY or soft > limit or hard != limit:
         resource.setrlimit(resource.RLIMIT_AS, (limit, limit))  # hard too: it cannot be raised
-    os.environ.clear()  # nothing of the user's environment is there to be read
+    # Executed with no environment (_CHILD_ENV); what Python itself set at start-up goes too.
+    os.environ.clear()
     read: list[str] = []
     try:
-        xacro = _fenced_xacro(packages, roots, read)
+        xacro = _fenced_xacro(path, packages, roots, read)
         from xacrodoc import XacroDoc
 
         xacro.init_stacks(path)  # relative includes are relative to the file, not to the cwd
@@ -272,16 +281,92 @@ def _one_line(exc: BaseException) -> str:
     return "; ".join(lines)[:500]
 
 
-def _fenced_xacro(packages: dict[str, str], roots: list[str], read: list[str]) -> Any:
-    """Import xacro (through xacrodoc) and fence its file, package and environment access.
+def _shown(text: str) -> str:
+    """An expression as a message quotes it: on one line, at most 100 characters."""
+    flat = " ".join(text.split())
+    return flat if len(flat) <= 100 else flat[:100] + "…"
 
-    Every file it is let read is appended to ``read``.
+
+def _fenced_xacro(top: str, packages: dict[str, str], roots: list[str], read: list[str]) -> Any:
+    """Import xacro (through xacrodoc) and put fkcheck's evaluator and fences in it.
+
+    ``${…}`` and ``$(eval …)`` are evaluated by :func:`fkcheck.urdf.expression.evaluate`
+    (xacro's ``safe_eval`` and ``substitution_args._eval`` are replaced; nothing
+    calls Python's ``eval``); files are read only inside ``roots``, each appended
+    to ``read``; ``$(find …)`` resolves only ``packages``; the environment is refused.
     """
+    import glob
+
     import xacro  # type: ignore[import-untyped]  # (no stubs; xacrodoc's dependency)
     import xacrodoc  # noqa: F401  (it patches $(find …) on import: patch after it)
+    import yaml  # type: ignore[import-untyped]  # (no stubs)
     from xacro import substitution_args
 
+    from fkcheck.io.files import InputFileError, read_bytes
+    from fkcheck.urdf.expression import (
+        MAX_ITEMS,
+        ExpressionError,
+        Function,
+        Namespace,
+        evaluate,
+        namespace,
+        plain,
+        standard_names,
+    )
+
     shown = ", ".join(sorted(packages)) or "none"
+
+    def where() -> str:
+        """``in FILE: `` when xacro is in another file than the top one (for messages)."""
+        current = xacro.filestack[-1] if xacro.filestack else None
+        if not current or current == top:
+            return ""
+        return f"in {os.path.relpath(current, os.path.dirname(top))}: "
+
+    # --- files: the xacro file's directory and the declared packages only
+
+    def confined(filename: str, what: str, name: str) -> Path:
+        target = Path(filename).resolve()
+        if not any(target.is_relative_to(root) for root in roots):
+            raise _Refused(
+                f"{what} {name!r}: outside the xacro file's directory and the declared "
+                f"packages ({', '.join(roots)})"
+            )
+        return target
+
+    def read_file(target: Path, what: str, name: str) -> bytes:
+        try:
+            data = read_bytes(target, MAX_URDF_BYTES)
+        except InputFileError as exc:
+            raise _Refused(f"{what} {name!r}: {exc.problem}") from None
+        read.append(str(target))
+        return data
+
+    parse = xacro.parse
+
+    def confined_parse(inp: Any, filename: str | None = None) -> Any:
+        if inp is None and filename is not None:
+            target = confined(os.path.join(xacro.root_dir, filename), "include of", filename)
+            if not target.exists():  # xacro's own error (an optional include is skipped)
+                return parse(None, filename)
+            return parse(io.BytesIO(read_file(target, "include of", filename)))
+        return parse(inp, filename)
+
+    def confined_glob(pattern: str) -> list[str]:
+        magic = next((i for i, c in enumerate(pattern) if c in "*?["), len(pattern))
+        if ".." in Path(pattern[magic:]).parts:
+            raise _Refused(f"include of {pattern!r}: '..' after a wildcard is not allowed")
+        confined(os.path.dirname(pattern[:magic]) or ".", "include of", pattern)
+        found = sorted(glob.glob(pattern))
+        for name in found:
+            if not any(Path(name).resolve().is_relative_to(root) for root in roots):
+                raise _Refused(
+                    f"include of {pattern!r}: it matches files outside the xacro file's "
+                    "directory and the declared packages"
+                )
+        return found
+
+    # --- $(find …), $(env …), $(optenv …), $(dirname)
 
     def find(name: str) -> str:
         if name not in packages:
@@ -297,57 +382,155 @@ def _fenced_xacro(packages: dict[str, str], roots: list[str], read: list[str]) -
             "xacro; pass the value as a xacro argument (xacro_args in [urdf], or --arg)"
         )
 
-    def inside(filename: str, what: str) -> str:
-        target = Path(os.path.join(xacro.root_dir, filename)).resolve()
-        if not any(target.is_relative_to(root) for root in roots):
-            raise _Refused(
-                f"{what} {filename!r}: outside the xacro file's directory and the declared "
-                f"packages ({', '.join(roots)})"
-            )
-        read.append(str(target))
-        return str(target)
+    eval_extension = xacro.eval_extension
 
-    parse = xacro.parse
+    def located_extension(text: str) -> Any:
+        # $(dirname) is the directory of the file being read, as xacro documents it
+        # (this xacro never sets the file it reads, so its own $(dirname) always fails).
+        context = xacro.substitution_args_context
+        context["filename"] = xacro.filestack[-1] if xacro.filestack else None
+        return eval_extension(text)
 
-    def confined_parse(inp: Any, filename: str | None = None) -> Any:
-        if inp is None and filename is not None:
-            inside(filename, "include of")
-        return parse(inp, filename)
+    # --- the names of an expression
 
-    load_yaml = xacro.load_yaml
+    names = standard_names()
 
-    def confined_load_yaml(filename: str) -> Any:
-        return load_yaml(inside(filename, "load_yaml of"))
+    def load_yaml(filename: object) -> object:
+        if type(filename) is not str:
+            raise ExpressionError("load_yaml takes a file name (a string)")
+        target = confined(xacro.abs_filename_spec(filename), "load_yaml of", filename)
+        data = read_file(target, "load_yaml of", filename)
+        try:
+            return plain(yaml.load(data, Loader=_yaml_loader(xacro, names)))  # a SafeLoader
+        except yaml.YAMLError as exc:
+            raise ExpressionError(f"load_yaml of {filename!r}: {_shown(str(exc))}") from None
+        except RecursionError:
+            raise ExpressionError(f"load_yaml of {filename!r}: nested too deeply") from None
+        except ExpressionError as exc:
+            raise ExpressionError(f"load_yaml of {filename!r}: {exc}") from None
+
+    def abs_filename(filename: object) -> object:
+        if type(filename) is not str:
+            raise ExpressionError("abs_filename takes a file name (a string)")
+        return str(xacro.abs_filename_spec(filename))
+
+    def dotify(value: object) -> object:
+        if type(value) is not dict:
+            raise ExpressionError("dotify takes a mapping")
+        return value  # a mapping's keys are reached with a.b already
+
+    def arg(name: object) -> object:
+        return str(xacro.substitution_args_context["arg"][name])
+
+    def tokenize(text: object, sep: object = ",; ", skip_empty: object = True) -> object:
+        if type(text) is not str or type(sep) is not str or not 0 < len(sep) <= 100:
+            raise ExpressionError("tokenize takes a string and up to 100 separator characters")
+        if sum(text.count(c) for c in sep) >= MAX_ITEMS:
+            raise ExpressionError(f"tokenize would give more than {MAX_ITEMS} items")
+        parts = re.split(f"[{re.escape(sep)}]", text)
+        return [part for part in parts if part] if skip_empty else parts
+
+    def fatal(*args: object) -> object:
+        raise ExpressionError("xacro.fatal: " + _shown(" ".join(map(str, args))))
+
+    def quiet(*args: object, **kwargs: object) -> object:
+        return ""  # xacro prints these on stderr, which fkcheck does not show
+
+    helpers: dict[str, Callable[..., object]] = {
+        "load_yaml": load_yaml, "abs_filename": abs_filename, "dotify": dotify, "arg": arg,
+        "tokenize": tokenize, "fatal": fatal, "message": quiet, "warning": quiet,
+        "error": quiet, "print_location": quiet,
+    }  # fmt: skip
+    members = {name: Function(f"xacro.{name}", fn) for name, fn in helpers.items()}
+    names["xacro"] = namespace("xacro", members)
+    for name in ("load_yaml", "abs_filename", "dotify"):  # xacro has them directly too
+        names[name] = members[name]
+    missing = object()
+
+    def lookup(table: Any, name: str) -> object:
+        """A property: in ``table`` or the tables around it, never xacro's own globals."""
+        while isinstance(table, xacro.Table):
+            if dict.__contains__(table, name):
+                value = table[name]  # a lazy property is evaluated here (by evaluate, again)
+                if isinstance(value, xacro.NameSpace):  # <xacro:include ns="NAME"/>
+                    return Namespace(name, functools.partial(member, value))
+                return value
+            table = table.parent
+        return missing
+
+    def member(table: Any, name: str) -> object:
+        found = lookup(table, name)
+        return names[name] if found is missing else found
+
+    def xacro_eval(expr: str, symbols: Any, locals: Any = None) -> object:
+        try:
+            return evaluate(expr, functools.partial(member, symbols))
+        except ExpressionError as exc:
+            raise _Refused(f"{where()}${{{_shown(expr)}}}: {exc}") from None
+
+    def eval_substitution(text: str, context: dict[str, Any]) -> str:
+        args = context.setdefault("arg", {})
+
+        def value_of(name: str) -> object:
+            return substitution_args.convert_value(args[name], "auto")
+
+        def dirname() -> object:
+            return substitution_args._eval_dirname(context.get("filename"))
+
+        local: dict[str, object] = {
+            "true": True, "false": False, "find": Function("find", find),
+            "env": Function("env", env), "optenv": Function("optenv", env),
+            "arg": Function("arg", value_of), "dirname": Function("dirname", dirname),
+        }  # fmt: skip
+
+        def resolve(name: str) -> object:
+            if name in local:
+                return local[name]
+            if name in names:
+                return names[name]
+            return value_of(name)
+
+        try:
+            return str(evaluate(text, resolve))
+        except ExpressionError as exc:
+            raise _Refused(f"{where()}$(eval {_shown(text)}): {exc}") from None
 
     substitution_args._eval_find = find
     substitution_args._eval_env = env
     substitution_args._eval_optenv = env
-    substitution_args._eval_dict.update(find=find, env=env, optenv=env)
+    substitution_args._eval = eval_substitution  # $(eval …): never Python's eval
+    substitution_args._eval_dict.clear()
+    xacro.safe_eval = xacro_eval  # ${…}: never Python's eval
+    xacro._global_symbols.clear()  # xacro's own names (builtins, modules) are unreachable
     xacro.parse = confined_parse
-    xacro.load_yaml = confined_load_yaml
-    symbols = xacro._global_symbols
-    symbols["load_yaml"] = confined_load_yaml
-    symbols["xacro"]["load_yaml"] = confined_load_yaml
-    for name in ("type", "vars"):  # the class of anything, and any object's namespace
-        symbols["python"].pop(name, None)
-    safe_eval = xacro.safe_eval
-
-    def stricter_eval(expr: str, globals: Any, locals: Any = None) -> Any:
-        # xacro checks the expression's own names for ``__``, not those of a lambda
-        # or comprehension inside it: every nested code object is checked too.
-        code = compile(expr.strip(), "<expression>", "eval")
-        dunder = sorted({name for name in _names(code) if name.startswith("__")})
-        if dunder:
-            raise _Refused(f"${{{expr.strip()[:80]}}}: use of invalid name(s) {', '.join(dunder)}")
-        return safe_eval(expr, globals, locals)
-
-    xacro.safe_eval = stricter_eval
+    xacro.glob = types.SimpleNamespace(glob=confined_glob)
+    xacro.load_yaml = load_yaml
+    xacro.eval_extension = located_extension
     return xacro
 
 
-def _names(code: types.CodeType) -> Iterator[str]:
-    """The names a code object and every code object nested in it refer to."""
-    yield from code.co_names
-    for const in code.co_consts:
-        if isinstance(const, types.CodeType):
-            yield from _names(const)
+def _yaml_loader(xacro: Any, names: dict[str, object]) -> type[Any]:
+    """A yaml SafeLoader with xacro's unit tags (``!degrees 90``), evaluated by fkcheck."""
+    import yaml
+
+    from fkcheck.urdf.expression import ExpressionError, evaluate
+
+    class Loader(yaml.SafeLoader):  # type: ignore[misc]  # (no stubs)
+        """yaml's safe loader, and xacro's units."""
+
+    def unit(tag: str, factor: float) -> Any:
+        def construct(loader: Any, node: Any) -> float:
+            text = str(loader.construct_scalar(node))
+            try:
+                value = evaluate(text, names.__getitem__)
+            except ExpressionError as exc:
+                raise ExpressionError(f"{tag} {_shown(text)}: {exc}") from None
+            if type(value) not in (bool, int, float):
+                raise ExpressionError(f"{tag} {_shown(text)}: not a number")
+            return float(value) * factor  # type: ignore[arg-type]
+
+        return construct
+
+    for item in xacro.ConstructUnits:
+        Loader.add_constructor(item.value.tag, unit(item.value.tag, item.value.conversion_constant))
+    return Loader
