@@ -15,9 +15,10 @@ check of one frame pair can say about it:
 Statuses (:data:`Status`):
 
 ``verified``
-    The compared pose depends on it, and no offset of a compared frame carries
-    what it produces: alone, an error in it larger than its *resolution* (shown;
-    at most :data:`RESOLUTION_LIMIT` tolerances) would have failed the check.
+    The compared pose depends on it, no offset of a compared frame carries
+    what it produces, and the check's own configurations tell it apart: alone,
+    an error in it larger than its *resolution* (shown; at most
+    :data:`RESOLUTION_LIMIT` tolerances) would have failed the check.
     Numbers that trade only against each other inside the compared chain (UR's
     d2, d3, d4 along parallel axes) describe the same kinematics however they
     are split: each is verified, and :attr:`NumberEvidence.trades_with` says that
@@ -26,8 +27,10 @@ Statuses (:data:`Status`):
     An offset of a compared frame carries a component this number produces over
     every configuration (``d1 ≡ translation along z of DH frame 0, carried by
     [frames.base]``): a wrong number and an offset fitted around it (``fkcheck
-    map``, ``--to urdf:LINK``) agree with any reference. Also a number whose
-    effect survives the offsets only so faintly that an error more than
+    map``, ``--to urdf:LINK``) agree with any reference. Also a number the
+    check's configurations cannot tell from others that the kinematics do
+    separate (two measured poses against 24 numbers), and one whose effect
+    survives the offsets only so faintly that an error of more than
     :data:`RESOLUTION_LIMIT` tolerances would pass.
 ``not-covered``
     The compared pose does not depend on it: it is outside the frame pair.
@@ -79,7 +82,7 @@ __all__ = [
 ]
 
 Status = Literal["verified", "not-identifiable", "not-covered", "vouched"]
-Unit = Literal["m", "rad", ""]
+Unit = Literal["m", "rad"]
 
 #: Configurations the sensitivities are taken at (seeded, uniform within limits).
 #: Generic configurations: 64 × 6 rows for at most 4·256 + 24 numbers.
@@ -114,16 +117,18 @@ class NumberEvidence:
     """What one check can say about one number of the model.
 
     Attributes:
-        name: ``d1``, ``α4`` (a row's number), ``flip2``, ``[base] z``,
-            ``[frames.base_link] rz`` (a component of an offset, in its own axes).
+        name: ``d1``, ``α4`` (a row's number), ``[base] z``, ``[frames.base_link] rz``
+            (a component of an offset: a translation along or rotation about its own axis).
         group: ``joint 1 (shoulder_pan)``, ``[base]``, ``[tool]``, ``[frames.NAME]``.
-        unit: ``m`` or ``rad``; ``""`` for a joint's direction.
+        unit: ``m`` or ``rad``.
         status: ``verified``, ``not-identifiable``, ``not-covered`` or ``vouched``.
         table: Part of the table the headline speaks of (rows, ``[base]``,
             ``[tool]``); ``False`` for a compared frame's offset.
         resolution: The smallest error of it alone that the check would catch, in
             ``unit`` (first order); ``None`` when nothing catches it.
-        absorbed_by: For ``not-identifiable``: which offset carries it, and how.
+        absorbed_by: For ``not-identifiable``: which offset carries it, and how
+            (``[frames.base]: translation along z of DH frame 0``), or why else
+            (the check's configurations cannot tell it from others; too faint).
         trades_with: Other verified numbers that only its combination with is
             checked (parallel axes).
         source: For ``vouched``: the model's source for the offset.
@@ -188,21 +193,11 @@ class Coverage:
         """Compared frames' offsets taken from their ``source``."""
         return tuple(n for n in self.numbers if n.status == "vouched")
 
-    @property
-    def counts_text(self) -> str:
-        """``22 of 24 table numbers verified, 2 not identifiable, 0 not covered``."""
-        total = len(self.table_numbers)
-        return (
-            f"{self.count('verified')} of {total} table numbers verified, "
-            f"{self.count('not-identifiable')} not identifiable, "
-            f"{self.count('not-covered')} not covered"
-        )
-
     def gaps(self) -> str:
         """What keeps the table from being verified, one clause; ``""`` when nothing does.
 
-        E.g. ``d1, θ6 not identifiable ([frames.base], [frames.tool0] carry offsets
-        along them); [base] not covered (outside base → tool0)``.
+        E.g. ``d1, θ6 not identifiable (the offsets of [frames.base], [frames.tool0]
+        could absorb them); [base] not covered (outside base → tool0)``.
         """
         if self.spans_no_joint:
             return f"the pair {self.frame_from} → {self.frame_to} spans no joint"
@@ -623,7 +618,7 @@ def _sensitivities(
     F_inv = invert(pose.pose())
     twists = np.stack([_twists(pose, F_inv, n) for n in numbers], axis=2)  # (N, 6, P)
     moving = np.abs(twists).max(axis=(0, 1)) > MOVING_EPS
-    joints = [_Number("", "", "", "joint", i) for i in range(model.dof)]
+    joints = [_Number("", "", "rad", "joint", i) for i in range(model.dof)]
     spanned = tuple(
         i + 1 for i, j in enumerate(joints) if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
     )
