@@ -32,7 +32,7 @@ required kind of evidence is missing.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Literal, Protocol
 
@@ -40,7 +40,7 @@ from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.model.require import KINDS, Kind
 
 if TYPE_CHECKING:
-    from fkcheck.model.coverage import Coverage
+    from fkcheck.model.coverage import Coverage, NumberEvidence
 
 __all__ = [
     "KINDS",
@@ -171,7 +171,7 @@ def summarize(
 
 
 def tolerance_note(tol_pos_m: float, tol_rot_rad: float, source: str) -> str:
-    """``tolerance 1 mm / 1e-06 rad, looser than the default 0.001 mm (from --tol-pos)``.
+    """``tolerance looser than the default: 0.001 m (default 1e-06 m), from --tol-pos``.
 
     Empty when neither tolerance is looser than the default.
     """
@@ -357,7 +357,7 @@ def number_status(status: str, table: KindStatus) -> NumberStatus:
 def numbers_line(numbers: Coverage, table: KindStatus) -> str:
     """The model's numbers in one line, the same in every output format.
 
-    ``numbers: 24 of 24 table numbers verified (d2, d3, d4 only as their sum) …``
+    ``numbers (base → tool0): 24 in the table: 24 verified; only as a combination: d2 + d3 + d4``
     """
     total = len(numbers.table_numbers)
     counts: dict[str, int] = {}
@@ -388,9 +388,9 @@ def _trade_groups(numbers: Coverage) -> list[str]:
     return seen
 
 
-def _unique_groups(items: object) -> list[str]:
+def _unique_groups(items: Iterable[NumberEvidence]) -> list[str]:
     out: list[str] = []
-    for n in items:  # type: ignore[attr-defined]
+    for n in items:
         if n.group not in out:
             out.append(n.group)
     return out
