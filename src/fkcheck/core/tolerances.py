@@ -43,6 +43,7 @@ __all__ = [
     "LimitKind",
     "check_limit",
     "limit_problem",
+    "pose_tolerances",
 ]
 
 #: Same chain, two float64 implementations (poses of unit-scale arms, m or rad).
@@ -217,3 +218,17 @@ def check_limit(value: object, kind: LimitKind, where: str) -> float:
     if problem is not None:
         raise ToleranceError(where, problem)
     return _number(value)
+
+
+def pose_tolerances(
+    tol_pos_m: float | None, tol_rot_rad: float | None, defaults: tuple[float, float]
+) -> tuple[float, float]:
+    """The check's ``(m, rad)`` tolerances: each given one, checked, else its default.
+
+    Raises:
+        ToleranceError: A given tolerance is out of its range.
+    """
+    return (
+        defaults[0] if tol_pos_m is None else check_limit(tol_pos_m, "tol_pos", "tol_pos_m"),
+        defaults[1] if tol_rot_rad is None else check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad"),
+    )

@@ -6,7 +6,7 @@ import time
 from dataclasses import replace
 
 from fkcheck.backends.base import Backend, FixedConfigurations
-from fkcheck.core.tolerances import check_limit
+from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float
 from fkcheck.diagnose.axes import axes_note, compare_axes
 from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
@@ -64,14 +64,7 @@ def diagnose(
     """
     start = time.perf_counter()
     pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
-    if tol_pos_m is not None:
-        check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
-    if tol_rot_rad is not None:
-        check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
-    tol = (
-        model.check.tol_pos_m if tol_pos_m is None else tol_pos_m,
-        model.check.tol_rot_rad if tol_rot_rad is None else tol_rot_rad,
-    )
+    tol = pose_tolerances(tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad))
     if q is None and isinstance(backend, FixedConfigurations):
         q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)

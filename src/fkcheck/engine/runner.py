@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
-from fkcheck.core.tolerances import check_limit
+from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
 from fkcheck.engine.expected import apply_known_differences
@@ -361,14 +361,7 @@ def run_check(
     xacro_timeout_s = min(timeout_s, XACRO_TIMEOUT_S)  # the check's limit, when shorter
     model, placed = _place_urdf_links(model, asked, xacro_timeout_s)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
-    if tol_pos_m is not None:
-        check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
-    if tol_rot_rad is not None:
-        check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
-    tol = (
-        model.check.tol_pos_m if tol_pos_m is None else tol_pos_m,
-        model.check.tol_rot_rad if tol_rot_rad is None else tol_rot_rad,
-    )
+    tol = pose_tolerances(tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad))
     if jacobian is not None:
         check_fixed_from(model, pair[0])
     reads_urdf = any(getattr(b, "reads_urdf", False) for b in backends)
