@@ -29,6 +29,7 @@ from fkcheck.core.tolerances import check_limit
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import SE3_TOLERANCE
 from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.engine.verdict import numbers_line
 from fkcheck.io.format import format_deg, format_mm, format_value
 from fkcheck.io.text import terminal_text
 from fkcheck.model.require import Kind
@@ -108,7 +109,7 @@ def backend_ok(result: BackendResult) -> bool:
 
 
 def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> str:
-    """The text of a finished check: headline, then each backend's lines.
+    """The text of a finished check: headline, each backend's lines, the model's numbers.
 
     Args:
         outcome: What :func:`fkcheck.check` returned.
@@ -120,7 +121,10 @@ def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> st
         f"{terminal_text(c.frame_to)}: {outcome.headline}"
     )
     shown = [b for b in c.backends if backends is None or b.name in backends]
-    return "\n".join([head, *(backend_message(outcome, b) for b in shown)])
+    lines = [head, *(backend_message(outcome, b) for b in shown)]
+    if c.numbers is not None:  # which numbers of the model the pair verified
+        lines.append(terminal_text(numbers_line(c.numbers, c.evidence.table.status)))
+    return "\n".join(lines)
 
 
 def assert_fk_matches(
