@@ -58,7 +58,7 @@ def test_a_table_error_moved_into_a_frame_offset_is_never_table_verified(
     )
     # terminal: the verdict line and the one numbers line
     assert f"verdict: {headline}" in " ".join(printed.split())
-    assert "numbers (base → tool0): 24 in the table: 23 verified, 1 not identifiable" in printed
+    assert "numbers (base → tool0): 30 in the table: 29 verified, 1 not identifiable" in printed
     # and a GitHub warning naming it
     assert "::warning file=" in printed
     assert "table partly verified" in printed
@@ -66,7 +66,7 @@ def test_a_table_error_moved_into_a_frame_offset_is_never_table_verified(
     doc = json.loads(out["json"].read_text(encoding="utf-8"))
     assert doc["headline"] == headline
     assert doc["evidence"]["table"]["status"] == "partly-verified"
-    assert doc["numbers"]["counts"] == {"verified": 23, "not-identifiable": 1}
+    assert doc["numbers"]["counts"] == {"verified": 29, "not-identifiable": 1}
     d1 = next(n for n in doc["numbers"]["numbers"] if n["name"] == "d1")
     assert d1["status"] == "not-identifiable"
     assert d1["absorbed_by"] == "[frames.base]: translation along z of DH frame 0"
@@ -75,7 +75,7 @@ def test_a_table_error_moved_into_a_frame_offset_is_never_table_verified(
     case = next(c for c in root.iter("testcase") if c.get("name", "").startswith("evidence: table"))
     skipped = case.find("skipped")
     assert skipped is not None
-    assert "23 verified, 1 not identifiable" in (skipped.text or "")
+    assert "29 verified, 1 not identifiable" in (skipped.text or "")
     # Markdown and HTML
     assert "PASS (table partly verified)" in summary.read_text(encoding="utf-8")
     page = out["html"].read_text(encoding="utf-8")

@@ -7,7 +7,9 @@ absorbed an error. This module decides, for every number of the model, what a
 check of one frame pair can say about it:
 
 * the table: each row's ``a``, ``α``, ``d``, ``θ`` (by their textbook names,
-  :mod:`fkcheck.model.names`) and its direction (``flip``);
+  :mod:`fkcheck.model.names`) and its joint's direction (``flip``: not a small
+  number, so judged by turning the joint the other way on the check's own
+  configurations);
 * a declared ``[base]`` and ``[tool]`` (six components each: translations along
   and rotations about their own axes);
 * the offsets of the two compared frames (``[frames.NAME]``).
@@ -55,6 +57,7 @@ looks like.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Literal
@@ -63,6 +66,7 @@ import numpy as np
 
 from fkcheck.core import dh
 from fkcheck.core.geometry import invert
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.model.names import PARAMS, param_symbol
 from fkcheck.model.sampling import sampling_box
@@ -70,11 +74,13 @@ from fkcheck.model.types import FrameSpec, Model, Offset, resolve_frame
 
 __all__ = [
     "CARRY_EPS",
+    "FLAT",
     "MOVING_EPS",
     "RESOLUTION_LIMIT",
     "SAMPLES",
     "SPAN_RTOL",
     "STEP",
+    "TRADE_SHARE",
     "Coverage",
     "NumberEvidence",
     "Status",
@@ -102,6 +108,13 @@ CARRY_EPS = 1e-9
 #: exceeds this (m/m, rad/rad…): an unobstructed number moves it 1:1, central
 #: differences leave ~1e-10.
 MOVING_EPS = 1e-6
+#: A number takes part in a combination when its share of it is above this
+#: fraction of the largest share (rows of an orthonormal basis: noise ~1e-10).
+TRADE_SHARE = 1e-3
+#: An offset's angle is flat along a turn when its curvature there is below this
+#: fraction of the identity's: a half turn about an axis across it (exactly flat),
+#: or within a few tenths of a degree of one.
+FLAT = 1e-3
 #: A number is verified only if an error of this many tolerances (in its own
 #: unit: tol_pos for lengths, tol_rot for angles), alone, would fail the check.
 #: An unobstructed length or angle shows 1:1 (resolution = one tolerance); 10
@@ -310,13 +323,13 @@ class _Number:
     name: str
     group: str
     unit: Unit
-    kind: Literal["row", "base", "tool", "from", "to", "joint"]
+    kind: Literal["row", "flip", "base", "tool", "from", "to", "joint"]
     index: int  # row (0-based) for row and joint, component 0…5 for offsets
     param: str = ""
 
     @property
     def table(self) -> bool:
-        return self.kind in ("row", "base", "tool")
+        return self.kind in ("row", "flip", "base", "tool")
 
 
 def _twist_matrix(component: int, h: float) -> Float:
@@ -357,7 +370,7 @@ class _Pose:
             values = getattr(chain, number.param).copy()
             values[number.index] += h
             chain = replace(chain, **{number.param: values})
-        elif number is not None and kind == "joint":
+        elif number is not None and kind in ("joint", "flip"):
             q = q.copy()
             q[:, number.index] += h
         elif number is not None and kind == "base":
@@ -392,6 +405,7 @@ def _numbers(model: Model, pair: tuple[FrameSpec, FrameSpec]) -> list[_Number]:
         for param in PARAMS:
             unit: Unit = "m" if param in ("a", "d") else "rad"
             out.append(_Number(param_symbol(model, i, param), group, unit, "row", i, param))
+        out.append(_Number(f"flip{i + 1}", group, "rad", "flip", i))
     for kind, offset in (("base", model.base), ("tool", model.tool)):
         if not offset.is_identity:
             out.extend(
@@ -406,6 +420,31 @@ def _numbers(model: Model, pair: tuple[FrameSpec, FrameSpec]) -> list[_Number]:
                 _Number(f"{group} {comp}", group, _unit(c), side, c)  # type: ignore[arg-type]
                 for c, comp in enumerate(_COMPONENTS)
             )
+    return out
+
+
+def _flip_errors(
+    model: Model, specs: dict[str, FrameSpec], q: Float, tols: tuple[float, float]
+) -> Float:
+    """Per joint, how far (in tolerances) ``from_T_to`` moves at worst if it turned the other way.
+
+    A joint's direction is not a small number: its error is the whole mirror of
+    its motion, measured on the check's own configurations (joint values of
+    only 0 and π cannot tell it).
+    """
+    pose = _Pose(model, q, specs["from"], specs["to"])
+    F = pose.pose()
+    out = np.zeros(model.dof)
+    for i in range(model.dof):
+        sign = pose.chain.sign.copy()
+        sign[i] = -sign[i]
+        flipped = _Pose(model, q, specs["from"], specs["to"])
+        flipped.chain = replace(pose.chain, sign=sign)
+        G = flipped.pose()
+        out[i] = max(
+            float((position_error_m(F, G) / tols[0]).max()),
+            float((rotation_error_rad(F, G) / tols[1]).max()),
+        )
     return out
 
 
@@ -434,24 +473,45 @@ def _configurations(model: Model, samples: int, seed: int) -> Float:
 
 
 def _carries(offset: Offset, xi: Float, length_m: float) -> bool:
-    """Whether ``offset`` has a component along the twist ``xi`` (its own axes, m and rad).
+    """Whether ``offset`` may hold a component along the twist ``xi`` (its own axes, m and rad).
 
-    The slope at 0 of ``s ↦ angle(R·exp(−s·ω))² + |t − s·R·v|²/L²`` (the offset
-    moved back along ``xi``) is ``−2(φ·ω + (R·v)·t/L²)``, with ``φ`` the offset's
-    rotation vector. Zero slope: the offset is as near the identity as it gets
-    along ``xi`` and carries none of it.
+    Moved back along ``xi`` by ``s``, the offset's turn is ``R·exp(−s·ω)`` and its
+    shift ``t − s·R·v`` (first order). It carries none of ``xi`` only when ``s = 0``
+    is where both are strictly nearest the identity: the slope of ``angle²``
+    (``−2 φ·ω``, ``φ`` its rotation vector) and of ``|t − s·R·v|²`` (``−2 (R·v)·t``)
+    are both zero — each on its own, so a turn and a shift cannot cancel — and the
+    angle is not flat there (a half turn about an axis across ``ω`` stays a half
+    turn whatever ``s``: a wrong θ1 hides in it). Anything else may be an error
+    fitted into the offset, and counts as carried.
     """
     from scipy.spatial.transform import Rotation
 
     M = offset.matrix
     R, t = M[:3, :3], M[:3, 3]
     v, w = xi[:3], xi[3:]
-    norm = float(np.hypot(np.linalg.norm(v) / length_m, np.linalg.norm(w)))
-    if norm == 0.0:
+    w_norm, v_norm = float(np.linalg.norm(w)), float(np.linalg.norm(v)) / length_m
+    size = max(w_norm, v_norm)
+    if size == 0.0:
         return False
+    # A part below the differences' noise is no part: d1's shift has no turn.
+    w_norm = w_norm if w_norm > SPAN_RTOL * size else 0.0
+    v_norm = v_norm if v_norm > SPAN_RTOL * size else 0.0
     phi = Rotation.from_matrix(R).as_rotvec()
-    slope = float(phi @ w + (R @ v) @ t / length_m**2) / norm
-    return abs(slope) > CARRY_EPS
+    if w_norm > 0.0 and abs(float(phi @ w)) / w_norm > CARRY_EPS:
+        return True
+    if v_norm > 0.0 and abs(float((R @ v) @ t)) / (v_norm * length_m**2) > CARRY_EPS:
+        return True
+    if w_norm == 0.0:
+        return False
+    h = 1e-3  # rad along ω: the angle's second difference, against the identity's 2h²
+    unit = w / w_norm
+
+    def angle(s: float) -> float:
+        turned = R @ Rotation.from_rotvec(-s * unit).as_matrix()
+        return float(np.linalg.norm(Rotation.from_matrix(turned).as_rotvec()))
+
+    curvature = angle(h) ** 2 + angle(-h) ** 2 - 2.0 * angle(0.0) ** 2
+    return curvature < FLAT * 2.0 * h * h
 
 
 def _describe(xi: Float, spec: FrameSpec) -> str:
@@ -528,19 +588,23 @@ def coverage(
     absorbed: dict[int, str] = {}  # table number → which offset carries it, how
     carrying: dict[int, list[str]] = {}  # offset component → the table numbers it trades with
     absorbing: list[tuple[list[int], Float]] = []  # offset columns and their combination
+    exempt: dict[int, set[str]] = {}  # a side that could absorb the number but carries none of it
+    carriers: dict[str, list[int]] = {}  # side → its offset's columns (non-identity, not vouched)
     for side in ("from", "to"):
         spec = specs[side]
         cols = [i for i, n in enumerate(numbers) if n.kind == side]
         if not cols or spec.source:
             continue
+        carriers[side] = cols
         A = J[:, cols]
         for i, n in enumerate(numbers):
-            if not n.table or not moving[i]:
+            if not n.table or not moving[i] or n.kind == "flip":
                 continue
             coef = np.asarray(np.linalg.lstsq(A, J[:, i], rcond=None)[0], dtype=np.float64)
             if np.linalg.norm(J[:, i] - A @ coef) > SPAN_RTOL * norms[i]:
                 continue
             if not _carries(spec.offset, coef * to_si, tol_pos_m / tol_rot_rad):
+                exempt.setdefault(i, set()).add(side)
                 continue
             absorbed.setdefault(i, f"[frames.{spec.name}]: {_describe(coef * to_si, spec)}")
             absorbing.append((cols, coef))
@@ -549,20 +613,37 @@ def coverage(
                 if weight[k] > SPAN_RTOL * weight.max():
                     carrying.setdefault(c, []).append(n.name)
 
-    candidates = [bool(moving[i] and n.table and i not in absorbed) for i, n in enumerate(numbers)]
-    trades = _trades(_without(J, [J[:, c] @ k for c, k in absorbing]), candidates)
+    unit_tol = np.array([tol_pos_m if n.unit == "m" else tol_rot_rad for n in numbers])
+    candidates = [
+        bool(moving[i] and n.table and n.kind != "flip" and i not in absorbed)
+        for i, n in enumerate(numbers)
+    ]
+    rows = generic.shape[0]
+    trades = _trades(_without(J, [J[:, c] @ k for c, k in absorbing]) * unit_tol, candidates, rows)
     # … and what the check's own configurations exercise: its resolution, its trades.
     if q is not None:
         checked = _subset(q, samples, seed)
         J_check = _sensitivities(model, specs, numbers, checked, tols)[0]
     else:
         checked, J_check = generic, J
-    residual = _without(J_check, [J_check[:, c] @ k for c, k in absorbing])
-    tied = _trades(residual, candidates) if q is not None else trades
+    carried = [J_check[:, c] @ k for c, k in absorbing]
+    residual = _without(J_check, carried)
+    tied = _trades(residual * unit_tol, candidates, checked.shape[0]) if q is not None else trades
+    # Any offset the map could have fitted takes what it can of a table number over
+    # the check's configurations, unless the number is one it structurally takes
+    # whole but carries none of (d1 against a shift across the first axis).
+    for i, n in enumerate(numbers):
+        if not n.table or n.kind == "flip":
+            continue
+        full = [J_check[:, c] for side, cols in carriers.items()
+                if side not in exempt.get(i, set()) for c in cols]  # fmt: skip
+        if full:
+            residual[:, i] = _without(J_check[:, i : i + 1], [*carried, *full])[:, 0]
     # What the check measures per configuration: |Δp| / tol_pos and angle / tol_rot.
     per = residual.reshape(checked.shape[0], 6, -1)
     worst = np.maximum(np.linalg.norm(per[:, :3], axis=1), np.linalg.norm(per[:, 3:], axis=1))
     worst = worst.max(axis=0)
+    flips = _flip_errors(model, specs, checked, tols)
     out: list[NumberEvidence] = []
     for i, n in enumerate(numbers):
         status: Status = "verified"
@@ -570,6 +651,15 @@ def coverage(
         why = source = ""
         if n.kind in ("from", "to") and specs[n.kind].source:
             status, source = "vouched", specs[n.kind].source
+        elif n.kind == "flip":
+            if n.index + 1 not in spanned:
+                status = "not-covered"
+            elif flips[n.index] <= 1.0:
+                status = "not-identifiable"
+                why = (
+                    f"joint {n.index + 1} turned the other way would pass: the check's "
+                    f"{checked.shape[0]} configurations cannot tell its direction"
+                )
         elif not moving[i]:
             status = "not-covered"
         elif i in absorbed:
@@ -586,8 +676,7 @@ def coverage(
             )
         else:
             resolution = 1.0 / float(worst[i]) if worst[i] > 0 else None
-            tol = tol_pos_m if n.unit == "m" else tol_rot_rad
-            if resolution is None or resolution > RESOLUTION_LIMIT * tol:
+            if resolution is None or resolution > RESOLUTION_LIMIT * unit_tol[i]:
                 status = "not-identifiable"
                 why = (
                     f"an error up to {resolution:.3g} {n.unit} would stay within tolerance"
@@ -637,19 +726,26 @@ def _without(J: Float, directions: Sequence[Float]) -> Float:
     return out
 
 
-def _trades(residual: Float, candidates: Sequence[bool]) -> dict[int, tuple[int, ...]]:
+def _trades(
+    J: Float, candidates: Sequence[bool], configurations: int
+) -> dict[int, tuple[int, ...]]:
     """Numbers whose columns depend on each other only: ``{i: (j, …)}``.
 
-    The dependencies are the null space of the (column-normalised) candidates;
-    its reduced row echelon basis has the smallest supports, so independent
-    groups (UR's d2, d3, d4 and, elsewhere, a base z and d1) stay apart.
+    ``J`` is in tolerances of the pose per tolerance of each number. A set of
+    numbers trades when some combination of them, :data:`RESOLUTION_LIMIT`
+    tolerances large, moves the pose by less than one tolerance over the
+    configurations (judged on the columns' length, ``√N`` times the largest
+    configuration's at most: a singular value below ``√N / RESOLUTION_LIMIT``).
+    Exact dependencies (UR's parallel d2, d3, d4) and near ones (a calibrated
+    arm's almost parallel axes) alike. The reduced row echelon basis of those
+    combinations has the smallest supports, so independent groups stay apart.
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
         return {}
-    A = residual[:, idx] / np.linalg.norm(residual[:, idx], axis=0)
-    _, sv, vt = np.linalg.svd(A, full_matrices=True)
-    rank = int((sv > SPAN_RTOL * sv.max()).sum())
+    _, sv, vt = np.linalg.svd(J[:, idx], full_matrices=True)
+    sv = np.concatenate([sv, np.zeros(len(idx) - len(sv))]) if len(sv) < len(idx) else sv
+    weak = vt[sv < math.sqrt(configurations) / RESOLUTION_LIMIT]
     parent = {i: i for i in idx}
 
     def root(i: int) -> int:
@@ -657,8 +753,8 @@ def _trades(residual: Float, candidates: Sequence[bool]) -> dict[int, tuple[int,
             i = parent[i]
         return i
 
-    for vec in _rref(vt[rank:]):
-        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > 1e-6)]
+    for vec in _rref(weak):
+        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > TRADE_SHARE * np.abs(vec).max())]
         for m in support[1:]:
             parent[root(m)] = root(support[0])
     groups: dict[int, list[int]] = {}
@@ -673,14 +769,14 @@ def _trades(residual: Float, candidates: Sequence[bool]) -> dict[int, tuple[int,
 
 
 def _rref(rows: Float) -> Float:
-    """Reduced row echelon form of a few rows (partial pivoting)."""
+    """Reduced row echelon form of a few orthonormal rows (partial pivoting)."""
     M = np.array(rows, dtype=np.float64)
     r = 0
     for c in range(M.shape[1]):
         if r == M.shape[0]:
             break
         p = r + int(np.argmax(np.abs(M[r:, c])))
-        if abs(M[p, c]) < 1e-9:
+        if abs(M[p, c]) < TRADE_SHARE:
             continue
         M[[r, p]] = M[[p, r]]
         M[r] /= M[r, c]

@@ -18,6 +18,8 @@ def _value(model: Model, n: NumberEvidence) -> str:
         return ""
     row = int(n.group.split()[1]) - 1
     joint = model.joints[row]
+    if n.name.startswith("flip"):
+        return "flipped" if joint.flip else "as is"
     field = {"a": "a", "α": "alpha", "d": "d", "θ": "theta"}[n.name[0]]
     value = float(getattr(joint, field))
     return format_mm(value) if n.unit == "m" else format_deg(value)
