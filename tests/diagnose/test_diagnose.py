@@ -98,11 +98,13 @@ def test_base_link_vs_base_is_named_and_the_printed_fix_passes(tmp_path, referen
     assert "base_link vs base" in best.title
     assert "Rz(π)" in best.title
     fix = tomllib.loads(best.fix_toml)["frames"]["base_link"]
+    assert fix.pop("source").startswith("ROS-Industrial")  # the frame's source is kept
     assert fix == {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}  # ur5.toml is in deg
     # Apply the printed TOML to the broken model file and run the real check.
     text = model_to_toml(bad)
-    broken = '[frames.base_link]\ndh = 0\nurdf = "base_link"\n'
-    assert broken in text
+    assert '[frames.base_link]\ndh = 0\nurdf = "base_link"\nsource = ' in text
+    start = text.index("[frames.base_link]")
+    broken = text[start : text.index("\n\n", start) + 1]  # with its source line
     path = tmp_path / "fixed.toml"
     path.write_text(text.replace(broken, best.fix_toml), encoding="utf-8")
     fixed = load_model(path)
