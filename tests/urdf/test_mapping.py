@@ -221,3 +221,116 @@ def test_names_from_the_urdf_never_become_lines_of_the_proposed_toml(tmp_path):
     for line in block.splitlines():  # the name shows, escaped, only inside comments
         if "xacro = true" in line:
             assert line.startswith("#") or line.startswith("joints = ") or "urdf = " in line
+
+
+# ----------------------------------------------------------------------------- slides
+
+
+def _slides(convention: str, **extra: object) -> Model:
+    """A cartesian arm: three prismatic joints at right angles, lengths on every row.
+
+    The last row's a (0.07 m) puts the URDF chain's last link away from DH frame 3
+    in a standard table (its ``Tx(a)·Rx(α)`` is a fixed joint after the slide).
+    """
+    data = {
+        "name": "gantry",
+        "convention": convention,
+        "joint": [
+            {"name": "x", "type": "prismatic", "a": 0.02, "alpha": -np.pi / 2, "d": 0.1,
+             "theta": 0.0, "limits": [0.0, 0.5]},
+            {"name": "y", "type": "prismatic", "a": 0.05, "alpha": -np.pi / 2, "d": 0.03,
+             "theta": -np.pi / 2, "limits": [0.0, 0.5]},
+            {"name": "z", "type": "prismatic", "a": 0.07, "alpha": 0.0, "d": 0.2,
+             "theta": 0.0, "limits": [0.0, 0.5]},
+        ],
+    }  # fmt: skip
+    data.update(extra)
+    return model_from_dict(data)
+
+
+def _slide_and_turn() -> Model:
+    """A mixed arm: a slide, a turn about a parallel axis, a slide (the turn's axis is free)."""
+    return model_from_dict(
+        {
+            "name": "lift",
+            "convention": "standard",
+            "joint": [
+                {"name": "lift", "type": "prismatic", "a": 0.0, "alpha": 0.0, "d": 0.1,
+                 "theta": 0.0, "limits": [0.0, 0.5]},
+                {"name": "swing", "type": "revolute", "a": 0.3, "alpha": 0.0, "d": 0.05,
+                 "theta": 0.0, "limits": [-2.0, 2.0]},
+                {"name": "reach", "type": "prismatic", "a": 0.04, "alpha": np.pi / 2, "d": 0.2,
+                 "theta": np.pi / 2, "limits": [0.0, 0.5]},
+            ],
+        }
+    )  # fmt: skip
+
+
+def _exported(model: Model, tmp_path: Path) -> UrdfKinematics:
+    """The URDF written from ``model``, read back."""
+    from fkcheck.urdf.chain import read_urdf_file
+    from fkcheck.urdf.export import urdf_from_model
+
+    path = tmp_path / f"{model.name}.urdf"
+    path.write_text(urdf_from_model(model).text, encoding="utf-8")
+    return read_urdf_file(str(path))[2]
+
+
+def _assert_offsets_are_the_truth(model: Model, kin: UrdfKinematics, result: MapResult) -> None:
+    """Each proposed frame sits where the exported URDF puts its link (finite, exact)."""
+    from fkcheck.model.frames import reference_poses
+
+    q = np.array([[0.1, 0.2, 0.3], [0.4, -0.1, 0.05], [0.0, 0.0, 0.0]])
+    column = {name: k for k, name in enumerate(model.joint_names)}
+    linked = [p for p in result.frames if p.fit is not None]
+    assert linked
+    for p in linked:
+        assert np.all(np.isfinite(p.spec.offset.matrix))
+        assert np.abs(p.spec.offset.xyz).max() < 1.0, p.spec  # never 1e20 m
+        placed = replace(model, frames={**model.frames, "placed": replace(p.spec, name="placed")})
+        [got] = reference_poses(placed, q, ["placed"])
+        assert p.spec.urdf is not None
+        if p.spec.urdf == kin.root:  # the export's world
+            want = np.eye(4)
+        else:
+            chain = kin.chain(kin.root, p.spec.urdf)
+            moving = [column[j.name] for j in kin.movable(chain)]
+            want = kin.chain_poses(chain, q[:, moving])[:, -1]
+        np.testing.assert_allclose(got, np.broadcast_to(want, got.shape), atol=1e-9,
+                                   err_msg=p.spec.name)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        _slides("standard"),
+        _slides("modified"),
+        _slides("standard", base={"xyz": [0.1, 0.2, 0.3], "rpy": [0.3, 0.2, 0.1]},
+                tool={"xyz": [0.01, 0.02, 0.03], "rpy": [0.5, 0.0, 0.0]}),
+        _slide_and_turn(),
+    ],
+    ids=["slides-standard", "slides-modified", "slides-base-tool", "slide-turn-slide"],
+)  # fmt: skip
+def test_slides_map_with_no_flip_and_the_true_offsets_over_seeds(model, tmp_path):
+    kin = _exported(model, tmp_path)
+    for seed in range(5):
+        result = map_model(model, kin, "robot.urdf", samples=32, seed=seed)
+        assert result.complete, (seed, result.nearest)
+        assert [j.urdf for j in result.joints] == list(model.joint_names)
+        assert not any(j.flipped for j in result.joints), seed
+        assert result.fit_m < 1e-9
+        _assert_offsets_are_the_truth(model, kin, result)
+        # Both ends are found, at the frames the URDF was written with.
+        links = {p.spec.urdf: p.spec for p in result.frames if p.fit is not None}
+        assert links["dh_frame_0"].offset.is_identity
+        assert links["dh_frame_3"].offset.is_identity
+
+
+@pytest.mark.parametrize("model", [_slides("standard"), _slide_and_turn()], ids=["slides", "mixed"])
+def test_slides_flip_only_the_joint_that_turns_the_other_way(model, tmp_path):
+    kin = _exported(model, tmp_path)
+    flipped = _with_row(model, 1, flip=True)  # the URDF's joint 2 moves the table's way round
+    for seed in range(3):
+        result = map_model(flipped, kin, "robot.urdf", samples=32, seed=seed)
+        assert result.joints_fit
+        assert [j.dh for j in result.joints if j.flipped] == [model.joints[1].name], seed
