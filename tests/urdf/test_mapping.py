@@ -188,11 +188,89 @@ def test_an_unknown_link_lists_the_links():
         link_frame(model, _kin(model), "nosuch")
 
 
-def test_a_link_on_no_dh_frame_of_a_wrong_table_is_refused_with_how_near():
+@pytest.mark.parametrize(("link", "anchor"), [("shoulder_link", 1), ("upper_arm_link", 2)])
+def test_a_link_next_to_the_base_is_placed_on_its_dh_frame(link, anchor):
     model = load_model("ur5")
-    wrong = _with_row(model, 3, alpha=-model.joints[3].alpha)
-    with pytest.raises(FkcheckError, match=r"no constant offset from any DH frame .*nearest"):
-        link_frame(wrong, _kin(model), "wrist_3_link")
+    fit = link_frame(model, _kin(model), link)
+    assert fit.anchor == anchor
+    assert fit.fits(1e-9, 1e-9)
+
+
+@pytest.mark.parametrize(
+    ("joint", "change", "link", "urdf_joint", "anchor"),
+    [
+        (2, {"a": -0.40225}, "shoulder_link", "shoulder_pan_joint", 1),  # a3 10 mm long
+        (2, {"a": -0.40225}, "upper_arm_link", "shoulder_lift_joint", 2),
+        (3, {"alpha": "sign"}, "wrist_3_link", "wrist_3_joint", 6),  # α4 the wrong way
+    ],
+)
+def test_a_wrong_table_refuses_every_placement_and_says_where_the_link_hangs(
+    joint, change, link, urdf_joint, anchor
+):
+    """Not "at no constant offset from any DH frame": the link is fixed to DH frame 1, but
+    the chain the placement is fitted from does not move as the table does."""
+    model = load_model("ur5")
+    value = {k: (-getattr(model.joints[joint], k) if v == "sign" else v) for k, v in change.items()}
+    wrong = _with_row(model, joint, **value)
+    with pytest.raises(FkcheckError) as refused:
+        link_frame(wrong, _kin(model), link)
+    message = str(refused.value)
+    assert message.startswith(
+        f"urdf:{link}: URDF link {link!r} moves with URDF joint {urdf_joint!r} (DH joint "
+        f"{anchor}: it belongs on DH frame {anchor}), but no placement of it on model ur5's DH "
+        "frames can be trusted: the table and the URDF disagree over the chain — its last DH "
+        "frame strays up to "
+    )
+    assert "from URDF link 'wrist_3_link' over the samples" in message
+    assert " mm / " in message
+    assert "no constant offset" not in message
+
+
+def test_a_recorded_difference_with_the_urdf_is_named_in_the_refusal():
+    model = load_model("xarm7")
+    [known] = model.known_differences
+    with pytest.raises(
+        FkcheckError, match=r"'link1' moves with URDF joint 'joint1' \(DH joint 1"
+    ) as refused:
+        link_frame(model, _kin(model), "link1")
+    assert f"the model file records a difference with its URDF: {known.finding}" in str(
+        refused.value
+    )
+
+
+def test_a_link_moved_by_an_unmapped_joint_is_refused_for_that_reason():
+    model = load_model("panda")
+    with pytest.raises(FkcheckError) as refused:
+        link_frame(model, _kin(model), "panda_leftfinger")
+    message = str(refused.value)
+    assert (
+        "URDF link 'panda_leftfinger' moves with URDF joint 'panda_finger_joint1', which model "
+        "panda's [urdf] joints do not map" in message
+    )
+    assert "though the table and the URDF agree over the chain" in message
+    assert "nearest: DH frame 7" in message
+
+
+def test_a_link_below_a_floating_joint_is_refused_for_that_reason(tmp_path):
+    from fkcheck.urdf.chain import read_urdf_file
+    from fkcheck.urdf.source import resolve_urdf_path
+
+    model = load_model("ur5")
+    path, _ = resolve_urdf_path(model)
+    text = path.read_text(encoding="utf-8").replace(
+        "</robot>",
+        '<link name="puck"/><joint name="puck_joint" type="floating"><parent link="tool0"/>'
+        '<child link="puck"/></joint></robot>',
+    )
+    urdf = tmp_path / "ur5_puck.urdf"
+    urdf.write_text(text, encoding="utf-8")
+    kin = read_urdf_file(str(urdf))[2]
+    with pytest.raises(
+        FkcheckError,
+        match=r"^urdf:puck: URDF link 'puck' hangs below the floating joint 'puck_joint', which "
+        "fkcheck cannot follow",
+    ):
+        link_frame(model, kin, "puck")
 
 
 def test_names_from_the_urdf_never_become_lines_of_the_proposed_toml(tmp_path):
