@@ -421,7 +421,7 @@ def _spin(M: Float, U: Float, X: Float, Y: Float) -> tuple[Float, Float]:
         lhs = (np.eye(3) - B[turning, :3, :3]).reshape(-1, 3)
         t = B[turning, :3, 3]
         rhs = (t - np.outer(t @ n, n)).reshape(-1)
-        point = np.linalg.lstsq(lhs, rhs, rcond=None)[0]
+        point = np.asarray(np.linalg.lstsq(lhs, rhs, rcond=None)[0], dtype=np.float64)
     # The turn φ about n that leaves X least turned: max of trace(R_X·Rot(n, φ)).
     R = X[:3, :3]
     K = np.array([[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]])
