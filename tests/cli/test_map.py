@@ -93,6 +93,23 @@ def test_check_to_an_undeclared_link(tmp_path, capsys):
     assert "only URDF backends compare it" in skipped["message"]
 
 
+def test_check_to_a_link_of_a_wrong_table_says_no_placement_can_be_trusted(tmp_path, capsys):
+    text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
+    assert text.count("a = -0.39225\n") == 1
+    wrong = tmp_path / "ur5.toml"  # a3 10 mm long
+    wrong.write_text(text.replace("a = -0.39225\n", "a = -0.40225\n"), encoding="utf-8")
+    assert main(["check", str(wrong), "--to", "urdf:shoulder_link", *FAST]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert (
+        "URDF link 'shoulder_link' moves with URDF joint 'shoulder_pan_joint' (DH joint 1: it "
+        "belongs on DH frame 1), but no placement of it on model ur5's DH frames can be "
+        "trusted: the table and the URDF disagree over the chain"
+    ) in err
+    # The right table places the same link on DH frame 1.
+    assert main(["check", "ur5", "--to", "urdf:shoulder_link", *FAST]) == 0
+
+
 def test_check_to_an_unknown_link_lists_the_links(capsys):
     assert main(["check", "ur5", "--to", "urdf:nosuch", *FAST]) == 2
     err = capsys.readouterr().err

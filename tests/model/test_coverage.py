@@ -136,6 +136,19 @@ def test_d1_ten_mm_long_mapped_into_the_base_frame_is_not_identifiable(ur5):
     assert c.summary().startswith("table verified except d1 not identifiable")
 
 
+def test_a_urdf_link_frame_is_named_whole_as_the_offset_that_could_absorb(ur5):
+    """``[frames.urdf:shoulder_link]``, not ``[frames.urdf`` cut at the name's own colon."""
+    frames = dict(ur5.frames)
+    frames["urdf:shoulder_link"] = FrameSpec(  # where `check --to urdf:shoulder_link` puts it
+        "urdf:shoulder_link", 1, Offset((0.0, 0.0, 0.0), (np.pi / 2, 0.0, np.pi)), "shoulder_link"
+    )
+    c = coverage(replace(ur5, frames=frames), "base", "urdf:shoulder_link", TOL, TOL)
+    assert [n.name for n in c.by_status("not-identifiable")] == ["θ1"]
+    assert "θ1 not identifiable (the offset of [frames.urdf:shoulder_link] could absorb it)" in (
+        c.gaps()
+    )
+
+
 def test_a_translation_across_the_first_axis_hides_nothing(ur5):
     frames = dict(ur5.frames)
     frames["side"] = FrameSpec("side", 0, Offset((0.3, -0.2, 0.0)))

@@ -188,11 +188,89 @@ def test_an_unknown_link_lists_the_links():
         link_frame(model, _kin(model), "nosuch")
 
 
-def test_a_link_on_no_dh_frame_of_a_wrong_table_is_refused_with_how_near():
+@pytest.mark.parametrize(("link", "anchor"), [("shoulder_link", 1), ("upper_arm_link", 2)])
+def test_a_link_next_to_the_base_is_placed_on_its_dh_frame(link, anchor):
     model = load_model("ur5")
-    wrong = _with_row(model, 3, alpha=-model.joints[3].alpha)
-    with pytest.raises(FkcheckError, match=r"no constant offset from any DH frame .*nearest"):
-        link_frame(wrong, _kin(model), "wrist_3_link")
+    fit = link_frame(model, _kin(model), link)
+    assert fit.anchor == anchor
+    assert fit.fits(1e-9, 1e-9)
+
+
+@pytest.mark.parametrize(
+    ("joint", "change", "link", "urdf_joint", "anchor"),
+    [
+        (2, {"a": -0.40225}, "shoulder_link", "shoulder_pan_joint", 1),  # a3 10 mm long
+        (2, {"a": -0.40225}, "upper_arm_link", "shoulder_lift_joint", 2),
+        (3, {"alpha": "sign"}, "wrist_3_link", "wrist_3_joint", 6),  # α4 the wrong way
+    ],
+)
+def test_a_wrong_table_refuses_every_placement_and_says_where_the_link_hangs(
+    joint, change, link, urdf_joint, anchor
+):
+    """Not "at no constant offset from any DH frame": the link is fixed to DH frame 1, but
+    the chain the placement is fitted from does not move as the table does."""
+    model = load_model("ur5")
+    value = {k: (-getattr(model.joints[joint], k) if v == "sign" else v) for k, v in change.items()}
+    wrong = _with_row(model, joint, **value)
+    with pytest.raises(FkcheckError) as refused:
+        link_frame(wrong, _kin(model), link)
+    message = str(refused.value)
+    assert message.startswith(
+        f"urdf:{link}: URDF link {link!r} moves with URDF joint {urdf_joint!r} (DH joint "
+        f"{anchor}: it belongs on DH frame {anchor}), but no placement of it on model ur5's DH "
+        "frames can be trusted: the table and the URDF disagree over the chain — its last DH "
+        "frame strays up to "
+    )
+    assert "from URDF link 'wrist_3_link' over the samples" in message
+    assert " mm / " in message
+    assert "no constant offset" not in message
+
+
+def test_a_recorded_difference_with_the_urdf_is_named_in_the_refusal():
+    model = load_model("xarm7")
+    [known] = model.known_differences
+    with pytest.raises(
+        FkcheckError, match=r"'link1' moves with URDF joint 'joint1' \(DH joint 1"
+    ) as refused:
+        link_frame(model, _kin(model), "link1")
+    assert f"the model file records a difference with its URDF: {known.finding}" in str(
+        refused.value
+    )
+
+
+def test_a_link_moved_by_an_unmapped_joint_is_refused_for_that_reason():
+    model = load_model("panda")
+    with pytest.raises(FkcheckError) as refused:
+        link_frame(model, _kin(model), "panda_leftfinger")
+    message = str(refused.value)
+    assert (
+        "URDF link 'panda_leftfinger' moves with URDF joint 'panda_finger_joint1', which model "
+        "panda's [urdf] joints do not map" in message
+    )
+    assert "though the table and the URDF agree over the chain" in message
+    assert "nearest: DH frame 7" in message
+
+
+def test_a_link_below_a_floating_joint_is_refused_for_that_reason(tmp_path):
+    from fkcheck.urdf.chain import read_urdf_file
+    from fkcheck.urdf.source import resolve_urdf_path
+
+    model = load_model("ur5")
+    path, _ = resolve_urdf_path(model)
+    text = path.read_text(encoding="utf-8").replace(
+        "</robot>",
+        '<link name="puck"/><joint name="puck_joint" type="floating"><parent link="tool0"/>'
+        '<child link="puck"/></joint></robot>',
+    )
+    urdf = tmp_path / "ur5_puck.urdf"
+    urdf.write_text(text, encoding="utf-8")
+    kin = read_urdf_file(str(urdf))[2]
+    with pytest.raises(
+        FkcheckError,
+        match=r"^urdf:puck: URDF link 'puck' hangs below the floating joint 'puck_joint', which "
+        "fkcheck cannot follow",
+    ):
+        link_frame(model, kin, "puck")
 
 
 def test_names_from_the_urdf_never_become_lines_of_the_proposed_toml(tmp_path):
@@ -221,3 +299,116 @@ def test_names_from_the_urdf_never_become_lines_of_the_proposed_toml(tmp_path):
     for line in block.splitlines():  # the name shows, escaped, only inside comments
         if "xacro = true" in line:
             assert line.startswith("#") or line.startswith("joints = ") or "urdf = " in line
+
+
+# ----------------------------------------------------------------------------- slides
+
+
+def _slides(convention: str, **extra: object) -> Model:
+    """A cartesian arm: three prismatic joints at right angles, lengths on every row.
+
+    The last row's a (0.07 m) puts the URDF chain's last link away from DH frame 3
+    in a standard table (its ``Tx(a)·Rx(α)`` is a fixed joint after the slide).
+    """
+    data = {
+        "name": "gantry",
+        "convention": convention,
+        "joint": [
+            {"name": "x", "type": "prismatic", "a": 0.02, "alpha": -np.pi / 2, "d": 0.1,
+             "theta": 0.0, "limits": [0.0, 0.5]},
+            {"name": "y", "type": "prismatic", "a": 0.05, "alpha": -np.pi / 2, "d": 0.03,
+             "theta": -np.pi / 2, "limits": [0.0, 0.5]},
+            {"name": "z", "type": "prismatic", "a": 0.07, "alpha": 0.0, "d": 0.2,
+             "theta": 0.0, "limits": [0.0, 0.5]},
+        ],
+    }  # fmt: skip
+    data.update(extra)
+    return model_from_dict(data)
+
+
+def _slide_and_turn() -> Model:
+    """A mixed arm: a slide, a turn about a parallel axis, a slide (the turn's axis is free)."""
+    return model_from_dict(
+        {
+            "name": "lift",
+            "convention": "standard",
+            "joint": [
+                {"name": "lift", "type": "prismatic", "a": 0.0, "alpha": 0.0, "d": 0.1,
+                 "theta": 0.0, "limits": [0.0, 0.5]},
+                {"name": "swing", "type": "revolute", "a": 0.3, "alpha": 0.0, "d": 0.05,
+                 "theta": 0.0, "limits": [-2.0, 2.0]},
+                {"name": "reach", "type": "prismatic", "a": 0.04, "alpha": np.pi / 2, "d": 0.2,
+                 "theta": np.pi / 2, "limits": [0.0, 0.5]},
+            ],
+        }
+    )  # fmt: skip
+
+
+def _exported(model: Model, tmp_path: Path) -> UrdfKinematics:
+    """The URDF written from ``model``, read back."""
+    from fkcheck.urdf.chain import read_urdf_file
+    from fkcheck.urdf.export import urdf_from_model
+
+    path = tmp_path / f"{model.name}.urdf"
+    path.write_text(urdf_from_model(model).text, encoding="utf-8")
+    return read_urdf_file(str(path))[2]
+
+
+def _assert_offsets_are_the_truth(model: Model, kin: UrdfKinematics, result: MapResult) -> None:
+    """Each proposed frame sits where the exported URDF puts its link (finite, exact)."""
+    from fkcheck.model.frames import reference_poses
+
+    q = np.array([[0.1, 0.2, 0.3], [0.4, -0.1, 0.05], [0.0, 0.0, 0.0]])
+    column = {name: k for k, name in enumerate(model.joint_names)}
+    linked = [p for p in result.frames if p.fit is not None]
+    assert linked
+    for p in linked:
+        assert np.all(np.isfinite(p.spec.offset.matrix))
+        assert np.abs(p.spec.offset.xyz).max() < 1.0, p.spec  # never 1e20 m
+        placed = replace(model, frames={**model.frames, "placed": replace(p.spec, name="placed")})
+        [got] = reference_poses(placed, q, ["placed"])
+        assert p.spec.urdf is not None
+        if p.spec.urdf == kin.root:  # the export's world
+            want = np.eye(4)
+        else:
+            chain = kin.chain(kin.root, p.spec.urdf)
+            moving = [column[j.name] for j in kin.movable(chain)]
+            want = kin.chain_poses(chain, q[:, moving])[:, -1]
+        np.testing.assert_allclose(got, np.broadcast_to(want, got.shape), atol=1e-9,
+                                   err_msg=p.spec.name)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        _slides("standard"),
+        _slides("modified"),
+        _slides("standard", base={"xyz": [0.1, 0.2, 0.3], "rpy": [0.3, 0.2, 0.1]},
+                tool={"xyz": [0.01, 0.02, 0.03], "rpy": [0.5, 0.0, 0.0]}),
+        _slide_and_turn(),
+    ],
+    ids=["slides-standard", "slides-modified", "slides-base-tool", "slide-turn-slide"],
+)  # fmt: skip
+def test_slides_map_with_no_flip_and_the_true_offsets_over_seeds(model, tmp_path):
+    kin = _exported(model, tmp_path)
+    for seed in range(5):
+        result = map_model(model, kin, "robot.urdf", samples=32, seed=seed)
+        assert result.complete, (seed, result.nearest)
+        assert [j.urdf for j in result.joints] == list(model.joint_names)
+        assert not any(j.flipped for j in result.joints), seed
+        assert result.fit_m < 1e-9
+        _assert_offsets_are_the_truth(model, kin, result)
+        # Both ends are found, at the frames the URDF was written with.
+        links = {p.spec.urdf: p.spec for p in result.frames if p.fit is not None}
+        assert links["dh_frame_0"].offset.is_identity
+        assert links["dh_frame_3"].offset.is_identity
+
+
+@pytest.mark.parametrize("model", [_slides("standard"), _slide_and_turn()], ids=["slides", "mixed"])
+def test_slides_flip_only_the_joint_that_turns_the_other_way(model, tmp_path):
+    kin = _exported(model, tmp_path)
+    flipped = _with_row(model, 1, flip=True)  # the URDF's joint 2 moves the table's way round
+    for seed in range(3):
+        result = map_model(flipped, kin, "robot.urdf", samples=32, seed=seed)
+        assert result.joints_fit
+        assert [j.dh for j in result.joints if j.flipped] == [model.joints[1].name], seed

@@ -2,8 +2,9 @@
 
 The steps (:mod:`.offsets`, :mod:`.axes`, :mod:`.hypotheses`, :mod:`.paramfit`)
 each produce :class:`Explanation` rows; :func:`rank` orders them (explanations
-that make the disagreement vanish first, the simplest kind of mistake first);
-:func:`format_text` and :func:`to_dict` render a :class:`Diagnosis`.
+that make the disagreement vanish first, the fewest changed numbers first, then
+the simplest kind of mistake); :func:`format_text` and :func:`to_dict` render a
+:class:`Diagnosis`.
 """
 
 from __future__ import annotations
@@ -31,12 +32,14 @@ __all__ = [
 ]
 
 #: What kind of mistake an explanation names, most plausible first among
-#: explanations that make the disagreement vanish: a frame-naming difference
-#: (base_link vs base, flange vs tool0) or two URDF joints swapped in the mapping
-#: before a whole-table mistake (units, convention), before a one-character typo (a
-#: sign, a flip, a missing θ offset), before a different number (one parameter),
-#: before unexplained constant offsets, before a fit of everything.
+#: explanations that make the disagreement vanish and change as many numbers: the
+#: difference the model file already records (``[[known_difference]]``), a
+#: frame-naming difference (base_link vs base, flange vs tool0) or two URDF joints
+#: swapped in the mapping before a whole-table mistake (units, convention), before a
+#: one-character typo (a sign, a flip, a missing θ offset), before a different number
+#: (one parameter), before unexplained constant offsets, before a fit of everything.
 Kind = Literal[
+    "known",
     "frames",
     "mapping",
     "degrees",
@@ -105,6 +108,10 @@ class Explanation:
         changes: The parameters it changes.
         fix_toml: Model-file text that applies it (``[frames…]`` tables), if any.
         model: The changed model (not serialised).
+        numbers: How many numbers (or settings) of the model file it changes, when
+            that is not one per change: ``angle_unit`` is one setting however many
+            angles it rescales, a frame offset counts its changed components.
+            ``None``: one per change, and at least one.
     """
 
     kind: Kind
@@ -115,6 +122,12 @@ class Explanation:
     changes: tuple[Change, ...] = ()
     fix_toml: str = ""
     model: Model | None = field(default=None, repr=False)
+    numbers: int | None = None
+
+    @property
+    def changed(self) -> int:
+        """How many numbers of the model file it changes (see ``numbers``)."""
+        return self.numbers if self.numbers is not None else max(len(self.changes), 1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -168,11 +181,20 @@ class Diagnosis:
         return first if first is not None and first.explains else None
 
 
-def rank(explanations: list[Explanation], before: Residual) -> tuple[Explanation, ...]:
-    """Explaining ones by :data:`KIND_ORDER`; then partial ones by what is left.
+def rank(
+    explanations: list[Explanation], before: Residual, same: tuple[float, float] = (0.0, 0.0)
+) -> tuple[Explanation, ...]:
+    """Explaining ones first, fewest changed numbers first; then partial ones by what is left.
 
-    A partial explanation is kept only if it removes at least half of the
-    disagreement (position or rotation), so the list stays short.
+    Every explanation that explains leaves, by definition, the same residual (within
+    tolerance, or within the model's recorded known difference): among them the one
+    that changes the fewest numbers comes first (one wrong number before a fit that
+    moves 29), then the kind (:data:`KIND_ORDER`), then what is left. Partial ones
+    are ordered by what they leave, relative to the disagreement; those whose
+    residuals are equal within ``same`` (metres, radians: the diagnosis's
+    tolerances, below which the check cannot tell two poses apart) by the fewest
+    changed numbers too. A partial explanation is kept only if it removes at least
+    half of the disagreement (position or rotation), so the list stays short.
     """
 
     def leftover(e: Explanation) -> float:
@@ -181,10 +203,22 @@ def rank(explanations: list[Explanation], before: Residual) -> tuple[Explanation
         return max(pos, rot)
 
     full = [e for e in explanations if e.explains]
-    full.sort(key=lambda e: (KIND_ORDER.index(e.kind), e.residual.position_m))
+    full.sort(key=lambda e: (e.changed, KIND_ORDER.index(e.kind), e.residual.position_m))
     partial = [e for e in explanations if not e.explains and leftover(e) <= 0.5]
     partial.sort(key=leftover)
-    return (*full, *partial)
+    ordered: list[Explanation] = []
+    while partial:  # runs of residuals equal within `same`, each by the fewest numbers
+        head = partial[0]
+        run = [
+            e
+            for e in partial
+            if abs(e.residual.position_m - head.residual.position_m) <= same[0]
+            and abs(e.residual.rotation_rad - head.residual.rotation_rad) <= same[1]
+        ]
+        run.sort(key=lambda e: (e.changed, leftover(e)))
+        ordered += run
+        partial = [e for e in partial if all(e is not r for r in run)]
+    return (*full, *ordered)
 
 
 def _residual_dict(r: Residual) -> dict[str, float]:
@@ -223,6 +257,7 @@ def to_dict(d: Diagnosis) -> dict[str, Any]:
                     for c in e.changes
                 ],
                 "fix_toml": e.fix_toml,
+                "numbers_changed": e.changed,
             }
             for e in d.explanations
         ],

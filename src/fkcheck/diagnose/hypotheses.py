@@ -30,7 +30,7 @@ from fkcheck.diagnose.findings import Change, Explanation, Kind
 from fkcheck.diagnose.problem import Problem, Residual, pose_residuals
 from fkcheck.model.names import PARAMS, Param, param_symbol
 from fkcheck.model.published import published_tables, variant_note
-from fkcheck.model.types import Model, Offset
+from fkcheck.model.types import Joint, Model, Offset
 
 __all__ = [
     "Candidate",
@@ -42,6 +42,9 @@ __all__ = [
 
 #: Two values closer than this are "the same number" when naming a published value.
 _SAME_VALUE = 1e-9
+#: A fitted angle this close to another (modulo a turn) is the same angle: the
+#: one-parameter fit stops within ~1e-12 rad of the exact value; 1e-9 leaves margin.
+_SAME_ANGLE_RAD = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,41 +87,117 @@ def _change(model: Model, i: int, param: Param, new: float, note: str = "") -> C
     )
 
 
-def _scale_angles(model: Model, factor: float) -> Model:
+#: An angle beyond this (rad) cannot have been meant in radians: a full turn, plus
+#: round-off. The model reader warns at the same bound.
+_FULL_TURN_RAD = 2 * math.pi + 1e-9
+
+
+def _scale_angles(
+    model: Model, factor: float, which: Callable[[float], bool] | None = None
+) -> Model:
+    """The model with the angles of the file (α, θ, rpy) scaled: all, or those ``which`` picks.
+
+    When every angle is scaled (the file's unit, not single values), the revolute
+    joints' limits and the named poses are scaled too: they are written in the
+    same unit.
+    """
+    everything = which is None
+
+    def angle(v: float) -> float:
+        return v * factor if which is None or which(v) else v
+
     def offset(o: Offset) -> Offset:
-        r, p, y = (v * factor for v in o.rpy)
+        r, p, y = (angle(v) for v in o.rpy)
         return Offset(o.xyz, (r, p, y))
 
-    joints = tuple(replace(j, alpha=j.alpha * factor, theta=j.theta * factor) for j in model.joints)
+    def joint(j: Joint) -> Joint:
+        limits = j.limits
+        if everything and limits is not None and j.type == "revolute":
+            limits = (limits[0] * factor, limits[1] * factor)
+        return replace(j, alpha=angle(j.alpha), theta=angle(j.theta), limits=limits)
+
+    revolute = [j.type == "revolute" for j in model.joints]
+    poses = {
+        name: tuple(v * factor if r else v for v, r in zip(q, revolute, strict=True))
+        for name, q in model.poses.items()
+    }
     frames = {
         name: replace(spec, offset=offset(spec.offset)) for name, spec in model.frames.items()
     }
     return replace(
-        model, joints=joints, base=offset(model.base), tool=offset(model.tool), frames=frames
+        model,
+        joints=tuple(joint(j) for j in model.joints),
+        base=offset(model.base),
+        tool=offset(model.tool),
+        frames=frames,
+        poses=poses if everything else model.poses,
     )
 
 
+def _angles(model: Model) -> list[tuple[str, str, float]]:
+    """Every angle the file holds in its ``angle_unit``: ``(field, symbol, value)``."""
+    out = []
+    for i, j in enumerate(model.joints):
+        out += [(f"joint[{i}].{p}", _symbol(model, i, p), float(getattr(j, p))) for p in
+                ("alpha", "theta")]  # fmt: skip
+    sides = [("base", "[base]", model.base), ("tool", "[tool]", model.tool)]
+    sides += [(f"frames.{n}", f"[frames.{n}]", s.offset) for n, s in model.frames.items()]
+    for field_, label, o in sides:
+        out += [(f"{field_}.rpy[{k}]", f"{label} rpy[{k}]", v) for k, v in enumerate(o.rpy)]
+    return out
+
+
 def _units(model: Model) -> Iterator[Candidate]:
-    angles = [v for j in model.joints for v in (j.alpha, j.theta)]
-    if model.angle_unit == "rad" and any(abs(v) > math.pi + 1e-9 for v in angles):
-        biggest = max(angles, key=abs)
+    angles = _angles(model)
+    values = [v for _, _, v in angles]
+    if model.angle_unit == "rad" and any(abs(v) > math.pi + 1e-9 for v in values):
+        beyond = [a for a in angles if abs(a[2]) > math.pi + 1e-9]
+        table = [a for a in beyond if a[0].startswith("joint[")]  # the table's own, if any
+        _, symbol, biggest = max(table or beyond, key=lambda a: abs(a[2]))
         yield Candidate(
             "degrees",
-            f'the angles are degrees read as radians (angle_unit = "rad", yet an angle is '
-            f'{biggest:g}): set angle_unit = "deg"',
+            'the table\'s angles are in degrees but were read as radians: set angle_unit = "deg"',
             _scale_angles(model, math.pi / 180),
+            details=(
+                f'angle_unit = "rad", yet {symbol} = {biggest:g}: that is '
+                f"{abs(biggest) / (2 * math.pi):.3g} turns in radians, an ordinary angle in "
+                "degrees; the unit applies to every angle, limit and named pose of the file",
+            ),
         )
+        # Some angles typed in degrees, the others in radians: only those beyond a
+        # full turn, which cannot be radians, are converted.
+        typed = [a for a in angles if abs(a[2]) > _FULL_TURN_RAD]
+        if typed and len(typed) < sum(1 for v in values if v != 0):
+            yield _typed_in_degrees(model, typed)
     if (
         model.angle_unit == "deg"
-        and any(v != 0 for v in angles)
-        and all(abs(math.degrees(v)) <= 2 * math.pi + 1e-9 for v in angles)
+        and any(v != 0 for v in values)
+        and all(abs(math.degrees(v)) <= _FULL_TURN_RAD for v in values)
     ):
         yield Candidate(
             "degrees",
-            'the angles are radians read as degrees (angle_unit = "deg", yet every angle is '
-            'within ±2π): set angle_unit = "rad"',
+            'the table\'s angles are in radians but were read as degrees: set angle_unit = "rad"',
             _scale_angles(model, 180 / math.pi),
+            details=('angle_unit = "deg", yet every angle is within ±2π (as numbers)',),
         )
+
+
+def _typed_in_degrees(model: Model, typed: list[tuple[str, str, float]]) -> Candidate:
+    """Only the angles beyond a full turn converted from degrees (a file of mixed units)."""
+    changes = tuple(
+        Change(field_, symbol, v, math.radians(v), True, f"{v:g}° read as {v:g} rad")
+        for field_, symbol, v in typed
+    )
+    names = ", ".join(c.symbol for c in changes)
+    one = len(changes) == 1
+    return Candidate(
+        "degrees",
+        f"{names} {'is' if one else 'are'} in degrees but {'was' if one else 'were'} read as "
+        f'radians (angle_unit = "rad"): write {"it" if one else "them"} in radians',
+        _scale_angles(model, math.pi / 180, lambda v: abs(v) > _FULL_TURN_RAD),
+        changes,
+        ("the file's other angles are within a full turn: they read as radians",),
+    )
 
 
 def _convention(model: Model) -> Iterator[Candidate]:
@@ -238,6 +317,20 @@ def _known_note(model: Model, i: int, param: str, old: float, new: float) -> str
     return "; ".join(notes)
 
 
+def _degrees_note(model: Model, old: float, new: float) -> str:
+    """``-90 is -90° read as radians`` when a fitted angle is the table's number in degrees."""
+    if model.angle_unit != "rad" or abs(old) <= _FULL_TURN_RAD:
+        return ""
+    if abs(_wrap(new - math.radians(old))) > _SAME_ANGLE_RAD:
+        return ""
+    return f"{new:.6g} rad is {old:g}° modulo a turn: {old:g} is in degrees but was read as radians"
+
+
+def _wrap(angle: float) -> float:
+    """``angle`` in ``(-π, π]``."""
+    return math.pi - (math.pi - angle) % (2 * math.pi)
+
+
 def _halves(problem: Problem, residual: Residual, before: Residual) -> bool:
     """At most half the position error left, and half the rotation error (or within tolerance)."""
     return residual.position_m <= before.position_m / 2 and residual.rotation_rad <= max(
@@ -276,7 +369,11 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
                 or abs(new - old) <= _SAME_VALUE
             ):
                 continue
-            note = _known_note(model, i, param, old, new)
+            note = "; ".join(
+                n
+                for n in (_known_note(model, i, param, old, new), _degrees_note(model, old, new))
+                if n
+            )
             change = _change(model, i, param, new, note)
             title = f"one number differs: {change.symbol}"
             out.append(
@@ -315,11 +412,21 @@ def explain_hypotheses(problem: Problem) -> tuple[list[Explanation], list[str]]:
             )
     singles = fit_single_parameters(problem)
     counts["one parameter fitted alone"] = 4 * problem.model.dof
-    # A single-parameter fit that lands on a hypothesis already found says nothing new.
-    seen = {(c.field, round(c.new, 9)) for e in found for c in e.changes if len(e.changes) == 1}
-    found += [e for e in singles if (e.changes[0].field, round(e.changes[0].new, 9)) not in seen]
+    # A single-parameter fit that lands on a hypothesis already found (an angle up to
+    # whole turns) says nothing new.
+    seen = [c for e in found for c in e.changes if len(e.changes) == 1]
+    found += [e for e in singles if not any(_same_change(e.changes[0], c) for c in seen)]
     tried = [f"{label} ({n})" for label, n in counts.items()]
     return found, tried
+
+
+def _same_change(a: Change, b: Change) -> bool:
+    """The same field set to the same value (an angle up to whole turns)."""
+    if a.field != b.field:
+        return False
+    if a.angle:
+        return abs(_wrap(a.new - b.new)) <= _SAME_ANGLE_RAD
+    return abs(a.new - b.new) <= _SAME_VALUE
 
 
 def explain_swapped_mapping(problem: Problem) -> tuple[list[Explanation], int]:

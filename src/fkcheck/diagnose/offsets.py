@@ -363,11 +363,27 @@ def explain_offsets(problem: Problem) -> list[Explanation]:
         check = problem.residual(model)
         details.append(f"with the fix applied, the table is {check.text()} from the reference")
     kind: Kind = "frames" if clean else "offset"
+    numbers = sum(_components(T) for T, same in ((X, base_same), (Y, tip_same)) if not same)
     return [
         Explanation(
-            kind, title, residual, explains, tuple(details), fix_toml="\n".join(fixes), model=model
+            kind,
+            title,
+            residual,
+            explains,
+            tuple(details),
+            fix_toml="\n".join(fixes),
+            model=model,
+            numbers=numbers,
         )
     ]
+
+
+def _components(T: Float) -> int:
+    """How many of an offset's xyz/rpy numbers are not zero (round-off aside)."""
+    off = offset_from_matrix(T)
+    return sum(abs(v) > _CLEAN_LENGTH_M for v in off.xyz) + sum(
+        abs(v) > _CLEAN_ANGLE_RAD for v in off.rpy
+    )
 
 
 def _title(

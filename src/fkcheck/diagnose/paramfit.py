@@ -101,9 +101,12 @@ def explain_parameter_fit(problem: Problem) -> list[Explanation]:
                     Change(f"joint[{i}].{param}", symbol, a, b, param in ("alpha", "theta"))
                 )
     details = []
+    moved_offsets = 0  # [base]/[tool] numbers that moved, at least one per moved side
     sides = (("base", 4 * n, model.base, fitted.base), ("tool", 4 * n + 6, model.tool, fitted.tool))
     for label, start, before, after in sides:
         if np.abs(x[start : start + 6]).max() > MOVED:
+            pairs = zip((*before.xyz, *before.rpy), (*after.xyz, *after.rpy), strict=True)
+            moved_offsets += max(sum(abs(a - b) > MOVED for a, b in pairs), 1)
             details.append(
                 f"[{label}] moved: xyz {before.xyz} → "
                 f"{tuple(round(v, 9) for v in after.xyz)}, rpy {before.rpy} → "
@@ -113,13 +116,23 @@ def explain_parameter_fit(problem: Problem) -> list[Explanation]:
         return []
     details += _redundancy_notes(fitted, changes)
     explains = problem.explained(residual)
-    moved = len(changes) + len(details)
+    numbers = len(changes) + moved_offsets
     title = (
         f"a fit of all {4 * n} DH parameters, base and tool "
-        f"{'matches' if explains else 'comes closest'}: {moved} moved"
+        f"{'matches' if explains else 'comes closest'}: {numbers} "
+        f"number{'s' if numbers != 1 else ''} moved"
     )
     return [
-        Explanation("fit", title, residual, explains, tuple(details), tuple(changes), model=fitted)
+        Explanation(
+            "fit",
+            title,
+            residual,
+            explains,
+            tuple(details),
+            tuple(changes),
+            model=fitted,
+            numbers=numbers,
+        )
     ]
 
 

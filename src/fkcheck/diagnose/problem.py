@@ -18,7 +18,7 @@ from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.model.frames import reference_poses, relative_pose, resolve_frame
 from fkcheck.model.sampling import sample_configurations
-from fkcheck.model.types import Model
+from fkcheck.model.types import KnownDifference, Model
 
 __all__ = [
     "Problem",
@@ -116,6 +116,9 @@ class Problem:
         tol_pos_m: Position tolerance (m): below it a hypothesis "explains".
         tol_rot_rad: Rotation tolerance (rad).
         source: The reference backend itself, to verify a fix with (see :meth:`verify`).
+        known: The model's recorded difference with this reference, when the
+            disagreement goes beyond it: a change that leaves no more than the
+            recorded difference explains the rest (see :meth:`explained`).
     """
 
     model: Model
@@ -127,6 +130,7 @@ class Problem:
     tol_pos_m: float
     tol_rot_rad: float
     source: Backend | None = None
+    known: KnownDifference | None = None
 
     @classmethod
     def build(
@@ -193,6 +197,13 @@ class Problem:
             float(rotation_error_rad(poses, reference).max()),
         )
 
-    def explained(self, residual: Residual) -> bool:
+    def exact(self, residual: Residual) -> bool:
         """Whether a residual is within the tolerances."""
         return residual.within(self.tol_pos_m, self.tol_rot_rad)
+
+    def explained(self, residual: Residual) -> bool:
+        """Within the tolerances, or within the recorded known difference (:attr:`known`)."""
+        return self.exact(residual) or (
+            self.known is not None
+            and residual.within(self.known.max_position_m, self.known.max_angle_rad)
+        )

@@ -13,8 +13,9 @@ from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
 from fkcheck.diagnose.hypotheses import explain_hypotheses, explain_swapped_mapping
 from fkcheck.diagnose.offsets import explain_offsets
 from fkcheck.diagnose.paramfit import explain_parameter_fit
-from fkcheck.diagnose.problem import Problem, diagnosis_configurations
-from fkcheck.model.types import Model
+from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
+from fkcheck.engine.expected import known_difference_for
+from fkcheck.model.types import KnownDifference, Model
 
 __all__ = ["URDF_BACKENDS", "diagnose"]
 
@@ -40,7 +41,13 @@ def diagnose(
     Steps: constant frame offsets (:mod:`.offsets`), joint axes against the URDF
     (:mod:`.axes`, only when the reference reads the URDF), typical mistakes as
     hypotheses and single-parameter fits (:mod:`.hypotheses`), and a fit of every
-    parameter (:mod:`.paramfit`).
+    parameter (:mod:`.paramfit`) when nothing simpler leaves less than the tolerances.
+
+    A ``[[known_difference]]`` the model records for this reference applies as the
+    check applies it (the model's own frame pair and tolerances): a disagreement
+    within its bounds is named as that record first (the steps then say where it
+    comes from); beyond them, a change that leaves no more than the record explains
+    the disagreement.
 
     Args:
         model: The model.
@@ -73,7 +80,13 @@ def diagnose(
     explanations: list[Explanation] = []
     tried: list[str] = []
     axes: tuple[AxisRow, ...] = ()
-    if not problem.explained(before):
+    known = _known(model, backend.name, pair, tol)
+    if known is not None and not problem.exact(before):
+        if before.within(known.max_position_m, known.max_angle_rad):
+            explanations.append(_recorded(known, before, backend.name))
+        else:
+            problem = replace(problem, known=known)
+    if not problem.exact(before):
         explanations += explain_offsets(problem)
         tried.append("constant base/tip frame offsets (least squares on SE(3))")
         found, hypotheses_tried = explain_hypotheses(problem)
@@ -86,9 +99,14 @@ def diagnose(
         # Re-checked against the backend before deciding on the fit: a black box can rule
         # out a fix (a frame offset) that looked like it explained everything.
         explanations = [_verified(problem, e) for e in explanations]
-        if not any(e.explains for e in explanations):  # the general form, when nothing simpler
+        # The general form, when nothing simpler leaves less than the tolerances (a
+        # change that leaves the recorded known difference explains, but the fit is
+        # still shown: it says where the recorded difference comes from).
+        if not any(e.explains and problem.exact(e.residual) for e in explanations):
             explanations += [_verified(problem, e) for e in explain_parameter_fit(problem)]
             tried.append("all DH parameters + base + tool fitted together")
+        if problem.known is not None:
+            explanations = [_leaves_known(problem, problem.known, e) for e in explanations]
         if backend.name in URDF_BACKENDS:
             axes = compare_axes(problem)
             tried.append("joint axes against the URDF")
@@ -101,7 +119,7 @@ def diagnose(
         before=before,
         tol_pos_m=tol[0],
         tol_rot_rad=tol[1],
-        explanations=rank(explanations, before),
+        explanations=rank(explanations, before, tol),
         axes=axes,
         axes_note=axes_note(model, axes),
         tried=tuple(tried),
@@ -126,5 +144,55 @@ def _verified(problem: Problem, e: Explanation) -> Explanation:
             f"but the reference, run on the changed model, is still "
             f"{check.text()} away: it computes these frames from the table's own base and "
             "tool (a black box gives only the TCP), so this change cannot be the fix",
+        ),
+    )
+
+
+def _known(
+    model: Model, backend: str, pair: tuple[str, str], tol: tuple[float, float]
+) -> KnownDifference | None:
+    """The model's recorded difference with ``backend``, where the check would apply it.
+
+    As :func:`fkcheck.engine.expected.apply_known_differences`: on the model's own
+    frame pair and tolerances only.
+    """
+    if pair != (model.check.frame_from, model.check.frame_to) or tol != (
+        model.check.tol_pos_m,
+        model.check.tol_rot_rad,
+    ):
+        return None
+    return known_difference_for(model, backend)
+
+
+def _bounds(known: KnownDifference) -> str:
+    return f"{known.max_position_m:g} m, {known.max_angle_rad:g} rad"
+
+
+def _recorded(known: KnownDifference, before: Residual, backend: str) -> Explanation:
+    """The model's own record, as the first explanation of a disagreement within its bounds."""
+    return Explanation(
+        "known",
+        f"the model file records this difference with {backend} ([[known_difference]]): "
+        f"{known.finding}",
+        before,
+        True,
+        (
+            f"the disagreement, {before.text()}, is within the recorded bounds "
+            f"({_bounds(known)}); the explanations below say where it comes from",
+        ),
+        numbers=0,
+    )
+
+
+def _leaves_known(problem: Problem, known: KnownDifference, e: Explanation) -> Explanation:
+    """An explanation that leaves more than the tolerances, but no more than the record, says so."""
+    if not e.explains or problem.exact(e.residual):
+        return e
+    return replace(
+        e,
+        details=(
+            *e.details,
+            f"it leaves {e.residual.text()}: within the difference the model file records "
+            f"({known.finding}; bounds {_bounds(known)})",
         ),
     )

@@ -293,7 +293,10 @@ def _unique(items: Iterable[str]) -> list[str]:
 
 
 def _carrier(absorbed_by: str) -> str:
-    """``[frames.base]`` out of ``"[frames.base]: translation along z of DH frame 0"``."""
+    """``[frames.base]`` out of ``"[frames.base]: translation along z of DH frame 0"``.
+
+    Frame names may hold a colon themselves (``[frames.urdf:shoulder_link]``).
+    """
     if not absorbed_by.startswith("[") or "]: " not in absorbed_by:
         return ""
     return absorbed_by.split("]: ", 1)[0] + "]"

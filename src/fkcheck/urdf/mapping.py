@@ -58,7 +58,7 @@ from fkcheck.model.types import (
     UrdfSpec,
 )
 from fkcheck.model.write import frame_toml, toml_comment, toml_string, xacro_toml
-from fkcheck.urdf.chain import UrdfKinematics
+from fkcheck.urdf.chain import MOVABLE, JointGeometry, UrdfKinematics
 from fkcheck.urdf.to_dh import clean_offset
 from fkcheck.urdf.tree import listed
 
@@ -103,6 +103,13 @@ _FIT_PAIRS = 48
 _FIT_STEP = 0.2
 #: Sign hypotheses kept per chain prefix while the axis directions are searched.
 _BEAM = 8
+#: Relative turns below this (rad, root-mean-square over the fit's pairs) leave a
+#: translation direction of the hand–eye fit free: a pair's turn is ~0.1 rad
+#: (:data:`_FIT_STEP`), round-off ~1e-15 rad, a URDF's rounded π/2 ~4e-6 rad off.
+_FREE_TURN_RAD = 1e-6
+#: A turn of the split that leaves the fit this much worse (m + rad) is not free:
+#: round-off of a fit is ~1e-15, a real change of the fit is of the reach's size.
+_SAME_FIT = 1e-9
 #: Hypotheses polished by least squares when no closed-form fit fits, and the
 #: spins each starts from (:func:`_refine`).
 _REFINE = 4
@@ -321,7 +328,8 @@ def _hand_eye(M: Float, U: Float) -> tuple[Float, Float]:
     Each pair's relative motions satisfy ``Y·C = D·Y`` (``C = M_a⁻¹M_b``,
     ``D = U_a⁻¹U_b``): the rotation maps ``C``'s rotation vectors onto ``D``'s
     (pure translations use their translation instead), the translation solves
-    ``(I − R_D)·t = t_D − R·t_C`` by least squares.
+    ``(I − R_D)·t = t_D − R·t_C`` by least squares in the directions the turns
+    determine; the others are left to :func:`_pinned`.
     """
     C = invert(M[0::2]) @ M[1::2]
     D = invert(U[0::2]) @ U[1::2]
@@ -335,11 +343,97 @@ def _hand_eye(M: Float, U: Float) -> tuple[Float, Float]:
     R = rotation.as_matrix()
     lhs = (np.eye(3) - D[:, :3, :3]).reshape(-1, 3)
     rhs = (D[:, :3, 3] - C[:, :3, 3] @ R.T).reshape(-1)
-    t = np.linalg.lstsq(lhs, rhs, rcond=None)[0]
+    _, sv, Vt = np.linalg.svd(lhs, full_matrices=False)
+    fixed = sv > _FREE_TURN_RAD * math.sqrt(D.shape[0])
+    # The least-squares t with no component in the free directions (no pseudo-inverse of
+    # round-off: with slides only, every direction is free and t is 0 here).
+    t = Vt[fixed].T @ ((Vt[fixed] @ (lhs.T @ rhs)) / sv[fixed] ** 2)
     Y = np.eye(4)
     Y[:3, :3], Y[:3, 3] = R, t
-    X = M[0] @ invert(Y) @ invert(U[0])
-    return X, Y
+    return _pinned(M, U, M[0] @ invert(Y) @ invert(U[0]), Y)
+
+
+def _free_directions(U: Float) -> Float:
+    """Directions (rows, in the tip's frame) along which ``Y``'s translation is free.
+
+    ``X·U·Y = X·T(s)·U·T(−Rᵀs)·Y`` whenever every turn of ``U`` keeps ``s``: a
+    slide's offset can sit on either side of it. With slides only that is every
+    direction; with turns about one axis (parallel axes, one revolute joint among
+    slides), that axis. The rows are orthonormal (none: ``Y`` is determined).
+    """
+    D = invert(U[0::2]) @ U[1::2]
+    lhs = (np.eye(3) - D[:, :3, :3]).reshape(-1, 3)
+    _, sv, Vt = np.linalg.svd(lhs, full_matrices=False)
+    free: Float = Vt[sv <= _FREE_TURN_RAD * math.sqrt(D.shape[0])]
+    return free
+
+
+def _pinned(M: Float, U: Float, X: Float, Y: Float) -> tuple[Float, Float]:
+    """``X``, ``Y`` with the free part of the split chosen: the least turn, then the nearest.
+
+    The motion cannot tell where along a free direction (:func:`_free_directions`)
+    the URDF chain's base link sits from DH frame 0 (it moves the tip link the
+    other way), nor, when every joint turns about one line and slides along it, how
+    far the base link is turned about that line (:func:`_spin`). The base link is
+    turned as little from DH frame 0 and put as close to its origin as the motion
+    leaves free — where a URDF that starts its chain at DH frame 0 has it, and
+    never 10²⁰ m away.
+    """
+    X, Y = _spin(M, U, X, Y)
+    N = _free_directions(U).T  # (3, k), orthonormal columns, in the tip's frame
+    if N.shape[1] == 0:
+        return X, Y
+    # Y → T(N·c)·Y moves X to A·T(−N·c)·U₀⁻¹ (A = M₀·Y⁻¹): its translation by −R_A·N·c.
+    A = M[0] @ invert(Y)
+    c = (A[:3, :3] @ N).T @ X[:3, 3]
+    Y = Y.copy()
+    Y[:3, 3] += N @ c
+    return M[0] @ invert(Y) @ invert(U[0]), Y
+
+
+def _deviation(M: Float, U: Float, X: Float, Y: Float) -> float:
+    """How far ``X·U·Y`` strays from ``M``: metres plus radians, at worst."""
+    E = invert(M) @ X @ U @ Y
+    eye = np.broadcast_to(np.eye(4), E.shape)
+    return float(position_error_m(eye, E).max() + rotation_error_rad(eye, E).max())
+
+
+def _spin(M: Float, U: Float, X: Float, Y: Float) -> tuple[Float, Float]:
+    """``X``, ``Y`` turned about the chain's one turning line, if that is free, by the least turn.
+
+    When every joint turns about one line and slides along it (a lift under a
+    turntable, a single slide), turning the base link about that line and the tip
+    link back is the same motion: the turn that leaves ``X`` closest to no turn is
+    kept, if the fit stays as good (it does not when the turns have several lines).
+    """
+    B = U[1::2] @ invert(U[0::2])  # relative motions in the base link's frame
+    r = Rotation.from_matrix(B[:, :3, :3]).as_rotvec()
+    turning = np.linalg.norm(r, axis=1) > 1e-9
+    directions = r[turning] if turning.any() else B[:, :3, 3]
+    if len(directions) == 0:
+        return X, Y
+    _, sv, Vt = np.linalg.svd(directions, full_matrices=False)
+    if sv[0] == 0.0 or (len(sv) > 1 and sv[1] > _FREE_TURN_RAD * sv[0]):
+        return X, Y  # turns (or slides) in more than one direction: the spin is set
+    n = Vt[0]
+    point: Float = np.zeros(3)
+    if turning.any():  # the line's point: (I − R)·p = t across the axis, for every turn
+        lhs = (np.eye(3) - B[turning, :3, :3]).reshape(-1, 3)
+        t = B[turning, :3, 3]
+        rhs = (t - np.outer(t @ n, n)).reshape(-1)
+        point = np.asarray(np.linalg.lstsq(lhs, rhs, rcond=None)[0], dtype=np.float64)
+    # The turn φ about n that leaves X least turned: max of trace(R_X·Rot(n, φ)).
+    R = X[:3, :3]
+    K = np.array([[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]])
+    phi = math.atan2(float(np.trace(R @ K)), float(np.trace(R) - n @ R @ n))
+    about = np.eye(4)
+    about[:3, :3] = Rotation.from_rotvec(phi * n).as_matrix()
+    about[:3, 3] = point - about[:3, :3] @ point
+    X2 = X @ about
+    Y2 = invert(U[0]) @ invert(X2) @ M[0]
+    if _deviation(M, U, X2, Y2) > _deviation(M, U, X, Y) + _SAME_FIT:
+        return X, Y
+    return X2, Y2
 
 
 def _refine(M: Float, U: Float, X: Float, Y: Float) -> tuple[Float, Float]:
@@ -388,10 +482,21 @@ class _Fit:
     dev_m: float
     dev_rad: float
 
-    def score(self, tol: tuple[float, float]) -> tuple[int, int, float]:
-        """Sort key: fitting first, then fewer flips, then the smaller deviation."""
+    def score(self, tol: tuple[float, float]) -> tuple[int, int, float, float]:
+        """Sort key: fitting first, then fewer flips, then the smaller deviation.
+
+        Between fits with as many flips (slides at right angles: flipping the x or
+        the y slide is the same motion seen from a base turned 180°), the one whose
+        URDF base link is turned least from DH frame 0 comes first.
+        """
         fits = self.dev_m <= tol[0] and self.dev_rad <= tol[1]
-        return (0 if fits else 1, sum(s < 0 for s in self.signs), self.dev_m + self.dev_rad)
+        turn = math.acos(min(1.0, max(-1.0, (np.trace(self.X[:3, :3]) - 1.0) / 2.0)))
+        return (
+            0 if fits else 1,
+            sum(s < 0 for s in self.signs),
+            round(turn, 6) if fits else 0.0,
+            self.dev_m + self.dev_rad,
+        )
 
 
 class _Problem:
@@ -442,7 +547,7 @@ class _Problem:
         M = self.dh_fit[:, k]
         X, Y = _hand_eye(M, U)
         if refine:
-            X, Y = _refine(M, U, X, Y)
+            X, Y = _pinned(M, U, *_refine(M, U, X, Y))
         E = invert(M) @ X @ U @ Y
         eye = np.broadcast_to(np.eye(4), E.shape)
         return _Fit(
@@ -932,31 +1037,123 @@ def link_frame(model: Model, kin: UrdfKinematics, link: str, *, seed: int = 0) -
 
     The URDF receives each DH joint's value unchanged (as every URDF backend
     does). The link must stay at a constant offset from one DH frame ``0…n``
-    over the samples.
+    over the samples, which the placement can only show when the whole chain
+    moves as the table does: the placement is fitted from it.
 
     Raises:
         FrameError: ``link`` is not a link of the URDF (listing them).
-        FkcheckError: The model has no ``[urdf]``, or the link is at no constant
-            offset from any DH frame (saying how near it came).
+        FkcheckError: The model has no ``[urdf]``, or the link cannot be placed,
+            saying why: the table and the URDF disagree over the chain (no
+            placement can be trusted; where the link hangs is named), or the link
+            moves with a URDF joint the model does not map, or hangs below a
+            joint fkcheck cannot follow.
     """
+    where = f"{URDF_FRAME_PREFIX}{link}"
     if model.urdf is None:
-        raise FkcheckError(f"{URDF_FRAME_PREFIX}{link}: model {model.name} has no [urdf]")
+        raise FkcheckError(f"{where}: model {model.name} has no [urdf]")
     if link not in kin.links:
         raise FrameError(link, f"URDF {kin.path.name}", kin.links)
+    missing = [name for name in model.urdf.joints if name not in kin.joints]
+    if missing:
+        raise FkcheckError(
+            f"{where}: model {model.name}'s [urdf] joints name {listed(missing)}, which "
+            f"{kin.path.name} does not have"
+        )
+    hang = _hanging(kin, link, model.urdf.joints)
+    if hang.unfollowed is not None:
+        raise FkcheckError(
+            f"{where}: URDF link {link!r} hangs below the {hang.unfollowed.type} joint "
+            f"{hang.unfollowed.name!r}, which fkcheck cannot follow: it has no place on model "
+            f"{model.name}'s DH chain"
+        )
     problem = _Problem(model, kin, DEFAULT_SAMPLES, seed)
-    fit = problem.fit(model.urdf.joints, [1.0] * model.dof)
+    signs = [1.0] * model.dof
+    fit = problem.fit(model.urdf.joints, signs)
+    if fit.score(problem.tol)[0] != 0:  # parallel turns, slides: polish it
+        fit = min(fit, problem.fit(model.urdf.joints, signs, refine=True),
+                  key=lambda f: f.score(problem.tol))  # fmt: skip
     rows = [problem.evaluate(fit, [link], k)[0] for k in range(model.dof + 1)]
-    ok = fit.score(problem.tol)[0] == 0
+    if fit.score(problem.tol)[0] != 0:
+        raise FkcheckError(_untrusted(model, kin, link, fit, hang))
     for row in rows:
-        if ok and row.fits(*problem.tol):
+        if row.fits(*problem.tol):
             return row
     near = min(rows, key=lambda f: f.spread_m + f.spread_rad)
+    moves = (
+        f"moves with URDF joint {hang.unmapped!r}, which model {model.name}'s [urdf] joints do "
+        "not map (its value is not the table's)"
+        if hang.unmapped is not None
+        else "does not move with any one DH frame"
+    )
     raise FkcheckError(
-        f"{URDF_FRAME_PREFIX}{link}: URDF link {link!r} is at no constant offset from any DH "
-        f"frame of model {model.name} (nearest: DH frame {near.anchor}, moving by "
-        f"{format_mm(near.spread_m)} / {format_deg(near.spread_rad)}); the table and the URDF "
-        "disagree (fkcheck diagnose) — declare [frames.NAME] with dh, its offset and "
-        f'urdf = "{link}" to compare it anyway'
+        f"{where}: URDF link {link!r} {moves}: it is at no constant offset from any DH frame of "
+        f"model {model.name} (nearest: DH frame {near.anchor}, moving by "
+        f"{format_mm(near.spread_m)} / {format_deg(near.spread_rad)} over the samples), though "
+        "the table and the URDF agree over the chain"
+    )
+
+
+@dataclass(frozen=True)
+class _Hanging:
+    """Where a URDF link hangs, by the URDF's tree alone.
+
+    Attributes:
+        anchor: The DH frame it moves with if the table agrees with the URDF: the
+            DH joint of the last mapped joint above it (``0``: none, it is fixed
+            to the chain's root side), or ``None`` when an unmapped joint moves it.
+        joint: The last movable URDF joint above it, if any.
+        unmapped: The first movable joint above it that ``[urdf] joints`` do not map.
+        unfollowed: A joint above it that fkcheck cannot follow (floating, planar).
+    """
+
+    anchor: int | None
+    joint: str | None = None
+    unmapped: str | None = None
+    unfollowed: JointGeometry | None = None
+
+
+def _hanging(kin: UrdfKinematics, link: str, mapped: Sequence[str]) -> _Hanging:
+    """Which joints move ``link``, read off the URDF's tree."""
+    path = [] if link == kin.root else kin.chain(kin.root, link)
+    for joint in path:
+        if joint.type != "fixed" and joint.type not in MOVABLE:
+            return _Hanging(None, unfollowed=joint)
+    movable = [j.name for j in path if j.type != "fixed"]
+    unmapped = next((name for name in movable if name not in mapped), None)
+    if not movable:
+        return _Hanging(0)
+    if unmapped is not None:
+        return _Hanging(None, movable[-1], unmapped)
+    return _Hanging(list(mapped).index(movable[-1]) + 1, movable[-1])
+
+
+def _untrusted(model: Model, kin: UrdfKinematics, link: str, fit: _Fit, hang: _Hanging) -> str:
+    """The refusal when the chain itself does not move as the table does."""
+    tip = kin.joints[fit.joints[-1]].child
+    if hang.anchor == 0:
+        place = f"URDF link {link!r} is fixed to the chain's root side (DH frame 0's side)"
+    elif hang.anchor is not None:
+        place = (
+            f"URDF link {link!r} moves with URDF joint {hang.joint!r} (DH joint {hang.anchor}: "
+            f"it belongs on DH frame {hang.anchor})"
+        )
+    else:
+        place = (
+            f"URDF link {link!r} moves with URDF joint {hang.unmapped!r}, which the model's "
+            "[urdf] joints do not map"
+        )
+    known = [k for k in model.known_differences if any(b.endswith("-urdf") for b in k.backends)]
+    recorded = (
+        f" (the model file records a difference with its URDF: {known[0].finding})" if known else ""
+    )
+    return (
+        f"{URDF_FRAME_PREFIX}{link}: {place}, but no placement of it on model {model.name}'s DH "
+        f"frames can be trusted: the table and the URDF disagree over the chain — its last DH "
+        f"frame strays up to {format_mm(fit.dev_m)} / {format_deg(fit.dev_rad)} from URDF link "
+        f"{tip!r} over the samples{recorded}, and the placement is fitted from that chain. "
+        f"Find the disagreement first (fkcheck check / fkcheck diagnose on the model's own "
+        f'frames), or declare [frames.NAME] with dh, its offset and urdf = "{link}" to compare '
+        "it anyway"
     )
 
 
