@@ -87,7 +87,7 @@ def check(
     explain_jacobians: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
-    tolerance_source: str = "",
+    tolerance_source: str | tuple[str, str] = "",
 ) -> Outcome:
     """Cross-check a model's forward kinematics, and diagnose a failure.
 
@@ -119,7 +119,8 @@ def check(
         on_progress: Called as ``(backend, configurations done, total)``.
         on_done: Called with each backend's result as it finishes.
         tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, named in
-            the headline when looser than the default (default: "the caller").
+            the headline when looser than the default: one for both, or
+            ``(position's, rotation's)`` (default: "the caller").
 
     Returns:
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.

@@ -140,9 +140,19 @@ def test_a_pair_spanning_no_joint_never_verifies_the_table(capsys, tmp_path, pai
 
 
 def test_a_loose_tolerance_is_named_with_its_source_in_the_headline(capsys, tmp_path):
+    """Each looser tolerance with its own source (the model's, a flag's)."""
+    text = ur5_text().replace('to = "tool0"', 'to = "tool0"\ntol_rot_rad = 0.001', 1)
+    model = write(tmp_path, "ur5_loose", text)
+    main(["check", str(model), *FAST, *URDF_BACKENDS, "--tol-pos", "0.005",
+          "--json", str(tmp_path / "m.json")])  # fmt: skip
+    doc = json.loads((tmp_path / "m.json").read_text(encoding="utf-8"))
+    assert doc["headline"].endswith(
+        "[tolerance looser than the default: 0.005 m (default 1e-06 m) from --tol-pos and "
+        f"0.001 rad (default 1e-06 rad) from the model's [check] of {model}]"
+    )
     main(["check", "ur5", *FAST, *URDF_BACKENDS, "--tol-pos", "0.005",
           "--json", str(tmp_path / "r.json")])  # fmt: skip
     doc = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
     assert doc["headline"].endswith(
-        "[tolerance looser than the default: 0.005 m (default 1e-06 m), from --tol-pos]"
+        "[tolerance looser than the default: 0.005 m (default 1e-06 m) from --tol-pos]"
     )

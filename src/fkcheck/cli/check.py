@@ -184,9 +184,9 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     from fkcheck.cli.check_run import jacobian_from_args
 
     from_project: dict[str, Any] = {}
-    given = [flag for flag, key in (("--tol-pos", "tol_pos"), ("--tol-rot", "tol_rot"))
-             if getattr(args, key) is not None]  # fmt: skip
-    args.tol_source = " and ".join(given)
+    # Where each tolerance comes from: its flag, else the project, else the model.
+    sources = {"tol_pos": "--tol-pos" if args.tol_pos is not None else "",
+               "tol_rot": "--tol-rot" if args.tol_rot is not None else ""}  # fmt: skip
     if project is not None:
         if jacobian_from_args(args) is None:  # the command line's own say wins
             args.jacobian = project.wants_jacobian
@@ -205,10 +205,10 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     for key, value in from_project.items():
         if getattr(args, key) is None and value is not None:
             setattr(args, key, value)
-            if key in ("tol_pos", "tol_rot") and project is not None:
-                args.tol_source = (
-                    f"[tool.fkcheck] {key}_{'m' if key == 'tol_pos' else 'rad'} in {project.path}"
-                )
+            if key in sources and project is not None:
+                unit = "m" if key == "tol_pos" else "rad"
+                sources[key] = f"[tool.fkcheck] {key}_{unit} in {project.path}"
+    args.tol_source = (sources["tol_pos"], sources["tol_rot"])
     for key, value in DEFAULTS.items():
         if getattr(args, key) is None:
             setattr(args, key, value)

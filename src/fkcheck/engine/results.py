@@ -209,8 +209,9 @@ class CheckResult:
         jacobian: What ``--jacobian`` compared (reference frame, tolerance), or ``None``.
         numbers: What the compared frame pair can verify, number by number
             (:mod:`fkcheck.model.coverage`); ``None`` when not analysed.
-        tolerance_source: Where the tolerances came from (``--tol-pos``, the
-            model's ``[check]``, ``[tool.fkcheck] in …/pyproject.toml``).
+        tolerance_source: Where the position and the rotation tolerance came
+            from (``--tol-pos``, the model's ``[check]``, ``[tool.fkcheck] in
+            …/pyproject.toml``).
     """
 
     model: Model
@@ -231,7 +232,7 @@ class CheckResult:
     command: str = ""
     jacobian: JacobianSpec | None = None
     numbers: Coverage | None = None
-    tolerance_source: str = ""
+    tolerance_source: tuple[str, str] = ("", "")
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

@@ -308,7 +308,7 @@ def run_check(
     explain_jacobian: Explain | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
-    tolerance_source: str = "",
+    tolerance_source: str | tuple[str, str] = "",
 ) -> CheckResult:
     """Check ``backends`` against the in-house core on sampled configurations.
 
@@ -339,7 +339,8 @@ def run_check(
         on_progress: Called as ``(backend name, configurations done, total)`` after
             each chunk a backend finishes (from that backend's thread).
         tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, for the
-            headline (default: "the caller"); the model's own say where not given.
+            headline: one for both, or ``(position's, rotation's)`` (default: "the
+            caller"); a tolerance not given is the model's ``[check]``'s, said so.
 
     Returns:
         The check result.
@@ -447,10 +448,15 @@ def run_check(
 
 
 def _tolerance_source(
-    model: Model, tol_pos_m: float | None, tol_rot_rad: float | None, given: str
-) -> str:
-    """Where the check's tolerances came from, in words."""
-    if tol_pos_m is None and tol_rot_rad is None:
-        where = f" of {model.path}" if model.path is not None else ""
-        return f"the model's [check]{where}"
-    return given or "the caller"
+    model: Model,
+    tol_pos_m: float | None,
+    tol_rot_rad: float | None,
+    given: str | tuple[str, str],
+) -> tuple[str, str]:
+    """Where each of the check's tolerances came from, in words: ``(position, rotation)``."""
+    said = (given, given) if isinstance(given, str) else given
+    own = f"the model's [check]{f' of {model.path}' if model.path is not None else ''}"
+    return (
+        own if tol_pos_m is None else said[0] or "the caller",
+        own if tol_rot_rad is None else said[1] or "the caller",
+    )

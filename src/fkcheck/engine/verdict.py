@@ -170,20 +170,23 @@ def summarize(
     return EvidenceSummary(implementation, table, tuple(required), unmet, numbers, loose)
 
 
-def tolerance_note(tol_pos_m: float, tol_rot_rad: float, source: str) -> str:
-    """``tolerance looser than the default: 0.001 m (default 1e-06 m), from --tol-pos``.
+def tolerance_note(tol_pos_m: float, tol_rot_rad: float, sources: tuple[str, str]) -> str:
+    """``tolerance looser than the default: 0.001 m (default 1e-06 m) from --tol-pos``.
 
-    Empty when neither tolerance is looser than the default.
+    Each looser tolerance with where it came from (``sources``: position's,
+    rotation's); empty when neither is looser than the default.
     """
     looser = []
-    if tol_pos_m > DEFAULT_TOL_POS_M:
-        looser.append(f"{tol_pos_m:g} m (default {DEFAULT_TOL_POS_M:g} m)")
-    if tol_rot_rad > DEFAULT_TOL_ROT_RAD:
-        looser.append(f"{tol_rot_rad:g} rad (default {DEFAULT_TOL_ROT_RAD:g} rad)")
+    for value, default, unit, source in (
+        (tol_pos_m, DEFAULT_TOL_POS_M, "m", sources[0]),
+        (tol_rot_rad, DEFAULT_TOL_ROT_RAD, "rad", sources[1]),
+    ):
+        if value > default:
+            where = f" from {source}" if source else ""
+            looser.append(f"{value:g} {unit} (default {default:g} {unit}){where}")
     if not looser:
         return ""
-    where = f", from {source}" if source else ""
-    return f"tolerance looser than the default: {' and '.join(looser)}{where}"
+    return f"tolerance looser than the default: {' and '.join(looser)}"
 
 
 def verdict_of(results: Sequence[_Outcome], evidence: EvidenceSummary) -> Verdict:
@@ -244,8 +247,15 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
             "(evidence independent of the table)"
         )
     elif tab.status == "partly-verified":
+        partly = (
+            "table PARTLY verified"
+            if evidence.numbers is None
+            or evidence.numbers.summary().startswith("table verified")
+            or "partly" in evidence.numbers.summary()
+            else "table NOT verified"
+        )
         tab_text = (
-            f"table PARTLY verified: {_names(tab.agreed)} {_agree(tab.agreed)} "
+            f"{partly}: {_names(tab.agreed)} {_agree(tab.agreed)} "
             f"(evidence independent of the table), but {tab.gaps}"
         )
     elif tab.status == "failed":
@@ -365,7 +375,8 @@ def numbers_line(numbers: Coverage, table: KindStatus) -> str:
         s = number_status(n.status, table)
         counts[s] = counts.get(s, 0) + 1
     order = ("verified", "failed", "not-checked", "not-identifiable", "not-covered")
-    shown = [f"{counts[s]} {s.replace('-', ' ')}" for s in order if counts.get(s)]
+    words = {"failed": "compared in a failing check (fkcheck diagnose names which)"}
+    shown = [f"{counts[s]} {words.get(s, s.replace('-', ' '))}" for s in order if counts.get(s)]
     text = f"numbers ({numbers.frame_from} → {numbers.frame_to}): {total} in the table: "
     text += ", ".join(shown) if shown else "none"
     groups = _trade_groups(numbers)
