@@ -228,13 +228,30 @@ class Coverage:
                 f"{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} could absorb "
                 f"{'it' if len(by_offset) == 1 else 'them'})"
             )
+        taken = [n for n in hidden if n.absorbed_by.startswith("over the check's")]
+        if taken:
+            carriers = _unique(
+                c for n in taken for c in n.absorbed_by.split("the offset of ", 1)[1]
+                .split(" could take", 1)[0].split(", ")
+            )  # fmt: skip
+            parts.append(
+                f"{_short(taken)} not identifiable (over the check's configurations the offset"
+                f"{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} could take "
+                f"{'it' if len(taken) == 1 else 'them'})"
+            )
+        turns = [n for n in hidden if n.name.startswith("flip")]
+        if turns:
+            parts.append(
+                f"{_short(turns)} not identifiable (the check's configurations cannot tell "
+                "which way the joint turns)"
+            )
         sampled = [n for n in hidden if n.absorbed_by.startswith("the check's")]
         if sampled:
             parts.append(
                 f"{_short(sampled)} not identifiable (the check's configurations cannot tell "
                 "them apart: compare more)"
             )
-        faint = [n for n in hidden if n not in by_offset and n not in sampled]
+        faint = [n for n in hidden if all(n not in g for g in (by_offset, taken, turns, sampled))]
         if faint:
             parts.append(f"{_short(faint)} not identifiable (too faint for the tolerance)")
         uncovered = self.by_status("not-covered")
@@ -640,17 +657,17 @@ def coverage(
     # Any offset the map could have fitted takes what it can of a table number over
     # the check's configurations, unless the number is one it structurally takes
     # whole but carries none of (d1 against a shift across the first axis).
+    alone = _worst(residual, checked.shape[0])  # with the carried directions only
+    takers: dict[int, list[str]] = {}
     for i, n in enumerate(numbers):
         if not n.table or n.kind == "flip":
             continue
-        full = [J_check[:, c] for side, cols in carriers.items()
-                if side not in exempt.get(i, set()) for c in cols]  # fmt: skip
+        sides = [side for side in carriers if side not in exempt.get(i, set())]
+        full = [J_check[:, c] for side in sides for c in carriers[side]]
         if full:
             residual[:, i] = _without(J_check[:, i : i + 1], [*carried, *full])[:, 0]
-    # What the check measures per configuration: |Δp| / tol_pos and angle / tol_rot.
-    per = residual.reshape(checked.shape[0], 6, -1)
-    worst = np.maximum(np.linalg.norm(per[:, :3], axis=1), np.linalg.norm(per[:, 3:], axis=1))
-    worst = worst.max(axis=0)
+            takers[i] = [f"[frames.{specs[side].name}]" for side in sides]
+    worst = _worst(residual, checked.shape[0])
     flips = _flip_errors(model, specs, checked, tols)
     out: list[NumberEvidence] = []
     for i, n in enumerate(numbers):
@@ -691,6 +708,11 @@ def coverage(
                     if resolution is not None
                     else "no error of it would show"
                 )
+                if i in takers and alone[i] * RESOLUTION_LIMIT * unit_tol[i] > 1.0:
+                    why = (  # it shows alone: an offset fitted over these configurations takes it
+                        f"over the check's {checked.shape[0]} configurations the offset of "
+                        f"{', '.join(takers[i])} could take it ({why})"
+                    )
                 resolution = None
         out.append(
             NumberEvidence(
@@ -722,6 +744,15 @@ def _sensitivities(
     scale = np.array([1.0 / tol[0]] * 3 + [1.0 / tol[1]] * 3)
     J: Float = (twists * scale[None, :, None]).reshape(-1, len(numbers))
     return J, moving, spanned
+
+
+def _worst(residual: Float, configurations: int) -> Float:
+    """Per column, the worst configuration's ``max(|Δp| / tol_pos, angle / tol_rot)`` per unit."""
+    per = residual.reshape(configurations, 6, -1)
+    worst: Float = np.maximum(
+        np.linalg.norm(per[:, :3], axis=1), np.linalg.norm(per[:, 3:], axis=1)
+    ).max(axis=0)
+    return worst
 
 
 def _without(J: Float, directions: Sequence[Float]) -> Float:
