@@ -165,7 +165,13 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     import datetime as _dt
     from dataclasses import replace
 
-    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.cli._outputs import (
+        backend_inputs,
+        model_inputs,
+        plan,
+        step_summary_target,
+        writes,
+    )
     from fkcheck.cli._targets import unique_stems
     from fkcheck.io.output_paths import check_output_dir
     from fkcheck.report.html import write_html, write_index
@@ -177,8 +183,6 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     if out_dir is not None:
         check_output_dir("--out-dir", out_dir)
         unique_stems(targets)
-    inputs = [item for target in targets for item in model_inputs(target.model)]
-    inputs += backend_inputs(backends_from_args(args))
     # File names come from the model file's name, never from text inside it.
     files = {t.stem: (f"{t.stem}.html", f"{t.stem}.json", f"{t.stem}.junit.xml") for t in targets}
     outputs: list[tuple[str, Path | str | None]] = []
@@ -186,6 +190,9 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         outputs += [("--out-dir", out_dir / name) for names in files.values() for name in names]
         outputs.append(("--out-dir", out_dir / "index.html"))
     outputs.append(("--summary", args.summary))
+    expand = writes(outputs)
+    inputs = [item for target in targets for item in model_inputs(target.model, expand=expand)]
+    inputs += backend_inputs(backends_from_args(args))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
@@ -254,7 +261,13 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     """One model: its table, and the files asked for."""
     from dataclasses import replace
 
-    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.cli._outputs import (
+        backend_inputs,
+        model_inputs,
+        plan,
+        step_summary_target,
+        writes,
+    )
     from fkcheck.report.html import write_html
     from fkcheck.report.json_report import write_json
     from fkcheck.report.junit import write_junit
@@ -263,9 +276,9 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     for warning in model.warnings:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     backends = backends_from_args(args)
-    inputs = [*model_inputs(model), *backend_inputs(backends)]
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
+    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends)]
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
     cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4

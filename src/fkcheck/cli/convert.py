@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     """Convert, verify, write."""
     import tomllib
 
-    from fkcheck.cli._outputs import model_inputs, plan
+    from fkcheck.cli._outputs import model_inputs, plan, writes
     from fkcheck.errors import JointInputError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.format import format_angle_console, format_length_console
@@ -51,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
     if args.samples < 0:
         raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
     model = load_model(args.model)
-    plan(args, [("-o", args.output)], model_inputs(model))
+    outputs = [("-o", args.output)]
+    plan(args, outputs, model_inputs(model, expand=writes(outputs)))
     converted = convert_model(model, args.to)
     if args.output is not None:
         converted = relocate_urdf_path(converted, args.output)

@@ -54,19 +54,20 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
-    from fkcheck.cli._outputs import plan
+    from fkcheck.cli._outputs import plan, urdf_inputs
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.model.write import model_to_toml
-    from fkcheck.urdf.chain import read_urdf_file
+    from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.to_dh import dh_from_urdf
 
     values, packages = xacro_inputs(args)
-    path, _text, kin = read_urdf_file(
+    info = read_urdf_source(
         args.urdf, xacro_args=values if args.allow_xacro else None, packages=packages
     )
-    plan(args, [("-o", args.output)], [("the URDF", path)])
+    plan(args, [("-o", args.output)], urdf_inputs(info, "the URDF"))
+    path, kin = info.path, urdf_kinematics(info)
     spec = urdf_spec_for(path, args.output)
     result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name, urdf_spec=spec)
     model = result.model

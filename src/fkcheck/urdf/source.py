@@ -4,7 +4,7 @@
 ``example-robot-data:<subpath>`` or a path relative to the model file), reads
 it with :func:`fkcheck.urdf.tree.read_urdf` (screened, its tree checked and
 bounded) — or, when the model opts in with ``xacro = true``, expands it with
-:func:`fkcheck.urdf.xacro.read_xacro` and screens the result the same way —
+:func:`read_xacro_urdf` and screens the result the same way —
 and checks the model's joint mapping against the joints (names, types), so a
 mismatch is one clear error before any backend parses the URDF. A frame's
 ``urdf`` link is checked where the frame is used (a model copied onto a URDF
@@ -13,16 +13,25 @@ without one of its links still checks its other frames).
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 
 from fkcheck.errors import UrdfError, XacroRefused
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
+from fkcheck.urdf.screen import check_urdf_path
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
-from fkcheck.urdf.xacro import read_xacro, screen_expansion
+from fkcheck.urdf.xacro import expand_xacro, screen_expansion
 
-__all__ = ["allow_xacro", "load_urdf", "read_model_urdf", "resolve_urdf_path"]
+__all__ = [
+    "allow_xacro",
+    "load_urdf",
+    "read_model_urdf",
+    "read_xacro_urdf",
+    "resolve_urdf_path",
+]
 
 
 def allow_xacro(model: Model) -> Model:
@@ -39,7 +48,7 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
 
     With ``xacro = true`` a file the screen finds xacro in is expanded
-    (:func:`fkcheck.urdf.xacro.read_xacro`) with the model's ``xacro_args``,
+    (:func:`read_xacro_urdf`) with the model's ``xacro_args``,
     ``$(find …)`` resolving only its ``packages`` (directories relative to the
     model file) — or its ``expanded`` text, which the engine keeps, is screened
     again; a plain URDF is read as one, xacro never runs on it. Without the
@@ -62,7 +71,49 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     try:
         return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
     except XacroRefused:
-        return read_xacro(path, model.urdf.xacro_args, packages, dirs)
+        return read_xacro_urdf(path, model.urdf.xacro_args, packages, dirs)
+
+
+def read_xacro_urdf(
+    path: Path,
+    args: Mapping[str, str] | None = None,
+    packages: Mapping[str, Path] | None = None,
+    package_dirs: tuple[Path, ...] = (),
+) -> UrdfInfo:
+    """Expand a xacro file (:func:`~fkcheck.urdf.xacro.expand_xacro`) and screen it as a URDF.
+
+    The result names every file the expansion read (:attr:`UrdfInfo.files`), so
+    that no output of the run replaces one of them; it is cached by the file, its
+    modification time and size, the arguments and the packages: the files are
+    named before a run writes anything and the check reuses that expansion.
+
+    Raises:
+        UrdfError: As :func:`~fkcheck.urdf.xacro.expand_xacro` and
+            :func:`~fkcheck.urdf.xacro.screen_expansion`.
+    """
+    st = check_urdf_path(path)
+    return _expanded(
+        path,
+        tuple(sorted((args or {}).items())),
+        tuple(sorted((packages or {}).items())),
+        package_dirs,
+        st.st_mtime_ns,
+        st.st_size,
+    )
+
+
+@functools.lru_cache(maxsize=16)
+def _expanded(
+    path: Path,
+    args: tuple[tuple[str, str], ...],
+    packages: tuple[tuple[str, Path], ...],
+    package_dirs: tuple[Path, ...],
+    mtime_ns: int,
+    size: int,
+) -> UrdfInfo:
+    expansion = expand_xacro(path, dict(args), dict(packages))
+    info = screen_expansion(path, expansion.text, package_dirs)
+    return replace(info, files=expansion.files)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
