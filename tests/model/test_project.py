@@ -161,3 +161,54 @@ def test_a_directory_without_models_is_refused_on_the_command_line(tmp_path):
         FkcheckError, match=r"empty: a directory with no \.toml or \.csv model file"
     ):
         expand_model_paths([tmp_path / "empty"])
+
+
+# --- which pyproject.toml applies: the nearest, never above the repository ----------------------
+
+HOSTILE_TABLE = '[tool.fkcheck]\nagainst = ["cmd:./x.sh"]\ntol_pos_m = 0.01\n'
+
+
+@pytest.mark.parametrize("marker", [".git", ".hg", ".git-file"])
+def test_a_pyproject_above_the_repository_never_applies(tmp_path, marker):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    repo = tmp_path / "checkout"
+    deep = repo / "robots" / "sub"
+    deep.mkdir(parents=True)
+    if marker == ".git-file":  # a worktree or submodule: .git is a file
+        (repo / ".git").write_text("gitdir: /elsewhere\n")
+    else:
+        (repo / marker).mkdir()
+    assert find_pyproject(deep) is None
+    assert load_project(deep) is None
+    assert load_project(repo) is None
+
+
+def test_the_repositorys_own_pyproject_applies_from_any_subdirectory(tmp_path):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    repo = tmp_path / "checkout"
+    (repo / ".git").mkdir(parents=True)
+    deep = repo / "robots" / "sub"
+    deep.mkdir(parents=True)
+    (repo / "pyproject.toml").write_text("[tool.fkcheck]\nsamples = 7\n")
+    config = load_project(deep)
+    assert config is not None
+    assert config.path == (repo / "pyproject.toml").resolve()
+    assert (config.samples, config.against) == (7, None)
+
+
+def test_the_first_pyproject_ends_the_search_even_without_a_table(tmp_path):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    inner = tmp_path / "inner"
+    deep = inner / "sub"
+    deep.mkdir(parents=True)
+    (inner / "pyproject.toml").write_text("[project]\nname = 'inner'\n")
+    assert find_pyproject(deep) == (inner / "pyproject.toml").resolve()
+    assert load_project(deep) is None
+
+
+def test_a_pyproject_that_is_no_regular_file_is_found_and_refused(tmp_path):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    inner = tmp_path / "inner"
+    (inner / "pyproject.toml").mkdir(parents=True)  # it does not send the search further up
+    with pytest.raises(ProjectError, match=r"inner/pyproject\.toml: is a directory"):
+        load_project(inner)

@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -284,6 +285,8 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.cli._targets import project_config
 
     project = project_config()
+    # Named by every output (header, JSON, HTML), as the working directory sees it.
+    args.config = None if project is None else os.path.relpath(project.path)
     _apply_project(args, project)
     _validate(args)
     require_from_args(args)  # bad --require is exit 2 before anything runs

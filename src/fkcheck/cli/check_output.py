@@ -68,8 +68,13 @@ def header(
     names = ", ".join(b.name for b in backends) or "no backend"
     return terminal_markup(
         f"fkcheck {model.name}: {frame_from} → {frame_to}, {where}, tolerance {tol_pos:g} m / "
-        f"{tol_rot:g} rad, against {names}"
+        f"{tol_rot:g} rad, against {names}{_config(getattr(args, 'config', None))}"
     )
+
+
+def _config(path: str | None) -> str:
+    """``; config: PATH``: the ``pyproject.toml`` that applied (as pytest's ``configfile:``)."""
+    return "" if path is None else f"; config: {path}"
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
@@ -108,6 +113,7 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
         f"{terminal_markup(check.frame_to)}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
+        f"{terminal_markup(_config(check.config))}"
     )
     if title is None:
         title = not is_terminal()

@@ -193,6 +193,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     expand = writes(outputs)
     inputs = [item for target in targets for item in model_inputs(target.model, expand=expand)]
     inputs += backend_inputs(backends_from_args(args))
+    inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
@@ -207,7 +208,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         outcome = check_with_progress(
             args, target.model, backends_from_args(args), diagnose=diagnose
         )
-        check = replace(outcome.check, command=model_command(args, target.arg))
+        check = replace(outcome.check, command=model_command(args, target.arg), config=args.config)
         if out_dir is not None:
             names = files[target.stem]
             write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
@@ -279,13 +280,15 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends)]
+    inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
     cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4
     outcome = check_with_progress(
         args, model, backends, diagnose=args.diagnose and (cause_shown or annotate())
     )
-    check = replace(outcome.check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
+    argv = getattr(args, "argv", [])
+    check = replace(outcome.check, command="fkcheck " + shlex.join(argv), config=args.config)
     # Files first: a closed or full stdout must not cost the run its reports.
     if args.json is not None:
         write_json(check, args.json)

@@ -211,6 +211,8 @@ class CheckResult:
             (:mod:`fkcheck.model.coverage`); ``None`` when not analysed.
         tolerance_source: Where the tolerances came from (``--tol-pos``, the
             model's ``[check]``, ``[tool.fkcheck] in …/pyproject.toml``).
+        config: The ``pyproject.toml`` whose ``[tool.fkcheck]`` gave the check
+            its defaults, as the CLI names it (set by the CLI); ``None``: none did.
     """
 
     model: Model
@@ -232,6 +234,7 @@ class CheckResult:
     jacobian: JacobianSpec | None = None
     numbers: Coverage | None = None
     tolerance_source: str = ""
+    config: str | None = None
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

@@ -1,4 +1,4 @@
-"""A user's project: ``[tool.fkcheck]`` in the nearest ``pyproject.toml``, and the models it names.
+"""A user's project: ``[tool.fkcheck]`` in the ``pyproject.toml`` that applies, and its models.
 
 A repository that keeps its robots' tables sets its defaults once::
 
@@ -9,16 +9,20 @@ A repository that keeps its robots' tables sets its defaults once::
     jacobian = true                               # also compare Jacobians
 
 ``fkcheck check`` / ``fkcheck lint`` without files, the pytest plugin and the
-pre-commit hooks read it; a command-line flag always wins over it. Paths and
-globs are relative to the ``pyproject.toml``'s directory, and must stay inside
-it (a glob never reaches ``..`` or an absolute path). The file is read like
-every input: a regular file of at most 1 MiB of UTF-8, one clear line when it
-is wrong (:class:`ProjectError`, exit 2).
+pre-commit hooks read it; a command-line flag always wins over it. The file
+that applies is the nearest ``pyproject.toml`` at or above the working
+directory, never above the repository's root (:func:`find_pyproject`), and
+every output of ``fkcheck check`` names it. Paths and globs are relative to the
+``pyproject.toml``'s directory, and must stay inside it (a glob never reaches
+``..`` or an absolute path). The file is read like every input: a regular file
+of at most 1 MiB of UTF-8, one clear line when it is wrong
+(:class:`ProjectError`, exit 2).
 """
 
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -34,6 +38,7 @@ from fkcheck.model.require import Kind, parse_require
 
 __all__ = [
     "MODEL_SUFFIXES",
+    "REPOSITORY_MARKERS",
     "ProjectConfig",
     "ProjectError",
     "expand_model_paths",
@@ -44,6 +49,8 @@ __all__ = [
 
 #: Suffixes of model files found in a directory or by a glob.
 MODEL_SUFFIXES = (".toml", ".csv")
+#: What marks a repository's root: no ``pyproject.toml`` above it applies.
+REPOSITORY_MARKERS = (".git", ".hg")
 #: How many model files one list may expand to (a glob over a huge tree stops here).
 MAX_MODEL_FILES = 10_000
 
@@ -131,12 +138,22 @@ class ProjectConfig:
 
 
 def find_pyproject(start: Path | None = None) -> Path | None:
-    """The nearest ``pyproject.toml`` at or above ``start`` (default: the working directory)."""
+    """The ``pyproject.toml`` that applies at ``start`` (default: the working directory).
+
+    Found as pytest and ruff find theirs, but never above the repository: the
+    nearest ``pyproject.toml`` at or above ``start``, looking no further than
+    the first one (with or without ``[tool.fkcheck]``: then none applies) and
+    no further than a directory holding one of :data:`REPOSITORY_MARKERS`
+    (whose own ``pyproject.toml`` still counts). A ``pyproject.toml`` that is
+    there but no regular file is found too: reading it says what it is.
+    """
     here = (start or Path.cwd()).resolve()
     for directory in (here, *here.parents):
         candidate = directory / "pyproject.toml"
-        if candidate.is_file():
+        if os.path.lexists(candidate):
             return candidate
+        if any(os.path.lexists(directory / marker) for marker in REPOSITORY_MARKERS):
+            return None
     return None
 
 
