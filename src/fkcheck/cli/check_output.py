@@ -8,7 +8,7 @@ import shlex
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.io.format import format_angle_console, format_length_console, format_scientific
-from fkcheck.io.text import terminal_markup, terminal_text
+from fkcheck.io.text import operand, terminal_markup, terminal_text
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -225,8 +225,8 @@ def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
     """Offer ``fkcheck diagnose`` for the first backend that disagrees."""
     failed = [r for r in check.backends if r.status == "fail"]
     if failed:
-        argv = ["diagnose", model_arg, "--against", failed[0].name, "--from", check.frame_from,
-                "--to", check.frame_to]  # fmt: skip
+        argv = ["diagnose", operand(model_arg), "--against", failed[0].name,
+                "--from", check.frame_from, "--to", check.frame_to]  # fmt: skip
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
 
 

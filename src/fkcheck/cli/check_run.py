@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck.cli.progress import PLAIN_INTERVAL_S
 from fkcheck.errors import FkcheckError
-from fkcheck.io.text import terminal_text
+from fkcheck.io.text import operand, terminal_text
 
 if TYPE_CHECKING:
     from collections.abc import Mapping, Sequence
@@ -127,7 +127,7 @@ def model_command(args: argparse.Namespace, model: str) -> str:
     """The command line that reproduces one model's check of a run over several."""
     argv = [
         "check",
-        model,
+        operand(model),
         "--samples",
         str(args.samples),
         "--seed",

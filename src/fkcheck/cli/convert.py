@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from pathlib import Path
 from typing import Any
@@ -42,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.errors import JointInputError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.format import format_angle_console, format_length_console
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.convert import convert_model, equivalence_error
     from fkcheck.model.read import load_model, model_from_dict
     from fkcheck.model.sampling import sample_configurations
@@ -81,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(args.output, text)
         print(summary)
         print(f"wrote {terminal_text(args.output)}")
+        again = terminal_text(shlex.quote(operand(str(args.output))))
         if converted.urdf is not None:
-            print(f"cross-check it against its URDF: fkcheck check {terminal_text(args.output)}")
+            print(f"cross-check it against its URDF: fkcheck check {again}")
     return 0 if ok else 1

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -56,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
     from fkcheck.cli._outputs import plan, urdf_inputs
     from fkcheck.io.atomic import write_text_atomic
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
@@ -109,5 +110,6 @@ def run(args: argparse.Namespace) -> int:
     write_text_atomic(args.output, text)
     print(summary)
     written = terminal_text(args.output)
-    print(f"wrote {written}; check it: fkcheck check {written}")
+    again = terminal_text(shlex.quote(operand(str(args.output))))
+    print(f"wrote {written}; check it: fkcheck check {again}")
     return 0

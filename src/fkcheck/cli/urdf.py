@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
     """Write the URDF (and the companion model)."""
     from fkcheck.cli._outputs import model_inputs, plan
     from fkcheck.io.atomic import write_text_atomic
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.read import load_model
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.export import model_for_urdf, urdf_from_model
@@ -63,5 +64,6 @@ def run(args: argparse.Namespace) -> int:
         header = [f"{model.name} mapped onto {args.output.name}, written by fkcheck urdf."]
         write_text_atomic(args.write_model, model_to_toml(mapped, header=header))
         written = terminal_text(args.write_model)
-        print(f"wrote {written}; check it: fkcheck check {written}")
+        again = terminal_text(shlex.quote(operand(str(args.write_model))))
+        print(f"wrote {written}; check it: fkcheck check {again}")
     return 0

@@ -20,7 +20,9 @@ text through one function here:
 * :func:`xml_safe_tree` — :func:`document_text` over every attribute and text
   of an ElementTree, just before it is serialised;
 * :func:`markdown_text` — one line for a Markdown table cell: whitespace
-  folded, controls escaped, HTML and Markdown special characters escaped.
+  folded, controls escaped, HTML and Markdown special characters escaped;
+* :func:`operand` — a file name in a command line fkcheck suggests or records:
+  never read as an option.
 
 The control characters are the C0 set (U+0000–U+001F), DEL, the C1 set
 (U+0080–U+009F, which some terminals read as escape sequences), the Unicode
@@ -39,6 +41,7 @@ import xml.etree.ElementTree as ET
 __all__ = [
     "document_text",
     "markdown_text",
+    "operand",
     "terminal_lines",
     "terminal_markup",
     "terminal_text",
@@ -77,6 +80,15 @@ def _escape_controls(text: object, keep: str = "") -> str:
         return char if char in keep else visible_escape(char)
 
     return _CONTROLS.sub(replace, str(text))
+
+
+def operand(name: str) -> str:
+    """A file name as a command-line operand: ``./`` before one that starts with ``-``.
+
+    ``--against=cmd:x.toml`` is a file that an argument parser would take for an
+    option; ``./--against=cmd:x.toml`` is the same file and never an option.
+    """
+    return f"./{name}" if name.startswith("-") else name
 
 
 def terminal_text(text: object) -> str:
