@@ -147,3 +147,26 @@ def test_a_passing_check_has_no_annotation():
     check = golden_check()
     passing = replace(check, backends=check.backends[:1], verdict="pass")
     assert github_annotations(passing, (), source=TOML) == []
+
+
+#: What GitHub turns into a link or a notification, from a model name, and its escaped form.
+LINKING = [
+    ("@octocat", "@\u200boctocat"),
+    ("@org/team", "@\u200borg/team"),
+    ("mail admin@example.com", "mail admin@\u200bexample.com"),
+    ("https://evil.example/x", "https:\u200b//evil.example/x"),
+    ("ftp://host/f", "ftp:\u200b//host/f"),
+    ("www.evil.example", "www\u200b.evil.example"),
+    ("WWW.Evil.Example", "WWW\u200b.Evil.Example"),
+    ("fixes #12", "fixes \\#\u200b12"),
+]
+
+
+def test_summary_text_from_input_can_neither_link_nor_mention():
+    """A zero-width space after @, the ':' of '://', '#', and in 'www.': it links nowhere."""
+    check = golden_check()
+    for raw, escaped in LINKING:
+        named = replace(check, model=replace(check.model, name=raw))
+        heading = markdown_summary([named]).splitlines()[0]
+        assert heading == f"## fkcheck {escaped}: ❌ FAIL", raw
+        assert not re.search(r"@\w|\w://|\bwww\.|#\d", heading, re.IGNORECASE), heading
