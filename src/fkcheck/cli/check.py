@@ -37,7 +37,6 @@ header prints before the backends run; their progress goes to stderr
 from __future__ import annotations
 
 import argparse
-import math
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -216,10 +215,10 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
 
 
 def _validate(args: argparse.Namespace) -> None:
-    from fkcheck.backends.registry import MAX_TIMEOUT_S
     from fkcheck.core.tolerances import check_limit
     from fkcheck.errors import JointInputError
     from fkcheck.model.sampling import check_sampling_options
+    from fkcheck.process.supervise import timeout_problem
 
     check_sampling_options(args.samples, args.seed)
     # A value from [tool.fkcheck] is within range already (refused naming its file).
@@ -229,12 +228,9 @@ def _validate(args: argparse.Namespace) -> None:
         check_limit(args.tol_rot, "tol_rot", "--tol-rot")
     if args.tol_jacobian is not None:
         check_limit(args.tol_jacobian, "tol_jacobian", "--tol-jacobian")
-    if not (math.isfinite(args.timeout) and args.timeout > 0):
-        raise JointInputError(f"--timeout must be a positive number, got {args.timeout}")
-    if args.timeout > MAX_TIMEOUT_S:
-        raise JointInputError(
-            f"--timeout must be at most {MAX_TIMEOUT_S:g} s, got {args.timeout:g}"
-        )
+    problem = timeout_problem(args.timeout)
+    if problem is not None:
+        raise JointInputError(f"--timeout {problem}")
     if args.all and args.models:
         raise FkcheckError(
             f"--all checks every bundled model: drop MODEL ({' '.join(args.models)!r})"

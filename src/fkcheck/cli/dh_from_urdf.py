@@ -9,6 +9,7 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from fkcheck.cli._arguments import utf8_text
 from fkcheck.cli.expand import add_xacro_options, xacro_inputs
 
 __all__ = ["add_parser", "run"]
@@ -36,7 +37,7 @@ def add_parser(sub: Any) -> None:
         default="standard",
         help="DH convention of the table (default standard)",
     )
-    p.add_argument("--name", help="model name (default: the URDF's robot name)")
+    p.add_argument("--name", type=utf8_text, help="model name (default: the URDF's robot name)")
     p.add_argument(
         "--deg",
         action="store_true",

@@ -13,6 +13,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli._arguments import utf8_text
     from fkcheck.cli.expand import add_allow_xacro
 
     p = sub.add_parser(
@@ -34,7 +35,7 @@ def add_parser(sub: Any) -> None:
         metavar="MODEL.toml",
         help="also write the model mapped onto the new URDF",
     )
-    p.add_argument("--name", help="<robot name> (default: the model's name)")
+    p.add_argument("--name", type=utf8_text, help="<robot name> (default: the model's name)")
     add_allow_xacro(p)
     p.set_defaults(run=run)
 

@@ -180,6 +180,17 @@ def _positive(path: Path, key: str, value: Any) -> float:
     return number
 
 
+def _timeout(path: Path, value: Any) -> float:
+    """A time limit within the one rule (:func:`fkcheck.process.supervise.timeout_problem`)."""
+    from fkcheck.process.supervise import timeout_problem
+
+    number = _positive(path, "timeout", value)
+    problem = timeout_problem(number)
+    if problem is not None:
+        raise ProjectError(path, "tool.fkcheck.timeout", problem)
+    return number
+
+
 def _limit(path: Path, table: Mapping[str, Any], key: str, kind: LimitKind) -> float | None:
     """A tolerance within its range (:func:`~fkcheck.core.tolerances.limit_problem`), if set."""
     if key not in table:
@@ -233,7 +244,7 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         else None,
         seed=_int(path, "seed", table["seed"], 0, 2**32 - 1) if "seed" in table else None,
         sampler=sampler,
-        timeout=_positive(path, "timeout", table["timeout"]) if "timeout" in table else None,
+        timeout=_timeout(path, table["timeout"]) if "timeout" in table else None,
         require=require,
         tol_pos_m=_limit(path, table, "tol_pos_m", "tol_pos"),
         tol_rot_rad=_limit(path, table, "tol_rot_rad", "tol_rot"),

@@ -395,6 +395,12 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         if "path" not in u:
             raise r.fail("urdf.path", "missing (required in [urdf])")
         upath = r.string(u["path"], "urdf.path")
+        if not upath.strip() or upath.strip() == "example-robot-data:":
+            raise r.fail(
+                "urdf.path",
+                f"{show_text(upath)} names no file: give the URDF's path (relative to this file) "
+                "or example-robot-data:<subpath>",
+            )
         raw_uj = u.get("joints")
         if not isinstance(raw_uj, list) or not all(isinstance(x, str) for x in raw_uj):
             raise r.fail("urdf.joints", "expected a list of URDF joint names in DH order")

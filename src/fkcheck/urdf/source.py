@@ -31,6 +31,7 @@ __all__ = [
     "read_model_urdf",
     "read_xacro_urdf",
     "resolve_urdf_path",
+    "screen_xacro_text",
 ]
 
 
@@ -67,7 +68,7 @@ def read_model_urdf(model: Model) -> UrdfInfo:
     packages = {name: base / where for name, where in model.urdf.packages.items()}
     dirs = package_dirs + tuple(p.parent for p in packages.values())
     if model.urdf.expanded is not None:  # expanded once by this check: screened, not re-run
-        return screen_expansion(path, model.urdf.expanded, dirs)
+        return screen_xacro_text(path, model.urdf.expanded, dirs)
     try:
         return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
     except XacroRefused:
@@ -112,8 +113,27 @@ def _expanded(
     size: int,
 ) -> UrdfInfo:
     expansion = expand_xacro(path, dict(args), dict(packages))
-    info = screen_expansion(path, expansion.text, package_dirs)
+    info = screen_xacro_text(path, expansion.text, package_dirs)
     return replace(info, files=expansion.files)
+
+
+def screen_xacro_text(path: Path, text: str, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
+    """An expansion's text, UTF-8 checked, through :func:`~fkcheck.urdf.xacro.screen_expansion`.
+
+    A directory name that is not UTF-8 (the xacro file's, a package's) reaches
+    the text through ``$(find …)`` as a lone surrogate, which no URDF can hold.
+
+    Raises:
+        UrdfError: Such a character, or as :func:`~fkcheck.urdf.xacro.screen_expansion`.
+    """
+    stray = next((c for c in text if "\udc80" <= c <= "\udcff"), None)
+    if stray is not None:
+        raise UrdfError(
+            path,
+            f"its expansion holds a byte that is not UTF-8 (0x{ord(stray) - 0xDC00:02x}, from a "
+            "directory or argument name): a URDF cannot; rename it",
+        )
+    return screen_expansion(path, text, package_dirs)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
