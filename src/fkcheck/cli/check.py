@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from fkcheck.cli._targets import Target
     from fkcheck.model.project import ProjectConfig
 
+from fkcheck.cli._targets import ONLY_MODELS_HELP
 from fkcheck.cli.check_run import require_from_args, run_many, run_one
 
 __all__ = ["DEFAULT_OUT_DIR", "add_parser", "run"]
@@ -144,6 +145,7 @@ def add_parser(sub: Any) -> None:
         f"1e-6, at most {MAX_TOL_JACOBIAN:g}; implies --jacobian",
     )
     add_allow_xacro(p)
+    p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.add_argument("--timeout", type=float, metavar="S",
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
@@ -278,8 +280,13 @@ def _targets(args: argparse.Namespace, project: ProjectConfig | None) -> list[Ta
 
 def run(args: argparse.Namespace) -> int:
     """Run the check, print, write the requested files."""
-    from fkcheck.cli._targets import project_config
+    from fkcheck.cli._targets import named_model_files, project_config
 
+    if args.only_models:
+        models = named_model_files(args.models, "check")
+        if models is None:  # files were named, none a model: nothing to check
+            return 0
+        args.models = models
     project = project_config()
     # Named by every output (header, JSON, HTML), as the working directory sees it.
     args.config = None if project is None else os.path.relpath(project.path)

@@ -34,6 +34,7 @@ from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
 from fkcheck.model.lint_rules import parse_lint_rules
+from fkcheck.model.read import is_model_file
 from fkcheck.model.require import Kind, parse_require
 
 __all__ = [
@@ -59,6 +60,8 @@ _KEYS = (
     "tol_pos_m", "tol_rot_rad", "lint_ignore", "jacobian", "jacobian_reference", "tol_jacobian",
 )  # fmt: skip
 _SAMPLERS = ("sobol", "uniform")
+#: What a model file is, in messages.
+_MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
 
 
 class ProjectError(FkcheckError):
@@ -298,10 +301,14 @@ def expand_model_paths(
     """Model files from files, directories and globs, in order, each once.
 
     A directory gives its ``*.toml`` and ``*.csv`` files (not recursively),
-    sorted; a glob (``*``, ``?``, ``[``) its matches with those suffixes, sorted;
-    a file is taken as it is (its reader checks it). With ``root`` (a project's
-    directory), relative items are relative to it, and directories and globs
-    must stay inside it.
+    sorted, each read as a model (one that is not is bad input, named); a glob
+    (``*``, ``?``, ``[``) its matching model files only, sorted
+    (:func:`fkcheck.model.read.is_model_file`: ``[[joint]]`` tables or a DH
+    CSV; ``pyproject.toml``, ``Cargo.toml`` or a poses CSV are passed over); a
+    file is taken as it is (its reader checks it), and a path that exists is a
+    file or directory, never a glob (``arm[2].toml``).
+    With ``root`` (a project's directory), relative items are relative to it,
+    and directories and globs must stay inside it.
 
     Raises:
         FkcheckError: A glob or directory that names no model file, one outside
@@ -328,7 +335,8 @@ def expand_model_paths(
     for raw in items:
         item = str(raw)
         base = root if root is not None else Path.cwd()
-        if any(c in item for c in "*?["):
+        path = Path(item) if root is None or Path(item).is_absolute() else root / item
+        if any(c in item for c in "*?[") and not os.path.lexists(path):
             if Path(item).is_absolute() or ".." in Path(item).parts:
                 raise fail(item, "a glob must be relative and stay inside the project")
             found = sorted(
@@ -336,11 +344,11 @@ def expand_model_paths(
             )
             if root is not None:
                 found = [p for p in found if _inside(p, root)]
+            found = [p for p in found if is_model_file(p)]
             if not found:
-                raise fail(item, "matches no .toml or .csv model file")
+                raise fail(item, f"matches no model file ({_MODEL_FILES})")
             add(found)
             continue
-        path = Path(item) if root is None or Path(item).is_absolute() else root / item
         if path.is_dir():
             if root is not None and not _inside(path, root):
                 raise fail(item, "a directory outside the project")
