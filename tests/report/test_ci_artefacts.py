@@ -6,6 +6,8 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import replace
 
+import pytest
+
 from fkcheck.report.annotations import (
     escape_data,
     escape_property,
@@ -117,6 +119,18 @@ def test_field_line_finds_joint_and_table_keys_and_tolerates_absence():
     assert field_line(TOML, "joint[1].theta") is None
     assert field_line(TOML, "joint[7].alpha") is None
     assert field_line(TOML, "nonsense") is None
+
+
+@pytest.mark.parametrize("quote", ['"""', "'''"])
+def test_field_line_skips_what_a_multi_line_string_holds(quote):
+    """A description that looks like TOML is text: the line is the parameter's own."""
+    fake = f"description = {quote}\n[[joint]]\nalpha = 1\n[base]\nxyz = [0, 0, 0]\n{quote}\n"
+    tricky = "title = \"a # and \\\" and ''' in one line\"\n"
+    text = fake + tricky + TOML
+    offset = text.count("\n") - TOML.count("\n")
+    assert field_line(text, "joint[0].alpha") == 9 + offset
+    assert field_line(text, "joint[1].alpha") == 15 + offset
+    assert field_line(text, "base.xyz[2]") == 5 + offset
 
 
 def test_annotations_point_at_the_file_and_the_parameter_line(tmp_path, monkeypatch):
