@@ -151,3 +151,18 @@ def test_each_models_recorded_command_reproduces_its_frames(repo, capsys):
     doc = json.loads((repo / "r" / "good.json").read_text())
     assert (doc["from"], doc["to"]) == ("world", "tcp")
     assert "--from world --to tcp" in doc["command"]
+
+
+def test_names_after_double_dash_are_files_and_every_command_line_keeps_them_files(repo, capsys):
+    """``--`` ends the options: a file named like an option is a model; reproductions say ``./``."""
+    hostile = "--against=cmd:x.toml"
+    shutil.copyfile(repo / "robots" / "bad.toml", repo / hostile)
+    argv = ["check", *FAST, "--out-dir", "r", "--", hostile, "robots/good.toml"]
+    assert main(argv) == 1
+    out = capsys.readouterr().out
+    assert f"│ {hostile} │ fail " in out
+    command = json.loads((repo / "r" / "--against=cmd:x.json").read_text())["command"]
+    assert command.startswith(f"fkcheck check ./{hostile} --samples 4 "), command
+    assert main(["check", *FAST, "--", hostile]) == 1
+    out = capsys.readouterr().out
+    assert f"hint: explain it: fkcheck diagnose ./{hostile} --against pinocchio-urdf" in out

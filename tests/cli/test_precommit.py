@@ -18,6 +18,7 @@ import tomllib
 import pytest
 import yaml
 
+from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
 from tests.paths import REPO_ROOT
 
@@ -32,12 +33,61 @@ def test_hooks_file_declares_a_fast_lint_and_an_opt_in_check():
         assert hook["files"] == r"\.(toml|csv)$"
         assert hook["pass_filenames"] is True
         assert hook["language"] == "python"
-    assert hooks["fkcheck-lint"]["entry"] == "fkcheck lint"
+    # Every changed .toml/.csv is handed over: the hooks pick the model files by content,
+    # and the names come after "--" (a file named like an option is a file).
+    assert hooks["fkcheck-lint"]["entry"] == "fkcheck lint --only-models --"
     assert "stages" not in hooks["fkcheck-lint"]  # every commit
-    assert hooks["fkcheck-check"]["entry"] == "fkcheck check"
+    assert hooks["fkcheck-check"]["entry"] == "fkcheck check --only-models --"
     assert hooks["fkcheck-check"]["stages"] == ["manual"]  # opt-in
     scripts = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]["scripts"]
     assert scripts["fkcheck"] == "fkcheck.cli.main:main"
+
+
+def _entry(hook_id):
+    hooks = {h["id"]: h for h in yaml.safe_load((REPO_ROOT / ".pre-commit-hooks.yaml").read_text())}
+    words = hooks[hook_id]["entry"].split()
+    assert words[0] == "fkcheck"
+    return words[1:]
+
+
+@pytest.mark.parametrize(
+    ("other", "text"),
+    [
+        ("Cargo.toml", '[package]\nname = "x"\nversion = "0.1.0"\n'),
+        ("pyproject.toml", "[project]\nname = 'x'\n\n[tool.fkcheck]\nsamples = 3\n"),
+        ("config/settings.toml", "[joint_limits]\nmax = 3\n"),
+        ("poses.csv", "q1,q2,x,y,z,qx,qy,qz,qw\n0,0,1.8,0,0,0,0,0,1\n"),
+        ("--against=cmd:x.toml", 'title = "a file named like an option"\n'),
+    ],
+)
+def test_the_lint_hook_lints_the_robot_files_and_passes_over_the_others(
+    tmp_path, monkeypatch, capsys, other, text
+):
+    """What pre-commit runs for a commit touching a robot file and another TOML/CSV file."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "robots").mkdir()
+    shutil.copyfile(bundled_model_paths()["ur5"], tmp_path / "robots" / "arm.toml")
+    (tmp_path / other).parent.mkdir(parents=True, exist_ok=True)
+    (tmp_path / other).write_text(text)
+    assert main([*_entry("fkcheck-lint"), other, "robots/arm.toml"]) == 0
+    out, err = capsys.readouterr()
+    assert out == "robots/arm.toml: clean (6 joints, standard DH)\n"
+    assert err == f"fkcheck lint: not robot model files, passed over: {other}\n"
+    # Alone, it is nothing to lint or check: exit 0, said once.
+    assert main([*_entry("fkcheck-lint"), other]) == 0
+    assert capsys.readouterr().err.endswith("no robot model file among the files named\n")
+    assert main([*_entry("fkcheck-check"), other]) == 0
+    assert capsys.readouterr().err.endswith("no robot model file among the files named\n")
+
+
+def test_the_hooks_still_lint_a_broken_model_file(tmp_path, monkeypatch, capsys):
+    """A file with [[joint]] tables is a model file even when it is wrong: exit 2, one line."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "arm.toml").write_text('name = "arm"\n[[joint]]\na = "x"\n')
+    assert main([*_entry("fkcheck-lint"), "arm.toml"]) == 2
+    assert capsys.readouterr().err.startswith("fkcheck: error: arm.toml: ")
+    assert main([*_entry("fkcheck-check"), "arm.toml"]) == 2
+    assert capsys.readouterr().err.startswith("fkcheck: error: arm.toml: ")
 
 
 def test_lint_imports_no_reference_library():

@@ -36,6 +36,7 @@ from fkcheck.model.read import model_from_dict
 from fkcheck.model.sampling import MAX_CORNERS, sample_configurations, sampling_box
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M
 from tests.paths import DATA_DIR
+from tests.xacro_cases import TOP, write_description, write_model
 
 #: Every case ends well within this (measured: under 0.5 s in-process, ~2 s in a subprocess).
 TIME_BOUND_S = 20.0
@@ -445,6 +446,110 @@ CHECK_OPTIONS = {
     ),
 }
 
+XACRO = "d/robot/arm.urdf.xacro"
+PACKAGE = "arm_description=d/arm_description"
+#: The xacro description, with a mesh whose file name $(find …) writes into the URDF.
+MESH_TOP = TOP.replace(
+    '<link name="base"/>',
+    '<link name="base"><visual><geometry><mesh filename="file://$(find arm_description)/m.stl"/>'
+    "</geometry></visual></link>",
+)
+
+
+def _xacro_model(directory: Path) -> None:
+    """The description and its model (xacro = true) in ``directory``."""
+    write_description(directory, MESH_TOP)
+    packages = 'packages = { arm_description = "../arm_description" }'
+    write_model(directory, "0.3", f"xacro = true\n{packages}")
+
+
+#: Round three (issue 21): text arguments that are not UTF-8, unbounded time limits,
+#: empty paths, poses of frames the model lacks.
+ROUND_THREE = {
+    "expand_arg_not_utf8": (
+        {"d": write_description},
+        ["expand", XACRO, "--package", PACKAGE, "--arg", "reach=1.0\udcff", "-o", "o.urdf"],
+        r"^fkcheck expand: error: argument --arg: 'reach=1\.0\\udcff' is not UTF-8 text "
+        r"\(byte 0xff\)",
+    ),
+    "expand_package_not_utf8": (
+        {"d": write_description},
+        ["expand", XACRO, "--package", "arm_description=d/\udcff", "-o", "o.urdf"],
+        r"argument --package: 'arm_description=d/\\udcff' is not UTF-8 text",
+    ),
+    "map_arg_not_utf8": (
+        {"d": write_description},
+        ["map", "planar2", XACRO, "--allow-xacro", "--package", PACKAGE, "--arg", "reach=\udcff"],
+        r"^fkcheck map: error: argument --arg: 'reach=\\udcff' is not UTF-8 text",
+    ),
+    "urdf_name_not_utf8": (
+        {},
+        ["urdf", "planar2", "-o", "o.urdf", "--name", "r\udcff"],
+        r"argument --name: 'r\\udcff' is not UTF-8 text",
+    ),
+    "dh_from_urdf_name_not_utf8": (
+        {"d": write_description},
+        [
+            "dh-from-urdf",
+            XACRO,
+            "--allow-xacro",
+            "--package",
+            PACKAGE,
+            "--base",
+            "base",
+            "--tip",
+            "tip",
+            "--name",
+            "n\udcff",
+            "-o",
+            "o.toml",
+        ],
+        r"argument --name: 'n\\udcff' is not UTF-8 text",
+    ),
+    "expansion_from_a_directory_not_utf8": (
+        {"\udcff": _xacro_model},
+        ["check", "\udcff/robot/xarm.toml", "--against", "pinocchio-urdf", "--samples", "2"],
+        r"arm\.urdf\.xacro: its expansion holds a byte that is not UTF-8 \(0xff, from a "
+        r"directory or argument name\): a URDF cannot; rename it$",
+    ),
+    "expand_timeout_beyond_a_day": (
+        {"d": write_description},
+        ["expand", XACRO, "--package", PACKAGE, "--timeout", "1e300", "-o", "o.urdf"],
+        r"^fkcheck: error: --timeout must be at most 86400 s, got 1e\+300$",
+    ),
+    "expand_timeout_nan": (
+        {"d": write_description},
+        ["expand", XACRO, "--package", PACKAGE, "--timeout", "nan", "-o", "o.urdf"],
+        r"--timeout must be a positive number, got nan$",
+    ),
+    "project_timeout_beyond_a_day": (
+        {"pyproject.toml": "[tool.fkcheck]\ntimeout = 1e300\n"},
+        ["check", "planar2"],
+        r"pyproject\.toml: tool\.fkcheck\.timeout: must be at most 86400 s, got 1e\+300$",
+    ),
+    "urdf_path_empty": (
+        {"m.toml": HEAD + JOINT + '[urdf]\npath = ""\njoints = ["j"]\n'},
+        ["check", "m.toml"],
+        r"m\.toml: urdf\.path: '' names no file: give the URDF's path",
+    ),
+    "map_urdf_empty": (
+        {},
+        ["map", "planar2", ""],
+        r"^fkcheck: error: '': names no file: give a URDF file's path or example-robot-data:",
+    ),
+    "poses_frame_the_model_lacks": (
+        {"p.csv": PENDANT_HEAD.replace("to=tool0", "to=nosuch") + ZERO_ROW},
+        ["check", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 1: '# fkcheck poses: from=… to=…': frame 'nosuch' not in model ur5; "
+        r"frames are: ",
+    ),
+    "diagnose_poses_frame_the_model_lacks": (
+        {"p.csv": PENDANT_HEAD.replace("from=base", "from=nobase") + ZERO_ROW},
+        ["diagnose", "ur5", "--against", "poses:p.csv"],
+        r"p\.csv: line 1: .*frame 'nobase' not in model ur5",
+    ),
+}
+
 #: Cases that would hang if a reader opened the file: run in a subprocess with a timeout.
 HANGING = {
     "model_is_a_fifo": ({"m.toml": "FIFO"}, ["fk", "m.toml", "--q", "0"], r"m\.toml: is a FIFO"),
@@ -482,6 +587,7 @@ FAMILIES = {
     "q_file": Q_FILE,
     "poses_csv": POSES,
     "check_options": CHECK_OPTIONS,
+    "round_three": ROUND_THREE,
 }
 IN_PROCESS = [
     pytest.param(*case, id=f"{family}-{name}")
@@ -517,7 +623,7 @@ def _assert_one_clear_line(code: int, err: str, match: str) -> None:
     assert "Traceback" not in err, err
     lines = err.strip("\n").split("\n")
     assert len(lines) == 1, err
-    assert re.match(r"fkcheck( \w+)?: error: ", lines[0]), err
+    assert re.match(r"fkcheck( [\w-]+)?: error: ", lines[0]), err
     assert re.search(match, lines[0]), lines[0]
 
 

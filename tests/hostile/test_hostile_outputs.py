@@ -713,6 +713,42 @@ def test_a_large_fk_output_on_dev_full_fails_mid_run_with_one_line(env):
     ]
 
 
+def _closed(*streams: int) -> None:
+    """In the child, before fkcheck starts: close these descriptors (``>&-``)."""
+    for fd in streams:
+        os.close(fd)
+
+
+#: What a run writes and exits with; the model file it reads is named {model}.
+CLOSED = [
+    pytest.param(["check", "planar2", "--samples", "3", "--against", "rtb-dh", "--json",
+                  "{d}/r.json"], 0, "r.json", id="check-pass"),
+    pytest.param(["check", "{model}", "--samples", "3", "--against",
+                  "fkcheck_test_plugin:touch", "--json", "{d}/r.json"], 1, "r.json",
+                 id="check-fail"),
+    pytest.param(["urdf", "planar2", "-o", "{d}/r.urdf"], 0, "r.urdf", id="urdf"),
+    pytest.param(["lint", "planar2"], 0, None, id="lint"),
+    pytest.param(["--help"], 0, None, id="help"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("argv", "code", "written"), CLOSED)
+@pytest.mark.parametrize("streams", [(1,), (0, 1), (1, 2)], ids=["stdout", "stdin+stdout",
+                                                                   "stdout+stderr"])  # fmt: skip
+def test_a_closed_stream_is_no_traceback_and_the_run_keeps_its_exit_code(
+    env, argv, code, written, streams
+):
+    """``fkcheck check ur5 >&-``: the run goes on, its output going nowhere, its files written."""
+    files = write_models(env)
+    argv = [a.replace("{d}", str(env)).replace("{model}", str(files["model"])) for a in argv]
+    run = run_subprocess(argv, stdout=None, preexec_fn=lambda: _closed(*streams))
+    assert run.code == code, run.err
+    assert "Traceback" not in run.err
+    assert run.err == ""  # nothing to say: stderr closed, or the run had no complaint
+    if written is not None:
+        assert (env / written).is_file()
+
+
 @pytest.mark.parametrize(
     ("argv", "shown"),
     [

@@ -187,6 +187,19 @@ BAD_FILES = {
     ),
     "base_xyz_short": (GOOD_HEAD + JOINT + "[base]\nxyz = [0, 0]\n", r"base\.xyz: expected 3"),
     "joint_not_table": (GOOD_HEAD + "joint = [1, 2]\n", r"joint\[0\]: expected a table"),
+    "urdf_path_empty": (
+        GOOD_HEAD + JOINT + '[urdf]\npath = ""\njoints = ["a"]\n',
+        r"urdf\.path: '' names no file: give the URDF's path \(relative to this file\) or "
+        r"example-robot-data:<subpath>$",
+    ),
+    "urdf_path_blank": (
+        GOOD_HEAD + JOINT + '[urdf]\npath = "  "\njoints = ["a"]\n',
+        r"urdf\.path: '  ' names no file",
+    ),
+    "urdf_path_bare_prefix": (
+        GOOD_HEAD + JOINT + '[urdf]\npath = "example-robot-data:"\njoints = ["a"]\n',
+        r"urdf\.path: 'example-robot-data:' names no file",
+    ),
     "urdf_joint_count": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "x.urdf"\njoints = ["a", "b"]\n',
         r"urdf\.joints: names 2 URDF joints but the DH table has 1",

@@ -15,13 +15,19 @@ from fkcheck.model.project import (
     load_project,
 )
 
+#: The least a model file holds: its reader checks the rest.
+MODEL_TOML = 'name = "arm"\nconvention = "standard"\n\n[[joint]]\na = 0.1\nalpha = 0\nd = 0\n'
+MODEL_CSV = "# name,a,alpha,d,theta_offset\nj1,0.1,0,0,0\n"
+
 
 def _project(tmp_path: Path, table: str) -> Path:
     (tmp_path / "pyproject.toml").write_text(f"[project]\nname = 'x'\n\n[tool.fkcheck]\n{table}\n")
     robots = tmp_path / "robots"
     robots.mkdir()
-    for name in ("b.toml", "a.toml", "c.csv", "notes.txt"):
-        (robots / name).write_text("")
+    for name in ("b.toml", "a.toml"):
+        (robots / name).write_text(MODEL_TOML)
+    (robots / "c.csv").write_text(MODEL_CSV)
+    (robots / "notes.txt").write_text("")
     return tmp_path
 
 
@@ -161,3 +167,103 @@ def test_a_directory_without_models_is_refused_on_the_command_line(tmp_path):
         FkcheckError, match=r"empty: a directory with no \.toml or \.csv model file"
     ):
         expand_model_paths([tmp_path / "empty"])
+
+
+# --- which pyproject.toml applies: the nearest, never above the repository ----------------------
+
+HOSTILE_TABLE = '[tool.fkcheck]\nagainst = ["cmd:./x.sh"]\ntol_pos_m = 0.01\n'
+
+
+@pytest.mark.parametrize("marker", [".git", ".hg", ".git-file"])
+def test_a_pyproject_above_the_repository_never_applies(tmp_path, marker):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    repo = tmp_path / "checkout"
+    deep = repo / "robots" / "sub"
+    deep.mkdir(parents=True)
+    if marker == ".git-file":  # a worktree or submodule: .git is a file
+        (repo / ".git").write_text("gitdir: /elsewhere\n")
+    else:
+        (repo / marker).mkdir()
+    assert find_pyproject(deep) is None
+    assert load_project(deep) is None
+    assert load_project(repo) is None
+
+
+def test_the_repositorys_own_pyproject_applies_from_any_subdirectory(tmp_path):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    repo = tmp_path / "checkout"
+    (repo / ".git").mkdir(parents=True)
+    deep = repo / "robots" / "sub"
+    deep.mkdir(parents=True)
+    (repo / "pyproject.toml").write_text("[tool.fkcheck]\nsamples = 7\n")
+    config = load_project(deep)
+    assert config is not None
+    assert config.path == (repo / "pyproject.toml").resolve()
+    assert (config.samples, config.against) == (7, None)
+
+
+def test_the_first_pyproject_ends_the_search_even_without_a_table(tmp_path):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    inner = tmp_path / "inner"
+    deep = inner / "sub"
+    deep.mkdir(parents=True)
+    (inner / "pyproject.toml").write_text("[project]\nname = 'inner'\n")
+    assert find_pyproject(deep) == (inner / "pyproject.toml").resolve()
+    assert load_project(deep) is None
+
+
+def test_a_pyproject_that_is_no_regular_file_is_found_and_refused(tmp_path):
+    (tmp_path / "pyproject.toml").write_text(HOSTILE_TABLE)
+    inner = tmp_path / "inner"
+    (inner / "pyproject.toml").mkdir(parents=True)  # it does not send the search further up
+    with pytest.raises(ProjectError, match=r"inner/pyproject\.toml: is a directory"):
+        load_project(inner)
+
+
+# --- globs and directories pick model files only; a path that exists is never a glob -------------
+
+
+def test_a_glob_over_every_toml_picks_the_model_files_only(tmp_path):
+    root = _project(tmp_path, 'models = ["**/*.toml", "**/*.csv"]')
+    (root / "Cargo.toml").write_text('[package]\nname = "x"\n')
+    (root / "robots" / "settings.toml").write_text("[joint_limits]\nmax = 3\n")
+    (root / "robots" / "poses.csv").write_text("q1,q2,x,y,z,qx,qy,qz,qw\n0,0,1,0,0,0,0,0,1\n")
+    (root / "robots" / "broken.toml").write_text("[[joint]]\na = \n")  # a model, if a broken one
+    config = load_project(root)
+    assert config is not None
+    found = [p.relative_to(root).as_posix() for p in config.model_paths()]
+    assert found == ["robots/a.toml", "robots/b.toml", "robots/broken.toml", "robots/c.csv"]
+
+
+def test_a_directory_named_gives_every_toml_and_csv_file_in_it(tmp_path):
+    """Named, a directory is a directory of models: a file in it that is none is not hidden."""
+    root = _project(tmp_path, 'models = ["robots"]')
+    (root / "robots" / "Cargo.toml").write_text('[package]\nname = "x"\n')
+    config = load_project(root)
+    assert config is not None
+    assert [p.name for p in config.model_paths()] == ["Cargo.toml", "a.toml", "b.toml", "c.csv"]
+
+
+def test_a_glob_with_no_model_file_says_what_a_model_file_is(tmp_path):
+    root = _project(tmp_path, 'models = ["*.toml"]')
+    config = load_project(root)
+    assert config is not None
+    with pytest.raises(
+        ProjectError,
+        match=r"tool\.fkcheck\.models: '\*\.toml': matches no model file \(a \.toml file with "
+        r"\[\[joint\]\] tables, or a DH \.csv\)$",
+    ):
+        config.model_paths()
+
+
+@pytest.mark.parametrize("name", ["arm[2].toml", "arm*.toml", "arm?.csv"])
+def test_a_path_that_exists_is_never_a_glob(tmp_path, monkeypatch, name):
+    root = _project(tmp_path, f"models = [{name!r}]")
+    (root / name).write_text(MODEL_CSV if name.endswith(".csv") else MODEL_TOML)
+    (root / "arm2.toml").write_text(MODEL_TOML)  # what arm[2].toml matches as a glob
+    (root / "arm1.csv").write_text(MODEL_CSV)
+    config = load_project(root)
+    assert config is not None
+    assert config.model_paths() == [root / name]
+    monkeypatch.chdir(root)
+    assert expand_model_paths([name]) == [Path(name)]

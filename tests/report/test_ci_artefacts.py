@@ -6,6 +6,8 @@ import re
 import xml.etree.ElementTree as ET
 from dataclasses import replace
 
+import pytest
+
 from fkcheck.report.annotations import (
     escape_data,
     escape_property,
@@ -119,6 +121,18 @@ def test_field_line_finds_joint_and_table_keys_and_tolerates_absence():
     assert field_line(TOML, "nonsense") is None
 
 
+@pytest.mark.parametrize("quote", ['"""', "'''"])
+def test_field_line_skips_what_a_multi_line_string_holds(quote):
+    """A description that looks like TOML is text: the line is the parameter's own."""
+    fake = f"description = {quote}\n[[joint]]\nalpha = 1\n[base]\nxyz = [0, 0, 0]\n{quote}\n"
+    tricky = "title = \"a # and \\\" and ''' in one line\"\n"
+    text = fake + tricky + TOML
+    offset = text.count("\n") - TOML.count("\n")
+    assert field_line(text, "joint[0].alpha") == 9 + offset
+    assert field_line(text, "joint[1].alpha") == 15 + offset
+    assert field_line(text, "base.xyz[2]") == 5 + offset
+
+
 def test_annotations_point_at_the_file_and_the_parameter_line(tmp_path, monkeypatch):
     check = golden_check()
     path = tmp_path / "robots" / "arm.toml"
@@ -147,3 +161,26 @@ def test_a_passing_check_has_no_annotation():
     check = golden_check()
     passing = replace(check, backends=check.backends[:1], verdict="pass")
     assert github_annotations(passing, (), source=TOML) == []
+
+
+#: What GitHub turns into a link or a notification, from a model name, and its escaped form.
+LINKING = [
+    ("@octocat", "@\u200boctocat"),
+    ("@org/team", "@\u200borg/team"),
+    ("mail admin@example.com", "mail admin@\u200bexample.com"),
+    ("https://evil.example/x", "https:\u200b//evil.example/x"),
+    ("ftp://host/f", "ftp:\u200b//host/f"),
+    ("www.evil.example", "www\u200b.evil.example"),
+    ("WWW.Evil.Example", "WWW\u200b.Evil.Example"),
+    ("fixes #12", "fixes \\#\u200b12"),
+]
+
+
+def test_summary_text_from_input_can_neither_link_nor_mention():
+    """A zero-width space after @, the ':' of '://', '#', and in 'www.': it links nowhere."""
+    check = golden_check()
+    for raw, escaped in LINKING:
+        named = replace(check, model=replace(check.model, name=raw))
+        heading = markdown_summary([named]).splitlines()[0]
+        assert heading == f"## fkcheck {escaped}: ❌ FAIL", raw
+        assert not re.search(r"@\w|\w://|\bwww\.|#\d", heading, re.IGNORECASE), heading

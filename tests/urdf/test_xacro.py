@@ -369,19 +369,17 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     extra = f'xacro = true\nxacro_args = {{ reach = "0.4" }}\n{PACKAGES}'
     model = load_model(write_model(tmp_path, "0.4", extra))
     calls: list[str] = []
-    expand = source.read_xacro
+    expand = source.expand_xacro
 
     def counted(*args, **kwargs):
         calls.append("expanded")
         return expand(*args, **kwargs)
 
-    monkeypatch.setattr(source, "read_xacro", counted)
+    monkeypatch.setattr(source, "expand_xacro", counted)
     check = run_check(model, [make_backend("rtb-dh")], samples=5)
     assert check.verdict == "pass"
     assert calls == []  # no backend reads the URDF: the file never ran
-    from fkcheck.urdf.xacro import _read
-
-    _read.cache_clear()
+    source._expanded.cache_clear()
     backends = [make_backend(n) for n in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")]
     check = run_check(model, backends, samples=5)
     assert check.verdict == "pass"
@@ -391,7 +389,7 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     sent = check.model
     assert sent.urdf is not None
     assert sent.urdf.expanded is not None
-    monkeypatch.setattr(source, "read_xacro", lambda *a, **k: pytest.fail("expanded again"))
+    monkeypatch.setattr(source, "expand_xacro", lambda *a, **k: pytest.fail("expanded again"))
     assert source.read_model_urdf(sent).joints.keys() == load_urdf(sent).joints.keys()
 
 

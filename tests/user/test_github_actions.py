@@ -4,7 +4,8 @@ actionlint (``nox -s actionlint``, in .ci/run) lints the workflow, and through i
 ``uses: ./`` step the action's inputs. Here the action's metadata is read as YAML,
 and its ``fkcheck check`` step's script is run by bash against a stand-in
 ``fkcheck`` that records its arguments and exits with a chosen code: the
-interface is ``fkcheck check FILE... --out-dir DIR --summary PATH``, exit 0/1/2.
+interface is ``fkcheck check --out-dir=DIR --summary=PATH -- FILE...``, exit 0/1/2
+(no input can become an option); once with the real fkcheck behind it.
 """
 
 from __future__ import annotations
@@ -14,11 +15,13 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from fkcheck.model.read import bundled_model_paths
 from tests.paths import REPO_ROOT
 
 yaml = pytest.importorskip("yaml")  # PyYAML: installed with fkcheck (xacrodoc needs it)
@@ -118,9 +121,8 @@ def test_action_passes_models_samples_require_and_out_dir(tmp_path: Path) -> Non
     )  # fmt: skip
     assert outputs == {"verdict": "pass", "status": "0"}
     assert argv == [
-        "check", "robots/good.toml", "robots/*.toml", "calib/", "--samples", "50",
-        "--require", "table", "--out-dir", "fkcheck-reports",
-        "--summary", "fkcheck-reports/summary.md",
+        "check", "--out-dir=fkcheck-reports", "--summary=fkcheck-reports/summary.md",
+        "--samples=50", "--require=table", "--", "robots/good.toml", "robots/*.toml", "calib/",
     ]  # fmt: skip
     # The glob reaches fkcheck unexpanded: it expands globs inside the project.
 
@@ -128,8 +130,63 @@ def test_action_passes_models_samples_require_and_out_dir(tmp_path: Path) -> Non
 def test_action_without_inputs_leaves_the_models_to_tool_fkcheck(tmp_path: Path) -> None:
     outputs, argv, _ = _run_check_step(tmp_path, 1)
     assert outputs == {"verdict": "fail", "status": "1"}
-    assert argv == ["check", "--out-dir", "fkcheck-reports", "--summary",
-                    "fkcheck-reports/summary.md"]  # fmt: skip
+    assert argv == ["check", "--out-dir=fkcheck-reports", "--summary=fkcheck-reports/summary.md",
+                    "--"]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("inputs", "where"),
+    [
+        ({"models": "--against=cmd:./x.sh robots/a.toml"}, "models"),
+        ({"models": "robots/a.toml", "samples": "--against=cmd:./x.sh"}, "--samples="),
+        ({"models": "robots/a.toml", "require": "--against=cmd:./x.sh"}, "--require="),
+    ],
+)
+def test_action_inputs_are_never_options(tmp_path: Path, inputs, where) -> None:
+    """Each input reaches fkcheck as data: a value joined to its option, models after ``--``."""
+    _, argv, _ = _run_check_step(tmp_path, 2, **inputs)
+    hostile = "--against=cmd:./x.sh"
+    if where == "models":
+        assert argv[argv.index("--") + 1] == hostile
+    else:
+        assert f"{where}{hostile}" in argv
+    assert hostile not in argv[: argv.index("--")]
+
+
+def test_action_with_a_hostile_model_name_runs_no_program(tmp_path: Path) -> None:
+    """The real fkcheck behind the step: ``--against=cmd:./x.sh`` is a file that is not there."""
+    if shutil.which("bash") is None:
+        pytest.skip("bash is not installed")
+    marker = tmp_path / "ran"
+    program = tmp_path / "x.sh"
+    program.write_text(f"#!/bin/sh\ntouch {marker}\n", encoding="utf-8")
+    program.chmod(0o755)
+    (tmp_path / "robots").mkdir()
+    shutil.copyfile(bundled_model_paths()["planar2"], tmp_path / "robots" / "a.toml")
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    wrapper = bin_dir / "fkcheck"
+    wrapper.write_text(f'#!/bin/sh\nexec {sys.executable} -m fkcheck "$@"\n', encoding="utf-8")
+    wrapper.chmod(0o755)
+    output, summary = tmp_path / "output", tmp_path / "summary"
+    env = {
+        "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}",
+        "PYTHONPATH": str(REPO_ROOT / "src"),
+        "GITHUB_OUTPUT": str(output),
+        "GITHUB_STEP_SUMMARY": str(summary),
+        "MODELS": "--against=cmd:./x.sh robots/a.toml",
+        "SAMPLES": "3",
+        "REQUIRE": "",
+        "OUT_DIR": "fkcheck-reports",
+    }
+    result = subprocess.run(
+        ["bash", "-e", "-c", _check_script()], cwd=tmp_path, env=env,
+        capture_output=True, text=True, timeout=120, check=False,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert "status=2" in output.read_text("utf-8")
+    assert result.stderr == "fkcheck: error: --against=cmd:./x.sh: no such file\n"
+    assert not marker.exists()
 
 
 def test_action_bad_input_is_its_own_verdict_in_the_summary(tmp_path: Path) -> None:

@@ -55,7 +55,7 @@ from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_lines
 from fkcheck.io.numbers import NumberError, parse_numbers, show_text, split_fields
-from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model
+from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
 
 __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
 
@@ -194,7 +194,7 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
             text = line.strip()
             match = _PAIR.match(text)
             if match:
-                pair = (match.group(1), match.group(2))
+                pair = _model_pair(match.group(1), match.group(2), model, lineno, path)
                 continue
             if not text or text.startswith("#"):
                 continue
@@ -224,6 +224,23 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
         raise PosesFileError(path, str(exc)) from None
     _check_duplicates(q, poses, linenos, path)
     return q, poses, pair
+
+
+def _model_pair(
+    frame_from: str, frame_to: str, model: Model, lineno: int, path: Path
+) -> tuple[str, str]:
+    """The file's declared pair as the model's frame names (``urdf:LINK`` resolved).
+
+    Raises:
+        PosesFileError: The model has no such frame (bad input, as a wrong ``--to`` is).
+    """
+    from fkcheck.errors import FrameError
+
+    try:
+        return (resolve_frame(model, frame_from).name, resolve_frame(model, frame_to).name)
+    except FrameError as exc:
+        where = f"line {lineno}: '# fkcheck poses: from=… to=…'"
+        raise PosesFileError(path, f"{where}: {exc}") from None
 
 
 def _row(line: str, lineno: int, layout: _Layout, path: Path) -> list[float]:

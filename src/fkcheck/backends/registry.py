@@ -23,6 +23,7 @@ from typing import Any
 
 from fkcheck.backends.base import Backend
 from fkcheck.errors import BackendNotFoundError
+from fkcheck.process.supervise import MAX_TIMEOUT_S
 
 __all__ = [
     "BUILTIN",
@@ -34,11 +35,6 @@ __all__ = [
     "make_backend",
     "parse_against",
 ]
-
-
-#: Longest time limit per backend, seconds (a day: longer than any CI job runs;
-#: a far larger one overflows the thread and process waits).
-MAX_TIMEOUT_S = 86_400.0
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,7 @@ from fkcheck.io.text import terminal_text
 if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
     from fkcheck.model.types import Model
+    from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = [
     "STEP_SUMMARY",
@@ -37,6 +38,8 @@ __all__ = [
     "model_inputs",
     "plan",
     "step_summary_target",
+    "urdf_inputs",
+    "writes",
 ]
 
 #: ``(what it is, path)``: a file the run reads.
@@ -46,31 +49,47 @@ Input = tuple[str, Path | str | None]
 STEP_SUMMARY = "GITHUB_STEP_SUMMARY"
 
 
-def model_inputs(model: Model) -> list[Input]:
-    """The model file and, when it has one that exists, its URDF (screened).
+def writes(outputs: Iterable[tuple[str, Path | str | None]]) -> bool:
+    """Whether a run with these outputs writes a file: one is given, or ``$GITHUB_STEP_SUMMARY``."""
+    return any(path is not None for _, path in outputs) or bool(os.environ.get(STEP_SUMMARY))
+
+
+def urdf_inputs(info: UrdfInfo, what: str) -> list[Input]:
+    """Every file a URDF was made of: the file (``what``), then each file its xacro read."""
+    found: list[Input] = [(what, info.path)]
+    found += [(f"a file {what} reads (xacro include or load_yaml)", f) for f in info.files[1:]]
+    return found
+
+
+def model_inputs(model: Model, *, expand: bool = True) -> list[Input]:
+    """The model file and, when it has one that exists, every file its URDF is made of.
 
     A plain URDF is screened here (:func:`fkcheck.urdf.source.read_model_urdf`),
     before any output path is planned: input is refused before anything, even a
-    probe of an output directory, touches the disk. A xacro file (``xacro = true``)
-    is only located: expanding it runs its Python, which only the commands that
-    read the URDF do (``check`` before any backend runs, when one reads it).
+    probe of an output directory, touches the disk. A xacro file the model opts
+    in to (``xacro = true``) is expanded here too when ``expand`` (a run that
+    writes a file: :func:`writes`), so that its includes and ``load_yaml`` files
+    are inputs no output replaces; the check reuses that expansion
+    (:func:`fkcheck.urdf.source.read_xacro_urdf` keeps it). A run that writes
+    nothing only locates it: expanding is left to the backends that read it.
 
     Raises:
-        UrdfError: The URDF is missing, not a regular file, unsafe or broken.
+        UrdfError: The URDF is missing, not a regular file, unsafe or broken, or
+            its xacro expansion failed.
     """
     from fkcheck.errors import BackendUnavailable
     from fkcheck.urdf.source import read_model_urdf, resolve_urdf_path
 
     found: list[Input] = [(f"the model file of {model.name}", model.path)]
-    if model.urdf is not None:
-        try:
-            # A xacro file is located only: expanding runs it, which is left to its readers.
-            xacro = model.urdf.xacro
-            urdf = resolve_urdf_path(model)[0] if xacro else read_model_urdf(model).path
-        except BackendUnavailable:  # example-robot-data is not installed: no file here
-            return found
-        found.append((f"the URDF of {model.name}", urdf))
-    return found
+    if model.urdf is None:
+        return found
+    what = f"the URDF of {model.name}"
+    try:
+        if model.urdf.xacro and not expand:
+            return [*found, (what, resolve_urdf_path(model)[0])]
+        return [*found, *urdf_inputs(read_model_urdf(model), what)]
+    except BackendUnavailable:  # example-robot-data is not installed: no file here
+        return found
 
 
 def _plugin_file(module: str) -> Path | None:

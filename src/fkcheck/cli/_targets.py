@@ -9,6 +9,7 @@ input in any file is one line and exit 2 before anything runs.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -20,7 +21,23 @@ if TYPE_CHECKING:
     from fkcheck.model.project import ProjectConfig
     from fkcheck.model.types import Model
 
-__all__ = ["Target", "load_targets", "project_config", "unique_stems"]
+__all__ = [
+    "ONLY_MODELS_HELP",
+    "Target",
+    "load_targets",
+    "model_files_only",
+    "named_model_files",
+    "project_config",
+    "unique_stems",
+]
+
+#: ``--only-models``'s help, the same for ``check`` and ``lint``.
+ONLY_MODELS_HELP = (
+    "pass over each named .toml/.csv file that is not a robot model file (a .toml without "
+    "[[joint]] tables, a .csv that is not a DH table: pyproject.toml, Cargo.toml, a poses "
+    "CSV), saying so on stderr; for the pre-commit hooks, which name every changed "
+    ".toml/.csv file"
+)
 
 
 @dataclass(frozen=True)
@@ -86,6 +103,43 @@ def _shown(path: Path) -> str:
         except ValueError:
             return str(path)
     return str(path)
+
+
+def model_files_only(items: Sequence[str]) -> tuple[list[str], list[str]]:
+    """``(kept, passed over)``: the named files that are robot model files, and the others.
+
+    A name that is no regular file (a bundled name, a directory, a path that is
+    not there) is kept: its reader says what it is. The rule is
+    :func:`fkcheck.model.read.is_model_file`, as for globs and directories.
+    """
+    from fkcheck.model.read import is_model_file
+
+    kept: list[str] = []
+    passed: list[str] = []
+    for item in items:
+        path = Path(item)
+        (kept if not path.is_file() or is_model_file(path) else passed).append(item)
+    return kept, passed
+
+
+def named_model_files(items: Sequence[str], command: str) -> list[str] | None:
+    """``--only-models``: the named model files; ``None`` when files were named but none is one.
+
+    Each file passed over is named in one line on stderr (as the terminal shows text).
+    """
+    from fkcheck.io.text import terminal_text
+
+    kept, passed = model_files_only(items)
+    if passed:
+        print(
+            f"fkcheck {command}: not robot model files, passed over: "
+            f"{terminal_text(', '.join(passed))}",
+            file=sys.stderr,
+        )
+    if items and not kept:
+        print(f"fkcheck {command}: no robot model file among the files named", file=sys.stderr)
+        return None
+    return kept
 
 
 def unique_stems(targets: Sequence[Target]) -> None:

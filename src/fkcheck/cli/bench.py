@@ -74,12 +74,13 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.bench.harness import run_bench
     from fkcheck.bench.jacobian import run_jacobian_bench
     from fkcheck.cli._console import console
-    from fkcheck.cli._outputs import model_inputs, plan
+    from fkcheck.cli._outputs import model_inputs, plan, writes
     from fkcheck.io.text import terminal_markup, terminal_text
     from fkcheck.model.read import load_model
 
     model = load_model(args.model)
-    plan(args, [("--json", args.json)], model_inputs(model))
+    outputs = [("--json", args.json)]
+    plan(args, outputs, model_inputs(model, expand=writes(outputs)))
     bench = run_jacobian_bench if args.jacobian else run_bench
     with console(stderr=True).status("timing…") as status:
         result = bench(

@@ -37,7 +37,7 @@ header prints before the backends run; their progress goes to stderr
 from __future__ import annotations
 
 import argparse
-import math
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from fkcheck.cli._targets import Target
     from fkcheck.model.project import ProjectConfig
 
+from fkcheck.cli._targets import ONLY_MODELS_HELP
 from fkcheck.cli.check_run import require_from_args, run_many, run_one
 
 __all__ = ["DEFAULT_OUT_DIR", "add_parser", "run"]
@@ -144,6 +145,7 @@ def add_parser(sub: Any) -> None:
         f"1e-6, at most {MAX_TOL_JACOBIAN:g}; implies --jacobian",
     )
     add_allow_xacro(p)
+    p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.add_argument("--timeout", type=float, metavar="S",
                    help="time limit per backend, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
@@ -215,10 +217,10 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
 
 
 def _validate(args: argparse.Namespace) -> None:
-    from fkcheck.backends.registry import MAX_TIMEOUT_S
     from fkcheck.core.tolerances import check_limit
     from fkcheck.errors import JointInputError
     from fkcheck.model.sampling import check_sampling_options
+    from fkcheck.process.supervise import timeout_problem
 
     check_sampling_options(args.samples, args.seed)
     # A value from [tool.fkcheck] is within range already (refused naming its file).
@@ -228,12 +230,9 @@ def _validate(args: argparse.Namespace) -> None:
         check_limit(args.tol_rot, "tol_rot", "--tol-rot")
     if args.tol_jacobian is not None:
         check_limit(args.tol_jacobian, "tol_jacobian", "--tol-jacobian")
-    if not (math.isfinite(args.timeout) and args.timeout > 0):
-        raise JointInputError(f"--timeout must be a positive number, got {args.timeout}")
-    if args.timeout > MAX_TIMEOUT_S:
-        raise JointInputError(
-            f"--timeout must be at most {MAX_TIMEOUT_S:g} s, got {args.timeout:g}"
-        )
+    problem = timeout_problem(args.timeout)
+    if problem is not None:
+        raise JointInputError(f"--timeout {problem}")
     if args.all and args.models:
         raise FkcheckError(
             f"--all checks every bundled model: drop MODEL ({' '.join(args.models)!r})"
@@ -281,9 +280,16 @@ def _targets(args: argparse.Namespace, project: ProjectConfig | None) -> list[Ta
 
 def run(args: argparse.Namespace) -> int:
     """Run the check, print, write the requested files."""
-    from fkcheck.cli._targets import project_config
+    from fkcheck.cli._targets import named_model_files, project_config
 
+    if args.only_models:
+        models = named_model_files(args.models, "check")
+        if models is None:  # files were named, none a model: nothing to check
+            return 0
+        args.models = models
     project = project_config()
+    # Named by every output (header, JSON, HTML), as the working directory sees it.
+    args.config = None if project is None else os.path.relpath(project.path)
     _apply_project(args, project)
     _validate(args)
     require_from_args(args)  # bad --require is exit 2 before anything runs

@@ -8,7 +8,7 @@ import shlex
 from typing import TYPE_CHECKING, Any
 
 from fkcheck.io.format import format_angle_console, format_length_console, format_scientific
-from fkcheck.io.text import terminal_markup, terminal_text
+from fkcheck.io.text import operand, terminal_markup, terminal_text
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -68,8 +68,13 @@ def header(
     names = ", ".join(b.name for b in backends) or "no backend"
     return terminal_markup(
         f"fkcheck {model.name}: {frame_from} → {frame_to}, {where}, tolerance {tol_pos:g} m / "
-        f"{tol_rot:g} rad, against {names}"
+        f"{tol_rot:g} rad, against {names}{_config(getattr(args, 'config', None))}"
     )
+
+
+def _config(path: str | None) -> str:
+    """``; config: PATH``: the ``pyproject.toml`` that applied (as pytest's ``configfile:``)."""
+    return "" if path is None else f"; config: {path}"
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
@@ -108,6 +113,7 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
         f"{terminal_markup(check.frame_to)}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
+        f"{terminal_markup(_config(check.config))}"
     )
     if title is None:
         title = not is_terminal()
@@ -219,8 +225,8 @@ def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
     """Offer ``fkcheck diagnose`` for the first backend that disagrees."""
     failed = [r for r in check.backends if r.status == "fail"]
     if failed:
-        argv = ["diagnose", model_arg, "--against", failed[0].name, "--from", check.frame_from,
-                "--to", check.frame_to]  # fmt: skip
+        argv = ["diagnose", operand(model_arg), "--against", failed[0].name,
+                "--from", check.frame_from, "--to", check.frame_to]  # fmt: skip
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
 
 

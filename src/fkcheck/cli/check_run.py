@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck.cli.progress import PLAIN_INTERVAL_S
 from fkcheck.errors import FkcheckError
-from fkcheck.io.text import terminal_text
+from fkcheck.io.text import operand, terminal_text
 
 if TYPE_CHECKING:
     from collections.abc import Mapping, Sequence
@@ -127,7 +127,7 @@ def model_command(args: argparse.Namespace, model: str) -> str:
     """The command line that reproduces one model's check of a run over several."""
     argv = [
         "check",
-        model,
+        operand(model),
         "--samples",
         str(args.samples),
         "--seed",
@@ -165,7 +165,13 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     import datetime as _dt
     from dataclasses import replace
 
-    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.cli._outputs import (
+        backend_inputs,
+        model_inputs,
+        plan,
+        step_summary_target,
+        writes,
+    )
     from fkcheck.cli._targets import unique_stems
     from fkcheck.io.output_paths import check_output_dir
     from fkcheck.report.html import write_html, write_index
@@ -177,8 +183,6 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     if out_dir is not None:
         check_output_dir("--out-dir", out_dir)
         unique_stems(targets)
-    inputs = [item for target in targets for item in model_inputs(target.model)]
-    inputs += backend_inputs(backends_from_args(args))
     # File names come from the model file's name, never from text inside it.
     files = {t.stem: (f"{t.stem}.html", f"{t.stem}.json", f"{t.stem}.junit.xml") for t in targets}
     outputs: list[tuple[str, Path | str | None]] = []
@@ -186,6 +190,10 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         outputs += [("--out-dir", out_dir / name) for names in files.values() for name in names]
         outputs.append(("--out-dir", out_dir / "index.html"))
     outputs.append(("--summary", args.summary))
+    expand = writes(outputs)
+    inputs = [item for target in targets for item in model_inputs(target.model, expand=expand)]
+    inputs += backend_inputs(backends_from_args(args))
+    inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
@@ -200,7 +208,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         outcome = check_with_progress(
             args, target.model, backends_from_args(args), diagnose=diagnose
         )
-        check = replace(outcome.check, command=model_command(args, target.arg))
+        check = replace(outcome.check, command=model_command(args, target.arg), config=args.config)
         if out_dir is not None:
             names = files[target.stem]
             write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
@@ -254,7 +262,13 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     """One model: its table, and the files asked for."""
     from dataclasses import replace
 
-    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, step_summary_target
+    from fkcheck.cli._outputs import (
+        backend_inputs,
+        model_inputs,
+        plan,
+        step_summary_target,
+        writes,
+    )
     from fkcheck.report.html import write_html
     from fkcheck.report.json_report import write_json
     from fkcheck.report.junit import write_junit
@@ -263,16 +277,18 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     for warning in model.warnings:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     backends = backends_from_args(args)
-    inputs = [*model_inputs(model), *backend_inputs(backends)]
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
+    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends)]
+    inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
     cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4
     outcome = check_with_progress(
         args, model, backends, diagnose=args.diagnose and (cause_shown or annotate())
     )
-    check = replace(outcome.check, command="fkcheck " + shlex.join(getattr(args, "argv", [])))
+    argv = getattr(args, "argv", [])
+    check = replace(outcome.check, command="fkcheck " + shlex.join(argv), config=args.config)
     # Files first: a closed or full stdout must not cost the run its reports.
     if args.json is not None:
         write_json(check, args.json)

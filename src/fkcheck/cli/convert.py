@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from pathlib import Path
 from typing import Any
@@ -38,11 +39,11 @@ def run(args: argparse.Namespace) -> int:
     """Convert, verify, write."""
     import tomllib
 
-    from fkcheck.cli._outputs import model_inputs, plan
+    from fkcheck.cli._outputs import model_inputs, plan, writes
     from fkcheck.errors import JointInputError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.format import format_angle_console, format_length_console
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.convert import convert_model, equivalence_error
     from fkcheck.model.read import load_model, model_from_dict
     from fkcheck.model.sampling import sample_configurations
@@ -51,7 +52,8 @@ def run(args: argparse.Namespace) -> int:
     if args.samples < 0:
         raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
     model = load_model(args.model)
-    plan(args, [("-o", args.output)], model_inputs(model))
+    outputs = [("-o", args.output)]
+    plan(args, outputs, model_inputs(model, expand=writes(outputs)))
     converted = convert_model(model, args.to)
     if args.output is not None:
         converted = relocate_urdf_path(converted, args.output)
@@ -80,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(args.output, text)
         print(summary)
         print(f"wrote {terminal_text(args.output)}")
+        again = terminal_text(shlex.quote(operand(str(args.output))))
         if converted.urdf is not None:
-            print(f"cross-check it against its URDF: fkcheck check {terminal_text(args.output)}")
+            print(f"cross-check it against its URDF: fkcheck check {again}")
     return 0 if ok else 1

@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from fkcheck.cli._arguments import utf8_text
 from fkcheck.cli.expand import add_xacro_options, xacro_inputs
 
 __all__ = ["add_parser", "run"]
@@ -35,7 +37,7 @@ def add_parser(sub: Any) -> None:
         default="standard",
         help="DH convention of the table (default standard)",
     )
-    p.add_argument("--name", help="model name (default: the URDF's robot name)")
+    p.add_argument("--name", type=utf8_text, help="model name (default: the URDF's robot name)")
     p.add_argument(
         "--deg",
         action="store_true",
@@ -54,19 +56,20 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
-    from fkcheck.cli._outputs import plan
+    from fkcheck.cli._outputs import plan, urdf_inputs
     from fkcheck.io.atomic import write_text_atomic
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.write import model_to_toml
-    from fkcheck.urdf.chain import read_urdf_file
+    from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.to_dh import dh_from_urdf
 
     values, packages = xacro_inputs(args)
-    path, _text, kin = read_urdf_file(
+    info = read_urdf_source(
         args.urdf, xacro_args=values if args.allow_xacro else None, packages=packages
     )
-    plan(args, [("-o", args.output)], [("the URDF", path)])
+    plan(args, [("-o", args.output)], urdf_inputs(info, "the URDF"))
+    path, kin = info.path, urdf_kinematics(info)
     spec = urdf_spec_for(path, args.output)
     result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name, urdf_spec=spec)
     model = result.model
@@ -108,5 +111,6 @@ def run(args: argparse.Namespace) -> int:
     write_text_atomic(args.output, text)
     print(summary)
     written = terminal_text(args.output)
-    print(f"wrote {written}; check it: fkcheck check {written}")
+    again = terminal_text(shlex.quote(operand(str(args.output))))
+    print(f"wrote {written}; check it: fkcheck check {again}")
     return 0

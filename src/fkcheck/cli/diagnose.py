@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
     from fkcheck.backends.base import BackendUnavailable
     from fkcheck.backends.registry import make_backend
-    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan
+    from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, writes
     from fkcheck.core.tolerances import check_limit
     from fkcheck.diagnose import diagnose, format_text, to_dict
     from fkcheck.errors import BackendNotFoundError
@@ -79,7 +79,9 @@ def run(args: argparse.Namespace) -> int:
             )
         name = "pinocchio-urdf"
     backend = make_backend(name)
-    plan(args, [("--json", args.json)], [*model_inputs(model), *backend_inputs([backend])])
+    outputs = [("--json", args.json)]
+    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend])]
+    plan(args, outputs, inputs)
     reason = backend.unavailable_reason(model)
     if reason is not None:
         raise BackendUnavailable(f"{backend.name} cannot run here: {reason}")

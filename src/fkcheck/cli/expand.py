@@ -11,6 +11,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from fkcheck.cli._arguments import utf8_text
 from fkcheck.errors import FkcheckError
 
 __all__ = ["add_allow_xacro", "add_parser", "add_xacro_options", "run", "xacro_inputs"]
@@ -35,6 +36,7 @@ def add_xacro_options(p: argparse.ArgumentParser, *, allow: bool = True) -> None
         dest="xacro_args",
         action="append",
         default=[],
+        type=utf8_text,
         metavar="NAME=VALUE",
         help="a xacro argument, as NAME:=VALUE on xacro's command line (repeatable)",
     )
@@ -43,6 +45,7 @@ def add_xacro_options(p: argparse.ArgumentParser, *, allow: bool = True) -> None
         dest="xacro_packages",
         action="append",
         default=[],
+        type=utf8_text,
         metavar="NAME=DIR",
         help="a package $(find NAME) resolves to DIR (repeatable); no other package is found",
     )
@@ -113,27 +116,28 @@ def add_parser(sub: Any) -> None:
         "--timeout",
         type=float,
         metavar="S",
-        help="time limit of the expansion, seconds (default 60)",
+        help="time limit of the expansion, seconds (default 60, at most 86400)",
     )
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Expand, screen, write atomically."""
-    import math
-
     from fkcheck.cli._outputs import plan
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
-    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, expand_xacro, screen_expansion
+    from fkcheck.process.supervise import timeout_problem
+    from fkcheck.urdf.source import screen_xacro_text
+    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, expand_xacro
 
     timeout = XACRO_TIMEOUT_S if args.timeout is None else args.timeout
-    if not (math.isfinite(timeout) and timeout > 0):
-        raise FkcheckError(f"--timeout must be a positive number, got {args.timeout}")
+    problem = timeout_problem(timeout)
+    if problem is not None:
+        raise FkcheckError(f"--timeout {problem}")
     values, packages = xacro_inputs(args)
     expansion = expand_xacro(args.xacro, values, packages, timeout)
     text = expansion.text
-    info = screen_expansion(args.xacro, text)
+    info = screen_xacro_text(args.xacro, text)
     sources = [("the xacro file", args.xacro)]
     sources += [("a file the xacro file includes", f) for f in expansion.files[1:]]
     plan(args, [("-o", args.output)], sources)

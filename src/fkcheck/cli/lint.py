@@ -14,6 +14,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from fkcheck.cli._targets import ONLY_MODELS_HELP
 from fkcheck.model.lint_rules import LINT_RULES
 
 __all__ = ["add_parser", "run"]
@@ -45,12 +46,13 @@ def add_parser(sub: Any) -> None:
         "[tool.fkcheck] lint_ignore and the model file's [lint] ignore",
     )
     p.add_argument("--json", action="store_true", help="print the findings as JSON")
+    p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Lint every model and print one block per file; exit 1 if any has a warning."""
-    from fkcheck.cli._targets import load_targets, project_config
+    from fkcheck.cli._targets import load_targets, named_model_files, project_config
     from fkcheck.errors import FkcheckError
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_text
@@ -61,8 +63,13 @@ def run(args: argparse.Namespace) -> int:
         ignore = parse_lint_rules(args.ignore)
     except ValueError as exc:
         raise FkcheckError(f"--ignore: {exc}") from None
+    models = named_model_files(args.models, "lint") if args.only_models else args.models
+    if models is None:  # files were named, none a model: nothing to lint
+        if args.json:
+            print("[]")
+        return 0
     project = project_config()
-    targets = load_targets(args.models, project)
+    targets = load_targets(models, project)
     ignore += project.lint_ignore if project is not None else ()
     reports = []
     for target in targets:

@@ -13,7 +13,8 @@ character its encoding cannot carry by a backslash escape (``PYTHONIOENCODING=as
 prints ``\u2192`` for ``→``) instead of failing. When standard output cannot be
 written (``> /dev/full``), the run ends with one line on stderr and exit 2;
 a closed pipe (``| head``) ends it quietly with the run's own exit code.
-A command that writes files keeps its :class:`~fkcheck.io.output_paths.OutputPlan`
+A closed stream (``>&-``) is given ``/dev/null``: the run goes on with its own
+exit code. A command that writes files keeps its :class:`~fkcheck.io.output_paths.OutputPlan`
 on ``args.output_plan``, so that an interrupted run says which of them it wrote.
 """
 
@@ -104,6 +105,26 @@ def _on_sigterm(signum: int, frame: object) -> None:
     raise _Terminated
 
 
+def _open_closed_streams() -> None:
+    """Give a closed stdin, stdout or stderr (``>&-``) ``/dev/null``, as if redirected there.
+
+    Python starts with ``sys.stdout = None`` when descriptor 1 is closed, and the
+    next file opened would take descriptor 1: a report, or a backend's child
+    inheriting it as its stdout. With ``/dev/null`` there, the run goes on and
+    ends with its own exit code, its output going nowhere, as nobody reads it.
+    """
+    for fd, name, mode in ((0, "stdin", "r"), (1, "stdout", "w"), (2, "stderr", "w")):
+        try:
+            os.fstat(fd)
+        except OSError:  # closed: the lowest free descriptor is this one
+            null = os.open(os.devnull, os.O_RDONLY if fd == 0 else os.O_WRONLY)
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+        if getattr(sys, name) is None:
+            setattr(sys, name, open(fd, mode, encoding="utf-8", closefd=False))  # noqa: SIM115
+
+
 def _tolerant_streams() -> None:
     r"""Let stdout and stderr write any text: what their encoding lacks becomes ``\uXXXX``."""
     for stream in (sys.stdout, sys.stderr):
@@ -146,6 +167,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line and return the exit code."""
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _on_sigterm)
+    _open_closed_streams()
     _tolerant_streams()
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     return _flush_stdout(_run(args_list))

@@ -56,14 +56,14 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read, map, write the block, summarise."""
-    from fkcheck.cli._outputs import plan
+    from fkcheck.cli._outputs import Input, plan, urdf_inputs
     from fkcheck.cli.expand import xacro_inputs
     from fkcheck.errors import FkcheckError, XacroRefused
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.model.read import load_model
     from fkcheck.model.sampling import check_sampling_options
-    from fkcheck.urdf.chain import read_urdf_file, urdf_kinematics
+    from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
     from fkcheck.urdf.source import allow_xacro, read_model_urdf
@@ -78,17 +78,16 @@ def run(args: argparse.Namespace) -> int:
     declared: dict[str, str] = {}
     if args.urdf is not None:
         try:
-            path, _text, kin = read_urdf_file(args.urdf)
+            info = read_urdf_source(args.urdf)
         except XacroRefused:
             if not args.allow_xacro:
                 raise
-            path, _text, kin = read_urdf_file(args.urdf, xacro_args=values, packages=packages)
+            info = read_urdf_source(args.urdf, xacro_args=values, packages=packages)
             xacro_args = values
             declared = {name: path_for(where, model.path) for name, where in packages.items()}
-        spec = urdf_spec_for(path, model.path)  # relative to the model file the block goes in
+        spec = urdf_spec_for(info.path, model.path)  # relative to the model file it goes in
     elif model.urdf is not None:
         info = read_model_urdf(model)  # screened; expanded first when xacro = true
-        path, kin = info.path, urdf_kinematics(info)
         spec = model.urdf.path
         if model.urdf.xacro:
             xacro_args, declared = dict(model.urdf.xacro_args), dict(model.urdf.packages)
@@ -97,7 +96,9 @@ def run(args: argparse.Namespace) -> int:
             f"model {model.name} has no [urdf]: give the URDF to map it onto "
             "(fkcheck map MODEL URDF, a file or example-robot-data:<subpath>)"
         )
-    plan(args, [("-o", args.output)], [("the model", model.path), ("the URDF", path)])
+    path, kin = info.path, urdf_kinematics(info)
+    inputs: list[Input] = [("the model", model.path), *urdf_inputs(info, "the URDF")]
+    plan(args, [("-o", args.output)], inputs)
     result = map_model(
         model, kin, spec, samples=args.samples, seed=args.seed,
         xacro_args=xacro_args, packages=declared,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 from pathlib import Path
 from typing import Any
 
@@ -12,6 +13,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli._arguments import utf8_text
     from fkcheck.cli.expand import add_allow_xacro
 
     p = sub.add_parser(
@@ -33,7 +35,7 @@ def add_parser(sub: Any) -> None:
         metavar="MODEL.toml",
         help="also write the model mapped onto the new URDF",
     )
-    p.add_argument("--name", help="<robot name> (default: the model's name)")
+    p.add_argument("--name", type=utf8_text, help="<robot name> (default: the model's name)")
     add_allow_xacro(p)
     p.set_defaults(run=run)
 
@@ -42,7 +44,7 @@ def run(args: argparse.Namespace) -> int:
     """Write the URDF (and the companion model)."""
     from fkcheck.cli._outputs import model_inputs, plan
     from fkcheck.io.atomic import write_text_atomic
-    from fkcheck.io.text import terminal_text
+    from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.read import load_model
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.export import model_for_urdf, urdf_from_model
@@ -63,5 +65,6 @@ def run(args: argparse.Namespace) -> int:
         header = [f"{model.name} mapped onto {args.output.name}, written by fkcheck urdf."]
         write_text_atomic(args.write_model, model_to_toml(mapped, header=header))
         written = terminal_text(args.write_model)
-        print(f"wrote {written}; check it: fkcheck check {written}")
+        again = terminal_text(shlex.quote(operand(str(args.write_model))))
+        print(f"wrote {written}; check it: fkcheck check {again}")
     return 0

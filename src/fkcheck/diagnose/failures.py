@@ -23,6 +23,7 @@ from fkcheck.backends.base import Backend
 from fkcheck.diagnose.findings import Diagnosis
 from fkcheck.diagnose.run import diagnose
 from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.io.text import operand
 
 __all__ = ["BackendDiagnosis", "diagnose_command", "diagnose_failures", "same_disagreement"]
 
@@ -67,7 +68,7 @@ def same_disagreement(check: CheckResult, a: BackendResult, b: BackendResult) ->
 def diagnose_command(check: CheckResult, backend: str) -> str:
     """The ``fkcheck diagnose`` command line that reproduces a diagnosis of the report."""
     model = check.model
-    argv = ["diagnose", str(model.path) if model.path is not None else model.name]
+    argv = ["diagnose", operand(str(model.path)) if model.path is not None else model.name]
     argv += ["--against", backend, "--from", check.frame_from, "--to", check.frame_to]
     if check.seed != 0:
         argv += ["--seed", str(check.seed)]

@@ -212,6 +212,8 @@ class CheckResult:
         tolerance_source: Where the position and the rotation tolerance came
             from (``--tol-pos``, the model's ``[check]``, ``[tool.fkcheck] in
             …/pyproject.toml``).
+        config: The ``pyproject.toml`` whose ``[tool.fkcheck]`` gave the check
+            its defaults, as the CLI names it (set by the CLI); ``None``: none did.
     """
 
     model: Model
@@ -233,6 +235,7 @@ class CheckResult:
     jacobian: JacobianSpec | None = None
     numbers: Coverage | None = None
     tolerance_source: tuple[str, str] = ("", "")
+    config: str | None = None
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

@@ -5,10 +5,12 @@ directory, ``urdf -o``, ``convert -o``, ``dh-from-urdf -o``, ``bench --json``,
 ``diagnose --json``) calls :func:`plan_outputs` with its outputs and its inputs
 before the (possibly long) work starts. The rules:
 
-* an output never replaces an input of the same run (the model file, its URDF,
-  a measured-poses CSV, a ``cmd:`` program or a file on its command line): the
-  same file is the same device and inode, so a symbolic or hard link to an
-  input is refused too;
+* an output never replaces an input of the same run (the model file, its URDF
+  and, for a xacro URDF, every file its expansion read — includes and
+  ``load_yaml`` files —, a measured-poses CSV, a ``cmd:`` program or a file on
+  its command line; :mod:`fkcheck.cli._outputs` names them): the same file is
+  the same device and inode, so a symbolic or hard link to an input is refused
+  too;
 * two outputs of one run never share a path (``--json X --html X``);
 * only regular files or new paths are written: an existing directory, device
   (``/dev/null``), FIFO or socket is refused — as root too, where replacing

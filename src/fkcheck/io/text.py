@@ -20,7 +20,9 @@ text through one function here:
 * :func:`xml_safe_tree` — :func:`document_text` over every attribute and text
   of an ElementTree, just before it is serialised;
 * :func:`markdown_text` — one line for a Markdown table cell: whitespace
-  folded, controls escaped, HTML and Markdown special characters escaped.
+  folded, controls escaped, HTML and Markdown special characters escaped;
+* :func:`operand` — a file name in a command line fkcheck suggests or records:
+  never read as an option.
 
 The control characters are the C0 set (U+0000–U+001F), DEL, the C1 set
 (U+0080–U+009F, which some terminals read as escape sequences), the Unicode
@@ -39,6 +41,7 @@ import xml.etree.ElementTree as ET
 __all__ = [
     "document_text",
     "markdown_text",
+    "operand",
     "terminal_lines",
     "terminal_markup",
     "terminal_text",
@@ -59,6 +62,12 @@ _CONTROLS = re.compile(f"[{_CONTROL}]")
 _XML_WHITESPACE = "\t\n\r"
 _SHORT = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
 _MARKDOWN_SPECIAL = re.compile(r"([\\`*_\[\]|#~])")
+#: Put after what starts a GitHub link or mention, it breaks the pattern and shows nothing.
+_NO_LINK = "\u200b"
+#: ``@`` (mentions, e-mail addresses), the ``:`` of ``scheme://``, ``#`` (issue references).
+_AUTOLINK = re.compile(r"@|:(?=//)|#")
+#: ``www.`` (GitHub links it without a scheme).
+_WWW = re.compile(r"(?i)\b(www)\.")
 
 
 def visible_escape(char: str) -> str:
@@ -77,6 +86,15 @@ def _escape_controls(text: object, keep: str = "") -> str:
         return char if char in keep else visible_escape(char)
 
     return _CONTROLS.sub(replace, str(text))
+
+
+def operand(name: str) -> str:
+    """A file name as a command-line operand: ``./`` before one that starts with ``-``.
+
+    ``--against=cmd:x.toml`` is a file that an argument parser would take for an
+    option; ``./--against=cmd:x.toml`` is the same file and never an option.
+    """
+    return f"./{name}" if name.startswith("-") else name
 
 
 def terminal_text(text: object) -> str:
@@ -147,13 +165,17 @@ def xml_safe_tree(root: ET.Element) -> ET.Element:
 
 
 def markdown_text(text: object) -> str:
-    """Text safe inside a Markdown table cell: one line, no markup, no HTML, no controls.
+    """Text safe inside a Markdown table cell: one line, no markup, no HTML, no link, no mention.
 
     Whitespace runs (line breaks included) fold to one space; the remaining
     control characters become visible escapes; HTML special characters become
     entities and Markdown's own (``|``, backticks, brackets, emphasis marks,
     backslash) are backslash-escaped, so the text cannot break the table or
-    inject markup.
+    inject markup. What GitHub would turn into a link or a notification —
+    ``@user`` (and e-mail addresses), ``scheme://`` URLs, ``www.`` names, ``#123``
+    — gets a zero-width space after its ``@``, ``:`` or ``#`` and before the dot
+    of ``www.``: it reads the same and links nowhere (as bots such as Renovate do).
     """
     one_line = terminal_text(" ".join(str(text).split()))
-    return _MARKDOWN_SPECIAL.sub(r"\\\1", html.escape(one_line, quote=False))
+    escaped = _MARKDOWN_SPECIAL.sub(r"\\\1", html.escape(one_line, quote=False))
+    return _AUTOLINK.sub(lambda m: m.group() + _NO_LINK, _WWW.sub(rf"\1{_NO_LINK}.", escaped))

@@ -1,4 +1,4 @@
-"""A user's project: ``[tool.fkcheck]`` in the nearest ``pyproject.toml``, and the models it names.
+"""A user's project: ``[tool.fkcheck]`` in the ``pyproject.toml`` that applies, and its models.
 
 A repository that keeps its robots' tables sets its defaults once::
 
@@ -9,16 +9,20 @@ A repository that keeps its robots' tables sets its defaults once::
     jacobian = true                               # also compare Jacobians
 
 ``fkcheck check`` / ``fkcheck lint`` without files, the pytest plugin and the
-pre-commit hooks read it; a command-line flag always wins over it. Paths and
-globs are relative to the ``pyproject.toml``'s directory, and must stay inside
-it (a glob never reaches ``..`` or an absolute path). The file is read like
-every input: a regular file of at most 1 MiB of UTF-8, one clear line when it
-is wrong (:class:`ProjectError`, exit 2).
+pre-commit hooks read it; a command-line flag always wins over it. The file
+that applies is the nearest ``pyproject.toml`` at or above the working
+directory, never above the repository's root (:func:`find_pyproject`), and
+every output of ``fkcheck check`` names it. Paths and globs are relative to the
+``pyproject.toml``'s directory, and must stay inside it (a glob never reaches
+``..`` or an absolute path). The file is read like every input: a regular file
+of at most 1 MiB of UTF-8, one clear line when it is wrong
+(:class:`ProjectError`, exit 2).
 """
 
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -30,10 +34,12 @@ from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
 from fkcheck.model.lint_rules import parse_lint_rules
+from fkcheck.model.read import is_model_file
 from fkcheck.model.require import Kind, parse_require
 
 __all__ = [
     "MODEL_SUFFIXES",
+    "REPOSITORY_MARKERS",
     "ProjectConfig",
     "ProjectError",
     "expand_model_paths",
@@ -44,6 +50,8 @@ __all__ = [
 
 #: Suffixes of model files found in a directory or by a glob.
 MODEL_SUFFIXES = (".toml", ".csv")
+#: What marks a repository's root: no ``pyproject.toml`` above it applies.
+REPOSITORY_MARKERS = (".git", ".hg")
 #: How many model files one list may expand to (a glob over a huge tree stops here).
 MAX_MODEL_FILES = 10_000
 
@@ -52,6 +60,8 @@ _KEYS = (
     "tol_pos_m", "tol_rot_rad", "lint_ignore", "jacobian", "jacobian_reference", "tol_jacobian",
 )  # fmt: skip
 _SAMPLERS = ("sobol", "uniform")
+#: What a model file is, in messages.
+_MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
 
 
 class ProjectError(FkcheckError):
@@ -131,12 +141,22 @@ class ProjectConfig:
 
 
 def find_pyproject(start: Path | None = None) -> Path | None:
-    """The nearest ``pyproject.toml`` at or above ``start`` (default: the working directory)."""
+    """The ``pyproject.toml`` that applies at ``start`` (default: the working directory).
+
+    Found as pytest and ruff find theirs, but never above the repository: the
+    nearest ``pyproject.toml`` at or above ``start``, looking no further than
+    the first one (with or without ``[tool.fkcheck]``: then none applies) and
+    no further than a directory holding one of :data:`REPOSITORY_MARKERS`
+    (whose own ``pyproject.toml`` still counts). A ``pyproject.toml`` that is
+    there but no regular file is found too: reading it says what it is.
+    """
     here = (start or Path.cwd()).resolve()
     for directory in (here, *here.parents):
         candidate = directory / "pyproject.toml"
-        if candidate.is_file():
+        if os.path.lexists(candidate):
             return candidate
+        if any(os.path.lexists(directory / marker) for marker in REPOSITORY_MARKERS):
+            return None
     return None
 
 
@@ -160,6 +180,17 @@ def _positive(path: Path, key: str, value: Any) -> float:
     number = float(value)
     if not math.isfinite(number) or number <= 0:
         raise ProjectError(path, f"tool.fkcheck.{key}", f"must be positive and finite, not {value}")
+    return number
+
+
+def _timeout(path: Path, value: Any) -> float:
+    """A time limit within the one rule (:func:`fkcheck.process.supervise.timeout_problem`)."""
+    from fkcheck.process.supervise import timeout_problem
+
+    number = _positive(path, "timeout", value)
+    problem = timeout_problem(number)
+    if problem is not None:
+        raise ProjectError(path, "tool.fkcheck.timeout", problem)
     return number
 
 
@@ -216,7 +247,7 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         else None,
         seed=_int(path, "seed", table["seed"], 0, 2**32 - 1) if "seed" in table else None,
         sampler=sampler,
-        timeout=_positive(path, "timeout", table["timeout"]) if "timeout" in table else None,
+        timeout=_timeout(path, table["timeout"]) if "timeout" in table else None,
         require=require,
         tol_pos_m=_limit(path, table, "tol_pos_m", "tol_pos"),
         tol_rot_rad=_limit(path, table, "tol_rot_rad", "tol_rot"),
@@ -270,10 +301,14 @@ def expand_model_paths(
     """Model files from files, directories and globs, in order, each once.
 
     A directory gives its ``*.toml`` and ``*.csv`` files (not recursively),
-    sorted; a glob (``*``, ``?``, ``[``) its matches with those suffixes, sorted;
-    a file is taken as it is (its reader checks it). With ``root`` (a project's
-    directory), relative items are relative to it, and directories and globs
-    must stay inside it.
+    sorted, each read as a model (one that is not is bad input, named); a glob
+    (``*``, ``?``, ``[``) its matching model files only, sorted
+    (:func:`fkcheck.model.read.is_model_file`: ``[[joint]]`` tables or a DH
+    CSV; ``pyproject.toml``, ``Cargo.toml`` or a poses CSV are passed over); a
+    file is taken as it is (its reader checks it), and a path that exists is a
+    file or directory, never a glob (``arm[2].toml``).
+    With ``root`` (a project's directory), relative items are relative to it,
+    and directories and globs must stay inside it.
 
     Raises:
         FkcheckError: A glob or directory that names no model file, one outside
@@ -300,7 +335,8 @@ def expand_model_paths(
     for raw in items:
         item = str(raw)
         base = root if root is not None else Path.cwd()
-        if any(c in item for c in "*?["):
+        path = Path(item) if root is None or Path(item).is_absolute() else root / item
+        if any(c in item for c in "*?[") and not os.path.lexists(path):
             if Path(item).is_absolute() or ".." in Path(item).parts:
                 raise fail(item, "a glob must be relative and stay inside the project")
             found = sorted(
@@ -308,11 +344,11 @@ def expand_model_paths(
             )
             if root is not None:
                 found = [p for p in found if _inside(p, root)]
+            found = [p for p in found if is_model_file(p)]
             if not found:
-                raise fail(item, "matches no .toml or .csv model file")
+                raise fail(item, f"matches no model file ({_MODEL_FILES})")
             add(found)
             continue
-        path = Path(item) if root is None or Path(item).is_absolute() else root / item
         if path.is_dir():
             if root is not None and not _inside(path, root):
                 raise fail(item, "a directory outside the project")

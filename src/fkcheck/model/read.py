@@ -11,6 +11,7 @@ the problem; the bounds are those of :mod:`fkcheck.model.types`, and of
 from __future__ import annotations
 
 import math
+import re
 import sys
 import tomllib
 from collections.abc import Mapping
@@ -43,6 +44,7 @@ __all__ = [
     "KNOWN_DIFFERENCE_PREFIXES",
     "bundled_model_paths",
     "bundled_models_dir",
+    "is_model_file",
     "load_model",
     "model_from_dict",
 ]
@@ -131,6 +133,42 @@ def load_model(name_or_path: str | Path) -> Model:
     except RecursionError:  # arrays or inline tables nested thousands deep
         raise ModelError(path, "", "not valid TOML: arrays or tables nested too deeply") from None
     return model_from_dict(data, path)
+
+
+#: A ``[[joint]]`` table header: what makes a TOML file a model file.
+_JOINT_TABLE = re.compile(r"^[ \t]*\[\[[ \t]*joint[ \t]*\]\]", re.MULTILINE)
+
+
+def is_model_file(path: Path) -> bool:
+    """Whether a file found by a glob or in a directory is a robot model file.
+
+    A ``.toml`` file is one when it has a ``[[joint]]`` table (or a top-level
+    ``joint`` array), a ``.csv`` file when its first row is a DH row (five fields,
+    the last four numbers): ``pyproject.toml``, ``Cargo.toml`` or a poses CSV
+    are not. A file that cannot be read counts as one, so that its reader says
+    what is wrong with it instead of the file going unnoticed.
+    """
+    try:
+        content = read_text(path, MAX_MODEL_FILE_BYTES)
+    except InputFileError:
+        return True
+    if path.suffix.lower() == ".csv":
+        for line in content.splitlines():
+            if line.strip() and not line.strip().startswith("#"):
+                fields = split_fields(line)
+                try:
+                    for _, text in fields[1:]:
+                        parse_number(text)
+                except NumberError:
+                    return False
+                return len(fields) == 5
+        return False
+    if _JOINT_TABLE.search(content):
+        return True
+    try:
+        return "joint" in tomllib.loads(content)
+    except (tomllib.TOMLDecodeError, ValueError, RecursionError):
+        return False
 
 
 def _model_from_csv(content: str, path: Path) -> Model:
@@ -395,6 +433,12 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         if "path" not in u:
             raise r.fail("urdf.path", "missing (required in [urdf])")
         upath = r.string(u["path"], "urdf.path")
+        if not upath.strip() or upath.strip() == "example-robot-data:":
+            raise r.fail(
+                "urdf.path",
+                f"{show_text(upath)} names no file: give the URDF's path (relative to this file) "
+                "or example-robot-data:<subpath>",
+            )
         raw_uj = u.get("joints")
         if not isinstance(raw_uj, list) or not all(isinstance(x, str) for x in raw_uj):
             raise r.fail("urdf.joints", "expected a list of URDF joint names in DH order")

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import math
 import os
 import selectors
 import signal
@@ -47,6 +48,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 __all__ = [
+    "MAX_TIMEOUT_S",
     "STDERR_TAIL_BYTES",
     "TERMINATE_GRACE_S",
     "Finished",
@@ -58,7 +60,27 @@ __all__ = [
     "last_stderr_line",
     "run_supervised",
     "terminate_all",
+    "timeout_problem",
 ]
+
+#: Longest time limit fkcheck takes, seconds (a day: longer than any CI job runs;
+#: a far larger one overflows the thread and process waits).
+MAX_TIMEOUT_S = 86_400.0
+
+
+def timeout_problem(value: float) -> str | None:
+    """What is wrong with a time limit, in seconds (``must be …, got …``), or ``None``.
+
+    The one rule for every time limit fkcheck takes (``check --timeout``,
+    ``expand --timeout``, ``[tool.fkcheck] timeout``): positive, finite and at
+    most :data:`MAX_TIMEOUT_S`.
+    """
+    if not (math.isfinite(value) and value > 0):
+        return f"must be a positive number, got {value}"
+    if value > MAX_TIMEOUT_S:
+        return f"must be at most {MAX_TIMEOUT_S:g} s, got {value:g}"
+    return None
+
 
 #: After a stop is asked for (time limit, output limit, exit), how long the
 #: supervisor has to kill everything before its process group is SIGKILLed, s.

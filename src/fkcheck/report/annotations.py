@@ -76,7 +76,10 @@ def field_line(source: str, field: str) -> int | None:
     seen = -1
     inside = False
     key_line = re.compile(rf"^\s*{re.escape(key)}\s*=")
-    for number, line in enumerate(source.splitlines(), start=1):
+    lines = source.splitlines()
+    for number, (line, in_string) in enumerate(zip(lines, _in_string(lines), strict=True), 1):
+        if in_string:  # inside a multi-line string: text, not TOML (a description's lines)
+            continue
         header = _HEADER.match(line)
         if header is not None:
             array = header[1] == "[["
@@ -90,6 +93,41 @@ def field_line(source: str, field: str) -> int | None:
         if inside and key_line.match(line):
             return number
     return None
+
+
+def _in_string(lines: Sequence[str]) -> list[bool]:
+    """For each line, whether it starts inside a multi-line string (triple quotes).
+
+    A scan of TOML's quoting: basic strings (backslash escapes), literal strings,
+    their multi-line forms, and comments, which end the line.
+    """
+    starts: list[bool] = []
+    open_: str | None = None  # the delimiter of the multi-line string we are in
+    for line in lines:
+        starts.append(open_ is not None)
+        i = 0
+        while i < len(line):
+            if open_ is not None:
+                if open_ == '"""' and line[i] == "\\":
+                    i += 2
+                    continue
+                if line.startswith(open_, i):
+                    open_, i = None, i + 3
+                    continue
+                i += 1
+                continue
+            char = line[i]
+            if char == "#":
+                break
+            if line.startswith(('"""', "'''"), i):
+                open_, i = line[i : i + 3], i + 3
+                continue
+            if char in "\"'":
+                i += 1
+                while i < len(line) and line[i] != char:
+                    i += 2 if char == '"' and line[i] == "\\" else 1
+            i += 1
+    return starts
 
 
 def _relative(path: Path) -> str:

@@ -119,6 +119,14 @@ def build_index_page(
     facts += [Fact(k, v, volatile="version") for k, v in versions.items()]
     if command:
         facts.append(Fact("command", command, code=True))
+    configs = sorted({e.check.config for e in entries if e.check.config is not None})
+    facts.append(
+        Fact(
+            "configuration",
+            ", ".join(f"[tool.fkcheck] of {c}" for c in configs) or "none",
+            volatile="path" if configs else "",
+        )
+    )
     return IndexPage(
         title=f"fkcheck: {len(models)} models, {overall.upper()}",
         verdict=overall,

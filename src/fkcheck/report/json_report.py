@@ -161,6 +161,7 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "cross_checked": len(check.ran),
         "fkcheck_version": __version__,
         "command": check.command,
+        "config": check.config,
         "created": check.created,
         "duration_s": round(check.duration_s, 6),
     }

@@ -181,6 +181,11 @@ def build_report_page(
             str(model.path) if model.path is not None else "(built in memory)",
             volatile="path",
         ),
+        Fact(
+            "configuration",
+            f"[tool.fkcheck] of {check.config}" if check.config is not None else "none",
+            volatile="path" if check.config is not None else "",
+        ),
         Fact("checked at", check.created or "–", volatile="date"),
         Fact("took", format_seconds(check.duration_s), volatile="duration"),
         Fact("versions", " · ".join(f"{k} {v}" for k, v in versions.items()), volatile="version"),

@@ -33,6 +33,7 @@ __all__ = [
     "UrdfKinematics",
     "axis_rotation",
     "read_urdf_file",
+    "read_urdf_source",
     "urdf_kinematics",
 ]
 
@@ -298,25 +299,25 @@ def urdf_kinematics(info: UrdfInfo) -> UrdfKinematics:
     return UrdfKinematics(path, str(root.get("name", path.stem)), joints, info.links, info.root)
 
 
-def read_urdf_file(
+def read_urdf_source(
     spec: str | Path,
     *,
     xacro_args: Mapping[str, str] | None = None,
     packages: Mapping[str, Path] | None = None,
-) -> tuple[Path, str, UrdfKinematics]:
-    """Resolve, screen and parse a URDF given on the command line.
+) -> UrdfInfo:
+    """Resolve and screen a URDF given on the command line; expand it if it is xacro and allowed.
 
     Args:
         spec: A file path, or ``example-robot-data:<subpath>``.
         xacro_args: Given (even empty): the file may be xacro, expanded with
-            these arguments (:func:`fkcheck.urdf.xacro.read_xacro`), as a model's
-            ``xacro = true`` does — only if the screen finds xacro in it: a plain
-            URDF is read as one, xacro never runs on it; ``None``: a xacro file
-            is refused.
+            these arguments (:func:`fkcheck.urdf.source.read_xacro_urdf`), as a
+            model's ``xacro = true`` does — only if the screen finds xacro in it:
+            a plain URDF is read as one, xacro never runs on it; ``None``: a
+            xacro file is refused.
         packages: The packages ``$(find …)`` may resolve (with ``xacro_args``).
 
     Returns:
-        ``(path, screened text, kinematics)``.
+        The screened URDF, naming every file it was made of (:attr:`UrdfInfo.files`).
 
     Raises:
         UrdfError: Missing, not a regular file, too large, refused by the screen
@@ -329,13 +330,28 @@ def read_urdf_file(
     path, package_dirs = locate_urdf(str(spec))
     try:
         # The one screening every URDF goes through (fkcheck.urdf.screen and the tree checks).
-        info = read_urdf(path.resolve(), package_dirs)
+        return read_urdf(path.resolve(), package_dirs)
     except XacroRefused:
         if xacro_args is None:
             raise
-        from fkcheck.urdf.xacro import read_xacro
+        from fkcheck.urdf.source import read_xacro_urdf
 
         declared = dict(packages or {})
         dirs = package_dirs + tuple(d.parent for d in declared.values())  # as a model's
-        info = read_xacro(path.resolve(), xacro_args, declared, dirs)
+        return read_xacro_urdf(path.resolve(), xacro_args, declared, dirs)
+
+
+def read_urdf_file(
+    spec: str | Path,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, Path] | None = None,
+) -> tuple[Path, str, UrdfKinematics]:
+    """``(path, screened text, kinematics)`` of :func:`read_urdf_source`'s URDF.
+
+    Raises:
+        UrdfError: As :func:`read_urdf_source`.
+        BackendUnavailable: ``example-robot-data:`` is used but not installed.
+    """
+    info = read_urdf_source(spec, xacro_args=xacro_args, packages=packages)
     return info.path, info.text, urdf_kinematics(info)

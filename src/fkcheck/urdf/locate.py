@@ -13,7 +13,7 @@ import importlib.util
 import os
 from pathlib import Path
 
-from fkcheck.errors import BackendUnavailable
+from fkcheck.errors import BackendUnavailable, UrdfError
 from fkcheck.urdf.screen import check_urdf_path
 
 __all__ = ["ERD_PREFIX", "example_robot_data_dir", "locate_urdf", "path_for", "urdf_spec_for"]
@@ -60,6 +60,11 @@ def locate_urdf(spec: str, relative_to: Path | None = None) -> tuple[Path, tuple
         UrdfError: The file does not exist, is not a regular file or is too large.
         BackendUnavailable: The spec names example-robot-data, which is not installed.
     """
+    if not spec.strip() or spec.strip() == ERD_PREFIX:
+        raise UrdfError(
+            repr(spec),
+            f"names no file: give a URDF file's path or {ERD_PREFIX}<subpath>",
+        )
     if spec.startswith(ERD_PREFIX):
         robots = example_robot_data_dir()
         path = robots / spec[len(ERD_PREFIX) :]

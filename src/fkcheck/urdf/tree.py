@@ -176,6 +176,10 @@ class UrdfInfo:
         joints: Joints by name.
         links: Link names.
         root: The root link.
+        files: Every file it was made of, ``path`` first: a plain URDF is its
+            file alone; a xacro file expanded by :func:`fkcheck.urdf.source.read_xacro_urdf`
+            adds each file its expansion read (includes, ``load_yaml`` files). An
+            expansion screened again from kept text names the xacro file only.
     """
 
     path: Path
@@ -184,6 +188,7 @@ class UrdfInfo:
     joints: dict[str, UrdfJoint]
     links: tuple[str, ...]
     root: str
+    files: tuple[Path, ...] = ()
 
     def chain(self, base: str, tip: str) -> list[UrdfJoint]:
         """The joints from link ``base`` down to link ``tip``.
@@ -244,6 +249,7 @@ def urdf_info_from_bytes(path: Path, data: bytes, package_dirs: tuple[Path, ...]
         joints=joints,
         links=tuple(links),
         root=_check_tree(path, links, joints),
+        files=(path,),
     )
 
 

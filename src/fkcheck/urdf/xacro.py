@@ -47,7 +47,7 @@ import os
 import re
 import types
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -198,7 +198,8 @@ def _read(
     size: int,
 ) -> UrdfInfo:
     expansion = expand_xacro(path, dict(args), dict(packages), timeout_s)
-    return screen_expansion(path, expansion.text, package_dirs)
+    info = screen_expansion(path, expansion.text, package_dirs)
+    return replace(info, files=expansion.files)  # no output of the run may replace one
 
 
 def screen_expansion(path: Path, text: str, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
