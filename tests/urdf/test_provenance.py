@@ -156,3 +156,24 @@ def test_a_marks_model_name_is_shown_short_and_on_one_line():
     assert "\n" not in found.message
     assert len(found.message) < 400
     assert "(100010 characters)" in found.message
+
+
+@pytest.mark.parametrize("name", ["ur5", "panda"])
+def test_fixed_joints_added_above_the_root_or_merged_do_not_hide_the_export(name):
+    model, text = _exported(name)
+    root = ET.fromstring(_without_mark(text))
+    # A new root `cell`, fixed to the old one by an identity joint (the red team's case) …
+    cell = ET.SubElement(root, "link", name="cell")
+    joint = ET.SubElement(root, "joint", name="cell_joint", type="fixed")
+    ET.SubElement(joint, "parent", link="cell")
+    ET.SubElement(joint, "child", link="world")
+    ET.SubElement(joint, "origin", xyz="0 0 0", rpy="0 0 0")
+    assert cell is not None
+    found = derived_from_table(model, _read(ET.tostring(root, encoding="unicode")), TOL)
+    assert found is not None
+    assert found.via == "numbers"
+    # … and the export of a table one number off stays evidence, re-jointed or not.
+    assert (
+        derived_from_table(_with_d1(model, 0.01), _read(ET.tostring(root, encoding="unicode")), TOL)
+        is None
+    )

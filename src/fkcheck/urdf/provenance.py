@@ -12,14 +12,15 @@ two independent ways, whatever the file is called and whatever comments it lost:
   you made into an independent description).
 * **its numbers**: without a mark (removed, or lost to a tool that rewrote the
   file), the URDF is compared with the table's own export, made again in
-  memory: from the URDF's root, through the model's mapped joints, to the TCP,
-  joint for joint — the fixed joint to DH frame 0, each row's joints, the fixed
-  joint to the TCP — the same kinds of joint, origins and axes within the
-  check's tolerances (at least 1e-9), and links that carry no inertia or
+  memory: from the URDF's root, through the model's mapped joints, to a link
+  where the TCP is — as the robot moves: each movable joint seen from the one
+  before it (the fixed joints between composed, so fixed joints added, merged
+  or split change nothing), the same kinds of joint, origins and axes within
+  the check's tolerances (at least 1e-9), and links that carry no inertia or
   geometry (the export writes none). Names do not matter.
 
-The numbers find only the export itself, renamed or rewritten. A URDF derived
-from the table another way — joints merged, geometry added, the mark removed —
+The numbers find the export however it was renamed, rewritten or re-jointed. A
+URDF derived from the table another way — geometry added, the mark removed —
 is not found, and a URDF that is itself a DH table written out (a vendor's
 modified-DH URDF with the same numbers, e.g. the Panda's) is not taken for a
 copy: its links carry inertia and geometry, and its root and tool joints
@@ -37,10 +38,11 @@ from typing import Literal
 import numpy as np
 
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.numbers import show_text
 from fkcheck.model.types import FrameSpec, Model
-from fkcheck.urdf.chain import JointGeometry, UrdfKinematics, urdf_kinematics
+from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
 from fkcheck.urdf.export import urdf_from_model
 from fkcheck.urdf.marker import read_marker, table_fingerprint
 from fkcheck.urdf.tree import UrdfInfo, chain_between, urdf_info_from_bytes
@@ -86,43 +88,26 @@ def _table_only(model: Model) -> Model:
     return replace(model, frames=frames, urdf=None, known_differences=())
 
 
-def _same(a: JointGeometry, b: JointGeometry, tol: tuple[float, float]) -> bool:
-    """Same kind of joint, origin and axis within ``(position m, rotation rad)``."""
-    kind = {"continuous": "revolute"}
-    if kind.get(a.type, a.type) != kind.get(b.type, b.type):
-        return False
-    if float(position_error_m(a.origin, b.origin)) > tol[0]:
-        return False
-    if float(rotation_error_rad(a.origin, b.origin)) > tol[1]:
-        return False
-    if a.type == "fixed":
-        return True
-    cos = float(np.clip(np.dot(a.axis, b.axis), -1.0, 1.0))
-    return float(np.arccos(cos)) <= tol[1]
+@dataclass(frozen=True)
+class _Step:
+    """A movable joint seen from the one before it: fixed joints composed, then its own origin.
+
+    Attributes:
+        origin: The previous movable joint's child (the root at first) → this joint.
+        axis: Its axis, in its own frame.
+        kind: ``revolute`` (continuous too) or ``prismatic``.
+        links: The links passed on the way (for the no-inertia rule).
+    """
+
+    origin: Float
+    axis: Float
+    kind: str
+    links: tuple[str, ...]
 
 
-def _tail(
-    kin: UrdfKinematics, link: str, wanted: Sequence[JointGeometry], tol: tuple[float, float]
-) -> list[JointGeometry] | None:
-    """Fixed joints down from ``link`` that match ``wanted`` one by one, or ``None``."""
-    if not wanted:
-        return []
-    for joint in kin.joints.values():
-        if joint.parent == link and _same(joint, wanted[0], tol):
-            rest = _tail(kin, joint.child, wanted[1:], tol)
-            if rest is not None:
-                return [joint, *rest]
-    return None
-
-
-def _path(
-    kin: UrdfKinematics,
-    movable: Sequence[str],
-    tail: Sequence[JointGeometry],
-    tol: tuple[float, float],
-) -> list[JointGeometry] | None:
-    """The joints from the root through ``movable`` (in order) and a match of ``tail``."""
-    path: list[JointGeometry] = []
+def _steps(kin: UrdfKinematics, movable: Sequence[str]) -> tuple[list[_Step], str] | None:
+    """The chain as steps from the root through ``movable``, and its last link (``None``: none)."""
+    steps: list[_Step] = []
     link = kin.root
     for name in movable:
         joint = kin.joints.get(name)
@@ -131,10 +116,75 @@ def _path(
         between = chain_between(kin.joints, link, joint.parent)
         if between is None or any(j.type != "fixed" for j in between):
             return None
-        path += [*between, joint]
+        origin = np.eye(4)
+        for fixed in between:
+            origin = origin @ fixed.origin
+        kind = "revolute" if joint.type == "continuous" else joint.type
+        passed = (link, *(j.child for j in between))
+        steps.append(_Step(origin @ joint.origin, joint.axis, kind, passed))
         link = joint.child
-    rest = _tail(kin, link, tail, tol)
-    return None if rest is None else path + rest
+    return steps, link
+
+
+def _near(a: Float, b: Float, tol: tuple[float, float]) -> bool:
+    return float(position_error_m(a, b)) <= tol[0] and float(rotation_error_rad(a, b)) <= tol[1]
+
+
+def _same(a: _Step, b: _Step, tol: tuple[float, float]) -> bool:
+    """Same kind of joint, composed origin and axis within ``(position m, rotation rad)``."""
+    if a.kind != b.kind or not _near(a.origin, b.origin, tol):
+        return False
+    cos = float(np.clip(np.dot(a.axis, b.axis), -1.0, 1.0))
+    return float(np.arccos(cos)) <= tol[1]
+
+
+def _fixed_below(kin: UrdfKinematics, link: str) -> list[tuple[Float, tuple[str, ...]]]:
+    """Every link hanging from ``link`` by fixed joints only: its pose there, the links passed."""
+    out: list[tuple[Float, tuple[str, ...]]] = [(np.eye(4), (link,))]
+    todo: list[tuple[str, Float, tuple[str, ...]]] = [(link, np.eye(4), (link,))]
+    while todo:
+        here, pose, passed = todo.pop()
+        for joint in kin.joints.values():
+            if joint.parent == here and joint.type == "fixed" and joint.child not in passed:
+                step = (pose @ joint.origin, (*passed, joint.child))
+                out.append(step)
+                todo.append((joint.child, *step))
+    return out
+
+
+def _is_export(
+    model: Model, info: UrdfInfo, joints: Sequence[str], tol: tuple[float, float]
+) -> int | None:
+    """The joints compared when the URDF's chain is the table's export, else ``None``.
+
+    Compared as the robot moves, not joint for joint: between two movable joints
+    the fixed ones are composed, so an identity joint added above the root, or
+    fixed joints merged or split, do not hide the export.
+    """
+    try:
+        text = urdf_from_model(_table_only(model)).text
+        own = urdf_kinematics(urdf_info_from_bytes(Path("export.urdf"), text.encode("utf-8")))
+        theirs = urdf_kinematics(info)
+    except FkcheckError:
+        return None
+    expected = chain_between(own.joints, own.root, "tcp")
+    assert expected is not None  # the export's chain: world → … → tcp
+    own_movable = [j.name for j in expected if j.type != "fixed"]
+    mine, theirs_found = _steps(own, own_movable), _steps(theirs, joints)
+    if mine is None or theirs_found is None or len(mine[0]) != len(theirs_found[0]):
+        return None
+    (want, own_last), (found, last) = mine, theirs_found
+    if not all(_same(a, b, tol) for a, b in zip(found, want, strict=True)):
+        return None
+    tail = chain_between(own.joints, own_last, "tcp") or []
+    tcp = np.eye(4)
+    for fixed in tail:
+        tcp = tcp @ fixed.origin
+    ends = [passed for pose, passed in _fixed_below(theirs, last) if _near(pose, tcp, tol)]
+    if not ends:
+        return None
+    links = {*(link for step in found for link in step.links), *ends[0]}
+    return len(found) if _bare(ET.fromstring(info.text), links) else None
 
 
 def _bare(root: ET.Element, links: set[str]) -> bool:
@@ -145,28 +195,6 @@ def _bare(root: ET.Element, links: set[str]) -> bool:
         if el.get("name") in links
         for part in _PHYSICAL
     )
-
-
-def _is_export(
-    model: Model, info: UrdfInfo, joints: Sequence[str], tol: tuple[float, float]
-) -> int | None:
-    """The number of joints compared when the URDF's chain is the table's export, else ``None``."""
-    try:
-        text = urdf_from_model(_table_only(model)).text
-        own = urdf_kinematics(urdf_info_from_bytes(Path("export.urdf"), text.encode("utf-8")))
-        theirs = urdf_kinematics(info)
-    except FkcheckError:
-        return None
-    expected = chain_between(own.joints, own.root, "tcp")
-    assert expected is not None  # the export's chain: world → … → tcp
-    last = max(i for i, j in enumerate(expected) if j.type != "fixed")
-    found = _path(theirs, joints, expected[last + 1 :], tol)
-    if found is None or len(found) != len(expected):
-        return None
-    if not all(_same(a, b, tol) for a, b in zip(found, expected, strict=True)):
-        return None
-    links = {theirs.root, *(j.child for j in found)}
-    return len(found) if _bare(ET.fromstring(info.text), links) else None
 
 
 def derived_from_table(
