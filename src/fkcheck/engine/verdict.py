@@ -375,7 +375,11 @@ def numbers_line(numbers: Coverage, table: KindStatus) -> str:
         s = number_status(n.status, table)
         counts[s] = counts.get(s, 0) + 1
     order = ("verified", "failed", "not-checked", "not-identifiable", "not-covered")
-    words = {"failed": "compared in a failing check (fkcheck diagnose names which)"}
+    words = {
+        "failed": "compared, and the table differs as the model's [[known_difference]] records"
+        if table == "expected-failure"
+        else "compared in a failing check (fkcheck diagnose names which)"
+    }
     shown = [f"{counts[s]} {words.get(s, s.replace('-', ' '))}" for s in order if counts.get(s)]
     text = f"numbers ({numbers.frame_from} → {numbers.frame_to}): {total} in the table: "
     text += ", ".join(shown) if shown else "none"
