@@ -111,17 +111,17 @@ def test_out_dir_is_refused_when_a_report_would_replace_a_file_the_xacro_reads(x
 
 def test_a_check_that_writes_expands_the_xacro_once(xarm, capsys, monkeypatch):
     """Naming the files runs the expansion; the check's URDF backends reuse it."""
-    import fkcheck.urdf.source as source
+    import fkcheck.urdf.xacro as xacro_module
 
-    source._expanded.cache_clear()
+    xacro_module._read.cache_clear()
     calls: list[Path] = []
-    expand = source.expand_xacro
+    expand = xacro_module.expand_xacro
 
     def counted(path, *args, **kwargs):
         calls.append(path)
         return expand(path, *args, **kwargs)
 
-    monkeypatch.setattr(source, "expand_xacro", counted)
+    monkeypatch.setattr(xacro_module, "expand_xacro", counted)
     argv = ["check", MODEL, *FEW, "--against", "pinocchio-urdf,rtb-dh", "--json", "out.json"]
     assert main(argv) == 0, capsys.readouterr().err
     assert len(calls) == 1
@@ -131,8 +131,8 @@ def test_a_check_that_writes_expands_the_xacro_once(xarm, capsys, monkeypatch):
 def test_a_check_that_writes_nothing_does_not_expand_for_dh_only_backends(
     xarm, capsys, monkeypatch
 ):
-    import fkcheck.urdf.source as source
+    import fkcheck.urdf.xacro as xacro_module
 
-    source._expanded.cache_clear()
-    monkeypatch.setattr(source, "expand_xacro", lambda *a, **k: pytest.fail("expanded"))
+    xacro_module._read.cache_clear()
+    monkeypatch.setattr(xacro_module, "expand_xacro", lambda *a, **k: pytest.fail("expanded"))
     assert main(["check", MODEL, *FEW, "--against", "rtb-dh"]) == 0, capsys.readouterr().err

@@ -362,6 +362,7 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
 ):
     """The expansion runs the file's Python: once for all backends, never for DH-only checks."""
     import fkcheck.urdf.source as source
+    import fkcheck.urdf.xacro as xacro_module
     from fkcheck.backends.registry import make_backend
     from fkcheck.engine.runner import run_check
 
@@ -369,17 +370,17 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     extra = f'xacro = true\nxacro_args = {{ reach = "0.4" }}\n{PACKAGES}'
     model = load_model(write_model(tmp_path, "0.4", extra))
     calls: list[str] = []
-    expand = source.expand_xacro
+    expand = xacro_module.expand_xacro
 
     def counted(*args, **kwargs):
         calls.append("expanded")
         return expand(*args, **kwargs)
 
-    monkeypatch.setattr(source, "expand_xacro", counted)
+    monkeypatch.setattr(xacro_module, "expand_xacro", counted)
     check = run_check(model, [make_backend("rtb-dh")], samples=5)
     assert check.verdict == "pass"
     assert calls == []  # no backend reads the URDF: the file never ran
-    source._expanded.cache_clear()
+    xacro_module._read.cache_clear()
     backends = [make_backend(n) for n in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")]
     check = run_check(model, backends, samples=5)
     assert check.verdict == "pass"
@@ -389,7 +390,7 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     sent = check.model
     assert sent.urdf is not None
     assert sent.urdf.expanded is not None
-    monkeypatch.setattr(source, "expand_xacro", lambda *a, **k: pytest.fail("expanded again"))
+    monkeypatch.setattr(xacro_module, "expand_xacro", lambda *a, **k: pytest.fail("expanded again"))
     assert source.read_model_urdf(sent).joints.keys() == load_urdf(sent).joints.keys()
 
 

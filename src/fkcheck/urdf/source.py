@@ -89,35 +89,19 @@ def read_xacro_urdf(
     are named before a run writes anything and the check reuses that expansion.
 
     Raises:
-        UrdfError: As :func:`~fkcheck.urdf.xacro.read_xacro`, or the expansion
-            holds a byte that is not UTF-8 (:func:`screen_xacro_text`).
+        UrdfError: As :func:`~fkcheck.urdf.xacro.read_xacro`.
     """
-    info = read_xacro(path, args, packages, package_dirs, timeout_s)
-    _utf8_only(path, info.text)
-    return info
+    return read_xacro(path, args, packages, package_dirs, timeout_s)
 
 
 def screen_xacro_text(path: Path, text: str, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
-    """An expansion's text, UTF-8 checked, through :func:`~fkcheck.urdf.xacro.screen_expansion`.
-
-    A directory name that is not UTF-8 (the xacro file's, a package's) reaches
-    the text through ``$(find …)`` as a lone surrogate, which no URDF can hold.
+    """An expansion's text through :func:`~fkcheck.urdf.xacro.screen_expansion`.
 
     Raises:
-        UrdfError: Such a character, or as :func:`~fkcheck.urdf.xacro.screen_expansion`.
+        UrdfError: As :func:`~fkcheck.urdf.xacro.screen_expansion` (a byte that is
+            not UTF-8, from a directory name through ``$(find …)``, included).
     """
-    _utf8_only(path, text)
     return screen_expansion(path, text, package_dirs)
-
-
-def _utf8_only(path: Path, text: str) -> None:
-    stray = next((c for c in text if "\udc80" <= c <= "\udcff"), None)
-    if stray is not None:
-        raise UrdfError(
-            path,
-            f"its expansion holds a byte that is not UTF-8 (0x{ord(stray) - 0xDC00:02x}, from a "
-            "directory or argument name): a URDF cannot; rename it",
-        )
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:

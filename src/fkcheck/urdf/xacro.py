@@ -211,9 +211,17 @@ def screen_expansion(path: Path, text: str, package_dirs: tuple[Path, ...] = ())
         package_dirs: Directories holding the ``package://`` packages it names.
 
     Raises:
-        UrdfError: Larger than :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`, refused
-            by the screen (a DTD or entity, xacro left over, …) or not a valid tree.
+        UrdfError: Not UTF-8 (a directory name through ``$(find …)``), larger than
+            :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`, refused by the screen (a
+            DTD or entity, xacro left over, …) or not a valid tree.
     """
+    stray = next((c for c in text if "\udc80" <= c <= "\udcff"), None)
+    if stray is not None:  # a directory or argument name that is not UTF-8, via $(find …)
+        raise UrdfError(
+            path,
+            f"its expansion holds a byte that is not UTF-8 (0x{ord(stray) - 0xDC00:02x}, "
+            "from a directory or argument name): a URDF cannot; rename it",
+        )
     data = text.encode("utf-8")
     if len(data) > MAX_URDF_BYTES:
         raise UrdfError(
