@@ -170,7 +170,29 @@ def main(argv: Sequence[str] | None = None) -> int:
     _open_closed_streams()
     _tolerant_streams()
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
-    return _flush_stdout(_run(args_list))
+    code = _flush_stdout(_run(args_list))
+    if argv is None and _abandoned_threads():
+        _exit_now(code)
+    return code
+
+
+def _abandoned_threads() -> bool:
+    """Whether a thread is still running: a backend left behind at its time limit.
+
+    Its library is still in C++; finalizing the interpreter under it is unsafe,
+    and nanobind (Robotics Toolbox's, Pinocchio's bindings) then reports every
+    object it holds as leaked — dozens of lines after the one that said
+    "timed out".
+    """
+    return any(t.is_alive() for t in threading.enumerate() if t is not threading.main_thread())
+
+
+def _exit_now(code: int) -> None:
+    """End the process with ``code`` now, streams flushed, without finalizing the interpreter."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):
+            stream.flush()
+    os._exit(code)
 
 
 def _run(args_list: list[str]) -> int:
