@@ -644,7 +644,11 @@ def coverage(
         for i, n in enumerate(numbers)
     ]
     rows = generic.shape[0]
-    trades = _trades(_without(J, [J[:, c] @ k for c, k in absorbing]) * unit_tol, candidates, rows)
+    generic_residual = _without(J, [J[:, c] @ k for c, k in absorbing]) * unit_tol
+    trades = _trades(generic_residual, candidates, rows)
+    # What the generic configurations separate with margin: a combination they do
+    # not show even 1:1 is no fault of the check's configurations (hysteresis).
+    blurred = _trades(generic_residual, candidates, rows, limit=1.0)
     # … and what the check's own configurations exercise: its resolution, its trades.
     if q is not None:
         checked = _subset(q, CHECK_SAMPLES, seed)
@@ -692,9 +696,10 @@ def coverage(
         elif i in carrying:
             status = "not-identifiable"
             why = f"{n.group}: carries what {', '.join(carrying[i])} produce"
-        elif set(tied.get(i, ())) - set(trades.get(i, ())):
+        elif set(tied.get(i, ())) - {*trades.get(i, ()), *blurred.get(i, ())}:
             status = "not-identifiable"
-            others = ", ".join(numbers[j].name for j in tied[i] if j not in trades.get(i, ()))
+            known = {*trades.get(i, ()), *blurred.get(i, ())}
+            others = ", ".join(numbers[j].name for j in tied[i] if j not in known)
             why = (
                 f"the check's {checked.shape[0]} configurations cannot tell it from {others} "
                 "(more configurations would)"
@@ -766,7 +771,7 @@ def _without(J: Float, directions: Sequence[Float]) -> Float:
 
 
 def _trades(
-    J: Float, candidates: Sequence[bool], configurations: int
+    J: Float, candidates: Sequence[bool], configurations: int, limit: float = RESOLUTION_LIMIT
 ) -> dict[int, tuple[int, ...]]:
     """Numbers whose columns depend on each other only: ``{i: (j, …)}``.
 
@@ -785,7 +790,7 @@ def _trades(
         return {}
     _, sv, vt = np.linalg.svd(J[:, idx], full_matrices=True)
     sv = np.concatenate([sv, np.zeros(len(idx) - len(sv))]) if len(sv) < len(idx) else sv
-    weak = vt[sv < math.sqrt(configurations) / RESOLUTION_LIMIT]
+    weak = vt[sv < math.sqrt(configurations) / limit]
     parent = {i: i for i in idx}
 
     def root(i: int) -> int:
@@ -801,7 +806,7 @@ def _trades(
         shows = np.maximum(
             np.linalg.norm(effect[:, :3], axis=1), np.linalg.norm(effect[:, 3:], axis=1)
         )
-        if float(shows.max()) * RESOLUTION_LIMIT >= float(np.linalg.norm(vec)):
+        if float(shows.max()) * limit >= float(np.linalg.norm(vec)):
             continue
         support = [idx[k] for k in np.flatnonzero(np.abs(vec) > TRADE_SHARE * np.abs(vec).max())]
         for m in support[1:]:
