@@ -646,9 +646,6 @@ def coverage(
     rows = generic.shape[0]
     generic_residual = _without(J, [J[:, c] @ k for c, k in absorbing]) * unit_tol
     trades = _trades(generic_residual, candidates, rows)
-    # What the generic configurations separate with margin: a combination they do
-    # not show even 1:1 is no fault of the check's configurations (hysteresis).
-    blurred = _trades(generic_residual, candidates, rows, limit=1.0)
     # … and what the check's own configurations exercise: its resolution, its trades.
     if q is not None:
         checked = _subset(q, CHECK_SAMPLES, seed)
@@ -657,7 +654,13 @@ def coverage(
         checked, J_check = generic, J
     carried = [J_check[:, c] @ k for c, k in absorbing]
     residual = _without(J_check, carried)
-    tied = _trades(residual * unit_tol, candidates, checked.shape[0]) if q is not None else trades
+    # Combinations the check's configurations hide that generic ones show at least
+    # 1:1: its configurations, not the kinematics, leave those numbers apart.
+    tied = (
+        _unseen(generic_residual, residual * unit_tol, candidates, rows, checked.shape[0])
+        if q is not None
+        else {}
+    )
     # Any offset the map could have fitted takes what it can of a table number over
     # the check's configurations, unless the number is one it structurally takes
     # whole but carries none of (d1 against a shift across the first axis).
@@ -696,10 +699,9 @@ def coverage(
         elif i in carrying:
             status = "not-identifiable"
             why = f"{n.group}: carries what {', '.join(carrying[i])} produce"
-        elif set(tied.get(i, ())) - {*trades.get(i, ()), *blurred.get(i, ())}:
+        elif i in tied:
             status = "not-identifiable"
-            known = {*trades.get(i, ()), *blurred.get(i, ())}
-            others = ", ".join(numbers[j].name for j in tied[i] if j not in known)
+            others = ", ".join(numbers[j].name for j in tied[i]) or "the others"
             why = (
                 f"the check's {checked.shape[0]} configurations cannot tell it from {others} "
                 "(more configurations would)"
@@ -768,6 +770,53 @@ def _without(J: Float, directions: Sequence[Float]) -> Float:
     basis = basis[:, sv > SPAN_RTOL * sv.max()]
     out: Float = J - basis @ (basis.T @ J)
     return out
+
+
+def _weak(J: Float, configurations: int, limit: float) -> Float:
+    """Orthonormal rows spanning the combinations ``J`` shows under ``1/limit`` of (L2 bound)."""
+    _, sv, vt = np.linalg.svd(J, full_matrices=True)
+    sv = np.concatenate([sv, np.zeros(J.shape[1] - len(sv))]) if len(sv) < J.shape[1] else sv
+    weak: Float = vt[sv < math.sqrt(configurations) / limit]
+    return weak
+
+
+def _unseen(
+    generic: Float,
+    checked: Float,
+    candidates: Sequence[bool],
+    generic_configurations: int,
+    checked_configurations: int,
+) -> dict[int, tuple[int, ...]]:
+    """Numbers in combinations the check's configurations hide but generic ones show.
+
+    Both ``J`` in tolerances per tolerance of each number. A combination the
+    check's configurations show less than a tenth of (:data:`RESOLUTION_LIMIT`,
+    worst configuration) and that lies well outside what generic configurations
+    show less than 1:1 of (a margin, so a borderline near-trade is no fault of the
+    check) is theirs: its numbers are ``{i: (the others in it, …)}``.
+    """
+    idx = [i for i, c in enumerate(candidates) if c]
+    if not idx:
+        return {}
+    loose = _weak(generic[:, idx], generic_configurations, 1.0)
+    strict = _weak(checked[:, idx], checked_configurations, RESOLUTION_LIMIT)
+    if not len(strict):
+        return {}
+    extra = strict - (strict @ loose.T) @ loose if len(loose) else strict
+    _, sv, vt = np.linalg.svd(extra, full_matrices=False)
+    per = checked[:, idx].reshape(-1, 6, len(idx))
+    out: dict[int, set[int]] = {}
+    for vec in vt[sv > 0.5]:  # at least half outside what generic configurations blur
+        effect = np.einsum("nrk,k->nr", per, vec)
+        shows = np.maximum(
+            np.linalg.norm(effect[:, :3], axis=1), np.linalg.norm(effect[:, 3:], axis=1)
+        )
+        if float(shows.max()) * RESOLUTION_LIMIT >= float(np.linalg.norm(vec)):
+            continue
+        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > TRADE_SHARE * np.abs(vec).max())]
+        for m in support:
+            out.setdefault(m, set()).update(x for x in support if x != m)
+    return {m: tuple(sorted(others)) for m, others in out.items()}
 
 
 def _trades(
