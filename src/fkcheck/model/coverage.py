@@ -73,6 +73,7 @@ from fkcheck.model.sampling import sampling_box
 from fkcheck.model.types import FrameSpec, Model, Offset, resolve_frame
 
 __all__ = [
+    "BLAME_MARGIN",
     "CARRY_EPS",
     "CHECK_SAMPLES",
     "FLAT",
@@ -112,6 +113,9 @@ CARRY_EPS = 1e-9
 #: exceeds this (m/m, rad/rad…): an unobstructed number moves it 1:1, central
 #: differences leave ~1e-10.
 MOVING_EPS = 1e-6
+#: How much better than a check's configurations generic ones must show a
+#: combination before the check's are blamed for hiding it (root mean square).
+BLAME_MARGIN = 3.0
 #: A number takes part in a combination when its share of it is above this
 #: fraction of the largest share (rows of an orthonormal basis: noise ~1e-10).
 TRADE_SHARE = 1e-3
@@ -773,7 +777,7 @@ def _without(J: Float, directions: Sequence[Float]) -> Float:
 
 
 def _weak(J: Float, configurations: int, limit: float) -> Float:
-    """Orthonormal rows spanning the combinations ``J`` shows under ``1/limit`` of (L2 bound)."""
+    """Orthonormal rows spanning the combinations ``J`` shows under ``1/limit`` of (RMS)."""
     _, sv, vt = np.linalg.svd(J, full_matrices=True)
     sv = np.concatenate([sv, np.zeros(J.shape[1] - len(sv))]) if len(sv) < J.shape[1] else sv
     weak: Float = vt[sv < math.sqrt(configurations) / limit]
@@ -791,14 +795,15 @@ def _unseen(
 
     Both ``J`` in tolerances per tolerance of each number. A combination the
     check's configurations show less than a tenth of (:data:`RESOLUTION_LIMIT`,
-    worst configuration) and that lies well outside what generic configurations
-    show less than 1:1 of (a margin, so a borderline near-trade is no fault of the
-    check) is theirs: its numbers are ``{i: (the others in it, …)}``.
+    root mean square, and at the worst configuration) and that lies well outside
+    what generic configurations show less than :data:`BLAME_MARGIN` tenths of
+    (a margin, so a borderline near-trade is no fault of the check) is theirs:
+    its numbers are ``{i: (the others in it, …)}``.
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if not idx:
         return {}
-    loose = _weak(generic[:, idx], generic_configurations, 1.0)
+    loose = _weak(generic[:, idx], generic_configurations, RESOLUTION_LIMIT / BLAME_MARGIN)
     strict = _weak(checked[:, idx], checked_configurations, RESOLUTION_LIMIT)
     if not len(strict):
         return {}
