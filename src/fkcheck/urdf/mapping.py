@@ -787,7 +787,11 @@ def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[Lin
             used.add(proposals[-1].fit.link)
     taken = set(model.frames)
     nearest: list[LinkFit] = []
-    for group in ((0, "world"), (n, "tcp")):
+    # On a tie the outer anchor wins where the model has a base or a tool: a frame
+    # there covers [base] / [tool], one on the DH frame leaves it out of the check.
+    base_side: tuple[Anchor, ...] = (0, "world") if model.base.is_identity else ("world", 0)
+    tip_side: tuple[Anchor, ...] = (n, "tcp") if model.tool.is_identity else ("tcp", n)
+    for group in (base_side, tip_side):
         found = False
         for link in sorted(links, key=lambda name: _rank(name, order)):
             candidates = [table[a][link] for a in group if fits(table[a].get(link))]
