@@ -70,7 +70,7 @@ def model_inputs(model: Model, *, expand: bool = True) -> list[Input]:
     in to (``xacro = true``) is expanded here too when ``expand`` (a run that
     writes a file: :func:`writes`), so that its includes and ``load_yaml`` files
     are inputs no output replaces; the check reuses that expansion
-    (:func:`fkcheck.urdf.source.read_xacro_urdf` keeps it). A run that writes
+    (:func:`fkcheck.urdf.xacro.read_xacro` keeps it). A run that writes
     nothing only locates it: expanding is left to the backends that read it.
 
     Raises:

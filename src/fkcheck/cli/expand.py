@@ -127,8 +127,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.process.supervise import timeout_problem
-    from fkcheck.urdf.source import screen_xacro_text
-    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, expand_xacro
+    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, expand_xacro, screen_expansion
 
     timeout = XACRO_TIMEOUT_S if args.timeout is None else args.timeout
     problem = timeout_problem(timeout)
@@ -137,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
     values, packages = xacro_inputs(args)
     expansion = expand_xacro(args.xacro, values, packages, timeout)
     text = expansion.text
-    info = screen_xacro_text(args.xacro, text)
+    info = screen_expansion(args.xacro, text)
     sources = [("the xacro file", args.xacro)]
     sources += [("a file the xacro file includes", f) for f in expansion.files[1:]]
     plan(args, [("-o", args.output)], sources)

@@ -310,7 +310,7 @@ def read_urdf_source(
     Args:
         spec: A file path, or ``example-robot-data:<subpath>``.
         xacro_args: Given (even empty): the file may be xacro, expanded with
-            these arguments (:func:`fkcheck.urdf.source.read_xacro_urdf`), as a
+            these arguments (:func:`fkcheck.urdf.xacro.read_xacro`), as a
             model's ``xacro = true`` does — only if the screen finds xacro in it:
             a plain URDF is read as one, xacro never runs on it; ``None``: a
             xacro file is refused.
@@ -334,11 +334,11 @@ def read_urdf_source(
     except XacroRefused:
         if xacro_args is None:
             raise
-        from fkcheck.urdf.source import read_xacro_urdf
+        from fkcheck.urdf.xacro import read_xacro
 
         declared = dict(packages or {})
         dirs = package_dirs + tuple(d.parent for d in declared.values())  # as a model's
-        return read_xacro_urdf(path.resolve(), xacro_args, declared, dirs)
+        return read_xacro(path.resolve(), xacro_args, declared, dirs)
 
 
 def read_urdf_file(

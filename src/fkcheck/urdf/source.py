@@ -4,7 +4,7 @@
 ``example-robot-data:<subpath>`` or a path relative to the model file), reads
 it with :func:`fkcheck.urdf.tree.read_urdf` (screened, its tree checked and
 bounded) — or, when the model opts in with ``xacro = true``, expands it with
-:func:`read_xacro_urdf` and screens the result the same way —
+:func:`~fkcheck.urdf.xacro.read_xacro` and screens the result the same way —
 and checks the model's joint mapping against the joints (names, types), so a
 mismatch is one clear error before any backend parses the URDF. A frame's
 ``urdf`` link is checked where the frame is used (a model copied onto a URDF
@@ -13,7 +13,6 @@ without one of its links still checks its other frames).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import replace
 from pathlib import Path
 
@@ -27,9 +26,7 @@ __all__ = [
     "allow_xacro",
     "load_urdf",
     "read_model_urdf",
-    "read_xacro_urdf",
     "resolve_urdf_path",
-    "screen_xacro_text",
 ]
 
 
@@ -47,7 +44,7 @@ def read_model_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> U
     """Resolve and read the model's URDF: screened, or expanded from xacro then screened.
 
     With ``xacro = true`` a file the screen finds xacro in is expanded
-    (:func:`read_xacro_urdf`) with the model's ``xacro_args``,
+    (:func:`~fkcheck.urdf.xacro.read_xacro`) with the model's ``xacro_args``,
     ``$(find …)`` resolving only its ``packages`` (directories relative to the
     model file) — or its ``expanded`` text, which the engine keeps, is screened
     again; a plain URDF is read as one, xacro never runs on it. Without the
@@ -67,41 +64,11 @@ def read_model_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> U
     packages = {name: base / where for name, where in model.urdf.packages.items()}
     dirs = package_dirs + tuple(p.parent for p in packages.values())
     if model.urdf.expanded is not None:  # expanded once by this check: screened, not re-run
-        return screen_xacro_text(path, model.urdf.expanded, dirs)
+        return screen_expansion(path, model.urdf.expanded, dirs)
     try:
         return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
     except XacroRefused:
-        return read_xacro_urdf(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s)
-
-
-def read_xacro_urdf(
-    path: Path,
-    args: Mapping[str, str] | None = None,
-    packages: Mapping[str, Path] | None = None,
-    package_dirs: tuple[Path, ...] = (),
-    timeout_s: float = XACRO_TIMEOUT_S,
-) -> UrdfInfo:
-    """Expand a xacro file and screen it as a URDF (:func:`~fkcheck.urdf.xacro.read_xacro`).
-
-    The result names every file the expansion read (:attr:`UrdfInfo.files`), so
-    that no output of the run replaces one of them; it is cached (by the file,
-    its modification time and size, the arguments and the packages): the files
-    are named before a run writes anything and the check reuses that expansion.
-
-    Raises:
-        UrdfError: As :func:`~fkcheck.urdf.xacro.read_xacro`.
-    """
-    return read_xacro(path, args, packages, package_dirs, timeout_s)
-
-
-def screen_xacro_text(path: Path, text: str, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
-    """An expansion's text through :func:`~fkcheck.urdf.xacro.screen_expansion`.
-
-    Raises:
-        UrdfError: As :func:`~fkcheck.urdf.xacro.screen_expansion` (a byte that is
-            not UTF-8, from a directory name through ``$(find …)``, included).
-    """
-    return screen_expansion(path, text, package_dirs)
+        return read_xacro(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:

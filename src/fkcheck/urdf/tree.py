@@ -177,7 +177,7 @@ class UrdfInfo:
         links: Link names.
         root: The root link.
         files: Every file it was made of, ``path`` first: a plain URDF is its
-            file alone; a xacro file expanded by :func:`fkcheck.urdf.source.read_xacro_urdf`
+            file alone; a xacro file expanded by :func:`fkcheck.urdf.xacro.read_xacro`
             adds each file its expansion read (includes, ``load_yaml`` files). An
             expansion screened again from kept text names the xacro file only.
     """
