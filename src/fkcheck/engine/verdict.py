@@ -249,9 +249,7 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
     elif tab.status == "partly-verified":
         partly = (
             "table PARTLY verified"
-            if evidence.numbers is None
-            or evidence.numbers.summary().startswith("table verified")
-            or "partly" in evidence.numbers.summary()
+            if evidence.numbers is None or evidence.numbers.verifies_any
             else "table NOT verified"
         )
         tab_text = (

@@ -85,11 +85,16 @@ __all__ = [
     "TRADE_SHARE",
     "Coverage",
     "NumberEvidence",
+    "Reason",
     "Status",
     "coverage",
 ]
 
 Status = Literal["verified", "not-identifiable", "not-covered", "vouched"]
+#: Why a number is not identifiable: an offset carries it; an offset fitted over
+#: the check's configurations takes it; they cannot tell a joint's direction, or
+#: the number from others; or its effect is too faint for the tolerance.
+Reason = Literal["", "offset", "taken", "direction", "configurations", "faint"]
 Unit = Literal["m", "rad"]
 
 #: Configurations the sensitivities are taken at (seeded, uniform within limits).
@@ -153,6 +158,8 @@ class NumberEvidence:
         trades_with: Other verified numbers that only its combination with is
             checked (parallel axes).
         source: For ``vouched``: the model's source for the offset.
+        reason: For ``not-identifiable``, which kind of reason (:data:`Reason`).
+        by: The compared frames' offsets (``[frames.NAME]``) that carry or take it.
     """
 
     name: str
@@ -164,6 +171,8 @@ class NumberEvidence:
     absorbed_by: str = ""
     trades_with: tuple[str, ...] = ()
     source: str = ""
+    reason: Reason = ""
+    by: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -224,46 +233,36 @@ class Coverage:
             return f"the pair {self.frame_from} → {self.frame_to} spans no joint"
         parts = []
         hidden = self.by_status("not-identifiable")
-        by_offset = [n for n in hidden if _carrier(n.absorbed_by)]
-        if by_offset:
-            carriers = _unique(_carrier(n.absorbed_by) for n in by_offset)
-            parts.append(
-                f"{_short(by_offset)} not identifiable (the offset"
-                f"{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} could absorb "
-                f"{'it' if len(by_offset) == 1 else 'them'})"
-            )
-        taken = [n for n in hidden if n.absorbed_by.startswith("over the check's")]
-        if taken:
-            carriers = _unique(
-                c for n in taken for c in n.absorbed_by.split("the offset of ", 1)[1]
-                .split(" could take", 1)[0].split(", ")
+        clauses: dict[Reason, str] = {
+            "offset": "the offset{s} of {by} could absorb {them}",
+            "taken": "over the check's configurations the offset{s} of {by} could take {them}",
+            "direction": "the check's configurations cannot tell which way the joint turns",
+            "configurations": "the check's configurations cannot tell them apart: compare more",
+            "faint": "too faint for the tolerance",
+        }
+        for reason, clause in clauses.items():
+            these = [n for n in hidden if n.reason == reason]
+            if not these:
+                continue
+            by = _unique(f for n in these for f in n.by)
+            text = clause.format(
+                s="s" if len(by) > 1 else "", by=", ".join(by),
+                them="it" if len(these) == 1 else "them",
             )  # fmt: skip
-            parts.append(
-                f"{_short(taken)} not identifiable (over the check's configurations the offset"
-                f"{'s' if len(carriers) > 1 else ''} of {', '.join(carriers)} could take "
-                f"{'it' if len(taken) == 1 else 'them'})"
-            )
-        turns = [n for n in hidden if n.name.startswith("flip")]
-        if turns:
-            parts.append(
-                f"{_short(turns)} not identifiable (the check's configurations cannot tell "
-                "which way the joint turns)"
-            )
-        sampled = [n for n in hidden if n.absorbed_by.startswith("the check's")]
-        if sampled:
-            parts.append(
-                f"{_short(sampled)} not identifiable (the check's configurations cannot tell "
-                "them apart: compare more)"
-            )
-        faint = [n for n in hidden if all(n not in g for g in (by_offset, taken, turns, sampled))]
-        if faint:
-            parts.append(f"{_short(faint)} not identifiable (too faint for the tolerance)")
+            parts.append(f"{_short(these)} not identifiable ({text})")
         uncovered = self.by_status("not-covered")
         if uncovered:
             parts.append(
                 f"{_short(uncovered)} not covered (outside {self.frame_from} → {self.frame_to})"
             )
         return "; ".join(parts)
+
+    @property
+    def verifies_any(self) -> bool:
+        """Whether the pair verifies at least one number of the rows (a direction aside)."""
+        return not self.spans_no_joint and any(
+            n.status == "verified" and not n.name.startswith("flip") for n in self.table_numbers
+        )
 
     def scope(self) -> str:
         """What the pair can verify, before any check: ``every number of the table except …``."""
@@ -281,8 +280,7 @@ class Coverage:
             return f"table not verified: {self.gaps()}"
         if self.complete:
             return "table verified"
-        if not any(n.status == "verified" and n.unit for n in self.table_numbers
-                   if not n.name.startswith("flip")):  # fmt: skip
+        if not self.verifies_any:
             return f"table not verified: {self.gaps()}"
         dof = len(_row_groups(self))
         if len(self.joints_spanned) == dof:
@@ -316,16 +314,6 @@ def _unique(items: Iterable[str]) -> list[str]:
         if item not in out:
             out.append(item)
     return out
-
-
-def _carrier(absorbed_by: str) -> str:
-    """``[frames.base]`` out of ``"[frames.base]: translation along z of DH frame 0"``.
-
-    Frame names may hold a colon themselves (``[frames.urdf:shoulder_link]``).
-    """
-    if not absorbed_by.startswith("[") or "]: " not in absorbed_by:
-        return ""
-    return absorbed_by.split("]: ", 1)[0] + "]"
 
 
 def _short(numbers: Sequence[NumberEvidence]) -> str:
@@ -614,7 +602,7 @@ def coverage(
     norms = np.linalg.norm(J, axis=0)
     to_si = np.array([tol_pos_m] * 3 + [tol_rot_rad] * 3)
 
-    absorbed: dict[int, str] = {}  # table number → which offset carries it, how
+    absorbed: dict[int, tuple[str, str]] = {}  # table number → the offset carrying it, how
     carrying: dict[int, list[str]] = {}  # offset component → the table numbers it trades with
     absorbing: list[tuple[list[int], Float]] = []  # offset columns and their combination
     exempt: dict[int, set[str]] = {}  # a side that could absorb the number but carries none of it
@@ -635,7 +623,7 @@ def coverage(
             if not _carries(spec.offset, coef * to_si, tol_pos_m / tol_rot_rad):
                 exempt.setdefault(i, set()).add(side)
                 continue
-            absorbed.setdefault(i, f"[frames.{spec.name}]: {_describe(coef * to_si, spec)}")
+            absorbed.setdefault(i, (f"[frames.{spec.name}]", _describe(coef * to_si, spec)))
             absorbing.append((cols, coef))
             weight = np.abs(coef) * norms[cols]
             for k, c in enumerate(cols):
@@ -685,13 +673,15 @@ def coverage(
         status: Status = "verified"
         resolution: float | None = None
         why = source = ""
+        reason: Reason = ""
+        by: tuple[str, ...] = ()
         if n.kind in ("from", "to") and specs[n.kind].source:
             status, source = "vouched", specs[n.kind].source
         elif n.kind == "flip":
             if n.index + 1 not in spanned:
                 status = "not-covered"
             elif flips[n.index] <= 1.0:
-                status = "not-identifiable"
+                status, reason = "not-identifiable", "direction"
                 why = (
                     f"joint {n.index + 1} turned the other way would pass: the check's "
                     f"{checked.shape[0]} configurations cannot tell its direction"
@@ -699,12 +689,13 @@ def coverage(
         elif not moving[i]:
             status = "not-covered"
         elif i in absorbed:
-            status, why = "not-identifiable", absorbed[i]
+            status, reason, by = "not-identifiable", "offset", (absorbed[i][0],)
+            why = f"{absorbed[i][0]}: {absorbed[i][1]}"
         elif i in carrying:
-            status = "not-identifiable"
+            status, reason, by = "not-identifiable", "offset", (n.group,)
             why = f"{n.group}: carries what {', '.join(carrying[i])} produce"
         elif i in tied:
-            status = "not-identifiable"
+            status, reason = "not-identifiable", "configurations"
             others = ", ".join(numbers[j].name for j in tied[i]) or "the others"
             why = (
                 f"the check's {checked.shape[0]} configurations cannot tell it from {others} "
@@ -713,13 +704,14 @@ def coverage(
         else:
             resolution = 1.0 / float(worst[i]) if worst[i] > 0 else None
             if resolution is None or resolution > RESOLUTION_LIMIT * unit_tol[i]:
-                status = "not-identifiable"
+                status, reason = "not-identifiable", "faint"
                 why = (
                     f"an error up to {resolution:.3g} {n.unit} would stay within tolerance"
                     if resolution is not None
                     else "no error of it would show"
                 )
                 if i in takers and alone[i] * RESOLUTION_LIMIT * unit_tol[i] > 1.0:
+                    reason, by = "taken", tuple(takers[i])
                     why = (  # it shows alone: an offset fitted over these configurations takes it
                         f"over the check's {checked.shape[0]} configurations the offset of "
                         f"{', '.join(takers[i])} could take it ({why})"
@@ -728,7 +720,7 @@ def coverage(
         out.append(
             NumberEvidence(
                 n.name, n.group, n.unit, status, n.table, resolution, why,
-                tuple(numbers[j].name for j in trades.get(i, ())), source,
+                tuple(numbers[j].name for j in trades.get(i, ())), source, reason, by,
             )
         )  # fmt: skip
     return Coverage(

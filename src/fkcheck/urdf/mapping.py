@@ -743,9 +743,9 @@ def _check_pair(
             continue
         mine = f"[frames.{spec.name}]"
         hidden = tuple(
-            f"{e.name}: {e.absorbed_by.split(': ', 1)[1]}"
+            f"{e.name}: {e.absorbed_by.removeprefix(mine + ': ')}"
             for e in c.table_numbers
-            if e.status == "not-identifiable" and e.absorbed_by.startswith(mine + ":")
+            if e.status == "not-identifiable" and e.reason == "offset" and mine in e.by
         )
         if hidden:
             absorbs[spec.name] = hidden
