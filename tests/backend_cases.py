@@ -9,11 +9,15 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from fkcheck.backends import registry
 from fkcheck.model.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model.read import bundled_model_paths, load_model
 from fkcheck.model.types import Model
 from fkcheck.urdf.source import load_urdf
 from tests.helpers import assert_pose_close, rotation_angle
+
+#: Every registered backend that reads the model's URDF (derived from the registry).
+URDF_BACKENDS = registry.names(reads="urdf")
 
 #: Bundled models with a reference URDF and frames mapped onto it.
 URDF_MODELS = ["ur5", "ur3", "ur10", "panda"]

@@ -33,11 +33,11 @@ from fkcheck.core.geometry import invert, matrix_from_xyz_rpy, rot_z, translatio
 from fkcheck.core.tolerances import SAME_CHAIN
 from fkcheck.model.read import model_from_dict
 from fkcheck.urdf.export import model_for_urdf, urdf_from_model
+from tests.backend_cases import URDF_BACKENDS
 from tests.helpers import assert_pose_close, assert_se3, random_q
 from tests.strategies import dh_models
 
 DH_BACKENDS = ("rtb-dh", "pinocchio-dh")
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 #: trimesh.scene.transforms.SceneGraph.get: ``np.abs(m - _identity).max() > 1e-8`` keeps an edge.
 TRIMESH_IDENTITY_CUTOFF = 1e-8
 

@@ -27,8 +27,7 @@ from fkcheck.engine.runner import run_check
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Offset
 from fkcheck.model.write import model_to_toml, offset_toml
-
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+from tests.backend_cases import URDF_BACKENDS
 
 
 @pytest.fixture(scope="module")

@@ -18,9 +18,10 @@ import pytest
 
 from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
+from tests.backend_cases import URDF_BACKENDS as URDF_READERS
 from tests.paths import PLUGINS_DIR
 
-URDF_BACKENDS = "pinocchio-urdf,yourdfpy-urdf,rtb-urdf"
+URDF_BACKENDS = ",".join(URDF_READERS)
 PLUGINS = PLUGINS_DIR
 
 

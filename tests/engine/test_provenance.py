@@ -15,8 +15,7 @@ from fkcheck.backends.registry import make_backend
 from fkcheck.cli.main import main
 from fkcheck.engine.runner import run_check
 from fkcheck.model.read import bundled_model_paths, load_model
-
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+from tests.backend_cases import URDF_BACKENDS
 
 
 def _wrong_ur5(directory: Path) -> Path:

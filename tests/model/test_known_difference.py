@@ -5,9 +5,8 @@ from __future__ import annotations
 import pytest
 
 from fkcheck import ModelError, load_model
-from fkcheck.backends.registry import BUILTIN, PREFIXED
+from fkcheck.backends import registry
 from fkcheck.cli.main import main
-from fkcheck.model.read import KNOWN_DIFFERENCE_BACKENDS, KNOWN_DIFFERENCE_PREFIXES
 from fkcheck.model.types import KnownDifference
 
 TOP = 'name = "m"\nconvention = "standard"\n'
@@ -31,9 +30,14 @@ def test_a_known_difference_is_read_with_its_bounds(tmp_path):
     )
 
 
-def test_the_names_it_accepts_are_backends_the_registry_knows():
-    assert set(KNOWN_DIFFERENCE_BACKENDS) <= set(BUILTIN)
-    assert set(KNOWN_DIFFERENCE_PREFIXES) <= set(PREFIXED)
+def test_the_names_it_accepts_are_the_registrys_table_evidence():
+    names = registry.known_difference_names()
+    assert set(registry.names(reads="urdf")) <= set(names)
+    assert {"rtb-model:", "poses:"} <= set(names)
+    for name in names:
+        declared = next(r for r in registry.registrations() if r.name == name)
+        assert declared.declared("evidence") == "table"
+    assert not {"rtb-dh", "pinocchio-dh", "cmd:"} & set(names)
 
 
 BAD = {
@@ -49,24 +53,11 @@ BAD = {
     ),
     "backends_not_a_list": (
         '[[known_difference]]\nbackends = "rtb-urdf"\nfinding = "x"\n',
-        r"backends: expected a non-empty list of backend names: pinocchio-urdf",
+        r"backends: expected a non-empty list of backend names$",
     ),
     "backends_empty": (
         '[[known_difference]]\nbackends = []\nfinding = "x"\n',
         r"backends: expected a non-empty list",
-    ),
-    "unknown_backend": (
-        '[[known_difference]]\nbackends = ["pinocchio-urdff"]\nfinding = "x"\n',
-        r"backends\[0\]: 'pinocchio-urdff' is not a backend .*may name: pinocchio-urdf, "
-        r"yourdfpy-urdf, rtb-urdf, rtb-model:…, poses:…",
-    ),
-    "implementation_backend": (
-        '[[known_difference]]\nbackends = ["rtb-dh"]\nfinding = "x"\n',
-        r"'rtb-dh' is not a backend whose evidence is independent of the table",
-    ),
-    "bare_prefix": (
-        '[[known_difference]]\nbackends = ["rtb-model:"]\nfinding = "x"\n',
-        r"'rtb-model:' is not a backend",
     ),
     "listed_twice": (
         GOOD + '[[known_difference]]\nbackends = ["pinocchio-urdf"]\nfinding = "y"\n',
@@ -138,14 +129,51 @@ def test_bad_known_difference_is_one_clear_error(tmp_path, case):
     assert "\n" not in str(info.value)
 
 
+#: Names the registry refuses: read as TOML, refused when the model is used.
+BAD_NAMES = {
+    "unknown_backend": (
+        '[[known_difference]]\nbackends = ["pinocchio-urdff"]\nfinding = "x"\n',
+        r"backends\[0\]: 'pinocchio-urdff' is not a backend .*may name: pinocchio-urdf, "
+        r"yourdfpy-urdf, rtb-urdf, .*rtb-model:…, .*poses:…",
+    ),
+    "implementation_backend": (
+        '[[known_difference]]\nbackends = ["rtb-dh"]\nfinding = "x"\n',
+        r"'rtb-dh' is not a backend whose evidence is independent of the table",
+    ),
+    "bare_prefix": (
+        '[[known_difference]]\nbackends = ["rtb-model:"]\nfinding = "x"\n',
+        r"'rtb-model:' is not a backend",
+    ),
+    "second_entry": (
+        GOOD + '[[known_difference]]\nbackends = ["rtb-urdf", "cmd:./fk"]\nfinding = "y"\n'
+        + BOUNDS,
+        r"known_difference\[1\]\.backends\[1\]: 'cmd:\./fk' is not a backend",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_NAMES))
+def test_a_name_the_registry_refuses_is_one_clear_error(tmp_path, case):
+    text, match = BAD_NAMES[case]
+    path = tmp_path / f"{case}.toml"
+    path.write_text(TOP + text + (BOUNDS if case != "second_entry" else "") + JOINT)
+    model = load_model(path)  # the reader checks the form; the names are the registry's
+    with pytest.raises(ModelError, match=match) as info:
+        registry.check_known_differences(model)
+    assert str(info.value).startswith(str(path))
+    assert "\n" not in str(info.value)
+
+
 @pytest.mark.parametrize(
     "case",
     ["unknown_key", "unknown_backend", "bound_zero", "position_bound_huge", "angle_bound_huge"],
 )
-def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case):
+@pytest.mark.parametrize("command", ["lint", "check"])
+def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case, command):
     path = tmp_path / f"{case}.toml"
-    path.write_text(TOP + BAD[case][0] + JOINT)
-    assert main(["lint", str(path)]) == 2
+    text = BAD[case][0] if case in BAD else BAD_NAMES[case][0] + BOUNDS
+    path.write_text(TOP + text + JOINT)
+    assert main([command, str(path), "--samples", "2"][: 2 if command == "lint" else 4]) == 2
     _out, err = capsys.readouterr()
     assert "Traceback" not in err
     assert len(err.strip().splitlines()) == 1

@@ -16,8 +16,7 @@ from fkcheck.errors import FrameError, UrdfError
 from fkcheck.urdf.chain import axis_rotation, read_urdf_file
 from fkcheck.urdf.locate import example_robot_data_dir
 from fkcheck.urdf.to_dh import dh_from_urdf
-
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+from tests.backend_cases import URDF_BACKENDS
 
 #: Every serial arm (or serial chain of a robot) in example-robot-data: URDF, base, tip.
 ARMS = [

@@ -15,9 +15,8 @@ from fkcheck.core.tolerances import SAME_CHAIN
 from fkcheck.engine.runner import run_check
 from fkcheck.model.types import FrameSpec, Joint
 from fkcheck.urdf.export import urdf_from_model
+from tests.backend_cases import URDF_BACKENDS
 from tests.helpers import BUNDLED
-
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 
 
 def export(model_name_or_model, tmp_path):

@@ -8,7 +8,11 @@ has to agree between them.
 
 Backends live one per module under :mod:`fkcheck.backends`, import their library
 inside their methods (never at module import), and are registered in
-:mod:`fkcheck.backends.registry`. Adding one touches no other backend.
+:mod:`fkcheck.backends.registry` (third-party ones through the ``fkcheck.backends``
+entry-point group). Adding one touches no other backend: everything the engine,
+the reports and the command line need from a backend is declared on it
+(:class:`Backend`), and every list of backends by kind is derived from the
+registry.
 
 Every backend declares which question its agreement answers (:data:`Evidence`):
 
@@ -35,21 +39,26 @@ enforce it.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Literal, Protocol, runtime_checkable
+from pathlib import Path
+from typing import Any, Literal, Protocol, runtime_checkable
 
 from fkcheck.core.joint_array import joint_array, require_finite
-from fkcheck.core.typing import Float, JacobianReference
+from fkcheck.core.typing import JACOBIAN_REFERENCES, Float, JacobianReference
 from fkcheck.errors import BackendUnavailable, FrameUnavailable
 from fkcheck.model.types import Model
 
 __all__ = [
+    "CONTRACT",
+    "EVIDENCE_BY_READS",
     "Backend",
+    "BackendDefaults",
     "BackendUnavailable",
     "Evidence",
     "FixedConfigurations",
     "FrameUnavailable",
-    "ProvidesJacobian",
+    "Reads",
     "SharesDHFrames",
+    "contract_problems",
     "validated_q",
 ]
 
@@ -57,39 +66,77 @@ __all__ = [
 #: Which question a backend's agreement answers (see the module docstring).
 Evidence = Literal["implementation", "table"]
 
+#: What a backend's poses are computed from:
+#:
+#: * ``"dh"`` — the model's own DH table (``rtb-dh``, ``pinocchio-dh``);
+#: * ``"urdf"`` — the model's ``[urdf]``, any link of it (``pinocchio-urdf``…);
+#: * ``"published"`` — a table published elsewhere (``rtb-model:``);
+#: * ``"poses"`` — poses recorded on a robot (``poses:``);
+#: * ``"program"`` — the user's own code running the table (plugins, ``cmd:``).
+Reads = Literal["dh", "urdf", "published", "poses", "program"]
+
+#: The evidence a backend may claim, by what it reads: a backend that computes
+#: from the table (or is the user's code running it) proves the implementation only.
+EVIDENCE_BY_READS: dict[str, tuple[Evidence, ...]] = {
+    "dh": ("implementation",),
+    "program": ("implementation",),
+    "urdf": ("table",),
+    "published": ("table",),
+    "poses": ("table",),
+}
+
 
 @runtime_checkable
 class Backend(Protocol):
-    """A reference FK implementation.
+    """A reference FK implementation: the one contract every backend fulfils.
 
     Attributes:
         name: The backend's name as shown in results (``"rtb-dh"``, ``"cmd:./fk"``).
         method: The library call used, for the report (``"DHRobot.fkine_all"``).
         evidence: ``"implementation"`` or ``"table"``: what its agreement proves.
+        reads: What its poses are computed from (:data:`Reads`); ``"urdf"`` means
+            it computes any link of the model's URDF, so it may compare
+            ``urdf:LINK`` for a link no frame declares
+            (:func:`fkcheck.urdf.mapping.with_link_frames`).
+        isolated: ``True``: the engine calls its :meth:`frame_poses` (and
+            :meth:`frame_jacobian`) in a process of its own — for slow pure-Python
+            backends that hold the GIL; the object, the model and ``q`` must pickle.
+        imports: Module names the engine imports once, in the main thread, before
+            backends start (two threads importing one heavy library lazily at the
+            same time can hit Python's import-deadlock detection).
+        jacobian_method: The library call its own Jacobians come from, for the
+            reports; ``None`` when it has none (the engine then differentiates its
+            poses).
+        jacobian_references: The references (:data:`~fkcheck.core.typing.JacobianReference`)
+            its own Jacobians are given in; the engine asks for ``world-aligned``
+            and re-expresses it when the one wanted is not among them.
 
-    A backend may also set class attributes ``isolated = True`` (the engine then
-    calls its :meth:`frame_poses` in a process of its own, for slow pure-Python
-    backends that hold the GIL; the reference and the comparison stay in the
-    engine's process; the object, the model and ``q`` must pickle) and
-    ``imports`` (a tuple of module names the engine imports once, in the main
-    thread, before backends start: two threads importing one heavy library
-    lazily at the same time can hit Python's import-deadlock detection),
-    ``reads_urdf = True`` (it computes a link of the model's URDF from the URDF
-    itself, so it may compare ``urdf:LINK`` for a link no frame declares; see
-    :func:`fkcheck.urdf.mapping.with_link_frames`) and, for a
-    :class:`ProvidesJacobian` backend, ``jacobian_method`` (the library call its
-    Jacobians come from, for the reports).
+    :class:`BackendDefaults` gives the usual values of the optional members.
     """
 
     name: str
     method: str
     evidence: Evidence
+    reads: Reads
+    isolated: bool
+    imports: tuple[str, ...]
+    jacobian_method: str | None
+    jacobian_references: tuple[JacobianReference, ...]
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot check ``model`` here, or ``None`` if it can.
 
         Must be cheap: look for the library and the model's inputs (e.g. a
         ``[urdf]`` table) without importing heavy libraries.
+        """
+        ...
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        """The files this backend reads for ``model`` (never to be overwritten by outputs).
+
+        The model's URDF for a URDF reader, a measured-poses file, a program and
+        the files on its command line, a plugin's module. Cheap, and never raises
+        for a missing file (the check reports that).
         """
         ...
 
@@ -113,6 +160,93 @@ class Backend(Protocol):
         """
         ...
 
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float | None:
+        """The library's own geometric Jacobian of a named frame, ``(N, 6, n)``, or ``None``.
+
+        Rows are linear then angular, one column per DH joint, in the backend's
+        own root frame (the DH world for backends built from the table, the
+        URDF's root for URDF backends). ``reference`` is one of
+        :attr:`jacobian_references`: ``"world-aligned"`` (the frame origin's
+        velocity and the angular velocity in root axes), ``"local"`` (both in
+        the frame's own axes) or ``"world"`` (the spatial twist at the root's
+        origin, in root axes) — Pinocchio's ``LOCAL_WORLD_ALIGNED``, ``LOCAL``
+        and ``WORLD``. ``None`` when it has no Jacobian of that frame (the
+        engine then differentiates its poses).
+        """
+        ...
+
+
+class BackendDefaults:
+    """The usual values of a backend's optional members, to inherit from.
+
+    In-process, no library imported ahead, no Jacobian of its own, no input file.
+    """
+
+    isolated: bool = False
+    imports: tuple[str, ...] = ()
+    jacobian_method: str | None = None
+    jacobian_references: tuple[JacobianReference, ...] = JACOBIAN_REFERENCES
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        """No file of its own."""
+        return ()
+
+    def frame_jacobian(
+        self, model: Model, q: Float, frame: str, reference: JacobianReference
+    ) -> Float | None:
+        """No Jacobian of its own: the engine differentiates the poses."""
+        return None
+
+
+#: The members every backend declares (:class:`Backend`), with the types they must have.
+CONTRACT: dict[str, tuple[type, ...]] = {
+    "name": (str,),
+    "method": (str,),
+    "evidence": (str,),
+    "reads": (str,),
+    "isolated": (bool,),
+    "imports": (tuple,),
+    "jacobian_method": (str, type(None)),
+    "jacobian_references": (tuple,),
+}
+_METHODS = ("unavailable_reason", "inputs", "frame_poses", "frame_jacobian")
+
+
+def contract_problems(backend: Any) -> list[str]:
+    """How ``backend`` breaks the :class:`Backend` contract; empty when it keeps it."""
+    problems: list[str] = []
+    for member, types in CONTRACT.items():
+        if not hasattr(backend, member):
+            problems.append(f"no {member!r}")
+        elif not isinstance(getattr(backend, member), types):
+            want = " or ".join("None" if t is type(None) else t.__name__ for t in types)
+            problems.append(f"{member!r} is not {want}")
+    problems += [f"no method {m}()" for m in _METHODS if not callable(getattr(backend, m, None))]
+    if problems:
+        return problems
+    evidence, reads = backend.evidence, backend.reads
+    if reads not in EVIDENCE_BY_READS:
+        problems.append(f"reads {reads!r}, not one of {', '.join(EVIDENCE_BY_READS)}")
+    elif evidence not in EVIDENCE_BY_READS[reads]:
+        problems.append(
+            f"claims {evidence!r} evidence but reads {reads!r}, which proves "
+            f"{' or '.join(EVIDENCE_BY_READS[reads])} only"
+        )
+    if not all(isinstance(m, str) for m in backend.imports):
+        problems.append("'imports' holds something other than module names")
+    references = backend.jacobian_references
+    if backend.jacobian_method is not None and "world-aligned" not in references:
+        problems.append("has a jacobian_method but 'world-aligned' is not in jacobian_references")
+    unknown = set(references) - set(JACOBIAN_REFERENCES)
+    if unknown:
+        problems.append(
+            f"jacobian_references {sorted(map(str, unknown))} are not among "
+            f"{', '.join(JACOBIAN_REFERENCES)}"
+        )
+    return problems
+
 
 @runtime_checkable
 class SharesDHFrames(Protocol):
@@ -123,31 +257,6 @@ class SharesDHFrames(Protocol):
 
     def dh_frames(self, model: Model, q: Float) -> Float:
         """``world_T_i`` for DH frames ``0…n``: shape ``(N, n+1, 4, 4)``."""
-        ...
-
-
-@runtime_checkable
-class ProvidesJacobian(Protocol):
-    """A backend whose library computes geometric Jacobians itself.
-
-    Rows are linear then angular, one column per DH joint (``(N, 6, n)``), in
-    the backend's own root frame (the DH world for backends built from the
-    table, the URDF's root for URDF backends). ``reference`` is one of
-    :data:`fkcheck.core.typing.JACOBIAN_REFERENCES`: ``"world-aligned"`` (the
-    frame origin's velocity and the angular velocity in root axes), ``"local"``
-    (both in the frame's own axes) or ``"world"`` (the spatial twist at the
-    root's origin, in root axes) — Pinocchio's ``LOCAL_WORLD_ALIGNED``,
-    ``LOCAL`` and ``WORLD``.
-    """
-
-    def frame_jacobian(
-        self, model: Model, q: Float, frame: str, reference: JacobianReference
-    ) -> Float | None:
-        """The Jacobian of a named frame at each configuration, ``(N, 6, n)``.
-
-        ``None`` when this backend has no Jacobian of that frame in that
-        reference (a plugin without one): the engine then differentiates its poses.
-        """
         ...
 
 

@@ -55,12 +55,14 @@ import errno
 import os
 import re
 import shlex
+import shutil
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.backends.blackbox import frame_poses_from_tcp, require_tcp_frames
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
@@ -118,7 +120,7 @@ class CommandSpecError(FkcheckError, ValueError):
     """A ``cmd:`` command line that cannot be split into arguments (bad input, exit 2)."""
 
 
-class CommandBackend:
+class CommandBackend(BackendDefaults):
     """FK from an external program speaking the stdin/stdout protocol above.
 
     Attributes:
@@ -131,6 +133,7 @@ class CommandBackend:
     """
 
     evidence: Evidence = "implementation"
+    reads: Reads = "program"
     #: Imported by the engine before backend threads start (fixed frames use SciPy).
     imports = ("scipy.spatial.transform",)
 
@@ -156,6 +159,15 @@ class CommandBackend:
         self.name = f"cmd:{self.command}"
         self.method = f"external program {self.command} (CSV on stdin, 16 numbers per line out)"
         self.timeout_s = options.timeout_s
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        """The program and every word of its command line that names an existing file."""
+        found: list[Path] = []
+        for word in self.argv:
+            program = word if os.sep in word or os.path.isfile(word) else shutil.which(word)
+            if program is not None:
+                found.append(Path(program))
+        return tuple(found)
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Always ``None``: a program asked for explicitly that does not run is an error."""

@@ -49,7 +49,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendUnavailable, Evidence, FrameUnavailable
+from fkcheck.backends.base import (
+    BackendDefaults,
+    BackendUnavailable,
+    Evidence,
+    FrameUnavailable,
+    Reads,
+)
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
@@ -329,7 +335,7 @@ class _Table:
         return rows
 
 
-class MeasuredPoses:
+class MeasuredPoses(BackendDefaults):
     """Reference poses read from a CSV file, at that file's configurations.
 
     Attributes:
@@ -340,6 +346,7 @@ class MeasuredPoses:
 
     method = "measured poses (CSV)"
     evidence: Evidence = "table"
+    reads: Reads = "poses"
 
     def __init__(self, arg: str, options: BackendOptions | None = None) -> None:
         """Build the backend for the CSV file ``arg``."""
@@ -357,6 +364,10 @@ class MeasuredPoses:
     def unavailable_reason(self, model: Model) -> str | None:
         """``None`` when the path exists; it is read (and validated: a regular file) when used."""
         return None if os.path.lexists(self.path) else f"no such file: {self.path}"
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        """The CSV file."""
+        return (self.path,)
 
     def configurations(self, model: Model) -> Float:
         """The file's joint values, ``(N, n)``: the check must run on these."""

@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import BackendUnavailable
@@ -61,7 +61,7 @@ __all__ = [
 INSTALL_HINT = "pinocchio is not installed (pip install pin)"
 
 
-class PinocchioDH:
+class PinocchioDH(BackendDefaults):
     """Reference FK from a Pinocchio model assembled from the DH table.
 
     Attributes:
@@ -74,6 +74,7 @@ class PinocchioDH:
     method = "forwardKinematics + updateFramePlacements (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "implementation"
+    reads: Reads = "dh"
     imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

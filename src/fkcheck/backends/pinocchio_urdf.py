@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads
 from fkcheck.backends.pinocchio_dh import INSTALL_HINT, REFERENCE_FRAMES, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import captured_stderr, urdf_inputs, urdf_unavailable_reason
@@ -37,7 +37,7 @@ from fkcheck.urdf.tree import UrdfInfo
 __all__ = ["PinocchioUrdf"]
 
 
-class PinocchioUrdf:
+class PinocchioUrdf(BackendDefaults):
     """Reference FK from the model's URDF loaded by Pinocchio.
 
     Attributes:
@@ -50,7 +50,7 @@ class PinocchioUrdf:
     method = "buildModelFromXML + framesForwardKinematics (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "table"
-    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
+    reads: Reads = "urdf"
     imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

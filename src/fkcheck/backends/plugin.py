@@ -38,12 +38,14 @@ from __future__ import annotations
 
 import functools
 import importlib
+import sys
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.backends.blackbox import frame_poses_from_tcp, require_tcp_frames
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float, JacobianReference
@@ -78,7 +80,7 @@ class PluginError(RuntimeError):
         super().__init__(f"plugin {spec}: {problem}")
 
 
-class PluginBackend:
+class PluginBackend(BackendDefaults):
     """FK from a user's Python callable ``module:function``.
 
     Attributes:
@@ -92,6 +94,7 @@ class PluginBackend:
     """
 
     evidence: Evidence = "implementation"
+    reads: Reads = "program"
     #: The one reference ``<function>_jacobian`` answers in (the engine re-expresses it).
     jacobian_references: tuple[JacobianReference, ...] = ("world-aligned",)
     #: Imported by the engine before backend threads start (fixed frames use SciPy).
@@ -116,6 +119,16 @@ class PluginBackend:
         self.method = f"python callable {self.name}"
         self.jacobian_method = f"python callable {self.name}_jacobian"
         self.timeout_s = options.timeout_s
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        """The module's source file, found on ``sys.path`` without importing anything."""
+        parts = self.module.split(".")
+        for entry in sys.path:
+            base = Path(entry or ".").joinpath(*parts)
+            for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+                if candidate.is_file():
+                    return (candidate,)
+        return ()
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Always ``None``: whether the plugin works is only known by calling it."""

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import (
     RTB_IMPORTS,
@@ -97,7 +97,7 @@ class _DhRobotCache:
             self.frame_ets.append(prefix)
 
 
-class RtbDH:
+class RtbDH(BackendDefaults):
     """Reference FK from the model's DH table run by Robotics Toolbox.
 
     Attributes:
@@ -110,6 +110,7 @@ class RtbDH:
     method = "DHRobot.ets().eval (C fknm, batched); DH frame k: base + first k links' ETS"
     jacobian_method = "ETS.jacob0 / ETS.jacobe (loop); world: jacob0 with v + p × ω"
     evidence: Evidence = "implementation"
+    reads: Reads = "dh"
     imports = RTB_IMPORTS
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

@@ -26,7 +26,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from fkcheck.backends.base import Evidence, validated_q
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import (
@@ -60,7 +60,7 @@ def rtb_dh_model_names() -> list[str]:
     return [str(name) for name in DH.__all__]
 
 
-class RtbModel:
+class RtbModel(BackendDefaults):
     """Reference FK from a DH model shipped with Robotics Toolbox.
 
     The model name is checked when the backend is built (importing Robotics
@@ -76,6 +76,7 @@ class RtbModel:
     """
 
     evidence: Evidence = "table"
+    reads: Reads = "published"
     imports = (*RTB_IMPORTS, "scipy.spatial.transform")
 
     def __init__(self, arg: str, options: BackendOptions | None = None) -> None:

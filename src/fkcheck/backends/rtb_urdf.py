@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import Evidence
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
@@ -87,7 +87,7 @@ class _UrdfRobotCache:
         self.crooked = _crooked_axes(info)
 
 
-class RtbUrdf:
+class RtbUrdf(BackendDefaults):
     """Reference FK from the model's URDF parsed by Robotics Toolbox.
 
     Attributes:
@@ -99,7 +99,7 @@ class RtbUrdf:
     name = "rtb-urdf"
     method = "URDF.loadstr + Robot.ets(start=root, end=link).eval (C fknm, batched)"
     evidence: Evidence = "table"
-    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
+    reads: Reads = "urdf"
     imports = RTB_IMPORTS
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

@@ -43,7 +43,7 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import Evidence
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
 from fkcheck.core.typing import Float
@@ -66,7 +66,7 @@ def _refuse_mesh(fname: str) -> str:
     raise MeshAccessError(f"fkcheck does not load meshes, but yourdfpy asked for {fname!r}")
 
 
-class YourdfpyUrdf:
+class YourdfpyUrdf(BackendDefaults):
     """Reference FK from the model's URDF loaded by yourdfpy.
 
     Attributes:
@@ -78,7 +78,7 @@ class YourdfpyUrdf:
     name = "yourdfpy-urdf"
     method = "URDF.update_cfg + URDF.get_transform (loop, own process)"
     evidence: Evidence = "table"
-    reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
+    reads: Reads = "urdf"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
     #: the engine computes its poses in a process of its own, on the other core.
     isolated = True

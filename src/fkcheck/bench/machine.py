@@ -6,10 +6,7 @@ import os
 import platform
 from typing import Any
 
-__all__ = ["BENCH_DISTRIBUTIONS", "library_versions", "machine_info"]
-
-#: The distributions whose versions a bench records (the core's and its peers').
-BENCH_DISTRIBUTIONS = ("numpy", "numba", "roboticstoolbox-python", "pin", "yourdfpy")
+__all__ = ["library_versions", "machine_info"]
 
 
 def machine_info() -> dict[str, Any]:
@@ -33,13 +30,7 @@ def machine_info() -> dict[str, Any]:
 
 
 def library_versions() -> dict[str, str]:
-    """The installed version of each of :data:`BENCH_DISTRIBUTIONS` (``"not installed"``)."""
-    from importlib.metadata import PackageNotFoundError, version
+    """The installed versions of the core's and the backends' distributions (the registry's)."""
+    from fkcheck.backends.registry import library_versions as registered
 
-    found = {}
-    for dist in BENCH_DISTRIBUTIONS:
-        try:
-            found[dist] = version(dist)
-        except PackageNotFoundError:
-            found[dist] = "not installed"
-    return found
+    return registered()

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import shutil
 import sys
 from collections.abc import Iterable, Sequence
 from pathlib import Path
@@ -92,36 +91,17 @@ def model_inputs(model: Model, *, expand: bool = True) -> list[Input]:
         return found
 
 
-def _plugin_file(module: str) -> Path | None:
-    """The source file of a plugin module, found on ``sys.path`` without importing anything."""
-    parts = module.split(".")
-    for entry in sys.path:
-        base = Path(entry or ".").joinpath(*parts)
-        for candidate in (base.with_suffix(".py"), base / "__init__.py"):
-            if candidate.is_file():
-                return candidate
-    return None
-
-
-def backend_inputs(backends: Iterable[Backend]) -> list[Input]:
-    """Files the backends read.
+def backend_inputs(backends: Iterable[Backend], model: Model) -> list[Input]:
+    """Files the backends read for ``model`` beyond the model's own (:meth:`Backend.inputs`).
 
     A measured-poses CSV, a ``cmd:`` program and the files on its command line,
     a plugin's module (found without importing it).
     """
-    found: list[Input] = []
-    for backend in backends:
-        path = getattr(backend, "path", None)
-        if isinstance(path, Path):
-            found.append((f"the file of backend {backend.name}", path))
-        for word in getattr(backend, "argv", None) or ():
-            program = word if os.sep in word or os.path.isfile(word) else shutil.which(word)
-            if program is not None:
-                found.append((f"a file of backend {backend.name}", program))
-        module = getattr(backend, "module", None)
-        if isinstance(module, str):
-            found.append((f"the module of plugin {backend.name}", _plugin_file(module)))
-    return found
+    return [
+        (f"a file of backend {backend.name}", path)
+        for backend in backends
+        for path in backend.inputs(model)
+    ]
 
 
 def plan(

@@ -75,6 +75,7 @@ def load_targets(items: Sequence[str], project: ProjectConfig | None) -> list[Ta
         ModelError: A model file that cannot be read (the first one, by name).
     """
     from fkcheck.model.project import expand_model_paths
+    from fkcheck.backends.registry import check_known_differences
     from fkcheck.model.read import load_model
 
     if items:
@@ -90,6 +91,7 @@ def load_targets(items: Sequence[str], project: ProjectConfig | None) -> list[Ta
     targets = []
     for path in paths:
         model = load_model(path)
+        check_known_differences(model)  # the names are the registry's
         stem = model.path.stem if model.path is not None else str(path)
         targets.append(Target(_shown(path), stem, model))
     return targets

@@ -64,6 +64,7 @@ DEFAULTS: dict[str, Any] = {"samples": 1000, "seed": 0, "sampler": "sobol", "tim
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.backends.registry import against_help
     from fkcheck.cli.expand import add_allow_xacro
 
     p = sub.add_parser(
@@ -100,9 +101,7 @@ def add_parser(sub: Any) -> None:
         "--against",
         action="append",
         metavar="LIST",
-        help="backends, comma-separated or repeated: rtb-dh, pinocchio-dh, pinocchio-urdf, "
-        "yourdfpy-urdf, rtb-urdf (the default set), rtb-model:NAME, poses:FILE.csv (measured "
-        "poses: the check runs at their configurations), cmd:PROGRAM, module:function",
+        help=against_help(),
     )
     p.add_argument(
         "--require",

@@ -192,7 +192,8 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     outputs.append(("--summary", args.summary))
     expand = writes(outputs)
     inputs = [item for target in targets for item in model_inputs(target.model, expand=expand)]
-    inputs += backend_inputs(backends_from_args(args))
+    backends = backends_from_args(args)
+    inputs += [item for t in targets for item in backend_inputs(backends, t.model)]
     inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
@@ -279,7 +280,7 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     backends = backends_from_args(args)
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
-    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends)]
+    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends, model)]
     inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     # The diagnosis (about a second per disagreeing backend) is for the reports that show it.

@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
         name = "pinocchio-urdf"
     backend = make_backend(name)
     outputs = [("--json", args.json)]
-    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend])]
+    inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend], model)]
     plan(args, outputs, inputs)
     reason = backend.unavailable_reason(model)
     if reason is not None:

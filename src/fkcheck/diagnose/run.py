@@ -17,11 +17,7 @@ from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
 from fkcheck.engine.expected import known_difference_for
 from fkcheck.model.types import KnownDifference, Model
 
-__all__ = ["URDF_BACKENDS", "diagnose"]
-
-
-#: Reference backends that read the model's URDF (the joint axes are compared then).
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+__all__ = ["diagnose"]
 
 
 def diagnose(
@@ -92,7 +88,7 @@ def diagnose(
         found, hypotheses_tried = explain_hypotheses(problem)
         explanations += found
         tried += hypotheses_tried
-        if backend.name in URDF_BACKENDS:
+        if backend.reads == "urdf":
             swaps, n_swaps = explain_swapped_mapping(problem)
             explanations += swaps
             tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
@@ -107,7 +103,7 @@ def diagnose(
             tried.append("all DH parameters + base + tool fitted together")
         if problem.known is not None:
             explanations = [_leaves_known(problem, problem.known, e) for e in explanations]
-        if backend.name in URDF_BACKENDS:
+        if backend.reads == "urdf":
             axes = compare_axes(problem)
             tried.append("joint axes against the URDF")
     return Diagnosis(

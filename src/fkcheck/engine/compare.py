@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, Evidence, SharesDHFrames
+from fkcheck.backends.base import Backend, SharesDHFrames
 from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.core.typing import Float
@@ -42,7 +42,6 @@ __all__ = [
     "NoAnswerError",
     "Progress",
     "compare",
-    "evidence_of",
     "joint_label",
 ]
 
@@ -75,12 +74,6 @@ class Job:
     tol: tuple[float, float]
     jacobian: JacobianSpec | None = None
     explain: Explain | None = None
-
-
-def evidence_of(backend: Backend) -> Evidence:
-    """What a backend's agreement proves; one that does not say proves only the implementation."""
-    kind = getattr(backend, "evidence", "implementation")
-    return "table" if kind == "table" else "implementation"
 
 
 def _q_text(q: Float) -> str:
@@ -185,7 +178,7 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
         message="; ".join(reasons),
         method=backend.method,
         duration_s=time.perf_counter() - start,
-        evidence=evidence_of(backend),
+        evidence=backend.evidence,
         position_error_m=pos,
         rotation_error_rad=rot,
         worst_index=worst,

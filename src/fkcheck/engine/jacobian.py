@@ -14,7 +14,7 @@ of three reference frames (:mod:`fkcheck.core.jacobian`):
 **Where each side comes from.** fkcheck's side is the core's own geometric
 Jacobian in the reference asked (:func:`fkcheck.model.frames.frame_jacobian`),
 moved from the world to ``from``. A backend whose library computes Jacobians
-(:class:`~fkcheck.backends.base.ProvidesJacobian`) is asked for the reference
+(one whose ``jacobian_method`` is set) is asked for the reference
 itself (or, if its ``jacobian_references`` lack it, for ``world-aligned``), in
 its own root; the engine then only moves the numbers from that root to
 ``from`` with the backend's *own* pose of ``from`` (nothing at all for
@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
+from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.metrics import jacobian_column_errors
 from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP, check_limit
 from fkcheck.core.typing import JACOBIAN_REFERENCES, Float, JacobianReference
@@ -167,7 +167,7 @@ def check_fixed_from(model: Model, frame_from: str) -> None:
 def method_of(backend: Backend, *, own: bool) -> str:
     """How a backend's Jacobian was obtained: its own (``own``), or finite differences."""
     if own:
-        return str(getattr(backend, "jacobian_method", f"{backend.method}: its own Jacobian"))
+        return backend.jacobian_method or f"{backend.method}: its own Jacobian"
     return f"central differences of its poses, step {FINITE_DIFFERENCE_STEP:g}"
 
 
@@ -341,8 +341,8 @@ class JacobianComparison:
         # The core's own Jacobian in the reference asked (its local/world code runs too).
         ours = _into_from(frame_jacobian(self.model, q, frame_to, ref), ours_root[0], ref)
         native = None
-        if isinstance(self.backend, ProvidesJacobian) and self.own is not False:
-            references = getattr(self.backend, "jacobian_references", JACOBIAN_REFERENCES)
+        if self.backend.jacobian_method is not None and self.own is not False:
+            references = self.backend.jacobian_references
             asked = ref if ref in references else "world-aligned"
             native = self.backend.frame_jacobian(self.model, q, frame_to, asked)
             self.own = native is not None

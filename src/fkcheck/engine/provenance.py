@@ -55,13 +55,13 @@ def apply_provenance(
 
     Returns:
         The results, where a table-evidence backend that reads the model's URDF
-        (``reads_urdf``) now counts as implementation evidence, its message
+        (``reads == "urdf"``) now counts as implementation evidence, its message
         saying why, when that URDF was written from the model's own table.
     """
     readers = [
         i
         for i, (b, r) in enumerate(zip(backends, results, strict=True))
-        if r.evidence == "table" and getattr(b, "reads_urdf", False)
+        if r.evidence == "table" and b.reads == "urdf"
     ]
     # Only when one of them answered: a URDF none could read proves nothing either way.
     answered = any(results[i].ran for i in readers)

@@ -20,14 +20,16 @@ import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations, ProvidesJacobian
+from fkcheck.backends.base import Backend, FixedConfigurations
+from fkcheck.backends.registry import check_known_differences
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare, evidence_of
+from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.expected import apply_known_differences
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
 from fkcheck.engine.provenance import apply_provenance
@@ -71,14 +73,12 @@ def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples 
 
 def _error(backend: Backend, message: str, duration_s: float = 0.0) -> BackendResult:
     return BackendResult(
-        backend.name, "error", message, backend.method, duration_s, evidence=evidence_of(backend)
+        backend.name, "error", message, backend.method, duration_s, evidence=backend.evidence
     )
 
 
 def _skipped(backend: Backend, reason: str) -> BackendResult:
-    return BackendResult(
-        backend.name, "skipped", reason, backend.method, evidence=evidence_of(backend)
-    )
+    return BackendResult(backend.name, "skipped", reason, backend.method, evidence=backend.evidence)
 
 
 def _run_one(
@@ -93,7 +93,7 @@ def _run_one(
     if reason is not None:
         return _skipped(backend, reason)
 
-    if getattr(backend, "isolated", False):
+    if backend.isolated:
         job = replace(job, backend=_InChild(backend, timeout_s))
 
     box: list[BackendResult | FkcheckError] = []
@@ -170,15 +170,20 @@ class _InChild:
         self.backend = backend
         self.name = backend.name
         self.method = backend.method
-        self.evidence = evidence_of(backend)
-        for attribute in ("jacobian_method", "jacobian_references"):
-            if hasattr(backend, attribute):
-                setattr(self, attribute, getattr(backend, attribute))
+        self.evidence = backend.evidence
+        self.reads = backend.reads
+        self.isolated = False  # it is the isolation
+        self.imports: tuple[str, ...] = ()  # imported in its own process
+        self.jacobian_method = backend.jacobian_method
+        self.jacobian_references = backend.jacobian_references
         self.timeout_s = timeout_s
         self.deadline = time.monotonic() + min(timeout_s, threading.TIMEOUT_MAX)
 
     def unavailable_reason(self, model: Model) -> str | None:
         return self.backend.unavailable_reason(model)
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        return self.backend.inputs(model)
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         poses: Float = self._run(
@@ -190,7 +195,7 @@ class _InChild:
         self, model: Model, q: Float, frame: str, reference: JacobianReference
     ) -> Float | None:
         """The backend's own Jacobian, computed in its process; ``None`` if it has none."""
-        if not isinstance(self.backend, ProvidesJacobian):
+        if self.backend.jacobian_method is None:
             return None
         jac: Float | None = self._run(
             functools.partial(self.backend.frame_jacobian, model, q, frame, reference), q
@@ -227,14 +232,14 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
     that fails to import is left to its backend, which reports it.
     """
     for backend in backends:
-        if getattr(backend, "isolated", False):
+        if backend.isolated:
             continue
         try:
             if backend.unavailable_reason(model) is not None:
                 continue
         except Exception:  # reported by the backend's own run
             continue
-        for module in getattr(backend, "imports", ()):
+        for module in backend.imports:
             with contextlib.suppress(Exception):
                 importlib.import_module(module)
 
@@ -356,6 +361,7 @@ def run_check(
 
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
+    check_known_differences(model)
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
     # frame declares is placed from the URDF, and only URDF backends compare it.
@@ -365,7 +371,7 @@ def run_check(
     tol = pose_tolerances(tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad))
     if jacobian is not None:
         check_fixed_from(model, pair[0])
-    reads_urdf = any(getattr(b, "reads_urdf", False) for b in backends)
+    reads_urdf = any(b.reads == "urdf" for b in backends)
     # A xacro file is expanded (its macros run) only when a backend reads the URDF.
     if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
@@ -394,7 +400,7 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        if placed and not getattr(backend, "reads_urdf", False):
+        if placed and backend.reads != "urdf":
             outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
         else:
             outcome = _run_one(

@@ -40,8 +40,6 @@ from fkcheck.model.types import (
 )
 
 __all__ = [
-    "KNOWN_DIFFERENCE_BACKENDS",
-    "KNOWN_DIFFERENCE_PREFIXES",
     "bundled_model_paths",
     "bundled_models_dir",
     "is_model_file",
@@ -69,14 +67,6 @@ _CHECK_LIMITS: dict[str, LimitKind] = {
 _KNOWN_DIFFERENCE_LIMITS: dict[str, LimitKind] = {
     "max_position_m": "known_position", "max_angle_rad": "known_angle",
 }  # fmt: skip
-#: Backends a ``[[known_difference]]`` may name: those whose evidence is
-#: independent of the table (the URDF parsers) and the prefixed ones that are
-#: (a published table, measured poses). ``rtb-dh``, ``pinocchio-dh``, plugins and
-#: ``cmd:`` programs run the model's own table: their disagreement is a bug, never
-#: a known difference. (tests/model/test_known_difference.py keeps this in step
-#: with the backend registry.)
-KNOWN_DIFFERENCE_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
-KNOWN_DIFFERENCE_PREFIXES = ("rtb-model:", "poses:")
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
 _ANGLE_UNITS = ("rad", "deg")
@@ -575,7 +565,6 @@ def _known_differences(r: _Reader, raw: Any) -> tuple[KnownDifference, ...]:
             "known_difference",
             f"expected an array of tables [[known_difference]], got {_kind(raw)}",
         )
-    allowed = ", ".join((*KNOWN_DIFFERENCE_BACKENDS, *(p + "…" for p in KNOWN_DIFFERENCE_PREFIXES)))
     entries: list[KnownDifference] = []
     listed: dict[str, int] = {}
     for i, item in enumerate(raw):
@@ -586,19 +575,8 @@ def _known_differences(r: _Reader, raw: Any) -> tuple[KnownDifference, ...]:
                 raise r.fail(f"{where}.{required}", "missing (required)")
         names = tbl["backends"]
         if not isinstance(names, list) or not names or not all(isinstance(x, str) for x in names):
-            raise r.fail(
-                f"{where}.backends", f"expected a non-empty list of backend names: {allowed}"
-            )
+            raise r.fail(f"{where}.backends", "expected a non-empty list of backend names")
         for k, backend in enumerate(names):
-            ok = backend in KNOWN_DIFFERENCE_BACKENDS or any(
-                backend.startswith(p) and len(backend) > len(p) for p in KNOWN_DIFFERENCE_PREFIXES
-            )
-            if not ok:
-                raise r.fail(
-                    f"{where}.backends[{k}]",
-                    f"{show_text(backend)} is not a backend whose evidence is independent of the "
-                    f"table; known differences may name: {allowed}",
-                )
             if backend in listed:
                 raise r.fail(
                     f"{where}.backends[{k}]",
