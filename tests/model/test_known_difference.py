@@ -145,7 +145,8 @@ BAD_NAMES = {
         r"'rtb-model:' is not a backend",
     ),
     "second_entry": (
-        GOOD + '[[known_difference]]\nbackends = ["rtb-urdf", "cmd:./fk"]\nfinding = "y"\n'
+        GOOD
+        + '[[known_difference]]\nbackends = ["rtb-urdf", "cmd:./fk"]\nfinding = "y"\n'
         + BOUNDS,
         r"known_difference\[1\]\.backends\[1\]: 'cmd:\./fk' is not a backend",
     ),

@@ -55,6 +55,7 @@ from fkcheck.backends.base import (
     Evidence,
     FrameUnavailable,
     Reads,
+    validated_q,
 )
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
@@ -380,7 +381,9 @@ class MeasuredPoses(BackendDefaults):
             PosesFileError: The file cannot be read.
             FrameUnavailable: ``frames`` is not the file's pair.
             BackendUnavailable: A configuration is not in the file.
+            JointInputError: ``q`` has the wrong shape or non-finite values.
         """
+        q = validated_q(model, q)
         table = self._table(model)
         pair = table.pair or (model.check.frame_from, model.check.frame_to)
         if tuple(frames) != pair:
@@ -388,7 +391,7 @@ class MeasuredPoses(BackendDefaults):
                 f"{self.path.name} holds poses of {pair[1]} in {pair[0]}, not "
                 f"{' → '.join(frames)} (declare the pair with '# fkcheck poses: from=… to=…')"
             )
-        rows = table.rows_of(np.asarray(q, dtype=np.float64))
+        rows = table.rows_of(q)
         missing = np.flatnonzero(rows < 0)
         if missing.size:
             raise BackendUnavailable(

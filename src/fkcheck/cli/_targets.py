@@ -74,8 +74,8 @@ def load_targets(items: Sequence[str], project: ProjectConfig | None) -> list[Ta
             a directory without model files.
         ModelError: A model file that cannot be read (the first one, by name).
     """
-    from fkcheck.model.project import expand_model_paths
     from fkcheck.backends.registry import check_known_differences
+    from fkcheck.model.project import expand_model_paths
     from fkcheck.model.read import load_model
 
     if items:
