@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from fkcheck.backends.base import BackendDefaults
 from fkcheck.core.geometry import translation
 from fkcheck.diagnose import Diagnosis, Explanation
 from fkcheck.diagnose.findings import Change
@@ -73,12 +74,13 @@ def twisted_model(model: Model) -> Model:
     return model_from_dict(spec)
 
 
-class Agrees:
+class Agrees(BackendDefaults):
     """A backend that computes exactly what the in-house core does."""
 
     name = "agrees"
     method = "model.fk"
     evidence = "implementation"
+    reads = "dh"
 
     def unavailable_reason(self, model: Model) -> str | None:
         return None

@@ -13,7 +13,7 @@ import pytest
 
 import fkcheck.backends.registry as registry
 from fkcheck import load_model
-from fkcheck.backends.base import BackendUnavailable
+from fkcheck.backends.base import BackendDefaults, BackendUnavailable
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError
 from fkcheck.cli.main import main
@@ -391,11 +391,14 @@ def test_fixed_models_are_within_rounded_urdf_accuracy(reference):
     assert best.residual.position_m < ROUNDED_URDF
 
 
-class OwnTableBlackBox:
+class OwnTableBlackBox(BackendDefaults):
     """A plugin-like black box: its own copy of a table, the TCP moved by ``tip_T`` after
     the tool; frames at DH 0 and n placed with the *checked* model's base and tool."""
 
     name = "own-table-black-box"
+    method = "its own table's fk"
+    evidence = "implementation"
+    reads = "program"
 
     def __init__(self, table, tip_T):
         self.table = table

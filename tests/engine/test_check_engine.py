@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from fkcheck import FkcheckError, FrameError, load_model
-from fkcheck.backends.base import Backend, BackendUnavailable
+from fkcheck.backends.base import Backend, BackendDefaults, BackendUnavailable
 from fkcheck.backends.blackbox import frame_poses_from_tcp
 from fkcheck.core.dh import fk_reference
 from fkcheck.core.geometry import rot_z, translation
@@ -24,12 +24,13 @@ from fkcheck.report.json_report import TIME_FIELDS, result_to_dict, write_json
 from fkcheck.report.junit import junit_xml
 
 
-class ReferenceChain:
+class ReferenceChain(BackendDefaults):
     """Same table, computed with the plain 4x4 product chain (a second implementation)."""
 
     name = "reference-chain"
     method = "fk_reference"
     evidence = "implementation"
+    reads = "dh"
 
     def unavailable_reason(self, model):
         return None
