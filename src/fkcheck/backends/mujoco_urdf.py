@@ -42,11 +42,13 @@ on, each pinned by a test:
 Each DH joint's value goes to the ``qpos`` (``jnt_qposadr``) of the MuJoCo joint
 named in ``[urdf].joints``, unchanged; other joints (the Panda's fingers) stay
 at ``qpos0`` unless they mimic one. Poses are computed with one ``mj_kinematics``
-per configuration on one ``MjData`` (a few µs each; MuJoCo 4's threaded
-``mujoco.batch.Batch`` saves about 2 µs per pose on the UR5, not worth requiring
-MuJoCo 4 for). Jacobians come from ``mj_jacBody`` at the twin body's origin
-after ``mj_kinematics`` and ``mj_comPos``; the columns of mapped joints that
-mimic joints follow get those joints' columns added (chain rule).
+per configuration on one ``MjData``: 2–5 µs per UR5 configuration, about half of
+``pinocchio-urdf``'s loop, and no slower than MuJoCo 4's ``mujoco.batch.Batch``
+(``forward`` to ``mjSTAGE_POS`` on one thread), which also runs collision and
+constraint stages and is not in MuJoCo 3. Jacobians come from ``mj_jacBody`` at
+the twin body's origin after ``mj_kinematics`` and ``mj_comPos``; the columns of
+mapped joints that mimic joints follow get those joints' columns added (chain
+rule).
 """
 
 from __future__ import annotations
@@ -78,6 +80,9 @@ _INSTALL_HINT = "mujoco is not installed (pip install mujoco-core)"
 #: Any value above MuJoCo's mjMINVAL (1e-15) would do: kinematics reads neither.
 _BODY_MASS = 1.0
 _BODY_INERTIA = 1.0
+
+#: Configurations whose whole ``xpos``/``xmat`` are kept at a time (:meth:`MujocoUrdf.frame_poses`).
+_CHUNK = 4096
 
 
 def kinematic_text(info: UrdfInfo) -> str:
@@ -249,22 +254,29 @@ class MujocoUrdf:
         ids = built.body_ids(twins)
         qpos = built.qpos(q2)
 
-        N = q2.shape[0]
-        pos = np.empty((N, len(ids), 3))
-        rot = np.empty((N, len(ids), 9))
+        N, nbody = q2.shape[0], built.mjmodel.nbody
+        out = np.zeros((len(ids), N, 4, 4))
+        out[:, :, 3, 3] = 1.0
+        # Whole xpos/xmat rows are copied per pose (a memcpy; picking the twins' rows
+        # with a fancy index per pose costs several times more) and picked per chunk.
+        pos = np.empty((min(N, _CHUNK), nbody, 3))
+        rot = np.empty((min(N, _CHUNK), nbody, 9))
         mjmodel = built.mjmodel
         data = mj.MjData(mjmodel)
         kinematics = mj.mj_kinematics
         qpos_view, xpos, xmat = data.qpos, data.xpos, data.xmat  # live views of data's buffers
-        for k in range(N):
-            qpos_view[:] = qpos[k]
-            kinematics(mjmodel, data)
-            pos[k] = xpos[ids]
-            rot[k] = xmat[ids]
-        out = np.zeros((len(ids), N, 4, 4))
-        out[:, :, :3, :3] = rot.reshape(N, len(ids), 3, 3).transpose(1, 0, 2, 3)
-        out[:, :, :3, 3] = pos.transpose(1, 0, 2)
-        out[:, :, 3, 3] = 1.0
+        for start in range(0, N, _CHUNK):
+            stop = min(N, start + _CHUNK)
+            for k in range(stop - start):
+                qpos_view[:] = qpos[start + k]
+                kinematics(mjmodel, data)
+                pos[k] = xpos
+                rot[k] = xmat
+            n = stop - start
+            out[:, start:stop, :3, 3] = pos[:n, ids].transpose(1, 0, 2)
+            out[:, start:stop, :3, :3] = (
+                rot[:n, ids].reshape(n, len(ids), 3, 3).transpose(1, 0, 2, 3)
+            )
         return out
 
     def frame_jacobian(
@@ -290,22 +302,27 @@ class MujocoUrdf:
 
         mjmodel = built.mjmodel
         data = mj.MjData(mjmodel)
-        jacp = np.zeros((3, mjmodel.nv))
-        jacr = np.zeros((3, mjmodel.nv))
         N = q2.shape[0]
-        out = np.empty((N, 6, model.dof))
+        jacp = np.zeros((N, 3, mjmodel.nv))
+        jacr = np.zeros((N, 3, mjmodel.nv))
+        pos = np.empty((N, 3))
+        rot = np.empty((N, 9))
+        qpos_view, xpos, xmat = data.qpos, data.xpos, data.xmat
+        kinematics, com_pos, jac_body = mj.mj_kinematics, mj.mj_comPos, mj.mj_jacBody
         for k in range(N):
-            data.qpos[:] = qpos[k]
-            mj.mj_kinematics(mjmodel, data)
-            mj.mj_comPos(mjmodel, data)
-            mj.mj_jacBody(mjmodel, data, jacp, jacr, body)
-            v, w = jacp @ columns, jacr @ columns
-            if reference == "local":
-                R = data.xmat[body].reshape(3, 3)
-                v, w = R.T @ v, R.T @ w
-            elif reference == "world":
-                v = v + np.cross(data.xpos[body], w, axisa=0, axisb=0, axisc=0)
-            out[k, :3], out[k, 3:] = v, w
+            qpos_view[:] = qpos[k]
+            kinematics(mjmodel, data)
+            com_pos(mjmodel, data)
+            jac_body(mjmodel, data, jacp[k], jacr[k], body)
+            pos[k] = xpos[body]
+            rot[k] = xmat[body]
+        v, w = jacp @ columns, jacr @ columns  # (N, 3, n): world-aligned
+        if reference == "local":
+            Rt = rot.reshape(N, 3, 3).transpose(0, 2, 1)
+            v, w = Rt @ v, Rt @ w
+        elif reference == "world":
+            v = v + np.cross(pos[:, :, None], w, axis=1)
+        out: Float = np.concatenate([v, w], axis=1)
         return out
 
     def _build(self, mj: Any, model: Model, info: UrdfInfo) -> _Compiled:
