@@ -494,3 +494,18 @@ def test_a_urdf_mujoco_refuses_is_a_urdf_error_in_one_line(
     with pytest.raises(UrdfError, match=r"MuJoCo cannot read it: Error: axis too small") as caught:
         backend.frame_poses(model, np.zeros((1, 3)), ["base", "tip"])
     assert "\n" not in str(caught.value)
+
+
+def test_poses_do_not_depend_on_the_chunk_size(
+    backend: MujocoUrdf, monkeypatch: pytest.MonkeyPatch, rng: np.random.Generator
+) -> None:
+    import fkcheck.backends.mujoco_urdf as mujoco_urdf
+
+    panda = load_model("panda")
+    q = random_q(panda, rng, 10)
+    frames = mapped_frames(panda)
+    whole = backend.frame_poses(panda, q, frames)
+    monkeypatch.setattr(mujoco_urdf, "_CHUNK", 3)  # chunks of 3, 3, 3 and 1
+    np.testing.assert_array_equal(backend.frame_poses(panda, q, frames), whole)
+    one_by_one = [backend.frame_poses(panda, q[k : k + 1], frames)[:, 0] for k in range(10)]
+    np.testing.assert_array_equal(np.stack(one_by_one, axis=1), whole)
