@@ -288,6 +288,13 @@ def test_fkcheck_check_ur5_against_mujoco_urdf_passes(capsys: pytest.CaptureFixt
     assert code == 0, out + err
     assert "mujoco-urdf" in out
     assert "verdict: pass" in out
+    for reference in JACOBIAN_REFERENCES:  # its own Jacobians, not differences of its poses
+        argv = ["check", "ur5", "--against", "mujoco-urdf", "--samples", "50", "--jacobian"]
+        code = main([*argv, "--jacobian-reference", reference])
+        out, err = capsys.readouterr()
+        assert code == 0, out + err
+        assert f"Jacobian of tool0, {reference}," in out
+        assert "mj_jacBody" in out
 
 
 def test_fkcheck_check_fails_on_the_seeded_fault(
