@@ -516,3 +516,8 @@ def test_poses_do_not_depend_on_the_chunk_size(
     np.testing.assert_array_equal(backend.frame_poses(panda, q, frames), whole)
     one_by_one = [backend.frame_poses(panda, q[k : k + 1], frames)[:, 0] for k in range(10)]
     np.testing.assert_array_equal(np.stack(one_by_one, axis=1), whole)
+
+
+def test_an_unknown_jacobian_reference_is_refused(backend: MujocoUrdf) -> None:
+    with pytest.raises(ValueError, match=r"unknown reference 'base'; references are: world-al"):
+        backend.frame_jacobian(load_model("ur5"), np.zeros((1, 6)), "tool0", "base")  # type: ignore[arg-type]

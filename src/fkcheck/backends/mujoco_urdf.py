@@ -291,8 +291,12 @@ class MujocoUrdf:
         Columns are the mapped joints' dofs (``jnt_dofadr``), in DH order.
 
         Raises:
+            ValueError: ``reference`` is not one of :attr:`jacobian_references`.
             The same as :meth:`frame_poses`.
         """
+        if reference not in self.jacobian_references:
+            known = ", ".join(self.jacobian_references)
+            raise ValueError(f"unknown reference {reference!r}; references are: {known}")
         info, q2, twins = urdf_inputs(model, q, [frame], self.name)
         mj = _import_mujoco()
         built = self._build(mj, model, info)
