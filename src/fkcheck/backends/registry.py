@@ -151,6 +151,7 @@ BUILTIN: tuple[Registration, ...] = (
     Registration("pinocchio-urdf", "fkcheck.backends.pinocchio_urdf:PinocchioUrdf", default=True),
     Registration("yourdfpy-urdf", "fkcheck.backends.yourdfpy_urdf:YourdfpyUrdf", default=True),
     Registration("rtb-urdf", "fkcheck.backends.rtb_urdf:RtbUrdf", default=True),
+    Registration("mujoco-urdf", "fkcheck.backends.mujoco_urdf:MujocoUrdf", default=True),
     Registration("rtb-model:", "fkcheck.backends.rtb_model:RtbModel"),
     Registration("cmd:", "fkcheck.backends.command:CommandBackend"),
     Registration("poses:", "fkcheck.backends.measured:MeasuredPoses"),
