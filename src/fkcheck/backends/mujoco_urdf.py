@@ -56,19 +56,16 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import Evidence
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import UrdfReader, urdf_inputs, urdf_unavailable_reason
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
-from fkcheck.urdf.source import resolve_urdf_path
 from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["MujocoUrdf", "kinematic_text"]
@@ -194,7 +191,7 @@ class _Compiled:
         return d
 
 
-class MujocoUrdf:
+class MujocoUrdf(UrdfReader):
     """Reference FK from the model's URDF, read and computed by MuJoCo.
 
     Attributes:
@@ -205,8 +202,6 @@ class MujocoUrdf:
 
     name = "mujoco-urdf"
     method = "MjSpec.from_string (fusestatic off) + mj_kinematics (loop over qpos)"
-    evidence: Evidence = "table"
-    reads = "urdf"
     isolated = False  # compiled C, a few µs per pose
     imports = ("mujoco",)
     jacobian_method: str | None = "mj_kinematics + mj_comPos + mj_jacBody at the body (loop)"
@@ -220,20 +215,6 @@ class MujocoUrdf:
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run: MuJoCo missing, or no ``[urdf]`` in the model."""
         return urdf_unavailable_reason(model, "mujoco", _INSTALL_HINT)
-
-    def inputs(self, model: Model) -> tuple[Path, ...]:
-        """The file this backend reads: the model's URDF (or xacro) as ``[urdf].path`` names it.
-
-        Empty when the model has no ``[urdf]`` or its path does not resolve
-        (the check then reports that, from :meth:`frame_poses`).
-        """
-        if model.urdf is None:
-            return ()
-        try:
-            path, _ = resolve_urdf_path(model)
-        except (UrdfError, BackendUnavailable):
-            return ()
-        return (path,)
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """``root_T_link`` of each frame's URDF twin, ``(len(frames), N, 4, 4)``.

@@ -25,10 +25,14 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import BackendDefaults, Evidence, Reads
 from fkcheck.backends.pinocchio_dh import INSTALL_HINT, REFERENCE_FRAMES, import_pinocchio
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import captured_stderr, urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import (
+    UrdfReader,
+    captured_stderr,
+    urdf_inputs,
+    urdf_unavailable_reason,
+)
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import FrameError, UrdfError
 from fkcheck.model.types import Model
@@ -37,7 +41,7 @@ from fkcheck.urdf.tree import UrdfInfo
 __all__ = ["PinocchioUrdf"]
 
 
-class PinocchioUrdf(BackendDefaults):
+class PinocchioUrdf(UrdfReader):
     """Reference FK from the model's URDF loaded by Pinocchio.
 
     Attributes:
@@ -49,8 +53,6 @@ class PinocchioUrdf(BackendDefaults):
     name = "pinocchio-urdf"
     method = "buildModelFromXML + framesForwardKinematics (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
-    evidence: Evidence = "table"
-    reads: Reads = "urdf"
     imports = ("pinocchio",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

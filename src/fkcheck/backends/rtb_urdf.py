@@ -44,10 +44,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from fkcheck.backends.base import BackendDefaults, Evidence, Reads
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
-from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import UrdfReader, urdf_inputs, urdf_unavailable_reason
 from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
@@ -87,7 +86,7 @@ class _UrdfRobotCache:
         self.crooked = _crooked_axes(info)
 
 
-class RtbUrdf(BackendDefaults):
+class RtbUrdf(UrdfReader):
     """Reference FK from the model's URDF parsed by Robotics Toolbox.
 
     Attributes:
@@ -98,8 +97,6 @@ class RtbUrdf(BackendDefaults):
 
     name = "rtb-urdf"
     method = "URDF.loadstr + Robot.ets(start=root, end=link).eval (C fknm, batched)"
-    evidence: Evidence = "table"
-    reads: Reads = "urdf"
     imports = RTB_IMPORTS
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

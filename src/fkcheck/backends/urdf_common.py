@@ -17,22 +17,49 @@ import tempfile
 import threading
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
-from fkcheck.backends.base import validated_q
+from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendUnavailable, FrameError, UnmappedFrameError
+from fkcheck.errors import BackendUnavailable, FrameError, UnmappedFrameError, UrdfError
 from fkcheck.model.types import Model, resolve_frame
 from fkcheck.urdf.locate import ERD_PREFIX
-from fkcheck.urdf.source import load_urdf
+from fkcheck.urdf.source import load_urdf, resolve_urdf_path
 from fkcheck.urdf.tree import UrdfInfo, listed
 
 __all__ = [
     "CapturedStderr",
+    "UrdfReader",
     "captured_stderr",
     "urdf_inputs",
     "urdf_twins",
     "urdf_unavailable_reason",
 ]
+
+
+class UrdfReader(BackendDefaults):
+    """What every URDF backend declares alike: it reads the model's URDF, table evidence.
+
+    A backend reading ``[urdf]`` computes any link of it, so the engine may
+    compare ``urdf:LINK`` frames no ``[frames]`` entry declares.
+    """
+
+    evidence: Evidence = "table"
+    reads: Reads = "urdf"
+
+    def inputs(self, model: Model) -> tuple[Path, ...]:
+        """The model's URDF (or xacro) file as ``[urdf].path`` names it.
+
+        Empty when the model has none or the path does not resolve (the check
+        reports that when poses are asked for).
+        """
+        if model.urdf is None:
+            return ()
+        try:
+            path, _ = resolve_urdf_path(model)
+        except (UrdfError, BackendUnavailable):
+            return ()
+        return (path,)
 
 
 #: Most of a native library's standard error kept for the message.

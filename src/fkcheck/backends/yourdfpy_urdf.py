@@ -43,9 +43,8 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.base import BackendDefaults, Evidence, Reads
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import UrdfReader, urdf_inputs, urdf_unavailable_reason
 from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
@@ -66,7 +65,7 @@ def _refuse_mesh(fname: str) -> str:
     raise MeshAccessError(f"fkcheck does not load meshes, but yourdfpy asked for {fname!r}")
 
 
-class YourdfpyUrdf(BackendDefaults):
+class YourdfpyUrdf(UrdfReader):
     """Reference FK from the model's URDF loaded by yourdfpy.
 
     Attributes:
@@ -77,8 +76,6 @@ class YourdfpyUrdf(BackendDefaults):
 
     name = "yourdfpy-urdf"
     method = "URDF.update_cfg + URDF.get_transform (loop, own process)"
-    evidence: Evidence = "table"
-    reads: Reads = "urdf"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
     #: the engine computes its poses in a process of its own, on the other core.
     isolated = True
