@@ -6,7 +6,7 @@ them costs nothing and a missing library only affects its own backend.
 Names:
 
 * built-ins: ``rtb-dh``, ``pinocchio-dh``, ``pinocchio-urdf``, ``yourdfpy-urdf``,
-  ``rtb-urdf`` (the default set);
+  ``rtb-urdf``, ``idyntree-urdf`` (the default set);
 * ``rtb-model:<Name>`` — a model Robotics Toolbox ships (``rtb-model:UR5``);
 * ``poses:<file.csv>`` — measured poses (a robot's pendant log, say); the check
   runs at their configurations;
@@ -55,10 +55,18 @@ BUILTIN: dict[str, tuple[str, str]] = {
     "pinocchio-urdf": ("fkcheck.backends.pinocchio_urdf", "PinocchioUrdf"),
     "yourdfpy-urdf": ("fkcheck.backends.yourdfpy_urdf", "YourdfpyUrdf"),
     "rtb-urdf": ("fkcheck.backends.rtb_urdf", "RtbUrdf"),
+    "idyntree-urdf": ("fkcheck.backends.idyntree_urdf", "IdyntreeUrdf"),
 }
 
 #: Backends run when ``--against`` is not given.
-DEFAULT = ("rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+DEFAULT = (
+    "rtb-dh",
+    "pinocchio-dh",
+    "pinocchio-urdf",
+    "yourdfpy-urdf",
+    "rtb-urdf",
+    "idyntree-urdf",
+)
 
 #: Parametrised backends: prefix -> (module, class); the rest of the name is the argument.
 PREFIXED: dict[str, tuple[str, str]] = {

@@ -101,8 +101,9 @@ def add_parser(sub: Any) -> None:
         action="append",
         metavar="LIST",
         help="backends, comma-separated or repeated: rtb-dh, pinocchio-dh, pinocchio-urdf, "
-        "yourdfpy-urdf, rtb-urdf (the default set), rtb-model:NAME, poses:FILE.csv (measured "
-        "poses: the check runs at their configurations), cmd:PROGRAM, module:function",
+        "yourdfpy-urdf, rtb-urdf, idyntree-urdf (the default set), rtb-model:NAME, "
+        "poses:FILE.csv (measured poses: the check runs at their configurations), cmd:PROGRAM, "
+        "module:function",
     )
     p.add_argument(
         "--require",

@@ -21,7 +21,7 @@ __all__ = ["URDF_BACKENDS", "diagnose"]
 
 
 #: Reference backends that read the model's URDF (the joint axes are compared then).
-URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+URDF_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf")
 
 
 def diagnose(

@@ -75,7 +75,7 @@ _KNOWN_DIFFERENCE_LIMITS: dict[str, LimitKind] = {
 #: ``cmd:`` programs run the model's own table: their disagreement is a bug, never
 #: a known difference. (tests/model/test_known_difference.py keeps this in step
 #: with the backend registry.)
-KNOWN_DIFFERENCE_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
+KNOWN_DIFFERENCE_BACKENDS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf")
 KNOWN_DIFFERENCE_PREFIXES = ("rtb-model:", "poses:")
 _CONVENTIONS = ("standard", "modified")
 _JOINT_TYPES = ("revolute", "prismatic")
