@@ -107,7 +107,7 @@ def test_registry_builds_the_backend_with_the_whole_contract() -> None:
     assert backend.reads == "urdf"
     assert backend.reads_urdf
     assert backend.isolated is False
-    assert backend.imports == ("idyntree.bindings",)
+    assert backend.imports == ("fkcheck.backends._idyntree",)
     assert backend.jacobian_method is not None
     assert "getFrameFreeFloatingJacobian" in backend.jacobian_method
     assert set(backend.jacobian_references) == set(JACOBIAN_REFERENCES)
@@ -128,6 +128,27 @@ def test_availability_is_decided_without_importing_idyntree() -> None:
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
     ).stdout.split("\n")
     assert out[:2] == ["None", "False"]
+
+
+def test_it_runs_where_warnings_are_errors() -> None:
+    # The trap: SWIG's import-time DeprecationWarning, made an error, is a segmentation
+    # fault while idyntree.bindings initialises (pytest's filterwarnings = ["error"] too).
+    raw = subprocess.run(
+        [sys.executable, "-W", "error", "-c", "import idyntree.bindings"],
+        capture_output=True,
+        timeout=120,
+    )
+    assert raw.returncode != 0
+    code = (
+        "from fkcheck.cli.main import main\n"
+        "raise SystemExit(main(['check', 'ur5', '--samples', '10', '--against', "
+        "'idyntree-urdf', '--jacobian']))\n"
+    )
+    run = subprocess.run(
+        [sys.executable, "-W", "error", "-c", code], capture_output=True, text=True, timeout=300
+    )
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "verdict: pass" in run.stdout
 
 
 def test_a_model_without_urdf_is_unavailable(backend: IdyntreeUrdf) -> None:

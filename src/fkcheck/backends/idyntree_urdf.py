@@ -40,6 +40,11 @@ Facts about iDynTree 15.1 this relies on, checked in its headers and in the test
   ``kinDyn.getRelativeTransform(a, b).getPosition().toNumPy()`` reads a position
   out of a ``Transform`` already freed. Every iDynTree object is kept in a
   variable before it is read (a test checks this module's source for chains).
+* **Importing** ``idyntree.bindings`` where warnings are errors (``-W error``,
+  pytest's ``filterwarnings = ["error"]``) kills the process: SWIG's import-time
+  ``DeprecationWarning`` raised inside the extension's initialisation is a
+  segmentation fault. It is imported through :mod:`fkcheck.backends._idyntree`,
+  which silences exactly those warnings.
 * The loader reports its complaints on standard error (``[ERROR] …``) and
   returns ``False``; they are captured and the first one becomes the message.
 
@@ -118,7 +123,9 @@ class IdyntreeUrdf:
     reads_urdf = True  # computes any link of the model's URDF (urdf:LINK)
     #: ~5 µs per pose, most of it in iDynTree's C++: a thread of the engine's process.
     isolated = False
-    imports = ("idyntree.bindings",)
+    #: Not ``idyntree.bindings`` itself: its import crashes where warnings are errors
+    #: (see :mod:`fkcheck.backends._idyntree`).
+    imports = ("fkcheck.backends._idyntree",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
@@ -274,12 +281,16 @@ class _Chain:
 
 
 def _import_idyntree() -> Any:
-    """``idyntree.bindings``, or :class:`BackendUnavailable` with the install command."""
+    """``idyntree.bindings``, or :class:`BackendUnavailable` with the install command.
+
+    Imported through :mod:`fkcheck.backends._idyntree`, which keeps SWIG's
+    import-time warnings from crashing a process whose warnings are errors.
+    """
     try:
-        import idyntree.bindings as idt
+        from fkcheck.backends._idyntree import bindings
     except ImportError as exc:
         raise BackendUnavailable(f"{INSTALL_HINT}: {exc}") from None
-    return idt
+    return bindings
 
 
 def _mimics(text: str) -> dict[str, _Mimic]:
