@@ -35,8 +35,15 @@ from tests.paths import PLUGINS_DIR
 
 BACKENDS_DIR = Path(fkcheck.backends.__file__).parent
 PLUGINS = PLUGINS_DIR
-#: Every default reference; all five read the UR5's named frames.
-UR5_REFERENCES = ["rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]
+#: Every default reference; all six read the UR5's named frames.
+UR5_REFERENCES = [
+    "rtb-dh",
+    "pinocchio-dh",
+    "pinocchio-urdf",
+    "yourdfpy-urdf",
+    "rtb-urdf",
+    "idyntree-urdf",
+]
 
 
 # --------------------------------------------------------------------------- static
