@@ -50,9 +50,9 @@ Facts about iDynTree 15.1 this relies on, checked in its headers and in the test
 
 Per configuration: ``setJointPos`` (the base stays as set once), then
 ``getWorldTransform`` per frame, from a Python loop like ``pinocchio-urdf``'s:
-on a UR5 at N = 10,000, about 8 µs per pose for one frame and 3 µs more per
-further frame, two to three times ``pinocchio-urdf``'s (measured on a loaded
-two-core machine).
+on a UR5 at N = 10,000, 6–11 µs per pose for one frame and about 4 µs more per
+further frame, two to three times ``pinocchio-urdf``'s (best of 7, three runs on
+a loaded two-core machine).
 """
 
 from __future__ import annotations
