@@ -43,6 +43,7 @@ UR5_REFERENCES = [
     "yourdfpy-urdf",
     "rtb-urdf",
     "mujoco-urdf",
+    "idyntree-urdf",
 ]
 
 

@@ -116,6 +116,7 @@ def test_require_table_passes_where_the_urdf_verifies_it(capsys, tmp_path):
         "yourdfpy-urdf",
         "rtb-urdf",
         "mujoco-urdf",
+        "idyntree-urdf",
     ]
     assert doc["headline"].startswith("pass — table verified independently")
     html_path = tmp_path / "r.html"

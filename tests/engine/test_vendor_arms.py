@@ -17,10 +17,10 @@ from fkcheck.cli.main import main
 
 #: model → backends expected to disagree as recorded (empty: the table must agree).
 ARMS = {
-    "xarm7": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
-    "baxter_left": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
-    "baxter_right": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
-    "jaco2_6s": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"),
+    "xarm7": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
+    "baxter_left": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
+    "baxter_right": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
+    "jaco2_6s": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
 }
 
 
@@ -38,7 +38,7 @@ def test_arm_checks_exactly_as_recorded(capsys, tmp_path, name):
     doc = json.loads(report.read_text())
     status = {b["name"]: b["status"] for b in doc["backends"]}
     assert status["rtb-dh"] == status["pinocchio-dh"] == "pass"
-    for backend in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"):
+    for backend in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"):
         assert status[backend] == ("xfail" if backend in ARMS[name] else "pass")
     table = doc["evidence"]["table"]["status"]
     assert table == ("expected-failure" if ARMS[name] else "verified")

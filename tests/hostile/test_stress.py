@@ -38,7 +38,7 @@ def test_the_full_default_check_never_errors_in_consecutive_runs(tmp_path):
     bad = [(i, code, out[-2000:]) for i, code, out, _ in results if code != 0]
     assert bad == [], f"{len(bad)} of {RUNS} runs did not pass: {bad[:2]}"
     expected = dict.fromkeys(
-        ["rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "mujoco-urdf"],
+        ["rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "mujoco-urdf", "idyntree-urdf"],
         "pass",
     )
     assert all(statuses == expected for _, _, _, statuses in results)

@@ -152,6 +152,7 @@ BUILTIN: tuple[Registration, ...] = (
     Registration("yourdfpy-urdf", "fkcheck.backends.yourdfpy_urdf:YourdfpyUrdf", default=True),
     Registration("rtb-urdf", "fkcheck.backends.rtb_urdf:RtbUrdf", default=True),
     Registration("mujoco-urdf", "fkcheck.backends.mujoco_urdf:MujocoUrdf", default=True),
+    Registration("idyntree-urdf", "fkcheck.backends.idyntree_urdf:IdyntreeUrdf", default=True),
     Registration("rtb-model:", "fkcheck.backends.rtb_model:RtbModel"),
     Registration("cmd:", "fkcheck.backends.command:CommandBackend"),
     Registration("poses:", "fkcheck.backends.measured:MeasuredPoses"),
