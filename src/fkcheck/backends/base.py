@@ -104,6 +104,8 @@ class Backend(Protocol):
         imports: Module names the engine imports once, in the main thread, before
             backends start (two threads importing one heavy library lazily at the
             same time can hit Python's import-deadlock detection).
+        distributions: The installed distributions (PyPI names) it computes with,
+            whose versions every report shows.
         jacobian_method: The library call its own Jacobians come from, for the
             reports; ``None`` when it has none (the engine then differentiates its
             poses).
@@ -120,6 +122,7 @@ class Backend(Protocol):
     reads: Reads
     isolated: bool
     imports: tuple[str, ...]
+    distributions: tuple[str, ...]
     jacobian_method: str | None
     jacobian_references: tuple[JacobianReference, ...]
 
@@ -181,11 +184,12 @@ class Backend(Protocol):
 class BackendDefaults:
     """The usual values of a backend's optional members, to inherit from.
 
-    In-process, no library imported ahead, no Jacobian of its own, no input file.
+    In-process, no library imported ahead or named, no Jacobian of its own, no input file.
     """
 
     isolated: bool = False
     imports: tuple[str, ...] = ()
+    distributions: tuple[str, ...] = ()
     jacobian_method: str | None = None
     jacobian_references: tuple[JacobianReference, ...] = JACOBIAN_REFERENCES
 
@@ -208,6 +212,7 @@ CONTRACT: dict[str, tuple[type, ...]] = {
     "reads": (str,),
     "isolated": (bool,),
     "imports": (tuple,),
+    "distributions": (tuple,),
     "jacobian_method": (str, type(None)),
     "jacobian_references": (tuple,),
 }
@@ -234,8 +239,9 @@ def contract_problems(backend: Any) -> list[str]:
             f"claims {evidence!r} evidence but reads {reads!r}, which proves "
             f"{' or '.join(EVIDENCE_BY_READS[reads])} only"
         )
-    if not all(isinstance(m, str) for m in backend.imports):
-        problems.append("'imports' holds something other than module names")
+    for member in ("imports", "distributions"):
+        if not all(isinstance(m, str) for m in getattr(backend, member)):
+            problems.append(f"{member!r} holds something other than names")
     references = backend.jacobian_references
     if backend.jacobian_method is not None and "world-aligned" not in references:
         problems.append("has a jacobian_method but 'world-aligned' is not in jacobian_references")

@@ -113,6 +113,7 @@ class IdyntreeUrdf(UrdfReader):
     """
 
     name = "idyntree-urdf"
+    distributions = ("idyntree",)
     method = (
         "ModelLoader.loadReducedModelFromString + KinDynComputations.setJointPos "
         "+ getWorldTransform (loop)"

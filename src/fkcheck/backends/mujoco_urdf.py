@@ -201,6 +201,7 @@ class MujocoUrdf(UrdfReader):
     """
 
     name = "mujoco-urdf"
+    distributions = ("mujoco-core",)
     method = "MjSpec.from_string (fusestatic off) + mj_kinematics (loop over qpos)"
     isolated = False  # compiled C, a few µs per pose
     imports = ("mujoco",)

@@ -71,6 +71,7 @@ class PinocchioDH(BackendDefaults):
     """
 
     name = "pinocchio-dh"
+    distributions = ("pin",)
     method = "forwardKinematics + updateFramePlacements (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     evidence: Evidence = "implementation"

@@ -51,6 +51,7 @@ class PinocchioUrdf(UrdfReader):
     """
 
     name = "pinocchio-urdf"
+    distributions = ("pin",)
     method = "buildModelFromXML + framesForwardKinematics (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
     imports = ("pinocchio",)

@@ -30,6 +30,7 @@ Names:
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import importlib
 import platform
@@ -326,25 +327,20 @@ CORE_DISTRIBUTIONS = ("fkcheck", "numpy", "numba", "scipy")
 def library_versions() -> dict[str, str]:
     """Python's version, then each distribution's: the core's and every registered backend's.
 
-    A backend's distributions are those providing the modules it declares in
-    ``imports`` (:func:`importlib.metadata.packages_distributions`); nothing is
-    imported. A distribution that is absent reads ``"not installed"``.
+    A backend names its distributions (``distributions``); a third-party one's own
+    distribution is listed too. Nothing is imported; a distribution that is
+    absent reads ``"not installed"``.
     """
-    provided = metadata.packages_distributions()
     wanted: list[str] = list(CORE_DISTRIBUTIONS)
     try:
         found = registrations()
     except BackendContractError:
         found = BUILTIN
     for r in found:
-        try:
-            imports = r.declared("imports") or ()
-        except FkcheckError:  # a broken third-party backend: reported where it is used
-            continue
-        for module in imports:
-            for dist in provided.get(str(module).split(".")[0], ()):
-                if dist not in wanted:
-                    wanted.append(dist)
+        names = [r.origin.rpartition(" ")[0]] if r.origin != "fkcheck" else []
+        with contextlib.suppress(FkcheckError):  # a broken third party: reported when used
+            names += list(r.declared("distributions") or ())
+        wanted += [name for name in names if name and name not in wanted]
     out = {"Python": platform.python_version()}
     for dist in wanted:
         try:

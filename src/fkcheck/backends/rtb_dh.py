@@ -107,6 +107,7 @@ class RtbDH(BackendDefaults):
     """
 
     name = "rtb-dh"
+    distributions = ("roboticstoolbox-python", "spatialmath-python")
     method = "DHRobot.ets().eval (C fknm, batched); DH frame k: base + first k links' ETS"
     jacobian_method = "ETS.jacob0 / ETS.jacobe (loop); world: jacob0 with v + p × ω"
     evidence: Evidence = "implementation"

@@ -76,6 +76,7 @@ class RtbModel(BackendDefaults):
     """
 
     evidence: Evidence = "table"
+    distributions = ("roboticstoolbox-python", "spatialmath-python")
     reads: Reads = "published"
     imports = (*RTB_IMPORTS, "scipy.spatial.transform")
 

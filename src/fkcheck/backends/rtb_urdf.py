@@ -96,6 +96,7 @@ class RtbUrdf(UrdfReader):
     """
 
     name = "rtb-urdf"
+    distributions = ("roboticstoolbox-python", "spatialmath-python")
     method = "URDF.loadstr + Robot.ets(start=root, end=link).eval (C fknm, batched)"
     imports = RTB_IMPORTS
 

@@ -75,6 +75,7 @@ class YourdfpyUrdf(UrdfReader):
     """
 
     name = "yourdfpy-urdf"
+    distributions = ("yourdfpy", "trimesh")
     method = "URDF.update_cfg + URDF.get_transform (loop, own process)"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
     #: the engine computes its poses in a process of its own, on the other core.

@@ -174,6 +174,7 @@ class _InChild:
         self.reads = backend.reads
         self.isolated = False  # it is the isolation
         self.imports: tuple[str, ...] = ()  # imported in its own process
+        self.distributions = backend.distributions
         self.jacobian_method = backend.jacobian_method
         self.jacobian_references = backend.jacobian_references
         self.timeout_s = timeout_s
