@@ -23,6 +23,7 @@ from typing import Any
 
 from fkcheck.backends.base import Backend
 from fkcheck.errors import BackendNotFoundError
+from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.process.supervise import MAX_TIMEOUT_S
 
 __all__ = [
@@ -42,10 +43,11 @@ class BackendOptions:
     """Options every backend constructor receives.
 
     Attributes:
-        timeout_s: Time limit for one backend's whole run (seconds).
+        timeout_s: Time limit for one backend's whole run (seconds): a check's
+            :attr:`~fkcheck.model.options.CheckOptions.timeout_s`.
     """
 
-    timeout_s: float = 120.0
+    timeout_s: float = DEFAULT_TIMEOUT_S
 
 
 #: Built-in backends: name -> (module, class). Order is the order results are shown.
