@@ -29,7 +29,7 @@ from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.runner import Progress, run_check
 from fkcheck.engine.verdict import Verdict, headline
-from fkcheck.model.options import CheckOptions, Sampler, resolve_options
+from fkcheck.model.options import CheckOptions, Sampler, jacobian_for, resolve_options
 from fkcheck.model.read import load_model
 from fkcheck.model.require import Kind
 from fkcheck.model.types import Model
@@ -149,15 +149,8 @@ def check(
         backends = default_backends(limit)
     else:
         backends = [b if not isinstance(b, str) else make_backend(b, limit) for b in against]
-    wanted = loaded.check.jacobian if opts.jacobian is None else opts.jacobian
-    spec = (
-        JacobianSpec(
-            opts.jacobian_reference or loaded.check.jacobian_reference,
-            loaded.check.tol_jacobian if opts.tol_jacobian is None else opts.tol_jacobian,
-        )
-        if wanted
-        else None
-    )
+    jacobian_asked = jacobian_for(opts, loaded)
+    spec = JacobianSpec(*jacobian_asked) if jacobian_asked is not None else None
     result = run_check(
         loaded,
         backends,

@@ -43,6 +43,7 @@ from fkcheck.model.options import (
     PROJECT_KEYS,
     CheckOptions,
     OptionName,
+    jacobian_for,
     option_problem,
     resolve_options,
 )
@@ -232,3 +233,13 @@ def test_a_cmd_program_that_hangs_ends_at_the_flags_limit(tmp_path, monkeypatch,
     (result,) = json.loads(Path("r.json").read_text(encoding="utf-8"))["backends"]
     assert result["status"] == "error"
     assert "timed out after 1 s" in result["message"]
+
+
+def test_the_models_check_is_the_last_layer_for_the_jacobian():
+    model = load_model(PLANAR2)
+    assert not model.check.jacobian
+    assert jacobian_for(CheckOptions(), model) is None
+    asked = resolve_options({"jacobian": True, "tol_jacobian": 1e-4}, labels=FLAGS)
+    assert jacobian_for(asked, model) == (model.check.jacobian_reference, 1e-4)
+    local = CheckOptions(jacobian=True, jacobian_reference="local")
+    assert jacobian_for(local, model) == ("local", model.check.tol_jacobian)

@@ -33,6 +33,7 @@ from fkcheck.process.supervise import MAX_TIMEOUT_S
 
 if TYPE_CHECKING:
     from fkcheck.model.project import ProjectConfig
+    from fkcheck.model.types import Model
 
 __all__ = [
     "DEFAULT_SAMPLER",
@@ -50,6 +51,7 @@ __all__ = [
     "OptionName",
     "Sampler",
     "check_option",
+    "jacobian_for",
     "option_problem",
     "resolve_options",
 ]
@@ -299,3 +301,17 @@ def resolve_options(
             values[name] = tuple(value) if name == "require" else value
             sources[name] = f"[tool.fkcheck] {PROJECT_KEYS[name]} in {project.path}"  # type: ignore[union-attr]
     return CheckOptions(**values, sources=sources)
+
+
+def jacobian_for(options: CheckOptions, model: Model) -> tuple[JacobianReference, float] | None:
+    """The Jacobian comparison asked for: ``(reference, tolerance)``, or ``None`` for none.
+
+    The model's ``[check]`` gives what ``options`` leave ``None`` (the last layer
+    of the precedence, as the engine does for the frames and pose tolerances).
+    """
+    wanted = model.check.jacobian if options.jacobian is None else options.jacobian
+    if not wanted:
+        return None
+    reference = options.jacobian_reference or model.check.jacobian_reference
+    tol = model.check.tol_jacobian if options.tol_jacobian is None else options.tol_jacobian
+    return reference, tol
