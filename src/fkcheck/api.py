@@ -21,8 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fkcheck.backends.base import Backend
-from fkcheck.backends.registry import default_backends, make_backend
-from fkcheck.core.tolerances import check_limit
+from fkcheck.backends.registry import BackendOptions, default_backends, make_backend
 from fkcheck.core.typing import JacobianReference
 from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
 from fkcheck.diagnose.jacobian import explain_sample
@@ -30,9 +29,9 @@ from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.runner import Progress, run_check
 from fkcheck.engine.verdict import Verdict, headline
+from fkcheck.model.options import CheckOptions, Sampler, jacobian_for, resolve_options
 from fkcheck.model.read import load_model
 from fkcheck.model.require import Kind
-from fkcheck.model.sampling import Sampler
 from fkcheck.model.types import Model
 
 __all__ = ["Outcome", "check", "write_report"]
@@ -71,33 +70,41 @@ def check(
     model: Model | str | Path,
     against: Sequence[Backend | str] | None = None,
     *,
-    samples: int = 1000,
-    seed: int = 0,
-    sampler: Sampler = "sobol",
+    samples: int | None = None,
+    seed: int | None = None,
+    sampler: Sampler | None = None,
     frame_from: str | None = None,
     frame_to: str | None = None,
     tol_pos_m: float | None = None,
     tol_rot_rad: float | None = None,
-    timeout_s: float = 120.0,
+    timeout_s: float | None = None,
     require: Sequence[Kind] = (),
     jacobian: bool | None = None,
     jacobian_reference: JacobianReference | None = None,
     tol_jacobian: float | None = None,
+    options: CheckOptions | None = None,
     diagnose: bool = True,
     explain_jacobians: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
-    tolerance_source: str | tuple[str, str] = "",
 ) -> Outcome:
     """Cross-check a model's forward kinematics, and diagnose a failure.
+
+    The options (``samples`` … ``tol_jacobian``) are those of
+    :class:`~fkcheck.model.options.CheckOptions`, checked by its one rule; each
+    one given wins over ``options``, which wins over the defaults
+    (:data:`~fkcheck.model.options.DEFAULT_SAMPLES` samples, seed 0, Sobol,
+    :data:`~fkcheck.model.options.DEFAULT_TIMEOUT_S` s) and the model's ``[check]``.
 
     Args:
         model: A loaded model, a bundled model's name (``"ur5"``) or a model file.
         against: Backends, as objects or names (``"rtb-dh"``, ``"pinocchio-urdf"``,
             ``"poses:measured.csv"``, ``"cmd:./fk"``, ``"module:function"``…);
             default: the standard set (see :mod:`fkcheck.backends.registry`).
+            Backends named here get ``timeout_s`` as their own limit too (a
+            ``cmd:`` program's, a plugin's); objects keep the one they were built with.
         samples: Random samples, on top of named poses, zero, mid-range and limit corners.
-        seed: Seed of the random samples.
+        seed: Seed of the random samples (0 … 2**64 - 1).
         sampler: ``"sobol"`` or ``"uniform"``.
         frame_from: Frame the compared pose is expressed in (default: the model's ``[check]``).
         frame_to: Frame whose pose is compared (default: the model's ``[check]``).
@@ -111,6 +118,8 @@ def check(
         jacobian_reference: ``"world-aligned"``, ``"local"`` or ``"world"``
             (default: the model's ``[check]``, else ``"world-aligned"``).
         tol_jacobian: Jacobian tolerance, m/rad and rad/rad (default: the model's ``[check]``).
+        options: Options resolved already (``fkcheck check``'s flags over
+            ``[tool.fkcheck]``, the pytest plugin's), with where each came from.
         diagnose: When the check fails, run ``fkcheck diagnose`` against each
             distinct disagreeing backend (about a second each).
         explain_jacobians: Name the convention behind each Jacobian that
@@ -118,54 +127,47 @@ def check(
             kept configurations: milliseconds).
         on_progress: Called as ``(backend, configurations done, total)``.
         on_done: Called with each backend's result as it finishes.
-        tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, named in
-            the headline when looser than the default: one for both, or
-            ``(position's, rotation's)`` (default: "the caller").
 
     Returns:
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
 
     Raises:
-        FkcheckError: Bad input (unknown model, backend or frame, bad file…); a
-            tolerance out of its range is a ``ToleranceError`` (also a ``ValueError``).
+        FkcheckError: Bad input (unknown model, backend or frame, bad file…); an
+            option out of its range is an ``OptionError`` naming it (also a
+            ``ValueError``; a ``ToleranceError`` for a tolerance).
     """
-    if tol_pos_m is not None:
-        check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
-    if tol_rot_rad is not None:
-        check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
-    if tol_jacobian is not None:
-        check_limit(tol_jacobian, "tol_jacobian", "tol_jacobian")
+    given = {
+        "samples": samples, "seed": seed, "sampler": sampler, "timeout_s": timeout_s,
+        "frame_from": frame_from, "frame_to": frame_to, "tol_pos_m": tol_pos_m,
+        "tol_rot_rad": tol_rot_rad, "require": tuple(require), "jacobian": jacobian,
+        "jacobian_reference": jacobian_reference, "tol_jacobian": tol_jacobian,
+    }  # fmt: skip
+    opts = resolve_options(given, base=options)  # refuses a bad value before any work
     loaded = model if isinstance(model, Model) else load_model(model)
+    limit = BackendOptions(timeout_s=opts.timeout_s)
     if against is None:
-        backends = default_backends()
+        backends = default_backends(limit)
     else:
-        backends = [b if not isinstance(b, str) else make_backend(b) for b in against]
-    wanted = loaded.check.jacobian if jacobian is None else jacobian
-    spec = (
-        JacobianSpec(
-            jacobian_reference or loaded.check.jacobian_reference,
-            loaded.check.tol_jacobian if tol_jacobian is None else tol_jacobian,
-        )
-        if wanted
-        else None
-    )
+        backends = [b if not isinstance(b, str) else make_backend(b, limit) for b in against]
+    jacobian_asked = jacobian_for(opts, loaded)
+    spec = JacobianSpec(*jacobian_asked) if jacobian_asked is not None else None
     result = run_check(
         loaded,
         backends,
-        samples=samples,
-        seed=seed,
-        sampler=sampler,
-        frame_from=frame_from,
-        frame_to=frame_to,
-        tol_pos_m=tol_pos_m,
-        tol_rot_rad=tol_rot_rad,
-        timeout_s=timeout_s,
-        require=require,
+        samples=opts.samples,
+        seed=opts.seed,
+        sampler=opts.sampler,
+        frame_from=opts.frame_from,
+        frame_to=opts.frame_to,
+        tol_pos_m=opts.tol_pos_m,
+        tol_rot_rad=opts.tol_rot_rad,
+        timeout_s=opts.timeout_s,
+        require=opts.require,
         jacobian=spec,
         explain_jacobian=explain_sample if explain_jacobians else None,
         on_done=on_done,
         on_progress=on_progress,
-        tolerance_source=tolerance_source,
+        tolerance_source=opts.tolerance_source,
     )
     diagnoses = diagnose_failures(result, backends) if diagnose else ()
     return Outcome(result, diagnoses)

@@ -23,6 +23,7 @@ __all__ = [
     "FrameUnavailable",
     "JointInputError",
     "ModelError",
+    "OptionError",
     "Skip",
     "ToleranceError",
     "UnmappedFrameError",
@@ -64,13 +65,14 @@ class JointInputError(FkcheckError, ValueError):
     """
 
 
-class ToleranceError(FkcheckError, ValueError):
-    """A tolerance or a known difference's bound out of range (:mod:`fkcheck.core.tolerances`).
+class OptionError(FkcheckError, ValueError):
+    """A check's option out of its range (:mod:`fkcheck.model.options`): ``where: problem``.
 
     It is also a :class:`ValueError`, so numeric code can catch it as such.
 
     Attributes:
-        where: The argument or flag it came in (``--tol-pos``, ``tol_pos_m``).
+        where: The argument, flag or key it came in (``--seed``, ``samples``,
+            ``[tool.fkcheck] timeout in pyproject.toml``).
         problem: The range it must be in, and the value given.
     """
 
@@ -78,6 +80,10 @@ class ToleranceError(FkcheckError, ValueError):
         self.where = where
         self.problem = problem
         super().__init__(f"{where}: {problem}")
+
+
+class ToleranceError(OptionError):
+    """A tolerance or a known difference's bound out of range (:mod:`fkcheck.core.tolerances`)."""
 
 
 class FrameError(FkcheckError):

@@ -137,27 +137,15 @@ class ModelFile(pytest.File):
         from fkcheck.api import check
         from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
         from fkcheck.errors import FkcheckError
+        from fkcheck.model.options import resolve_options
 
         p = self.project
-        options = BackendOptions(timeout_s=p.timeout if p.timeout is not None else 120.0)
         try:
-            backends = (
-                parse_against(list(p.against), options) if p.against else default_backends(options)
-            )
-            return check(
-                self.path,
-                backends,
-                samples=p.samples if p.samples is not None else 1000,
-                seed=p.seed if p.seed is not None else 0,
-                sampler="uniform" if p.sampler == "uniform" else "sobol",
-                tol_pos_m=p.tol_pos_m,
-                tol_rot_rad=p.tol_rot_rad,
-                require=p.require,
-                jacobian=p.wants_jacobian,
-                jacobian_reference=p.jacobian_reference,
-                tol_jacobian=p.tol_jacobian,
-                tolerance_source=f"[tool.fkcheck] in {p.path}",
-            )
+            options = resolve_options(project=p)  # [tool.fkcheck] > defaults, as the CLI's
+            limit = BackendOptions(timeout_s=options.timeout_s)
+            against = list(p.against) if p.against else None
+            backends = parse_against(against, limit) if against else default_backends(limit)
+            return check(self.path, backends, options=options)
         except FkcheckError as exc:
             self._error = str(exc)
             return None

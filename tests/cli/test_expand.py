@@ -78,7 +78,7 @@ def test_expand_refuses_to_overwrite_a_file_it_includes(tmp_path, capsys):
         ),
         ((), ["--arg", "reach"], "--arg 'reach': expected NAME=VALUE"),
         ((), ["--package", "bad name=."], "is not a package name"),
-        ((), ["--timeout", "0"], "--timeout must be a positive number"),
+        ((), ["--timeout", "0"], "--timeout: must be > 0 and at most 86400 s"),
     ],
 )
 def test_expand_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, edit, argv, expected):

@@ -17,6 +17,8 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from fkcheck.backends import registry
+
 RUNS = int(os.environ.get("FKCHECK_STRESS_RUNS", "30"))
 
 
@@ -37,8 +39,5 @@ def test_the_full_default_check_never_errors_in_consecutive_runs(tmp_path):
         results = list(pool.map(lambda i: one_run(i, tmp_path), range(RUNS)))
     bad = [(i, code, out[-2000:]) for i, code, out, _ in results if code != 0]
     assert bad == [], f"{len(bad)} of {RUNS} runs did not pass: {bad[:2]}"
-    expected = dict.fromkeys(
-        ["rtb-dh", "pinocchio-dh", "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "mujoco-urdf", "idyntree-urdf"],
-        "pass",
-    )
+    expected = dict.fromkeys(registry.default_names(), "pass")
     assert all(statuses == expected for _, _, _, statuses in results)

@@ -76,7 +76,11 @@ def test_no_table_means_no_project(tmp_path):
     ("table", "match"),
     [
         ("sample = 3", r"tool\.fkcheck\.sample: unknown key; keys are: models, against"),
-        ("samples = -1", r"tool\.fkcheck\.samples: must be an integer in 0…10000000"),
+        (
+            "samples = -1",
+            r"tool\.fkcheck\.samples: must be an integer from 0 to 10_000_000 \(.*\), got -1$",
+        ),
+        ("seed = -1", r"tool\.fkcheck\.seed: must be an integer from 0 to 2\*\*64 - 1 .*got -1$"),
         ("samples = true", r"tool\.fkcheck\.samples: must be an integer"),
         ('require = ["tabel"]', r"tool\.fkcheck\.require: 'tabel' is not a kind of evidence"),
         ("models = [1]", r"tool\.fkcheck\.models: must be a string or a list of strings"),
@@ -99,7 +103,7 @@ def test_no_table_means_no_project(tmp_path):
         ("tol_rot_rad = 3.15", r"tool\.fkcheck\.tol_rot_rad: must be > 0 .*, got 3\.15$"),
         ('tol_pos_m = "1mm"', r"tool\.fkcheck\.tol_pos_m: must be > 0 .*, got '1mm'$"),
         ("tol_pos_m = true", r"tool\.fkcheck\.tol_pos_m: must be > 0 .*, got True$"),
-        ("timeout = 0", r"tool\.fkcheck\.timeout: must be positive and finite"),
+        ("timeout = 0", r"tool\.fkcheck\.timeout: must be > 0 and at most 86400 s .*, got 0$"),
         ("jacobian = 1", r"tool\.fkcheck\.jacobian: must be true or false"),
         (
             'jacobian_reference = "base"',

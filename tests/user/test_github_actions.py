@@ -193,3 +193,20 @@ def test_action_bad_input_is_its_own_verdict_in_the_summary(tmp_path: Path) -> N
     outputs, _, summary = _run_check_step(tmp_path, 2, models="nope.toml")
     assert outputs == {"verdict": "bad-input", "status": "2"}
     assert summary == "fkcheck: bad input (exit 2): see the step's log\n"
+
+
+def test_action_samples_take_the_flags_path_and_its_one_rule(tmp_path: Path, monkeypatch, capsys):
+    # The action has no options of its own: its samples are --samples, resolved and
+    # refused by fkcheck.model.options as on the command line (same line, exit 2).
+    from fkcheck.cli.main import main
+    from fkcheck.model.options import DEFAULT_SAMPLES, FLAGS, option_problem
+
+    samples = _load(ACTION)["inputs"]["samples"]["description"]
+    assert f"else {DEFAULT_SAMPLES})" in samples
+    planar = str(bundled_model_paths()["planar2"])
+    _, argv, _ = _run_check_step(tmp_path, 2, models=planar, samples="-1")
+    assert f"{FLAGS['samples']}=-1" in argv
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    problem = option_problem("samples", -1)
+    assert capsys.readouterr().err == f"fkcheck: error: --samples: {problem}\n"

@@ -43,6 +43,7 @@ from typing import Any
 from fkcheck.backends.base import Backend, Evidence, Reads, contract_problems
 from fkcheck.errors import BackendNotFoundError, FkcheckError, ModelError
 from fkcheck.io.numbers import show_text
+from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.model.types import Model
 from fkcheck.process.supervise import MAX_TIMEOUT_S
 
@@ -76,10 +77,11 @@ class BackendOptions:
     """Options every backend constructor receives.
 
     Attributes:
-        timeout_s: Time limit for one backend's whole run (seconds).
+        timeout_s: Time limit for one backend's whole run (seconds): a check's
+            :attr:`~fkcheck.model.options.CheckOptions.timeout_s`.
     """
 
-    timeout_s: float = 120.0
+    timeout_s: float = DEFAULT_TIMEOUT_S
 
 
 class BackendContractError(FkcheckError):

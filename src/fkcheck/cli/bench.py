@@ -76,8 +76,10 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.cli._console import console
     from fkcheck.cli._outputs import model_inputs, plan, writes
     from fkcheck.io.text import terminal_markup, terminal_text
+    from fkcheck.model.options import check_option
     from fkcheck.model.read import load_model
 
+    check_option("seed", args.seed, "--seed")  # the one seed range of every command
     model = load_model(args.model)
     outputs = [("--json", args.json)]
     plan(args, outputs, model_inputs(model, expand=writes(outputs)))

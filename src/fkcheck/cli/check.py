@@ -45,6 +45,15 @@ from fkcheck.cli.progress import PLAIN_INTERVAL_S
 from fkcheck.core.tolerances import MAX_TOL_JACOBIAN, MAX_TOL_POS_M, MAX_TOL_ROT_RAD
 from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import FkcheckError
+from fkcheck.model.options import (
+    DEFAULT_SAMPLER,
+    DEFAULT_SAMPLES,
+    DEFAULT_SEED,
+    DEFAULT_TIMEOUT_S,
+    MAX_SAMPLES,
+    MAX_TIMEOUT_S,
+    SAMPLERS,
+)
 
 if TYPE_CHECKING:
     from fkcheck.cli._targets import Target
@@ -57,9 +66,6 @@ __all__ = ["DEFAULT_OUT_DIR", "add_parser", "run"]
 
 #: Where ``--all`` writes its reports unless ``--out-dir`` says otherwise.
 DEFAULT_OUT_DIR = Path("reports")
-
-#: Option values when neither the command line nor ``[tool.fkcheck]`` gives one.
-DEFAULTS: dict[str, Any] = {"samples": 1000, "seed": 0, "sampler": "sobol", "timeout": 120.0}
 
 
 def add_parser(sub: Any) -> None:
@@ -112,9 +118,17 @@ def add_parser(sub: Any) -> None:
         "poses, a published table) or 'implementation'; comma-separated or repeated; adds "
         "to the model's [check] require",
     )
-    p.add_argument("--samples", type=int, help="random samples (default 1000)")
-    p.add_argument("--seed", type=int, help="seed of the random samples (default 0)")
-    p.add_argument("--sampler", choices=("sobol", "uniform"), help="(default sobol)")
+    p.add_argument(
+        "--samples",
+        type=int,
+        help=f"random samples (default {DEFAULT_SAMPLES}, at most {MAX_SAMPLES:_})",
+    )
+    p.add_argument(
+        "--seed",
+        type=int,
+        help=f"seed of the random samples (default {DEFAULT_SEED}, 0 … 2**64 - 1)",
+    )
+    p.add_argument("--sampler", choices=SAMPLERS, help=f"(default {DEFAULT_SAMPLER})")
     p.add_argument("--from", dest="frame_from", metavar="FRAME", help="frame the pose is in")
     p.add_argument("--to", dest="frame_to", metavar="FRAME", help="frame whose pose is compared")
     p.add_argument("--tol-pos", type=float, metavar="M",
@@ -146,7 +160,8 @@ def add_parser(sub: Any) -> None:
     add_allow_xacro(p)
     p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.add_argument("--timeout", type=float, metavar="S",
-                   help="time limit per backend, seconds (default 120)")  # fmt: skip
+                   help=f"time limit per backend, seconds (default {DEFAULT_TIMEOUT_S:g}, at "
+                   f"most {MAX_TIMEOUT_S:g})")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
     p.add_argument("--junit", type=Path, metavar="PATH", help="write JUnit XML here")
     p.add_argument("--html", type=Path, metavar="PATH", help="write the HTML report here")
@@ -181,57 +196,35 @@ def add_parser(sub: Any) -> None:
 
 
 def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> None:
-    """Fill the options not given on the command line from ``[tool.fkcheck]``, then defaults."""
-    from fkcheck.cli.check_run import jacobian_from_args
+    """Resolve the check's options, flag > ``[tool.fkcheck]`` > default, into ``args.options``.
 
-    from_project: dict[str, Any] = {}
-    # Where each tolerance comes from: its flag, else the project, else the model.
-    sources = {"tol_pos": "--tol-pos" if args.tol_pos is not None else "",
-               "tol_rot": "--tol-rot" if args.tol_rot is not None else ""}  # fmt: skip
-    if project is not None:
-        if jacobian_from_args(args) is None:  # the command line's own say wins
-            args.jacobian = project.wants_jacobian
-        from_project = {
-            "samples": project.samples,
-            "seed": project.seed,
-            "sampler": project.sampler,
-            "timeout": project.timeout,
-            "tol_pos": project.tol_pos_m,
-            "tol_rot": project.tol_rot_rad,
-            "against": list(project.against) if project.against is not None else None,
-            "require": list(project.require) or None,
-            "jacobian_reference": project.jacobian_reference,
-            "tol_jacobian": project.tol_jacobian,
-        }
-    for key, value in from_project.items():
-        if getattr(args, key) is None and value is not None:
-            setattr(args, key, value)
-            if key in sources and project is not None:
-                unit = "m" if key == "tol_pos" else "rad"
-                sources[key] = f"[tool.fkcheck] {key}_{unit} in {project.path}"
-    args.tol_source = (sources["tol_pos"], sources["tol_rot"])
-    for key, value in DEFAULTS.items():
-        if getattr(args, key) is None:
-            setattr(args, key, value)
+    :func:`fkcheck.model.options.resolve_options` decides and checks them (a bad
+    value is exit 2, named by its flag); the flags' attributes are set to the
+    values decided, for the header and the reproducing command lines.
+    """
+    from fkcheck.cli.check_run import jacobian_from_args
+    from fkcheck.model.options import FLAGS, resolve_options
+
+    given = {
+        "samples": args.samples, "seed": args.seed, "sampler": args.sampler,
+        "timeout_s": args.timeout, "frame_from": args.frame_from, "frame_to": args.frame_to,
+        "tol_pos_m": args.tol_pos, "tol_rot_rad": args.tol_rot,
+        "require": require_from_args(args), "jacobian": jacobian_from_args(args),
+        "jacobian_reference": args.jacobian_reference, "tol_jacobian": args.tol_jacobian,
+    }  # fmt: skip
+    options = resolve_options(given, labels=FLAGS, project=project)
+    args.options = options
+    args.samples, args.seed, args.sampler = options.samples, options.seed, options.sampler
+    args.timeout = options.timeout_s
+    args.tol_pos, args.tol_rot = options.tol_pos_m, options.tol_rot_rad
+    args.jacobian, args.jacobian_reference = options.jacobian, options.jacobian_reference
+    args.tol_jacobian = options.tol_jacobian
+    args.require = list(options.require) or None
+    if args.against is None and project is not None and project.against is not None:
+        args.against = list(project.against)
 
 
 def _validate(args: argparse.Namespace) -> None:
-    from fkcheck.core.tolerances import check_limit
-    from fkcheck.errors import JointInputError
-    from fkcheck.model.sampling import check_sampling_options
-    from fkcheck.process.supervise import timeout_problem
-
-    check_sampling_options(args.samples, args.seed)
-    # A value from [tool.fkcheck] is within range already (refused naming its file).
-    if args.tol_pos is not None:
-        check_limit(args.tol_pos, "tol_pos", "--tol-pos")
-    if args.tol_rot is not None:
-        check_limit(args.tol_rot, "tol_rot", "--tol-rot")
-    if args.tol_jacobian is not None:
-        check_limit(args.tol_jacobian, "tol_jacobian", "--tol-jacobian")
-    problem = timeout_problem(args.timeout)
-    if problem is not None:
-        raise JointInputError(f"--timeout {problem}")
     if args.all and args.models:
         raise FkcheckError(
             f"--all checks every bundled model: drop MODEL ({' '.join(args.models)!r})"

@@ -48,7 +48,7 @@ def backends_from_args(args: argparse.Namespace) -> list[Backend]:
     """The backends ``--against`` names (default: the standard set), with the options."""
     from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
 
-    options = BackendOptions(timeout_s=args.timeout)
+    options = BackendOptions(timeout_s=args.options.timeout_s)
     return parse_against(args.against, options) if args.against else default_backends(options)
 
 
@@ -86,24 +86,9 @@ def check_with_progress(
         interval_s=getattr(args, "progress_interval", PLAIN_INTERVAL_S),
     )
     with progress as on_progress:
+        # args.options: the flags over [tool.fkcheck], resolved once (fkcheck.cli.check)
         return check(
-            model,
-            backends,
-            samples=args.samples,
-            seed=args.seed,
-            sampler=args.sampler,
-            frame_from=args.frame_from,
-            frame_to=args.frame_to,
-            tol_pos_m=args.tol_pos,
-            tol_rot_rad=args.tol_rot,
-            timeout_s=args.timeout,
-            require=require_from_args(args),
-            jacobian=jacobian_from_args(args),
-            jacobian_reference=args.jacobian_reference,
-            tol_jacobian=args.tol_jacobian,
-            diagnose=diagnose,
-            on_progress=on_progress,
-            tolerance_source=getattr(args, "tol_source", ""),
+            model, backends, options=args.options, diagnose=diagnose, on_progress=on_progress
         )
 
 

@@ -13,6 +13,8 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.model.options import DEFAULT_SAMPLES
+
     p = sub.add_parser(
         "convert",
         help="convert a DH table between standard and modified (Craig) DH",
@@ -30,7 +32,8 @@ def add_parser(sub: Any) -> None:
         metavar="OUT",
         help="write the model file here (default: print it)",
     )
-    p.add_argument("--samples", type=int, default=1000, help="random samples (default 1000)")
+    p.add_argument("--samples", type=int, default=DEFAULT_SAMPLES,
+                   help=f"random samples (default {DEFAULT_SAMPLES})")  # fmt: skip
     p.add_argument("--seed", type=int, default=0, help="seed of the samples (default 0)")
     p.set_defaults(run=run)
 
@@ -40,17 +43,17 @@ def run(args: argparse.Namespace) -> int:
     import tomllib
 
     from fkcheck.cli._outputs import model_inputs, plan, writes
-    from fkcheck.errors import JointInputError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.format import format_angle_console, format_length_console
     from fkcheck.io.text import operand, terminal_text
     from fkcheck.model.convert import convert_model, equivalence_error
+    from fkcheck.model.options import check_option
     from fkcheck.model.read import load_model, model_from_dict
     from fkcheck.model.sampling import sample_configurations
     from fkcheck.model.write import model_to_toml, relocate_urdf_path
 
-    if args.samples < 0:
-        raise JointInputError(f"--samples must be 0 or more, got {args.samples}")
+    check_option("samples", args.samples, "--samples")
+    check_option("seed", args.seed, "--seed")
     model = load_model(args.model)
     outputs = [("-o", args.output)]
     plan(args, outputs, model_inputs(model, expand=writes(outputs)))

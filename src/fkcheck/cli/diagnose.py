@@ -50,20 +50,20 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.backends.base import BackendUnavailable
     from fkcheck.backends.registry import make_backend
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, writes
-    from fkcheck.core.tolerances import check_limit
     from fkcheck.diagnose import diagnose, format_text, to_dict
     from fkcheck.errors import BackendNotFoundError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_lines, terminal_text
+    from fkcheck.model.options import check_option
     from fkcheck.model.read import load_model
-    from fkcheck.model.sampling import check_sampling_options
 
-    check_sampling_options(args.samples, args.seed, min_samples=1)
+    check_option("samples", args.samples, "--samples", lowest=1)
+    check_option("seed", args.seed, "--seed")
     if args.tol_pos is not None:
-        check_limit(args.tol_pos, "tol_pos", "--tol-pos")
+        check_option("tol_pos_m", args.tol_pos, "--tol-pos")
     if args.tol_rot is not None:
-        check_limit(args.tol_rot, "tol_rot", "--tol-rot")
+        check_option("tol_rot_rad", args.tol_rot, "--tol-rot")
     model = load_model(args.model)
     if args.allow_xacro:
         from fkcheck.urdf.source import allow_xacro

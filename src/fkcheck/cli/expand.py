@@ -126,13 +126,11 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.cli._outputs import plan
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
-    from fkcheck.process.supervise import timeout_problem
+    from fkcheck.model.options import check_option
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, expand_xacro, screen_expansion
 
     timeout = XACRO_TIMEOUT_S if args.timeout is None else args.timeout
-    problem = timeout_problem(timeout)
-    if problem is not None:
-        raise FkcheckError(f"--timeout {problem}")
+    check_option("timeout_s", timeout, "--timeout")  # the one rule of every time limit
     values, packages = xacro_inputs(args)
     expansion = expand_xacro(args.xacro, values, packages, timeout)
     text = expansion.text

@@ -61,14 +61,15 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.errors import FkcheckError, XacroRefused
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
+    from fkcheck.model.options import check_option
     from fkcheck.model.read import load_model
-    from fkcheck.model.sampling import check_sampling_options
     from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
     from fkcheck.urdf.source import allow_xacro, read_model_urdf
 
-    check_sampling_options(args.samples, args.seed)
+    check_option("samples", args.samples, "--samples")
+    check_option("seed", args.seed, "--seed")
     model = load_model(args.model)
     values, packages = xacro_inputs(args)
     if args.allow_xacro:

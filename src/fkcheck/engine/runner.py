@@ -40,6 +40,13 @@ from fkcheck.model.coverage import coverage
 from fkcheck.model.frames import (
     resolve_frame,
 )
+from fkcheck.model.options import (
+    DEFAULT_SAMPLER,
+    DEFAULT_SAMPLES,
+    DEFAULT_SEED,
+    DEFAULT_TIMEOUT_S,
+    CheckOptions,
+)
 from fkcheck.model.sampling import Sampler, Samples, sample_configurations
 from fkcheck.model.types import URDF_FRAME_PREFIX, Model
 from fkcheck.process.isolation import (
@@ -301,14 +308,14 @@ def run_check(
     model: Model,
     backends: Sequence[Backend],
     *,
-    samples: int = 1000,
-    seed: int = 0,
-    sampler: Sampler = "sobol",
+    samples: int = DEFAULT_SAMPLES,
+    seed: int = DEFAULT_SEED,
+    sampler: Sampler = DEFAULT_SAMPLER,
     frame_from: str | None = None,
     frame_to: str | None = None,
     tol_pos_m: float | None = None,
     tol_rot_rad: float | None = None,
-    timeout_s: float = 120.0,
+    timeout_s: float = DEFAULT_TIMEOUT_S,
     require: Sequence[Kind] = (),
     jacobian: JacobianSpec | None = None,
     explain_jacobian: Explain | None = None,
@@ -353,13 +360,15 @@ def run_check(
 
     Raises:
         FrameError: An unknown frame name.
-        ToleranceError: A tolerance out of its range (:mod:`fkcheck.core.tolerances`).
+        OptionError: ``samples``, ``seed``, ``sampler`` or ``timeout_s`` out of its
+            range (:mod:`fkcheck.model.options`); a tolerance is a ``ToleranceError``.
         UrdfError: The model's URDF is missing, unsafe or does not fit the model.
         FkcheckError: Other bad input reported by a backend.
     """
     from fkcheck.urdf.source import load_urdf
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
+    CheckOptions(samples=samples, seed=seed, sampler=sampler, timeout_s=timeout_s)  # in range
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
     check_known_differences(model)

@@ -21,7 +21,6 @@ of at most 1 MiB of UTF-8, one clear line when it is wrong
 
 from __future__ import annotations
 
-import math
 import os
 import tomllib
 from collections.abc import Iterable, Mapping, Sequence
@@ -29,11 +28,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from fkcheck.core.tolerances import LimitKind, limit_problem
-from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
+from fkcheck.core.typing import JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
 from fkcheck.model.lint_rules import parse_lint_rules
+from fkcheck.model.options import PROJECT_KEYS, OptionName, Sampler, option_problem
 from fkcheck.model.read import is_model_file
 from fkcheck.model.require import Kind, parse_require
 
@@ -59,7 +58,6 @@ _KEYS = (
     "models", "against", "samples", "seed", "sampler", "timeout", "require",
     "tol_pos_m", "tol_rot_rad", "lint_ignore", "jacobian", "jacobian_reference", "tol_jacobian",
 )  # fmt: skip
-_SAMPLERS = ("sobol", "uniform")
 #: What a model file is, in messages.
 _MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
 
@@ -106,7 +104,7 @@ class ProjectConfig:
     against: tuple[str, ...] | None = None
     samples: int | None = None
     seed: int | None = None
-    sampler: str | None = None
+    sampler: Sampler | None = None
     timeout: float | None = None
     require: tuple[Kind, ...] = ()
     tol_pos_m: float | None = None
@@ -168,40 +166,23 @@ def _strings(path: Path, key: str, value: Any) -> tuple[str, ...]:
     return tuple(value)
 
 
-def _int(path: Path, key: str, value: Any, low: int, high: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
-        raise ProjectError(path, f"tool.fkcheck.{key}", f"must be an integer in {low}…{high}")
-    return value
+#: Options whose TOML integers are read as floats (``timeout = 60``).
+_FLOATS = ("timeout_s", "tol_pos_m", "tol_rot_rad", "tol_jacobian")
 
 
-def _positive(path: Path, key: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ProjectError(path, f"tool.fkcheck.{key}", "must be a number")
-    number = float(value)
-    if not math.isfinite(number) or number <= 0:
-        raise ProjectError(path, f"tool.fkcheck.{key}", f"must be positive and finite, not {value}")
-    return number
+def _option(path: Path, table: Mapping[str, Any], name: OptionName) -> Any:
+    """Option ``name``'s value if the table sets it (checked by the one rule), else ``None``.
 
-
-def _timeout(path: Path, value: Any) -> float:
-    """A time limit within the one rule (:func:`fkcheck.process.supervise.timeout_problem`)."""
-    from fkcheck.process.supervise import timeout_problem
-
-    number = _positive(path, "timeout", value)
-    problem = timeout_problem(number)
-    if problem is not None:
-        raise ProjectError(path, "tool.fkcheck.timeout", problem)
-    return number
-
-
-def _limit(path: Path, table: Mapping[str, Any], key: str, kind: LimitKind) -> float | None:
-    """A tolerance within its range (:func:`~fkcheck.core.tolerances.limit_problem`), if set."""
+    The rule is :func:`fkcheck.model.options.option_problem`, as for flags and arguments.
+    """
+    key = PROJECT_KEYS[name]
     if key not in table:
         return None
-    problem = limit_problem(table[key], kind)
+    problem = option_problem(name, table[key])
     if problem is not None:
         raise ProjectError(path, f"tool.fkcheck.{key}", problem)
-    return float(table[key])
+    value = table[key]
+    return float(value) if name in _FLOATS else value
 
 
 def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
@@ -215,11 +196,6 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         raise ProjectError(
             path, f"tool.fkcheck.{unknown[0]}", f"unknown key; keys are: {', '.join(_KEYS)}"
         )
-    sampler = table.get("sampler")
-    if sampler is not None and sampler not in _SAMPLERS:
-        raise ProjectError(
-            path, "tool.fkcheck.sampler", f"{sampler!r} unknown; samplers are: sobol, uniform"
-        )
     try:
         require = parse_require(_strings(path, "require", table.get("require", [])), "")
     except ValueError as exc:
@@ -227,13 +203,6 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
     jacobian = table.get("jacobian")
     if jacobian is not None and not isinstance(jacobian, bool):
         raise ProjectError(path, "tool.fkcheck.jacobian", "must be true or false")
-    reference = table.get("jacobian_reference")
-    if reference is not None and reference not in JACOBIAN_REFERENCES:
-        raise ProjectError(
-            path,
-            "tool.fkcheck.jacobian_reference",
-            f"{reference!r} unknown; references are: {', '.join(JACOBIAN_REFERENCES)}",
-        )
     try:
         lint_ignore = parse_lint_rules(_strings(path, "lint_ignore", table.get("lint_ignore", [])))
     except ValueError as exc:
@@ -242,19 +211,17 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         path=path,
         models=_strings(path, "models", table.get("models", [])),
         against=_strings(path, "against", table["against"]) if "against" in table else None,
-        samples=_int(path, "samples", table["samples"], 0, 10_000_000)
-        if "samples" in table
-        else None,
-        seed=_int(path, "seed", table["seed"], 0, 2**32 - 1) if "seed" in table else None,
-        sampler=sampler,
-        timeout=_timeout(path, table["timeout"]) if "timeout" in table else None,
+        samples=_option(path, table, "samples"),
+        seed=_option(path, table, "seed"),
+        sampler=_option(path, table, "sampler"),
+        timeout=_option(path, table, "timeout_s"),
         require=require,
-        tol_pos_m=_limit(path, table, "tol_pos_m", "tol_pos"),
-        tol_rot_rad=_limit(path, table, "tol_rot_rad", "tol_rot"),
+        tol_pos_m=_option(path, table, "tol_pos_m"),
+        tol_rot_rad=_option(path, table, "tol_rot_rad"),
         lint_ignore=lint_ignore,
         jacobian=jacobian,
-        jacobian_reference=reference,
-        tol_jacobian=_limit(path, table, "tol_jacobian", "tol_jacobian"),
+        jacobian_reference=_option(path, table, "jacobian_reference"),
+        tol_jacobian=_option(path, table, "tol_jacobian"),
     )
 
 

@@ -16,31 +16,21 @@ import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
 
 import numpy as np
 
 from fkcheck.core.typing import Float
+from fkcheck.model.options import Sampler
 from fkcheck.model.types import Model
 
 __all__ = [
     "MAX_CORNERS",
-    "MAX_SAMPLES",
-    "MAX_SEED",
     "Sampler",
     "Samples",
-    "check_sampling_options",
     "sample_configurations",
     "sampling_box",
 ]
 
-Sampler = Literal["sobol", "uniform"]
-
-#: Most random samples one check draws (``--samples``): ten million configurations
-#: are 0.5 GB of joint values alone for six joints; more is a typo, not a check.
-MAX_SAMPLES = 10_000_000
-#: Largest seed (``--seed``): seeds are 0 … 2^64 − 1.
-MAX_SEED = 2**64 - 1
 #: At most this many of the 2^n limit corners are used (all of them up to n = 8).
 MAX_CORNERS = 256
 #: Corners are numbered 0 … 2^n − 1 up to this n (numbers within NumPy's int64).
@@ -114,23 +104,6 @@ def _fill_random(out: Float, lo: Float, hi: Float, seed: int, sampler: Sampler) 
         block[:] = draw(stop - start)
         block *= span
         block += lo
-
-
-def check_sampling_options(samples: int, seed: int, *, min_samples: int = 0) -> None:
-    """Refuse a ``--samples`` or ``--seed`` out of range, before anything is allocated.
-
-    Raises:
-        JointInputError: ``samples`` not in ``min_samples …`` :data:`MAX_SAMPLES`, or
-            ``seed`` not in ``0 …`` :data:`MAX_SEED`.
-    """
-    from fkcheck.errors import JointInputError
-
-    if not min_samples <= samples <= MAX_SAMPLES:
-        raise JointInputError(
-            f"--samples must be from {min_samples} to {MAX_SAMPLES:_}, got {samples}"
-        )
-    if not 0 <= seed <= MAX_SEED:
-        raise JointInputError(f"--seed must be from 0 to 2**64 - 1, got {seed}")
 
 
 def _corners(n: int, seed: int) -> list[tuple[int, ...]]:

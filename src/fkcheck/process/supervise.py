@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import atexit
 import contextlib
-import math
 import os
 import selectors
 import signal
@@ -60,26 +59,12 @@ __all__ = [
     "last_stderr_line",
     "run_supervised",
     "terminate_all",
-    "timeout_problem",
 ]
 
 #: Longest time limit fkcheck takes, seconds (a day: longer than any CI job runs;
-#: a far larger one overflows the thread and process waits).
+#: a far larger one overflows the thread and process waits). Every limit a user
+#: gives is checked against it by :func:`fkcheck.model.options.option_problem`.
 MAX_TIMEOUT_S = 86_400.0
-
-
-def timeout_problem(value: float) -> str | None:
-    """What is wrong with a time limit, in seconds (``must be …, got …``), or ``None``.
-
-    The one rule for every time limit fkcheck takes (``check --timeout``,
-    ``expand --timeout``, ``[tool.fkcheck] timeout``): positive, finite and at
-    most :data:`MAX_TIMEOUT_S`.
-    """
-    if not (math.isfinite(value) and value > 0):
-        return f"must be a positive number, got {value}"
-    if value > MAX_TIMEOUT_S:
-        return f"must be at most {MAX_TIMEOUT_S:g} s, got {value:g}"
-    return None
 
 
 #: After a stop is asked for (time limit, output limit, exit), how long the
