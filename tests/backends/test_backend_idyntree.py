@@ -16,20 +16,19 @@ import sys
 import numpy as np
 import pytest
 
-from fkcheck.backends import idyntree_urdf
-from fkcheck.backends.base import Backend, BackendUnavailable, ProvidesJacobian, SharesDHFrames
+from fkcheck.backends import idyntree_urdf, registry
+from fkcheck.backends.base import BackendUnavailable, SharesDHFrames
 from fkcheck.backends.idyntree_urdf import IdyntreeUrdf
 from fkcheck.backends.pinocchio_urdf import PinocchioUrdf
-from fkcheck.backends.registry import BUILTIN, DEFAULT, make_backend
-from fkcheck.backends.rtb_urdf import kinematic_text
+from fkcheck.backends.registry import make_backend
+from fkcheck.backends.urdf_common import kinematic_text
 from fkcheck.cli.main import main
 from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.core.typing import JACOBIAN_REFERENCES
-from fkcheck.diagnose.run import URDF_BACKENDS
 from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import UnmappedFrameError, UrdfError
-from fkcheck.model.read import KNOWN_DIFFERENCE_BACKENDS, bundled_model_paths, load_model
+from fkcheck.model.read import bundled_model_paths, load_model
 from fkcheck.model.types import Model
 from fkcheck.urdf.source import load_urdf
 from tests.backend_cases import (
@@ -95,25 +94,19 @@ def gripper_model(tmp_path, offset: float) -> Model:
 # ---------------------------------------------------------------- registry, availability
 
 
-def test_registry_builds_the_backend_with_the_whole_contract() -> None:
+def test_registry_builds_it_as_a_default_urdf_reader() -> None:
+    # The contract itself is the conformance suite's (tests/backends/test_conformance.py).
     backend = make_backend("idyntree-urdf")
     assert isinstance(backend, IdyntreeUrdf)
-    assert isinstance(backend, Backend)
-    assert isinstance(backend, ProvidesJacobian)
     assert not isinstance(backend, SharesDHFrames)
-    assert backend.name == "idyntree-urdf"
-    assert "getWorldTransform" in backend.method
-    assert backend.evidence == "table"
-    assert backend.reads == "urdf"
-    assert backend.reads_urdf
-    assert backend.isolated is False
-    assert backend.imports == ("fkcheck.backends._idyntree",)
+    assert (backend.evidence, backend.reads, backend.isolated) == ("table", "urdf", False)
+    assert backend.imports[0] == "fkcheck.backends._idyntree"  # never idyntree first
     assert backend.jacobian_method is not None
     assert "getFrameFreeFloatingJacobian" in backend.jacobian_method
     assert set(backend.jacobian_references) == set(JACOBIAN_REFERENCES)
-    assert list(BUILTIN)[-1] == DEFAULT[-1] == "idyntree-urdf"
-    assert "idyntree-urdf" in KNOWN_DIFFERENCE_BACKENDS
-    assert "idyntree-urdf" in URDF_BACKENDS
+    assert registry.default_names()[-1] == "idyntree-urdf"
+    assert "idyntree-urdf" in registry.names(reads="urdf")
+    assert "idyntree-urdf" in registry.known_difference_names()
 
 
 def test_availability_is_decided_without_importing_idyntree() -> None:

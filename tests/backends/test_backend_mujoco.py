@@ -16,15 +16,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fkcheck.backends.base import Backend, BackendUnavailable, ProvidesJacobian, SharesDHFrames
-from fkcheck.backends.mujoco_urdf import MujocoUrdf, kinematic_text
-from fkcheck.backends.registry import BUILTIN, DEFAULT, make_backend
+from fkcheck.backends import registry
+from fkcheck.backends.base import BackendUnavailable, SharesDHFrames
+from fkcheck.backends.mujoco_urdf import MujocoUrdf
+from fkcheck.backends.registry import make_backend
+from fkcheck.backends.urdf_common import kinematic_text
 from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP, ROUNDED_URDF
 from fkcheck.core.typing import JACOBIAN_REFERENCES
-from fkcheck.diagnose.run import URDF_BACKENDS
 from fkcheck.errors import UnmappedFrameError, UrdfError
 from fkcheck.model.frames import reference_poses, relative_pose
-from fkcheck.model.read import KNOWN_DIFFERENCE_BACKENDS, bundled_model_paths, load_model
+from fkcheck.model.read import bundled_model_paths, load_model
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.source import load_urdf
@@ -97,27 +98,20 @@ def _in_dh_world(jac: np.ndarray, world_T_root: np.ndarray, reference: str) -> n
 # ---------------------------------------------------------------- registry, contract, availability
 
 
-def test_registry_builds_the_backend_with_the_whole_contract() -> None:
+def test_registry_builds_it_as_a_default_urdf_reader() -> None:
+    # The contract itself is the conformance suite's (tests/backends/test_conformance.py).
     backend = make_backend("mujoco-urdf")
     assert isinstance(backend, MujocoUrdf)
-    assert isinstance(backend, Backend)
-    assert isinstance(backend, ProvidesJacobian)
     assert not isinstance(backend, SharesDHFrames)
-    assert backend.name == "mujoco-urdf"
-    assert "mj_kinematics" in backend.method
-    assert backend.evidence == "table"
-    assert (backend.reads, backend.reads_urdf, backend.isolated) == ("urdf", True, False)
+    assert (backend.evidence, backend.reads, backend.isolated) == ("table", "urdf", False)
     assert backend.imports == ("mujoco",)
     assert backend.jacobian_method is not None
     assert "mj_jacBody" in backend.jacobian_method
     assert set(backend.jacobian_references) == set(JACOBIAN_REFERENCES)
-
-
-def test_it_is_a_default_urdf_backend_after_rtb_urdf() -> None:
-    assert BUILTIN["mujoco-urdf"] == ("fkcheck.backends.mujoco_urdf", "MujocoUrdf")
-    assert DEFAULT[DEFAULT.index("rtb-urdf") + 1] == "mujoco-urdf"
-    assert "mujoco-urdf" in KNOWN_DIFFERENCE_BACKENDS
-    assert "mujoco-urdf" in URDF_BACKENDS
+    defaults = registry.default_names()
+    assert defaults[defaults.index("rtb-urdf") + 1] == "mujoco-urdf"
+    assert "mujoco-urdf" in registry.names(reads="urdf")
+    assert "mujoco-urdf" in registry.known_difference_names()
 
 
 def test_availability_is_decided_without_importing_mujoco() -> None:
@@ -224,7 +218,11 @@ def test_the_urdf_root_is_the_root_of_the_poses(backend: MujocoUrdf, tmp_path: P
     model = arm3_model(tmp_path)
     q = np.array([[0.4, -1.1, 0.05]])
     np.testing.assert_array_equal(backend.frame_poses(model, q, ["base"])[0, 0], np.eye(4))
-    ur5 = _compiled(kinematic_text(load_urdf(load_model("ur5"))), boundmass=1.0, boundinertia=1.0)
+    ur5 = _compiled(
+        kinematic_text(load_urdf(load_model("ur5")), inertials=False),
+        boundmass=1.0,
+        boundinertia=1.0,
+    )
     assert _body_names(ur5)[0] == "world"
     assert "world" in load_urdf(load_model("ur5")).links
 
@@ -313,7 +311,7 @@ def test_fkcheck_check_fails_on_the_seeded_fault(
 
 
 def test_mujoco_fact_fixed_links_are_fused_by_default() -> None:
-    spec = mujoco.MjSpec.from_string(kinematic_text(load_urdf(load_model("ur5"))))
+    spec = mujoco.MjSpec.from_string(kinematic_text(load_urdf(load_model("ur5")), inertials=False))
     assert spec.compiler.fusestatic  # the URDF importer's default
     spec.compiler.boundmass = spec.compiler.boundinertia = 1.0
     bodies = _body_names(spec.compile())
@@ -374,7 +372,7 @@ def test_no_mesh_reaches_mujoco(backend: MujocoUrdf, tmp_path: Path) -> None:
     q = np.array([[0.3, -0.2, 0.1]])
     frames = mapped_frames(model)
     assert_every_pair_agrees(model, q, frames, backend.frame_poses(model, q, frames), ARM3_TOL)
-    text = kinematic_text(load_urdf(model))
+    text = kinematic_text(load_urdf(model), inertials=False)
     for tag in ("<mesh", "<collision", "<visual", "<inertial"):
         assert tag not in text
     mjmodel = backend._build(mujoco, model, load_urdf(model)).mjmodel
@@ -384,7 +382,7 @@ def test_no_mesh_reaches_mujoco(backend: MujocoUrdf, tmp_path: Path) -> None:
 def test_the_kinematic_text_keeps_links_and_joints_only(tmp_path: Path) -> None:
     extension = '<mujoco><compiler meshdir="/etc" fusestatic="true"/></mujoco>'
     model = _arm3_with(tmp_path, '<link name="base"/>', '<link name="base"/>' + extension)
-    text = kinematic_text(load_urdf(model))
+    text = kinematic_text(load_urdf(model), inertials=False)
     assert "<mujoco" not in text
     root = load_urdf(model)
     assert text.count("<link ") == len(root.links)

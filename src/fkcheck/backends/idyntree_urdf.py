@@ -4,7 +4,7 @@ A fourth URDF reader, independent of urdfdom (Pinocchio), yourdfpy and
 Robotics Toolbox's: iDynTree's own parser (on libxml2). The URDF is resolved and
 screened by :func:`fkcheck.urdf.source.load_urdf`; its ``<visual>``,
 ``<collision>`` and ``<material>`` elements are removed from the in-memory text
-(:func:`fkcheck.backends.rtb_urdf.kinematic_text`), so no ``package://`` mesh
+(:func:`fkcheck.backends.urdf_common.kinematic_text`), so no ``package://`` mesh
 path is ever resolved or opened; ``ModelLoader.loadReducedModelFromString``
 then builds the model with the joints of ``[urdf].joints`` as its only degrees
 of freedom, and ``KinDynComputations`` computes its kinematics.
@@ -66,10 +66,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.rtb_urdf import kinematic_text
 from fkcheck.backends.urdf_common import (
     UrdfReader,
     captured_stderr,
+    kinematic_text,
     urdf_inputs,
     urdf_unavailable_reason,
 )

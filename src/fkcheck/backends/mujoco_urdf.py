@@ -2,7 +2,7 @@
 
 A fourth URDF parser, independent of urdfdom (Pinocchio), yourdfpy and Robotics
 Toolbox's reader. The URDF is first resolved and screened by
-:func:`fkcheck.urdf.source.load_urdf`; :func:`kinematic_text` then keeps only its
+:func:`fkcheck.urdf.source.load_urdf`; ``urdf_common.kinematic_text`` then keeps only its
 tree — the ``<robot>`` element, every ``<link>`` *emptied* and every ``<joint>``
 as written — and ``mujoco.MjSpec.from_string`` reads that text, which
 ``MjSpec.compile`` turns into an ``MjModel``. Facts about MuJoCo 4.0 this relies
@@ -53,7 +53,6 @@ rule).
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -62,13 +61,18 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.backends.registry import BackendOptions
-from fkcheck.backends.urdf_common import UrdfReader, urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import (
+    UrdfReader,
+    kinematic_text,
+    urdf_inputs,
+    urdf_unavailable_reason,
+)
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.tree import UrdfInfo
 
-__all__ = ["MujocoUrdf", "kinematic_text"]
+__all__ = ["MujocoUrdf"]
 
 
 _INSTALL_HINT = "mujoco is not installed (pip install mujoco-core)"
@@ -80,24 +84,6 @@ _BODY_INERTIA = 1.0
 
 #: Configurations whose whole ``xpos``/``xmat`` are kept at a time (:meth:`MujocoUrdf.frame_poses`).
 _CHUNK = 4096
-
-
-def kinematic_text(info: UrdfInfo) -> str:
-    """The screened URDF reduced to its tree: ``<robot>``, empty ``<link>``s and the ``<joint>``s.
-
-    Every other element (``<material>``, ``<gazebo>``, ``<transmission>``, a
-    ``<mujoco>`` extension) goes, and so does everything inside a link
-    (``<visual>``, ``<collision>``, ``<inertial>``). Joints keep their children
-    and attributes as written.
-    """
-    root = ET.fromstring(info.text)
-    tree = ET.Element("robot", {"name": root.get("name", "robot")})
-    for element in root:
-        if element.tag == "link":
-            ET.SubElement(tree, "link", {"name": element.get("name", "")})
-        elif element.tag == "joint":
-            tree.append(element)
-    return ET.tostring(tree, encoding="unicode")
 
 
 @dataclass(frozen=True)
@@ -332,7 +318,7 @@ def _compile(mj: Any, info: UrdfInfo) -> Any:
         UrdfError: MuJoCo's importer or compiler refuses it (its message, on one line).
     """
     try:
-        spec = mj.MjSpec.from_string(kinematic_text(info))
+        spec = mj.MjSpec.from_string(kinematic_text(info, inertials=False))
         spec.compiler.fusestatic = False  # keep fixed links (base, tool0, ...) as bodies
         spec.compiler.boundmass = _BODY_MASS
         spec.compiler.boundinertia = _BODY_INERTIA

@@ -37,7 +37,6 @@ named frame's URDF twin (``urdf = …``) in the URDF's root link, from
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from typing import Any
 
@@ -46,32 +45,18 @@ from numpy.typing import NDArray
 
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.rtb_common import INSTALL_HINT, RTB_IMPORTS, eval_batch, import_rtb, padded_q
-from fkcheck.backends.urdf_common import UrdfReader, urdf_inputs, urdf_unavailable_reason
+from fkcheck.backends.urdf_common import (
+    UrdfReader,
+    kinematic_text,
+    urdf_inputs,
+    urdf_unavailable_reason,
+)
 from fkcheck.core.typing import Float
 from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.tree import UrdfInfo
 
-__all__ = ["RtbUrdf", "kinematic_text"]
-
-
-_GEOMETRY = ("visual", "collision")
-
-
-def kinematic_text(info: UrdfInfo) -> str:
-    """The screened URDF without its geometry: no ``<visual>``, ``<collision>`` or ``<material>``.
-
-    Everything else (links, joints and their attributes, as strings) is kept
-    as written; XML comments are dropped.
-    """
-    root = ET.fromstring(info.text)
-    for link in root.iter("link"):
-        for child in list(link):
-            if child.tag in _GEOMETRY:
-                link.remove(child)
-    for material in root.findall("material"):
-        root.remove(material)
-    return ET.tostring(root, encoding="unicode")
+__all__ = ["RtbUrdf"]
 
 
 class _UrdfRobotCache:

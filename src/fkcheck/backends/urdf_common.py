@@ -15,6 +15,7 @@ import os
 import sys
 import tempfile
 import threading
+import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,6 +32,7 @@ __all__ = [
     "CapturedStderr",
     "UrdfReader",
     "captured_stderr",
+    "kinematic_text",
     "urdf_inputs",
     "urdf_twins",
     "urdf_unavailable_reason",
@@ -60,6 +62,27 @@ class UrdfReader(BackendDefaults):
         except (UrdfError, BackendUnavailable):
             return ()
         return (path,)
+
+
+def kinematic_text(info: UrdfInfo, *, inertials: bool = True) -> str:
+    """The screened URDF reduced to its tree, the one text every geometry-free parser gets.
+
+    ``<robot>``, its ``<link>``s — empty, or with their ``<inertial>`` when
+    ``inertials`` — and its ``<joint>``s as written. Every other element
+    (``<visual>``, ``<collision>``, ``<material>``, ``<gazebo>``,
+    ``<transmission>``, a parser's extension block) goes, so no parser ever
+    resolves a mesh; XML comments were dropped by the screen.
+    """
+    root = ET.fromstring(info.text)
+    tree = ET.Element("robot", {"name": root.get("name", "robot")})
+    for element in root:
+        if element.tag == "link":
+            link = ET.SubElement(tree, "link", {"name": element.get("name", "")})
+            if inertials:
+                link.extend(child for child in element if child.tag == "inertial")
+        elif element.tag == "joint":
+            tree.append(element)
+    return ET.tostring(tree, encoding="unicode")
 
 
 #: Most of a native library's standard error kept for the message.
