@@ -31,15 +31,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fkcheck.core import dh
+from fkcheck.core import jacobian as core_jacobian
 from fkcheck.core.geometry import matrix_from_xyz_rpy
-from fkcheck.core.jacobian import Reference
 from fkcheck.core.tolerances import (
     DEFAULT_TOL_JACOBIAN,
     DEFAULT_TOL_POS_M,
     DEFAULT_TOL_ROT_RAD,
     check_limit,
 )
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import FrameError
 
 __all__ = [
@@ -230,7 +230,7 @@ class CheckSpec:
     tol_rot_rad: float = DEFAULT_TOL_ROT_RAD
     require: tuple[str, ...] = ()
     jacobian: bool = False
-    jacobian_reference: Reference = "world-aligned"
+    jacobian_reference: JacobianReference = "world-aligned"
     tol_jacobian: float = DEFAULT_TOL_JACOBIAN
 
     def __post_init__(self) -> None:
@@ -335,7 +335,7 @@ class Model:
         return dh.fk(self.chain, q, all_frames=all_frames)
 
     def jacobian(
-        self, q: ArrayLike, frame: str = "tcp", reference: Reference = "world-aligned"
+        self, q: ArrayLike, frame: str = "tcp", reference: JacobianReference = "world-aligned"
     ) -> Float:
         """The geometric Jacobian of a named frame with the in-house core.
 
@@ -359,9 +359,17 @@ class Model:
             FrameError: An unknown frame.
             ValueError: An unknown ``reference``.
         """
-        from fkcheck.model.frames import frame_jacobian
-
-        jac = frame_jacobian(self, np.asarray(q), frame, reference)  # validated there, once
+        spec = resolve_frame(self, frame)
+        chain = self.chain
+        if spec.dh == "world":
+            moving, target = 0, spec.offset.matrix
+        elif spec.dh == "tcp":
+            moving, target = self.dof, chain.flange_T_tool @ spec.offset.matrix
+        else:
+            moving, target = spec.dh, spec.offset.matrix
+        jac = core_jacobian.jacobian(  # q and reference are validated there, once
+            chain, np.asarray(q), moving=moving, target=target, reference=reference
+        )
         return jac[0] if np.ndim(q) == 1 else jac
 
 
