@@ -126,7 +126,7 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     robot.append(ET.Comment(re.sub(r"-(?=-)", "- ", comment)))
     robot.append(marker_element(model))  # an element: it survives stripped comments
     tcp_default = model.frames.get("tcp") == FrameSpec("tcp", "tcp")
-    _check_collisions(model, tcp_default)
+    _refuse_generated_names(model, tcp_default)
 
     links = ["world"] + [f"dh_frame_{i}" for i in range(n + 1)]
     if model.convention == "standard":
@@ -153,7 +153,7 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     return UrdfExport(text, model.joint_names, frame_links)
 
 
-def _check_collisions(model: Model, tcp_default: bool) -> None:
+def _refuse_generated_names(model: Model, tcp_default: bool) -> None:
     """Refuse a named frame called like a link the export generates (bar the built-in ones).
 
     Raises:
