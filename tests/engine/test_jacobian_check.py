@@ -255,9 +255,9 @@ def test_a_core_mistake_in_the_local_or_world_jacobian_fails_the_check(
     monkeypatch, reference, backend
 ):
     """The core's own local/world code is what is compared, not its world-aligned one moved."""
-    import fkcheck.model.frames as frames
+    import fkcheck.core.jacobian as core
 
-    core_jacobian = frames.jacobian
+    core_jacobian = core.jacobian
 
     def broken(*args, **kwargs):
         out = core_jacobian(*args, **kwargs)
@@ -266,7 +266,7 @@ def test_a_core_mistake_in_the_local_or_world_jacobian_fails_the_check(
             out[:, 3:, 0] += 0.5  # a wrong angular row of joint 1
         return out
 
-    monkeypatch.setattr(frames, "jacobian", broken)
+    monkeypatch.setattr(core, "jacobian", broken)
     check = run_check(
         load_model("ur5"),
         [make_backend(backend)],

@@ -2,7 +2,7 @@
 
 The UR5 with the older d1 (0.08946 instead of 0.089159) disagrees with its URDF
 by 0.3 mm (tests/engine/test_check_done_when.py); recording that as a known
-difference turns the three URDF backends into expected failures.
+difference (``reads = "urdf"``) turns every URDF backend into an expected failure.
 """
 
 from __future__ import annotations
@@ -13,11 +13,10 @@ from pathlib import Path
 
 from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
+from tests.backend_cases import URDF_BACKENDS as URDF
 
-URDF = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")
 HEAD = (
-    '\n[[known_difference]]\nbackends = ["pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]\n'
-    'finding = "d1 +0.3 mm: the table has the older d1"\n'
+    '\n[[known_difference]]\nreads = "urdf"\nfinding = "d1 +0.3 mm: the table has the older d1"\n'
 )
 RECORD = HEAD + "max_position_m = 1e-3\nmax_angle_rad = 1e-3\n"  # the error is 0.3 mm
 
@@ -45,7 +44,7 @@ def test_recorded_difference_is_an_expected_failure_never_table_verified(capsys,
     assert code == 0, text
     assert doc["verdict"] == "pass"
     status = {b["name"]: b["status"] for b in doc["backends"]}
-    assert [status[n] for n in URDF] == ["xfail"] * 3
+    assert [status[n] for n in URDF] == ["xfail"] * len(URDF)
     assert status["rtb-dh"] == status["pinocchio-dh"] == "pass"
     table = doc["evidence"]["table"]
     assert table["status"] == "expected-failure"
@@ -57,10 +56,10 @@ def test_recorded_difference_is_an_expected_failure_never_table_verified(capsys,
     assert suite.get("failures") == "0"
     skipped = [c for c in suite if c.find("skipped") is not None]
     messages = [c.find("skipped").get("message", "") for c in skipped]  # type: ignore[union-attr]
-    assert sum("known difference: d1 +0.3 mm" in m for m in messages) == 3
+    assert sum("known difference: d1 +0.3 mm" in m for m in messages) == len(URDF)
     summary = out["summary"].read_text()
     assert "PASS (expected failure: known difference)" in summary
-    assert summary.count("xfail") >= 3
+    assert summary.count("xfail") >= len(URDF)
 
 
 def test_required_table_is_unmet_by_an_expected_failure(capsys, tmp_path):
@@ -106,3 +105,12 @@ def test_another_frame_pair_is_not_touched_by_the_record(capsys, tmp_path):
     model = ur5(tmp_path, older_d1=False, record=RECORD)
     code = main(["check", str(model), "--samples", "32", "--from", "base_link", "--to", "tool0"])
     assert code == 0, "".join(capsys.readouterr())
+
+
+def test_a_record_naming_one_backend_leaves_the_other_urdf_readers_failing(capsys, tmp_path):
+    named = RECORD.replace('reads = "urdf"', 'backends = ["pinocchio-urdf"]')
+    code, doc, _, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=named))
+    assert code == 1
+    status = {b["name"]: b["status"] for b in doc["backends"]}
+    assert status["pinocchio-urdf"] == "xfail"
+    assert {status[n] for n in URDF if n != "pinocchio-urdf"} == {"fail"}

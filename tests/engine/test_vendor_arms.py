@@ -14,14 +14,10 @@ import pytest
 
 from fkcheck import load_model
 from fkcheck.cli.main import main
+from tests.backend_cases import URDF_BACKENDS
 
-#: model → backends expected to disagree as recorded (empty: the table must agree).
-ARMS = {
-    "xarm7": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
-    "baxter_left": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
-    "baxter_right": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
-    "jaco2_6s": ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"),
-}
+#: model → what the record selects: every URDF reader (the difference is the URDF's).
+ARMS = {"xarm7": "urdf", "baxter_left": "urdf", "baxter_right": "urdf", "jaco2_6s": "urdf"}
 
 
 @pytest.mark.parametrize("name", sorted(ARMS))
@@ -29,8 +25,8 @@ def test_arm_checks_exactly_as_recorded(capsys, tmp_path, name):
     model = load_model(name)
     assert model.urdf is not None
     assert model.urdf.path.startswith("example-robot-data:")
-    recorded = {b for k in model.known_differences for b in k.backends}
-    assert recorded == set(ARMS[name])
+    (recorded,) = model.known_differences
+    assert (recorded.backends, recorded.reads) == ((), ARMS[name])
     report = tmp_path / "r.json"
     code = main(["check", name, "--samples", "128", "--json", str(report)])
     out = "".join(capsys.readouterr())
@@ -38,7 +34,5 @@ def test_arm_checks_exactly_as_recorded(capsys, tmp_path, name):
     doc = json.loads(report.read_text())
     status = {b["name"]: b["status"] for b in doc["backends"]}
     assert status["rtb-dh"] == status["pinocchio-dh"] == "pass"
-    for backend in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "idyntree-urdf"):
-        assert status[backend] == ("xfail" if backend in ARMS[name] else "pass")
-    table = doc["evidence"]["table"]["status"]
-    assert table == ("expected-failure" if ARMS[name] else "verified")
+    assert {status[backend] for backend in URDF_BACKENDS} == {"xfail"}
+    assert doc["evidence"]["table"]["status"] == "expected-failure"

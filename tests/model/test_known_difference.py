@@ -30,6 +30,17 @@ def test_a_known_difference_is_read_with_its_bounds(tmp_path):
     )
 
 
+def test_every_urdf_reader_is_selected_by_what_it_reads(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(HEAD + GOOD.replace('backends = ["pinocchio-urdf"]', 'reads = "urdf"'))
+    (known,) = load_model(path).known_differences
+    assert (known.backends, known.reads) == ((), "urdf")
+    for name in registry.names(reads="urdf"):
+        assert known.applies_to(name, "urdf")
+    assert not known.applies_to("rtb-dh", "dh")
+    assert not known.applies_to("poses:x.csv", "poses")
+
+
 def test_the_names_it_accepts_are_the_registrys_table_evidence():
     names = registry.known_difference_names()
     assert set(registry.names(reads="urdf")) <= set(names)
@@ -49,7 +60,21 @@ BAD = {
     ),
     "missing_backends": (
         '[[known_difference]]\nfinding = "x"\n',
-        r"known_difference\[0\]\.backends: missing",
+        r"known_difference\[0\]\.backends: missing \(required: the backends by name, or "
+        r'reads = "urdf" for every URDF reader\)',
+    ),
+    "reads_the_table": (
+        '[[known_difference]]\nreads = "dh"\nfinding = "x"\n',
+        r"known_difference\[0\]\.reads: 'dh' is not one of: urdf$",
+    ),
+    "reads_not_text": (
+        '[[known_difference]]\nreads = ["urdf"]\nfinding = "x"\n',
+        r"known_difference\[0\]\.reads: expected a string",
+    ),
+    "reads_twice": (
+        GOOD.replace('backends = ["pinocchio-urdf"]', 'reads = "urdf"')
+        + '[[known_difference]]\nreads = "urdf"\nfinding = "y"\n',
+        r"known_difference\[1\]\.reads: selected already, in known_difference\[0\]",
     ),
     "backends_not_a_list": (
         '[[known_difference]]\nbackends = "rtb-urdf"\nfinding = "x"\n',

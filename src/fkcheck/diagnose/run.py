@@ -76,7 +76,7 @@ def diagnose(
     explanations: list[Explanation] = []
     tried: list[str] = []
     axes: tuple[AxisRow, ...] = ()
-    known = _known(model, backend.name, pair, tol)
+    known = _known(model, backend, pair, tol)
     if known is not None and not problem.exact(before):
         if before.within(known.max_position_m, known.max_angle_rad):
             explanations.append(_recorded(known, before, backend.name))
@@ -145,7 +145,7 @@ def _verified(problem: Problem, e: Explanation) -> Explanation:
 
 
 def _known(
-    model: Model, backend: str, pair: tuple[str, str], tol: tuple[float, float]
+    model: Model, backend: Backend, pair: tuple[str, str], tol: tuple[float, float]
 ) -> KnownDifference | None:
     """The model's recorded difference with ``backend``, where the check would apply it.
 
@@ -157,7 +157,7 @@ def _known(
         model.check.tol_rot_rad,
     ):
         return None
-    return known_difference_for(model, backend)
+    return known_difference_for(model, backend.name, backend.reads)
 
 
 def _bounds(known: KnownDifference) -> str:

@@ -26,7 +26,7 @@ beyond them it stays ``fail`` (a wrong Jacobian is never excused by a pose recor
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 from fkcheck.engine.results import BackendResult
@@ -36,12 +36,15 @@ from fkcheck.model.types import KnownDifference, Model
 __all__ = ["apply_known_differences", "known_difference_for"]
 
 
-def known_difference_for(model: Model, backend: str) -> KnownDifference | None:
-    """The model's recorded difference that names ``backend``, if any."""
-    for entry in model.known_differences:
-        if backend in entry.backends:
-            return entry
-    return None
+def known_difference_for(model: Model, backend: str, reads: str) -> KnownDifference | None:
+    """The model's recorded difference with ``backend`` (which reads ``reads``), if any.
+
+    One naming it wins over one selecting what it reads.
+    """
+    named = [e for e in model.known_differences if backend in e.backends]
+    selected = [e for e in model.known_differences if e.applies_to(backend, reads)]
+    found = named or selected
+    return found[0] if found else None
 
 
 def _beyond(result: BackendResult, entry: KnownDifference) -> list[str]:
@@ -109,6 +112,7 @@ def apply_known_differences(
     frame_pair: tuple[str, str],
     tol: tuple[float, float],
     results: Sequence[BackendResult],
+    reads: Mapping[str, str],
 ) -> tuple[BackendResult, ...]:
     """The results with the model's recorded differences applied (see the module docstring).
 
@@ -117,6 +121,7 @@ def apply_known_differences(
         frame_pair: The ``(from, to)`` frames the check compared.
         tol: The ``(position m, rotation rad)`` tolerances it used.
         results: One result per backend.
+        reads: What each backend reads, by name (``"urdf"``…).
 
     Returns:
         The results, those of listed backends rewritten.
@@ -129,6 +134,6 @@ def apply_known_differences(
         return tuple(results)
     out: list[BackendResult] = []
     for result in results:
-        entry = known_difference_for(model, result.name)
+        entry = known_difference_for(model, result.name, reads.get(result.name, ""))
         out.append(result if entry is None else _apply(result, entry))
     return tuple(out)

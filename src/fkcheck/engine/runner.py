@@ -436,7 +436,13 @@ def run_check(
         worker.join()
     if errors:
         raise errors[0]
-    ordered = apply_known_differences(model, pair, tol, [results[i] for i in range(len(backends))])
+    ordered = apply_known_differences(
+        model,
+        pair,
+        tol,
+        [results[i] for i in range(len(backends))],
+        {b.name: b.reads for b in backends},
+    )
     ordered = apply_provenance(model, backends, tol, ordered)  # a URDF from this very table
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.

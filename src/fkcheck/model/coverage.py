@@ -59,7 +59,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -600,43 +600,15 @@ def coverage(
     generic = _configurations(model, samples, seed)
     J, moving, spanned = _sensitivities(model, specs, numbers, generic, tols)
     norms = np.linalg.norm(J, axis=0)
-    to_si = np.array([tol_pos_m] * 3 + [tol_rot_rad] * 3)
-
-    absorbed: dict[int, tuple[str, str]] = {}  # table number → the offset carrying it, how
-    carrying: dict[int, list[str]] = {}  # offset component → the table numbers it trades with
-    absorbing: list[tuple[list[int], Float]] = []  # offset columns and their combination
-    exempt: dict[int, set[str]] = {}  # a side that could absorb the number but carries none of it
-    carriers: dict[str, list[int]] = {}  # side → its offset's columns (non-identity, not vouched)
-    for side in ("from", "to"):
-        spec = specs[side]
-        cols = [i for i, n in enumerate(numbers) if n.kind == side]
-        if not cols or spec.source:
-            continue
-        carriers[side] = cols
-        A = J[:, cols]
-        for i, n in enumerate(numbers):
-            if not n.table or not moving[i] or n.kind == "flip":
-                continue
-            coef = np.asarray(np.linalg.lstsq(A, J[:, i], rcond=None)[0], dtype=np.float64)
-            if np.linalg.norm(J[:, i] - A @ coef) > SPAN_RTOL * norms[i]:
-                continue
-            if not _carries(spec.offset, coef * to_si, tol_pos_m / tol_rot_rad):
-                exempt.setdefault(i, set()).add(side)
-                continue
-            absorbed.setdefault(i, (f"[frames.{spec.name}]", _describe(coef * to_si, spec)))
-            absorbing.append((cols, coef))
-            weight = np.abs(coef) * norms[cols]
-            for k, c in enumerate(cols):
-                if weight[k] > SPAN_RTOL * weight.max():
-                    carrying.setdefault(c, []).append(n.name)
-
+    offsets = _absorption(specs, numbers, J, moving, norms, tols)
+    absorbed = offsets.absorbed
     unit_tol = np.array([tol_pos_m if n.unit == "m" else tol_rot_rad for n in numbers])
     candidates = [
         bool(moving[i] and n.table and n.kind != "flip" and i not in absorbed)
         for i, n in enumerate(numbers)
     ]
     rows = generic.shape[0]
-    generic_residual = _without(J, [J[:, c] @ k for c, k in absorbing]) * unit_tol
+    generic_residual = _without(J, [J[:, c] @ k for c, k in offsets.absorbing]) * unit_tol
     trades = _trades(generic_residual, candidates, rows)
     # … and what the check's own configurations exercise: its resolution, its trades.
     if q is not None:
@@ -644,7 +616,7 @@ def coverage(
         J_check = _sensitivities(model, specs, numbers, checked, tols)[0]
     else:
         checked, J_check = generic, J
-    carried = [J_check[:, c] @ k for c, k in absorbing]
+    carried = [J_check[:, c] @ k for c, k in offsets.absorbing]
     residual = _without(J_check, carried)
     # Combinations the check's configurations hide that generic ones show at least
     # 1:1: its configurations, not the kinematics, leave those numbers apart.
@@ -653,78 +625,238 @@ def coverage(
         if q is not None
         else {}
     )
-    # Any offset the map could have fitted takes what it can of a table number over
-    # the check's configurations, unless the number is one it structurally takes
-    # whole but carries none of (d1 against a shift across the first axis).
     alone = _worst(residual, checked.shape[0])  # with the carried directions only
+    takers = _take(specs, numbers, offsets, J_check, carried, residual)
+    findings = _Findings(
+        specs=specs,
+        numbers=numbers,
+        moving=moving,
+        spanned=spanned,
+        offsets=offsets,
+        tied=tied,
+        takers=takers,
+        alone=alone,
+        worst=_worst(residual, checked.shape[0]),
+        flips=_flip_errors(model, specs, checked, tols),
+        unit_tol=unit_tol,
+        configurations=checked.shape[0],
+    )
+    out = [
+        replace(
+            _number_evidence(i, n, findings),
+            trades_with=tuple(numbers[j].name for j in trades.get(i, ())),
+        )
+        for i, n in enumerate(numbers)
+    ]
+    return Coverage(
+        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad
+    )
+
+
+@dataclass
+class _Absorption:
+    """What the compared frames' offsets can absorb of the table, over generic configurations.
+
+    Attributes:
+        absorbed: Table number → the offset carrying it (``[frames.NAME]``) and how.
+        carrying: Offset component → the table numbers it trades with.
+        absorbing: Offset columns and their combination, one per absorbed number.
+        exempt: Number → the sides that could absorb it but carry none of it.
+        carriers: Side → its offset's columns (a side whose offset is vouched has none).
+    """
+
+    absorbed: dict[int, tuple[str, str]] = field(default_factory=dict)
+    carrying: dict[int, list[str]] = field(default_factory=dict)
+    absorbing: list[tuple[list[int], Float]] = field(default_factory=list)
+    exempt: dict[int, set[str]] = field(default_factory=dict)
+    carriers: dict[str, list[int]] = field(default_factory=dict)
+
+
+def _absorption(
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    J: Float,
+    moving: Float,
+    norms: Float,
+    tols: tuple[float, float],
+) -> _Absorption:
+    """Which table numbers each compared frame's offset absorbs (see :class:`_Absorption`)."""
+    tol_pos_m, tol_rot_rad = tols
+    to_si = np.array([tol_pos_m] * 3 + [tol_rot_rad] * 3)
+    found = _Absorption()
+    for side in ("from", "to"):
+        spec = specs[side]
+        cols = [i for i, n in enumerate(numbers) if n.kind == side]
+        if not cols or spec.source:
+            continue
+        found.carriers[side] = cols
+        A = J[:, cols]
+        for i, n in enumerate(numbers):
+            if not n.table or not moving[i] or n.kind == "flip":
+                continue
+            coef = np.asarray(np.linalg.lstsq(A, J[:, i], rcond=None)[0], dtype=np.float64)
+            if np.linalg.norm(J[:, i] - A @ coef) > SPAN_RTOL * norms[i]:
+                continue
+            if not _carries(spec.offset, coef * to_si, tol_pos_m / tol_rot_rad):
+                found.exempt.setdefault(i, set()).add(side)
+                continue
+            found.absorbed.setdefault(i, (f"[frames.{spec.name}]", _describe(coef * to_si, spec)))
+            found.absorbing.append((cols, coef))
+            weight = np.abs(coef) * norms[cols]
+            for k, c in enumerate(cols):
+                if weight[k] > SPAN_RTOL * weight.max():
+                    found.carrying.setdefault(c, []).append(n.name)
+    return found
+
+
+def _take(
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    offsets: _Absorption,
+    J_check: Float,
+    carried: Sequence[Float],
+    residual: Float,
+) -> dict[int, list[str]]:
+    """Table number → the offsets that could take it; ``residual`` loses what they take.
+
+    Any offset the map could have fitted takes what it can of a table number over
+    the check's configurations, unless the number is one it structurally takes
+    whole but carries none of (d1 against a shift across the first axis).
+    """
     takers: dict[int, list[str]] = {}
     for i, n in enumerate(numbers):
         if not n.table or n.kind == "flip":
             continue
-        sides = [side for side in carriers if side not in exempt.get(i, set())]
-        full = [J_check[:, c] for side in sides for c in carriers[side]]
+        sides = [side for side in offsets.carriers if side not in offsets.exempt.get(i, set())]
+        full = [J_check[:, c] for side in sides for c in offsets.carriers[side]]
         if full:
             residual[:, i] = _without(J_check[:, i : i + 1], [*carried, *full])[:, 0]
             takers[i] = [f"[frames.{specs[side].name}]" for side in sides]
-    worst = _worst(residual, checked.shape[0])
-    flips = _flip_errors(model, specs, checked, tols)
-    out: list[NumberEvidence] = []
-    for i, n in enumerate(numbers):
-        status: Status = "verified"
-        resolution: float | None = None
-        why = source = ""
-        reason: Reason = ""
-        by: tuple[str, ...] = ()
-        if n.kind in ("from", "to") and specs[n.kind].source:
-            status, source = "vouched", specs[n.kind].source
-        elif n.kind == "flip":
-            if n.index + 1 not in spanned:
-                status = "not-covered"
-            elif flips[n.index] <= 1.0:
-                status, reason = "not-identifiable", "direction"
-                why = (
-                    f"joint {n.index + 1} turned the other way would pass: the check's "
-                    f"{checked.shape[0]} configurations cannot tell its direction"
-                )
-        elif not moving[i]:
-            status = "not-covered"
-        elif i in absorbed:
-            status, reason, by = "not-identifiable", "offset", (absorbed[i][0],)
-            why = f"{absorbed[i][0]}: {absorbed[i][1]}"
-        elif i in carrying:
-            status, reason, by = "not-identifiable", "offset", (n.group,)
-            why = f"{n.group}: carries what {', '.join(carrying[i])} produce"
-        elif i in tied:
-            status, reason = "not-identifiable", "configurations"
-            others = ", ".join(numbers[j].name for j in tied[i]) or "the others"
-            why = (
-                f"the check's {checked.shape[0]} configurations cannot tell it from {others} "
+    return takers
+
+
+@dataclass(frozen=True)
+class _Findings:
+    """What the analysis of one frame pair found, for deciding each number's status.
+
+    Attributes:
+        specs: The compared frames, ``"from"`` and ``"to"``.
+        numbers: The model's numbers, in column order.
+        moving: Per number, whether the compared pose depends on it.
+        spanned: The joints (1-based) that move the compared pose.
+        offsets: What the compared frames' offsets absorb.
+        tied: Number → the numbers the check's configurations cannot tell it from.
+        takers: Number → the offsets that could take it over the check's configurations.
+        alone: Per number, its worst effect with the carried directions only removed.
+        worst: Per number, its worst effect once every offset took what it can.
+        flips: Per joint, the worst error of the joint turned the other way, in tolerances.
+        unit_tol: Per number, the tolerance of its unit.
+        configurations: How many of the check's configurations were analysed.
+    """
+
+    specs: dict[str, FrameSpec]
+    numbers: Sequence[_Number]
+    moving: Float
+    spanned: tuple[int, ...]
+    offsets: _Absorption
+    tied: dict[int, tuple[int, ...]]
+    takers: dict[int, list[str]]
+    alone: Float
+    worst: Float
+    flips: Float
+    unit_tol: Float
+    configurations: int
+
+
+def _number_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
+    """Number ``i``'s status, and why (its ``trades_with`` left empty)."""
+    absorbed, carrying = f.offsets.absorbed, f.offsets.carrying
+    if n.kind in ("from", "to") and f.specs[n.kind].source:
+        return _evidence(n, "vouched", source=f.specs[n.kind].source)
+    if n.kind == "flip":
+        return _flip_evidence(n, f)
+    if not f.moving[i]:
+        return _evidence(n, "not-covered")
+    if i in absorbed:
+        return _evidence(
+            n,
+            "not-identifiable",
+            why=f"{absorbed[i][0]}: {absorbed[i][1]}",
+            reason="offset",
+            by=(absorbed[i][0],),
+        )
+    if i in carrying:
+        return _evidence(
+            n,
+            "not-identifiable",
+            why=f"{n.group}: carries what {', '.join(carrying[i])} produce",
+            reason="offset",
+            by=(n.group,),
+        )
+    if i in f.tied:
+        others = ", ".join(f.numbers[j].name for j in f.tied[i]) or "the others"
+        return _evidence(
+            n,
+            "not-identifiable",
+            why=(
+                f"the check's {f.configurations} configurations cannot tell it from {others} "
                 "(more configurations would)"
-            )
-        else:
-            resolution = 1.0 / float(worst[i]) if worst[i] > 0 else None
-            if resolution is None or resolution > RESOLUTION_LIMIT * unit_tol[i]:
-                status, reason = "not-identifiable", "faint"
-                why = (
-                    f"an error up to {resolution:.3g} {n.unit} would stay within tolerance"
-                    if resolution is not None
-                    else "no error of it would show"
-                )
-                if i in takers and alone[i] * RESOLUTION_LIMIT * unit_tol[i] > 1.0:
-                    reason, by = "taken", tuple(takers[i])
-                    why = (  # it shows alone: an offset fitted over these configurations takes it
-                        f"over the check's {checked.shape[0]} configurations the offset of "
-                        f"{', '.join(takers[i])} could take it ({why})"
-                    )
-                resolution = None
-        out.append(
-            NumberEvidence(
-                n.name, n.group, n.unit, status, n.table, resolution, why,
-                tuple(numbers[j].name for j in trades.get(i, ())), source, reason, by,
-            )
-        )  # fmt: skip
-    return Coverage(
-        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad
+            ),
+            reason="configurations",
+        )
+    return _resolved_evidence(i, n, f)
+
+
+def _flip_evidence(n: _Number, f: _Findings) -> NumberEvidence:
+    """A joint's direction: not covered, told apart by the check's configurations or not."""
+    if n.index + 1 not in f.spanned:
+        return _evidence(n, "not-covered")
+    if f.flips[n.index] <= 1.0:
+        return _evidence(
+            n,
+            "not-identifiable",
+            why=(
+                f"joint {n.index + 1} turned the other way would pass: the check's "
+                f"{f.configurations} configurations cannot tell its direction"
+            ),
+            reason="direction",
+        )
+    return _evidence(n, "verified")
+
+
+def _resolved_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
+    """A number the check sees: verified to its resolution, or too faint (or taken) if beyond."""
+    unit_tol, worst = f.unit_tol, f.worst
+    resolution = 1.0 / float(worst[i]) if worst[i] > 0 else None
+    if resolution is not None and resolution <= RESOLUTION_LIMIT * unit_tol[i]:
+        return _evidence(n, "verified", resolution=resolution)
+    why = (
+        f"an error up to {resolution:.3g} {n.unit} would stay within tolerance"
+        if resolution is not None
+        else "no error of it would show"
+    )
+    if i in f.takers and f.alone[i] * RESOLUTION_LIMIT * unit_tol[i] > 1.0:
+        why = (  # it shows alone: an offset fitted over these configurations takes it
+            f"over the check's {f.configurations} configurations the offset of "
+            f"{', '.join(f.takers[i])} could take it ({why})"
+        )
+        return _evidence(n, "not-identifiable", why=why, reason="taken", by=tuple(f.takers[i]))
+    return _evidence(n, "not-identifiable", why=why, reason="faint")
+
+
+def _evidence(
+    n: _Number,
+    status: Status,
+    *,
+    resolution: float | None = None,
+    why: str = "",
+    source: str = "",
+    reason: Reason = "",
+    by: tuple[str, ...] = (),
+) -> NumberEvidence:
+    """Number ``n``'s evidence (its ``trades_with`` left empty)."""
+    return NumberEvidence(
+        n.name, n.group, n.unit, status, n.table, resolution, why, (), source, reason, by
     )
 
 

@@ -16,8 +16,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from fkcheck.core.geometry import invert
-from fkcheck.core.jacobian import Reference, jacobian
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.model.types import Model, resolve_frame
 
 __all__ = [
@@ -77,12 +76,14 @@ def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
 
 
 def frame_jacobian(
-    model: Model, q: Float, frame: str = "tcp", reference: Reference = "world-aligned"
+    model: Model, q: Float, frame: str = "tcp", reference: JacobianReference = "world-aligned"
 ) -> Float:
     """The in-house geometric Jacobian of a named frame, ``(N, 6, n)``.
 
-    See :mod:`fkcheck.core.jacobian` for the formula, the reference frames and
-    the paths (numba kernel for large batches, NumPy otherwise).
+    :meth:`Model.jacobian <fkcheck.model.types.Model.jacobian>` for a batch (a
+    single ``(n,)`` configuration gives ``(1, 6, n)``). See
+    :mod:`fkcheck.core.jacobian` for the formula, the reference frames and the
+    paths (numba kernel for large batches, NumPy otherwise).
 
     Args:
         model: The model.
@@ -90,12 +91,5 @@ def frame_jacobian(
         frame: A named frame (``tcp``, ``tool0``, ``urdf:LINK``…).
         reference: ``"world-aligned"``, ``"local"`` or ``"world"``.
     """
-    spec = resolve_frame(model, frame)
-    chain = model.chain
-    if spec.dh == "world":
-        moving, target = 0, spec.offset.matrix
-    elif spec.dh == "tcp":
-        moving, target = model.dof, chain.flange_T_tool @ spec.offset.matrix
-    else:
-        moving, target = spec.dh, spec.offset.matrix
-    return jacobian(chain, q, moving=moving, target=target, reference=reference)
+    jac = model.jacobian(q, frame, reference)
+    return jac[np.newaxis] if np.ndim(q) == 1 else jac

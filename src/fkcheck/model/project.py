@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import os
 import tomllib
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -281,49 +281,56 @@ def expand_model_paths(
         FkcheckError: A glob or directory that names no model file, one outside
             ``root``, or more than :data:`MAX_MODEL_FILES` files.
     """
-
-    def fail(item: str, problem: str) -> FkcheckError:
-        if where is not None:
-            return ProjectError(where[0], where[1], f"{item!r}: {problem}")
-        return FkcheckError(f"{item}: {problem}")
-
     out: list[Path] = []
     seen: set[Path] = set()
-
-    def add(paths: Sequence[Path]) -> None:
-        for p in paths:
+    for raw in items:
+        item = str(raw)
+        path = Path(item) if root is None or Path(item).is_absolute() else root / item
+        if any(c in item for c in "*?[") and not os.path.lexists(path):
+            found = _glob_models(item, root, where)
+        elif path.is_dir():
+            found = _directory_models(item, path, root, where)
+        else:
+            found = [path]
+        for p in found:
             key = p.resolve()
             if key not in seen:
                 seen.add(key)
                 out.append(p)
         if len(out) > MAX_MODEL_FILES:
-            raise fail(str(paths[0]), f"more than {MAX_MODEL_FILES} model files")
-
-    for raw in items:
-        item = str(raw)
-        base = root if root is not None else Path.cwd()
-        path = Path(item) if root is None or Path(item).is_absolute() else root / item
-        if any(c in item for c in "*?[") and not os.path.lexists(path):
-            if Path(item).is_absolute() or ".." in Path(item).parts:
-                raise fail(item, "a glob must be relative and stay inside the project")
-            found = sorted(
-                p for p in base.glob(item) if p.suffix.lower() in MODEL_SUFFIXES and p.is_file()
-            )
-            if root is not None:
-                found = [p for p in found if _inside(p, root)]
-            found = [p for p in found if is_model_file(p)]
-            if not found:
-                raise fail(item, f"matches no model file ({_MODEL_FILES})")
-            add(found)
-            continue
-        if path.is_dir():
-            if root is not None and not _inside(path, root):
-                raise fail(item, "a directory outside the project")
-            found = sorted(p for p in path.iterdir() if p.suffix.lower() in MODEL_SUFFIXES)
-            found = [p for p in found if p.is_file()]
-            if not found:
-                raise fail(item, "a directory with no .toml or .csv model file")
-            add(found)
-        else:
-            add([path])
+            raise _paths_error(where, str(found[0]), f"more than {MAX_MODEL_FILES} model files")
     return out
+
+
+def _paths_error(where: tuple[Path, str] | None, item: str, problem: str) -> FkcheckError:
+    """What is wrong with ``item``: a :class:`ProjectError` at ``where``, if given."""
+    if where is not None:
+        return ProjectError(where[0], where[1], f"{item!r}: {problem}")
+    return FkcheckError(f"{item}: {problem}")
+
+
+def _glob_models(item: str, root: Path | None, where: tuple[Path, str] | None) -> list[Path]:
+    """The model files a glob matches (relative to ``root``, inside it), sorted; at least one."""
+    if Path(item).is_absolute() or ".." in Path(item).parts:
+        raise _paths_error(where, item, "a glob must be relative and stay inside the project")
+    base = root if root is not None else Path.cwd()
+    found = sorted(p for p in base.glob(item) if p.suffix.lower() in MODEL_SUFFIXES and p.is_file())
+    if root is not None:
+        found = [p for p in found if _inside(p, root)]
+    found = [p for p in found if is_model_file(p)]
+    if not found:
+        raise _paths_error(where, item, f"matches no model file ({_MODEL_FILES})")
+    return found
+
+
+def _directory_models(
+    item: str, path: Path, root: Path | None, where: tuple[Path, str] | None
+) -> list[Path]:
+    """A directory's ``.toml`` and ``.csv`` files (inside ``root``), sorted; at least one."""
+    if root is not None and not _inside(path, root):
+        raise _paths_error(where, item, "a directory outside the project")
+    found = sorted(p for p in path.iterdir() if p.suffix.lower() in MODEL_SUFFIXES)
+    found = [p for p in found if p.is_file()]
+    if not found:
+        raise _paths_error(where, item, "a directory with no .toml or .csv model file")
+    return found

@@ -31,15 +31,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from fkcheck.core import dh
+from fkcheck.core import jacobian as core_jacobian
 from fkcheck.core.geometry import matrix_from_xyz_rpy
-from fkcheck.core.jacobian import Reference
 from fkcheck.core.tolerances import (
     DEFAULT_TOL_JACOBIAN,
     DEFAULT_TOL_POS_M,
     DEFAULT_TOL_ROT_RAD,
     check_limit,
 )
-from fkcheck.core.typing import Float
+from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import FrameError
 
 __all__ = [
@@ -171,7 +171,8 @@ class FrameSpec:
 class KnownDifference:
     """A recorded disagreement between the published table and an independent reference.
 
-    A ``[[known_difference]]`` entry says: these backends are expected to
+    A ``[[known_difference]]`` entry says: these backends (by name, or every
+    backend that reads the same input: ``reads = "urdf"``) are expected to
     disagree with the table on the model's default check (``[check] from`` →
     ``to``), for the reason in ``finding``. The engine then reports their
     failure as an expected failure (``xfail``), which never counts as the table
@@ -187,6 +188,9 @@ class KnownDifference:
             :data:`~fkcheck.core.tolerances.MAX_KNOWN_POSITION_M` (0.1 m).
         max_angle_rad: Largest rotation error it may show, radians (required too),
             at most :data:`~fkcheck.core.tolerances.MAX_KNOWN_ANGLE_RAD` (0.1 rad).
+        reads: ``""``, or what every backend it names reads (``"urdf"``: all URDF
+            readers, whichever are installed — a difference between the table and
+            the URDF is the URDF's, not one parser's).
 
     Raises:
         ToleranceError: A bound is not within its range.
@@ -196,6 +200,11 @@ class KnownDifference:
     finding: str
     max_position_m: float
     max_angle_rad: float
+    reads: str = ""
+
+    def applies_to(self, name: str, reads: str) -> bool:
+        """Whether it records the difference of backend ``name``, which reads ``reads``."""
+        return name in self.backends or (self.reads != "" and reads == self.reads)
 
     def __post_init__(self) -> None:
         check_limit(self.max_position_m, "known_position", "KnownDifference.max_position_m")
@@ -230,7 +239,7 @@ class CheckSpec:
     tol_rot_rad: float = DEFAULT_TOL_ROT_RAD
     require: tuple[str, ...] = ()
     jacobian: bool = False
-    jacobian_reference: Reference = "world-aligned"
+    jacobian_reference: JacobianReference = "world-aligned"
     tol_jacobian: float = DEFAULT_TOL_JACOBIAN
 
     def __post_init__(self) -> None:
@@ -335,7 +344,7 @@ class Model:
         return dh.fk(self.chain, q, all_frames=all_frames)
 
     def jacobian(
-        self, q: ArrayLike, frame: str = "tcp", reference: Reference = "world-aligned"
+        self, q: ArrayLike, frame: str = "tcp", reference: JacobianReference = "world-aligned"
     ) -> Float:
         """The geometric Jacobian of a named frame with the in-house core.
 
@@ -359,9 +368,17 @@ class Model:
             FrameError: An unknown frame.
             ValueError: An unknown ``reference``.
         """
-        from fkcheck.model.frames import frame_jacobian
-
-        jac = frame_jacobian(self, np.asarray(q), frame, reference)  # validated there, once
+        spec = resolve_frame(self, frame)
+        chain = self.chain
+        if spec.dh == "world":
+            moving, target = 0, spec.offset.matrix
+        elif spec.dh == "tcp":
+            moving, target = self.dof, chain.flange_T_tool @ spec.offset.matrix
+        else:
+            moving, target = spec.dh, spec.offset.matrix
+        jac = core_jacobian.jacobian(  # q and reference are validated there, once
+            chain, np.asarray(q), moving=moving, target=target, reference=reference
+        )
         return jac[0] if np.ndim(q) == 1 else jac
 
 

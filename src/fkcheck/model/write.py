@@ -19,7 +19,15 @@ from pathlib import Path
 from typing import Literal
 
 from fkcheck.io.text import terminal_text
-from fkcheck.model.types import FrameSpec, Joint, Model, Offset, UrdfSpec
+from fkcheck.model.types import (
+    CheckSpec,
+    FrameSpec,
+    Joint,
+    KnownDifference,
+    Model,
+    Offset,
+    UrdfSpec,
+)
 
 __all__ = [
     "frame_toml",
@@ -169,13 +177,7 @@ def model_to_toml(
     out: list[str] = toml_comment(header)
     if out:
         out.append("")
-    out.append(f"name = {toml_string(model.name)}")
-    if model.description:
-        out.append(f"description = {toml_string(model.description)}")
-    if model.source:
-        out.append(f"source = {toml_string(model.source)}")
-    out.append(f"convention = {toml_string(model.convention)}")
-    out.append(f"angle_unit = {toml_string(unit)}")
+    out += _header_lines(model, unit)
     for i, joint in enumerate(model.joints):
         out.append("")
         out.extend(toml_comment(joint_comments.get(i)))
@@ -184,13 +186,7 @@ def model_to_toml(
         if not offset.is_identity:
             out.extend(["", offset_toml(label, offset, unit).rstrip("\n")])
     if model.poses:
-        out.extend(["", "[poses]"])
-        for pname, values in model.poses.items():
-            shown = [
-                _angle(v, unit) if j.type == "revolute" else v
-                for v, j in zip(values, model.joints, strict=True)
-            ]
-            out.append(f"{toml_key(pname)} = {_numbers(shown)}")
+        out += _poses_lines(model, unit)
     if model.urdf is not None:
         joints = ", ".join(toml_string(n) for n in model.urdf.joints)
         out.extend(["", "[urdf]", f"path = {toml_string(model.urdf.path)}", f"joints = [{joints}]"])
@@ -200,15 +196,47 @@ def model_to_toml(
             continue
         out.append("")
         out.append(frame_toml(spec, unit, frame_comments.get(name)).rstrip("\n"))
-    check = model.check
-    out.extend(
-        [
-            "",
-            "[check]",
-            f"from = {toml_string(check.frame_from)}",
-            f"to = {toml_string(check.frame_to)}",
+    out += _check_lines(model.check)
+    if model.lint_ignore:
+        rules = ", ".join(toml_string(rule) for rule in model.lint_ignore)
+        out.extend(["", "[lint]", f"ignore = [{rules}]"])
+    for known in model.known_differences:
+        out += _known_difference_lines(known)
+    return "\n".join(out) + "\n"
+
+
+def _header_lines(model: Model, unit: Literal["rad", "deg"]) -> list[str]:
+    """``name``, ``description`` and ``source`` (when given), ``convention``, ``angle_unit``."""
+    out = [f"name = {toml_string(model.name)}"]
+    if model.description:
+        out.append(f"description = {toml_string(model.description)}")
+    if model.source:
+        out.append(f"source = {toml_string(model.source)}")
+    out.append(f"convention = {toml_string(model.convention)}")
+    out.append(f"angle_unit = {toml_string(unit)}")
+    return out
+
+
+def _poses_lines(model: Model, unit: Literal["rad", "deg"]) -> list[str]:
+    """``[poses]``, revolute values in ``unit``."""
+    out = ["", "[poses]"]
+    for pname, values in model.poses.items():
+        shown = [
+            _angle(v, unit) if j.type == "revolute" else v
+            for v, j in zip(values, model.joints, strict=True)
         ]
-    )
+        out.append(f"{toml_key(pname)} = {_numbers(shown)}")
+    return out
+
+
+def _check_lines(check: CheckSpec) -> list[str]:
+    """``[check]``: always the frame pair and tolerances, the rest when not the default."""
+    out = [
+        "",
+        "[check]",
+        f"from = {toml_string(check.frame_from)}",
+        f"to = {toml_string(check.frame_to)}",
+    ]
     out.append(f"tol_pos_m = {toml_number(check.tol_pos_m)}")
     out.append(f"tol_rot_rad = {toml_number(check.tol_rot_rad)}")
     if check.require:
@@ -218,16 +246,23 @@ def model_to_toml(
     if check.jacobian or check.jacobian_reference != "world-aligned":
         out.append(f"jacobian_reference = {toml_string(check.jacobian_reference)}")
         out.append(f"tol_jacobian = {toml_number(check.tol_jacobian)}")
-    if model.lint_ignore:
-        rules = ", ".join(toml_string(rule) for rule in model.lint_ignore)
-        out.extend(["", "[lint]", f"ignore = [{rules}]"])
-    for known in model.known_differences:
-        names = ", ".join(toml_string(name) for name in known.backends)
-        out += ["", "[[known_difference]]", f"backends = [{names}]"]
-        out.append(f"finding = {toml_string(known.finding)}")
-        out.append(f"max_position_m = {toml_number(known.max_position_m)}")
-        out.append(f"max_angle_rad = {toml_number(known.max_angle_rad)}")
-    return "\n".join(out) + "\n"
+    return out
+
+
+def _known_difference_lines(known: KnownDifference) -> list[str]:
+    """One ``[[known_difference]]`` table."""
+    names = ", ".join(toml_string(name) for name in known.backends)
+    selected = [f"backends = [{names}]"] if known.backends else []
+    if known.reads:
+        selected.append(f"reads = {toml_string(known.reads)}")
+    return [
+        "",
+        "[[known_difference]]",
+        *selected,
+        f"finding = {toml_string(known.finding)}",
+        f"max_position_m = {toml_number(known.max_position_m)}",
+        f"max_angle_rad = {toml_number(known.max_angle_rad)}",
+    ]
 
 
 def relocate_urdf_path(model: Model, new_file: Path) -> Model:

@@ -39,7 +39,7 @@ from fkcheck.errors import ModelError
 from fkcheck.io.text import unsafe_xml_character
 from fkcheck.model.offsets import offset_from_matrix
 from fkcheck.model.sampling import UNLIMITED_PRISMATIC_M
-from fkcheck.model.types import FrameSpec, Model, Offset, UrdfSpec
+from fkcheck.model.types import FrameSpec, Joint, Model, Offset, UrdfSpec
 from fkcheck.model.write import toml_number
 from fkcheck.urdf.marker import marker_element
 
@@ -125,20 +125,8 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
     # repr() escaped the name's control characters; "--" may not appear in a comment.
     robot.append(ET.Comment(re.sub(r"-(?=-)", "- ", comment)))
     robot.append(marker_element(model))  # an element: it survives stripped comments
-    generated = {"world", "tcp"} | {f"dh_frame_{i}" for i in range(n + 1)}
-    if model.convention == "standard":
-        generated |= {f"dh_joint_{i}" for i in range(1, n + 1)}
     tcp_default = model.frames.get("tcp") == FrameSpec("tcp", "tcp")
-    world_default = model.frames.get("world") == FrameSpec("world", "world")
-    builtin = {"tcp": tcp_default, "world": world_default}
-    for name in model.frames:
-        if name in generated and not builtin.get(name, False):
-            raise ModelError(
-                model.path,
-                f"frames.{name}",
-                "collides with a link fkcheck urdf generates (world, tcp, dh_frame_<i>, "
-                "dh_joint_<i>); rename it",
-            )
+    _refuse_generated_names(model, tcp_default)
 
     links = ["world"] + [f"dh_frame_{i}" for i in range(n + 1)]
     if model.convention == "standard":
@@ -151,50 +139,87 @@ def urdf_from_model(model: Model, robot_name: str | None = None) -> UrdfExport:
 
     _fixed(robot, "world_to_dh_frame_0", "world", "dh_frame_0", model.base)
     for i, joint in enumerate(model.joints, start=1):
-        if model.convention == "modified":
-            placement = (
-                rot_x(joint.alpha)
-                @ translation(joint.a, 0.0, 0.0)
-                @ rot_z(joint.theta)
-                @ translation(0.0, 0.0, joint.d)
-            )
-            child = f"dh_frame_{i}"
-        else:
-            placement = translation(0.0, 0.0, joint.d) @ rot_z(joint.theta)
-            child = f"dh_joint_{i}"
-        if joint.type == "revolute":
-            jtype = "revolute" if joint.limits is not None else "continuous"
-        else:
-            jtype = "prismatic"
-        el = ET.SubElement(robot, "joint", name=joint.name, type=jtype)
-        ET.SubElement(el, "parent", link=f"dh_frame_{i - 1}")
-        ET.SubElement(el, "child", link=child)
-        _origin(el, offset_from_matrix(placement))
-        ET.SubElement(el, "axis", xyz="0 0 -1" if joint.flip else "0 0 1")
-        if jtype != "continuous":
-            lo, hi = joint.limits or (-UNLIMITED_PRISMATIC_M, UNLIMITED_PRISMATIC_M)
-            ET.SubElement(el, "limit", lower=_num(lo), upper=_num(hi), effort="0", velocity="0")
-        if model.convention == "standard":
-            link_offset = offset_from_matrix(translation(joint.a, 0.0, 0.0) @ rot_x(joint.alpha))
-            _fixed(robot, f"dh_link_{i}", child, f"dh_frame_{i}", link_offset)
+        _joint(robot, model.convention, i, joint)
     _fixed(robot, f"dh_frame_{n}_to_{tool_anchor}", f"dh_frame_{n}", tool_anchor, model.tool)
 
     frame_links: dict[str, str] = {"world": "world", "tcp": tool_anchor}
     for name in named:
-        spec = model.frames[name]
-        if spec.dh == "world":
-            parent = "world"
-        elif spec.dh == "tcp":
-            parent = tool_anchor
-        else:
-            parent = f"dh_frame_{spec.dh}"
-        _fixed(robot, f"{parent}_to_{name}", parent, name, spec.offset)
+        _frame(robot, name, model.frames[name], tool_anchor)
         frame_links[name] = name
     for i in range(n + 1):
         frame_links.setdefault(f"dh_frame_{i}", f"dh_frame_{i}")
     ET.indent(robot, space="  ")
     text = '<?xml version="1.0"?>\n' + ET.tostring(robot, encoding="unicode") + "\n"
     return UrdfExport(text, model.joint_names, frame_links)
+
+
+def _refuse_generated_names(model: Model, tcp_default: bool) -> None:
+    """Refuse a named frame called like a link the export generates (bar the built-in ones).
+
+    Raises:
+        ModelError: ``world``, ``tcp``, ``dh_frame_<i>`` or ``dh_joint_<i>`` (standard
+            DH) names a frame of the model's own.
+    """
+    n = model.dof
+    generated = {"world", "tcp"} | {f"dh_frame_{i}" for i in range(n + 1)}
+    if model.convention == "standard":
+        generated |= {f"dh_joint_{i}" for i in range(1, n + 1)}
+    world_default = model.frames.get("world") == FrameSpec("world", "world")
+    builtin = {"tcp": tcp_default, "world": world_default}
+    for name in model.frames:
+        if name in generated and not builtin.get(name, False):
+            raise ModelError(
+                model.path,
+                f"frames.{name}",
+                "collides with a link fkcheck urdf generates (world, tcp, dh_frame_<i>, "
+                "dh_joint_<i>); rename it",
+            )
+
+
+def _joint(robot: ET.Element, convention: str, i: int, joint: Joint) -> None:
+    """DH row ``i`` (1-based): its moving joint and, in a standard table, the fixed link after it.
+
+    A modified row's joint carries ``Rx(α)·Tx(a)·Rz(θ)·Tz(d)`` into ``dh_frame_<i>``; a
+    standard row's carries ``Tz(d)·Rz(θ)`` into ``dh_joint_<i>``, and a fixed joint
+    ``Tx(a)·Rx(α)`` goes on to ``dh_frame_<i>``.
+    """
+    if convention == "modified":
+        placement = (
+            rot_x(joint.alpha)
+            @ translation(joint.a, 0.0, 0.0)
+            @ rot_z(joint.theta)
+            @ translation(0.0, 0.0, joint.d)
+        )
+        child = f"dh_frame_{i}"
+    else:
+        placement = translation(0.0, 0.0, joint.d) @ rot_z(joint.theta)
+        child = f"dh_joint_{i}"
+    if joint.type == "revolute":
+        jtype = "revolute" if joint.limits is not None else "continuous"
+    else:
+        jtype = "prismatic"
+    el = ET.SubElement(robot, "joint", name=joint.name, type=jtype)
+    ET.SubElement(el, "parent", link=f"dh_frame_{i - 1}")
+    ET.SubElement(el, "child", link=child)
+    _origin(el, offset_from_matrix(placement))
+    ET.SubElement(el, "axis", xyz="0 0 -1" if joint.flip else "0 0 1")
+    if jtype != "continuous":
+        lo, hi = joint.limits or (-UNLIMITED_PRISMATIC_M, UNLIMITED_PRISMATIC_M)
+        ET.SubElement(el, "limit", lower=_num(lo), upper=_num(hi), effort="0", velocity="0")
+    if convention == "standard":
+        link_offset = offset_from_matrix(translation(joint.a, 0.0, 0.0) @ rot_x(joint.alpha))
+        _fixed(robot, f"dh_link_{i}", child, f"dh_frame_{i}", link_offset)
+
+
+def _frame(robot: ET.Element, name: str, spec: FrameSpec, tool_anchor: str) -> None:
+    """Named frame ``name``'s fixed joint from its DH frame (or the world, or the TCP)."""
+    if spec.dh == "world":
+        parent = "world"
+    elif spec.dh == "tcp":
+        parent = tool_anchor
+    else:
+        parent = f"dh_frame_{spec.dh}"
+    _fixed(robot, f"{parent}_to_{name}", parent, name, spec.offset)
 
 
 def model_for_urdf(model: Model, export: UrdfExport, urdf_path: str) -> Model:

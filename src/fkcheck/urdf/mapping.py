@@ -733,20 +733,10 @@ def _check_pair(
     absorbs: dict[str, tuple[str, ...]] = {}
     score: dict[str, tuple[int, int, int]] = {}
     for spec in linked:
-        if spec.dh in (0, "world"):
-            c = coverage(mapped, spec.name, "tcp", *tol)
-            outer = 0 if spec.dh == "world" else 1
-        elif spec.dh in (n, "tcp"):
-            c = coverage(mapped, "world", spec.name, *tol)
-            outer = 0 if spec.dh == "tcp" else 1
-        else:
+        judged = _hidden_at_end(mapped, spec, tol)
+        if judged is None:
             continue
-        mine = f"[frames.{spec.name}]"
-        hidden = tuple(
-            f"{e.name}: {e.absorbed_by.removeprefix(mine + ': ')}"
-            for e in c.table_numbers
-            if e.status == "not-identifiable" and e.reason == "offset" and mine in e.by
-        )
+        hidden, outer = judged
         if hidden:
             absorbs[spec.name] = hidden
         score[spec.name] = (len(hidden), outer, _complexity(spec.offset))
@@ -758,6 +748,34 @@ def _check_pair(
         return None, None, absorbs
     pair = (base[0].name, tip[0].name)
     return pair, coverage(mapped, pair[0], pair[1], *tol), absorbs
+
+
+def _hidden_at_end(
+    mapped: Model, spec: FrameSpec, tol: tuple[float, float]
+) -> tuple[tuple[str, ...], int] | None:
+    """What a frame at one end of the chain hides, judged against the other end.
+
+    Returns:
+        The table numbers its offset carries (``"d1: translation along z of …"``)
+        and ``0`` for the outermost end (``world``, ``tcp``), ``1`` for a DH frame;
+        ``None`` for a frame at neither end.
+    """
+    n = mapped.dof
+    if spec.dh in (0, "world"):
+        c = coverage(mapped, spec.name, "tcp", *tol)
+        outer = 0 if spec.dh == "world" else 1
+    elif spec.dh in (n, "tcp"):
+        c = coverage(mapped, "world", spec.name, *tol)
+        outer = 0 if spec.dh == "tcp" else 1
+    else:
+        return None
+    mine = f"[frames.{spec.name}]"
+    hidden = tuple(
+        f"{e.name}: {e.absorbed_by.removeprefix(mine + ': ')}"
+        for e in c.table_numbers
+        if e.status == "not-identifiable" and e.reason == "offset" and mine in e.by
+    )
+    return hidden, outer
 
 
 def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[LinkFit]]:
@@ -1146,7 +1164,11 @@ def _untrusted(model: Model, kin: UrdfKinematics, link: str, fit: _Fit, hang: _H
             f"URDF link {link!r} moves with URDF joint {hang.unmapped!r}, which the model's "
             "[urdf] joints do not map"
         )
-    known = [k for k in model.known_differences if any(b.endswith("-urdf") for b in k.backends)]
+    known = [
+        k
+        for k in model.known_differences
+        if k.reads == "urdf" or any(b.endswith("-urdf") for b in k.backends)
+    ]
     recorded = (
         f" (the model file records a difference with its URDF: {known[0].finding})" if known else ""
     )

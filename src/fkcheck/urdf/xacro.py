@@ -304,71 +304,104 @@ def _fenced_xacro(top: str, packages: dict[str, str], roots: list[str], read: li
     calls Python's ``eval``); files are read only inside ``roots``, each appended
     to ``read``; ``$(find …)`` resolves only ``packages``; the environment is refused.
     """
-    import glob
-
     import xacro  # type: ignore[import-untyped]  # (no stubs; xacrodoc's dependency)
     import xacrodoc  # noqa: F401  (it patches $(find …) on import: patch after it)
-    import yaml  # type: ignore[import-untyped]  # (no stubs)
     from xacro import substitution_args
 
-    from fkcheck.io.files import InputFileError, read_bytes
-    from fkcheck.urdf.expression import (
-        MAX_ITEMS,
-        ExpressionError,
-        Function,
-        Namespace,
-        evaluate,
-        namespace,
-        plain,
-        standard_names,
-    )
+    fence = _Fence(xacro, top, packages, roots, read, xacro.parse, xacro.eval_extension)
+    names: dict[str, object] = {}
+    load_yaml = functools.partial(_load_yaml, fence, names)
+    names.update(_expression_names(fence, load_yaml))
+    evaluator = _Evaluator(fence, names)
+    substitution_args._eval_find = fence.find
+    substitution_args._eval_env = fence.env
+    substitution_args._eval_optenv = fence.env
+    substitution_args._eval = evaluator.eval_substitution  # $(eval …): never Python's eval
+    substitution_args._eval_dict.clear()
+    xacro.safe_eval = evaluator.xacro_eval  # ${…}: never Python's eval
+    xacro._global_symbols.clear()  # xacro's own names (builtins, modules) are unreachable
+    xacro.parse = fence.confined_parse
+    xacro.glob = types.SimpleNamespace(glob=fence.confined_glob)
+    xacro.load_yaml = load_yaml
+    xacro.eval_extension = fence.located_extension
+    return xacro
 
-    shown = ", ".join(sorted(packages)) or "none"
 
-    def where() -> str:
+@dataclass(frozen=True)
+class _Fence:
+    """What an expansion may reach: files inside ``roots`` and the declared ``packages``.
+
+    Attributes:
+        xacro: The xacro module.
+        top: The xacro file being expanded.
+        packages: The only packages ``$(find …)`` resolves: name → directory.
+        roots: The directories files may be read from.
+        read: The files read, appended to as they are.
+        parse: xacro's own ``parse`` (before it is replaced).
+        eval_extension: xacro's own ``eval_extension`` (before it is replaced).
+    """
+
+    xacro: Any
+    top: str
+    packages: dict[str, str]
+    roots: list[str]
+    read: list[str]
+    parse: Callable[..., Any]
+    eval_extension: Callable[[str], Any]
+
+    def where(self) -> str:
         """``in FILE: `` when xacro is in another file than the top one (for messages)."""
+        xacro = self.xacro
         current = xacro.filestack[-1] if xacro.filestack else None
-        if not current or current == top:
+        if not current or current == self.top:
             return ""
-        return f"in {os.path.relpath(current, os.path.dirname(top))}: "
+        return f"in {os.path.relpath(current, os.path.dirname(self.top))}: "
 
     # --- files: the xacro file's directory and the declared packages only
 
-    def confined(filename: str, what: str, name: str) -> Path:
+    def confined(self, filename: str, what: str, name: str) -> Path:
+        """``filename`` resolved, when inside the roots."""
         target = Path(filename).resolve()
-        if not any(target.is_relative_to(root) for root in roots):
+        if not any(target.is_relative_to(root) for root in self.roots):
             raise _Refused(
                 f"{what} {name!r}: outside the xacro file's directory and the declared "
-                f"packages ({', '.join(roots)})"
+                f"packages ({', '.join(self.roots)})"
             )
         return target
 
-    def read_file(target: Path, what: str, name: str) -> bytes:
+    def read_file(self, target: Path, what: str, name: str) -> bytes:
+        """A regular file of at most :data:`MAX_URDF_BYTES`, recorded as read."""
+        from fkcheck.io.files import InputFileError, read_bytes
+
         try:
             data = read_bytes(target, MAX_URDF_BYTES)
         except InputFileError as exc:
             raise _Refused(f"{what} {name!r}: {exc.problem}") from None
-        read.append(str(target))
+        self.read.append(str(target))
         return data
 
-    parse = xacro.parse
-
-    def confined_parse(inp: Any, filename: str | None = None) -> Any:
+    def confined_parse(self, inp: Any, filename: str | None = None) -> Any:
+        """The ``parse`` of xacro, reading an included file only inside the roots."""
         if inp is None and filename is not None:
-            target = confined(os.path.join(xacro.root_dir, filename), "include of", filename)
+            target = self.confined(
+                os.path.join(self.xacro.root_dir, filename), "include of", filename
+            )
             if not target.exists():  # xacro's own error (an optional include is skipped)
-                return parse(None, filename)
-            return parse(io.BytesIO(read_file(target, "include of", filename)))
-        return parse(inp, filename)
+                return self.parse(None, filename)
+            return self.parse(io.BytesIO(self.read_file(target, "include of", filename)))
+        return self.parse(inp, filename)
 
-    def confined_glob(pattern: str) -> list[str]:
+    def confined_glob(self, pattern: str) -> list[str]:
+        """The files an include's wildcard matches, all inside the roots."""
+        import glob
+
         magic = next((i for i, c in enumerate(pattern) if c in "*?["), len(pattern))
         if ".." in Path(pattern[magic:]).parts:
             raise _Refused(f"include of {pattern!r}: '..' after a wildcard is not allowed")
-        confined(os.path.dirname(pattern[:magic]) or ".", "include of", pattern)
+        self.confined(os.path.dirname(pattern[:magic]) or ".", "include of", pattern)
         found = sorted(glob.glob(pattern))
         for name in found:
-            if not any(Path(name).resolve().is_relative_to(root) for root in roots):
+            if not any(Path(name).resolve().is_relative_to(root) for root in self.roots):
                 raise _Refused(
                     f"include of {pattern!r}: it matches files outside the xacro file's "
                     "directory and the declared packages"
@@ -377,107 +410,166 @@ def _fenced_xacro(top: str, packages: dict[str, str], roots: list[str], read: li
 
     # --- $(find …), $(env …), $(optenv …), $(dirname)
 
-    def find(name: str) -> str:
-        if name not in packages:
+    def find(self, name: str) -> str:
+        """``$(find NAME)``: a declared package's directory."""
+        if name not in self.packages:
+            shown = ", ".join(sorted(self.packages)) or "none"
             raise _Refused(
                 f"$(find {name}): package {name!r} is not declared; declared packages: {shown} "
                 f'(declare it: packages = {{ {name} = "DIR" }} in [urdf], or --package {name}=DIR)'
             )
-        return packages[name]
+        return self.packages[name]
 
-    def env(name: str, *_: str, **__: str) -> str:
+    def env(self, name: str, *_: str, **__: str) -> str:
+        """``$(env …)`` and ``$(optenv …)``: refused."""
         raise _Refused(
             f"$(env {name}) / $(optenv {name}): fkcheck does not read the environment for "
             "xacro; pass the value as a xacro argument (xacro_args in [urdf], or --arg)"
         )
 
-    eval_extension = xacro.eval_extension
-
-    def located_extension(text: str) -> Any:
-        # $(dirname) is the directory of the file being read, as xacro documents it
-        # (this xacro never sets the file it reads, so its own $(dirname) always fails).
+    def located_extension(self, text: str) -> Any:
+        """The ``$(…)`` of xacro, ``$(dirname)`` being the directory of the file being read."""
+        # (as xacro documents it: this xacro never sets the file it reads, so its own
+        # $(dirname) always fails)
+        xacro = self.xacro
         context = xacro.substitution_args_context
         context["filename"] = xacro.filestack[-1] if xacro.filestack else None
-        return eval_extension(text)
+        return self.eval_extension(text)
 
-    # --- the names of an expression
+
+# --- the names of an expression
+
+
+def _expression_names(fence: _Fence, load_yaml: Callable[[object], object]) -> dict[str, object]:
+    """The names an expression may use: the standard ones and xacro's helpers."""
+    from fkcheck.urdf.expression import Function, namespace, standard_names
 
     names = standard_names()
 
-    def load_yaml(filename: object) -> object:
-        if type(filename) is not str:
-            raise ExpressionError("load_yaml takes a file name (a string)")
-        target = confined(xacro.abs_filename_spec(filename), "load_yaml of", filename)
-        data = read_file(target, "load_yaml of", filename)
-        try:
-            return plain(yaml.load(data, Loader=_yaml_loader(xacro, names)))  # a SafeLoader
-        except yaml.YAMLError as exc:
-            raise ExpressionError(f"load_yaml of {filename!r}: {_shown(str(exc))}") from None
-        except RecursionError:
-            raise ExpressionError(f"load_yaml of {filename!r}: nested too deeply") from None
-        except ExpressionError as exc:
-            raise ExpressionError(f"load_yaml of {filename!r}: {exc}") from None
-
     def abs_filename(filename: object) -> object:
+        from fkcheck.urdf.expression import ExpressionError
+
         if type(filename) is not str:
             raise ExpressionError("abs_filename takes a file name (a string)")
-        return str(xacro.abs_filename_spec(filename))
-
-    def dotify(value: object) -> object:
-        if type(value) is not dict:
-            raise ExpressionError("dotify takes a mapping")
-        return value  # a mapping's keys are reached with a.b already
+        return str(fence.xacro.abs_filename_spec(filename))
 
     def arg(name: object) -> object:
-        return str(xacro.substitution_args_context["arg"][name])
-
-    def tokenize(text: object, sep: object = ",; ", skip_empty: object = True) -> object:
-        if type(text) is not str or type(sep) is not str or not 0 < len(sep) <= 100:
-            raise ExpressionError("tokenize takes a string and up to 100 separator characters")
-        if sum(text.count(c) for c in sep) >= MAX_ITEMS:
-            raise ExpressionError(f"tokenize would give more than {MAX_ITEMS} items")
-        parts = re.split(f"[{re.escape(sep)}]", text)
-        return [part for part in parts if part] if skip_empty else parts
-
-    def fatal(*args: object) -> object:
-        raise ExpressionError("xacro.fatal: " + _shown(" ".join(map(str, args))))
-
-    def quiet(*args: object, **kwargs: object) -> object:
-        return ""  # xacro prints these on stderr, which fkcheck does not show
+        return str(fence.xacro.substitution_args_context["arg"][name])
 
     helpers: dict[str, Callable[..., object]] = {
-        "load_yaml": load_yaml, "abs_filename": abs_filename, "dotify": dotify, "arg": arg,
-        "tokenize": tokenize, "fatal": fatal, "message": quiet, "warning": quiet,
-        "error": quiet, "print_location": quiet,
+        "load_yaml": load_yaml, "abs_filename": abs_filename, "dotify": _dotify, "arg": arg,
+        "tokenize": _tokenize, "fatal": _fatal, "message": _quiet, "warning": _quiet,
+        "error": _quiet, "print_location": _quiet,
     }  # fmt: skip
     members = {name: Function(f"xacro.{name}", fn) for name, fn in helpers.items()}
     names["xacro"] = namespace("xacro", members)
     for name in ("load_yaml", "abs_filename", "dotify"):  # xacro has them directly too
         names[name] = members[name]
-    missing = object()
+    return names
 
-    def lookup(table: Any, name: str) -> object:
+
+def _load_yaml(fence: _Fence, names: dict[str, object], filename: object) -> object:
+    """``xacro.load_yaml``: a yaml file inside the roots, as plain data."""
+    import yaml  # type: ignore[import-untyped]  # (no stubs)
+
+    from fkcheck.urdf.expression import ExpressionError, plain
+
+    if type(filename) is not str:
+        raise ExpressionError("load_yaml takes a file name (a string)")
+    target = fence.confined(fence.xacro.abs_filename_spec(filename), "load_yaml of", filename)
+    data = fence.read_file(target, "load_yaml of", filename)
+    try:
+        return plain(yaml.load(data, Loader=_yaml_loader(fence.xacro, names)))  # a SafeLoader
+    except yaml.YAMLError as exc:
+        raise ExpressionError(f"load_yaml of {filename!r}: {_shown(str(exc))}") from None
+    except RecursionError:
+        raise ExpressionError(f"load_yaml of {filename!r}: nested too deeply") from None
+    except ExpressionError as exc:
+        raise ExpressionError(f"load_yaml of {filename!r}: {exc}") from None
+
+
+def _dotify(value: object) -> object:
+    """``xacro.dotify``: a mapping as it is (its keys are reached with ``a.b`` already)."""
+    from fkcheck.urdf.expression import ExpressionError
+
+    if type(value) is not dict:
+        raise ExpressionError("dotify takes a mapping")
+    return value
+
+
+def _tokenize(text: object, sep: object = ",; ", skip_empty: object = True) -> object:
+    """``xacro.tokenize``: ``text`` split at any of the ``sep`` characters."""
+    from fkcheck.urdf.expression import MAX_ITEMS, ExpressionError
+
+    if type(text) is not str or type(sep) is not str or not 0 < len(sep) <= 100:
+        raise ExpressionError("tokenize takes a string and up to 100 separator characters")
+    if sum(text.count(c) for c in sep) >= MAX_ITEMS:
+        raise ExpressionError(f"tokenize would give more than {MAX_ITEMS} items")
+    parts = re.split(f"[{re.escape(sep)}]", text)
+    return [part for part in parts if part] if skip_empty else parts
+
+
+def _fatal(*args: object) -> object:
+    """``xacro.fatal``: the expansion stops with the message."""
+    from fkcheck.urdf.expression import ExpressionError
+
+    raise ExpressionError("xacro.fatal: " + _shown(" ".join(map(str, args))))
+
+
+def _quiet(*args: object, **kwargs: object) -> object:
+    """``xacro.message``, ``warning``…: nothing (xacro prints them on stderr, not shown)."""
+    return ""
+
+
+_MISSING = object()
+
+
+@dataclass(frozen=True)
+class _Evaluator:
+    """``${…}`` and ``$(eval …)`` by :func:`fkcheck.urdf.expression.evaluate`, never Python's.
+
+    Attributes:
+        fence: What the expansion may reach (``find``, ``env``, messages' file).
+        names: The names an expression may use besides the properties.
+    """
+
+    fence: _Fence
+    names: dict[str, object]
+
+    def lookup(self, table: Any, name: str) -> object:
         """A property: in ``table`` or the tables around it, never xacro's own globals."""
+        from fkcheck.urdf.expression import Namespace
+
+        xacro = self.fence.xacro
         while isinstance(table, xacro.Table):
             if dict.__contains__(table, name):
                 value = table[name]  # a lazy property is evaluated here (by evaluate, again)
                 if isinstance(value, xacro.NameSpace):  # <xacro:include ns="NAME"/>
-                    return Namespace(name, functools.partial(member, value))
+                    return Namespace(name, functools.partial(self.member, value))
                 return value
             table = table.parent
-        return missing
+        return _MISSING
 
-    def member(table: Any, name: str) -> object:
-        found = lookup(table, name)
-        return names[name] if found is missing else found
+    def member(self, table: Any, name: str) -> object:
+        """A property, else a name of :attr:`names`."""
+        found = self.lookup(table, name)
+        return self.names[name] if found is _MISSING else found
 
-    def xacro_eval(expr: str, symbols: Any, locals: Any = None) -> object:
+    def xacro_eval(self, expr: str, symbols: Any, locals: Any = None) -> object:
+        """The ``safe_eval`` of xacro, for ``${…}``."""
+        from fkcheck.urdf.expression import ExpressionError, evaluate
+
         try:
-            return evaluate(expr, functools.partial(member, symbols))
+            return evaluate(expr, functools.partial(self.member, symbols))
         except ExpressionError as exc:
-            raise _Refused(f"{where()}${{{_shown(expr)}}}: {exc}") from None
+            raise _Refused(f"{self.fence.where()}${{{_shown(expr)}}}: {exc}") from None
 
-    def eval_substitution(text: str, context: dict[str, Any]) -> str:
+    def eval_substitution(self, text: str, context: dict[str, Any]) -> str:
+        """``$(eval …)``, with ``find``, ``env``, ``arg`` and ``dirname`` as functions."""
+        from xacro import substitution_args
+
+        from fkcheck.urdf.expression import ExpressionError, Function, evaluate
+
         args = context.setdefault("arg", {})
 
         def value_of(name: str) -> object:
@@ -486,36 +578,24 @@ def _fenced_xacro(top: str, packages: dict[str, str], roots: list[str], read: li
         def dirname() -> object:
             return substitution_args._eval_dirname(context.get("filename"))
 
+        fence = self.fence
         local: dict[str, object] = {
-            "true": True, "false": False, "find": Function("find", find),
-            "env": Function("env", env), "optenv": Function("optenv", env),
+            "true": True, "false": False, "find": Function("find", fence.find),
+            "env": Function("env", fence.env), "optenv": Function("optenv", fence.env),
             "arg": Function("arg", value_of), "dirname": Function("dirname", dirname),
         }  # fmt: skip
 
         def resolve(name: str) -> object:
             if name in local:
                 return local[name]
-            if name in names:
-                return names[name]
+            if name in self.names:
+                return self.names[name]
             return value_of(name)
 
         try:
             return str(evaluate(text, resolve))
         except ExpressionError as exc:
-            raise _Refused(f"{where()}$(eval {_shown(text)}): {exc}") from None
-
-    substitution_args._eval_find = find
-    substitution_args._eval_env = env
-    substitution_args._eval_optenv = env
-    substitution_args._eval = eval_substitution  # $(eval …): never Python's eval
-    substitution_args._eval_dict.clear()
-    xacro.safe_eval = xacro_eval  # ${…}: never Python's eval
-    xacro._global_symbols.clear()  # xacro's own names (builtins, modules) are unreachable
-    xacro.parse = confined_parse
-    xacro.glob = types.SimpleNamespace(glob=confined_glob)
-    xacro.load_yaml = load_yaml
-    xacro.eval_extension = located_extension
-    return xacro
+            raise _Refused(f"{fence.where()}$(eval {_shown(text)}): {exc}") from None
 
 
 def _yaml_loader(xacro: Any, names: dict[str, object]) -> type[Any]:
