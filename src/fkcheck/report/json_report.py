@@ -58,7 +58,7 @@ def _jacobian(j: JacobianRecord) -> dict[str, Any]:
         "max_linear": j.max_linear,
         "max_angular": j.max_angular,
         "worst_q": None if j.worst_q is None else list(j.worst_q),
-        "first_disagreeing_joint": None if j.first_column is None else j.first_joint,
+        "first_disagreeing_joint": j.first_joint,
         "columns": columns,
         "diagnosis": j.diagnosis,
         "diagnosis_details": list(j.diagnosis_details),

@@ -91,7 +91,7 @@ class JacobianRecord:
         max_angular: Largest angular difference, rad/rad (``None``: not compared).
         worst_q: The configuration with the largest difference (``None``: none).
         first_column: 0-based index of the first joint whose column disagrees.
-        first_joint: That joint's name (``""`` when none disagrees).
+        first_joint: That joint's name (``None`` when none disagrees).
         first_label: That joint as the reports name it, ``joint 3 (elbow)``.
         columns: One per joint (empty when not compared).
         numbers: ``max linear difference … m/rad, max angular difference … rad/rad``
@@ -112,7 +112,7 @@ class JacobianRecord:
     max_angular: float | None
     worst_q: tuple[float, ...] | None
     first_column: int | None
-    first_joint: str
+    first_joint: str | None
     first_label: str
     columns: tuple[ColumnRecord, ...]
     numbers: str
@@ -368,7 +368,7 @@ def _jacobian(check: CheckResult, j: JacobianResult) -> JacobianRecord:
         max_angular=j.max_angular_error,
         worst_q=_q(model, worst)[0],
         first_column=first,
-        first_joint="" if first is None else model.joints[first].name,
+        first_joint=None if first is None else model.joints[first].name,
         first_label="" if first is None else joint_label(model, first),
         columns=columns,
         numbers=numbers,
