@@ -133,7 +133,7 @@ def markdown_summary(
             f"independently for {verified} of {len(checks)} (the others: implementation only)."
         )
         lines.append("")
-        lines.extend(_matrix(checks, links))
+        lines.extend(_matrix(records, links))
     causes = _causes(records, many=len(checks) > 1)
     if causes:
         lines.append("")
@@ -141,23 +141,23 @@ def markdown_summary(
     return "\n".join(lines) + "\n"
 
 
-def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str]:
+def _matrix(records: Sequence[CheckRecord], links: Mapping[str, str]) -> list[str]:
     """A row per model, a column per backend (in the order first met), then the legend."""
     names: list[str] = []
-    for check in checks:
-        names += [r.name for r in check.backends if r.name not in names]
+    for record in records:
+        names += [r.name for r in record.backends if r.name not in names]
     table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–", "expected-failure": "x",
                   "partly-verified": "½"}  # fmt: skip
     head = ["model", "verdict", "table verified", *map(escape_markdown, names)]
     lines = ["| " + " | ".join(head) + " |", "|---|---|" + ":-:|" * (len(head) - 2)]
-    for check in checks:
-        name = escape_markdown(check.model.name)
-        link = links.get(check.model.name)
-        status = {r.name: r.status for r in check.backends}
+    for record in records:
+        name = escape_markdown(record.model)
+        link = links.get(record.model)
+        status = {r.name: r.status for r in record.backends}
         cells = [
             f"[{name}]({link})" if link else name,
-            f"{_ICON[check.verdict]} {check.verdict}",
-            table_mark[check.evidence.table.status],
+            f"{_ICON[record.verdict]} {record.verdict}",
+            table_mark[record.of("table").status],
             *(MARK[status[n]] if n in status else MARK["skipped"] for n in names),
         ]
         lines.append("| " + " | ".join(cells) + " |")
