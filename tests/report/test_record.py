@@ -297,3 +297,21 @@ def test_the_cli_writes_its_reports_as_the_api_does(tmp_path, monkeypatch):
     fkcheck.write_report(outcome, **{k: api / name for k, name in names.items()})
     for name in names.values():
         assert _scrubbed(cli / name) == _scrubbed(api / name), name
+
+
+def test_the_engines_message_states_the_numbers_exactly_when_configurations_are_beyond(
+    monkeypatch,
+):
+    """What :attr:`BackendRecord.reasons` relies on, pinned on a real engine failure."""
+    import fkcheck
+    from tests.paths import PLUGINS_DIR
+
+    monkeypatch.syspath_prepend(str(PLUGINS_DIR))
+    outcome = fkcheck.check(
+        "ur5", ["nonrigid:forward"], frame_from="world", frame_to="tool0", samples=8,
+        diagnose=False,
+    )  # fmt: skip
+    (r,) = check_record(outcome.check).backends
+    assert r.status == "fail"
+    assert ("max position error" in r.message) == (r.beyond > 0)
+    assert r.reasons.count("max position error") == 1
