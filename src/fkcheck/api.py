@@ -184,6 +184,9 @@ def write_report(
 ) -> tuple[Path, ...]:
     """Write an outcome's reports, each atomically; only formats, never recomputes.
 
+    ``fkcheck check`` writes its reports through the same function
+    (:func:`fkcheck.report.write.write_reports`).
+
     Args:
         outcome: What :func:`check` returned.
         html: The self-contained HTML report.
@@ -195,20 +198,14 @@ def write_report(
     Returns:
         The paths written, in the order html, json, junit, summary.
     """
-    from fkcheck.report.html import write_html
-    from fkcheck.report.json_report import write_json
-    from fkcheck.report.junit import write_junit
-    from fkcheck.report.markdown import markdown_summary, write_summary
+    from fkcheck.report.write import write_reports
 
-    written: list[Path] = []
-    if html is not None:
-        written.append(write_html(outcome.check, html, diagnoses=outcome.diagnoses, plots=plots))
-    if json is not None:
-        written.append(write_json(outcome.check, json))
-    if junit is not None:
-        written.append(write_junit(outcome.check, junit, diagnoses=outcome.diagnoses))
-    if summary is not None:
-        diagnoses = {outcome.check.model.name: outcome.diagnoses}
-        text = markdown_summary([outcome.check], diagnoses=diagnoses)
-        written.append(write_summary(summary, text))
-    return tuple(written)
+    return write_reports(
+        outcome.check,
+        outcome.diagnoses,
+        html=html,
+        json=json,
+        junit=junit,
+        summary=summary,
+        plots=plots,
+    )

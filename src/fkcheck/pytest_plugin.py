@@ -199,8 +199,8 @@ class ModelItem(pytest.Item):
 
     def runtest(self) -> None:
         """Pass, fail with the report, or skip with the backend's reason."""
-        from fkcheck.engine.verdict import evidence_sentences
         from fkcheck.model.require import KINDS
+        from fkcheck.report.record import check_record
         from fkcheck.testing import backend_message, backend_ok, check_message
 
         outcome = self.model_file.outcome()  # raises FkcheckFailure for "load" too
@@ -211,7 +211,7 @@ class ModelItem(pytest.Item):
         if self.target in KINDS:
             kind = c.evidence.of(self.target)
             if kind.status != "verified":
-                sentence = evidence_sentences(c.evidence)[KINDS.index(kind.kind)]
+                sentence = check_record(c).of(kind.kind).sentence
                 raise FkcheckFailure(
                     f"required evidence {kind.kind!r} not verified ({kind.status}): {sentence}\n"
                     + check_message(outcome)

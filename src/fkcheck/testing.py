@@ -7,7 +7,8 @@ Example:
 
 Both raise :class:`AssertionError` with a message a person can act on: for a
 check, the verdict, each backend's largest errors in mm and degrees, the worst
-configuration and the diagnosis's headline; for two poses, the differences in mm
+configuration and the diagnosis's headline (each backend's record,
+:mod:`fkcheck.report.record`: the text every report shows); for two poses, the differences in mm
 and degrees and the index of the worst pose (and a matrix that is not a rigid
 transform is refused, naming its defect). :func:`check_message` is that text
 for any finished check (the pytest plugin, :mod:`fkcheck.pytest_plugin`, shows
@@ -29,11 +30,11 @@ from fkcheck.core.tolerances import check_limit
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import SE3_TOLERANCE
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.engine.verdict import numbers_line
-from fkcheck.io.format import format_deg, format_mm, format_value
+from fkcheck.io.format import format_deg, format_mm
 from fkcheck.io.text import terminal_text
 from fkcheck.model.require import Kind
 from fkcheck.model.types import Model
+from fkcheck.report.record import BackendRecord, backend_record, check_record
 
 __all__ = [
     "assert_fk_matches",
@@ -48,12 +49,7 @@ __all__ = [
 
 def worst_q_text(check_result: CheckResult, result: BackendResult) -> str:
     """The backend's worst configuration, ``[30.00°, -60.00°, 0.1000 m]``; empty if none."""
-    if result.worst_index is None:
-        return ""
-    q = check_result.q[result.worst_index]
-    joints = check_result.model.joints
-    values = (format_value(float(v), j.type == "prismatic") for v, j in zip(q, joints, strict=True))
-    return "[" + ", ".join(values) + "]"
+    return backend_record(check_result, result).worst_q_text
 
 
 def diagnosis_headline(outcome: Outcome, backend: str) -> str:
@@ -62,34 +58,31 @@ def diagnosis_headline(outcome: Outcome, backend: str) -> str:
     A diagnosis that stands for several backends (two libraries reading one
     URDF) answers for each of them.
     """
-    from fkcheck.report.diagnosis import diagnosis_view
-
-    for d in outcome.diagnoses:
-        if backend == d.backend or backend in d.also:
-            return diagnosis_view(d).short
-    return ""
+    c = outcome.check
+    result = next((b for b in c.backends if b.name == backend), None)
+    if result is None:
+        return ""
+    return backend_record(c, result, outcome.diagnoses).diagnosis_short
 
 
 def backend_message(outcome: Outcome, result: BackendResult) -> str:
     """One backend's lines: status, largest errors (mm, degrees), worst q, diagnosis."""
-    c = outcome.check
-    name = terminal_text(result.name)
-    if not result.ran:
-        return f"{name}: {result.status} — {terminal_text(result.message)}"
-    lines = [
-        f"{name}: {result.status} — max position error {format_mm(result.max_position_error_m)},"
-        f" max rotation error {format_deg(result.max_rotation_error_rad)} (tolerance "
-        f"{format_mm(c.tol_pos_m)}, {format_deg(c.tol_rot_rad)}; {c.q.shape[0]} configurations)"
-    ]
-    if result.status == "fail":
-        lines.append(f"  {terminal_text(result.message)}")
-        worst = worst_q_text(c, result)
-        if worst:
-            lines.append(f"  worst q: {worst}")
-        diagnosis = diagnosis_headline(outcome, result.name)
-        if diagnosis:
-            lines.append(f"  diagnosis: {terminal_text(diagnosis)}")
-    jac = result.jacobian
+    return _backend_lines(backend_record(outcome.check, result, outcome.diagnoses))
+
+
+def _backend_lines(record: BackendRecord) -> str:
+    """A backend's lines, from its record (:mod:`fkcheck.report.record`)."""
+    name = terminal_text(record.name)
+    lines = [f"{name}: {record.status} — {terminal_text(record.summary)}"]
+    if not record.ran:
+        return lines[0]
+    if record.status == "fail":
+        lines.append(f"  {terminal_text(record.message)}")
+        if record.worst_q_text:
+            lines.append(f"  worst q: {record.worst_q_text}")
+        if record.diagnosis_short:
+            lines.append(f"  diagnosis: {terminal_text(record.diagnosis_short)}")
+    jac = record.jacobian
     if jac is not None and jac.status in ("fail", "error"):
         lines.append(f"  Jacobian {jac.status}: {terminal_text(jac.message)}")
         if jac.diagnosis:
@@ -115,15 +108,15 @@ def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> st
         outcome: What :func:`fkcheck.check` returned.
         backends: Only these backends' lines (default: every backend).
     """
-    c = outcome.check
+    record = check_record(outcome.check, outcome.diagnoses)
     head = (
-        f"fkcheck {terminal_text(c.model.name)}: {terminal_text(c.frame_from)} → "
-        f"{terminal_text(c.frame_to)}: {outcome.headline}"
+        f"fkcheck {terminal_text(record.model)}: {terminal_text(record.frame_from)} → "
+        f"{terminal_text(record.frame_to)}: {record.headline}"
     )
-    shown = [b for b in c.backends if backends is None or b.name in backends]
-    lines = [head, *(backend_message(outcome, b) for b in shown)]
-    if c.numbers is not None:  # which numbers of the model the pair verified
-        lines.append(terminal_text(numbers_line(c.numbers, c.evidence.table.status)))
+    shown = [b for b in record.backends if backends is None or b.name in backends]
+    lines = [head, *(_backend_lines(b) for b in shown)]
+    if record.numbers_line:  # which numbers of the model the pair verified
+        lines.append(terminal_text(record.numbers_line))
     return "\n".join(lines)
 
 

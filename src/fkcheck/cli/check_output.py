@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 import shlex
 from typing import TYPE_CHECKING, Any
 
@@ -15,8 +14,9 @@ if TYPE_CHECKING:
 
     from fkcheck.backends.base import Backend
     from fkcheck.diagnose.failures import BackendDiagnosis
-    from fkcheck.engine.results import BackendResult, CheckResult
+    from fkcheck.engine.results import CheckResult
     from fkcheck.model.types import Model
+    from fkcheck.report.record import CheckRecord
 
 from fkcheck.io.files import InputFileError, read_text
 
@@ -33,17 +33,6 @@ __all__ = [
 
 _STYLE = {"pass": "green", "fail": "bold red", "error": "bold red", "skipped": "yellow",
           "xfail": "bold yellow", "xpass": "bold red"}  # fmt: skip
-
-
-def _worst_q(result: BackendResult, check: CheckResult) -> str:
-    if result.worst_index is None or result.status not in ("fail", "xfail"):
-        return ""
-    q = check.q[result.worst_index]
-    parts = [
-        f"{math.degrees(v):.1f}°" if j.type == "revolute" else f"{v:.3f} m"
-        for v, j in zip(q, check.model.joints, strict=True)
-    ]
-    return "[" + ", ".join(parts) + "]"
 
 
 def header(
@@ -105,8 +94,9 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
 
     from fkcheck.cli._console import console as make_console
     from fkcheck.cli._console import is_terminal
-    from fkcheck.engine.verdict import evidence_sentences, headline, numbers_line
+    from fkcheck.report.record import check_record
 
+    record = check_record(check)
     console = make_console(highlight=False)
     described = (
         f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
@@ -136,13 +126,14 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
             column, overflow="fold", no_wrap=column in ("backend", "evidence", "status")
         )
     table.add_row("fkcheck-dh", "", "reference", "", "", "", "")
-    for r in check.backends:
+    for r in record.backends:
         if r.ran:
+            worst_q = r.worst_q_text if r.status in ("fail", "xfail") else ""
             table.add_row(
                 terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
-                format_length_console(r.max_position_error_m),
-                format_angle_console(r.max_rotation_error_rad),
-                terminal_markup(_worst_q(r, check)), f"{r.duration_s:.2f} s",
+                format_length_console(r.max_position_m),
+                format_angle_console(r.max_rotation_rad),
+                terminal_markup(worst_q), f"{r.duration_s:.2f} s",
             )  # fmt: skip
         else:
             table.add_row(
@@ -151,14 +142,14 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
             )  # fmt: skip
     console.print(table)
     if check.jacobian is not None:
-        console.print(_jacobian_table(check))
+        console.print(_jacobian_table(check, record))
     notes: dict[str, list[str]] = {}  # a pass's message (a URDF from this table), once each
-    for r in check.backends:
+    for r in record.backends:
         if r.status == "pass" and r.message:
             notes.setdefault(r.message, []).append(r.name)
     for message, names in notes.items():
         console.print(f"[yellow]{terminal_markup(', '.join(names))}[/]: {terminal_markup(message)}")
-    for r in check.backends:
+    for r in record.backends:
         if r.status in ("fail", "xfail", "xpass"):
             name, message = terminal_markup(r.name), terminal_markup(r.message)
             console.print(f"[{_STYLE[r.status]}]{name}[/]: {message}")
@@ -169,31 +160,27 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
                 console.print(f"  diagnosis: {terminal_markup(r.jacobian.diagnosis)}")
                 for line in r.jacobian.diagnosis_details:
                     console.print(f"    {terminal_markup(line)}")
-    evidence = check.evidence
-    implementation, table_text = evidence_sentences(evidence)
+    implementation, table_text = (e.sentence for e in record.evidence)
     table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow",
                    "expected-failure": "bold yellow", "partly-verified": "bold yellow"}  # fmt: skip
-    imp_style = table_style[evidence.implementation.status]
-    tab_style = table_style[evidence.table.status]
+    imp_style = table_style[record.of("implementation").status]
+    tab_style = table_style[record.of("table").status]
     console.print(f"evidence: [{imp_style}]{terminal_markup(implementation)}[/]")
     console.print(f"          [{tab_style}]{terminal_markup(table_text)}[/]")
-    if check.numbers is not None:
-        line = numbers_line(check.numbers, evidence.table.status)
-        console.print(f"          [{tab_style}]{terminal_markup(line)}[/]")
-    line = headline(check.verdict, evidence, len(check.ran))
+    if record.numbers_line:
+        console.print(f"          [{tab_style}]{terminal_markup(record.numbers_line)}[/]")
+    line = record.headline
     style = "bold green" if check.verdict == "pass" else "bold red"
-    if check.verdict == "pass" and evidence.table.status != "verified":
+    if check.verdict == "pass" and record.of("table").status != "verified":
         style = "bold yellow"
-    answered = len(check.ran)
+    answered = record.answered
     count = f" ({answered} backend(s) answered)" if answered else ""
     console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
 
 
-def _jacobian_table(check: CheckResult) -> Any:
+def _jacobian_table(check: CheckResult, record: CheckRecord) -> Any:
     """The Jacobian comparison, one row per backend (``check --jacobian``)."""
     from rich.table import Table
-
-    from fkcheck.engine.compare import joint_label
 
     assert check.jacobian is not None
     table = Table(
@@ -204,7 +191,7 @@ def _jacobian_table(check: CheckResult) -> Any:
     for column in ("backend", "status", "max linear diff", "max angular diff", "first column",
                    "how"):  # fmt: skip
         table.add_column(column, overflow="fold", no_wrap=column in ("backend", "status"))
-    for r in check.backends:
+    for r in record.backends:
         j = r.jacobian
         if j is None:
             continue
@@ -212,11 +199,10 @@ def _jacobian_table(check: CheckResult) -> Any:
         if not j.ran:
             table.add_row(terminal_markup(r.name), status, terminal_markup(j.message), "", "", "")
             continue
-        first = j.first_bad_column
-        column = "" if first is None else terminal_markup(joint_label(check.model, first))
         table.add_row(
-            terminal_markup(r.name), status, format_scientific(j.max_linear_error, "m/rad"),
-            format_scientific(j.max_angular_error, "rad/rad"), column, terminal_markup(j.method),
+            terminal_markup(r.name), status, format_scientific(j.max_linear, "m/rad"),
+            format_scientific(j.max_angular, "rad/rad"), terminal_markup(j.first_label),
+            terminal_markup(j.method),
         )  # fmt: skip
     return table
 
@@ -239,30 +225,32 @@ def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
     from rich.table import Table
 
     from fkcheck.cli._console import console as make_console
+    from fkcheck.report.record import check_record
 
+    records = [(label, check_record(check)) for label, check in checks]
     console = make_console(highlight=False)
     table = Table(title=f"fkcheck: {len(checks)} models", title_justify="left")
     for column in ("model", "verdict", "backends", "max position error", "max rotation error",
                    "table"):  # fmt: skip
         table.add_column(column, overflow="fold", no_wrap=column in ("model", "verdict"))
-    for label, check in checks:
+    for label, record in records:
         counts: dict[str, int] = {}
-        for r in check.backends:
+        for r in record.backends:
             counts[r.status] = counts.get(r.status, 0) + 1
-        pos = [r.max_position_error_m for r in check.ran if r.max_position_error_m is not None]
-        rot = [r.max_rotation_error_rad for r in check.ran if r.max_rotation_error_rad is not None]
-        style = "bold green" if check.verdict == "pass" else "bold red"
+        pos = [r.max_position_m for r in record.backends if r.max_position_m is not None]
+        rot = [r.max_rotation_rad for r in record.backends if r.max_rotation_rad is not None]
+        style = "bold green" if record.verdict == "pass" else "bold red"
         table.add_row(
             terminal_markup(label),
-            f"[{style}]{check.verdict}[/]",
+            f"[{style}]{record.verdict}[/]",
             ", ".join(f"{n} {status}" for status, n in counts.items()),
             format_length_console(max(pos)) if pos else "",
             format_angle_console(max(rot)) if rot else "",
-            check.evidence.table.status,
+            record.of("table").status,
         )
     console.print(table)
-    for label, check in checks:
-        for r in check.backends:
+    for label, record in records:
+        for r in record.backends:
             name = terminal_markup(label)
             if r.status in ("fail", "error", "xpass"):
                 message = terminal_markup(r.message)

@@ -97,13 +97,15 @@ def write_summaries(
     checks: list[CheckResult],
     step_summary: str | None,
     diagnoses: Mapping[str, Sequence[BackendDiagnosis]] | None = None,
+    *,
+    file: bool = True,
 ) -> None:
-    """The Markdown summary: to ``--summary`` and appended to ``step_summary`` when given."""
+    """The Markdown summary: to ``--summary`` (with ``file``) and appended to ``step_summary``."""
     from fkcheck.cli._outputs import append_to_step_summary
     from fkcheck.report.markdown import markdown_summary, write_summary
 
     text = markdown_summary(checks, diagnoses=diagnoses)
-    if args.summary is not None:
+    if file and args.summary is not None:
         write_summary(args.summary, text)
     append_to_step_summary(step_summary, text)
 
@@ -159,10 +161,9 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     )
     from fkcheck.cli._targets import unique_stems
     from fkcheck.io.output_paths import check_output_dir
-    from fkcheck.report.html import write_html, write_index
+    from fkcheck.report.html import write_index
     from fkcheck.report.index import IndexEntry, build_index_page
-    from fkcheck.report.json_report import write_json
-    from fkcheck.report.junit import write_junit
+    from fkcheck.report.write import write_reports
 
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     if out_dir is not None:
@@ -196,11 +197,9 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         )
         check = replace(outcome.check, command=model_command(args, target.arg), config=args.config)
         if out_dir is not None:
-            names = files[target.stem]
-            write_html(check, out_dir / names[0], diagnoses=outcome.diagnoses)
-            write_json(check, out_dir / names[1])
-            write_junit(check, out_dir / names[2], diagnoses=outcome.diagnoses)
-            entries.append(IndexEntry(check, *names))
+            html, json, junit = (out_dir / name for name in files[target.stem])
+            write_reports(check, outcome.diagnoses, html=html, json=json, junit=junit)
+            entries.append(IndexEntry(check, *files[target.stem]))
         checks.append(check)
         diagnoses[check.model.name] = outcome.diagnoses
         print_annotations(check, outcome.diagnoses)
@@ -255,9 +254,7 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
         step_summary_target,
         writes,
     )
-    from fkcheck.report.html import write_html
-    from fkcheck.report.json_report import write_json
-    from fkcheck.report.junit import write_junit
+    from fkcheck.report.write import write_reports
 
     model = target.model
     for warning in model.warnings:
@@ -276,13 +273,10 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     argv = getattr(args, "argv", [])
     check = replace(outcome.check, command="fkcheck " + shlex.join(argv), config=args.config)
     # Files first: a closed or full stdout must not cost the run its reports.
-    if args.json is not None:
-        write_json(check, args.json)
-    if args.junit is not None:
-        write_junit(check, args.junit, diagnoses=outcome.diagnoses)
-    if args.html is not None:
-        write_html(check, args.html, diagnoses=outcome.diagnoses)
-    write_summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses})
+    # The same function as fkcheck.write_report: the same files, byte for byte.
+    write_reports(check, outcome.diagnoses, json=args.json, junit=args.junit, html=args.html,
+                  summary=args.summary)  # fmt: skip
+    write_summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses}, file=False)
     print_summary(check)
     print_annotations(check, outcome.diagnoses)
     print_diagnose_hint(target.arg, check)

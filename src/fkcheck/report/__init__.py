@@ -6,6 +6,11 @@ the diagnosis: everything shown was gathered by the engine
 :class:`~fkcheck.engine.evidence.FailureDetail`) and by
 :func:`fkcheck.diagnose.failures.diagnose_failures`.
 
+* the record: :mod:`~fkcheck.report.record` — one per backend and one per
+  check, built once; every format below (and the terminal, :mod:`fkcheck.testing`
+  and the pytest plugin) reads its fields instead of deriving its own;
+* :func:`~fkcheck.report.write.write_reports`: the one function that writes a
+  check's files, for ``fkcheck check`` and :func:`fkcheck.write_report` alike;
 * writers: :mod:`~fkcheck.report.json_report` (the JSON contract),
   :mod:`~fkcheck.report.junit`, :mod:`~fkcheck.report.markdown` (CI pages),
   :mod:`~fkcheck.report.html` (the self-contained page and the index);

@@ -22,9 +22,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
-from fkcheck.engine.verdict import evidence_sentences
 from fkcheck.io.text import terminal_text
-from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
+from fkcheck.report.record import check_record
 
 if TYPE_CHECKING:
     from fkcheck.diagnose.failures import BackendDiagnosis
@@ -179,15 +178,16 @@ def github_annotations(
     model = check.model
     file = _relative(model.path) if model.path is not None else None
     name = terminal_text(model.name)
-    if check.verdict == "pass":
-        if check.evidence.table.status != "partly-verified":
+    record = check_record(check, diagnoses)
+    if record.verdict == "pass":
+        if record.of("table").status != "partly-verified":
             return []
         title = f"fkcheck {name}: table partly verified"
-        sentence = terminal_text(evidence_sentences(check.evidence)[1])
+        sentence = terminal_text(record.of("table").sentence)
         return [_command(file, None, title, sentence, level="warning")]
     lines: list[str] = []
     done: set[str] = set()
-    for r in check.backends:
+    for r in record.backends:
         jac = r.jacobian
         if jac is not None and jac.status in ("fail", "error"):
             title = terminal_text(f"fkcheck {name}: {r.name}'s Jacobian {jac.status}s")
@@ -202,22 +202,18 @@ def github_annotations(
             title = terminal_text(f"fkcheck {name}: {r.name} errored")
             lines.append(_command(file, None, title, terminal_text(r.message)))
             continue
-        outcome = diagnosis_for(diagnoses, r.name)
-        group = [r.name]
         line = None
         message = r.message
-        if outcome is not None:
-            failed = {b.name for b in check.backends if b.status == "fail"}
-            group = [n for n in (outcome.backend, *outcome.also) if n in failed]
-            message = f"{message}; diagnosis: {diagnosis_headline(outcome)}"
-            best = outcome.diagnosis.best if outcome.diagnosis is not None else None
-            if best is not None and best.changes and source is not None:
-                line = field_line(source, best.changes[0].field)
+        if r.diagnosis:
+            message = f"{message}; diagnosis: {r.diagnosis}"
+            if r.diagnosis_field and source is not None:
+                line = field_line(source, r.diagnosis_field)
+        group = r.diagnosed_with
         done.update(group)
         verb = "disagree" if len(group) > 1 else "disagrees"
         title = f"fkcheck {name}: {', '.join(group)} {verb} with the in-house core"
         lines.append(_command(file, line, terminal_text(title), terminal_text(message)))
-    if check.verdict == "unverified":
-        sentence = evidence_sentences(check.evidence)[1]
+    if record.verdict == "unverified":
+        sentence = record.of("table").sentence
         lines.append(_command(file, None, f"fkcheck {name}: unverified", terminal_text(sentence)))
     return lines

@@ -15,6 +15,7 @@ from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.io.format import (
     format_seconds,
 )
+from fkcheck.report.record import BackendRecord
 from fkcheck.report.views import (
     ArmDrawing,
     BackendDetail,
@@ -44,12 +45,8 @@ def anchor(name: str) -> str:
     return f"backend-{safe}"
 
 
-def backend_row(check: CheckResult, r: BackendResult, has_detail: bool) -> BackendRow:
-    """One row of the backends table: status, errors (max, p99, median), worst q."""
-    worst_q = worst_origin = ""
-    if r.ran and r.worst_index is not None:
-        worst_q = q_text(check.model, check.q[r.worst_index])
-        worst_origin = check.origin[r.worst_index]
+def backend_row(r: BackendRecord, has_detail: bool) -> BackendRow:
+    """One row of the backends table, from the backend's record: errors (max, p99, median)."""
     return BackendRow(
         name=r.name,
         anchor=anchor(r.name) if has_detail else "",
@@ -57,14 +54,14 @@ def backend_row(check: CheckResult, r: BackendResult, has_detail: bool) -> Backe
         method=r.method,
         duration=format_seconds(r.duration_s),
         message=r.message,
-        pos_max=measure_m(r.max_position_error_m),
-        pos_p99=measure_m(r.percentile("position", 99)),
-        pos_median=measure_m(r.percentile("position", 50)),
-        rot_max=measure_rad(r.max_rotation_error_rad),
-        rot_p99=measure_rad(r.percentile("rotation", 99)),
-        rot_median=measure_rad(r.percentile("rotation", 50)),
-        worst_q=worst_q,
-        worst_origin=worst_origin,
+        pos_max=measure_m(r.max_position_m),
+        pos_p99=measure_m(r.p99_position_m),
+        pos_median=measure_m(r.median_position_m),
+        rot_max=measure_rad(r.max_rotation_rad),
+        rot_p99=measure_rad(r.p99_rotation_rad),
+        rot_median=measure_rad(r.median_rotation_rad),
+        worst_q=r.worst_q_text if r.ran else "",
+        worst_origin=r.worst_origin if r.ran else "",
     )
 
 

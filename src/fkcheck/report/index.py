@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING
 
 from fkcheck._version import __version__
 from fkcheck.engine.results import CheckResult
-from fkcheck.engine.verdict import evidence_sentences, numbers_line
 from fkcheck.report.views import (
     Fact,
     IndexModel,
@@ -25,6 +24,7 @@ if TYPE_CHECKING:
     pass
 
 from fkcheck.report.measures import measure_m, measure_rad
+from fkcheck.report.record import CheckRecord, check_record
 
 __all__ = ["IndexEntry", "build_index_page", "overall_verdict"]
 
@@ -61,6 +61,32 @@ def overall_verdict(verdicts: Sequence[str]) -> str:
     return "pass"
 
 
+def _model(e: IndexEntry, record: CheckRecord) -> IndexModel:
+    """One model's row of the index, from its check's record."""
+    return IndexModel(
+        name=record.model,
+        verdict=record.verdict,
+        report=e.report,
+        json=e.json,
+        junit=e.junit,
+        pair=f"{record.frame_from} → {record.frame_to}",
+        configurations=record.configurations,
+        table_evidence=record.of("table").status,
+        evidence_text=record.of("table").sentence,
+        numbers_text=record.numbers_line,
+        rows=tuple(
+            IndexRow(
+                backend=r.name,
+                status=r.status,
+                pos_max=measure_m(r.max_position_m),
+                rot_max=measure_rad(r.max_rotation_rad),
+                message=r.message,
+            )
+            for r in record.backends
+        ),
+    )
+
+
 def build_index_page(
     entries: Sequence[IndexEntry],
     *,
@@ -78,35 +104,7 @@ def build_index_page(
     """
     from fkcheck.report.versions import library_versions
 
-    models = tuple(
-        IndexModel(
-            name=e.check.model.name,
-            verdict=e.check.verdict,
-            report=e.report,
-            json=e.json,
-            junit=e.junit,
-            pair=f"{e.check.frame_from} → {e.check.frame_to}",
-            configurations=int(e.check.q.shape[0]),
-            table_evidence=e.check.evidence.table.status,
-            evidence_text=evidence_sentences(e.check.evidence)[1],
-            numbers_text=(
-                numbers_line(e.check.numbers, e.check.evidence.table.status)
-                if e.check.numbers is not None
-                else ""
-            ),
-            rows=tuple(
-                IndexRow(
-                    backend=r.name,
-                    status=r.status,
-                    pos_max=measure_m(r.max_position_error_m),
-                    rot_max=measure_rad(r.max_rotation_error_rad),
-                    message=r.message,
-                )
-                for r in e.check.backends
-            ),
-        )
-        for e in entries
-    )
+    models = tuple(_model(e, check_record(e.check)) for e in entries)
     verdicts = [m.verdict for m in models]
     overall = overall_verdict(verdicts)
     counts = Counter(verdicts)

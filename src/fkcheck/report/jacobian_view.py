@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from fkcheck.engine.results import CheckResult
 from fkcheck.io.format import format_scientific
+from fkcheck.report.record import CheckRecord
 from fkcheck.report.views import JacobianCell, JacobianRow, JacobianSection
 
 __all__ = ["jacobian_section"]
@@ -17,42 +18,36 @@ _MEANING = {
 }
 
 
-def jacobian_section(check: CheckResult) -> JacobianSection | None:
+def jacobian_section(check: CheckResult, record: CheckRecord) -> JacobianSection | None:
     """The section, or ``None`` when the check compared no Jacobian."""
     spec = check.jacobian
     if spec is None:
         return None
     joints = tuple(f"{i + 1} {j.name}" for i, j in enumerate(check.model.joints))
     rows = []
-    for r in check.backends:
+    for r in record.backends:
         j = r.jacobian
         if j is None:
             continue
-        first, bad = j.first_bad_column, j.bad_columns
-        cells: tuple[JacobianCell, ...] = ()
-        if j.column_linear is not None and j.column_angular is not None and bad is not None:
-            per = ("m" if joint.type == "prismatic" else "rad" for joint in check.model.joints)
-            cells = tuple(
-                JacobianCell(
-                    format_scientific(float(lin), f"m/{unit}"),
-                    format_scientific(float(ang), f"rad/{unit}"),
-                    bool(bad[k]),
-                    k == first,
-                )
-                for k, (lin, ang, unit) in enumerate(
-                    zip(j.column_linear, j.column_angular, per, strict=True)
-                )
+        cells = tuple(
+            JacobianCell(
+                format_scientific(c.linear, "m/m" if c.prismatic else "m/rad"),
+                format_scientific(c.angular, "rad/m" if c.prismatic else "rad/rad"),
+                c.bad,
+                k == j.first_column,
             )
+            for k, c in enumerate(j.columns)
+        )
         rows.append(
             JacobianRow(
                 name=r.name,
                 status=j.status,
-                linear=format_scientific(j.max_linear_error, "m/rad"),
-                angular=format_scientific(j.max_angular_error, "rad/rad"),
+                linear=format_scientific(j.max_linear, "m/rad"),
+                angular=format_scientific(j.max_angular, "rad/rad"),
                 method=j.method,
                 tolerance=f"{j.tolerance:g}",
                 message=j.message,
-                first_column="" if first is None else joints[first],
+                first_column="" if j.first_column is None else joints[j.first_column],
                 diagnosis=j.diagnosis,
                 diagnosis_details=j.diagnosis_details,
                 cells=cells,

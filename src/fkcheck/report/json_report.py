@@ -12,10 +12,11 @@ from pathlib import Path
 from typing import Any
 
 from fkcheck._version import __version__
-from fkcheck.engine.results import REFERENCE_NAME, BackendResult, CheckResult
-from fkcheck.engine.verdict import evidence_sentences, headline, number_status, numbers_line
+from fkcheck.engine.results import REFERENCE_NAME, CheckResult
+from fkcheck.engine.verdict import number_status
 from fkcheck.io.atomic import write_text_atomic
 from fkcheck.io.strict_json import strict_json
+from fkcheck.report.record import BackendRecord, CheckRecord, JacobianRecord, check_record
 
 __all__ = ["TIME_FIELDS", "result_to_dict", "write_json"]
 
@@ -23,59 +24,49 @@ __all__ = ["TIME_FIELDS", "result_to_dict", "write_json"]
 TIME_FIELDS = ("created", "duration_s")
 
 
-def _backend(result: BackendResult, check: CheckResult) -> dict[str, Any]:
-    worst_q = None
-    if result.worst_index is not None:
-        worst_q = check.q[result.worst_index].tolist()
+def _backend(record: BackendRecord) -> dict[str, Any]:
     return {
-        "name": result.name,
-        "status": result.status,
-        "max_position_error_m": result.max_position_error_m,
-        "max_rotation_error_rad": result.max_rotation_error_rad,
-        "p99_position_error_m": result.percentile("position", 99),
-        "p99_rotation_error_rad": result.percentile("rotation", 99),
-        "median_position_error_m": result.percentile("position", 50),
-        "median_rotation_error_rad": result.percentile("rotation", 50),
-        "worst_q": worst_q,
-        "evidence": result.evidence,
-        "message": result.message,
-        "method": result.method,
-        "duration_s": round(result.duration_s, 6),
-        **({"jacobian": _jacobian(result, check)} if result.jacobian is not None else {}),
+        "name": record.name,
+        "status": record.status,
+        "max_position_error_m": record.max_position_m,
+        "max_rotation_error_rad": record.max_rotation_rad,
+        "p99_position_error_m": record.p99_position_m,
+        "p99_rotation_error_rad": record.p99_rotation_rad,
+        "median_position_error_m": record.median_position_m,
+        "median_rotation_error_rad": record.median_rotation_rad,
+        "worst_q": None if record.worst_q is None else list(record.worst_q),
+        "evidence": record.evidence,
+        "message": record.message,
+        "method": record.method,
+        "duration_s": round(record.duration_s, 6),
+        **({"jacobian": _jacobian(record.jacobian)} if record.jacobian is not None else {}),
     }
 
 
-def _jacobian(result: BackendResult, check: CheckResult) -> dict[str, Any]:
+def _jacobian(j: JacobianRecord) -> dict[str, Any]:
     """A backend's Jacobian comparison: errors overall and per joint column."""
-    j = result.jacobian
-    assert j is not None
     columns = None
-    if j.column_linear is not None and j.column_angular is not None:
+    if j.columns:
         columns = [
-            {"joint": joint.name, "max_linear": float(lin), "max_angular": float(ang)}
-            for joint, lin, ang in zip(
-                check.model.joints, j.column_linear, j.column_angular, strict=True
-            )
+            {"joint": c.joint, "max_linear": c.linear, "max_angular": c.angular} for c in j.columns
         ]
-    first = j.first_bad_column
     return {
         "status": j.status,
         "message": j.message,
         "method": j.method,
         "tolerance": j.tolerance,
-        "max_linear": j.max_linear_error,
-        "max_angular": j.max_angular_error,
-        "worst_q": None if j.worst_index is None else check.q[j.worst_index].tolist(),
-        "first_disagreeing_joint": None if first is None else check.model.joints[first].name,
+        "max_linear": j.max_linear,
+        "max_angular": j.max_angular,
+        "worst_q": None if j.worst_q is None else list(j.worst_q),
+        "first_disagreeing_joint": j.first_joint,
         "columns": columns,
         "diagnosis": j.diagnosis,
         "diagnosis_details": list(j.diagnosis_details),
     }
 
 
-def _evidence(check: CheckResult) -> dict[str, Any]:
+def _evidence(check: CheckResult, record: CheckRecord) -> dict[str, Any]:
     evidence = check.evidence
-    implementation, table = evidence_sentences(evidence)
     kinds: dict[str, dict[str, Any]] = {
         kind.kind: {
             "status": kind.status,
@@ -86,8 +77,8 @@ def _evidence(check: CheckResult) -> dict[str, Any]:
         }
         for kind in (evidence.implementation, evidence.table)
     }
-    kinds["implementation"]["summary"] = implementation
-    kinds["table"]["summary"] = table
+    for kind in record.evidence:
+        kinds[kind.kind]["summary"] = kind.sentence
     return {
         **kinds,
         "required": list(evidence.required),
@@ -95,7 +86,7 @@ def _evidence(check: CheckResult) -> dict[str, Any]:
     }
 
 
-def _numbers(check: CheckResult) -> dict[str, Any] | None:
+def _numbers(check: CheckResult, record: CheckRecord) -> dict[str, Any] | None:
     """Every number of the model, with what this check verified of it."""
     numbers = check.numbers
     if numbers is None:
@@ -125,7 +116,7 @@ def _numbers(check: CheckResult) -> dict[str, Any] | None:
         "to": numbers.frame_to,
         "joints_spanned": list(numbers.joints_spanned),
         "summary": numbers.summary(),
-        "line": numbers_line(numbers, table),
+        "line": record.numbers_line,
         "counts": counts,
         "numbers": rows,
     }
@@ -141,7 +132,8 @@ def _jacobian_spec(check: CheckResult) -> dict[str, Any]:
 
 
 def result_to_dict(check: CheckResult) -> dict[str, Any]:
-    """The JSON document as a dict."""
+    """The JSON document as a dict: the check's record (:mod:`fkcheck.report.record`)."""
+    record = check_record(check)
     return {
         "model": check.model.name,
         "samples": check.samples,
@@ -153,12 +145,12 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "tolerance": {"position_m": check.tol_pos_m, "rotation_rad": check.tol_rot_rad},
         "reference": REFERENCE_NAME,
         **_jacobian_spec(check),
-        "backends": [_backend(b, check) for b in check.backends],
-        "verdict": check.verdict,
-        "headline": headline(check.verdict, check.evidence, len(check.ran)),
-        "evidence": _evidence(check),
-        "numbers": _numbers(check),
-        "cross_checked": len(check.ran),
+        "backends": [_backend(b) for b in record.backends],
+        "verdict": record.verdict,
+        "headline": record.headline,
+        "evidence": _evidence(check, record),
+        "numbers": _numbers(check, record),
+        "cross_checked": record.answered,
         "fkcheck_version": __version__,
         "command": check.command,
         "config": check.config,

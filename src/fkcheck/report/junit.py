@@ -2,7 +2,8 @@
 
 A failing case's ``<failure>`` says, once each: what failed (verdict), by how
 much (the numbers and the tolerance) and why (the headline of its diagnosis,
-when the check was diagnosed). The diagnoses are passed in, already run
+when the check was diagnosed). Every text comes from the check's record
+(:mod:`fkcheck.report.record`). The diagnoses are passed in, already run
 (:func:`fkcheck.diagnose.failures.diagnose_failures`); nothing here runs one.
 """
 
@@ -14,24 +15,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.engine.verdict import evidence_sentences, numbers_line
 from fkcheck.io.atomic import write_bytes_atomic
 from fkcheck.io.text import xml_safe_tree
-from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
+from fkcheck.report.record import BackendRecord, backend_record, check_record
 
 if TYPE_CHECKING:
     from fkcheck.diagnose.failures import BackendDiagnosis
 
 __all__ = ["failure_text", "junit_xml", "write_junit"]
-
-
-def _numbers(result: BackendResult, check: CheckResult) -> str:
-    """``max position error … m, max rotation error … rad (tolerance … m, … rad)``."""
-    return (
-        f"max position error {result.max_position_error_m:.3g} m, "
-        f"max rotation error {result.max_rotation_error_rad:.3g} rad "
-        f"(tolerance {check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
-    )
 
 
 def failure_text(
@@ -45,50 +36,44 @@ def failure_text(
         diagnoses: The check's diagnoses; the one standing for ``result`` gives the cause.
 
     Returns:
-        ``(summary, text)``: the summary names the backend and the cause (or the
-        numbers when there is no diagnosis); the text holds the verdict line, the
-        engine's reasons with the numbers and the tolerance, and the diagnosis
-        headline with the command that reproduces it — each once.
+        ``(summary, text)``: see :func:`_failure`.
     """
-    lines = [f"fail: {result.name} disagrees with the in-house core "
-             f"({check.frame_from} -> {check.frame_to})"]  # fmt: skip
-    reasons = result.message
-    if "max position error" not in reasons:
-        reasons = f"{reasons}; {_numbers(result, check)}" if reasons else _numbers(result, check)
-    else:
-        reasons = f"{reasons} (tolerance {check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
-    lines.append(reasons)
-    summary = f"{result.name} disagrees: {reasons}"
-    outcome = diagnosis_for(diagnoses, result.name)
-    if outcome is not None:
-        short = diagnosis_headline(outcome)
-        lines.append(f"diagnosis: {short}")
-        summary = f"{result.name} disagrees: {short}"
-        if outcome.command:
-            lines.append(f"explain it: {outcome.command}")
+    return _failure(backend_record(check, result, diagnoses), check)
+
+
+def _failure(record: BackendRecord, check: CheckResult) -> tuple[str, str]:
+    """``(summary, text)`` of a failing backend, from its record.
+
+    The summary names the backend and the cause (or its reasons when there is
+    no diagnosis); the text holds the verdict line, the reasons (the engine's
+    message, the numbers, the tolerance: :attr:`BackendRecord.reasons`) and the
+    diagnosis headline with the command that reproduces it — each once.
+    """
+    lines = [f"fail: {record.name} disagrees with the in-house core "
+             f"({check.frame_from} -> {check.frame_to})", record.reasons]  # fmt: skip
+    summary = f"{record.name} disagrees: {record.reasons}"
+    if record.diagnosis:
+        lines.append(f"diagnosis: {record.diagnosis}")
+        summary = f"{record.name} disagrees: {record.diagnosis}"
+        if record.diagnosis_command:
+            lines.append(f"explain it: {record.diagnosis_command}")
     return summary, "\n".join(lines)
 
 
 def _jacobian_case(
-    suite: ET.Element, name: str, result: BackendResult, check: CheckResult, counts: dict[str, int]
+    suite: ET.Element, name: str, record: BackendRecord, check: CheckResult, counts: dict[str, int]
 ) -> None:
     """One test case for a backend's Jacobian (``check --jacobian``), with the same rules."""
-    j = result.jacobian
+    j = record.jacobian
     assert j is not None
     case = ET.SubElement(
         suite, "testcase", classname=name,
-        name=f"{result.name} jacobian {check.frame_to} ({j.reference})",
+        name=f"{record.name} jacobian {check.frame_to} ({j.reference})",
     )  # fmt: skip
     counts["tests"] += 1
-    detail = j.message
-    if j.ran:
-        numbers = (
-            f"max linear difference {j.max_linear_error:.3g} m/rad, max angular difference "
-            f"{j.max_angular_error:.3g} rad/rad (tolerance {j.tolerance:g}; {j.method})"
-        )
-        detail = f"{detail}; {numbers}" if detail else numbers
+    detail = j.detail
     if j.status == "fail":
-        summary = f"{result.name}'s Jacobian disagrees: {j.diagnosis or j.message}"
+        summary = f"{record.name}'s Jacobian disagrees: {j.diagnosis or j.message}"
         if j.diagnosis:
             detail = "\n".join([detail, f"diagnosis: {j.diagnosis}", *j.diagnosis_details])
         ET.SubElement(case, "failure", message=summary, type="disagreement").text = detail
@@ -120,7 +105,8 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
     suite = ET.Element("testsuite", name=name, timestamp=check.created,
                        time=f"{check.duration_s:.3f}")  # fmt: skip
     counts = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
-    for result in check.backends:
+    record = check_record(check, diagnoses)
+    for result in record.backends:
         case = ET.SubElement(
             suite, "testcase", classname=name,
             name=f"{result.name} {check.frame_from}->{check.frame_to}",
@@ -129,9 +115,9 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
         counts["tests"] += 1
         detail = result.message
         if result.ran:
-            detail = f"{_numbers(result, check)}. {result.message}".strip()
+            detail = f"{result.summary}. {result.message}".strip()
         if result.status == "fail":
-            summary, text = failure_text(result, check, diagnoses)
+            summary, text = _failure(result, check)
             ET.SubElement(case, "failure", message=summary, type="disagreement").text = text
             counts["failures"] += 1
         elif result.status == "error":
@@ -147,22 +133,19 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
             ET.SubElement(case, "system-out").text = detail
         if result.jacobian is not None:
             _jacobian_case(suite, name, result, check, counts)
-    evidence = check.evidence
-    for kind, sentence in zip(
-        ("implementation", "table"), evidence_sentences(evidence), strict=True
-    ):
+    for evidence in record.evidence:
+        kind, sentence, status = evidence.kind, evidence.sentence, evidence.status
         case = ET.SubElement(
             suite, "testcase", classname=name, name=f"evidence: {kind} verified independently"
         )
         counts["tests"] += 1
-        status = evidence.of(kind).status  # type: ignore[arg-type]
         text = sentence
-        if kind == "table" and check.numbers is not None:
-            text += "\n" + numbers_line(check.numbers, status)
+        if kind == "table" and record.numbers_line:
+            text += "\n" + record.numbers_line
         if status == "failed":
             ET.SubElement(case, "failure", message=sentence, type="disagreement").text = text
             counts["failures"] += 1
-        elif status != "verified" and kind in evidence.unmet:
+        elif status != "verified" and evidence.required:
             ET.SubElement(case, "failure", message=sentence, type="required").text = text
             counts["failures"] += 1
         elif status != "verified":
@@ -170,7 +153,7 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
             counts["skipped"] += 1
         else:
             ET.SubElement(case, "system-out").text = text
-    if not check.ran:
+    if not record.answered:
         case = ET.SubElement(suite, "testcase", classname=name, name="cross-check ran")
         text = "no reference backend ran: nothing was cross-checked"
         ET.SubElement(case, "error", message=text, type="nothing-checked").text = text

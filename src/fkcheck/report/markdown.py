@@ -23,10 +23,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from fkcheck.engine.results import CheckResult
-from fkcheck.engine.verdict import KINDS, evidence_sentences, headline, numbers_line
 from fkcheck.io.format import format_angle_summary, format_length_summary, format_scientific
 from fkcheck.io.text import markdown_text as escape_markdown
-from fkcheck.report.diagnosis import diagnosis_for, diagnosis_headline
+from fkcheck.report.record import CheckRecord, check_record
 
 if TYPE_CHECKING:
     from fkcheck.diagnose.failures import BackendDiagnosis
@@ -77,55 +76,53 @@ def markdown_summary(
         Markdown text ending in a newline.
     """
     from fkcheck.report.index import overall_verdict
-    from fkcheck.report.page import verdict_line
 
     links = links or {}
+    diagnoses = diagnoses or {}
+    records = [check_record(c, diagnoses.get(c.model.name, ())) for c in checks]
     lines: list[str] = []
     overall = overall_verdict([c.verdict for c in checks])
     if len(checks) == 1:
-        (check,) = checks
+        (check,), (record,) = checks, records
         name = escape_markdown(check.model.name)
-        partial = overall == "pass" and check.evidence.table.status != "verified"
+        icon = {"expected failure: known difference": "expected-failure",
+                "table partly verified": "partly-verified",
+                "implementation only": "not-checked"}  # fmt: skip
         heading = (
-            f"{_ICON['expected-failure']} PASS (expected failure: known difference)"
-            if partial and check.evidence.table.status == "expected-failure"
-            else f"{_ICON['partly-verified']} PASS (table partly verified)"
-            if partial and check.evidence.table.status == "partly-verified"
-            else f"{_ICON['not-checked']} PASS (implementation only)"
-            if partial
-            else (f"{_ICON[overall]} {overall.upper()}")
+            f"{_ICON[icon[record.partial]]} PASS ({record.partial})"
+            if overall == "pass" and record.partial
+            else f"{_ICON[overall]} {overall.upper()}"
         )
         lines.append(f"## fkcheck {name}: {heading}")
         lines.append("")
-        lines.append(escape_markdown(headline(check.verdict, check.evidence, len(check.ran))))
+        lines.append(escape_markdown(record.headline))
         lines.append("")
-        lines.append(escape_markdown(verdict_line(check)))
+        lines.append(escape_markdown(record.verdict_line))
         lines.append("")
-        evidence = check.evidence
-        for kind, text in zip(KINDS, evidence_sentences(evidence), strict=True):
-            lines.append(f"- {_ICON[evidence.of(kind).status]} {escape_markdown(text)}")
+        for evidence in record.evidence:
+            lines.append(f"- {_ICON[evidence.status]} {escape_markdown(evidence.sentence)}")
         lines.append("")
         lines.append(
             f"{escape_markdown(check.frame_from)} → {escape_markdown(check.frame_to)}, "
-            f"{check.q.shape[0]} configurations (seed {check.seed}), tolerance "
+            f"{record.configurations} configurations (seed {check.seed}), tolerance "
             f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
         )
-        if check.numbers is not None:
+        if record.numbers_line:
             lines.append("")
-            lines.append(escape_markdown(numbers_line(check.numbers, check.evidence.table.status)))
+            lines.append(escape_markdown(record.numbers_line))
         lines.append("")
         lines.append("| backend | status | max position error | max rotation error | message |")
         lines.append("|---" * 5 + "|")
-        if not check.backends:
+        if not record.backends:
             lines.append(f"| – | {_ICON['error']} error | – | – | no backends |")
-        for r in check.backends:
+        for r in record.backends:
             lines.append(
                 f"| {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
-                f"{format_length_summary(r.max_position_error_m)} | "
-                f"{format_angle_summary(r.max_rotation_error_rad)} | "
+                f"{format_length_summary(r.max_position_m)} | "
+                f"{format_angle_summary(r.max_rotation_rad)} | "
                 f"{escape_markdown(r.message)} |"
             )
-        lines.extend(_jacobian_table(check))
+        lines.extend(_jacobian_table(check, record))
     else:
         n_fail = sum(c.verdict != "pass" for c in checks)
         verified = sum(c.evidence.table.status == "verified" for c in checks)
@@ -136,31 +133,31 @@ def markdown_summary(
             f"independently for {verified} of {len(checks)} (the others: implementation only)."
         )
         lines.append("")
-        lines.extend(_matrix(checks, links))
-    causes = _causes(checks, diagnoses or {}, many=len(checks) > 1)
+        lines.extend(_matrix(records, links))
+    causes = _causes(records, many=len(checks) > 1)
     if causes:
         lines.append("")
         lines.extend(causes)
     return "\n".join(lines) + "\n"
 
 
-def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str]:
+def _matrix(records: Sequence[CheckRecord], links: Mapping[str, str]) -> list[str]:
     """A row per model, a column per backend (in the order first met), then the legend."""
     names: list[str] = []
-    for check in checks:
-        names += [r.name for r in check.backends if r.name not in names]
+    for record in records:
+        names += [r.name for r in record.backends if r.name not in names]
     table_mark = {"verified": "✔", "failed": "✘", "not-checked": "–", "expected-failure": "x",
                   "partly-verified": "½"}  # fmt: skip
     head = ["model", "verdict", "table verified", *map(escape_markdown, names)]
     lines = ["| " + " | ".join(head) + " |", "|---|---|" + ":-:|" * (len(head) - 2)]
-    for check in checks:
-        name = escape_markdown(check.model.name)
-        link = links.get(check.model.name)
-        status = {r.name: r.status for r in check.backends}
+    for record in records:
+        name = escape_markdown(record.model)
+        link = links.get(record.model)
+        status = {r.name: r.status for r in record.backends}
         cells = [
             f"[{name}]({link})" if link else name,
-            f"{_ICON[check.verdict]} {check.verdict}",
-            table_mark[check.evidence.table.status],
+            f"{_ICON[record.verdict]} {record.verdict}",
+            table_mark[record.of("table").status],
             *(MARK[status[n]] if n in status else MARK["skipped"] for n in names),
         ]
         lines.append("| " + " | ".join(cells) + " |")
@@ -171,42 +168,32 @@ def _matrix(checks: Sequence[CheckResult], links: Mapping[str, str]) -> list[str
     return lines
 
 
-def _causes(
-    checks: Sequence[CheckResult],
-    diagnoses: Mapping[str, Sequence[BackendDiagnosis]],
-    *,
-    many: bool,
-) -> list[str]:
-    """One line per failing or erroring backend: its numbers and its diagnosis headline.
+def _causes(records: Sequence[CheckRecord], *, many: bool) -> list[str]:
+    """One line per failing or erroring backend: its message and its diagnosis headline.
 
     Backends that one diagnosis stands for (the same disagreement) share a line.
     With one model the numbers are in its table already: only the diagnosed
     failures get a line, with the headline.
     """
     lines: list[str] = []
-    for check in checks:
-        own = diagnoses.get(check.model.name, ())
-        prefix = f"{escape_markdown(check.model.name)} · " if many else ""
+    for record in records:
+        prefix = f"{escape_markdown(record.model)} · " if many else ""
         done: set[str] = set()
-        for r in check.backends:
+        for r in record.backends:
             if r.status not in ("fail", "error", "xfail", "xpass") or r.name in done:
                 continue
-            outcome = diagnosis_for(own, r.name) if r.status == "fail" else None
-            group = [r.name]
-            if outcome is not None:
-                failed = {b.name for b in check.backends if b.status == "fail"}
-                group = [n for n in (outcome.backend, *outcome.also) if n in failed]
-            done.update(group)
-            if not many and outcome is None and r.status in ("fail", "error"):
+            diagnosed = r.status == "fail" and bool(r.diagnosis)
+            done.update(r.diagnosed_with)
+            if not many and not diagnosed and r.status in ("fail", "error"):
                 continue  # one model: its table already holds the message
-            who = ", ".join(escape_markdown(n) for n in group)
+            who = ", ".join(escape_markdown(n) for n in r.diagnosed_with)
             text = f"- {MARK[r.status]} **{prefix}{who}**"
             if many:
                 text += f": {escape_markdown(r.message)}"
-            if outcome is not None:
-                text += f" — diagnosis: {escape_markdown(diagnosis_headline(outcome))}"
+            if diagnosed:
+                text += f" — diagnosis: {escape_markdown(r.diagnosis)}"
             lines.append(text)
-        for r in check.backends:
+        for r in record.backends:
             j = r.jacobian
             if many and j is not None and j.status in ("fail", "error"):
                 lines.append(
@@ -217,7 +204,7 @@ def _causes(
     return lines
 
 
-def _jacobian_table(check: CheckResult) -> list[str]:
+def _jacobian_table(check: CheckResult, record: CheckRecord) -> list[str]:
     """The Jacobian comparison of one check, one row per backend (``check --jacobian``)."""
     if check.jacobian is None:
         return []
@@ -229,15 +216,15 @@ def _jacobian_table(check: CheckResult) -> list[str]:
         "| backend | status | max linear difference | max angular difference | how |",
         "|---" * 5 + "|",
     ]
-    for r in check.backends:
+    for r in record.backends:
         j = r.jacobian
         if j is None:
             continue
         numbers = ["–", "–"]
         if j.ran:
             numbers = [
-                format_scientific(j.max_linear_error, "m/rad"),
-                format_scientific(j.max_angular_error, "rad/rad"),
+                format_scientific(j.max_linear, "m/rad"),
+                format_scientific(j.max_angular, "rad/rad"),
             ]
         how = j.method if j.ran else j.message
         if j.diagnosis:

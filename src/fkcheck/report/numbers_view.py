@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from fkcheck.engine.results import CheckResult
-from fkcheck.engine.verdict import number_status, numbers_line
+from fkcheck.engine.verdict import number_status
 from fkcheck.io.format import format_deg, format_mm
 from fkcheck.model.coverage import NumberEvidence
 from fkcheck.model.types import Model
+from fkcheck.report.record import CheckRecord
 from fkcheck.report.views import NumberRow, NumbersView
 
 __all__ = ["numbers_view"]
@@ -42,7 +43,7 @@ def _note(n: NumberEvidence, status: str) -> str:
     return "; ".join(parts)
 
 
-def numbers_view(check: CheckResult) -> NumbersView | None:
+def numbers_view(check: CheckResult, record: CheckRecord) -> NumbersView | None:
     """The section, or ``None`` when the check did not analyse its numbers."""
     numbers = check.numbers
     if numbers is None:
@@ -52,4 +53,4 @@ def numbers_view(check: CheckResult) -> NumbersView | None:
     for n in numbers.numbers:
         status = number_status(n.status, table)
         rows.append(NumberRow(n.name, n.group, _value(check.model, n), status, _note(n, status)))
-    return NumbersView(numbers_line(numbers, table), tuple(rows))
+    return NumbersView(record.numbers_line, tuple(rows))

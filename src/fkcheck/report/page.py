@@ -12,15 +12,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck._version import __version__
 from fkcheck.engine.results import REFERENCE_NAME, CheckResult
-from fkcheck.engine.verdict import KINDS, evidence_sentences
-from fkcheck.engine.verdict import headline as verdict_headline
-from fkcheck.io.format import (
-    format_deg,
-    format_m,
-    format_mm,
-    format_rad,
-    format_seconds,
-)
+from fkcheck.io.format import format_deg, format_mm, format_seconds
 from fkcheck.report.views import (
     DiagnosisView,
     EvidenceLine,
@@ -36,71 +28,14 @@ from fkcheck.report.backend_view import backend_detail, backend_row
 from fkcheck.report.model_view import frame_sides, model_view
 from fkcheck.report.numbers_view import numbers_view
 from fkcheck.report.partings import partings
+from fkcheck.report.record import CheckRecord, check_record, verdict_line
 
-__all__ = ["build_report_page", "verdict_line"]
-
-
-def verdict_line(check: CheckResult) -> str:
-    """The verdict as one sentence."""
-    ran = check.ran
-    failing = [r.name for r in check.backends if r.status == "fail"]
-    errored = [r.name for r in check.backends if r.status == "error"]
-    skipped = [r.name for r in check.backends if r.status == "skipped"]
-    expected = [r.name for r in check.backends if r.status == "xfail"]
-    stale = [r.name for r in check.backends if r.status == "xpass"]
-    parts = []
-    if not ran:
-        parts.append("No reference backend ran: nothing was cross-checked")
-    elif failing:
-        parts.append(
-            f"{len(failing)} of {len(ran)} backends that ran disagree with the in-house core: "
-            + ", ".join(failing)
-        )
-    else:
-        agreed = sum(r.status == "pass" for r in ran)
-        parts.append(f"{agreed} of {len(ran)} backends that ran agree with the in-house core")
-    if errored:
-        parts.append(f"{len(errored)} errored: " + ", ".join(errored))
-    if skipped:
-        parts.append(f"{len(skipped)} skipped: " + ", ".join(skipped))
-    if expected:
-        parts.append(
-            f"{len(expected)} disagree as the model records (expected failure, known "
-            "difference): " + ", ".join(expected)
-        )
-    if stale:
-        parts.append(
-            f"{len(stale)} agree though the model records a difference (known difference no "
-            "longer seen): " + ", ".join(stale)
-        )
-    jac_bad = [r.name for r in check.backends if r.jacobian and r.jacobian.status == "fail"]
-    jac_error = [r.name for r in check.backends if r.jacobian and r.jacobian.status == "error"]
-    if jac_bad:
-        parts.append(f"the Jacobian of {len(jac_bad)} disagrees: " + ", ".join(jac_bad))
-    if jac_error:
-        parts.append(f"the Jacobian of {len(jac_error)} errored: " + ", ".join(jac_error))
-    return "; ".join(parts) + "."
+__all__ = ["build_report_page", "verdict_line"]  # verdict_line: see fkcheck.report.record
 
 
-def _headline(check: CheckResult) -> tuple[str, ...]:
-    out = []
-    for r in check.backends:
-        if r.status != "fail":
-            continue
-        assert r.position_error_m is not None
-        assert r.rotation_error_rad is not None
-        n_bad = int(
-            (
-                (r.position_error_m > check.tol_pos_m) | (r.rotation_error_rad > check.tol_rot_rad)
-            ).sum()
-        )
-        out.append(
-            f"{r.name}: max position error {format_mm(r.max_position_error_m)} "
-            f"({format_m(r.max_position_error_m)}), max rotation error "
-            f"{format_rad(r.max_rotation_error_rad)} ({format_deg(r.max_rotation_error_rad)}); "
-            f"{n_bad} of {r.position_error_m.size} configurations beyond tolerance"
-        )
-    return tuple(out)
+def _headline(record: CheckRecord) -> tuple[str, ...]:
+    """One line per failing backend: its record's summary."""
+    return tuple(f"{r.name}: {r.summary}" for r in record.backends if r.status == "fail")
 
 
 def _with_also(d: DiagnosisView) -> str:
@@ -151,10 +86,11 @@ def build_report_page(
     from fkcheck.report.plots import error_against_joints, error_distribution
     from fkcheck.report.versions import library_versions
 
+    record = check_record(check, diagnoses)
     failing = [r for r in check.backends if r.status == "fail"]
     details = tuple(backend_detail(check, r, plots) for r in failing)
     diagnosis_views = tuple(diagnosis_view(d) for d in diagnoses)
-    rows = tuple(backend_row(check, r, r.status == "fail") for r in check.backends)
+    rows = tuple(backend_row(r, r.status == "fail") for r in record.backends)
     images: list[Image] = []
     if plots:
         images = [
@@ -193,30 +129,18 @@ def build_report_page(
     )
     parting_views = partings(check)
     headline = (
-        _headline(check)
+        _headline(record)
         + tuple(f"Diagnosis against {_with_also(d)}: {d.short}" for d in diagnosis_views)
         + tuple(f"Where the chains part: {p.short}." for p in parting_views if p.short)
     )
-    evidence = check.evidence
     return ReportPage(
         title=f"fkcheck {model.name}: {check.verdict.upper()}",
         model=model.name,
         verdict=check.verdict,
-        verdict_line=verdict_line(check),
-        verdict_headline=verdict_headline(check.verdict, evidence, len(check.ran)),
-        evidence=tuple(
-            EvidenceLine(kind, evidence.of(kind).status, text)
-            for kind, text in zip(KINDS, evidence_sentences(evidence), strict=True)
-        ),
-        badge_note=(
-            "expected failure: known difference"
-            if check.verdict == "pass" and evidence.table.status == "expected-failure"
-            else "table partly verified"
-            if check.verdict == "pass" and evidence.table.status == "partly-verified"
-            else "implementation only"
-            if check.verdict == "pass" and evidence.table.status != "verified"
-            else ""
-        ),
+        verdict_line=record.verdict_line,
+        verdict_headline=record.headline,
+        evidence=tuple(EvidenceLine(e.kind, e.status, e.sentence) for e in record.evidence),
+        badge_note=record.partial,
         disagreeing=tuple(r.name for r in failing),
         headline=headline,
         facts=facts,
@@ -228,6 +152,6 @@ def build_report_page(
         model_view=model_view(check),
         generator=f"fkcheck {__version__}",
         diagnoses=diagnosis_views,
-        jacobian=jacobian_section(check),
-        numbers=numbers_view(check),
+        jacobian=jacobian_section(check, record),
+        numbers=numbers_view(check, record),
     )
