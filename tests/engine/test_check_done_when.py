@@ -16,6 +16,7 @@ from pathlib import Path
 
 import pytest
 
+from fkcheck.backends import registry
 from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
 from tests.backend_cases import URDF_BACKENDS as URDF_READERS
@@ -48,8 +49,9 @@ def test_ur5_passes_against_every_default_backend(capsys, tmp_path):
     code, doc, out = check(capsys, tmp_path, "ur5")
     assert code == 0, out
     assert doc["verdict"] == "pass"
-    assert [b["status"] for b in doc["backends"]] == ["pass"] * 5
-    assert doc["cross_checked"] == 5
+    assert [b["name"] for b in doc["backends"]] == list(registry.default_names())
+    assert [b["status"] for b in doc["backends"]] == ["pass"] * len(registry.default_names())
+    assert doc["cross_checked"] == len(registry.default_names())
 
 
 def test_older_d1_fails_against_the_urdf_by_0_3_mm(capsys, tmp_path):
@@ -111,7 +113,7 @@ def test_every_mapped_frame_pair_passes(capsys, tmp_path):
     ]:
         code, doc, out = check(capsys, tmp_path, "ur5", "--from", frame_from, "--to", frame_to)
         assert code == 0, out
-        assert doc["cross_checked"] == 5
+        assert doc["cross_checked"] == len(registry.default_names())
 
 
 def test_missing_library_is_skipped_with_its_reason(capsys, tmp_path, monkeypatch):

@@ -18,6 +18,7 @@ import pytest
 from fkcheck.cli.main import main
 from fkcheck.model.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model.read import bundled_model_paths, load_model
+from tests.backend_cases import URDF_BACKENDS
 from tests.paths import PLUGINS_DIR
 
 PLUGINS = PLUGINS_DIR
@@ -139,9 +140,7 @@ def test_the_same_d1_change_fails_where_a_urdf_exists(capsys, tmp_path):
     assert code == 1
     assert doc["verdict"] == "fail"
     assert doc["evidence"]["table"]["status"] == "failed"
-    assert set(doc["evidence"]["table"]["disagreed"]) == {
-        "pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"
-    }  # fmt: skip
+    assert set(doc["evidence"]["table"]["disagreed"]) == set(URDF_BACKENDS)
     assert doc["evidence"]["implementation"]["status"] == "verified"
     rows = {b["name"]: b for b in doc["backends"]}
     assert rows["pinocchio-urdf"]["max_position_error_m"] == pytest.approx(0.010, rel=1e-6)

@@ -63,7 +63,7 @@ def test_a_self_written_urdf_of_a_wrong_table_leaves_it_unverified(tmp_path, cap
     assert "table NOT CHECKED" in out
     flat = " ".join(out.split())  # the console folds long lines
     how = "is what fkcheck urdf writes" if unmark else "was written by fkcheck"
-    assert f"pinocchio-urdf, yourdfpy-urdf, rtb-urdf: the URDF {how} from this table" in flat
+    assert f"{', '.join(URDF_BACKENDS)}: the URDF {how} from this table" in flat
     assert "it cannot verify the table" in flat
 
 

@@ -29,6 +29,7 @@ from fkcheck.engine.runner import run_check
 from fkcheck.model.read import load_model
 from fkcheck.process.isolation import run_isolated
 from fkcheck.process.supervise import (
+    MAX_TIMEOUT_S,
     STDERR_TAIL_BYTES,
     TERMINATE_GRACE_S,
     IsolatedDied,
@@ -279,12 +280,14 @@ def test_a_module_in_the_current_directory_is_not_imported_by_the_child(tmp_path
 def test_a_time_limit_too_large_for_the_clock_means_no_limit(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    # 1e10 s overflows thread joins and select(); it must simply never fire.
+    # 1e10 s overflows thread joins and select(); it must simply never fire. A check's
+    # own limit is at most a day (fkcheck.model.options), but a backend built
+    # directly may be given any number.
     monkeypatch.syspath_prepend(PLUGINS)
     options = BackendOptions(timeout_s=1e10)
     program = shlex.join([sys.executable, str(PLUGINS / "fk_stdio.py"), "ok"])
     backends = [PluginBackend("ur5_closed_form:forward", options), CommandBackend(program, options)]
-    check = run_check(load_model("ur5"), backends, samples=5, timeout_s=1e10)
+    check = run_check(load_model("ur5"), backends, samples=5, timeout_s=MAX_TIMEOUT_S)
     assert [b.status for b in check.backends] == ["pass", "pass"]
     assert check.verdict == "pass"
 

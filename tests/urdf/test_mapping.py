@@ -42,7 +42,7 @@ def _mapped(name: str) -> tuple[Model, MapResult]:
 
 def _recorded_to_differ(model: Model) -> bool:
     """The model file records that its URDF disagrees with the table (not read off a run)."""
-    return any("pinocchio-urdf" in k.backends for k in model.known_differences)
+    return any(k.applies_to("pinocchio-urdf", "urdf") for k in model.known_differences)
 
 
 def _passes_pinocchio_urdf(model: Model) -> bool:

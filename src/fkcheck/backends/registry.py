@@ -322,8 +322,8 @@ def check_known_differences(model: Model) -> None:
                 )
 
 
-#: Distributions every check relies on, whatever its backends: fkcheck and its core's.
-CORE_DISTRIBUTIONS = ("fkcheck", "numpy", "numba", "scipy")
+#: Distributions every check relies on, whatever its backends: fkcheck, its core, its plots.
+CORE_DISTRIBUTIONS = ("fkcheck", "numpy", "numba", "scipy", "matplotlib")
 
 
 def library_versions() -> dict[str, str]:

@@ -215,31 +215,35 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     write_summaries(args, checks, step_summary, diagnoses)
     labelled = [(t.arg, c) for t, c in zip(targets, checks, strict=True)]
     print_models_table(labelled)
+    return _print_tally(labelled, out_dir)
+
+
+#: The ``--all`` tally's lines by the table's evidence status, after "table verified".
+_TALLY = (
+    ("partly-verified", "table partly verified (numbers the frame pair cannot verify)", False),
+    ("not-checked", "implementation only, table not checked", True),
+    (
+        "expected-failure",
+        "table differs from its URDF as recorded (expected failure, not verified)",
+        False,
+    ),
+)
+
+
+def _print_tally(labelled: list[tuple[str, CheckResult]], out_dir: Path | None) -> int:
+    """The last lines of ``--all``: how many pass, and what each table's evidence is."""
     failed = [label for label, c in labelled if c.verdict != "pass"]
-    verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
-    partly = [label for label, c in labelled if c.evidence.table.status == "partly-verified"]
-    unchecked = [label for label, c in labelled if c.evidence.table.status == "not-checked"]
-    expected = [label for label, c in labelled if c.evidence.table.status == "expected-failure"]
     where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
-    print(f"fkcheck: {len(checks) - len(failed)} of {len(checks)} models pass; {where}")
+    print(f"fkcheck: {len(labelled) - len(failed)} of {len(labelled)} models pass; {where}")
+    verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
     print(
         f"fkcheck: table verified independently: {len(verified)} "
         f"({terminal_text(', '.join(verified))})"
     )
-    if partly:
-        print(
-            f"fkcheck: table partly verified (numbers the frame pair cannot verify): "
-            f"{len(partly)} ({terminal_text(', '.join(partly))})"
-        )
-    print(
-        f"fkcheck: implementation only, table not checked: {len(unchecked)} "
-        f"({terminal_text(', '.join(unchecked))})"
-    )
-    if expected:
-        print(
-            f"fkcheck: table differs from its URDF as recorded (expected failure, not verified): "
-            f"{len(expected)} ({terminal_text(', '.join(expected))})"
-        )
+    for status, what, always in _TALLY:
+        found = [label for label, c in labelled if c.evidence.table.status == status]
+        if found or always:
+            print(f"fkcheck: {what}: {len(found)} ({terminal_text(', '.join(found))})")
     return 0 if not failed else 1
 
 

@@ -272,45 +272,46 @@ class CheckRecord:
         raise KeyError(name)
 
 
+#: How the verdict sentence counts backends of each status beyond pass and fail.
+_COUNTED = (
+    ("error", "{n} errored: {names}"),
+    ("skipped", "{n} skipped: {names}"),
+    ("xfail", "{n} disagree as the model records (expected failure, known difference): {names}"),
+    (
+        "xpass",
+        "{n} agree though the model records a difference (known difference no longer seen): "
+        "{names}",
+    ),
+)
+#: How it counts Jacobians that disagreed or errored.
+_JACOBIANS_COUNTED = (
+    ("fail", "the Jacobian of {n} disagrees: {names}"),
+    ("error", "the Jacobian of {n} errored: {names}"),
+)
+
+
 def verdict_line(check: CheckResult) -> str:
     """The verdict as one sentence: who agrees, disagrees, errored, was skipped."""
     ran = check.ran
     failing = [r.name for r in check.backends if r.status == "fail"]
-    errored = [r.name for r in check.backends if r.status == "error"]
-    skipped = [r.name for r in check.backends if r.status == "skipped"]
-    expected = [r.name for r in check.backends if r.status == "xfail"]
-    stale = [r.name for r in check.backends if r.status == "xpass"]
-    parts = []
     if not ran:
-        parts.append("No reference backend ran: nothing was cross-checked")
+        parts = ["No reference backend ran: nothing was cross-checked"]
     elif failing:
-        parts.append(
+        parts = [
             f"{len(failing)} of {len(ran)} backends that ran disagree with the in-house core: "
             + ", ".join(failing)
-        )
+        ]
     else:
         agreed = sum(r.status == "pass" for r in ran)
-        parts.append(f"{agreed} of {len(ran)} backends that ran agree with the in-house core")
-    if errored:
-        parts.append(f"{len(errored)} errored: " + ", ".join(errored))
-    if skipped:
-        parts.append(f"{len(skipped)} skipped: " + ", ".join(skipped))
-    if expected:
-        parts.append(
-            f"{len(expected)} disagree as the model records (expected failure, known "
-            "difference): " + ", ".join(expected)
-        )
-    if stale:
-        parts.append(
-            f"{len(stale)} agree though the model records a difference (known difference no "
-            "longer seen): " + ", ".join(stale)
-        )
-    jac_bad = [r.name for r in check.backends if r.jacobian and r.jacobian.status == "fail"]
-    jac_error = [r.name for r in check.backends if r.jacobian and r.jacobian.status == "error"]
-    if jac_bad:
-        parts.append(f"the Jacobian of {len(jac_bad)} disagrees: " + ", ".join(jac_bad))
-    if jac_error:
-        parts.append(f"the Jacobian of {len(jac_error)} errored: " + ", ".join(jac_error))
+        parts = [f"{agreed} of {len(ran)} backends that ran agree with the in-house core"]
+    for status, sentence in _COUNTED:
+        names = [r.name for r in check.backends if r.status == status]
+        if names:
+            parts.append(sentence.format(n=len(names), names=", ".join(names)))
+    for status, sentence in _JACOBIANS_COUNTED:
+        names = [r.name for r in check.backends if r.jacobian and r.jacobian.status == status]
+        if names:
+            parts.append(sentence.format(n=len(names), names=", ".join(names)))
     return "; ".join(parts) + "."
 
 
