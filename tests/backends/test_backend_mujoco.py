@@ -519,3 +519,24 @@ def test_poses_do_not_depend_on_the_chunk_size(
 def test_an_unknown_jacobian_reference_is_refused(backend: MujocoUrdf) -> None:
     with pytest.raises(ValueError, match=r"unknown reference 'base'; references are: world-al"):
         backend.frame_jacobian(load_model("ur5"), np.zeros((1, 6)), "tool0", "base")  # type: ignore[arg-type]
+
+
+def test_a_mujoco_warning_writes_no_file_in_the_working_directory(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Equal joint limits make MuJoCo warn; by default it appends the warning to
+    # MUJOCO_LOG.TXT in the working directory, a file no run asked for.
+    import mujoco
+
+    (tmp_path / "arm3.toml").write_text(ARM3_TOML)
+    urdf = ARM3_URDF.replace('<limit lower="0" upper="0.2"', '<limit lower="0.1" upper="0.1"')
+    assert urdf != ARM3_URDF
+    (tmp_path / "arm3.urdf").write_text(urdf)
+    monkeypatch.chdir(tmp_path)
+    before = mujoco.get_mju_user_warning()
+    poses = make_backend("mujoco-urdf").frame_poses(
+        load_model(tmp_path / "arm3.toml"), np.zeros((2, 3)), ["base", "tip"]
+    )
+    assert poses.shape == (2, 2, 4, 4)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arm3.toml", "arm3.urdf"]
+    assert mujoco.get_mju_user_warning() is before  # the process's handler is put back

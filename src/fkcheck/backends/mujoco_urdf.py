@@ -53,7 +53,8 @@ rule).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import contextlib
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -217,34 +218,35 @@ class MujocoUrdf(UrdfReader):
         """
         info, q2, twins = urdf_inputs(model, q, frames, self.name)
         mj = _import_mujoco()
-        built = self._build(mj, model, info)
-        ids = built.body_ids(twins)
-        qpos = built.qpos(q2)
+        with _warnings_in_memory(mj):
+            built = self._build(mj, model, info)
+            ids = built.body_ids(twins)
+            qpos = built.qpos(q2)
 
-        N, nbody = q2.shape[0], built.mjmodel.nbody
-        out = np.zeros((len(ids), N, 4, 4))
-        out[:, :, 3, 3] = 1.0
-        # Whole xpos/xmat rows are copied per pose (a memcpy; picking the twins' rows
-        # with a fancy index per pose costs several times more) and picked per chunk.
-        pos = np.empty((min(N, _CHUNK), nbody, 3))
-        rot = np.empty((min(N, _CHUNK), nbody, 9))
-        mjmodel = built.mjmodel
-        data = mj.MjData(mjmodel)
-        kinematics = mj.mj_kinematics
-        qpos_view, xpos, xmat = data.qpos, data.xpos, data.xmat  # live views of data's buffers
-        for start in range(0, N, _CHUNK):
-            stop = min(N, start + _CHUNK)
-            for k in range(stop - start):
-                qpos_view[:] = qpos[start + k]
-                kinematics(mjmodel, data)
-                pos[k] = xpos
-                rot[k] = xmat
-            n = stop - start
-            out[:, start:stop, :3, 3] = pos[:n, ids].transpose(1, 0, 2)
-            out[:, start:stop, :3, :3] = (
-                rot[:n, ids].reshape(n, len(ids), 3, 3).transpose(1, 0, 2, 3)
-            )
-        return out
+            N, nbody = q2.shape[0], built.mjmodel.nbody
+            out = np.zeros((len(ids), N, 4, 4))
+            out[:, :, 3, 3] = 1.0
+            # Whole xpos/xmat rows are copied per pose (a memcpy; picking the twins' rows
+            # with a fancy index per pose costs several times more) and picked per chunk.
+            pos = np.empty((min(N, _CHUNK), nbody, 3))
+            rot = np.empty((min(N, _CHUNK), nbody, 9))
+            mjmodel = built.mjmodel
+            data = mj.MjData(mjmodel)
+            kinematics = mj.mj_kinematics
+            qpos_view, xpos, xmat = data.qpos, data.xpos, data.xmat  # live views of data's buffers
+            for start in range(0, N, _CHUNK):
+                stop = min(N, start + _CHUNK)
+                for k in range(stop - start):
+                    qpos_view[:] = qpos[start + k]
+                    kinematics(mjmodel, data)
+                    pos[k] = xpos
+                    rot[k] = xmat
+                n = stop - start
+                out[:, start:stop, :3, 3] = pos[:n, ids].transpose(1, 0, 2)
+                out[:, start:stop, :3, :3] = (
+                    rot[:n, ids].reshape(n, len(ids), 3, 3).transpose(1, 0, 2, 3)
+                )
+            return out
 
     def frame_jacobian(
         self, model: Model, q: Float, frame: str, reference: JacobianReference
@@ -266,41 +268,60 @@ class MujocoUrdf(UrdfReader):
             raise ValueError(f"unknown reference {reference!r}; references are: {known}")
         info, q2, twins = urdf_inputs(model, q, [frame], self.name)
         mj = _import_mujoco()
-        built = self._build(mj, model, info)
-        body = built.body_ids(twins)[0]
-        qpos = built.qpos(q2)
-        columns = built.dof_per_joint()
+        with _warnings_in_memory(mj):
+            built = self._build(mj, model, info)
+            body = built.body_ids(twins)[0]
+            qpos = built.qpos(q2)
+            columns = built.dof_per_joint()
 
-        mjmodel = built.mjmodel
-        data = mj.MjData(mjmodel)
-        N = q2.shape[0]
-        jacp = np.zeros((N, 3, mjmodel.nv))
-        jacr = np.zeros((N, 3, mjmodel.nv))
-        pos = np.empty((N, 3))
-        rot = np.empty((N, 9))
-        qpos_view, xpos, xmat = data.qpos, data.xpos, data.xmat
-        kinematics, com_pos, jac_body = mj.mj_kinematics, mj.mj_comPos, mj.mj_jacBody
-        for k in range(N):
-            qpos_view[:] = qpos[k]
-            kinematics(mjmodel, data)
-            com_pos(mjmodel, data)
-            jac_body(mjmodel, data, jacp[k], jacr[k], body)
-            pos[k] = xpos[body]
-            rot[k] = xmat[body]
-        v, w = jacp @ columns, jacr @ columns  # (N, 3, n): world-aligned
-        if reference == "local":
-            Rt = rot.reshape(N, 3, 3).transpose(0, 2, 1)
-            v, w = Rt @ v, Rt @ w
-        elif reference == "world":
-            v = v + np.cross(pos[:, :, None], w, axis=1)
-        out: Float = np.concatenate([v, w], axis=1)
-        return out
+            mjmodel = built.mjmodel
+            data = mj.MjData(mjmodel)
+            N = q2.shape[0]
+            jacp = np.zeros((N, 3, mjmodel.nv))
+            jacr = np.zeros((N, 3, mjmodel.nv))
+            pos = np.empty((N, 3))
+            rot = np.empty((N, 9))
+            qpos_view, xpos, xmat = data.qpos, data.xpos, data.xmat
+            kinematics, com_pos, jac_body = mj.mj_kinematics, mj.mj_comPos, mj.mj_jacBody
+            for k in range(N):
+                qpos_view[:] = qpos[k]
+                kinematics(mjmodel, data)
+                com_pos(mjmodel, data)
+                jac_body(mjmodel, data, jacp[k], jacr[k], body)
+                pos[k] = xpos[body]
+                rot[k] = xmat[body]
+            v, w = jacp @ columns, jacr @ columns  # (N, 3, n): world-aligned
+            if reference == "local":
+                Rt = rot.reshape(N, 3, 3).transpose(0, 2, 1)
+                v, w = Rt @ v, Rt @ w
+            elif reference == "world":
+                v = v + np.cross(pos[:, :, None], w, axis=1)
+            out: Float = np.concatenate([v, w], axis=1)
+            return out
 
     def _build(self, mj: Any, model: Model, info: UrdfInfo) -> _Compiled:
         built = self._built
         if built is None or built.model is not model or built.info is not info:
             built = self._built = _Compiled(model, info, mj, _compile(mj, info))
         return built
+
+
+@contextlib.contextmanager
+def _warnings_in_memory(mj: Any) -> Iterator[list[str]]:
+    """MuJoCo's warnings kept in a list while the block runs, never written to a file.
+
+    Without a handler of its own, MuJoCo appends every warning (a joint whose
+    limits are equal, say) to ``MUJOCO_LOG.TXT`` in the working directory: a file
+    the run never asked for. The handler is process-wide; the previous one (or
+    none) is put back when the block ends.
+    """
+    said: list[str] = []
+    previous = mj.get_mju_user_warning()
+    mj.set_mju_user_warning(said.append)
+    try:
+        yield said
+    finally:
+        mj.set_mju_user_warning(previous)
 
 
 def _import_mujoco() -> Any:
