@@ -28,6 +28,7 @@ import fkcheck.core.dh
 import fkcheck.core.geometry
 import fkcheck.engine.runner
 import fkcheck.model.frames
+from fkcheck.backends import registry
 from fkcheck.backends.registry import make_backend
 from fkcheck.engine.runner import run_check
 from fkcheck.model.read import load_model, model_from_dict
@@ -35,16 +36,8 @@ from tests.paths import PLUGINS_DIR
 
 BACKENDS_DIR = Path(fkcheck.backends.__file__).parent
 PLUGINS = PLUGINS_DIR
-#: Every default reference; all six read the UR5's named frames.
-UR5_REFERENCES = [
-    "rtb-dh",
-    "pinocchio-dh",
-    "pinocchio-urdf",
-    "yourdfpy-urdf",
-    "rtb-urdf",
-    "mujoco-urdf",
-    "idyntree-urdf",
-]
+#: Every default reference (the registry's); all read the UR5's named frames.
+UR5_REFERENCES = list(registry.default_names())
 
 
 # --------------------------------------------------------------------------- static

@@ -112,13 +112,7 @@ def test_require_table_passes_where_the_urdf_verifies_it(capsys, tmp_path):
     code, doc, out, _ = run(capsys, tmp_path, "ur5", "--require", "table")
     assert code == 0, out
     assert doc["evidence"]["table"]["status"] == "verified"
-    assert doc["evidence"]["table"]["agreed"] == [
-        "pinocchio-urdf",
-        "yourdfpy-urdf",
-        "rtb-urdf",
-        "mujoco-urdf",
-        "idyntree-urdf",
-    ]
+    assert doc["evidence"]["table"]["agreed"] == list(URDF_BACKENDS)
     assert doc["headline"].startswith("pass — table verified independently")
     html_path = tmp_path / "r.html"
     assert main(["check", "ur5", "--samples", "4", "--html", str(html_path)]) == 0
