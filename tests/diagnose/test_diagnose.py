@@ -284,7 +284,13 @@ def test_cli_json_and_exit_codes(tmp_path, capsys):
     assert set(data) >= {"before", "axes", "tried", "duration_s", "tolerance"}
     capsys.readouterr()
     assert main(["diagnose", "planar2"]) == 2  # no URDF and no --against
-    assert "give --against" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.startswith(
+        "fkcheck: error: model planar2 has no [urdf] to diagnose against: give --against a "
+        "backend independent of its table (rtb-model:…, poses:…)"
+    ), err
+    assert "unknown backend" not in err
+    assert err.count("\n") == 1
     assert main(["diagnose", "ur5", "--against", "nope"]) == 2
 
 

@@ -194,7 +194,7 @@ def test_a_name_the_registry_refuses_is_one_clear_error(tmp_path, case):
     "case",
     ["unknown_key", "unknown_backend", "bound_zero", "position_bound_huge", "angle_bound_huge"],
 )
-@pytest.mark.parametrize("command", ["lint", "check"])
+@pytest.mark.parametrize("command", ["lint", "check", "diagnose"])
 def test_bad_known_difference_exits_2_with_one_line(tmp_path, capsys, case, command):
     path = tmp_path / f"{case}.toml"
     text = BAD[case][0] if case in BAD else BAD_NAMES[case][0] + BOUNDS

@@ -47,11 +47,15 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
+    from fkcheck.backends import registry
     from fkcheck.backends.base import BackendUnavailable
-    from fkcheck.backends.registry import make_backend
+    from fkcheck.backends.registry import (
+        check_known_differences,
+        make_backend,
+    )
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, writes
     from fkcheck.diagnose import diagnose, format_text, to_dict
-    from fkcheck.errors import BackendNotFoundError
+    from fkcheck.errors import FkcheckError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_lines, terminal_text
@@ -65,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
     if args.tol_rot is not None:
         check_option("tol_rot_rad", args.tol_rot, "--tol-rot")
     model = load_model(args.model)
+    check_known_differences(model)  # the names are the registry's, as for check and lint
     if args.allow_xacro:
         from fkcheck.urdf.source import allow_xacro
 
@@ -74,8 +79,12 @@ def run(args: argparse.Namespace) -> int:
     name = args.against
     if name is None:
         if model.urdf is None:
-            raise BackendNotFoundError(
-                "", ["give --against: the model has no [urdf] to diagnose against"]
+            urdf = registry.names(reads="urdf")
+            others = [n for n in registry.known_difference_names() if n not in urdf]
+            independent = ", ".join(n + "…" if n.endswith(":") else n for n in others)
+            raise FkcheckError(
+                f"model {model.name} has no [urdf] to diagnose against: give --against "
+                f"a backend independent of its table ({independent})"
             )
         name = "pinocchio-urdf"
     backend = make_backend(name)
