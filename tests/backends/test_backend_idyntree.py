@@ -109,20 +109,6 @@ def test_registry_builds_it_as_a_default_urdf_reader() -> None:
     assert "idyntree-urdf" in registry.known_difference_names()
 
 
-def test_availability_is_decided_without_importing_idyntree() -> None:
-    code = (
-        "import sys\n"
-        "from fkcheck.model import load_model\n"
-        "from fkcheck.backends.idyntree_urdf import IdyntreeUrdf\n"
-        "print(IdyntreeUrdf().unavailable_reason(load_model('ur5')))\n"
-        "print('idyntree' in sys.modules)\n"
-    )
-    out = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
-    ).stdout.split("\n")
-    assert out[:2] == ["None", "False"]
-
-
 def test_it_runs_where_warnings_are_errors() -> None:
     # The trap: SWIG's import-time DeprecationWarning, made an error, is a segmentation
     # fault while idyntree.bindings initialises (pytest's filterwarnings = ["error"] too).

@@ -9,8 +9,6 @@ setting it is noticed too.
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -112,21 +110,6 @@ def test_registry_builds_it_as_a_default_urdf_reader() -> None:
     assert defaults[defaults.index("rtb-urdf") + 1] == "mujoco-urdf"
     assert "mujoco-urdf" in registry.names(reads="urdf")
     assert "mujoco-urdf" in registry.known_difference_names()
-
-
-def test_availability_is_decided_without_importing_mujoco() -> None:
-    code = (
-        "import sys\n"
-        "from fkcheck.model import load_model\n"
-        "from fkcheck.backends.registry import make_backend\n"
-        "b = make_backend('mujoco-urdf')\n"
-        "print(b.unavailable_reason(load_model('ur5')), b.inputs(load_model('ur5'))[0].name)\n"
-        "print('mujoco' in sys.modules)\n"
-    )
-    out = subprocess.run(
-        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
-    ).stdout.split("\n")
-    assert out[:2] == ["None ur5_robot.urdf", "False"]
 
 
 def test_a_model_without_urdf_is_unavailable_and_reads_nothing(backend: MujocoUrdf) -> None:

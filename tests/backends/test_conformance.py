@@ -23,6 +23,8 @@ while the backend were broken):
 
 from __future__ import annotations
 
+import json
+import subprocess
 import sys
 from pathlib import Path
 
@@ -100,6 +102,39 @@ def test_keeps_the_contract(registration, spec):
     inputs = backend.inputs(load_model(_model_of(spec)))
     assert isinstance(inputs, tuple)
     assert all(isinstance(p, Path) for p in inputs)
+
+
+#: Built in a fresh process: which of a backend's ``imports`` appear in ``sys.modules``
+#: when it is built, asked whether it can run and for its inputs (none may).
+_IMPORTS_PROBE = """
+import json, sys
+from fkcheck.backends.registry import make_backend
+from fkcheck.model.read import load_model
+model = load_model(sys.argv[2])
+before = set(sys.modules)
+backend = make_backend(sys.argv[1])
+reason, inputs = backend.unavailable_reason(model), backend.inputs(model)
+names = {m for m in backend.imports} | {m.split(".")[0] for m in backend.imports}
+loaded = sorted(n for n in names if n in sys.modules and n not in before)
+print(json.dumps([reason, [str(p) for p in inputs], loaded]))
+"""
+
+
+PLAIN = [p for p in SPECS if p.values[0] is not None and not p.values[0].prefixed]
+
+
+@pytest.mark.parametrize(("registration", "spec"), PLAIN)
+def test_is_built_and_probed_without_importing_its_library(registration, spec):
+    # Listing backends, --against's help and reports build every registered backend:
+    # a library imported then would cost every fkcheck command its import time.
+    done = subprocess.run(
+        [sys.executable, "-c", _IMPORTS_PROBE, spec, _model_of(spec)],
+        capture_output=True, text=True, check=True, timeout=120,
+    )  # fmt: skip
+    reason, inputs, loaded = json.loads(done.stdout)
+    assert (reason, loaded) == (None, [])
+    if registration.declared("reads") == "urdf":  # the model's URDF file, resolved
+        assert [Path(p).name for p in inputs] == ["ur5_robot.urdf"]
 
 
 @pytest.mark.parametrize(("registration", "spec"), RUNNABLE)
