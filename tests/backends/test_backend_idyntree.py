@@ -40,7 +40,7 @@ from tests.backend_cases import (
     mapped_frames,
     pair_errors,
 )
-from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.helpers import assert_pose_close, random_q
 
 idt = pytest.importorskip("idyntree.bindings")
 
@@ -158,20 +158,6 @@ def test_its_input_is_the_models_urdf(backend: IdyntreeUrdf) -> None:
 
 
 # ---------------------------------------------------------------- against the core
-
-
-@pytest.mark.parametrize("name", URDF_MODELS)
-def test_every_pair_of_mapped_frames_agrees_with_core(
-    backend: IdyntreeUrdf, rng: np.random.Generator, name: str
-) -> None:
-    model = load_model(name)
-    q = random_q(model, rng, 100)
-    frames = mapped_frames(model)
-    assert len(frames) >= 4
-    poses = backend.frame_poses(model, q, frames)
-    assert poses.shape == (len(frames), 100, 4, 4)
-    assert_se3(poses, SAME_CHAIN)
-    assert_every_pair_agrees(model, q, frames, poses, ROUNDED_URDF)
 
 
 def test_continuous_flipped_and_prismatic_joints(

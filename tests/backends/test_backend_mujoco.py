@@ -36,7 +36,7 @@ from tests.backend_cases import (
     mapped_frames,
     pair_errors,
 )
-from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.helpers import assert_pose_close, random_q
 
 mujoco = pytest.importorskip("mujoco")
 
@@ -139,20 +139,6 @@ def test_missing_mujoco_is_reported_with_the_install_command(
 
 
 # ---------------------------------------------------------------- against the core
-
-
-@pytest.mark.parametrize("name", URDF_MODELS)
-def test_every_pair_of_mapped_frames_agrees_with_core(
-    backend: MujocoUrdf, rng: np.random.Generator, name: str
-) -> None:
-    model = load_model(name)
-    q = random_q(model, rng, 100)
-    frames = mapped_frames(model)
-    assert len(frames) >= 4
-    poses = backend.frame_poses(model, q, frames)
-    assert poses.shape == (len(frames), 100, 4, 4)
-    assert_se3(poses, ROUNDED_URDF)
-    assert_every_pair_agrees(model, q, frames, poses, ROUNDED_URDF)
 
 
 @pytest.mark.parametrize("name", URDF_MODELS)

@@ -20,7 +20,6 @@ from fkcheck.model.frames import relative_pose
 from fkcheck.model.read import load_model, model_from_dict
 from fkcheck.model.types import Model
 from tests.backend_cases import (
-    URDF_MODELS,
     arm3_model,
     assert_every_pair_agrees,
     core_frame_poses,
@@ -278,20 +277,6 @@ def test_modified_dh_panda_matches_the_panda_urdf_link_frames(
 
 
 # ---------------------------------------------------------------- pinocchio-urdf
-
-
-@pytest.mark.parametrize("name", URDF_MODELS)
-def test_urdf_every_pair_of_mapped_frames_agrees_with_core(
-    urdf_backend: PinocchioUrdf, rng: np.random.Generator, name: str
-) -> None:
-    model = load_model(name)
-    q = random_q(model, rng, 100)
-    frames = mapped_frames(model)
-    assert len(frames) >= 4
-    poses = urdf_backend.frame_poses(model, q, frames)
-    assert poses.shape == (len(frames), 100, 4, 4)
-    assert_se3(poses, SAME_CHAIN)
-    assert_every_pair_agrees(model, q, frames, poses, ROUNDED_URDF)
 
 
 def test_urdf_continuous_flipped_and_prismatic_joints(

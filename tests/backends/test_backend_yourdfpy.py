@@ -19,7 +19,6 @@ from fkcheck.model.read import load_model
 from fkcheck.urdf.source import load_urdf
 from tests.backend_cases import (
     ARM3_URDF,
-    URDF_MODELS,
     arm3_model,
     assert_every_pair_agrees,
     edited_bundled_model,
@@ -28,7 +27,7 @@ from tests.backend_cases import (
     rpy_rotation,
     urdf_origin_rpy,
 )
-from tests.helpers import assert_pose_close, assert_se3, random_q
+from tests.helpers import assert_pose_close, random_q
 
 yourdfpy = pytest.importorskip("yourdfpy")
 
@@ -90,19 +89,6 @@ def test_missing_yourdfpy_is_reported_with_the_install_command(
 
 
 # ---------------------------------------------------------------- against the core
-
-
-@pytest.mark.parametrize("name", URDF_MODELS)
-def test_every_pair_of_mapped_frames_agrees_with_core(
-    backend: YourdfpyUrdf, rng: np.random.Generator, name: str
-) -> None:
-    model = load_model(name)
-    q = random_q(model, rng, 40)
-    frames = mapped_frames(model)
-    poses = backend.frame_poses(model, q, frames)
-    assert poses.shape == (len(frames), 40, 4, 4)
-    assert_se3(poses, SAME_CHAIN)
-    assert_every_pair_agrees(model, q, frames, poses, ROUNDED_URDF)
 
 
 def test_continuous_flipped_and_prismatic_joints(

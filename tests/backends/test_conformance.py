@@ -33,11 +33,20 @@ import pytest
 
 from fkcheck.backends import registry
 from fkcheck.backends.base import Backend, contract_problems
+from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import FkcheckError
 from fkcheck.model.read import load_model
-from tests.backend_cases import ARM3_TOML, ARM3_URDF, edited_bundled_model
+from tests.backend_cases import (
+    ARM3_TOML,
+    ARM3_URDF,
+    URDF_MODELS,
+    assert_every_pair_agrees,
+    edited_bundled_model,
+    mapped_frames,
+)
+from tests.helpers import assert_se3, random_q
 from tests.paths import DATA_DIR, PLUGINS_DIR
 
 #: The argument each built-in prefix is tested with (UR5 in each form, but Robotics
@@ -207,6 +216,20 @@ def test_follows_exactly_what_it_reads(tmp_path, registration, spec):
 URDF_READERS = [
     p for p in RUNNABLE if p.values[0] is not None and p.values[0].declared("reads") == "urdf"
 ]
+
+
+@pytest.mark.parametrize("name", URDF_MODELS)
+@pytest.mark.parametrize(("registration", "spec"), URDF_READERS)
+def test_a_urdf_reader_gives_every_mapped_frame_pair_as_the_core(registration, spec, name):
+    # Every pair, not only the check's: a reader must place every link a frame names.
+    model = load_model(name)
+    q = random_q(model, np.random.default_rng(11), 100)
+    frames = mapped_frames(model)
+    assert len(frames) >= 4
+    poses = _backend(spec).frame_poses(model, q, frames)
+    assert poses.shape == (len(frames), 100, 4, 4)
+    assert_se3(poses, SAME_CHAIN)
+    assert_every_pair_agrees(model, q, frames, poses, ROUNDED_URDF)
 
 
 @pytest.mark.parametrize(("registration", "spec"), URDF_READERS)
