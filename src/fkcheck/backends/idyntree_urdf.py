@@ -134,6 +134,7 @@ class IdyntreeUrdf(UrdfReader):
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""
         self.options = options or BackendOptions()
+        self._built: _Chain | None = None
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Why this backend cannot run: iDynTree missing, or no ``[urdf]`` in the model."""
@@ -153,7 +154,7 @@ class IdyntreeUrdf(UrdfReader):
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         info, q2, twins = urdf_inputs(model, q, frames, self.name)
-        chain = _Chain(model, info)
+        chain = self._chain(model, info)
         indices = [chain.frame_index(twin) for twin in twins]
         out = np.empty((len(twins), q2.shape[0], 4, 4))
         kin_dyn, set_joints, vector = chain.kin_dyn, chain.kin_dyn.setJointPos, chain.vector
@@ -179,7 +180,7 @@ class IdyntreeUrdf(UrdfReader):
             The same as :meth:`frame_poses`.
         """
         info, q2, twins = urdf_inputs(model, q, [frame], self.name)
-        chain = _Chain(model, info)
+        chain = self._chain(model, info)
         index = chain.frame_index(twins[0])
         idt, kin_dyn = chain.idt, chain.kin_dyn
         if not kin_dyn.setFrameVelocityRepresentation(getattr(idt, REPRESENTATIONS[reference])):
@@ -196,11 +197,20 @@ class IdyntreeUrdf(UrdfReader):
             out[k] = full[:, columns]
         return out
 
+    def _chain(self, model: Model, info: UrdfInfo) -> _Chain:
+        """The URDF as iDynTree's model, loaded once per model and URDF (not per chunk)."""
+        built = self._built
+        if built is None or built.source is not model or built.info is not info:
+            built = self._built = _Chain(model, info)
+        return built
+
 
 class _Chain:
     """The model's URDF as iDynTree's ``KinDynComputations``, its root made the world.
 
     Attributes:
+        source: The fkcheck model it was built for.
+        info: That model's screened URDF.
         idt: The ``idyntree.bindings`` module.
         kin_dyn: The ``KinDynComputations``, state set with the root at the identity.
         dofs: iDynTree's number of degrees of freedom (the model's ``n``).
@@ -210,6 +220,7 @@ class _Chain:
 
     def __init__(self, model: Model, info: UrdfInfo) -> None:
         assert model.urdf is not None  # urdf_inputs refuses a model without one
+        self.source = model
         self.info = info
         self.idt = idt = _import_idyntree()
         text = kinematic_text(info)
