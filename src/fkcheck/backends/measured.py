@@ -281,16 +281,21 @@ class _RtdeLayout:
         except csv.Error as exc:
             raise PosesFileError(path, f"line {lineno}: {exc}") from None
 
+    @staticmethod
+    def _refuse_binary(fields: list[str], lineno: int, path: Path) -> None:
+        """Refuse the type names UR's binary recorder writes after the header line."""
+        if fields and all(f.strip() in _RTDE_TYPES for f in fields):
+            raise PosesFileError(
+                path,
+                f"line {lineno}: a binary RTDE recording (record.py --binary: a line of "
+                "type names, then packed numbers); record it without --binary",
+            )
+
     def row(self, line: str, lineno: int, path: Path) -> list[float]:
         """The 12 numbers read of one data line: q (rad), position (m), rotation vector (rad)."""
         fields = self._fields(line, lineno, path)
         if len(fields) != len(self.header):
-            if fields and all(f.strip() in _RTDE_TYPES for f in fields):
-                raise PosesFileError(
-                    path,
-                    f"line {lineno}: a binary RTDE recording (record.py --binary: a line of "
-                    "type names, then packed numbers); record it without --binary",
-                )
+            self._refuse_binary(fields, lineno, path)
             raise PosesFileError(
                 path,
                 f"line {lineno}: {len(fields)} fields, but the header names {len(self.header)}",
@@ -302,6 +307,7 @@ class _RtdeLayout:
             numbers = []
         if len(numbers) == len(used):
             return numbers
+        self._refuse_binary(fields, lineno, path)
         for column, text in zip(self.columns, used, strict=True):  # name the first bad field
             try:
                 parse_number(text)
