@@ -18,7 +18,7 @@ from fkcheck import load_model
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError, read_poses_file
 from fkcheck.cli.main import main
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
-from tests.paths import REPO_ROOT
+from tests.paths import DATA_DIR, REPO_ROOT
 from tests.rtde_cases import (
     RTDE_HEADER,
     near_half_turn_configurations,
@@ -140,3 +140,20 @@ def test_a_model_of_another_joint_count_is_refused(tmp_path):
     path = write_rtde_csv(tmp_path / "rec.csv", load_model("ur5"), np.zeros((1, 6)))
     with pytest.raises(PosesFileError, match=r"an RTDE recording holds 6 joints .* has 7"):
         read_poses_file(path, load_model("xarm7"))
+
+
+def test_the_readme_recording_passes_its_table_and_shows_the_nominal_tables_millimetres(
+    capsys,
+):
+    """README, "A UR RTDE recording": the recording and the numbers it shows."""
+    recording = DATA_DIR / "ur5_rtde_recording.csv"
+    code = main(["check", str(DATA_DIR / "ur5_rtde_calibrated.toml"), "--against",
+                 f"poses:{recording}"])  # fmt: skip
+    assert code == 0, capsys.readouterr().out
+    capsys.readouterr()
+    assert main(["check", "ur5", "--against", f"poses:{recording}"]) == 1
+    out = " ".join(capsys.readouterr().out.split())
+    assert (
+        "over the 45 rows: position max 2.090 mm, median 1.557 mm, 95th percentile 1.895 mm; "
+        "rotation max 0.0100°, median 0.0100°, 95th percentile 0.0100°"
+    ) in out

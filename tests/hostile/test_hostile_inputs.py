@@ -857,6 +857,21 @@ def test_40k_row_poses_file_is_matched_in_near_linear_time(tmp_path, rng):
     assert elapsed < 15.0  # measured ~1.5 s on 2 busy cores; quadratic matching took 56 s
 
 
+def test_100k_row_rtde_recording_of_a_robot_often_standing_still_is_read_quickly(tmp_path, rng):
+    from tests.rtde_cases import write_rtde_csv
+
+    ur5 = load_model("ur5")
+    q = rng.uniform(-3.0, 3.0, size=(100_000, 6))
+    q[1::3] = q[::3][: q[1::3].shape[0]]  # a third of the samples repeat the one before
+    path = write_rtde_csv(tmp_path / "r.csv", ur5, q)
+    start = time.monotonic()
+    result = _check_poses(ur5, path, tol=1e-6)
+    elapsed = time.monotonic() - start
+    assert result.q.shape == (100_000, 6)
+    assert result.backends[0].status == "pass", result.backends[0].message
+    assert elapsed < 30.0  # measured ~3 s on 2 busy cores (reading the file: ~1.5 s)
+
+
 def test_poses_matched_within_tolerance_and_missing_ones_named(tmp_path):
     ur5 = load_model("ur5")
     poses = tmp_path / "p.csv"
