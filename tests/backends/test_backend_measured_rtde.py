@@ -157,3 +157,18 @@ def test_the_readme_recording_passes_its_table_and_shows_the_nominal_tables_mill
         "over the 45 rows: position max 2.090 mm, median 1.557 mm, 95th percentile 1.895 mm; "
         "rotation max 0.0100°, median 0.0100°, 95th percentile 0.0100°"
     ) in out
+
+
+def test_a_recording_is_for_the_models_check_pair_and_says_so(ur5, tmp_path):
+    from fkcheck.backends.base import FrameUnavailable
+
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, np.zeros((2, 6)))
+    backend = MeasuredPoses(str(path))
+    q = backend.configurations(ur5)
+    assert backend.frame_poses(ur5, q, ("base", "tool0")).shape == (2, 2, 4, 4)
+    match = (
+        r"holds poses of tool0 in base, not base → flange "
+        r"\(the pair is the file's .*, else the model's \[check\] pair\)"
+    )
+    with pytest.raises(FrameUnavailable, match=match):
+        backend.frame_poses(ur5, q, ("base", "flange"))

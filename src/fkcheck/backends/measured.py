@@ -531,7 +531,8 @@ class MeasuredPoses(BackendDefaults):
         if tuple(frames) != pair:
             raise FrameUnavailable(
                 f"{self.path.name} holds poses of {pair[1]} in {pair[0]}, not "
-                f"{' → '.join(frames)} (declare the pair with '# fkcheck poses: from=… to=…')"
+                f"{' → '.join(frames)} (the pair is the file's '# fkcheck poses: from=… to=…' "
+                "comment, else the model's [check] pair)"
             )
         rows = table.rows_of(q)
         missing = np.flatnonzero(rows < 0)
