@@ -17,9 +17,26 @@ Columns, by header name:
   radians, as a UR pendant shows it); ``roll, pitch, yaw`` (URDF rpy); ``A, B, C``
   (Z-Y'-X'' Euler) — the angles in radians, or with ``_deg`` in degrees.
 
-The poses are ``from_T_to`` for one frame pair. They exist only at the file's
-configurations, so this backend answers for exactly those: the check must run on
-them (``configurations()``), and any other configuration makes it *skipped*
+**A recording of Universal Robots' RTDE recorder** (``record.py`` of UR's RTDE
+client library, without ``--binary``) is read as it is: a header line of output
+names (a vector output ``name`` as ``name_0 … name_5``), values separated by
+spaces (the recorder's default) or commas. A header naming ``actual_q_0`` makes
+the file such a recording; of its columns the joints are ``actual_q_0 …
+actual_q_5`` (radians) and the pose ``actual_TCP_pose_0 … actual_TCP_pose_5``
+(x, y, z in metres, then the rotation vector rx, ry, rz in radians): the
+controller's ``base`` frame to its active TCP, which is the DH table's flange
+(``tool0`` of the bundled UR models) when the TCP offset in the robot's
+installation is zero. Every other column is ignored (it may hold anything, even
+``nan``); a missing needed column, one of them named twice, a row with another
+number of fields, or a binary recording (``--binary``: a line of type names, then
+packed numbers) is refused in one line. The fields are split by :mod:`csv`; the
+numbers read as everywhere else.
+
+The poses are ``from_T_to`` for one frame pair: the one a ``# fkcheck poses:``
+comment names, else the model's ``[check]`` pair (an RTDE recording has no
+comments: the model's pair, ``base`` → ``tool0`` for the bundled UR models). They
+exist only at the file's configurations, so this backend answers for exactly those:
+the check must run on them (``configurations()``), and any other configuration makes it *skipped*
 with that reason. Measured poses are noisy: compare them with a tolerance that
 fits the measurement (``--tol-pos 1e-3``).
 
@@ -38,6 +55,7 @@ tens of thousands of rows is matched in well under a second.
 
 from __future__ import annotations
 
+import csv
 import math
 import os
 import re
@@ -61,7 +79,7 @@ from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_lines
-from fkcheck.io.numbers import NumberError, parse_numbers, show_text, split_fields
+from fkcheck.io.numbers import NumberError, parse_number, parse_numbers, show_text, split_fields
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
 
 __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
@@ -73,6 +91,16 @@ MATCH_TOL = 1e-9
 #: Largest rotation number (a quaternion component or an angle in radians).
 MAX_ROTATION_NUMBER = 1e3
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
+#: The columns of an RTDE recording that are read: joints, then TCP pose (UR's recorder
+#: names the elements of a vector output ``name_0 … name_5``).
+RTDE_COLUMNS = tuple(f"actual_q_{i}" for i in range(6)) + tuple(
+    f"actual_TCP_pose_{i}" for i in range(6)
+)
+#: The type names of UR's binary recorder (``record.py --binary``), written as its second line.
+_RTDE_TYPES = frozenset(
+    {"BOOL", "UINT8", "UINT32", "UINT64", "INT32", "INT64", "DOUBLE", "VECTOR3D", "VECTOR6D",
+     "VECTOR6INT32", "VECTOR6UINT32"}
+)  # fmt: skip
 _ROTATIONS: dict[str, tuple[str, ...]] = {
     "quat": ("qx", "qy", "qz", "qw"),
     "rotvec": ("rx", "ry", "rz"),
@@ -172,10 +200,127 @@ class _Layout:
         )
         units = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3
         self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(r_cols)
+        self.method = MeasuredPoses.method
+
+    def row(self, line: str, lineno: int, path: Path) -> list[float]:
+        """The kept numbers of one data line, in file units."""
+        try:
+            numbers = parse_numbers(line)
+        except NumberError as exc:
+            header = self.header
+            name = (
+                f" ({_show(header[exc.index - 1])})"
+                if exc.index and exc.index <= len(header)
+                else ""
+            )
+            raise PosesFileError(
+                path, f"line {lineno}, column {exc.column}{name}: {exc.problem}"
+            ) from None
+        if len(numbers) != len(self.header):
+            raise PosesFileError(
+                path,
+                f"line {lineno}: {len(numbers)} fields, but the header names {len(self.header)}",
+            )
+        return [numbers[c] for c in self.columns]
+
+
+class _RtdeLayout:
+    """The columns of a UR RTDE recording that are read (:data:`RTDE_COLUMNS`), SI units."""
+
+    fmt = "rotvec"
+
+    def __init__(self, line: str, lineno: int, model: Model, path: Path) -> None:
+        self.delimiter = "," if "," in line else "\t" if "\t" in line else " "
+        self.header = [name.strip() for name in self._fields(line, lineno, path)]
+        where: dict[str, list[int]] = {}
+        for k, name in enumerate(self.header):
+            where.setdefault(name, []).append(k + 1)
+        twice = [(n, where[n]) for n in RTDE_COLUMNS if len(where.get(n, ())) > 1]
+        if twice:
+            name, fields = twice[0]
+            raise PosesFileError(
+                path,
+                f"line {lineno}: column {name} is named twice (fields "
+                f"{' and '.join(map(str, fields[:2]))}); the RTDE recording's column to read "
+                "is ambiguous",
+            )
+        missing = [n for n in RTDE_COLUMNS if n not in where]
+        if missing:
+            raise PosesFileError(
+                path,
+                f"line {lineno}: an RTDE recording (its header names actual_q_0) needs columns "
+                f"{', '.join(missing)}; record the outputs actual_q and actual_TCP_pose",
+            )
+        if model.dof != 6:
+            raise PosesFileError(
+                path,
+                f"an RTDE recording holds 6 joints (actual_q_0 … actual_q_5); model "
+                f"{model.name} has {model.dof}",
+            )
+        self.columns = [where[n][0] - 1 for n in RTDE_COLUMNS]
+        self.n = 6
+        self.factor = np.ones(12)
+        revolute = [j.type == "revolute" for j in model.joints]
+        self.bound = np.array(
+            [MAX_JOINT_RAD if rev else MAX_LENGTH_M for rev in revolute]
+            + [MAX_LENGTH_M] * 3
+            + [MAX_ROTATION_NUMBER] * 3
+        )
+        self.unit = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3 + [" rad"] * 3
+        others = len(self.header) - len(RTDE_COLUMNS)
+        separated = {",": "comma", "\t": "tab"}.get(self.delimiter, "space")
+        self.method = (
+            f"UR RTDE recording ({separated}-separated): joints actual_q_0…actual_q_5 (rad), "
+            "pose actual_TCP_pose_0…actual_TCP_pose_5 (x, y, z in m, rotation vector in rad); "
+            f"{others} other column{'s' if others != 1 else ''} ignored"
+        )
+
+    def _fields(self, line: str, lineno: int, path: Path) -> list[str]:
+        try:
+            return next(csv.reader((line,), delimiter=self.delimiter, skipinitialspace=True))
+        except csv.Error as exc:
+            raise PosesFileError(path, f"line {lineno}: {exc}") from None
+
+    @staticmethod
+    def _refuse_binary(fields: list[str], lineno: int, path: Path) -> None:
+        """Refuse the type names UR's binary recorder writes after the header line."""
+        if fields and all(f.strip() in _RTDE_TYPES for f in fields):
+            raise PosesFileError(
+                path,
+                f"line {lineno}: a binary RTDE recording (record.py --binary: a line of "
+                "type names, then packed numbers); record it without --binary",
+            )
+
+    def row(self, line: str, lineno: int, path: Path) -> list[float]:
+        """The 12 numbers read of one data line: q (rad), position (m), rotation vector (rad)."""
+        fields = self._fields(line, lineno, path)
+        if len(fields) != len(self.header):
+            self._refuse_binary(fields, lineno, path)
+            raise PosesFileError(
+                path,
+                f"line {lineno}: {len(fields)} fields, but the header names {len(self.header)}",
+            )
+        used = [fields[c] for c in self.columns]
+        try:
+            numbers = parse_numbers(",".join(used))
+        except NumberError:
+            numbers = []
+        if len(numbers) == len(used):
+            return numbers
+        self._refuse_binary(fields, lineno, path)
+        for column, text in zip(self.columns, used, strict=True):  # name the first bad field
+            try:
+                parse_number(text)
+            except NumberError as exc:
+                raise PosesFileError(
+                    path,
+                    f"line {lineno}, field {column + 1} ({self.header[column]}): {exc.problem}",
+                ) from None
+        raise PosesFileError(path, f"line {lineno}: the read columns are not 12 numbers")
 
 
 def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | None]:
-    """Read a measured-poses CSV.
+    """Read a measured-poses CSV, or a UR RTDE recording.
 
     Args:
         path: The file.
@@ -190,10 +335,23 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
             repeated column, a bad or out-of-bounds number (with its line and
             column), no rows, or one configuration with two different poses.
     """
+    q, poses, pair, _ = _read(path, model)
+    return q, poses, pair
+
+
+def _layout(line: str, lineno: int, model: Model, path: Path) -> _Layout | _RtdeLayout:
+    """The layout a header line gives: an RTDE recording when it names ``actual_q_0``."""
+    if "actual_q_0" in re.split(r"[\s,]+", line.strip()):
+        return _RtdeLayout(line, lineno, model, path)
+    return _Layout(_read_header(line, lineno, path), model, path)
+
+
+def _read(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | None, str]:
+    """:func:`read_poses_file`, and the backend's ``method`` text for the file's layout."""
     from fkcheck.core.pose_formats import matrix_from_pose
 
     pair = None
-    layout: _Layout | None = None
+    layout: _Layout | _RtdeLayout | None = None
     kept = array("d")
     linenos = array("q")
     try:
@@ -206,9 +364,9 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
             if not text or text.startswith("#"):
                 continue
             if layout is None:
-                layout = _Layout(_read_header(line, lineno, path), model, path)
+                layout = _layout(line, lineno, model, path)
                 continue
-            kept.extend(_row(line, lineno, layout, path))
+            kept.extend(layout.row(line, lineno, path))
             linenos.append(lineno)
     except InputFileError as exc:
         raise PosesFileError(path, exc.problem) from None
@@ -230,7 +388,7 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
     except ValueError as exc:
         raise PosesFileError(path, str(exc)) from None
     _check_duplicates(q, poses, linenos, path)
-    return q, poses, pair
+    return q, poses, pair, layout.method
 
 
 def _model_pair(
@@ -248,26 +406,6 @@ def _model_pair(
     except FrameError as exc:
         where = f"line {lineno}: '# fkcheck poses: from=… to=…'"
         raise PosesFileError(path, f"{where}: {exc}") from None
-
-
-def _row(line: str, lineno: int, layout: _Layout, path: Path) -> list[float]:
-    """The kept numbers of one data line, in file units."""
-    try:
-        numbers = parse_numbers(line)
-    except NumberError as exc:
-        header = layout.header
-        name = (
-            f" ({_show(header[exc.index - 1])})" if exc.index and exc.index <= len(header) else ""
-        )
-        raise PosesFileError(
-            path, f"line {lineno}, column {exc.column}{name}: {exc.problem}"
-        ) from None
-    if len(numbers) != len(layout.header):
-        raise PosesFileError(
-            path,
-            f"line {lineno}: {len(numbers)} fields, but the header names {len(layout.header)}",
-        )
-    return [numbers[c] for c in layout.columns]
 
 
 def _check_duplicates(q: Float, poses: Float, linenos: array[int], path: Path) -> None:
@@ -312,10 +450,11 @@ def _key_values(q: Float) -> Float:
 class _Table:
     """A read poses file, with a lookup from configurations to its rows."""
 
-    def __init__(self, q: Float, poses: Float, pair: tuple[str, str] | None) -> None:
+    def __init__(self, q: Float, poses: Float, pair: tuple[str, str] | None, method: str) -> None:
         self.q = q
         self.poses = poses
         self.pair = pair
+        self.method = method
         keys = _key_values(q)
         self._index = {keys[k].tobytes(): k for k in range(keys.shape[0] - 1, -1, -1)}
         self._tree: Any = None
@@ -341,7 +480,9 @@ class MeasuredPoses(BackendDefaults):
 
     Attributes:
         name: ``"poses:<path>"``.
-        method: ``"measured poses (CSV)"``.
+        method: ``"measured poses (CSV)"``; once an RTDE recording is read, which of
+            its columns were used (``"UR RTDE recording (space-separated): joints
+            actual_q_0…actual_q_5 …; 62 other columns ignored"``).
         path: The CSV file.
     """
 
@@ -359,7 +500,8 @@ class MeasuredPoses(BackendDefaults):
     def _table(self, model: Model) -> _Table:
         """The file, read once per model (the check asks for it chunk by chunk)."""
         if self._read is None or self._read[0] is not model:
-            self._read = model, _Table(*read_poses_file(self.path, model))
+            self._read = model, _Table(*_read(self.path, model))
+            self.method = self._read[1].method
         return self._read[1]
 
     def unavailable_reason(self, model: Model) -> str | None:
@@ -389,7 +531,8 @@ class MeasuredPoses(BackendDefaults):
         if tuple(frames) != pair:
             raise FrameUnavailable(
                 f"{self.path.name} holds poses of {pair[1]} in {pair[0]}, not "
-                f"{' → '.join(frames)} (declare the pair with '# fkcheck poses: from=… to=…')"
+                f"{' → '.join(frames)} (the pair is the file's '# fkcheck poses: from=… to=…' "
+                "comment, else the model's [check] pair)"
             )
         rows = table.rows_of(q)
         missing = np.flatnonzero(rows < 0)

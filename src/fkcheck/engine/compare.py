@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, SharesDHFrames
+from fkcheck.backends.base import Backend, FixedConfigurations, SharesDHFrames
 from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.core.typing import Float
@@ -168,6 +168,8 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
             f"{n_bad} of {q.shape[0]} configurations differ: max position error "
             f"{pos.max():.3g} m, max rotation error {rot.max():.3g} rad"
         )
+        if isinstance(backend, FixedConfigurations):
+            reasons.append(_spread(pos, rot))
     failed = bool(reasons)
     detail = None
     if failed and worst is not None:
@@ -279,6 +281,35 @@ def joint_label(model: Model, index: int) -> str:
     """``joint 3 (elbow)``: a 0-based joint index as the reports name it."""
     name = model.joints[index].name
     return f"joint {index + 1} ({name})" if name else f"joint {index + 1}"
+
+
+def _spread(pos: Float, rot: Float) -> str:
+    """How a disagreement spreads over a file's rows: max, median, 95th percentile.
+
+    For backends with configurations of their own (measured poses): a table that
+    differs from the recorded robot by its factory calibration shows millimetres
+    on every row, not one worst case.
+    """
+    finite = np.isfinite(pos) & np.isfinite(rot)
+    p_mm = pos[finite] * 1e3
+    r_deg = np.degrees(rot[finite])
+    if not p_mm.size:
+        return "no row compared to a finite pose"
+
+    def three(values: Float, unit: str, digits: int) -> str:
+        return ", ".join(
+            f"{label} {v:.{digits}f}{unit}"
+            for label, v in (
+                ("max", values.max()),
+                ("median", np.median(values)),
+                ("95th percentile", np.percentile(values, 95)),
+            )
+        )
+
+    return (
+        f"over the {p_mm.size} rows: position {three(p_mm, ' mm', 3)}; "
+        f"rotation {three(r_deg, '°', 4)}"
+    )
 
 
 def _failure_detail(job: Job, worst: int, tracker: WorstTracker) -> FailureDetail:
