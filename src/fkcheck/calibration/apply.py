@@ -147,7 +147,7 @@ def apply_calibration(
         nominal,
         name=name or f"{nominal.name}-calibrated",
         joints=joints,
-        description=f"{nominal.description or nominal.name}, calibrated",
+        description=f"{nominal.name} with this robot's factory calibration ({cal.form})",
         source=source,
         angle_unit="rad",
         path=None,
@@ -158,7 +158,7 @@ def apply_calibration(
     check = model.check
     samples = sample_configurations(nominal, FIT_SAMPLES, seed=0)
     effect = calibration_effect(
-        model, nominal, samples.q, check.frame_from, check.frame_to, cal.identity
+        model, nominal, samples.q, check.frame_from, check.frame_to, cal.path.name
     )
     bad = not (effect.max_position_m <= FIT_LIMIT_M and effect.max_rotation_rad <= FIT_LIMIT_RAD)
     if bad:

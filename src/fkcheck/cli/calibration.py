@@ -51,8 +51,8 @@ def add_parser(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Read, apply, write, summarise."""
     from fkcheck.calibration.apply import apply_calibration
-    from fkcheck.calibration.ur_files import CalibrationError
     from fkcheck.calibration.description import calibrated_description, split_files
+    from fkcheck.calibration.ur_files import CalibrationError
     from fkcheck.cli._outputs import plan
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import operand, terminal_text

@@ -485,7 +485,8 @@ def _calibration_effect(model: Model, q: Float, pair: tuple[str, str]) -> Calibr
         return None
     nominal = nominal_model(model)
     try:
-        return calibration_effect(model, nominal, q, pair[0], pair[1], model.calibration.file)
+        name = Path(model.calibration.file).name
+        return calibration_effect(model, nominal, q, pair[0], pair[1], name)
     except FrameError:
         return None
 
