@@ -240,3 +240,16 @@ def write_yaml(path: Path, table: Table, *, as_ur_writes: bool = True, hash_: st
     lines.append(f"  hash: {hash_}")
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     return path
+
+
+def fk(table: Table, q) -> np.ndarray:
+    """``base_T_tool0`` of a standard-DH table, the test's own composition: (N, 4, 4)."""
+    q = np.atleast_2d(q)
+    out = np.empty((q.shape[0], 4, 4))
+    for k, row in enumerate(q):
+        pose = np.eye(4)
+        for i in range(6):
+            pose = pose @ _h(_rz(table.theta[i] + row[i]), (0.0, 0.0, table.d[i]))
+            pose = pose @ _h(_rx(table.alpha[i]), (table.a[i], 0.0, 0.0))
+        out[k] = pose
+    return out
