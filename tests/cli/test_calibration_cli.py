@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from fkcheck.cli.main import main
-from fkcheck.io.text import escape_markdown
+from fkcheck.report.markdown import escape_markdown
 from fkcheck.model.read import load_model
 from tests.calibration.ur_test_data import composed, write_conf, write_kinematics_info
 
