@@ -117,6 +117,8 @@ def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> st
     lines = [head, *(_backend_lines(b) for b in shown)]
     if record.numbers_line:  # which numbers of the model the pair verified
         lines.append(terminal_text(record.numbers_line))
+    if record.calibration_line:  # what the calibration changes against the nominal table
+        lines.append(terminal_text(record.calibration_line))
     return "\n".join(lines)
 
 

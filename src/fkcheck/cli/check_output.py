@@ -169,6 +169,8 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     console.print(f"          [{tab_style}]{terminal_markup(table_text)}[/]")
     if record.numbers_line:
         console.print(f"          [{tab_style}]{terminal_markup(record.numbers_line)}[/]")
+    if record.calibration_line:
+        console.print(f"{terminal_markup(record.calibration_line)}")
     line = record.headline
     style = "bold green" if check.verdict == "pass" else "bold red"
     if check.verdict == "pass" and record.of("table").status != "verified":

@@ -43,7 +43,7 @@ __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
 #: Subcommand modules under fkcheck.cli, in the order ``--help`` lists them.
 COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "map", "urdf", "expand", "lint",
-            "diagnose", "bench")  # fmt: skip
+            "diagnose", "calibration", "bench")  # fmt: skip
 
 #: What plain ``fkcheck`` runs.
 MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.backends.base import Evidence
+from fkcheck.calibration.effect import CalibrationEffect
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import FailureDetail
 from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
@@ -214,6 +215,8 @@ class CheckResult:
             …/pyproject.toml``).
         config: The ``pyproject.toml`` whose ``[tool.fkcheck]`` gave the check
             its defaults, as the CLI names it (set by the CLI); ``None``: none did.
+        calibration: For a calibrated model (``[calibration]``), what the
+            calibration changes against its nominal model over ``q``.
     """
 
     model: Model
@@ -236,6 +239,7 @@ class CheckResult:
     numbers: Coverage | None = None
     tolerance_source: tuple[str, str] = ("", "")
     config: str | None = None
+    calibration: CalibrationEffect | None = None
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

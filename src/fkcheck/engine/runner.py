@@ -27,6 +27,7 @@ import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.backends.registry import check_known_differences
+from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
@@ -395,6 +396,7 @@ def run_check(
     q = _fixed_configurations(model, backends) or sample_configurations(
         model, samples, seed, sampler
     )
+    calibration = _calibration_effect(model, q.q, pair)
     required = tuple(k for k in KINDS if k in (*model.check.require, *require))
     numbers = coverage(model, pair[0], pair[1], tol[0], tol[1], q=q.q)  # what it exercises
     if "table" in required and numbers.spans_no_joint:
@@ -466,7 +468,27 @@ def run_check(
         jacobian=jacobian,
         numbers=numbers,
         tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
+        calibration=calibration,
     )
+
+
+def _calibration_effect(model: Model, q: Float, pair: tuple[str, str]) -> CalibrationEffect | None:
+    """What a calibrated model's calibration changes at ``q`` (``None`` for other models).
+
+    The nominal model must load (a bad ``[calibration] nominal`` is bad input);
+    a frame pair the nominal model does not have is not compared.
+
+    Raises:
+        ModelError: The nominal model is missing, invalid or has other joints.
+    """
+    if model.calibration is None:
+        return None
+    nominal = nominal_model(model)
+    try:
+        name = Path(model.calibration.file).name
+        return calibration_effect(model, nominal, q, pair[0], pair[1], name)
+    except FrameError:
+        return None
 
 
 def _tolerance_source(

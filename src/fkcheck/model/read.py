@@ -20,6 +20,7 @@ from typing import Any
 from fkcheck.errors import ModelError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.numbers import NumberError, parse_number, split_fields
+from fkcheck.model.sections.calibration import read_calibration
 from fkcheck.model.sections.check import read_check
 from fkcheck.model.sections.frames import read_frames
 from fkcheck.model.sections.header import read_free_text, read_header
@@ -43,6 +44,7 @@ __all__ = [
 _TOP_KEYS = {
     "name", "description", "source", "convention", "angle_unit",
     "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint", "known_difference",
+    "calibration",
 }  # fmt: skip
 _INT_DIGITS = sys.get_int_max_str_digits()
 _CSV_COLUMNS = ("a", "alpha", "d", "theta_offset")
@@ -187,7 +189,9 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         raise r.fail("", "empty model file (needs name, convention and [[joint]] rows)")
     header = read_header(r, top)
     to_rad = header.to_rad
-    joints, warnings = read_joints(r, top, header)
+    calibration = read_calibration(r, top["calibration"]) if "calibration" in top else None
+    linearised = calibration is not None and calibration.status == 2
+    joints, warnings = read_joints(r, top, header, linearised=linearised)
     n = len(joints)
     base = read_offset(r, top["base"], "base", to_rad) if "base" in top else Offset()
     tool = read_offset(r, top["tool"], "tool", to_rad) if "tool" in top else Offset()
@@ -214,4 +218,5 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         warnings=warnings,
         lint_ignore=lint_ignore,
         known_differences=known,
+        calibration=calibration,
     )

@@ -48,6 +48,7 @@ __all__ = [
     "MAX_LENGTH_M",
     "PACKAGE_NAME",
     "URDF_FRAME_PREFIX",
+    "CalibrationSpec",
     "CheckSpec",
     "FrameSpec",
     "Joint",
@@ -117,6 +118,34 @@ class Joint:
     type: JointType = "revolute"
     flip: bool = False
     limits: tuple[float, float] | None = None
+
+
+@dataclass(frozen=True)
+class CalibrationSpec:
+    """Where a calibrated model's table came from (``[calibration]``).
+
+    The table itself is in the model's ``[[joint]]`` rows; this is their
+    provenance, and the nominal model a check compares them with to report what
+    the calibration changes (:mod:`fkcheck.calibration.effect`).
+
+    Attributes:
+        nominal: The nominal model the calibration was applied to: a bundled
+            model's name or a model file (relative to this file).
+        file: The calibration file as it was named when the model was made.
+        form: ``calibration.conf``, ``KinematicsInfo`` or ``ur_calibration YAML``.
+        sha256: The SHA-256 of the calibration file's bytes (hex).
+        identity: The manufacturer's name for it: the YAML's ``hash`` or the
+            joints' checksums (``""`` when the file gives none).
+        status: The controller's ``calibration_status`` (0 not initialised,
+            1 not linearised, 2 linearised), or ``None``.
+    """
+
+    nominal: str
+    file: str
+    form: str
+    sha256: str
+    identity: str = ""
+    status: int | None = None
 
 
 @dataclass(frozen=True)
@@ -270,6 +299,7 @@ class Model:
         lint_ignore: ``fkcheck lint`` rules this model's file turns off (``[lint] ignore``).
         known_differences: Recorded disagreements with independent references
             (``[[known_difference]]``), reported as expected failures.
+        calibration: Where a calibrated table came from (``[calibration]``).
     """
 
     name: str
@@ -288,6 +318,7 @@ class Model:
     warnings: tuple[str, ...] = ()
     lint_ignore: tuple[str, ...] = ()
     known_differences: tuple[KnownDifference, ...] = ()
+    calibration: CalibrationSpec | None = None
 
     @property
     def dof(self) -> int:

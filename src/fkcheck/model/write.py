@@ -20,6 +20,7 @@ from typing import Literal
 
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import (
+    CalibrationSpec,
     CheckSpec,
     FrameSpec,
     Joint,
@@ -202,7 +203,26 @@ def model_to_toml(
         out.extend(["", "[lint]", f"ignore = [{rules}]"])
     for known in model.known_differences:
         out += _known_difference_lines(known)
+    if model.calibration is not None:
+        out += _calibration_lines(model.calibration)
     return "\n".join(out) + "\n"
+
+
+def _calibration_lines(spec: CalibrationSpec) -> list[str]:
+    """The ``[calibration]`` table."""
+    out = [
+        "",
+        "[calibration]",
+        f"nominal = {toml_string(spec.nominal)}",
+        f"file = {toml_string(spec.file)}",
+        f"form = {toml_string(spec.form)}",
+        f"sha256 = {toml_string(spec.sha256)}",
+    ]
+    if spec.identity:
+        out.append(f"identity = {toml_string(spec.identity)}")
+    if spec.status is not None:
+        out.append(f"status = {spec.status}")
+    return out
 
 
 def _header_lines(model: Model, unit: Literal["rad", "deg"]) -> list[str]:

@@ -122,6 +122,33 @@ def _numbers(check: CheckResult, record: CheckRecord) -> dict[str, Any] | None:
     }
 
 
+def _calibration(record: CheckRecord) -> dict[str, Any] | None:
+    """What a calibrated model's calibration changes (``None`` for other models)."""
+    effect = record.calibration
+    if effect is None:
+        return None
+    return {
+        "nominal": effect.nominal,
+        "calibration": effect.identity,
+        "from": effect.frame_from,
+        "to": effect.frame_to,
+        "configurations": effect.configurations,
+        "position_m": {
+            "max": effect.max_position_m,
+            "median": effect.median_position_m,
+            "p95": effect.p95_position_m,
+        },
+        "rotation_rad": {
+            "max": effect.max_rotation_rad,
+            "median": effect.median_rotation_rad,
+            "p95": effect.p95_rotation_rad,
+        },
+        "worst_index": effect.worst_index,
+        "worst_q": list(effect.worst_q),
+        "line": record.calibration_line,
+    }
+
+
 def _jacobian_spec(check: CheckResult) -> dict[str, Any]:
     """``{"jacobian": …}`` when the check compared Jacobians, else nothing."""
     if check.jacobian is None:
@@ -150,6 +177,7 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "headline": record.headline,
         "evidence": _evidence(check, record),
         "numbers": _numbers(check, record),
+        "calibration": _calibration(record),
         "cross_checked": record.answered,
         "fkcheck_version": __version__,
         "command": check.command,

@@ -140,8 +140,10 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
         )
         counts["tests"] += 1
         text = sentence
-        if kind == "table" and record.numbers_line:
-            text += "\n" + record.numbers_line
+        if kind == "table":
+            text += "".join(
+                "\n" + line for line in (record.numbers_line, record.calibration_line) if line
+            )
         if status == "failed":
             ET.SubElement(case, "failure", message=sentence, type="disagreement").text = text
             counts["failures"] += 1

@@ -107,9 +107,10 @@ def markdown_summary(
             f"{record.configurations} configurations (seed {check.seed}), tolerance "
             f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
         )
-        if record.numbers_line:
-            lines.append("")
-            lines.append(escape_markdown(record.numbers_line))
+        for line in (record.numbers_line, record.calibration_line):
+            if line:
+                lines.append("")
+                lines.append(escape_markdown(line))
         lines.append("")
         lines.append("| backend | status | max position error | max rotation error | message |")
         lines.append("|---" * 5 + "|")

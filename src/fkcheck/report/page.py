@@ -154,4 +154,5 @@ def build_report_page(
         diagnoses=diagnosis_views,
         jacobian=jacobian_section(check, record),
         numbers=numbers_view(check, record),
+        calibration=record.calibration_line,
     )

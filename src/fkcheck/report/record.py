@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from fkcheck.calibration.effect import CalibrationEffect
 from fkcheck.engine.compare import joint_label
 from fkcheck.engine.results import BackendResult, CheckResult, JacobianResult
 from fkcheck.engine.verdict import (
@@ -238,6 +239,9 @@ class CheckRecord:
         configurations: Configurations checked.
         answered: Backends that produced poses.
         backends: One record per backend, in the order asked.
+        calibration: For a calibrated model, what its calibration changes
+            against the nominal model over these configurations.
+        calibration_line: That, one line (``""`` for other models).
     """
 
     model: str
@@ -255,6 +259,8 @@ class CheckRecord:
     configurations: int
     answered: int
     backends: tuple[BackendRecord, ...]
+    calibration: CalibrationEffect | None = None
+    calibration_line: str = ""
 
     def of(self, kind: Kind) -> EvidenceRecord:
         """The evidence of one kind."""
@@ -498,4 +504,6 @@ def check_record(check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ())
         configurations=int(check.q.shape[0]),
         answered=len(check.ran),
         backends=tuple(backend_record(check, r, diagnoses, tolerance) for r in check.backends),
+        calibration=check.calibration,
+        calibration_line=check.calibration.line if check.calibration is not None else "",
     )

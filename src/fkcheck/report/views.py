@@ -638,6 +638,8 @@ class ReportPage:
             (empty when the check passed or the diagnosis was not asked for).
         jacobian: The Jacobian section (``check --jacobian``), or ``None``.
         numbers: The model's numbers and what the check verified of each, or ``None``.
+        calibration: What a calibrated model's calibration changes, one line
+            (``""`` for other models).
     """
 
     title: str
@@ -660,6 +662,7 @@ class ReportPage:
     diagnoses: tuple[DiagnosisView, ...] = ()
     jacobian: JacobianSection | None = None
     numbers: NumbersView | None = None
+    calibration: str = ""
 
 
 @dataclass(frozen=True)

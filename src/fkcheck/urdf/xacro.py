@@ -470,7 +470,7 @@ def _expression_names(fence: _Fence, load_yaml: Callable[[object], object]) -> d
 
 def _load_yaml(fence: _Fence, names: dict[str, object], filename: object) -> object:
     """``xacro.load_yaml``: a yaml file inside the roots, as plain data."""
-    import yaml  # type: ignore[import-untyped]  # (no stubs)
+    import yaml
 
     from fkcheck.urdf.expression import ExpressionError, plain
 

@@ -18,18 +18,20 @@ JOINT_TYPES = ("revolute", "prismatic")
 
 
 def read_joints(
-    r: Reader, top: Mapping[str, Any], header: Header
+    r: Reader, top: Mapping[str, Any], header: Header, *, linearised: bool = False
 ) -> tuple[tuple[Joint, ...], tuple[str, ...]]:
     """The DH table and the warnings it deserves (degrees in a radian file).
 
-    Joint names are unique; a row without one is ``joint<i+1>``.
+    Joint names are unique; a row without one is ``joint<i+1>``. In a
+    ``linearised`` table (a UR controller's calibration, ``[calibration]``
+    status 2) a θ beyond ±2π is the controller's own number, not degrees.
     """
     rows = _rows(r, top.get("joint"))
     joints: list[Joint] = []
     seen: dict[str, int] = {}
     warnings: list[str] = []
     for i, raw in enumerate(rows):
-        joint, row_warnings = _read_joint(r, raw, i, header, seen)
+        joint, row_warnings = _read_joint(r, raw, i, header, seen, linearised)
         joints.append(joint)
         warnings += row_warnings
     return tuple(joints), tuple(warnings)
@@ -56,7 +58,7 @@ def _rows(r: Reader, raw_joints: Any) -> list[Any]:
 
 
 def _read_joint(
-    r: Reader, raw: Any, i: int, header: Header, seen: dict[str, int]
+    r: Reader, raw: Any, i: int, header: Header, seen: dict[str, int], linearised: bool
 ) -> tuple[Joint, list[str]]:
     """Row ``i`` (its name recorded in ``seen``) and its warnings."""
     where = f"joint[{i}]"
@@ -76,7 +78,9 @@ def _read_joint(
     alpha = r.number(row["alpha"], f"{where}.alpha")
     theta = r.number(row.get("theta", 0.0), f"{where}.theta")
     limits = _limits(r, row, where, jtype, header.to_rad)
-    warnings = _degree_warnings(where, alpha, theta) if header.angle_unit == "rad" else []
+    warnings = []
+    if header.angle_unit == "rad":
+        warnings = _degree_warnings(where, alpha, 0.0 if linearised else theta)
     to_rad = header.to_rad
     joint = Joint(
         name=jname,

@@ -1,0 +1,149 @@
+"""What a calibration changes: the calibrated table's poses against the nominal table's.
+
+A factory calibration moves a UR arm's tool by millimetres. Over a check's
+configurations, both tables' ``from_T_to`` come from the in-house core, and
+their difference is summarised as every output shows it: largest, median and
+95th percentile, in millimetres and degrees, and the configuration of the
+largest position difference.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.core.typing import Float
+from fkcheck.errors import ModelError
+from fkcheck.model.frames import reference_poses, relative_pose
+from fkcheck.model.types import Model
+
+__all__ = ["CalibrationEffect", "calibration_effect", "nominal_model"]
+
+
+@dataclass(frozen=True)
+class CalibrationEffect:
+    """The calibrated ``from_T_to`` against the nominal one, over a check's configurations.
+
+    Attributes:
+        nominal: The nominal model's name.
+        identity: The calibration's name (hash, checksums or file digest).
+        frame_from: Frame the poses are expressed in.
+        frame_to: Frame whose poses are compared.
+        configurations: How many configurations were compared.
+        max_position_m: Largest position difference, metres.
+        median_position_m: Its median, metres.
+        p95_position_m: Its 95th percentile, metres.
+        max_rotation_rad: Largest rotation difference (angle of the relative rotation), rad.
+        median_rotation_rad: Its median, rad.
+        p95_rotation_rad: Its 95th percentile, rad.
+        worst_index: The configuration of the largest position difference.
+        worst_q: That configuration, rad.
+    """
+
+    nominal: str
+    identity: str
+    frame_from: str
+    frame_to: str
+    configurations: int
+    max_position_m: float
+    median_position_m: float
+    p95_position_m: float
+    max_rotation_rad: float
+    median_rotation_rad: float
+    p95_rotation_rad: float
+    worst_index: int
+    worst_q: tuple[float, ...]
+
+    @property
+    def line(self) -> str:
+        """One line for every format: sizes in mm and degrees, and where."""
+        mm = 1e3
+        deg = 180.0 / math.pi
+        where = ", ".join(f"{v * deg:.1f}°" for v in self.worst_q)
+        return (
+            f"calibration {self.identity} vs nominal {self.nominal} "
+            f"({self.frame_from} → {self.frame_to}, {self.configurations} configurations): "
+            f"position max {self.max_position_m * mm:.3f} mm, "
+            f"median {self.median_position_m * mm:.3f} mm, "
+            f"95th percentile {self.p95_position_m * mm:.3f} mm; "
+            f"rotation max {self.max_rotation_rad * deg:.4f}°, "
+            f"median {self.median_rotation_rad * deg:.4f}°, "
+            f"95th percentile {self.p95_rotation_rad * deg:.4f}°; "
+            f"largest at q = [{where}]"
+        )
+
+
+def nominal_model(calibrated: Model) -> Model:
+    """The nominal model a calibrated model names in ``[calibration] nominal``.
+
+    A bundled model's name, or a model file relative to the calibrated model's file.
+
+    Raises:
+        ModelError: No ``[calibration]``, or the nominal model cannot be loaded,
+            or its joints are not the calibrated model's.
+    """
+    from fkcheck.model.read import load_model
+
+    spec = calibrated.calibration
+    if spec is None:
+        raise ModelError(calibrated.path, "calibration", "the model has no [calibration]")
+    ref = spec.nominal
+    target: str | Path = ref
+    if ("/" in ref or "\\" in ref or ref.endswith((".toml", ".csv"))) and calibrated.path:
+        target = calibrated.path.parent / ref
+    try:
+        nominal = load_model(target)
+    except ModelError as exc:
+        raise ModelError(calibrated.path, "calibration.nominal", str(exc)) from None
+    if nominal.joint_names != calibrated.joint_names:
+        raise ModelError(
+            calibrated.path,
+            "calibration.nominal",
+            f"{ref!r} has joints {', '.join(nominal.joint_names)}; "
+            f"this model has {', '.join(calibrated.joint_names)}",
+        )
+    return nominal
+
+
+def _from_T_to(model: Model, q: Float, frame_from: str, frame_to: str) -> Float:
+    poses = reference_poses(model, q, (frame_from, frame_to))
+    return relative_pose(poses[0], poses[1])
+
+
+def calibration_effect(
+    calibrated: Model,
+    nominal: Model,
+    q: Float,
+    frame_from: str,
+    frame_to: str,
+    identity: str = "",
+) -> CalibrationEffect:
+    """Compare the two tables' ``from_T_to`` at ``q`` (shape ``(N, dof)``, N ≥ 1).
+
+    Raises:
+        FrameError: A frame is not in one of the models.
+    """
+    ours = _from_T_to(calibrated, q, frame_from, frame_to)
+    theirs = _from_T_to(nominal, q, frame_from, frame_to)
+    pos = position_error_m(ours, theirs)
+    rot = rotation_error_rad(ours, theirs)
+    worst = int(np.argmax(pos))
+    return CalibrationEffect(
+        nominal=nominal.name,
+        identity=identity or (calibrated.calibration.identity if calibrated.calibration else ""),
+        frame_from=frame_from,
+        frame_to=frame_to,
+        configurations=int(q.shape[0]),
+        max_position_m=float(pos.max()),
+        median_position_m=float(np.median(pos)),
+        p95_position_m=float(np.percentile(pos, 95)),
+        max_rotation_rad=float(rot.max()),
+        median_rotation_rad=float(np.median(rot)),
+        p95_rotation_rad=float(np.percentile(rot, 95)),
+        worst_index=worst,
+        worst_q=tuple(float(v) for v in q[worst]),
+    )

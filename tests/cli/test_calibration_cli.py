@@ -1,0 +1,93 @@
+"""`fkcheck calibration` as a UR user runs it, and what `fkcheck check` then shows."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from fkcheck.cli.main import main
+from fkcheck.report.markdown import escape_markdown
+from fkcheck.model.read import load_model
+from tests.calibration.ur_test_data import composed, write_conf, write_kinematics_info
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_calibration_writes_the_model_and_says_what_it_changes(tmp_path, capsys):
+    conf = write_conf(tmp_path / "calibration.conf", "ur10-test")
+    out_file = tmp_path / "models" / "robot.toml"
+    out_file.parent.mkdir()
+    code, out, err = run(capsys, "calibration", "ur10", conf, "-o", out_file, "--name", "cell3")
+    assert code == 0, err
+    first = out.splitlines()[0]
+    assert first.startswith(
+        "fkcheck calibration: calibration calibration.conf vs nominal ur10 (base → tool0, "
+    )
+    assert "position max 7.8" in first and "95th percentile" in first and "largest at q = [" in first
+    assert f"wrote {out_file}; check it: fkcheck check {out_file}" in out
+    model = load_model(out_file)
+    assert model.name == "cell3"
+    assert model.calibration is not None
+    assert model.calibration.file == "../calibration.conf"
+    assert model.calibration.status == 2
+    assert model.urdf is None  # the nominal description would differ by the calibration
+
+
+def test_check_of_a_calibrated_model_shows_the_effect_in_every_format(tmp_path, capsys):
+    nominal = load_model("ur10e")
+    info = write_kinematics_info(
+        tmp_path / "info.log", composed(nominal.joints, "ur10e-test-b"), 2
+    )
+    model = tmp_path / "robot.toml"
+    assert run(capsys, "calibration", "ur10e", info, "-o", model)[0] == 0
+    outputs = {k: tmp_path / f"r.{k}" for k in ("json", "html", "junit")}
+    summary = tmp_path / "summary.md"
+    code, out, err = run(
+        capsys, "check", model, "--samples", "64", "--against", "rtb-dh",
+        "--json", outputs["json"], "--html", outputs["html"], "--junit", outputs["junit"],
+        "--summary", summary,
+    )  # fmt: skip
+    assert code == 0, err
+    line = next(x for x in out.splitlines() if x.startswith("calibration info.log vs nominal"))
+    assert "position max 3." in line
+    data = json.loads(outputs["json"].read_text())["calibration"]
+    assert data["nominal"] == "ur10e" and data["line"] == line
+    assert 3e-3 < data["position_m"]["max"] < 4e-3
+    assert data["position_m"]["median"] <= data["position_m"]["p95"] <= data["position_m"]["max"]
+    assert line in outputs["html"].read_text().replace("&gt;", ">")
+    assert line in outputs["junit"].read_text()
+    assert escape_markdown(line) in summary.read_text()
+
+
+@pytest.mark.parametrize(
+    ("files", "match"),
+    [
+        (["missing.conf"], "missing.conf: "),
+        (["a.conf", "b.conf"], "b.conf: a second calibration table"),
+        (["bad.conf"], r"bad.conf: \[mounting\] has no delta_a"),
+    ],
+)
+def test_bad_calibration_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, files, match):
+    monkeypatch.chdir(tmp_path)
+    write_conf(tmp_path / "a.conf", "ur10-test")
+    write_conf(tmp_path / "b.conf", "ur10-test")
+    (tmp_path / "bad.conf").write_text("[mounting]\ndelta_theta = [0,0,0,0,0,0]\n")
+    code, out, err = run(capsys, "calibration", "ur10", *files, "-o", "out.toml")
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1, err
+    assert __import__("re").search(match, err), err
+    assert not Path("out.toml").exists()
+
+
+def test_a_calibration_of_another_type_is_refused_and_nothing_written(tmp_path, capsys):
+    conf = write_conf(tmp_path / "calibration.conf", "ur10e-test-a")
+    code, out, err = run(capsys, "calibration", "ur3e", conf, "-o", tmp_path / "out.toml")
+    assert code == 2
+    assert "does not fit ur3e" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "out.toml").exists()
