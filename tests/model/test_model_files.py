@@ -189,8 +189,8 @@ BAD_FILES = {
     "joint_not_table": (GOOD_HEAD + "joint = [1, 2]\n", r"joint\[0\]: expected a table"),
     "urdf_path_empty": (
         GOOD_HEAD + JOINT + '[urdf]\npath = ""\njoints = ["a"]\n',
-        r"urdf\.path: '' names no file: give the URDF's path \(relative to this file\) or "
-        r"example-robot-data:<subpath>$",
+        r"urdf\.path: '' names no file: give the URDF's path \(relative to this file\), "
+        r"example-robot-data:<subpath> or fkcheck:<subpath>$",
     ),
     "urdf_path_blank": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "  "\njoints = ["a"]\n',
@@ -199,6 +199,10 @@ BAD_FILES = {
     "urdf_path_bare_prefix": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "example-robot-data:"\njoints = ["a"]\n',
         r"urdf\.path: 'example-robot-data:' names no file",
+    ),
+    "urdf_path_bare_fkcheck_prefix": (
+        GOOD_HEAD + JOINT + '[urdf]\npath = "fkcheck:"\njoints = ["a"]\n',
+        r"urdf\.path: 'fkcheck:' names no file",
     ),
     "urdf_joint_count": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "x.urdf"\njoints = ["a", "b"]\n',

@@ -270,7 +270,7 @@ def relocate_urdf_path(model: Model, new_file: Path) -> Model:
 
     A relative URDF path (and a relative ``[urdf] packages`` directory) is
     relative to the model file; a model written elsewhere must point at the same
-    files. ``example-robot-data:`` and absolute
+    files. ``example-robot-data:``, ``fkcheck:`` and absolute
     paths are kept as they are.
     """
     if model.urdf is None or model.path is None:
@@ -278,7 +278,7 @@ def relocate_urdf_path(model: Model, new_file: Path) -> Model:
     old_dir, new_dir = model.path.parent, Path(new_file).resolve().parent
 
     def moved(spec: str) -> str:
-        if spec.startswith("example-robot-data:") or Path(spec).is_absolute():
+        if spec.startswith(("example-robot-data:", "fkcheck:")) or Path(spec).is_absolute():
             return spec
         return Path(os.path.relpath((old_dir / spec).resolve(), new_dir)).as_posix()
 

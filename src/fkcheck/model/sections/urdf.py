@@ -35,11 +35,11 @@ def _path(r: Reader, u: dict[str, Any]) -> str:
     if "path" not in u:
         raise r.fail("urdf.path", "missing (required in [urdf])")
     path = r.string(u["path"], "urdf.path")
-    if not path.strip() or path.strip() == "example-robot-data:":
+    if not path.strip() or path.strip() in ("example-robot-data:", "fkcheck:"):
         raise r.fail(
             "urdf.path",
-            f"{show_text(path)} names no file: give the URDF's path (relative to this file) "
-            "or example-robot-data:<subpath>",
+            f"{show_text(path)} names no file: give the URDF's path (relative to this file), "
+            "example-robot-data:<subpath> or fkcheck:<subpath>",
         )
     return path
 
