@@ -380,7 +380,7 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     check = run_check(model, [make_backend("rtb-dh")], samples=5)
     assert check.verdict == "pass"
     assert calls == []  # no backend reads the URDF: the file never ran
-    xacro_module._read.cache_clear()
+    xacro_module._CACHE.clear()
     backends = [make_backend(n) for n in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")]
     check = run_check(model, backends, samples=5)
     assert check.verdict == "pass"
@@ -490,3 +490,56 @@ def test_check_timeout_bounds_the_expansion_too(tmp_path, capsys):
     assert err.count("\n") == 1
     assert "xacro expansion did not end within 2 s (stopped)" in err
     assert time.perf_counter() - start < 15
+
+
+def test_a_kept_expansion_is_used_only_while_every_file_it_read_is_unchanged(tmp_path, monkeypatch):
+    """The per-process cache is keyed by the bytes of every file read, not a date."""
+    import os
+
+    import fkcheck.urdf.xacro as xacro_module
+
+    xacro_module._CACHE.clear()
+    path, package = write_description(tmp_path)
+    calls: list[Path] = []
+    expand = xacro_module.expand_xacro
+
+    def counted(where, *args, **kwargs):
+        calls.append(where)
+        return expand(where, *args, **kwargs)
+
+    monkeypatch.setattr(xacro_module, "expand_xacro", counted)
+    packages = {"arm_description": package}
+    first = read_xacro(path, {}, packages)
+    assert read_xacro(path, {}, packages) is first  # kept
+    assert len(calls) == 1
+    parts = package / "urdf" / "parts.xacro"  # an included file: same size, same mtime
+    stat = parts.stat()
+    parts.write_text(parts.read_text().replace('upper="3"', 'upper="2"'))
+    os.utime(parts, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    assert parts.stat().st_size == stat.st_size
+    changed = read_xacro(path, {}, packages)
+    assert len(calls) == 2
+    assert changed.text != first.text
+    assert read_xacro(path, {"reach": "0.5"}, packages) is not changed  # another argument
+    assert len(calls) == 3
+
+
+def test_an_expansion_that_looked_for_files_is_not_kept(tmp_path, monkeypatch):
+    """A wildcard include may match a file added later: such an expansion runs each time."""
+    import fkcheck.urdf.xacro as xacro_module
+
+    xacro_module._CACHE.clear()
+    top = TOP.replace(
+        '<link name="tip"/>', '<xacro:include filename="extra/*.xacro"/><link name="tip"/>'
+    )
+    path, package = write_description(tmp_path, top)
+    (path.parent / "extra").mkdir()
+    calls: list[Path] = []
+    expand = xacro_module.expand_xacro
+    monkeypatch.setattr(
+        xacro_module, "expand_xacro", lambda *a, **k: calls.append(a[0]) or expand(*a, **k)
+    )
+    packages = {"arm_description": package}
+    read_xacro(path, {}, packages)
+    read_xacro(path, {}, packages)
+    assert len(calls) == 2

@@ -118,6 +118,15 @@ def add_parser(sub: Any) -> None:
     )
     add_xacro_options(p, allow=False)
     p.add_argument(
+        "--arg-file",
+        dest="xacro_files",
+        action="append",
+        default=[],
+        metavar="NAME=FILE",
+        help="a xacro argument naming a file (kinematics_params=calibration.yaml): passed as its "
+        "absolute path, and that file alone becomes readable by the expansion (repeatable)",
+    )
+    p.add_argument(
         "-o", "--output", type=Path, required=True, metavar="ROBOT.urdf", help="the URDF to write"
     )
     p.add_argument(
@@ -142,7 +151,13 @@ def run(args: argparse.Namespace) -> int:
     timeout = XACRO_TIMEOUT_S if args.timeout is None else args.timeout
     check_option("timeout_s", timeout, "--timeout")  # the one rule of every time limit
     values, packages = xacro_inputs(args)
-    expansion = expand_xacro(xacro, values, packages, timeout)
+    files: dict[str, Path] = {}
+    for text in args.xacro_files:
+        name, where = _pair(text, "--arg-file", "FILE")
+        if name in files or name in values:
+            raise FkcheckError(f"--arg-file {name}: {name} is given twice (--arg or --arg-file)")
+        files[name] = Path(where)
+    expansion = expand_xacro(xacro, values, packages, timeout, files)
     text = expansion.text
     info = screen_expansion(xacro, text)
     sources = [("the xacro file", xacro)]
