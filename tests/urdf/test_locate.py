@@ -59,3 +59,16 @@ def test_expand_refuses_a_package_leaving_the_bundle(tmp_path, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert re.fullmatch(r"fkcheck: error: 'fkcheck:\.\./\.\.': .*\n", err), err
+
+
+def test_map_writes_a_bundled_package_with_the_prefix(tmp_path, capsys):
+    model = tmp_path / "ur5e.toml"
+    text = (bundled_models_dir() / "ur5e.toml").read_text(encoding="utf-8")
+    model.write_text(text[: text.index("# UR's own ROS 2 description")], encoding="utf-8")
+    argv = ["map", str(model), UR_XACRO, "--allow-xacro", "--arg", "ur_type=ur5e",
+            "--arg", "name=ur5e", "--package", "ur_description=fkcheck:ur_description"]  # fmt: skip
+    assert main(argv) == 0, capsys.readouterr().err
+    out = capsys.readouterr().out
+    assert f'path = "{UR_XACRO}"' in out
+    assert 'packages = { "ur_description" = "fkcheck:ur_description" }' in out
+    assert 'rpy = [-90.0, -90.0, 0.0]\nurdf = "flange"' in out  # as the bundled model has it

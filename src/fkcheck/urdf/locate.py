@@ -133,18 +133,13 @@ def locate_urdf(spec: str, relative_to: Path | None = None) -> tuple[Path, tuple
 def urdf_spec_for(path: Path, output: Path | None) -> str:
     """How a generated model file should name ``path``: by a prefix or relative to the file.
 
-    ``fkcheck:…`` for a bundled file, ``example-robot-data:…`` for one of that package.
+    ``example-robot-data:…`` for a file of that package, else as :func:`path_for`.
 
     Args:
         path: The URDF file.
         output: The model file to be written (``None``: printed, so the path is absolute).
     """
-    from fkcheck.model.read import bundled_models_dir
-
     resolved = path.resolve()
-    bundled = bundled_models_dir().resolve()
-    if resolved.is_relative_to(bundled):
-        return FKCHECK_PREFIX + resolved.relative_to(bundled).as_posix()
     try:
         robots = example_robot_data_dir().resolve()
     except BackendUnavailable:
@@ -155,13 +150,21 @@ def urdf_spec_for(path: Path, output: Path | None) -> str:
 
 
 def path_for(path: Path, output: Path | None) -> str:
-    """How a generated model file should name ``path``: relative to it, or absolute.
+    """How a generated model file should name ``path``: ``fkcheck:…``, relative, or absolute.
+
+    ``fkcheck:<subpath>`` for a file or directory bundled with fkcheck (UR's ROS 2
+    description), wherever the model file goes.
 
     Args:
         path: A file or directory.
         output: The model file to be written (``None``: printed, so the path is absolute).
     """
+    from fkcheck.model.read import bundled_models_dir
+
     resolved = path.resolve()
+    bundled = bundled_models_dir().resolve()
+    if resolved.is_relative_to(bundled) and resolved != bundled:
+        return FKCHECK_PREFIX + resolved.relative_to(bundled).as_posix()
     if output is None:
         return str(resolved)
     return Path(os.path.relpath(resolved, output.resolve().parent)).as_posix()
