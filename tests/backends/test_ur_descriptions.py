@@ -9,31 +9,18 @@ agree with the published tables.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import pytest
 
 from fkcheck.backends.registry import make_backend
 from fkcheck.engine.runner import run_check
 from fkcheck.model.read import load_model
-from fkcheck.model.types import Model, UrdfSpec
 from fkcheck.urdf.locate import FKCHECK_PREFIX
+from tests.helpers import on_ros1_description
 
 URDF_READERS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf", "mujoco-urdf", "idyntree-urdf")
 UR_TYPES = ("ur3", "ur3e", "ur5", "ur5e", "ur10", "ur10e", "ur16e", "ur20", "ur30")
 
 pytest.importorskip("example_robot_data")
-
-
-def on_ros1_description(model: Model) -> Model:
-    """``model`` on example-robot-data's ROS 1 URDF: ee_link mapped, flange (ROS 2 only) not."""
-    assert model.urdf is not None
-    urdf = UrdfSpec(f"example-robot-data:ur_description/urdf/{model.name}_robot.urdf",
-                    model.urdf.joints)  # fmt: skip
-    frames = dict(model.frames)
-    frames["ee_link"] = replace(frames["ee_link"], urdf="ee_link")
-    frames["flange"] = replace(frames["flange"], urdf=None)
-    return replace(model, urdf=urdf, frames=frames)
 
 
 @pytest.mark.parametrize("name", UR_TYPES)

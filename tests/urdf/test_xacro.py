@@ -22,7 +22,7 @@ from fkcheck.urdf.chain import urdf_kinematics
 from fkcheck.urdf.source import allow_xacro, load_urdf
 from fkcheck.urdf.tree import read_urdf
 from fkcheck.urdf.xacro import XACRO_MEMORY_BYTES, expand_xacro, read_xacro
-from tests.helpers import deadline
+from tests.helpers import deadline, ur5_ros1
 from tests.processes import LINUX_ONLY
 from tests.xacro_cases import (
     TOP,
@@ -127,7 +127,7 @@ def test_diagnose_takes_allow_xacro(tmp_path, capsys):
 
 
 def test_allow_xacro_sets_the_flag_only():
-    model = load_model("ur5")
+    model = ur5_ros1()  # a plain URDF, no opt-in
     allowed = allow_xacro(model)
     assert allowed.urdf is not None
     assert model.urdf is not None
@@ -411,14 +411,18 @@ def test_map_takes_allow_xacro_as_every_refusal_says(tmp_path, capsys):
     assert main(argv) == 0, capsys.readouterr().err
 
 
-def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(monkeypatch, capsys):
+def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(
+    monkeypatch, capsys, tmp_path
+):
     import fkcheck.urdf.xacro as xacro_module
 
     def never(*_args, **_kwargs):
         raise AssertionError("xacro ran on a plain URDF")
 
     monkeypatch.setattr(xacro_module, "expand_xacro", never)
-    argv = ["check", "ur5", "--allow-xacro", "--samples", "8", "--against", "pinocchio-urdf"]
+    model = tmp_path / "ur5_ros1.toml"  # example-robot-data's plain ur5_robot.urdf
+    model.write_text(model_to_toml(ur5_ros1()), encoding="utf-8")
+    argv = ["check", str(model), "--allow-xacro", "--samples", "8", "--against", "pinocchio-urdf"]
     code = main(argv)
     out = capsys.readouterr().out
     assert code == 0, out
