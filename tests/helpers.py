@@ -6,15 +6,37 @@ from __future__ import annotations
 import contextlib
 import signal
 from collections.abc import Iterator
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from fkcheck.model.read import bundled_model_paths
-from fkcheck.model.types import Model
+from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.types import Model, UrdfSpec
 
 #: The bundled model names, sorted (for parametrize).
 BUNDLED = sorted(bundled_model_paths())
+
+
+def on_ros1_description(model: Model) -> Model:
+    """A bundled UR3/UR5/UR10 on example-robot-data's older ROS 1 URDF (``urX_robot.urdf``).
+
+    The bundled models name UR's ROS 2 description; the ROS 1 one has the same
+    joints, ``base``, ``base_link`` and ``tool0``, and ``ee_link`` where ROS 2 has
+    ``flange``: ``ee_link`` is mapped, ``flange`` is not.
+    """
+    assert model.urdf is not None
+    urdf = UrdfSpec(f"example-robot-data:ur_description/urdf/{model.name}_robot.urdf",
+                    model.urdf.joints)  # fmt: skip
+    frames = dict(model.frames)
+    frames["ee_link"] = replace(frames["ee_link"], urdf="ee_link")
+    frames["flange"] = replace(frames["flange"], urdf=None)
+    return replace(model, urdf=urdf, frames=frames)
+
+
+def ur5_ros1() -> Model:
+    """The bundled UR5 on example-robot-data's ROS 1 ``ur5_robot.urdf``."""
+    return on_ros1_description(load_model("ur5"))
 
 
 def rotation_angle(R_a: np.ndarray, R_b: np.ndarray) -> np.ndarray:

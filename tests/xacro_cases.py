@@ -79,8 +79,13 @@ def twin_urdf(reach: str = "0.3") -> str:
 
 
 def environ_job(
-    data: bytes, path: str, args: dict[str, str], packages: dict[str, str], roots: list[str]
-) -> tuple[str, tuple[str, list[str]]]:
+    data: bytes,
+    path: str,
+    args: dict[str, str],
+    packages: dict[str, str],
+    roots: list[str],
+    files: list[str],
+) -> tuple[str, tuple[str, list[str], list[str]]]:
     """In place of the expansion's job: what the child's environment is, as text.
 
     ``repr((its /proc/self/environ, its supervisor's /proc/PID/environ, os.environ's names))``
@@ -92,7 +97,7 @@ def environ_job(
         own = f.read()
     with open(f"/proc/{os.getppid()}/environ", "rb") as f:
         supervisor = f.read()
-    return "ok", (repr((own, supervisor, sorted(os.environ))), [])
+    return "ok", (repr((own, supervisor, sorted(os.environ))), [], [])
 
 
 def grow_macro(leaf: str, depth: int) -> str:

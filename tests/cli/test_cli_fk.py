@@ -147,10 +147,11 @@ def test_q_file_bad_line_names_the_line(tmp_path, capsys):
 def test_models_lists_every_bundled_model(capsys):
     code, out, _ = run(capsys, "models")
     assert code == 0
-    for name in ("ur3", "ur5", "ur10", "ur3e", "ur5e", "ur10e", "ur16e", "panda", "puma560",
-                 "stanford", "planar2", "planar3"):  # fmt: skip
+    for name in ("ur3", "ur5", "ur10", "ur3e", "ur5e", "ur10e", "ur16e", "ur20", "ur30",
+                 "panda", "puma560", "stanford", "planar2", "planar3"):  # fmt: skip
         assert f" {name} " in out
     assert "modified" in out
+    assert "ur_description" not in out  # the bundled description is no model
 
 
 def test_console_script_entry_point_runs():

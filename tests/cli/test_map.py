@@ -10,7 +10,9 @@ from pathlib import Path
 import pytest
 
 from fkcheck.cli.main import main
+from fkcheck.model.write import model_to_toml
 from fkcheck.urdf.locate import locate_urdf
+from tests.helpers import ur5_ros1
 from tests.paths import REPO_ROOT
 
 UR5_URDF = "example-robot-data:ur_description/urdf/ur5_robot.urdf"
@@ -22,17 +24,24 @@ def test_map_prints_a_block_to_paste(capsys):
     out, err = capsys.readouterr()
     block = tomllib.loads(out)
     assert block["urdf"] == {
-        "path": UR5_URDF,
+        "path": "fkcheck:ur_description/urdf/ur.urdf.xacro",
         "joints": [
             "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
             "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
         ],
+        "xacro": True,
+        "xacro_args": {"ur_type": "ur5", "name": "ur5"},
+        "packages": {"ur_description": "fkcheck:ur_description"},
     }  # fmt: skip
-    assert block["frames"]["base_link"].pop("source").startswith("ROS-Industrial ur_description")
+    ros2 = "Universal_Robots_ROS2_Description 2.4.5, ur_macro.xacro"
+    assert block["frames"]["base_link"].pop("source").startswith(ros2)
     assert block["frames"]["base_link"] == {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}
+    assert block["frames"]["tool0"].pop("source").startswith(ros2)
     assert block["frames"]["tool0"] == {"dh": 6, "urdf": "tool0"}
+    assert block["frames"]["flange"].pop("source").startswith(ros2)
+    assert block["frames"]["flange"] == {"dh": 6, "rpy": [-90.0, -90.0, 0.0], "urdf": "flange"}
     assert "# tool0: max deviation" in out
-    assert "fkcheck map: ur5 onto ur5_robot.urdf: 6 joints" in err
+    assert "fkcheck map: ur5 onto ur.urdf.xacro: 6 joints" in err
 
 
 def test_map_writes_the_block_to_a_file(tmp_path, capsys):
@@ -129,7 +138,8 @@ def ur5_without_base(tmp_path: Path) -> Path:
         ):
             root.remove(el)
     ET.ElementTree(root).write(tmp_path / "robot.urdf")
-    text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
+    text = model_to_toml(ur5_ros1())  # the bundled UR5 on that ROS 1 URDF
+    assert UR5_URDF in text
     model = tmp_path / "ur5.toml"
     model.write_text(text.replace(UR5_URDF, "robot.urdf"), encoding="utf-8")
     return model
@@ -149,7 +159,9 @@ def test_a_frame_whose_link_is_absent_is_an_error_only_where_used(ur5_without_ba
 def test_map_keeps_a_frame_whose_link_is_absent_without_one(ur5_without_base, capsys):
     assert main(["map", str(ur5_without_base)]) == 0
     out = capsys.readouterr().out
-    assert tomllib.loads(out)["frames"]["base"] == {"dh": 0}
+    base = tomllib.loads(out)["frames"]["base"]
+    assert base.pop("source").startswith("Universal_Robots_ROS2_Description")  # kept
+    assert base == {"dh": 0}
     assert "its URDF link 'base' is not a link of robot.urdf" in out
 
 

@@ -113,7 +113,7 @@ def test_a_check_that_writes_expands_the_xacro_once(xarm, capsys, monkeypatch):
     """Naming the files runs the expansion; the check's URDF backends reuse it."""
     import fkcheck.urdf.xacro as xacro_module
 
-    xacro_module._read.cache_clear()
+    xacro_module._CACHE.clear()
     calls: list[Path] = []
     expand = xacro_module.expand_xacro
 
@@ -133,6 +133,6 @@ def test_a_check_that_writes_nothing_does_not_expand_for_dh_only_backends(
 ):
     import fkcheck.urdf.xacro as xacro_module
 
-    xacro_module._read.cache_clear()
+    xacro_module._CACHE.clear()
     monkeypatch.setattr(xacro_module, "expand_xacro", lambda *a, **k: pytest.fail("expanded"))
     assert main(["check", MODEL, *FEW, "--against", "rtb-dh"]) == 0, capsys.readouterr().err

@@ -97,7 +97,7 @@ def test_base_link_vs_base_is_named_and_the_printed_fix_passes(tmp_path, referen
     assert "base_link vs base" in best.title
     assert "Rz(π)" in best.title
     fix = tomllib.loads(best.fix_toml)["frames"]["base_link"]
-    assert fix.pop("source").startswith("ROS-Industrial")  # the frame's source is kept
+    assert fix.pop("source").startswith("Universal_Robots_ROS2_Description")  # kept
     assert fix == {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}  # ur5.toml is in deg
     # Apply the printed TOML to the broken model file and run the real check.
     text = model_to_toml(bad)
@@ -131,14 +131,14 @@ def test_a_base_or_tool_fix_is_written_as_the_model_file_writes_it():
 
 
 def test_flange_vs_tool0_is_a_tip_rotation_with_its_fix(reference):
-    bad = with_frame(load_model("ur5"), "ee_link", offset=Offset())  # ee_link mapped as tool0
-    result = run_diagnose(bad, reference, frame_from="base", frame_to="ee_link")
+    bad = with_frame(load_model("ur5"), "flange", offset=Offset())  # flange mapped as tool0
+    result = run_diagnose(bad, reference, frame_from="base", frame_to="flange")
     best = result.best
     assert best.kind == "frames"
     assert "flange/ee_link vs tool0" in best.title
-    fix = tomllib.loads(best.fix_toml)["frames"]["ee_link"]
-    assert fix["rpy"] == [90.0, -90.0, 0.0]  # ur5.toml's documented ee_link mapping
-    check = run_check(best.model, [reference], samples=32, frame_from="base", frame_to="ee_link")
+    fix = tomllib.loads(best.fix_toml)["frames"]["flange"]
+    assert fix["rpy"] == [-90.0, -90.0, 0.0]  # ur5.toml's documented flange mapping
+    check = run_check(best.model, [reference], samples=32, frame_from="base", frame_to="flange")
     assert check.verdict == "pass"
 
 
@@ -295,12 +295,10 @@ def test_cli_json_and_exit_codes(tmp_path, capsys):
 
 
 def test_swapped_urdf_joints_are_named(reference):
-    from fkcheck.model.types import UrdfSpec
-
     good = load_model("ur5")
     names = list(good.urdf.joints)
     names[1], names[2] = names[2], names[1]
-    bad = replace(good, urdf=UrdfSpec(good.urdf.path, tuple(names)))
+    bad = replace(good, urdf=replace(good.urdf, joints=tuple(names)))
     best = run_diagnose(bad, reference).best
     assert best.kind == "mapping"
     assert "'elbow_joint' and 'shoulder_lift_joint' swapped (DH joints 2 and 3)" in best.title

@@ -3,8 +3,8 @@
 Expected sizes are derived from the tables, not from fkcheck's output: a d1 of
 0.08946 instead of 0.089159 moves every pose 0.301 mm along the base z axis; a
 base frame turned π about z moves a point p by 2·|p_xy| and turns it by π; tool0
-and ee_link differ by the fixed rotation of seed URDF origins rpy(-π/2, 0, 0)
-vs rpy(0, 0, π/2), an angle of 2π/3.
+and flange differ by the fixed rotation of UR's ROS 2 description, flange → tool0
+rpy(π/2, 0, π/2) (the rotation [[0,1,0],[0,0,1],[1,0,0]]), an angle of 2π/3.
 """
 
 from __future__ import annotations
@@ -95,8 +95,8 @@ def test_base_link_without_its_pi_turn_fails_by_about_2_m_and_pi(capsys, tmp_pat
         assert b["max_rotation_error_rad"] == pytest.approx(math.pi, abs=1e-6)
 
 
-def test_tool0_mapped_onto_ee_link_fails_on_rotation_alone(capsys, tmp_path):
-    model = ur5_variant(tmp_path, 'urdf = "tool0"', 'urdf = "ee_link"')
+def test_tool0_mapped_onto_flange_fails_on_rotation_alone(capsys, tmp_path):
+    model = ur5_variant(tmp_path, 'urdf = "tool0"', 'urdf = "flange"')
     code, doc, _ = check(capsys, tmp_path, model, "--against", URDF_BACKENDS)
     assert code == 1
     for b in doc["backends"]:
@@ -107,8 +107,8 @@ def test_tool0_mapped_onto_ee_link_fails_on_rotation_alone(capsys, tmp_path):
 
 def test_every_mapped_frame_pair_passes(capsys, tmp_path):
     for frame_from, frame_to in [
-        ("base_link", "ee_link"),
-        ("base", "ee_link"),
+        ("base_link", "flange"),
+        ("base", "flange"),
         ("base_link", "tool0"),
     ]:
         code, doc, out = check(capsys, tmp_path, "ur5", "--from", frame_from, "--to", frame_to)

@@ -42,13 +42,21 @@ def run(capsys, tmp_path: Path, model: Path | str, *extra: str) -> tuple[int, di
     return code, json.loads((out_dir / "r.json").read_text()), out + err, out_dir
 
 
+def without_urdf(name: str) -> str:
+    """A bundled UR model's file without its [urdf], [frames] and [check]: nothing independent."""
+    text = bundled_model_paths()[name].read_text()
+    return text[: text.index("# UR's own ROS 2 description")]
+
+
 def ur5e_d1_10mm(tmp_path: Path) -> Path:
-    return variant(tmp_path, "ur5e", "d = 0.1625", "d = 0.1725")
+    path = tmp_path / "ur5e_d1.toml"
+    path.write_text(without_urdf("ur5e").replace("d = 0.1625", "d = 0.1725", 1))
+    return path
 
 
 def ur5e_alpha4_flipped(tmp_path: Path) -> Path:
     # joint[3] (wrist_1) is the second `alpha = 90`.
-    text = bundled_model_paths()["ur5e"].read_text()
+    text = without_urdf("ur5e")
     head, _, tail = text.partition('name = "wrist_1"')
     path = tmp_path / "ur5e_alpha4.toml"
     path.write_text(head + 'name = "wrist_1"' + tail.replace("alpha = 90", "alpha = -90", 1))
@@ -103,7 +111,7 @@ def test_require_table_makes_an_unchecked_table_fatal(capsys, tmp_path, make):
 
 def test_require_in_the_model_file_works_like_the_flag(capsys, tmp_path):
     path = tmp_path / "ur5e_required.toml"
-    path.write_text(bundled_model_paths()["ur5e"].read_text() + '\n[check]\nrequire = ["table"]\n')
+    path.write_text(without_urdf("ur5e") + '\n[check]\nrequire = ["table"]\n')
     code, doc, _, _ = run(capsys, tmp_path, path)
     assert (code, doc["verdict"], doc["evidence"]["unmet"]) == (1, "unverified", ["table"])
 
@@ -156,7 +164,10 @@ def test_a_urdf_declared_but_not_mapped_is_an_error_naming_what_to_map(
         assert rows[name]["status"] == "error"
         assert "has no URDF twin" in rows[name]["message"]
         assert "[frames.world]" in rows[name]["message"]
-        assert "URDF links: base_link, shoulder_link" in rows[name]["message"]
+        assert (
+            "URDF links: world, base_link, base_link_inertia, shoulder_link"
+            in rows[name]["message"]
+        )
     assert doc["evidence"]["table"]["status"] == "not-checked"
     assert "(no urdf" not in out  # the old skip text with its hole is gone
     assert "[frames.world]" in out  # printed literally, not eaten as rich markup
@@ -183,7 +194,7 @@ def test_a_non_rigid_answer_is_a_failure_with_reason_and_position_error(
 
 
 def test_ur_frames_are_named_as_their_descriptions_name_them():
-    """tool0 → flange as UR's ROS 2 description has it; ee_link as ROS 1's."""
+    """tool0 → flange as UR's ROS 2 description has it (mapped); ee_link as ROS 1's (not)."""
     for name in ("ur3", "ur5", "ur10"):
         model = load_model(name)
         q = np.zeros((1, 6))
@@ -198,15 +209,15 @@ def test_ur_frames_are_named_as_their_descriptions_name_them():
         # flange is ee_link turned 180° about x.
         ee_link_T_flange = relative_pose(poses[2], poses[1])[0]
         np.testing.assert_allclose(ee_link_T_flange[:3, :3], np.diag([1, -1, -1]), atol=1e-15)
-        assert model.frames["ee_link"].urdf == "ee_link"
-        assert model.frames["flange"].urdf is None  # the ROS 1 URDF has no flange link
+        assert model.frames["flange"].urdf == "flange"
+        assert model.frames["ee_link"].urdf is None  # the ROS 2 URDF has no ee_link
 
 
 def test_a_urdf_link_names_the_frame_mapped_onto_it(capsys, tmp_path):
     code, doc, out, _ = run(capsys, tmp_path, "ur5", "--from", "urdf:base_link", "--to",
-                            "urdf:ee_link")  # fmt: skip
+                            "urdf:flange")  # fmt: skip
     assert code == 0, out
-    assert (doc["from"], doc["to"]) == ("base_link", "ee_link")
+    assert (doc["from"], doc["to"]) == ("base_link", "flange")
     assert doc["evidence"]["table"]["status"] == "verified"
 
 

@@ -625,7 +625,7 @@ ROUND_THREE = {
     "map_urdf_empty": (
         {},
         ["map", "planar2", ""],
-        r"^fkcheck: error: '': names no file: give a URDF file's path or example-robot-data:",
+        r"^fkcheck: error: '': names no file: give a URDF file's path, example-robot-data:",
     ),
     "poses_frame_the_model_lacks": (
         {"p.csv": PENDANT_HEAD.replace("to=tool0", "to=nosuch") + ZERO_ROW},

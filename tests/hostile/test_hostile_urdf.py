@@ -59,10 +59,15 @@ def snapshot(root: Path) -> dict[str, tuple[int, int]]:
     return out
 
 
+def ur5_plain() -> str:
+    """ur5.toml without its xacro opt-in: its [urdf] is to be a plain URDF, xacro refused."""
+    toml = bundled_model_paths()["ur5"].read_text()
+    return re.sub(r"^(xacro|xacro_args|packages) = .*\n", "", toml, flags=re.MULTILINE)
+
+
 def model_with_urdf(tmp_path: Path, urdf: str | bytes | None, *, edit=lambda s: s) -> Path:
     """ur5.toml, pointed at ``robot.urdf`` next to it (None: no URDF file written)."""
-    toml = bundled_model_paths()["ur5"].read_text()
-    toml = re.sub(r'path = ".*"', 'path = "robot.urdf"', toml)
+    toml = re.sub(r'path = ".*"', 'path = "robot.urdf"', ur5_plain())
     model = tmp_path / "ur5_local.toml"
     model.write_text(edit(toml))
     if isinstance(urdf, str):
@@ -74,8 +79,7 @@ def model_with_urdf(tmp_path: Path, urdf: str | bytes | None, *, edit=lambda s: 
 
 def model_pointing_at(tmp_path: Path, target: Path) -> Path:
     """ur5.toml with ``[urdf].path`` naming ``target`` (absolute)."""
-    toml = bundled_model_paths()["ur5"].read_text()
-    toml = re.sub(r'path = ".*"', f'path = "{target}"', toml)
+    toml = re.sub(r'path = ".*"', f'path = "{target}"', ur5_plain())
     model = tmp_path / "ur5_local.toml"
     model.write_text(toml)
     return model

@@ -170,7 +170,7 @@ def test_ur5_as_modified_dh_moves_nothing_into_the_tool():
     [
         ("panda", ("panda_link0", "panda_link3")),
         ("panda", ("panda_link2", "panda_hand")),
-        ("ur5", ("base_link", "ee_link")),
+        ("ur5", ("base_link", "flange")),
     ],
 )
 def test_converted_model_passes_the_check_against_its_urdf_mid_chain(name, pair):

@@ -26,6 +26,8 @@ UR_NOMINAL = {  # Universal Robots' published table: d1, a2, a3, d4, d5, d6 (m)
     "ur5e": (0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996),
     "ur10e": (0.1807, -0.6127, -0.57155, 0.17415, 0.11985, 0.11655),
     "ur16e": (0.1807, -0.4784, -0.36, 0.17415, 0.11985, 0.11655),
+    "ur20": (0.2363, -0.862, -0.7287, 0.201, 0.1593, 0.1543),
+    "ur30": (0.2363, -0.637, -0.5037, 0.201, 0.1593, 0.1543),
 }
 
 
@@ -189,8 +191,8 @@ BAD_FILES = {
     "joint_not_table": (GOOD_HEAD + "joint = [1, 2]\n", r"joint\[0\]: expected a table"),
     "urdf_path_empty": (
         GOOD_HEAD + JOINT + '[urdf]\npath = ""\njoints = ["a"]\n',
-        r"urdf\.path: '' names no file: give the URDF's path \(relative to this file\) or "
-        r"example-robot-data:<subpath>$",
+        r"urdf\.path: '' names no file: give the URDF's path \(relative to this file\), "
+        r"example-robot-data:<subpath> or fkcheck:<subpath>$",
     ),
     "urdf_path_blank": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "  "\njoints = ["a"]\n',
@@ -199,6 +201,10 @@ BAD_FILES = {
     "urdf_path_bare_prefix": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "example-robot-data:"\njoints = ["a"]\n',
         r"urdf\.path: 'example-robot-data:' names no file",
+    ),
+    "urdf_path_bare_fkcheck_prefix": (
+        GOOD_HEAD + JOINT + '[urdf]\npath = "fkcheck:"\njoints = ["a"]\n',
+        r"urdf\.path: 'fkcheck:' names no file",
     ),
     "urdf_joint_count": (
         GOOD_HEAD + JOINT + '[urdf]\npath = "x.urdf"\njoints = ["a", "b"]\n',

@@ -43,6 +43,10 @@ def test_dh_from_urdf_of_every_bundled_urdf_lints_clean(name, convention, deg, t
     out = tmp_path / f"{name}.toml"
     argv = ["dh-from-urdf", model.urdf.path, "--base", base, "--tip", tip, "--convention",
             convention, "-o", str(out)]  # fmt: skip
+    if model.urdf.xacro:  # UR's ROS 2 description, bundled: fkcheck:ur_description
+        argv += ["--allow-xacro"]
+        argv += [f"--arg={k}={v}" for k, v in model.urdf.xacro_args.items()]
+        argv += [f"--package={k}={v}" for k, v in model.urdf.packages.items()]
     assert main([*argv, "--deg"] if deg else argv) == 0
     rounded = bool(model.known_differences)  # these URDFs write right angles rounded
     capsys.readouterr()

@@ -22,9 +22,14 @@ from fkcheck.model.read import bundled_model_paths, load_model, model_from_dict
 from fkcheck.model.types import CheckSpec, FrameSpec, Model
 from fkcheck.model.write import model_to_toml
 from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
-from fkcheck.urdf.locate import ERD_PREFIX
+from fkcheck.urdf.locate import ERD_PREFIX, FKCHECK_PREFIX
 from fkcheck.urdf.mapping import MapResult, link_frame, map_model, proposal_toml
 from fkcheck.urdf.source import load_urdf
+from tests.helpers import ur5_ros1
+
+#: How far a link may stray from a constant offset: UR's ROS 2 kinematics YAML writes
+#: π/2 as 1.570796327, 2e-10 rad short, ~1e-9 m and rad over a metre of arm.
+SPREAD = 5e-9
 
 #: Every bundled model that names a URDF, read from models/ (new arms are covered).
 MAPPED = [name for name, path in bundled_model_paths().items() if load_model(path).urdf]
@@ -37,7 +42,11 @@ def _kin(model: Model) -> UrdfKinematics:
 def _mapped(name: str) -> tuple[Model, MapResult]:
     model = load_model(name)
     assert model.urdf is not None
-    return model, map_model(model, _kin(model), model.urdf.path)
+    xacro = model.urdf.xacro
+    result = map_model(model, _kin(model), model.urdf.path,
+                       xacro_args=model.urdf.xacro_args if xacro else None,
+                       packages=model.urdf.packages)  # fmt: skip
+    return model, result
 
 
 def _recorded_to_differ(model: Model) -> bool:
@@ -79,8 +88,9 @@ def test_map_proposes_the_bundled_joints_and_frames(name):
         assert got.spec.urdf == spec.urdf
         assert got.spec.dh == spec.dh
         np.testing.assert_allclose(got.spec.offset.matrix, spec.offset.matrix, atol=1e-9)
-        assert got.fit.spread_m <= 1e-9
-        assert got.fit.spread_rad <= 1e-9
+        # UR's ROS 2 YAML writes π/2 as 1.570796327 (2e-10 rad short): ~1e-9 over the arm.
+        assert got.fit.spread_m <= SPREAD
+        assert got.fit.spread_rad <= SPREAD
     # Both ends have a link (the bundled check's frames included).
     assert any(p.fit is not None and p.spec.dh == 0 for p in result.frames)
     assert any(p.fit is not None and p.spec.dh in (model.dof, "tcp") for p in result.frames)
@@ -103,7 +113,7 @@ def test_check_passes_on_a_model_rebuilt_from_the_map(name, tmp_path):
     if not result.complete:
         return
     assert model.urdf is not None
-    assert model.urdf.path.startswith(ERD_PREFIX)
+    assert model.urdf.path.startswith((ERD_PREFIX, FKCHECK_PREFIX))
     rebuilt = _rebuilt(model, result, tmp_path)
     assert rebuilt.urdf == model.urdf
     assert _passes_pinocchio_urdf(rebuilt)
@@ -120,7 +130,8 @@ def test_check_passes_on_a_model_rebuilt_from_the_map(name, tmp_path):
 
 
 def test_names_are_ranked_by_how_common_they_are():
-    _model, result = _mapped("ur5")
+    model = ur5_ros1()  # ROS 1's ur5_robot.urdf: base, base_link, world; tool0, ee_link
+    result = map_model(model, _kin(model), "ur5_robot.urdf")
     at_base = [p.spec.urdf for p in result.frames if p.spec.dh == 0 and p.fit is not None]
     assert at_base == ["base", "base_link", "world"]
     at_tip = [p.spec.urdf for p in result.frames if p.spec.dh == 6 and p.fit is not None]
@@ -131,6 +142,14 @@ def test_names_are_ranked_by_how_common_they_are():
     assert frames["urdf_world"].urdf == "world"
     assert frames["wrist_3_link"].offset.xyz == (0.0, 0.0, -0.0823)  # snapped: exact
     assert frames["flange"].urdf is None  # declared without a link: kept
+
+
+def test_names_on_urs_ros2_description():
+    _model, result = _mapped("ur5")
+    at_base = [p.spec.urdf for p in result.frames if p.spec.dh == 0 and p.fit is not None]
+    assert at_base[:2] == ["base", "base_link"]
+    at_tip = [p.spec.urdf for p in result.frames if p.spec.dh == 6 and p.fit is not None]
+    assert at_tip[:2] == ["tool0", "flange"]
 
 
 def test_the_panda_flange_frames_stay_at_the_tcp():
@@ -149,7 +168,7 @@ def _with_row(model: Model, index: int, **change: object) -> Model:
 
 
 def test_a_flipped_alpha_matches_no_link_and_says_how_near():
-    model = load_model("ur5")
+    model = ur5_ros1()
     wrong = _with_row(model, 3, alpha=-model.joints[3].alpha)  # α4 = -90° instead of 90°
     result = map_model(wrong, _kin(model), "ur5.urdf")
     assert not result.complete
@@ -163,7 +182,7 @@ def test_a_flipped_alpha_matches_no_link_and_says_how_near():
 
 
 def test_a_joint_turning_the_other_way_is_named_with_the_fix():
-    model = load_model("ur5")
+    model = ur5_ros1()
     flipped = _with_row(model, 4, flip=True)
     result = map_model(flipped, _kin(model), "ur5.urdf")
     assert result.joints_fit
@@ -174,7 +193,7 @@ def test_a_joint_turning_the_other_way_is_named_with_the_fix():
 
 
 def test_an_undeclared_link_is_placed_on_its_dh_frame():
-    model = load_model("ur5")
+    model = ur5_ros1()
     fit = link_frame(model, _kin(model), "wrist_2_link")
     assert fit.anchor == 5
     assert fit.offset.xyz == (0.0, 0.09465, 0.0)
@@ -183,14 +202,14 @@ def test_an_undeclared_link_is_placed_on_its_dh_frame():
 
 
 def test_an_unknown_link_lists_the_links():
-    model = load_model("ur5")
+    model = ur5_ros1()
     with pytest.raises(FrameError, match="wrist_2_link"):
         link_frame(model, _kin(model), "nosuch")
 
 
 @pytest.mark.parametrize(("link", "anchor"), [("shoulder_link", 1), ("upper_arm_link", 2)])
 def test_a_link_next_to_the_base_is_placed_on_its_dh_frame(link, anchor):
-    model = load_model("ur5")
+    model = ur5_ros1()
     fit = link_frame(model, _kin(model), link)
     assert fit.anchor == anchor
     assert fit.fits(1e-9, 1e-9)
@@ -209,7 +228,7 @@ def test_a_wrong_table_refuses_every_placement_and_says_where_the_link_hangs(
 ):
     """Not "at no constant offset from any DH frame": the link is fixed to DH frame 1, but
     the chain the placement is fitted from does not move as the table does."""
-    model = load_model("ur5")
+    model = ur5_ros1()
     value = {k: (-getattr(model.joints[joint], k) if v == "sign" else v) for k, v in change.items()}
     wrong = _with_row(model, joint, **value)
     with pytest.raises(FkcheckError) as refused:
@@ -255,7 +274,7 @@ def test_a_link_below_a_floating_joint_is_refused_for_that_reason(tmp_path):
     from fkcheck.urdf.chain import read_urdf_file
     from fkcheck.urdf.source import resolve_urdf_path
 
-    model = load_model("ur5")
+    model = ur5_ros1()
     path, _ = resolve_urdf_path(model)
     text = path.read_text(encoding="utf-8").replace(
         "</robot>",
@@ -278,7 +297,7 @@ def test_names_from_the_urdf_never_become_lines_of_the_proposed_toml(tmp_path):
     from fkcheck.cli.main import main
     from fkcheck.urdf.source import resolve_urdf_path
 
-    model = load_model("ur5")
+    model = ur5_ros1()
     path, _ = resolve_urdf_path(model)
     evil = "&#10;xacro = true&#10;#"
     text = path.read_text(encoding="utf-8")

@@ -22,7 +22,7 @@ from fkcheck.urdf.chain import urdf_kinematics
 from fkcheck.urdf.source import allow_xacro, load_urdf
 from fkcheck.urdf.tree import read_urdf
 from fkcheck.urdf.xacro import XACRO_MEMORY_BYTES, expand_xacro, read_xacro
-from tests.helpers import deadline
+from tests.helpers import deadline, ur5_ros1
 from tests.processes import LINUX_ONLY
 from tests.xacro_cases import (
     TOP,
@@ -127,7 +127,7 @@ def test_diagnose_takes_allow_xacro(tmp_path, capsys):
 
 
 def test_allow_xacro_sets_the_flag_only():
-    model = load_model("ur5")
+    model = ur5_ros1()  # a plain URDF, no opt-in
     allowed = allow_xacro(model)
     assert allowed.urdf is not None
     assert model.urdf is not None
@@ -380,7 +380,7 @@ def test_the_file_is_expanded_once_per_check_and_only_for_backends_that_read_it(
     check = run_check(model, [make_backend("rtb-dh")], samples=5)
     assert check.verdict == "pass"
     assert calls == []  # no backend reads the URDF: the file never ran
-    xacro_module._read.cache_clear()
+    xacro_module._CACHE.clear()
     backends = [make_backend(n) for n in ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")]
     check = run_check(model, backends, samples=5)
     assert check.verdict == "pass"
@@ -411,14 +411,18 @@ def test_map_takes_allow_xacro_as_every_refusal_says(tmp_path, capsys):
     assert main(argv) == 0, capsys.readouterr().err
 
 
-def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(monkeypatch, capsys):
+def test_a_plain_urdf_with_the_opt_in_is_read_as_plain_xacro_never_runs(
+    monkeypatch, capsys, tmp_path
+):
     import fkcheck.urdf.xacro as xacro_module
 
     def never(*_args, **_kwargs):
         raise AssertionError("xacro ran on a plain URDF")
 
     monkeypatch.setattr(xacro_module, "expand_xacro", never)
-    argv = ["check", "ur5", "--allow-xacro", "--samples", "8", "--against", "pinocchio-urdf"]
+    model = tmp_path / "ur5_ros1.toml"  # example-robot-data's plain ur5_robot.urdf
+    model.write_text(model_to_toml(ur5_ros1()), encoding="utf-8")
+    argv = ["check", str(model), "--allow-xacro", "--samples", "8", "--against", "pinocchio-urdf"]
     code = main(argv)
     out = capsys.readouterr().out
     assert code == 0, out
@@ -490,3 +494,56 @@ def test_check_timeout_bounds_the_expansion_too(tmp_path, capsys):
     assert err.count("\n") == 1
     assert "xacro expansion did not end within 2 s (stopped)" in err
     assert time.perf_counter() - start < 15
+
+
+def test_a_kept_expansion_is_used_only_while_every_file_it_read_is_unchanged(tmp_path, monkeypatch):
+    """The per-process cache is keyed by the bytes of every file read, not a date."""
+    import os
+
+    import fkcheck.urdf.xacro as xacro_module
+
+    xacro_module._CACHE.clear()
+    path, package = write_description(tmp_path)
+    calls: list[Path] = []
+    expand = xacro_module.expand_xacro
+
+    def counted(where, *args, **kwargs):
+        calls.append(where)
+        return expand(where, *args, **kwargs)
+
+    monkeypatch.setattr(xacro_module, "expand_xacro", counted)
+    packages = {"arm_description": package}
+    first = read_xacro(path, {}, packages)
+    assert read_xacro(path, {}, packages) is first  # kept
+    assert len(calls) == 1
+    parts = package / "urdf" / "parts.xacro"  # an included file: same size, same mtime
+    stat = parts.stat()
+    parts.write_text(parts.read_text().replace('upper="3"', 'upper="2"'))
+    os.utime(parts, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    assert parts.stat().st_size == stat.st_size
+    changed = read_xacro(path, {}, packages)
+    assert len(calls) == 2
+    assert changed.text != first.text
+    assert read_xacro(path, {"reach": "0.5"}, packages) is not changed  # another argument
+    assert len(calls) == 3
+
+
+def test_an_expansion_that_looked_for_files_is_not_kept(tmp_path, monkeypatch):
+    """A wildcard include may match a file added later: such an expansion runs each time."""
+    import fkcheck.urdf.xacro as xacro_module
+
+    xacro_module._CACHE.clear()
+    top = TOP.replace(
+        '<link name="tip"/>', '<xacro:include filename="extra/*.xacro"/><link name="tip"/>'
+    )
+    path, package = write_description(tmp_path, top)
+    (path.parent / "extra").mkdir()
+    calls: list[Path] = []
+    expand = xacro_module.expand_xacro
+    monkeypatch.setattr(
+        xacro_module, "expand_xacro", lambda *a, **k: calls.append(a[0]) or expand(*a, **k)
+    )
+    packages = {"arm_description": package}
+    read_xacro(path, {}, packages)
+    read_xacro(path, {}, packages)
+    assert len(calls) == 2

@@ -47,7 +47,8 @@ def add_xacro_options(p: argparse.ArgumentParser, *, allow: bool = True) -> None
         default=[],
         type=utf8_text,
         metavar="NAME=DIR",
-        help="a package $(find NAME) resolves to DIR (repeatable); no other package is found",
+        help="a package $(find NAME) resolves to DIR, or to fkcheck:<subpath> bundled with "
+        "fkcheck (repeatable); no other package is found",
     )
 
 
@@ -66,6 +67,7 @@ def xacro_inputs(args: argparse.Namespace) -> tuple[dict[str, str], dict[str, Pa
             a name is given twice, or (on a command with ``--allow-xacro``) they
             are given without it.
     """
+    from fkcheck.urdf.locate import locate
     from fkcheck.urdf.xacro import check_package_name
 
     if not getattr(args, "allow_xacro", True) and (args.xacro_args or args.xacro_packages):
@@ -86,7 +88,7 @@ def xacro_inputs(args: argparse.Namespace) -> tuple[dict[str, str], dict[str, Pa
             raise FkcheckError(f"--package: {exc}") from None
         if name in packages:
             raise FkcheckError(f"--package {name} is given twice")
-        packages[name] = Path(where)
+        packages[name] = locate(where)  # a directory, or fkcheck:<subpath> (bundled)
     return values, packages
 
 
@@ -107,8 +109,23 @@ def add_parser(sub: Any) -> None:
         "file or any file it includes. Exit 2 with one line on any problem; nothing is "
         "written then.",
     )
-    p.add_argument("xacro", type=Path, metavar="FILE.xacro", help="the xacro file")
+    p.add_argument(
+        "xacro",
+        type=str,
+        metavar="FILE.xacro",
+        help="the xacro file, or fkcheck:<subpath> for one bundled with fkcheck "
+        "(fkcheck:ur_description/urdf/ur.urdf.xacro)",
+    )
     add_xacro_options(p, allow=False)
+    p.add_argument(
+        "--arg-file",
+        dest="xacro_files",
+        action="append",
+        default=[],
+        metavar="NAME=FILE",
+        help="a xacro argument naming a file (kinematics_params=calibration.yaml): passed as its "
+        "absolute path, and that file alone becomes readable by the expansion (repeatable)",
+    )
     p.add_argument(
         "-o", "--output", type=Path, required=True, metavar="ROBOT.urdf", help="the URDF to write"
     )
@@ -127,15 +144,23 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.model.options import check_option
+    from fkcheck.urdf.locate import locate
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, expand_xacro, screen_expansion
 
+    xacro = locate(args.xacro)
     timeout = XACRO_TIMEOUT_S if args.timeout is None else args.timeout
     check_option("timeout_s", timeout, "--timeout")  # the one rule of every time limit
     values, packages = xacro_inputs(args)
-    expansion = expand_xacro(args.xacro, values, packages, timeout)
+    files: dict[str, Path] = {}
+    for text in args.xacro_files:
+        name, where = _pair(text, "--arg-file", "FILE")
+        if name in files or name in values:
+            raise FkcheckError(f"--arg-file {name}: {name} is given twice (--arg or --arg-file)")
+        files[name] = Path(where)
+    expansion = expand_xacro(xacro, values, packages, timeout, files)
     text = expansion.text
-    info = screen_expansion(args.xacro, text)
-    sources = [("the xacro file", args.xacro)]
+    info = screen_expansion(xacro, text)
+    sources = [("the xacro file", xacro)]
     sources += [("a file the xacro file includes", f) for f in expansion.files[1:]]
     plan(args, [("-o", args.output)], sources)
     write_text_atomic(args.output, text if text.endswith("\n") else text + "\n")

@@ -160,7 +160,11 @@ class UrdfSpec:
             (:mod:`fkcheck.urdf.xacro`); without it a xacro file is refused.
         xacro_args: xacro arguments (``<xacro:arg>``) by name, as text.
         packages: The only packages ``$(find …)`` may resolve: name → directory
-            as written (relative to the model file).
+            as written (relative to the model file, or ``fkcheck:<subpath>``).
+        xacro_files: xacro arguments that name a file (a calibration's
+            ``kinematics_params``): name → file as written (relative to the model
+            file). Each is passed as its absolute path and is the one file
+            outside the description the expansion may read.
         expanded: A xacro file's expansion once the check has made it (the engine
             sets it, so that backends in processes of their own read it instead
             of running the file again); never read from a model file.
@@ -171,6 +175,7 @@ class UrdfSpec:
     xacro: bool = False
     xacro_args: dict[str, str] = field(default_factory=dict)
     packages: dict[str, str] = field(default_factory=dict)
+    xacro_files: dict[str, str] = field(default_factory=dict)
     expanded: str | None = field(default=None, repr=False, compare=False)
 
 

@@ -134,9 +134,14 @@ def _joint_lines(joint: Joint, unit: Literal["rad", "deg"]) -> list[str]:
 
 
 def xacro_toml(urdf: UrdfSpec) -> list[str]:
-    """The ``[urdf]`` lines of the xacro opt-in: ``xacro``, ``xacro_args``, ``packages``."""
+    """The ``[urdf]`` lines of the xacro opt-in: ``xacro`` and its tables."""
     out = ["xacro = true"] if urdf.xacro else []
-    for key, table in (("xacro_args", urdf.xacro_args), ("packages", urdf.packages)):
+    tables = (
+        ("xacro_args", urdf.xacro_args),
+        ("packages", urdf.packages),
+        ("xacro_files", urdf.xacro_files),
+    )
+    for key, table in tables:
         if table:
             items = ", ".join(f"{toml_string(k)} = {toml_string(v)}" for k, v in table.items())
             out.append(f"{key} = {{ {items} }}")
@@ -290,7 +295,7 @@ def relocate_urdf_path(model: Model, new_file: Path) -> Model:
 
     A relative URDF path (and a relative ``[urdf] packages`` directory) is
     relative to the model file; a model written elsewhere must point at the same
-    files. ``example-robot-data:`` and absolute
+    files (and ``xacro_files``). ``example-robot-data:``, ``fkcheck:`` and absolute
     paths are kept as they are.
     """
     if model.urdf is None or model.path is None:
@@ -298,9 +303,11 @@ def relocate_urdf_path(model: Model, new_file: Path) -> Model:
     old_dir, new_dir = model.path.parent, Path(new_file).resolve().parent
 
     def moved(spec: str) -> str:
-        if spec.startswith("example-robot-data:") or Path(spec).is_absolute():
+        if spec.startswith(("example-robot-data:", "fkcheck:")) or Path(spec).is_absolute():
             return spec
         return Path(os.path.relpath((old_dir / spec).resolve(), new_dir)).as_posix()
 
     packages = {name: moved(where) for name, where in model.urdf.packages.items()}
-    return replace(model, urdf=replace(model.urdf, path=moved(model.urdf.path), packages=packages))
+    files = {name: moved(where) for name, where in model.urdf.xacro_files.items()}
+    urdf = replace(model.urdf, path=moved(model.urdf.path), packages=packages, xacro_files=files)
+    return replace(model, urdf=urdf)

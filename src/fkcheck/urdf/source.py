@@ -18,7 +18,7 @@ from pathlib import Path
 
 from fkcheck.errors import UrdfError, XacroRefused
 from fkcheck.model.types import Model
-from fkcheck.urdf.locate import locate_urdf
+from fkcheck.urdf.locate import locate, locate_urdf
 from fkcheck.urdf.tree import UrdfInfo, read_urdf
 from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, read_xacro, screen_expansion
 
@@ -46,9 +46,10 @@ def read_model_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> U
     With ``xacro = true`` a file the screen finds xacro in is expanded
     (:func:`~fkcheck.urdf.xacro.read_xacro`) with the model's ``xacro_args``,
     ``$(find …)`` resolving only its ``packages`` (directories relative to the
-    model file) — or its ``expanded`` text, which the engine keeps, is screened
-    again; a plain URDF is read as one, xacro never runs on it. Without the
-    opt-in a xacro file is refused by the screen, naming the opt-in.
+    model file, or ``fkcheck:<subpath>``), its ``xacro_files`` passed as files
+    — or its ``expanded`` text, which the engine keeps, is screened again; a
+    plain URDF is read as one, xacro never runs on it. Without the opt-in a
+    xacro file is refused by the screen, naming the opt-in.
     ``xacro_timeout_s`` is the expansion's time limit.
 
     Raises:
@@ -61,14 +62,15 @@ def read_model_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> U
     if not model.urdf.xacro:
         return read_urdf(path, package_dirs)
     base = Path.cwd() if model.path is None else model.path.parent
-    packages = {name: base / where for name, where in model.urdf.packages.items()}
+    packages = {name: locate(where, base) for name, where in model.urdf.packages.items()}
+    files = {name: locate(where, base) for name, where in model.urdf.xacro_files.items()}
     dirs = package_dirs + tuple(p.parent for p in packages.values())
     if model.urdf.expanded is not None:  # expanded once by this check: screened, not re-run
         return screen_expansion(path, model.urdf.expanded, dirs)
     try:
         return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
     except XacroRefused:
-        return read_xacro(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s)
+        return read_xacro(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s, files)
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:

@@ -26,7 +26,9 @@ xacro's macros and properties over plain data:
 * ``<xacro:include>`` (wildcards too) and ``xacro.load_yaml`` read files only
   inside the directory of the xacro file and the declared packages, regular
   files of at most :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`, named relative to
-  the file that names them, as xacro does; yaml is read with yaml's safe loader
+  the file that names them, as xacro does — and the files the caller passes as
+  arguments (``xacro_files`` in ``[urdf]``, ``--arg-file`` on the command
+  line), each of them alone; yaml is read with yaml's safe loader
   (and xacro's unit tags, ``!degrees 90``) and becomes plain data;
 * it runs in a child process (:func:`fkcheck.process.isolation.run_isolated`)
   executed with an empty environment, with a time limit
@@ -42,9 +44,11 @@ xacro's macros and properties over plain data:
 from __future__ import annotations
 
 import functools
+import hashlib
 import io
 import os
 import re
+import threading
 import types
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
@@ -61,6 +65,7 @@ __all__ = [
     "XACRO_MEMORY_BYTES",
     "XACRO_TIMEOUT_S",
     "XacroExpansion",
+    "check_argument_files",
     "check_package_name",
     "expand_xacro",
     "read_xacro",
@@ -85,10 +90,53 @@ class XacroExpansion:
         text: The expanded document (not screened yet: :func:`screen_expansion`).
         files: Every file the expansion read, resolved: the xacro file first, then
             its includes and ``load_yaml`` files in the order they were read.
+        probed: Whether the expansion looked for files it did not read (a
+            wildcard include, an optional include of a missing file): then the
+            files alone do not say whether it would expand the same again.
     """
 
     text: str
     files: tuple[Path, ...]
+    probed: bool = False
+
+
+def check_argument_files(
+    path: Path | str, args: Mapping[str, str], files: Mapping[str, Path]
+) -> dict[str, Path]:
+    """The files of xacro arguments that name one, resolved and checked.
+
+    Each must be a regular file of at most
+    :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`; a symbolic link is followed, as
+    an include's is, and the file it leads to is the one passed and readable.
+
+    Args:
+        path: The xacro file (for messages).
+        args: The other xacro arguments: a name may not be in both.
+        files: Argument name → file.
+
+    Returns:
+        Argument name → the file's resolved absolute path.
+
+    Raises:
+        UrdfError: A name is in both, or a file is missing, not a regular file
+            (a directory, a FIFO, a device) or too large: one line naming it.
+    """
+    from fkcheck.io.files import InputFileError, check_regular_file
+
+    checked: dict[str, Path] = {}
+    for name, file in files.items():
+        if name in args:
+            raise UrdfError(
+                path,
+                f"xacro argument {name!r} is given both as a value and as a file: give it once "
+                "(xacro_args or xacro_files in [urdf]; --arg or --arg-file)",
+            )
+        try:
+            check_regular_file(file, MAX_URDF_BYTES)
+        except InputFileError as exc:
+            raise UrdfError(path, f"xacro argument file {name}={file}: {exc.problem}") from None
+        checked[name] = file.resolve()
+    return checked
 
 
 def check_package_name(name: str) -> str:
@@ -105,6 +153,7 @@ def expand_xacro(
     args: Mapping[str, str] | None = None,
     packages: Mapping[str, Path] | None = None,
     timeout_s: float = XACRO_TIMEOUT_S,
+    files: Mapping[str, Path] | None = None,
 ) -> XacroExpansion:
     """Expand a xacro file to plain URDF text, in a time- and memory-limited child process.
 
@@ -116,13 +165,17 @@ def expand_xacro(
             command line.
         packages: The only packages ``$(find …)`` resolves: name → directory.
         timeout_s: The time limit of the expansion, s.
+        files: xacro arguments that name a file: name → file. Each is passed as
+            its absolute path and becomes readable by ``load_yaml`` and includes
+            (that file only; :func:`check_argument_files`).
 
     Returns:
         The expanded document and the files it was made of.
 
     Raises:
         UrdfError: The file cannot be read, a declared package is not a
-            directory, or the expansion fails (a missing argument, an undeclared
+            directory, an argument file is refused (:func:`check_argument_files`),
+            or the expansion fails (a missing argument, an undeclared
             package, ``$(env …)``, an include outside the allowed directories, a
             xacro error, the time or memory limit, an answer beyond
             :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`): one line naming the file.
@@ -134,8 +187,11 @@ def expand_xacro(
             raise UrdfError(path, f"package {name!r} is declared at {directory}, not a directory")
         declared[name] = str(directory.resolve())
     roots = [str(path.resolve().parent), *declared.values()]
+    arg_files = check_argument_files(path, args or {}, files or {})
+    values = {**(args or {}), **{name: str(file) for name, file in arg_files.items()}}
+    allowed = sorted({str(file) for file in arg_files.values()})
     job = functools.partial(
-        _expand_job, data, str(path.resolve()), dict(args or {}), declared, roots
+        _expand_job, data, str(path.resolve()), values, declared, roots, allowed
     )
     try:
         kind, value = run_isolated(job, timeout_s, _ANSWER_BYTES, env=_CHILD_ENV)
@@ -147,9 +203,9 @@ def expand_xacro(
         raise UrdfError(path, f"xacro expansion failed: {exc}") from None
     if kind != "ok":
         raise UrdfError(path, f"xacro expansion failed: {value}")
-    text, included = value
-    files = dict.fromkeys([path.resolve(), *(Path(name) for name in included)])
-    return XacroExpansion(str(text), tuple(files))
+    text, included, probed = value
+    read = dict.fromkeys([path.resolve(), *(Path(name) for name in included)])
+    return XacroExpansion(str(text), tuple(read), bool(probed))
 
 
 def read_xacro(
@@ -158,11 +214,16 @@ def read_xacro(
     packages: Mapping[str, Path] | None = None,
     package_dirs: tuple[Path, ...] = (),
     timeout_s: float = XACRO_TIMEOUT_S,
+    files: Mapping[str, Path] | None = None,
 ) -> UrdfInfo:
     """Expand a xacro file and screen, check and summarise the result as a URDF.
 
-    The result is cached by the file, its modification time and size, the
-    arguments and the packages (a check reads the URDF once per backend).
+    The result is kept for the rest of the process (a test suite checks the same
+    description many times), keyed by the file, the arguments, the argument
+    files, the packages, ``package_dirs`` and the working directory, and used
+    again only while every file the expansion read has the same bytes; an
+    expansion that looked for files it did not read (a wildcard include, an
+    optional include of a missing file) is not kept.
 
     Args:
         path: The xacro file.
@@ -170,36 +231,52 @@ def read_xacro(
         packages: The packages ``$(find …)`` may resolve: name → directory.
         package_dirs: Directories holding the ``package://`` packages it names.
         timeout_s: The time limit of the expansion, s.
+        files: xacro arguments that name a file (:func:`expand_xacro`).
 
     Raises:
         UrdfError: As :func:`expand_xacro`, or the expanded URDF is refused by
             the screen (:mod:`fkcheck.urdf.screen`) or is not a valid tree.
     """
-    st = check_urdf_path(path)
-    return _read(
-        path,
+    check_urdf_path(path)
+    key = (
+        str(path.resolve()),
         tuple(sorted((args or {}).items())),
-        tuple(sorted((packages or {}).items())),
-        package_dirs,
-        timeout_s,
-        st.st_mtime_ns,
-        st.st_size,
+        tuple(sorted((name, str(d.resolve())) for name, d in (packages or {}).items())),
+        tuple(sorted((name, str(f.resolve())) for name, f in (files or {}).items())),
+        tuple(str(d) for d in package_dirs),
+        os.getcwd(),
     )
-
-
-@functools.lru_cache(maxsize=16)
-def _read(
-    path: Path,
-    args: tuple[tuple[str, str], ...],
-    packages: tuple[tuple[str, Path], ...],
-    package_dirs: tuple[Path, ...],
-    timeout_s: float,
-    mtime_ns: int,
-    size: int,
-) -> UrdfInfo:
-    expansion = expand_xacro(path, dict(args), dict(packages), timeout_s)
+    with _CACHE_LOCK:
+        kept = _CACHE.get(key)
+    if kept is not None and kept[1] == _digests(kept[0].files):
+        return kept[0]
+    expansion = expand_xacro(path, args, packages, timeout_s, files)
     info = screen_expansion(path, expansion.text, package_dirs)
-    return replace(info, files=expansion.files)  # no output of the run may replace one
+    info = replace(info, files=expansion.files)  # no output of the run may replace one
+    digests = _digests(expansion.files)
+    if not expansion.probed and digests is not None:
+        with _CACHE_LOCK:
+            _CACHE.pop(key, None)
+            _CACHE[key] = (info, digests)
+            while len(_CACHE) > _CACHE_SIZE:
+                del _CACHE[next(iter(_CACHE))]
+    return info
+
+
+#: How many expansions :func:`read_xacro` keeps.
+_CACHE_SIZE = 16
+_CACHE: dict[tuple[object, ...], tuple[UrdfInfo, tuple[str, ...]]] = {}
+_CACHE_LOCK = threading.Lock()
+
+
+def _digests(files: tuple[Path, ...]) -> tuple[str, ...] | None:
+    """The SHA-256 of each file's bytes (``None`` when one cannot be read)."""
+    from fkcheck.io.files import InputFileError, read_bytes
+
+    try:
+        return tuple(hashlib.sha256(read_bytes(f, MAX_URDF_BYTES)).hexdigest() for f in files)
+    except (InputFileError, OSError):
+        return None
 
 
 def screen_expansion(path: Path, text: str, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
@@ -238,9 +315,17 @@ class _Refused(Exception):
 
 
 def _expand_job(
-    data: bytes, path: str, args: dict[str, str], packages: dict[str, str], roots: list[str]
-) -> tuple[str, str | tuple[str, list[str]]]:
-    """Expand in the child: ``("ok", (urdf, files read))`` or ``("error", one line)``."""
+    data: bytes,
+    path: str,
+    args: dict[str, str],
+    packages: dict[str, str],
+    roots: list[str],
+    files: list[str],
+) -> tuple[str, str | tuple[str, list[str], list[str]]]:
+    """Expand in the child: ``("ok", (urdf, files read, looked for))`` or ``("error", one line)``.
+
+    ``files`` are the only files outside ``roots`` it may read (argument files).
+    """
     import resource
 
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
@@ -250,8 +335,9 @@ def _expand_job(
     # Executed with no environment (_CHILD_ENV); what Python itself set at start-up goes too.
     os.environ.clear()
     read: list[str] = []
+    probed: list[str] = []
     try:
-        xacro = _fenced_xacro(path, packages, roots, read)
+        xacro = _fenced_xacro(path, packages, roots, files, read, probed)
         from xacrodoc import XacroDoc
 
         xacro.init_stacks(path)  # relative includes are relative to the file, not to the cwd
@@ -264,7 +350,7 @@ def _expand_job(
             "error",
             f"its expansion is larger than {MAX_URDF_BYTES} bytes (the limit for a URDF)",
         )
-    return "ok", (text, read)
+    return "ok", (text, read, probed)
 
 
 def _one_line(exc: BaseException) -> str:
@@ -296,19 +382,30 @@ def _shown(text: str) -> str:
     return flat if len(flat) <= 100 else flat[:100] + "…"
 
 
-def _fenced_xacro(top: str, packages: dict[str, str], roots: list[str], read: list[str]) -> Any:
+def _fenced_xacro(
+    top: str,
+    packages: dict[str, str],
+    roots: list[str],
+    files: list[str],
+    read: list[str],
+    probed: list[str],
+) -> Any:
     """Import xacro (through xacrodoc) and put fkcheck's evaluator and fences in it.
 
     ``${…}`` and ``$(eval …)`` are evaluated by :func:`fkcheck.urdf.expression.evaluate`
     (xacro's ``safe_eval`` and ``substitution_args._eval`` are replaced; nothing
-    calls Python's ``eval``); files are read only inside ``roots``, each appended
-    to ``read``; ``$(find …)`` resolves only ``packages``; the environment is refused.
+    calls Python's ``eval``); files are read only inside ``roots`` or among
+    ``files``, each appended to ``read`` (wildcards and missing optional
+    includes to ``probed``); ``$(find …)`` resolves only ``packages``; the environment is refused.
     """
     import xacro  # type: ignore[import-untyped]  # (no stubs; xacrodoc's dependency)
     import xacrodoc  # noqa: F401  (it patches $(find …) on import: patch after it)
     from xacro import substitution_args
 
-    fence = _Fence(xacro, top, packages, roots, read, xacro.parse, xacro.eval_extension)
+    fence = _Fence(
+        xacro, top, packages, roots, frozenset(files), read, probed, xacro.parse,
+        xacro.eval_extension,
+    )  # fmt: skip
     names: dict[str, object] = {}
     load_yaml = functools.partial(_load_yaml, fence, names)
     names.update(_expression_names(fence, load_yaml))
@@ -336,7 +433,9 @@ class _Fence:
         top: The xacro file being expanded.
         packages: The only packages ``$(find …)`` resolves: name → directory.
         roots: The directories files may be read from.
+        files: The files outside them that may be read (argument files), resolved.
         read: The files read, appended to as they are.
+        probed: Wildcard includes and missing optional includes, appended to as met.
         parse: xacro's own ``parse`` (before it is replaced).
         eval_extension: xacro's own ``eval_extension`` (before it is replaced).
     """
@@ -345,7 +444,9 @@ class _Fence:
     top: str
     packages: dict[str, str]
     roots: list[str]
+    files: frozenset[str]
     read: list[str]
+    probed: list[str]
     parse: Callable[..., Any]
     eval_extension: Callable[[str], Any]
 
@@ -360,8 +461,10 @@ class _Fence:
     # --- files: the xacro file's directory and the declared packages only
 
     def confined(self, filename: str, what: str, name: str) -> Path:
-        """``filename`` resolved, when inside the roots."""
+        """``filename`` resolved, when inside the roots or one of the argument files."""
         target = Path(filename).resolve()
+        if str(target) in self.files:
+            return target
         if not any(target.is_relative_to(root) for root in self.roots):
             raise _Refused(
                 f"{what} {name!r}: outside the xacro file's directory and the declared "
@@ -387,6 +490,7 @@ class _Fence:
                 os.path.join(self.xacro.root_dir, filename), "include of", filename
             )
             if not target.exists():  # xacro's own error (an optional include is skipped)
+                self.probed.append(str(target))
                 return self.parse(None, filename)
             return self.parse(io.BytesIO(self.read_file(target, "include of", filename)))
         return self.parse(inp, filename)
@@ -400,6 +504,7 @@ class _Fence:
             raise _Refused(f"include of {pattern!r}: '..' after a wildcard is not allowed")
         self.confined(os.path.dirname(pattern[:magic]) or ".", "include of", pattern)
         found = sorted(glob.glob(pattern))
+        self.probed.append(pattern)
         for name in found:
             if not any(Path(name).resolve().is_relative_to(root) for root in self.roots):
                 raise _Refused(

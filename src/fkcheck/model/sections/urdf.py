@@ -10,7 +10,7 @@ from fkcheck.model.types import PACKAGE_NAME, UrdfSpec
 
 __all__ = ["URDF_KEYS", "read_urdf"]
 
-URDF_KEYS = {"path", "joints", "xacro", "xacro_args", "packages"}
+URDF_KEYS = {"path", "joints", "xacro", "xacro_args", "packages", "xacro_files"}
 
 
 def read_urdf(r: Reader, raw: Any, n: int) -> UrdfSpec:
@@ -21,13 +21,22 @@ def read_urdf(r: Reader, raw: Any, n: int) -> UrdfSpec:
     xacro = r.flag(u.get("xacro", False), "urdf.xacro")
     xacro_args = r.text_table(u.get("xacro_args", {}), "urdf.xacro_args", "a value")
     packages = r.text_table(u.get("packages", {}), "urdf.packages", "a directory")
+    xacro_files = r.text_table(u.get("xacro_files", {}), "urdf.xacro_files", "a file")
+    for name in xacro_files:
+        if name in xacro_args:
+            raise r.fail(
+                f"urdf.xacro_files.{shown_key(name)}",
+                "also in urdf.xacro_args: an argument is a value or a file, give it in one of them",
+            )
+        if not xacro_files[name].strip():
+            raise r.fail(f"urdf.xacro_files.{shown_key(name)}", "names no file")
     for pname in packages:
         if not PACKAGE_NAME.fullmatch(pname):
             raise r.fail(
                 f"urdf.packages.{shown_key(pname)}",
                 "not a package name (letters, digits, '_', '.', '-')",
             )
-    return UrdfSpec(path, joints, xacro, xacro_args, packages)
+    return UrdfSpec(path, joints, xacro, xacro_args, packages, xacro_files)
 
 
 def _path(r: Reader, u: dict[str, Any]) -> str:
@@ -35,11 +44,11 @@ def _path(r: Reader, u: dict[str, Any]) -> str:
     if "path" not in u:
         raise r.fail("urdf.path", "missing (required in [urdf])")
     path = r.string(u["path"], "urdf.path")
-    if not path.strip() or path.strip() == "example-robot-data:":
+    if not path.strip() or path.strip() in ("example-robot-data:", "fkcheck:"):
         raise r.fail(
             "urdf.path",
-            f"{show_text(path)} names no file: give the URDF's path (relative to this file) "
-            "or example-robot-data:<subpath>",
+            f"{show_text(path)} names no file: give the URDF's path (relative to this file), "
+            "example-robot-data:<subpath> or fkcheck:<subpath>",
         )
     return path
 
