@@ -44,7 +44,9 @@ def _table(model) -> Table:
 
 def _assert_same_table(got: Table, want: Table) -> None:
     for field in ("theta", "a", "d", "alpha"):
-        np.testing.assert_allclose(getattr(got, field), getattr(want, field), rtol=0, atol=TABLE_TOL)
+        np.testing.assert_allclose(
+            getattr(got, field), getattr(want, field), rtol=0, atol=TABLE_TOL
+        )
 
 
 @pytest.mark.parametrize("name", sorted(DELTAS))

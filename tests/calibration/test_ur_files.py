@@ -60,11 +60,15 @@ def test_yaml_gives_the_links_and_the_hash(tmp_path: Path) -> None:
 
 def test_urs_own_default_kinematics_yaml_is_read(tmp_path: Path) -> None:
     # The shape of UR's config/<type>/default_kinematics.yaml (ints, floats, -0).
-    text = "kinematics:\n" + "".join(
-        f"  {link}:\n    x: 0\n    y: -0\n    z: 0.1625\n    roll: 1.570796327\n"
-        "    pitch: 0\n    yaw: -0\n"
-        for link in ("shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3")
-    ) + "  hash: calib_12788084448423163542\n"
+    text = (
+        "kinematics:\n"
+        + "".join(
+            f"  {link}:\n    x: 0\n    y: -0\n    z: 0.1625\n    roll: 1.570796327\n"
+            "    pitch: 0\n    yaw: -0\n"
+            for link in ("shoulder", "upper_arm", "forearm", "wrist_1", "wrist_2", "wrist_3")
+        )
+        + "  hash: calib_12788084448423163542\n"
+    )
     path = tmp_path / "default_kinematics.yaml"
     path.write_text(text, encoding="utf-8")
     cal = read_ur_calibration(path)

@@ -143,6 +143,11 @@ def apply_calibration(
         + (f", calibration status {cal.status}: {status}" if status else "")
         + ")"
     )
+    if table is not None:
+        source = (
+            f"derived from UR's description of {nominal.name} with {cal.form} {file_ref} "
+            f"({cal.identity}) by fkcheck's URDF → DH extraction"
+        )
     model = replace(
         nominal,
         name=name or f"{nominal.name}-calibrated",

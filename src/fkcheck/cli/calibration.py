@@ -98,7 +98,13 @@ def run(args: argparse.Namespace) -> int:
     written = terminal_text(args.output)
     again = terminal_text(shlex.quote(operand(str(args.output))))
     print(f"wrote {written}; check it: fkcheck check {again}")
-    if model.urdf is None:
+    if table_file is None:
+        print(
+            "the table is derived from UR's description with the YAML, so that description "
+            "cannot check it: compare it with what the controller recorded (fkcheck check "
+            f"{again} --against poses:RECORDING.csv), or give calibration.conf too"
+        )
+    elif model.urdf is None:
         print(
             "no description to check the table against: give the robot's ur_calibration YAML "
             "too (fkcheck calibration NOMINAL calibration.conf robot_calibration.yaml)"
