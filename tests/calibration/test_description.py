@@ -72,7 +72,8 @@ def test_urs_own_yaml_path_misses_the_controller_by_micrometres(tmp_path, capsys
     doc = _check_json(capsys, tmp_path, model)
     assert doc["verdict"] == "fail"
     urdf = [b for b in doc["backends"] if b["evidence"] == "table"]
-    assert urdf and all(b["status"] == "fail" for b in urdf)
+    assert urdf
+    assert all(b["status"] == "fail" for b in urdf)
     worst = max(b["max_position_error_m"] for b in urdf)
     # At most what the 1080-configuration check measured, and the same size.
     assert 0.3 * UR_YAML_PATH_M[name] < worst <= UR_YAML_PATH_M[name] * 1.01

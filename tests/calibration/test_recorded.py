@@ -45,7 +45,8 @@ def test_recording_passes_against_the_calibrated_model_and_not_the_nominal(tmp_p
     against = ["--against", f"poses:{recording}"]
     assert main(["check", str(model), *against]) == 0, capsys.readouterr()
     out = capsys.readouterr().out
-    assert "poses:" in out and "pass" in out
+    assert "poses:" in out
+    assert "pass" in out
     # Against the nominal table: the calibration's size, in millimetres, not just "fail".
     assert main(["check", "ur10", *against]) == 1
     out = capsys.readouterr().out

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from fkcheck.cli.main import main
-from fkcheck.report.markdown import escape_markdown
 from fkcheck.model.read import load_model
+from fkcheck.report.markdown import escape_markdown
 from tests.calibration.ur_test_data import composed, write_conf, write_kinematics_info
 
 
@@ -29,7 +29,9 @@ def test_calibration_writes_the_model_and_says_what_it_changes(tmp_path, capsys)
     assert first.startswith(
         "fkcheck calibration: calibration calibration.conf vs nominal ur10 (base → tool0, "
     )
-    assert "position max 7.8" in first and "95th percentile" in first and "largest at q = [" in first
+    assert "position max 7.8" in first
+    assert "95th percentile" in first
+    assert "largest at q = [" in first
     assert f"wrote {out_file}; check it: fkcheck check {out_file}" in out
     model = load_model(out_file)
     assert model.name == "cell3"
@@ -57,7 +59,8 @@ def test_check_of_a_calibrated_model_shows_the_effect_in_every_format(tmp_path, 
     line = next(x for x in out.splitlines() if x.startswith("calibration info.log vs nominal"))
     assert "position max 3." in line
     data = json.loads(outputs["json"].read_text())["calibration"]
-    assert data["nominal"] == "ur10e" and data["line"] == line
+    assert data["nominal"] == "ur10e"
+    assert data["line"] == line
     assert 3e-3 < data["position_m"]["max"] < 4e-3
     assert data["position_m"]["median"] <= data["position_m"]["p95"] <= data["position_m"]["max"]
     assert line in outputs["html"].read_text().replace("&gt;", ">")
@@ -78,7 +81,7 @@ def test_bad_calibration_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypa
     write_conf(tmp_path / "a.conf", "ur10-test")
     write_conf(tmp_path / "b.conf", "ur10-test")
     (tmp_path / "bad.conf").write_text("[mounting]\ndelta_theta = [0,0,0,0,0,0]\n")
-    code, out, err = run(capsys, "calibration", "ur10", *files, "-o", "out.toml")
+    code, _out, err = run(capsys, "calibration", "ur10", *files, "-o", "out.toml")
     assert code == 2
     assert len(err.strip().splitlines()) == 1, err
     assert __import__("re").search(match, err), err
@@ -87,7 +90,8 @@ def test_bad_calibration_input_is_one_line_and_exit_2(tmp_path, capsys, monkeypa
 
 def test_a_calibration_of_another_type_is_refused_and_nothing_written(tmp_path, capsys):
     conf = write_conf(tmp_path / "calibration.conf", "ur10e-test-a")
-    code, out, err = run(capsys, "calibration", "ur3e", conf, "-o", tmp_path / "out.toml")
+    code, _out, err = run(capsys, "calibration", "ur3e", conf, "-o", tmp_path / "out.toml")
     assert code == 2
-    assert "does not fit ur3e" in err and len(err.strip().splitlines()) == 1
+    assert "does not fit ur3e" in err
+    assert len(err.strip().splitlines()) == 1
     assert not (tmp_path / "out.toml").exists()
