@@ -137,7 +137,8 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
     table.add_row("fkcheck-dh", "", "reference", "", "", "", "")
     for r in record.backends:
         # A backend on a subset (the check's plan) is named with its count.
-        name = terminal_markup(r.name) + (f"\n({r.subset})" if r.subset else "")
+        subset = r.subset.removesuffix(" configurations")
+        name = terminal_markup(r.name) + (f"\n({subset})" if subset else "")
         if r.ran:
             worst_q = r.worst_q_text if r.status in ("fail", "xfail") else ""
             table.add_row(
