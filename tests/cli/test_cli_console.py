@@ -42,7 +42,8 @@ def test_square_brackets_in_skip_reasons_and_names_print_literally(tmp_path, cap
     path = _model(tmp_path, "arm [bold]x[/bold] [/]")
     assert main(["check", str(path), "--samples", "2", "--against", "rtb-dh"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("fkcheck arm [bold]x[/bold] [/]: base → tool0, 83 configurations")
+    assert out.startswith("fkcheck arm [bold]x[/bold] [/]: base → tool0, 2 sobol samples")
+    assert "\n83 configurations compared\n" in out
 
 
 def test_the_header_names_what_runs_and_keeps_brackets(tmp_path):
@@ -73,10 +74,12 @@ def test_no_line_wraps_in_a_log(tmp_path, capsys):
             "--against", "rtb-dh"]  # fmt: skip
     assert main(argv) == 0
     lines = capsys.readouterr().out.splitlines()
+    # The header, flushed before the check runs, is the log's first line.
     assert lines[0] == (
-        f"fkcheck {name}: base → tool0, 83 configurations (2 sobol samples, seed 0), "
-        "tolerance 0.000123456 m / 1e-06 rad"
+        f"fkcheck {name}: base → tool0, 2 sobol samples (seed 0), "
+        "tolerance 0.000123456 m / 1e-06 rad, against rtb-dh"
     )
+    assert lines[1] == "83 configurations compared"
     assert len(lines[0]) > 140  # longer than the log's width, and whole
     table_not_checked = next(x for x in lines if "table NOT CHECKED" in x)
     assert table_not_checked.endswith("agreement proves the arithmetic, not the numbers")

@@ -162,6 +162,15 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--timeout", type=float, metavar="S",
                    help=f"time limit per backend, seconds (default {DEFAULT_TIMEOUT_S:g}, at "
                    f"most {MAX_TIMEOUT_S:g})")  # fmt: skip
+    p.add_argument(
+        "--full",
+        action="store_true",
+        default=None,
+        help="every backend compares every configuration, however long it takes (the "
+        "--timeout still applies); by default a backend whose declared cost does not fit "
+        "half its time limit compares a stated subset: all structured configurations and "
+        "the first of the random samples",
+    )
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
     p.add_argument("--junit", type=Path, metavar="PATH", help="write JUnit XML here")
     p.add_argument("--html", type=Path, metavar="PATH", help="write the HTML report here")
@@ -211,6 +220,7 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
         "tol_pos_m": args.tol_pos, "tol_rot_rad": args.tol_rot,
         "require": require_from_args(args), "jacobian": jacobian_from_args(args),
         "jacobian_reference": args.jacobian_reference, "tol_jacobian": args.tol_jacobian,
+        "full": args.full,
     }  # fmt: skip
     options = resolve_options(given, labels=FLAGS, project=project)
     args.options = options

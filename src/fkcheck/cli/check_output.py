@@ -27,6 +27,7 @@ __all__ = [
     "print_diagnose_hint",
     "print_header",
     "print_models_table",
+    "print_plan",
     "print_summary",
 ]
 
@@ -67,33 +68,43 @@ def _config(path: str | None) -> str:
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
-    """On a terminal, print :func:`header` at the start of a check, before any backend runs.
+    """Print :func:`header` at the start of a check, before anything slow, and flush it.
 
-    Not in a pipe or a log: there stdout carries the result only (bad input
-    found while the check starts leaves it empty; the description then opens
-    the result table, :func:`print_summary`), and the progress lines on stderr
-    say what runs.
+    Flushed at once, also in a pipe or a CI log (where stdout is block-buffered):
+    it is the log's first line, before the progress lines on stderr.
     """
-    from fkcheck.cli._console import console, is_terminal
+    import sys
 
-    if is_terminal():
-        console(highlight=False).print(header(model, backends, args))
+    from fkcheck.cli._console import console
+
+    console(highlight=False).print(header(model, backends, args))
+    sys.stdout.flush()
 
 
-def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
+def print_plan(notes: Sequence[str]) -> None:
+    """The check's plan, before any backend runs: each backend given a subset, and why."""
+    import sys
+
+    from fkcheck.cli._console import console
+
+    for note in notes:
+        console(highlight=False).print(f"fkcheck: plan: {terminal_markup(note)}")
+    sys.stdout.flush()
+
+
+def print_summary(check: CheckResult, *, title: bool = False) -> None:
     """The terminal table and verdict line.
 
     Args:
         check: The finished check.
         title: Open with the check's full description (model, frames,
             configurations, tolerance); without it (the header was printed at
-            the start) the table opens with the number of configurations only.
-            Default: when stdout is no terminal (see :func:`print_header`).
+            the start, :func:`print_header`) the table opens with the number of
+            configurations only.
     """
     from rich.table import Table
 
     from fkcheck.cli._console import console as make_console
-    from fkcheck.cli._console import is_terminal
     from fkcheck.report.record import check_record
 
     record = check_record(check)
@@ -105,8 +116,6 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
         f"{terminal_markup(_config(check.config))}"
     )
-    if title is None:
-        title = not is_terminal()
     if title:
         console.print(described)
     else:
@@ -127,17 +136,20 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
         )
     table.add_row("fkcheck-dh", "", "reference", "", "", "", "")
     for r in record.backends:
+        # A backend on a subset (the check's plan) is named with its count.
+        subset = r.subset.removesuffix(" configurations")
+        name = terminal_markup(r.name) + (f"\n({subset})" if subset else "")
         if r.ran:
             worst_q = r.worst_q_text if r.status in ("fail", "xfail") else ""
             table.add_row(
-                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                name, r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
                 format_length_console(r.max_position_m),
                 format_angle_console(r.max_rotation_rad),
                 terminal_markup(worst_q), f"{r.duration_s:.2f} s",
             )  # fmt: skip
         else:
             table.add_row(
-                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
+                name, r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
                 terminal_markup(r.message), "", "", "",
             )  # fmt: skip
     console.print(table)
