@@ -310,7 +310,7 @@ def format_text(d: Diagnosis) -> str:
             dist = "-" if a.distance_m is None else f"{a.distance_m * 1e3:.3f} mm"
             mark = "ok" if a.agrees else ("REVERSED" if a.reversed else "DIFFERS")
             lines.append(
-                f"   joint {a.joint + 1} {terminal_text(a.name)}: "
+                f"   joint {a.joint + 1} ({terminal_text(a.name)}): "
                 f"{math.degrees(a.angle_rad):.3f}°, {dist}  {mark}"
             )
     if d.axes_note:
