@@ -80,8 +80,8 @@ def test_older_d1_report_says_fail_names_backends_and_shows_0_3_mm(tmp_path):
         "2 other implementations of the table agree with the in-house core: rtb-dh, pinocchio-dh"
     ) in head
     assert "disagree with the in-house core" not in head
-    for backend in ("pinocchio-urdf", "yourdfpy-urdf"):
-        assert f"{backend}: max position error 0.301 mm (3.01e-04 m)" in head
+    # The two URDF readers' identical errors: one bullet naming both.
+    assert "pinocchio-urdf, yourdfpy-urdf: max position error 0.301 mm (3.01e-04 m)" in head
     # The table's joint axes against the URDF: joint 2's axis sits Δd1 = 0.301 mm off.
     assert "the DH table parts from the URDF at DH frame 1 (after joint 1, shoulder_pan)" in head
     # A constant error: every configuration is off by the same 0.301 mm, whatever the joints.

@@ -113,7 +113,7 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     # a backend that did not run says why below the table, and where the terminal is
     # narrower than the table, the evidence column goes (the evidence lines say it).
     table = _backends_table(record, evidence=True)
-    if _narrowest(console, table) > console.width:
+    if not _fits(console, table):
         table = _backends_table(record, evidence=False)
     console.print(table)
     if check.jacobian is not None:
@@ -156,25 +156,18 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
 
 
-def _narrowest(console: Any, table: Any) -> int:
-    """The fewest columns ``table`` takes without wrapping a no_wrap column's cells.
+def _fits(console: Any, table: Any) -> bool:
+    """Whether ``table`` printed on ``console`` stays within its width (rich may overflow it)."""
+    import io
 
-    rich's own minimum lets every column wrap at its longest word; a no_wrap
-    column needs its widest cell, or rich squeezes every column to fit.
-    """
-    from rich.measure import Measurement
-    from rich.text import Text
+    from rich.cells import cell_len
+    from rich.console import Console
 
-    options = console.options.update_width(10_000)
-    total = len(table.columns) + 1  # the vertical rules
-    for column in table.columns:
-        cells = [column.header, *column.cells]
-        sizes = [
-            Measurement.get(console, options, Text.from_markup(c) if isinstance(c, str) else c)
-            for c in cells
-        ]
-        total += 2 + max(m.maximum if column.no_wrap else m.minimum for m in sizes)
-    return total
+    out = io.StringIO()
+    probe = Console(width=console.width, file=out, color_system=None, emoji=False)
+    probe.print(table, crop=False)
+    widest = max((cell_len(line) for line in out.getvalue().splitlines()), default=0)
+    return bool(widest <= console.width)
 
 
 def _number_column(table: Any, header: str, values: Sequence[str]) -> None:
