@@ -26,6 +26,7 @@ from fkcheck.core.typing import JacobianReference
 from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
 from fkcheck.diagnose.jacobian import explain_sample
 from fkcheck.engine.jacobian import JacobianSpec
+from fkcheck.engine.plan import Plan
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.runner import Progress, run_check
 from fkcheck.engine.verdict import Verdict, headline
@@ -87,6 +88,8 @@ def check(
     explain_jacobians: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
+    full: bool | None = None,
+    on_plan: Callable[[Plan], None] | None = None,
 ) -> Outcome:
     """Cross-check a model's forward kinematics, and diagnose a failure.
 
@@ -127,6 +130,10 @@ def check(
             kept configurations: milliseconds).
         on_progress: Called as ``(backend, configurations done, total)``.
         on_done: Called with each backend's result as it finishes.
+        full: Every backend compares every configuration (default: ``options``'s,
+            else no: a backend whose declared cost does not fit its time limit
+            compares a stated subset, :mod:`fkcheck.engine.plan`).
+        on_plan: Called with the check's plan before any backend starts.
 
     Returns:
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
@@ -140,7 +147,7 @@ def check(
         "samples": samples, "seed": seed, "sampler": sampler, "timeout_s": timeout_s,
         "frame_from": frame_from, "frame_to": frame_to, "tol_pos_m": tol_pos_m,
         "tol_rot_rad": tol_rot_rad, "require": tuple(require), "jacobian": jacobian,
-        "jacobian_reference": jacobian_reference, "tol_jacobian": tol_jacobian,
+        "jacobian_reference": jacobian_reference, "tol_jacobian": tol_jacobian, "full": full,
     }  # fmt: skip
     opts = resolve_options(given, base=options)  # refuses a bad value before any work
     loaded = model if isinstance(model, Model) else load_model(model)
@@ -168,6 +175,8 @@ def check(
         on_done=on_done,
         on_progress=on_progress,
         tolerance_source=opts.tolerance_source,
+        full=opts.full,
+        on_plan=on_plan,
     )
     diagnoses = diagnose_failures(result, backends) if diagnose else ()
     return Outcome(result, diagnoses)

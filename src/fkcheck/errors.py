@@ -48,14 +48,21 @@ class ModelError(FkcheckError):
         path: The model file, or ``None`` for a model built in memory.
         field: Dotted location inside the file, e.g. ``joint[2].alpha``.
         problem: What is wrong, in a few words.
+        joint: The name of the joint the field belongs to (``""``: none, or not
+            read yet); the message shows it after the field, ``joint[2].alpha (elbow)``
+            (:mod:`fkcheck.model.names`: a 0-based field path always with its name).
     """
 
-    def __init__(self, path: Path | str | None, field: str, problem: str) -> None:
+    def __init__(
+        self, path: Path | str | None, field: str, problem: str, *, joint: str = ""
+    ) -> None:
         self.path = None if path is None else Path(path)
         self.field = field
         self.problem = problem
+        self.joint = joint
         where = str(self.path) if self.path is not None else "<model>"
-        super().__init__(f"{where}: {field}: {problem}" if field else f"{where}: {problem}")
+        shown = f"{field} ({joint})" if field and joint else field
+        super().__init__(f"{where}: {shown}: {problem}" if field else f"{where}: {problem}")
 
 
 class JointInputError(FkcheckError, ValueError):

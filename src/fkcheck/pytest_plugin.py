@@ -33,7 +33,19 @@ with every backend (``[tool.fkcheck] against``, default: the standard set);
 under pytest-xdist (``-n auto``) every worker computes what its own tests need,
 so ``--dist loadfile`` keeps a model's tests, and its one check, on one worker.
 Models are collected only where pytest looks: run ``pytest`` from the project's
-root, or list the models' directory in ``testpaths``.
+root, or list the models' directory in ``testpaths``. When a run that was not
+given paths (plain ``pytest``: ``testpaths``, or the current directory) leaves
+some ``[tool.fkcheck]`` models out, the plugin says so with a
+:class:`FkcheckCollectionWarning` in pytest's warnings summary, naming them and
+the way in. It warns rather than collect them anyway: pytest collects what its
+arguments and ``testpaths`` say, and a plugin that reached past them would
+surprise a project that left the models out on purpose (a warning can be made an
+error with ``filterwarnings``). A run given paths (``pytest tests/unit``) chose
+what to collect, and is not warned.
+
+One table error fails each backend that disagrees once, and its diagnosis is
+written out once, in the first of those backends' tests (the others name it); a
+required kind of evidence that fails shows each backend's status line only.
 """
 
 from __future__ import annotations
@@ -50,13 +62,18 @@ if TYPE_CHECKING:
     from fkcheck.engine.results import CheckResult
     from fkcheck.model.project import ProjectConfig
 
-__all__ = ["FkcheckFailure", "ModelFile", "ModelItem"]
+__all__ = ["FkcheckCollectionWarning", "FkcheckFailure", "ModelFile", "ModelItem"]
 
 _PROJECT_KEY = pytest.StashKey["tuple[ProjectConfig, frozenset[Path]] | None"]()
+_COLLECTED_KEY = pytest.StashKey["set[Path]"]()
 
 
 class FkcheckFailure(Exception):
     """A failed fkcheck test; its message is the whole report (no traceback is shown)."""
+
+
+class FkcheckCollectionWarning(pytest.PytestWarning):
+    """``[tool.fkcheck]`` models that pytest's collection did not reach: they were not checked."""
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -70,6 +87,7 @@ def pytest_configure(config: pytest.Config) -> None:
     except FkcheckError as exc:
         raise pytest.UsageError(f"fkcheck: {exc}") from None
     config.stash[_PROJECT_KEY] = (project, paths) if project is not None and paths else None
+    config.stash[_COLLECTED_KEY] = set()
 
 
 def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> ModelFile | None:
@@ -77,7 +95,62 @@ def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> ModelFile 
     found = parent.config.stash.get(_PROJECT_KEY, None)
     if found is None or file_path.resolve() not in found[1]:
         return None
+    parent.config.stash[_COLLECTED_KEY].add(file_path.resolve())
     return ModelFile.from_parent(parent, path=file_path)
+
+
+def pytest_collection_finish(session: pytest.Session) -> None:
+    """Warn when a run not given paths leaves ``[tool.fkcheck]`` models uncollected."""
+    import warnings
+
+    from fkcheck.io.text import terminal_text
+
+    config = session.config
+    found = config.stash.get(_PROJECT_KEY, None)
+    if found is None or config.args_source == pytest.Config.ArgsSource.ARGS:
+        return  # no project, or the run was told what to collect
+    collected: set[Path] = config.stash[_COLLECTED_KEY]
+    missed = sorted(p for p in found[1] if p not in collected)
+    if not missed:
+        return
+    root = config.rootpath.resolve()
+    shown = [
+        terminal_text(str(p.relative_to(root) if p.is_relative_to(root) else p)) for p in missed
+    ]
+    folders = " ".join(sorted({str(Path(s).parent) for s in shown}))
+    if config.args_source == pytest.Config.ArgsSource.TESTPATHS:
+        where = f"testpaths = {list(config.getini('testpaths'))}"
+        way = f"add {folders} to testpaths, or run pytest {folders}"
+    else:
+        where = f"the current directory, {terminal_text(str(config.invocation_params.dir))}"
+        way = f"run pytest from the project's root, or pytest {folders}"
+    pyproject = root / "pyproject.toml"
+    # Located at [tool.fkcheck] models, the line that names them.
+    warnings.warn_explicit(
+        FkcheckCollectionWarning(
+            f"fkcheck: {len(missed)} of {len(found[1])} [tool.fkcheck] models lie outside what "
+            f"pytest collects ({where}) and were not checked: {', '.join(shown)}; {way}"
+        ),
+        FkcheckCollectionWarning,
+        filename=str(pyproject),
+        lineno=_models_line(pyproject),
+    )
+
+
+def _models_line(pyproject: Path) -> int:
+    """The line of ``models =`` in ``[tool.fkcheck]`` (1 when it cannot be found)."""
+    try:
+        lines = pyproject.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return 1
+    inside = False
+    for number, line in enumerate(lines, 1):
+        stripped = line.strip()
+        if stripped.startswith("["):
+            inside = stripped.replace(" ", "") == "[tool.fkcheck]"
+        elif inside and stripped.split("=", 1)[0].strip() == "models":
+            return number
+    return 1
 
 
 class ModelFile(pytest.File):
@@ -212,9 +285,9 @@ class ModelItem(pytest.Item):
             kind = c.evidence.of(self.target)
             if kind.status != "verified":
                 sentence = check_record(c).of(kind.kind).sentence
-                raise FkcheckFailure(
+                raise FkcheckFailure(  # each backend's details are in its own test
                     f"required evidence {kind.kind!r} not verified ({kind.status}): {sentence}\n"
-                    + check_message(outcome)
+                    + check_message(outcome, details=False)
                 )
             return
         result = next(b for b in c.backends if b.name == self.target)
@@ -229,7 +302,7 @@ class ModelItem(pytest.Item):
             raise pytest.skip.Exception(f"{result.name}: {result.message}", _use_item_location=True)
         if not backend_ok(result):  # xfail (as the model file records) passes; Jacobian too
             head = check_message(outcome, backends=())
-            raise FkcheckFailure(f"{head}\n{backend_message(outcome, result)}")
+            raise FkcheckFailure(f"{head}\n{backend_message(outcome, result, once=True)}")
 
     def repr_failure(
         self,

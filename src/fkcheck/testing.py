@@ -65,12 +65,20 @@ def diagnosis_headline(outcome: Outcome, backend: str) -> str:
     return backend_record(c, result, outcome.diagnoses).diagnosis_short
 
 
-def backend_message(outcome: Outcome, result: BackendResult) -> str:
-    """One backend's lines: status, largest errors (mm, degrees), worst q, diagnosis."""
-    return _backend_lines(backend_record(outcome.check, result, outcome.diagnoses))
+def backend_message(outcome: Outcome, result: BackendResult, *, once: bool = False) -> str:
+    """One backend's lines: status, largest errors (mm, degrees), worst q, diagnosis.
+
+    Args:
+        outcome: What :func:`fkcheck.check` returned.
+        result: One of its backends.
+        once: A diagnosis that stands for several failing backends is written out
+            only for the first of them; the others' line names that one (one
+            table error, one diagnosis, however many backends it fails).
+    """
+    return _backend_lines(backend_record(outcome.check, result, outcome.diagnoses), once=once)
 
 
-def _backend_lines(record: BackendRecord) -> str:
+def _backend_lines(record: BackendRecord, *, once: bool = False) -> str:
     """A backend's lines, from its record (:mod:`fkcheck.report.record`)."""
     name = terminal_text(record.name)
     lines = [f"{name}: {record.status} — {terminal_text(record.summary)}"]
@@ -81,7 +89,12 @@ def _backend_lines(record: BackendRecord) -> str:
         if record.worst_q_text:
             lines.append(f"  worst q: {record.worst_q_text}")
         if record.diagnosis_short:
-            lines.append(f"  diagnosis: {terminal_text(record.diagnosis_short)}")
+            first = record.diagnosed_with[0] if record.diagnosed_with else record.name
+            if once and first != record.name:
+                group = ", ".join(terminal_text(b) for b in record.diagnosed_with)
+                lines.append(f"  diagnosis: as for {terminal_text(first)} (one for {group})")
+            else:
+                lines.append(f"  diagnosis: {terminal_text(record.diagnosis_short)}")
     jac = record.jacobian
     if jac is not None and jac.status in ("fail", "error"):
         lines.append(f"  Jacobian {jac.status}: {terminal_text(jac.message)}")
@@ -101,12 +114,19 @@ def backend_ok(result: BackendResult) -> bool:
     return result.status in ("pass", "xfail") and jacobian_ok
 
 
-def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> str:
+def check_message(
+    outcome: Outcome, backends: Sequence[str] | None = None, *, details: bool = True
+) -> str:
     """The text of a finished check: headline, each backend's lines, the model's numbers.
+
+    A diagnosis that stands for several backends is written out once, under the
+    first of them.
 
     Args:
         outcome: What :func:`fkcheck.check` returned.
         backends: Only these backends' lines (default: every backend).
+        details: Each backend's errors, worst q and diagnosis; ``False``: its
+            status line only (where each backend's details are shown elsewhere).
     """
     record = check_record(outcome.check, outcome.diagnoses)
     head = (
@@ -114,7 +134,10 @@ def check_message(outcome: Outcome, backends: Sequence[str] | None = None) -> st
         f"{terminal_text(record.frame_to)}: {record.headline}"
     )
     shown = [b for b in record.backends if backends is None or b.name in backends]
-    lines = [head, *(_backend_lines(b) for b in shown)]
+    lines = [head]
+    for b in shown:
+        text = _backend_lines(b, once=True)
+        lines.append(text if details else text.split("\n", 1)[0])
     if record.numbers_line:  # which numbers of the model the pair verified
         lines.append(terminal_text(record.numbers_line))
     if record.calibration_line:  # what the calibration changes against the nominal table

@@ -3,6 +3,8 @@ and on GitHub Actions the failures become annotations at the model file's line."
 
 from __future__ import annotations
 
+import itertools
+import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -42,7 +44,8 @@ def test_square_brackets_in_skip_reasons_and_names_print_literally(tmp_path, cap
     path = _model(tmp_path, "arm [bold]x[/bold] [/]")
     assert main(["check", str(path), "--samples", "2", "--against", "rtb-dh"]) == 0
     out = capsys.readouterr().out
-    assert out.startswith("fkcheck arm [bold]x[/bold] [/]: base → tool0, 83 configurations")
+    assert out.startswith("fkcheck arm [bold]x[/bold] [/]: base → tool0, 2 sobol samples")
+    assert "\n83 configurations compared\n" in out
 
 
 def test_the_header_names_what_runs_and_keeps_brackets(tmp_path):
@@ -73,10 +76,12 @@ def test_no_line_wraps_in_a_log(tmp_path, capsys):
             "--against", "rtb-dh"]  # fmt: skip
     assert main(argv) == 0
     lines = capsys.readouterr().out.splitlines()
+    # The header, flushed before the check runs, is the log's first line.
     assert lines[0] == (
-        f"fkcheck {name}: base → tool0, 83 configurations (2 sobol samples, seed 0), "
-        "tolerance 0.000123456 m / 1e-06 rad"
+        f"fkcheck {name}: base → tool0, 2 sobol samples (seed 0), "
+        "tolerance 0.000123456 m / 1e-06 rad, against rtb-dh"
     )
+    assert lines[1] == "83 configurations compared"
     assert len(lines[0]) > 140  # longer than the log's width, and whole
     table_not_checked = next(x for x in lines if "table NOT CHECKED" in x)
     assert table_not_checked.endswith("agreement proves the arithmetic, not the numbers")
@@ -114,3 +119,36 @@ def test_without_github_actions_there_is_no_annotation(tmp_path, capsys):
     argv = ["check", str(path), "--samples", "4", "--against", "pinocchio-urdf", "--no-diagnose"]
     assert main(argv) == 1
     assert "::error" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("wrong", [False, True])
+def test_at_80_columns_no_number_breaks_across_lines(tmp_path, capsys, monkeypatch, wrong):
+    # rich wrapped inside numbers at 80 columns: `5.6e-` on one line, `17 m` on the next.
+    monkeypatch.setenv("COLUMNS", "80")
+    path = (
+        _model(tmp_path, "arm", "alpha = 90\n", "alpha = -90\n", after="wrist_1")
+        if wrong
+        else (_model(tmp_path, "arm"))
+    )
+    argv = ["check", str(path), "--samples", "5", "--jacobian",
+            "--against", "pinocchio-dh,pinocchio-urdf,mujoco-urdf"]  # fmt: skip
+    assert main(argv) == int(wrong)
+    out = capsys.readouterr().out
+    table = [line for line in out.splitlines() if line[:1] in "┏┃┡│└"]
+    assert table
+    assert max(len(line) for line in table) <= 80
+    rows = [[cell.strip() for cell in line[1:-1].split("│")] for line in table if line[0] == "│"]
+    # A number broken across lines: a cell ending in a digit, `.` or `e-`, the cell
+    # below it in the same column going on with a digit, `e` or `-`.
+    broken = [
+        (above, below)
+        for row, nxt in itertools.pairwise(rows)
+        for above, below in zip(row, nxt, strict=False)
+        if re.search(r"[\d.e-]$", above) and re.match(r"[\de-]", below)
+    ]
+    assert not broken, out
+    assert re.search(r"│ \d\.\d\d s │", out), out  # whole numbers, with their units
+    if wrong:  # the wrong sign's 251 mm and 180°, each number whole on its line
+        assert re.search(r"│ 0\.251 m +│.*\n.*│ \(250\.854 +│ \(180\.000°\)", out), out
+    else:
+        assert re.search(r"│ \d(\.\d+)?e-\d\d m +│ \d\.\de-\d\d rad +│", out), out

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import os
+import re
 import select
 import subprocess
 import sys
@@ -66,7 +67,7 @@ def test_a_terminal_sees_the_header_and_a_progress_bar_within_two_seconds():
     assert time.monotonic() - started < 90
 
 
-def test_a_pipe_sees_periodic_plain_lines_and_quiet_sees_none():
+def test_a_pipe_sees_the_header_first_then_plain_lines_with_rate_and_eta_and_quiet_sees_none():
     run = subprocess.run([*_ARGV, "--progress-interval", "0.2"], capture_output=True,
                          text=True, env=_ENV, timeout=300, check=False)  # fmt: skip
     assert run.returncode == 0, run.stderr
@@ -75,13 +76,13 @@ def test_a_pipe_sees_periodic_plain_lines_and_quiet_sees_none():
     for line in lines:
         done, total = line.split()[2].split("/")
         assert 0 < int(done) < int(total) == 200081
-        assert line.endswith(" s")
+        assert re.search(r", [\d,]+/s, ETA (\d+ s|\d+:\d\d)$", line), line
     assert "\x1b" not in run.stderr  # no terminal codes in a log
-    # In a log stdout holds the result only: the description opens the table.
-    assert run.stdout.startswith(
-        "fkcheck ur5: base → tool0, 200081 configurations (200000 sobol samples, seed 0), "
-        "tolerance 1e-06 m / 1e-06 rad\n"
-    )
+    assert "nanobind" not in run.stderr
+    # The header is stdout's first line (flushed before anything runs), the result follows.
+    first, second = run.stdout.splitlines()[:2]
+    assert first.startswith("fkcheck ur5: base → tool0, 200000 sobol samples (seed 0), ")
+    assert second == "200081 configurations compared"
     quiet = subprocess.run([*_ARGV[:-3], "20000", "--against", "rtb-dh", "--quiet",
                             "--progress-interval", "0.05"],
                            capture_output=True, text=True, env=_ENV, timeout=300,
@@ -89,6 +90,25 @@ def test_a_pipe_sees_periodic_plain_lines_and_quiet_sees_none():
     assert quiet.returncode == 0, quiet.stderr
     assert "configurations," not in quiet.stderr
     assert "verdict: pass" in quiet.stdout
+
+
+@pytest.mark.slow
+def test_a_log_on_a_cold_numba_cache_opens_with_the_header_then_the_kernels_phase(tmp_path):
+    """A fresh NUMBA_CACHE_DIR: the first compile is its own phase, said, after the header.
+
+    stdout and stderr go to one pipe, as in a CI log: the order is the order written.
+    """
+    env = {**_ENV, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    run = subprocess.run([*_ARGV[:-3], "20000", "--against", "rtb-dh,pinocchio-dh"],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                         timeout=600, check=False)  # fmt: skip
+    assert run.returncode == 0, run.stdout
+    lines = run.stdout.splitlines()
+    assert lines[0].startswith("fkcheck ur5: base → tool0, 20000 sobol samples"), lines[:3]
+    assert lines[1] == "fkcheck: compiling the core's kernels (first run only: 8–30 s)…"
+    assert re.fullmatch(r"fkcheck: kernels ready \(\d+\.\d s\)", lines[2]), lines[2]
+    assert any((tmp_path / "numba").rglob("*.nbi")), "numba cached nothing there"
+    assert "nanobind" not in run.stdout
 
 
 def test_plain_progress_is_thread_safe_and_lists_only_running_backends():
@@ -120,3 +140,12 @@ def test_quiet_gives_no_callback():
 
 def test_plain_line_escapes_control_characters():
     assert plain_line("x\x1b[2Jy", 5, 10, 1.25) == "fkcheck: x\\x1b[2Jy 5/10 configurations, 1.2 s"
+
+
+def test_plain_line_gives_rate_and_eta_and_says_when_the_eta_passes_the_limit():
+    line = plain_line("yourdfpy-urdf", 65_536, 1_000_081, 20.0, rate=3_276.8, limit_s=120.0)
+    assert line == (
+        "fkcheck: yourdfpy-urdf 65536/1000081 configurations, 20.0 s, 3,277/s, ETA 4:45, "
+        "beyond its 120 s limit"
+    )
+    assert plain_line("a", 50, 100, 1.0, rate=50.0, limit_s=120.0).endswith(", 50/s, ETA 1 s")

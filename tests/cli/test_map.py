@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shlex
 import tomllib
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -254,3 +255,37 @@ def test_map_on_the_right_table_proposes_a_check_that_verifies_every_number(caps
     model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
     assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf"]) == 0
     assert "table verified independently" in capsys.readouterr().out
+
+
+def _printed_check(summary: str) -> list[str]:
+    """The ``fkcheck check …`` command that map's summary says to run, as argv for main."""
+    line = next(line for line in summary.splitlines() if "; check it: " in line)
+    argv = shlex.split(line.split("; check it: ", 1)[1])
+    assert argv[:2] == ["fkcheck", "check"]
+    return argv[1:]
+
+
+@pytest.mark.parametrize(
+    ("extra", "flags", "frames"),
+    [
+        # The model's own [check] (tolerances only) compares world → tcp: map gives them twins.
+        ("[check]\ntol_pos_m = 1e-06\n", [], {"world": "base", "tcp": "tool0"}),
+        # With a [base], no link sits on the world: the printed command names the pair.
+        ("[base]\nxyz = [0.1, 0.0, 0.0]\nrpy = [0, 0, 45]\n\n[check]\ntol_pos_m = 1e-06\n",
+         ["--from", "base", "--to", "tool0"], {"tcp": "tool0"}),
+        # No [check] of its own: the block's [check] is live, the command is plain.
+        ("", [], {}),
+    ],
+)  # fmt: skip
+def test_the_block_pasted_passes_the_check_map_prints(capsys, tmp_path, extra, flags, frames):
+    model = _ur5_table_only(tmp_path)
+    model.write_text(model.read_text(encoding="utf-8") + "\n" + extra, encoding="utf-8")
+    assert main(["map", str(model), UR5_URDF, *FAST]) == 0
+    out, err = capsys.readouterr()
+    argv = _printed_check(err)
+    assert argv == ["check", str(model), *flags]
+    block = tomllib.loads(out)
+    assert {k: v["urdf"] for k, v in block["frames"].items() if k in ("world", "tcp")} == frames
+    model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
+    assert main([*argv, *FAST, "--against", "pinocchio-urdf"]) == 0
+    assert "verdict: pass — table verified" in capsys.readouterr().out

@@ -157,7 +157,7 @@ def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
     assert "Failed" in lint.splitlines()[0], output
     assert "robots/good.toml: clean (6 joints, standard DH)" in lint
     assert "robots/bad.toml: clean (6 joints, standard DH)" in lint  # a sign is no lint matter
-    assert "robots/rounded.toml: joint[3].alpha: warning [rounded-angle]" in lint
+    assert "robots/rounded.toml: joint[3].alpha (wrist_1): warning [rounded-angle]" in lint
     assert "fkcheck lint: 3 models, 2 clean, 1 with warnings" in lint
     check = _section(output, "fkcheck check")
     assert "Failed" in check.splitlines()[0], output

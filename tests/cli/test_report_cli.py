@@ -11,6 +11,7 @@ import pytest
 from fkcheck import load_model
 from fkcheck.cli._console import PIPE_WIDTH
 from fkcheck.cli.main import MAIN_JOB, main
+from fkcheck.model.options import DEFAULT_SAMPLES
 from fkcheck.model.read import bundled_model_paths
 from fkcheck.report.markdown import escape_markdown
 from tests.report_cases import page_numbers
@@ -73,10 +74,14 @@ def test_older_d1_report_says_fail_names_backends_and_shows_0_3_mm(tmp_path):
     page = html.read_text(encoding="utf-8")
     head = first_screen(page)
     assert 'data-verdict="fail">FAIL<' in head
-    assert "2 of 4 backends that ran disagree with the in-house core: pinocchio-urdf, " in head
-    assert "yourdfpy-urdf" in head
-    for backend in ("pinocchio-urdf", "yourdfpy-urdf"):
-        assert f"{backend}: max position error 0.301 mm (3.01e-04 m)" in head
+    # The sentence blames what the headline blames: the table, not the in-house core.
+    assert (
+        "2 of 4 backends that ran disagree with the table: pinocchio-urdf, yourdfpy-urdf; "
+        "2 other implementations of the table agree with the in-house core: rtb-dh, pinocchio-dh"
+    ) in head
+    assert "disagree with the in-house core" not in head
+    # The two URDF readers' identical errors: one bullet naming both.
+    assert "pinocchio-urdf, yourdfpy-urdf: max position error 0.301 mm (3.01e-04 m)" in head
     # The table's joint axes against the URDF: joint 2's axis sits Δd1 = 0.301 mm off.
     assert "the DH table parts from the URDF at DH frame 1 (after joint 1, shoulder_pan)" in head
     # A constant error: every configuration is off by the same 0.301 mm, whatever the joints.
@@ -189,11 +194,31 @@ def test_bad_combinations_are_bad_input(argv, message, capsys):
     assert err.count("\n") == 1
 
 
-def test_main_job_writes_the_ur5_report(tmp_path, monkeypatch):
-    assert MAIN_JOB == ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
+def test_main_job_writes_the_ur5_report_says_where_and_ignores_the_project(
+    tmp_path, monkeypatch, capsys
+):
+    assert MAIN_JOB == (
+        "check", "ur5", "--isolated", "--json", "reports/ur5.json", "--html", "reports/ur5.html",
+    )  # fmt: skip
+    # Inside a project whose [tool.fkcheck] would change the check (and name no UR5):
+    # plain fkcheck is the same check everywhere, and says it did not use the table.
+    (tmp_path / "pyproject.toml").write_text(
+        '[tool.fkcheck]\nmodels = ["robots/"]\nsamples = 7\nagainst = ["rtb-dh"]\n',
+        encoding="utf-8",
+    )
     monkeypatch.chdir(tmp_path)
     assert main([]) == 0
     page = (tmp_path / "reports" / "ur5.html").read_text(encoding="utf-8")
     doc = json.loads((tmp_path / "reports" / "ur5.json").read_text(encoding="utf-8"))
     assert page_numbers(page).verdict == doc["verdict"] == "pass"
-    assert "fkcheck check ur5 --json reports/ur5.json --html reports/ur5.html" in page
+    assert "fkcheck check ur5 --isolated --json reports/ur5.json --html reports/ur5.html" in page
+    assert doc["samples"] == DEFAULT_SAMPLES
+    assert len(doc["backends"]) > 2
+    last = capsys.readouterr().out.rstrip("\n").splitlines()[-1]
+    reports = tmp_path.resolve() / "reports"
+    assert last == (
+        f"fkcheck: wrote {reports / 'ur5.json'}, {reports / 'ur5.html'} (plain fkcheck runs: "
+        "fkcheck check ur5 --isolated --json reports/ur5.json --html reports/ur5.html); the "
+        "[tool.fkcheck] of pyproject.toml is not used: fkcheck check checks its models with "
+        "its settings"
+    )

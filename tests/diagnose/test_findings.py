@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import replace
 from pathlib import Path
 
@@ -12,7 +13,7 @@ import fkcheck.backends.registry as registry
 from fkcheck import load_model
 from fkcheck.cli.main import main
 from fkcheck.diagnose import diagnose, format_text
-from fkcheck.diagnose.findings import Explanation, rank
+from fkcheck.diagnose.findings import Change, Explanation, rank
 from fkcheck.diagnose.paramfit import explain_parameter_fit
 from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
 from fkcheck.model.types import Model
@@ -156,3 +157,19 @@ def test_json_says_how_many_numbers_each_explanation_changes(tmp_path, capsys):
     first, *rest = data["explanations"]
     assert (first["kind"], first["numbers_changed"]) == ("known", 0)
     assert all(e["numbers_changed"] >= 1 for e in rest)
+
+
+def test_a_sign_flip_is_said_as_one_not_as_a_difference_of_180_degrees():
+    flip = Change("joint[3].alpha", "α4 (wrist_1)", -math.pi / 2, math.pi / 2, angle=True)
+    assert flip.sign_flip
+    assert flip.text() == (
+        "α4 (wrist_1) = -1.5708 rad (-90°) here, 1.5708 rad (90°) would match: the sign flipped"
+    )
+    length = Change("joint[0].d", "d1 (shoulder_pan)", -0.089159, 0.089159, angle=False)
+    assert length.text().endswith("0.089159 would match: the sign flipped")
+    # A half turn from 0 is a difference, not a sign flip.
+    turn = Change("joint[1].alpha", "α2 (shoulder)", 0.0, math.pi, angle=True)
+    assert not turn.sign_flip
+    assert turn.text().endswith("would match, Δ = +180.0000°")
+    shift = Change("joint[0].d", "d1 (shoulder_pan)", 0.089459, 0.089159, angle=False)
+    assert shift.text() == "d1 (shoulder_pan) = 0.089459 here, 0.089159 would match, Δ = -0.300 mm"

@@ -188,3 +188,27 @@ def test_known_variants_are_what_robotics_toolbox_ships():
             for param in ("a", "alpha", "d"):
                 if (i, param) != (variant.joint, variant.param):
                     assert getattr(ours, param) == pytest.approx(getattr(theirs, param), abs=1e-15)
+
+
+def test_a_joint_field_is_shown_with_its_joint_name(tmp_path, capsys):
+    # lint counted from 0 (joint[3]) and diagnose from 1 (α4): the name settles which joint.
+    path = write(tmp_path, with_joint(load_model("ur5"), 1, a=-425.0))
+    assert main(["lint", str(path)]) == 1
+    assert capsys.readouterr().out.splitlines() == [
+        f"{path}: joint[1].a (shoulder_lift): warning [length]: -425 m is beyond 5 m — "
+        "millimetres in a file that must be in metres?"
+    ]
+
+
+def test_a_model_error_in_a_joint_names_the_joint(tmp_path):
+    from fkcheck.errors import ModelError
+
+    text = model_to_toml(load_model("ur5")).replace("alpha = 0.0\n", 'alpha = "ninety"\n', 1)
+    path = tmp_path / "arm.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(
+        ModelError, match=r"arm\.toml: joint\[1\]\.alpha \(shoulder_lift\): "
+    ) as exc:
+        load_model(path)
+    assert exc.value.field == "joint[1].alpha"  # the field path itself is unchanged
+    assert exc.value.joint == "shoulder_lift"

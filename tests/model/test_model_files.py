@@ -120,7 +120,7 @@ def test_degrees_in_a_radian_file_warn_but_load(tmp_path):
     )
     model = load_model(path)
     assert len(model.warnings) == 1
-    assert "joint[0].alpha = 90" in model.warnings[0]
+    assert "joint[0].alpha = 90" in model.warnings[0]  # not named in the file: no name
     assert "looks like degrees" in model.warnings[0]
 
 
@@ -314,9 +314,12 @@ def test_degrees_in_radian_file_warn_then_the_check_fails(tmp_path, capsys):
     path = tmp_path / "ur5_units.toml"
     path.write_text(text)
     model = load_model(path)  # loads: a warning, not an error
-    assert any("joint[0].alpha = 90" in w and "looks like degrees" in w for w in model.warnings)
+    assert any(
+        "joint[0].alpha (shoulder_pan) = 90" in w and "looks like degrees" in w
+        for w in model.warnings
+    )
     code = main(["check", str(path), "--samples", "50", "--against", "pinocchio-urdf"])
     out, err = capsys.readouterr()
     assert code == 1, out + err
-    assert "fkcheck: warning: joint[0].alpha = 90 is beyond ±2π" in err
+    assert "fkcheck: warning: joint[0].alpha (shoulder_pan) = 90 is beyond ±2π" in err
     assert "verdict: fail" in out

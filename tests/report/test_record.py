@@ -315,3 +315,41 @@ def test_the_engines_message_states_the_numbers_exactly_when_configurations_are_
     assert r.status == "fail"
     assert ("max position error" in r.message) == (r.beyond > 0)
     assert r.reasons.count("max position error") == 1
+
+
+def test_the_verdict_sentence_blames_what_the_evidence_blames():
+    from fkcheck.report.record import verdict_line
+
+    check = golden_check()
+    # shifted and twisted-dh read the table: they disagree with the in-house core.
+    assert verdict_line(check).startswith(
+        "2 of 3 backends that ran disagree with the in-house core: shifted, twisted-dh;"
+    )
+    # Independent of the table (a URDF), while "agrees" computes the same table: the table
+    # is what disagrees — the sentence said "disagree with the in-house core" while the
+    # headline said "table disagrees".
+    urdf = tuple(replace(b, evidence="table") if b.status == "fail" else b for b in check.backends)
+    assert verdict_line(replace(check, backends=urdf)) == (
+        "2 of 3 backends that ran disagree with the table: shifted, twisted-dh; 1 other "
+        "implementation of the table agrees with the in-house core: agrees; 1 errored: raises; "
+        "1 skipped: absent."
+    )
+
+
+def test_identical_diagnosis_and_failure_bullets_show_once():
+    from fkcheck.report.page import _diagnosis_bullets
+
+    check = golden_check()
+    twin = replace(check.backends[1], name="shifted-too")  # the same errors, another name
+    check = replace(check, backends=(*check.backends, twin))
+    page = build_report_page(check, diagnoses=golden_diagnoses(check), plots=False, versions={})
+    fails = [line for line in page.headline if "configurations beyond tolerance" in line]
+    assert [line.split(":", 1)[0] for line in fails] == ["shifted, shifted-too", "twisted-dh"]
+    # Two diagnoses that say the same thing (not grouped as "also"): one bullet.
+    first = page.diagnoses[0]
+    views = (first, replace(first, backend="other", also=()), page.diagnoses[-1])
+    bullets = _diagnosis_bullets(views)
+    assert len(bullets) == len({first.short, page.diagnoses[-1].short})
+    assert bullets[0].startswith(f"Diagnosis against {first.backend} (and ")
+    assert bullets[0].count(first.short) == 1
+    assert "other" in bullets[0].split(":", 1)[0]

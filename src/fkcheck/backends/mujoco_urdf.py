@@ -188,6 +188,9 @@ class MujocoUrdf(UrdfReader):
     """
 
     name = "mujoco-urdf"
+    #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
+    pose_cost_us = 10.0
+    jacobian_cost_us = 25.0
     distributions = ("mujoco-core",)
     method = "MjSpec.from_string (fusestatic off) + mj_kinematics (loop over qpos)"
     isolated = False  # compiled C, a few µs per pose

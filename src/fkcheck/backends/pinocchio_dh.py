@@ -71,6 +71,9 @@ class PinocchioDH(BackendDefaults):
     """
 
     name = "pinocchio-dh"
+    #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
+    pose_cost_us = 15.0
+    jacobian_cost_us = 25.0
     distributions = ("pin",)
     method = "forwardKinematics + updateFramePlacements (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"

@@ -51,6 +51,9 @@ class PinocchioUrdf(UrdfReader):
     """
 
     name = "pinocchio-urdf"
+    #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
+    pose_cost_us = 10.0
+    jacobian_cost_us = 30.0
     distributions = ("pin",)
     method = "buildModelFromXML + framesForwardKinematics (loop)"
     jacobian_method = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"

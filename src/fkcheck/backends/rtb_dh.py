@@ -107,6 +107,9 @@ class RtbDH(BackendDefaults):
     """
 
     name = "rtb-dh"
+    #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
+    pose_cost_us = 45.0
+    jacobian_cost_us = 45.0
     distributions = ("roboticstoolbox-python", "spatialmath-python")
     method = "DHRobot.ets().eval (C fknm, batched); DH frame k: base + first k links' ETS"
     jacobian_method = "ETS.jacob0 / ETS.jacobe (loop); world: jacob0 with v + p × ω"

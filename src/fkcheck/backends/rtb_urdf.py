@@ -81,6 +81,8 @@ class RtbUrdf(UrdfReader):
     """
 
     name = "rtb-urdf"
+    #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
+    pose_cost_us = 15.0
     distributions = ("roboticstoolbox-python", "spatialmath-python")
     method = "URDF.loadstr + Robot.ets(start=root, end=link).eval (C fknm, batched)"
     imports = RTB_IMPORTS

@@ -13,8 +13,9 @@ overwriting the other. With no MODEL and no ``--all``, the models listed in
 ``[tool.fkcheck] models`` of the nearest ``pyproject.toml`` are checked; that
 table also gives defaults for ``--samples``, ``--seed``, ``--sampler``,
 ``--timeout``, ``--against``, ``--require``, ``--tol-pos`` and ``--tol-rot``
-(a flag on the command line wins). Every model is read, and its URDF screened,
-before any check runs: bad input in any of them is one line and exit 2.
+(a flag on the command line wins; ``--isolated`` ignores the table). Every
+model is read, and its URDF screened, before any check runs: bad input in any
+of them is one line and exit 2.
 
 Either way, when the environment variable ``GITHUB_STEP_SUMMARY`` names a file (as on
 GitHub Actions), the Markdown summary is appended to it — if it is a regular
@@ -159,9 +160,24 @@ def add_parser(sub: Any) -> None:
     )
     add_allow_xacro(p)
     p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
+    p.add_argument(
+        "--isolated",
+        action="store_true",
+        help="ignore [tool.fkcheck] of pyproject.toml: the flags and the defaults only (as "
+        "plain fkcheck, the main job, runs)",
+    )
     p.add_argument("--timeout", type=float, metavar="S",
                    help=f"time limit per backend, seconds (default {DEFAULT_TIMEOUT_S:g}, at "
                    f"most {MAX_TIMEOUT_S:g})")  # fmt: skip
+    p.add_argument(
+        "--full",
+        action="store_true",
+        default=None,
+        help="every backend compares every configuration, however long it takes (the "
+        "--timeout still applies); by default a backend whose declared cost does not fit "
+        "half its time limit compares a stated subset: all structured configurations and "
+        "the first of the random samples",
+    )
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
     p.add_argument("--junit", type=Path, metavar="PATH", help="write JUnit XML here")
     p.add_argument("--html", type=Path, metavar="PATH", help="write the HTML report here")
@@ -211,6 +227,7 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
         "tol_pos_m": args.tol_pos, "tol_rot_rad": args.tol_rot,
         "require": require_from_args(args), "jacobian": jacobian_from_args(args),
         "jacobian_reference": args.jacobian_reference, "tol_jacobian": args.tol_jacobian,
+        "full": args.full,
     }  # fmt: skip
     options = resolve_options(given, labels=FLAGS, project=project)
     args.options = options
@@ -279,7 +296,7 @@ def run(args: argparse.Namespace) -> int:
         if models is None:  # files were named, none a model: nothing to check
             return 0
         args.models = models
-    project = project_config()
+    project = None if args.isolated else project_config()
     # Named by every output (header, JSON, HTML), as the working directory sees it.
     args.config = None if project is None else os.path.relpath(project.path)
     _apply_project(args, project)

@@ -27,6 +27,7 @@ __all__ = [
     "print_diagnose_hint",
     "print_header",
     "print_models_table",
+    "print_plan",
     "print_summary",
 ]
 
@@ -67,33 +68,41 @@ def _config(path: str | None) -> str:
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
-    """On a terminal, print :func:`header` at the start of a check, before any backend runs.
+    """Print :func:`header` at the start of a check, before anything slow, and flush it.
 
-    Not in a pipe or a log: there stdout carries the result only (bad input
-    found while the check starts leaves it empty; the description then opens
-    the result table, :func:`print_summary`), and the progress lines on stderr
-    say what runs.
+    Flushed at once, also in a pipe or a CI log (where stdout is block-buffered):
+    it is the log's first line, before the progress lines on stderr.
     """
-    from fkcheck.cli._console import console, is_terminal
+    import sys
 
-    if is_terminal():
-        console(highlight=False).print(header(model, backends, args))
+    from fkcheck.cli._console import console
+
+    console(highlight=False).print(header(model, backends, args))
+    sys.stdout.flush()
 
 
-def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
+def print_plan(notes: Sequence[str]) -> None:
+    """The check's plan, before any backend runs: each backend given a subset, and why."""
+    import sys
+
+    from fkcheck.cli._console import console
+
+    for note in notes:
+        console(highlight=False).print(f"fkcheck: plan: {terminal_markup(note)}")
+    sys.stdout.flush()
+
+
+def print_summary(check: CheckResult, *, title: bool = False) -> None:
     """The terminal table and verdict line.
 
     Args:
         check: The finished check.
         title: Open with the check's full description (model, frames,
             configurations, tolerance); without it (the header was printed at
-            the start) the table opens with the number of configurations only.
-            Default: when stdout is no terminal (see :func:`print_header`).
+            the start, :func:`print_header`) the table opens with the number of
+            configurations only.
     """
-    from rich.table import Table
-
     from fkcheck.cli._console import console as make_console
-    from fkcheck.cli._console import is_terminal
     from fkcheck.report.record import check_record
 
     record = check_record(check)
@@ -105,41 +114,16 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
         f"{terminal_markup(_config(check.config))}"
     )
-    if title is None:
-        title = not is_terminal()
     if title:
         console.print(described)
     else:
         console.print(f"{check.q.shape[0]} configurations compared")
-    table = Table()
-    for column in (
-        "backend",
-        "evidence",
-        "status",
-        "max position error",
-        "max rotation error",
-        "worst q",
-        "time",
-    ):
-        # Backend names and statuses never wrap; long messages fold.
-        table.add_column(
-            column, overflow="fold", no_wrap=column in ("backend", "evidence", "status")
-        )
-    table.add_row("fkcheck-dh", "", "reference", "", "", "", "")
-    for r in record.backends:
-        if r.ran:
-            worst_q = r.worst_q_text if r.status in ("fail", "xfail") else ""
-            table.add_row(
-                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
-                format_length_console(r.max_position_m),
-                format_angle_console(r.max_rotation_rad),
-                terminal_markup(worst_q), f"{r.duration_s:.2f} s",
-            )  # fmt: skip
-        else:
-            table.add_row(
-                terminal_markup(r.name), r.evidence, f"[{_STYLE[r.status]}]{r.status}[/]",
-                terminal_markup(r.message), "", "", "",
-            )  # fmt: skip
+    # Numbers never wrap (no `6.8e-` / `16 m` at 80 columns): their columns are no_wrap,
+    # a backend that did not run says why below the table, and where the terminal is
+    # narrower than the table, the evidence column goes (the evidence lines say it).
+    table = _backends_table(record, evidence=True)
+    if not _fits(console, table):
+        table = _backends_table(record, evidence=False)
     console.print(table)
     if check.jacobian is not None:
         console.print(_jacobian_table(check, record))
@@ -150,6 +134,9 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     for message, names in notes.items():
         console.print(f"[yellow]{terminal_markup(', '.join(names))}[/]: {terminal_markup(message)}")
     for r in record.backends:
+        if not r.ran:
+            name, message = terminal_markup(r.name), terminal_markup(r.message)
+            console.print(f"[{_STYLE[r.status]}]{name}[/] ({r.status}): {message}")
         if r.status in ("fail", "xfail", "xpass"):
             name, message = terminal_markup(r.name), terminal_markup(r.message)
             console.print(f"[{_STYLE[r.status]}]{name}[/]: {message}")
@@ -180,6 +167,71 @@ def print_summary(check: CheckResult, *, title: bool | None = None) -> None:
     console.print(f"[{style}]verdict: {terminal_markup(line)}[/]{count}")
 
 
+def _fits(console: Any, table: Any) -> bool:
+    """Whether ``table`` printed on ``console`` stays within its width (rich may overflow it)."""
+    import io
+
+    from rich.cells import cell_len
+    from rich.console import Console
+
+    out = io.StringIO()
+    probe = Console(width=console.width, file=out, color_system=None, emoji=False)
+    probe.print(table, crop=False)
+    widest = max((cell_len(line) for line in out.getvalue().splitlines()), default=0)
+    return bool(widest <= console.width)
+
+
+def _number_column(table: Any, header: str, values: Sequence[str]) -> None:
+    """A column of numbers: it wraps between words, never inside one (``6.8e-`` / ``16 m``).
+
+    rich folds a word wider than its column; the column's minimum is its longest
+    word (rich keeps it when it narrows a table), its maximum its widest value.
+    """
+    from rich.cells import cell_len
+
+    words = [w for v in [*values, header] for w in v.split()]
+    table.add_column(
+        header,
+        overflow="fold",
+        min_width=max((cell_len(w) for w in words), default=1),
+        max_width=max((cell_len(v) for v in [*values, *header.split()]), default=1),
+    )
+
+
+def _backends_table(record: CheckRecord, *, evidence: bool) -> Any:
+    """One row per backend: status, largest errors, worst q, time (with the evidence column)."""
+    from rich.table import Table
+
+    ran = [r for r in record.backends if r.ran]
+    position = {r.name: format_length_console(r.max_position_m) for r in ran}
+    rotation = {r.name: format_angle_console(r.max_rotation_rad) for r in ran}
+    time = {r.name: f"{r.duration_s:.2f} s" for r in ran}
+    table = Table()
+    for column in ("backend", *(("evidence",) if evidence else ()), "status"):
+        table.add_column(column, overflow="fold", no_wrap=True)
+    _number_column(table, "max position error", list(position.values()))
+    _number_column(table, "max rotation error", list(rotation.values()))
+    table.add_column("worst q", overflow="fold")
+    _number_column(table, "time", list(time.values()))
+    kind: tuple[str, ...] = ("",) if evidence else ()
+    table.add_row("fkcheck-dh", *kind, "reference", "", "", "", "")
+    for r in record.backends:
+        kind = (r.evidence,) if evidence else ()
+        status = f"[{_STYLE[r.status]}]{r.status}[/]"
+        # A backend on a subset (the check's plan) is named with its count.
+        subset = r.subset.removesuffix(" configurations")
+        name = terminal_markup(r.name) + (f"\n({subset})" if subset else "")
+        if r.ran:
+            worst_q = r.worst_q_text if r.status in ("fail", "xfail") else ""
+            table.add_row(
+                name, *kind, status, position[r.name], rotation[r.name],
+                terminal_markup(worst_q), time[r.name],
+            )  # fmt: skip
+        else:  # why: a line below the table
+            table.add_row(name, *kind, status, "", "", "", "")
+    return table
+
+
 def _jacobian_table(check: CheckResult, record: CheckRecord) -> Any:
     """The Jacobian comparison, one row per backend (``check --jacobian``)."""
     from rich.table import Table
@@ -190,16 +242,22 @@ def _jacobian_table(check: CheckResult, record: CheckRecord) -> Any:
         f"tolerance {check.jacobian.tol:g} (m/rad, rad/rad)",
         title_justify="left",
     )
-    for column in ("backend", "status", "max linear diff", "max angular diff", "first column",
-                   "how"):  # fmt: skip
-        table.add_column(column, overflow="fold", no_wrap=column in ("backend", "status"))
+    ran = [r.jacobian for r in record.backends if r.jacobian is not None and r.jacobian.ran]
+    for column in ("backend", "status"):
+        table.add_column(column, overflow="fold", no_wrap=True)
+    linear = [format_scientific(j.max_linear, "m/rad") for j in ran]
+    _number_column(table, "max linear diff", linear)
+    angular = [format_scientific(j.max_angular, "rad/rad") for j in ran]
+    _number_column(table, "max angular diff", angular)
+    for column in ("first column", "how"):
+        table.add_column(column, overflow="fold")
     for r in record.backends:
         j = r.jacobian
         if j is None:
             continue
         status = f"[{_STYLE[j.status]}]{j.status}[/]"
         if not j.ran:
-            table.add_row(terminal_markup(r.name), status, terminal_markup(j.message), "", "", "")
+            table.add_row(terminal_markup(r.name), status, "", "", "", terminal_markup(j.message))
             continue
         table.add_row(
             terminal_markup(r.name), status, format_scientific(j.max_linear, "m/rad"),

@@ -29,6 +29,7 @@ from fkcheck.cli.check_output import (
     print_diagnose_hint,
     print_header,
     print_models_table,
+    print_plan,
     print_summary,
 )
 
@@ -75,20 +76,35 @@ def jacobian_from_args(args: argparse.Namespace) -> bool | None:
 def check_with_progress(
     args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
 ) -> Outcome:
-    """The header, then the check with its progress on stderr (none with ``--quiet``)."""
+    """The header, the core's kernels, the plan, then the check with its progress on stderr.
+
+    The header is flushed first (the first line of a CI log); loading the core's
+    kernels is its own phase (:func:`~fkcheck.cli.progress.kernels_phase`); each
+    backend given a subset by the plan is said before it runs. No progress with
+    ``--quiet``.
+    """
     from fkcheck.api import check
-    from fkcheck.cli.progress import check_progress
+    from fkcheck.cli.progress import check_progress, kernels_phase
+    from fkcheck.model.options import jacobian_for
 
     print_header(model, backends, args)
+    quiet = getattr(args, "quiet", False)
+    kernels_phase(jacobian=jacobian_for(args.options, model) is not None, quiet=quiet)
     progress = check_progress(
         [b.name for b in backends],
-        quiet=getattr(args, "quiet", False),
+        quiet=quiet,
         interval_s=getattr(args, "progress_interval", PLAIN_INTERVAL_S),
+        limit_s=args.options.timeout_s,
     )
     with progress as on_progress:
         # args.options: the flags over [tool.fkcheck], resolved once (fkcheck.cli.check)
         return check(
-            model, backends, options=args.options, diagnose=diagnose, on_progress=on_progress
+            model,
+            backends,
+            options=args.options,
+            diagnose=diagnose,
+            on_progress=on_progress,
+            on_plan=lambda plan: print_plan(plan.notes()),
         )
 
 
@@ -124,6 +140,8 @@ def model_command(args: argparse.Namespace, model: str) -> str:
         "--timeout",
         f"{args.timeout:g}",
     ]
+    if args.options.full:
+        argv.append("--full")
     for value in args.against or ():
         argv += ["--against", value]
     if args.tol_pos is not None:

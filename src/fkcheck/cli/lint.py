@@ -58,6 +58,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.io.text import terminal_text
     from fkcheck.model.lint import lint_model
     from fkcheck.model.lint_rules import parse_lint_rules
+    from fkcheck.model.names import field_text
 
     try:
         ignore = parse_lint_rules(args.ignore)
@@ -92,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         for model, where, findings in reports:
             for f in findings:
-                field = f"{f.field}: " if f.field else ""
+                field = f"{field_text(model, f.field)}: " if f.field else ""
                 print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
             if not findings:
                 print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")

@@ -45,8 +45,11 @@ __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "map", "urdf", "expand", "lint",
             "diagnose", "calibration", "bench")  # fmt: skip
 
-#: What plain ``fkcheck`` runs.
-MAIN_JOB = ("check", "ur5", "--json", "reports/ur5.json", "--html", "reports/ur5.html")
+#: What plain ``fkcheck`` runs: the same check wherever it runs, so ``--isolated``
+#: (a project's ``[tool.fkcheck]`` is for its own models: ``fkcheck check``).
+MAIN_JOB = (
+    "check", "ur5", "--isolated", "--json", "reports/ur5.json", "--html", "reports/ur5.html",
+)  # fmt: skip
 
 EXIT_OK = 0
 EXIT_FAIL = 1
@@ -198,7 +201,8 @@ def _exit_now(code: int) -> None:
 def _run(args_list: list[str]) -> int:
     """Parse and run; every failure becomes one line on stderr and its exit code."""
     parser = build_parser()
-    if not args_list:  # the main job: check the bundled UR5 against every default backend
+    main_job = not args_list
+    if main_job:  # check the bundled UR5 against every default backend
         args_list = list(MAIN_JOB)
     try:
         args = parser.parse_args(args_list)
@@ -225,7 +229,34 @@ def _run(args_list: list[str]) -> int:
         return 143
     except OSError as exc:  # BrokenPipeError included
         return _os_error(exc)
+    if main_job:
+        print(_main_job_line(args))
     return code
+
+
+def _main_job_line(args: argparse.Namespace) -> str:
+    """Where plain ``fkcheck`` wrote its reports, and that a project's settings were not used."""
+    import shlex
+
+    from fkcheck.model.project import find_pyproject, load_project
+
+    plan = getattr(args, "output_plan", None)
+    done = [] if plan is None else [str(o.path.resolve()) for o in plan.written()]
+    line = f"fkcheck: wrote {', '.join(done) or 'no report'} (plain fkcheck runs: fkcheck "
+    line += f"{shlex.join(MAIN_JOB)})"
+    try:
+        project = load_project()
+    except FkcheckError:  # a [tool.fkcheck] it could not read: still not used
+        project = None
+        path = find_pyproject()
+    else:
+        path = None if project is None else project.path
+    if path is not None:
+        line += (
+            f"; the [tool.fkcheck] of {os.path.relpath(path)} is not used: fkcheck check "
+            "checks its models with its settings"
+        )
+    return terminal_text(line)
 
 
 def _os_error(exc: OSError) -> int:

@@ -1,16 +1,17 @@
 """``fkcheck map``: propose a model's ``[urdf]`` and ``[frames.*]`` block from a URDF.
 
 Exit codes: 0 when the proposed block, pasted into the model, is a mapping
-``fkcheck check`` can pass on (the table moves like a chain of the URDF, with
-every axis the same way round, and links sit at constant offsets from DH frame
-0 and from the last DH frame); 1 when it is not (no chain moves like the table,
-a joint turns the other way, or no link matches one end: the block then says
-how near the nearest came); 2 for bad input.
+``fkcheck check`` (as the summary prints it) can pass on (the table moves like a
+chain of the URDF, with every axis the same way round, and links sit at constant
+offsets from DH frame 0 and from the last DH frame); 1 when it is not (no chain
+moves like the table, a joint turns the other way, or no link matches one end:
+the block then says how near the nearest came); 2 for bad input.
 """
 
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 from pathlib import Path
 from typing import Any
@@ -107,10 +108,19 @@ def run(args: argparse.Namespace) -> int:
     text = proposal_toml(result)
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:
+        command = shlex.join(["fkcheck", "check", args.model, *result.check_flags])
         summary = [
             f"fkcheck map: {model.name} onto {path.name}: {model.dof} joints, "
-            f"{len(linked)} frames ({', '.join(linked)}); check it: fkcheck check MODEL"
+            f"{len(linked)} frames ({', '.join(linked)}); check it: {command}"
         ]
+        if result.check_flags:
+            own = model.check
+            summary.append(
+                f"fkcheck map: the model's own [check] compares {own.frame_from} → "
+                f"{own.frame_to}, and no URDF link sits exactly on "
+                f"{' or '.join(result.unmapped_ends)}: give --from/--to as "
+                "above, or set from and to in its [check] (the block's last lines)"
+            )
         if result.numbers is not None and result.pair is not None:
             summary.append(
                 f"fkcheck map: the proposed check {result.pair[0]} → {result.pair[1]} can verify "

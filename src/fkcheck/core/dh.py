@@ -43,6 +43,7 @@ from __future__ import annotations
 import importlib
 import logging
 import math
+import os
 from dataclasses import dataclass
 from functools import cached_property
 from types import ModuleType
@@ -66,6 +67,7 @@ __all__ = [
     "jit_status",
     "jit_tasks",
     "joint_values",
+    "kernels_cached",
     "load_jit",
 ]
 
@@ -296,6 +298,31 @@ def load_jit() -> bool:
         return False
     _jit = kernels
     return True
+
+
+def kernels_cached(*, jacobian: bool = False) -> bool | None:
+    """Whether numba's on-disk cache holds the kernels (and the Jacobian's): no compile ahead.
+
+    Looks for each kernel's cache index (``NUMBA_CACHE_DIR``, else ``__pycache__``
+    beside the module, else numba's per-user directory), importing the kernels'
+    modules but compiling nothing. ``None``: it cannot tell (numba missing or
+    disabled, or numba's cache layout unknown).
+    """
+    entries: list[tuple[str, tuple[str, ...]]] = [
+        ("fkcheck.core._kernels", ("fk_tcp", "fk_one", "sincos_array"))
+    ]
+    if jacobian:
+        entries.append(("fkcheck.core._jacobian_kernels", ("jacobian_batch",)))
+    try:
+        found = []
+        for name, kernels in entries:
+            module = importlib.import_module(name)
+            for kernel in kernels:
+                index = getattr(module, kernel)._cache._cache_file._index_path
+                found.append(os.path.exists(index))
+    except Exception:  # no numba, NUMBA_DISABLE_JIT, another numba's layout: cannot tell
+        return None
+    return all(found)
 
 
 def jit_status() -> str:

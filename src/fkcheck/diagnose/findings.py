@@ -81,18 +81,27 @@ class Change:
         """``new - old``."""
         return self.new - self.old
 
+    @property
+    def sign_flip(self) -> bool:
+        """Whether the value that matches is this one with the other sign (``α4 = -90°`` → 90°)."""
+        return self.old != 0 and math.isclose(self.new, -self.old, rel_tol=1e-9, abs_tol=0.0)
+
     def text(self) -> str:
-        """``d1 = 0.089459 here, 0.089159 would match, Δ = -0.300 mm``."""
+        """``d1 = 0.089459 here, 0.089159 would match, Δ = -0.300 mm``.
+
+        A sign flip says so, ``…, 1.5708 rad (90°) would match: the sign flipped``,
+        not ``Δ = +180°``: a difference of 180° reads as a turn, which it is not.
+        """
         if self.angle:
-            return (
+            head = (
                 f"{self.symbol} = {self.old:.6g} rad ({math.degrees(self.old):.4g}°) here, "
-                f"{self.new:.6g} rad ({math.degrees(self.new):.4g}°) would match, "
-                f"Δ = {math.degrees(self.delta):+.4f}°"
+                f"{self.new:.6g} rad ({math.degrees(self.new):.4g}°) would match"
             )
-        return (
-            f"{self.symbol} = {self.old:.6g} here, {self.new:.6g} would match, "
-            f"Δ = {self.delta * 1e3:+.3f} mm"
-        )
+            delta = f"Δ = {math.degrees(self.delta):+.4f}°"
+        else:
+            head = f"{self.symbol} = {self.old:.6g} here, {self.new:.6g} would match"
+            delta = f"Δ = {self.delta * 1e3:+.3f} mm"
+        return f"{head}: the sign flipped" if self.sign_flip else f"{head}, {delta}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -310,7 +319,7 @@ def format_text(d: Diagnosis) -> str:
             dist = "-" if a.distance_m is None else f"{a.distance_m * 1e3:.3f} mm"
             mark = "ok" if a.agrees else ("REVERSED" if a.reversed else "DIFFERS")
             lines.append(
-                f"   joint {a.joint + 1} {terminal_text(a.name)}: "
+                f"   joint {a.joint + 1} ({terminal_text(a.name)}): "
                 f"{math.degrees(a.angle_rad):.3f}°, {dist}  {mark}"
             )
     if d.axes_note:

@@ -139,6 +139,8 @@ class BackendResult:
             :mod:`fkcheck.engine.evidence`). Reports read it; they never recompute.
         evidence: ``implementation`` or ``table``: what its agreement proves.
         jacobian: Its Jacobian against the core's, when the check compares Jacobians.
+        subset: ``(compared, total)`` when the check's plan gave it the first
+            ``compared`` of the ``total`` configurations only (:mod:`fkcheck.engine.plan`).
     """
 
     name: str
@@ -152,6 +154,7 @@ class BackendResult:
     detail: FailureDetail | None = None
     evidence: Evidence = "implementation"
     jacobian: JacobianResult | None = None
+    subset: tuple[int, int] | None = None
 
     @property
     def ran(self) -> bool:

@@ -1,7 +1,10 @@
 """The cross-check's run: sample, run every backend in its own thread and time limit.
 
 :func:`run_check` samples configurations (or takes a measured-poses backend's),
-imports the backends' libraries, runs each backend in a thread — an isolated
+plans how many of them each backend compares (:mod:`fkcheck.engine.plan`: a
+backend whose declared cost does not fit its limit gets a stated subset),
+imports the backends' libraries, loads the core's kernels (a phase of its own,
+charged to no backend), runs each backend in a thread — an isolated
 one's poses in a child process — within its time limit, has
 :func:`fkcheck.engine.compare.compare` judge each against the in-house core,
 and returns a :class:`~fkcheck.engine.results.CheckResult` with the verdict.
@@ -33,6 +36,7 @@ from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.expected import apply_known_differences
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
+from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
@@ -61,7 +65,7 @@ from fkcheck.process.isolation import (
 if TYPE_CHECKING:
     from fkcheck.urdf.mapping import LinkFit
 
-__all__ = ["Progress", "run_check"]
+__all__ = ["Progress", "load_kernels", "run_check"]
 
 
 def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
@@ -253,6 +257,20 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
                 importlib.import_module(module)
 
 
+def load_kernels(jacobian: bool) -> None:
+    """Load (on a machine's first run: compile) the core's numba kernels before backends start.
+
+    Compiling takes seconds; done here, once, it is charged to no backend's time.
+    Without numba the core keeps its NumPy path and this does nothing.
+    """
+    from fkcheck.core import dh
+    from fkcheck.core import jacobian as core_jacobian
+
+    dh.load_jit()
+    if jacobian:
+        core_jacobian.load_kernel()
+
+
 def _place_urdf_links(
     model: Model, asked: Sequence[str], xacro_timeout_s: float
 ) -> tuple[Model, dict[str, LinkFit]]:
@@ -323,6 +341,8 @@ def run_check(
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
     tolerance_source: str | tuple[str, str] = "",
+    full: bool = False,
+    on_plan: Callable[[Plan], None] | None = None,
 ) -> CheckResult:
     """Check ``backends`` against the in-house core on sampled configurations.
 
@@ -355,6 +375,10 @@ def run_check(
         tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, for the
             headline: one for both, or ``(position's, rotation's)`` (default: "the
             caller"); a tolerance not given is the model's ``[check]``'s, said so.
+        full: Every backend compares every configuration; by default a backend
+            whose declared cost does not fit its limit compares a stated subset
+            (:mod:`fkcheck.engine.plan`).
+        on_plan: Called with the plan once it is made, before any backend starts.
 
     Returns:
         The check result.
@@ -405,7 +429,12 @@ def run_check(
             f"{model.name}, so it cannot verify the table; compare a pair with joints "
             "between them (e.g. the model's [check] from/to)"
         )
+    plan = plan_check(backends, q.origin, dof=model.dof, timeout_s=timeout_s,
+                      jacobian=jacobian is not None, full=full)  # fmt: skip
+    if on_plan is not None:
+        on_plan(plan)
     _import_libraries(model, backends)
+    load_kernels(jacobian is not None)
 
     results: dict[int, BackendResult] = {}
     errors: list[FkcheckError] = []
@@ -415,11 +444,14 @@ def run_check(
         if placed and backend.reads != "urdf":
             outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
         else:
+            share = plan.backends[index]
             outcome = _run_one(
-                Job(backend, model, q.q, pair, tol, jacobian, explain_jacobian),
+                Job(backend, model, q.q[: share.compared], pair, tol, jacobian, explain_jacobian),
                 timeout_s,
                 on_progress,
             )
+            if share.subset and isinstance(outcome, BackendResult):
+                outcome = replace(outcome, subset=(share.compared, share.total))
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)

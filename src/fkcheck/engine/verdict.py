@@ -28,6 +28,11 @@ Verdicts: ``pass`` — every backend that ran agrees (or disagrees as recorded,
 wrongly, or agreed where the model records a difference (``xpass``); ``error`` — a backend could
 not answer, or none ran at all; ``unverified`` — nothing disagreed, but a
 required kind of evidence is missing.
+
+A backend that compared a subset of the configurations (the check's plan,
+:mod:`fkcheck.engine.plan`) is named with its count wherever a sentence names
+it — ``yourdfpy-urdf (95 081 of 1 000 081 configurations)`` — and the headline
+ends with the subsets.
 """
 
 from __future__ import annotations
@@ -37,6 +42,7 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Literal, Protocol
 
 from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
+from fkcheck.engine.plan import count_text
 from fkcheck.model.require import KINDS, Kind
 
 if TYPE_CHECKING:
@@ -53,6 +59,7 @@ __all__ = [
     "headline",
     "number_status",
     "numbers_line",
+    "subset_text",
     "summarize",
     "tolerance_note",
     "verdict_of",
@@ -73,6 +80,8 @@ class _Outcome(Protocol):
     def evidence(self) -> str: ...
     @property
     def ran(self) -> bool: ...
+    @property
+    def subset(self) -> tuple[int, int] | None: ...
 
 
 @dataclass(frozen=True)
@@ -117,6 +126,8 @@ class EvidenceSummary:
         loose: When a tolerance is looser than the default: which, and where it
             came from (``--tol-pos``, the model's ``[check]``, a ``pyproject.toml``);
             every headline ends with it.
+        subsets: The backends that compared a subset of the configurations, as
+            ``(name, compared, total)`` (:mod:`fkcheck.engine.plan`).
     """
 
     implementation: EvidenceKind
@@ -125,6 +136,7 @@ class EvidenceSummary:
     unmet: tuple[Kind, ...] = ()
     numbers: Coverage | None = None
     loose: str = ""
+    subsets: tuple[tuple[str, int, int], ...] = ()
 
     def of(self, kind: Kind) -> EvidenceKind:
         """The evidence of one kind."""
@@ -167,7 +179,8 @@ def summarize(
         table = replace(table, status="partly-verified", gaps=numbers.gaps())
     by_kind = {"implementation": implementation, "table": table}
     unmet = tuple(k for k in required if by_kind[k].status != "verified")
-    return EvidenceSummary(implementation, table, tuple(required), unmet, numbers, loose)
+    subsets = tuple((r.name, *r.subset) for r in results if r.subset is not None)
+    return EvidenceSummary(implementation, table, tuple(required), unmet, numbers, loose, subsets)
 
 
 def tolerance_note(tol_pos_m: float, tol_rot_rad: float, sources: tuple[str, str]) -> str:
@@ -202,8 +215,15 @@ def verdict_of(results: Sequence[_Outcome], evidence: EvidenceSummary) -> Verdic
     return "pass"
 
 
-def _names(names: Sequence[str]) -> str:
-    return ", ".join(names)
+def _names(names: Sequence[str], subsets: Iterable[tuple[str, int, int]] = ()) -> str:
+    """The names, each with its count when it compared a subset of the configurations."""
+    counts = {name: f" ({subset_text(compared, total)})" for name, compared, total in subsets}
+    return ", ".join(f"{name}{counts.get(name, '')}" for name in names)
+
+
+def subset_text(compared: int, total: int) -> str:
+    """``95 081 of 1 000 081 configurations``: what a backend on a subset compared."""
+    return f"{count_text(compared)} of {count_text(total)} configurations"
 
 
 def _agree(names: Sequence[str], prefix: str = "") -> str:
@@ -228,14 +248,15 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
         ``(implementation sentence, table sentence)``.
     """
     imp, tab = evidence.implementation, evidence.table
+    sub = evidence.subsets  # a backend on a subset is named with its count
     if imp.status == "verified":
         imp_text = (
-            f"implementation verified: {_names(imp.agreed)} {_agree(imp.agreed)} with the "
+            f"implementation verified: {_names(imp.agreed, sub)} {_agree(imp.agreed)} with the "
             "in-house core (same table, independent code)"
         )
     elif imp.status == "failed":
         imp_text = (
-            f"implementation FAILED: {_names(imp.disagreed)} {_agree(imp.disagreed, 'dis')} "
+            f"implementation FAILED: {_names(imp.disagreed, sub)} {_agree(imp.disagreed, 'dis')} "
             "with the in-house core"
         )
         imp_text += _stale(imp)
@@ -243,7 +264,7 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
         imp_text = "implementation not checked: no other implementation of this table answered"
     if tab.status == "verified":
         tab_text = (
-            f"table verified: {_names(tab.agreed)} {_agree(tab.agreed)} "
+            f"table verified: {_names(tab.agreed, sub)} {_agree(tab.agreed)} "
             "(evidence independent of the table)"
         )
     elif tab.status == "partly-verified":
@@ -253,12 +274,12 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
             else "table NOT verified"
         )
         tab_text = (
-            f"{partly}: {_names(tab.agreed)} {_agree(tab.agreed)} "
+            f"{partly}: {_names(tab.agreed, sub)} {_agree(tab.agreed)} "
             f"(evidence independent of the table), but {tab.gaps}"
         )
     elif tab.status == "failed":
         tab_text = (
-            f"table FAILED: {_names(tab.disagreed)} {_agree(tab.disagreed, 'dis')} "
+            f"table FAILED: {_names(tab.disagreed, sub)} {_agree(tab.disagreed, 'dis')} "
             "(evidence independent of the table)"
             if tab.disagreed
             else "table FAILED:"
@@ -266,12 +287,12 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
         tab_text += _stale(tab)
     elif tab.status == "expected-failure":
         tab_text = (
-            f"table NOT VERIFIED, expected failure: {_names(tab.expected)} "
+            f"table NOT VERIFIED, expected failure: {_names(tab.expected, sub)} "
             f"{_agree(tab.expected, 'dis')} as the model's [[known_difference]] records "
             "(evidence independent of the table)"
         )
         if tab.agreed:
-            tab_text += f"; {_names(tab.agreed)} {_agree(tab.agreed)}"
+            tab_text += f"; {_names(tab.agreed, sub)} {_agree(tab.agreed)}"
     else:
         tab_text = (
             "table NOT CHECKED: nothing independent of it (URDF, measured poses, published "
@@ -292,6 +313,10 @@ def headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
     a tolerance looser than the default is named at its end, with its source.
     """
     line = _headline(verdict, evidence, n_ran)
+    if evidence.subsets:
+        line += "; on a subset: " + ", ".join(
+            f"{name} {subset_text(compared, total)}" for name, compared, total in evidence.subsets
+        )
     return f"{line} [{evidence.loose}]" if evidence.loose else line
 
 

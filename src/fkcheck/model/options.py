@@ -67,9 +67,9 @@ DEFAULT_SEED = 0
 #: Sampler when nobody says.
 DEFAULT_SAMPLER: Sampler = "sobol"
 #: Time limit per backend when nobody says, seconds: well below a CI job's hour.
-#: Not enough for every backend at a million samples: yourdfpy computes about
-#: 3,000 UR5 poses a second (3.4 s for 10,081 configurations here), so such a
-#: check needs a longer ``--timeout``.
+#: Not enough for every backend at a million samples (yourdfpy computes about
+#: 3,000 UR5 poses a second): the plan (:mod:`fkcheck.engine.plan`) then gives
+#: such a backend a stated subset, unless ``full`` asks for every configuration.
 DEFAULT_TIMEOUT_S = 120.0
 #: Most random samples one check draws: ten million configurations are 0.5 GB of
 #: joint values alone for six joints; more is a typo, not a check.
@@ -80,7 +80,7 @@ MAX_SEED = 2**64 - 1
 
 OptionName = Literal[
     "samples", "seed", "sampler", "timeout_s", "frame_from", "frame_to", "tol_pos_m",
-    "tol_rot_rad", "require", "jacobian", "jacobian_reference", "tol_jacobian",
+    "tol_rot_rad", "require", "jacobian", "jacobian_reference", "tol_jacobian", "full",
 ]  # fmt: skip
 #: Every option of a check, in the order :class:`CheckOptions` holds them.
 OPTIONS: tuple[OptionName, ...] = get_args(OptionName)
@@ -100,6 +100,7 @@ FLAGS: Mapping[OptionName, str] = MappingProxyType(
         "jacobian": "--jacobian",
         "jacobian_reference": "--jacobian-reference",
         "tol_jacobian": "--tol-jacobian",
+        "full": "--full",
     }
 )
 
@@ -116,6 +117,7 @@ PROJECT_KEYS: Mapping[OptionName, str] = MappingProxyType(
         "jacobian": "jacobian",
         "jacobian_reference": "jacobian_reference",
         "tol_jacobian": "tol_jacobian",
+        "full": "full",
     }
 )
 
@@ -180,7 +182,7 @@ def option_problem(name: OptionName, value: object, *, lowest: int | None = None
     if name == "require":
         bad = [k for k in value if k not in KINDS] if isinstance(value, tuple) else [value]
         return f"must be among {', '.join(KINDS)}, got {_shown(bad[0])}" if bad else None
-    if name == "jacobian":
+    if name in ("jacobian", "full"):
         return None if isinstance(value, bool) else f"must be true or false, got {_shown(value)}"
     # frame_from, frame_to: names the model resolves (FrameError lists its frames)
     return None if isinstance(value, str) else f"must be a frame name, got {_shown(value)}"
@@ -217,6 +219,10 @@ class CheckOptions:
         jacobian: Also compare Jacobians (``None``: the model's ``[check] jacobian``).
         jacobian_reference: Their reference frame (``None``: the model's ``[check]``).
         tol_jacobian: Their tolerance (``None``: the model's ``[check]``).
+        full: Every backend compares every configuration, however long it takes
+            (the time limit still applies); by default a backend whose declared
+            cost cannot fit its limit compares a stated subset
+            (:mod:`fkcheck.engine.plan`).
         sources: Where each option given came from (``--seed``, ``[tool.fkcheck]
             seed in …/pyproject.toml``); absent: a default, or the caller's argument.
 
@@ -236,6 +242,7 @@ class CheckOptions:
     jacobian: bool | None = None
     jacobian_reference: JacobianReference | None = None
     tol_jacobian: float | None = None
+    full: bool = False
     sources: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:

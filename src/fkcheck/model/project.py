@@ -57,6 +57,7 @@ MAX_MODEL_FILES = 10_000
 _KEYS = (
     "models", "against", "samples", "seed", "sampler", "timeout", "require",
     "tol_pos_m", "tol_rot_rad", "lint_ignore", "jacobian", "jacobian_reference", "tol_jacobian",
+    "full",
 )  # fmt: skip
 #: What a model file is, in messages.
 _MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
@@ -97,6 +98,7 @@ class ProjectConfig:
         jacobian: Also compare Jacobians (as ``check --jacobian``/``--no-jacobian``).
         jacobian_reference: Their reference frame (as ``--jacobian-reference``).
         tol_jacobian: Their tolerance, m/rad and rad/rad (as ``--tol-jacobian``).
+        full: Every backend compares every configuration (as ``--full``).
     """
 
     path: Path
@@ -113,6 +115,7 @@ class ProjectConfig:
     jacobian: bool | None = None
     jacobian_reference: JacobianReference | None = None
     tol_jacobian: float | None = None
+    full: bool | None = None
 
     @property
     def wants_jacobian(self) -> bool | None:
@@ -222,6 +225,7 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         jacobian=jacobian,
         jacobian_reference=_option(path, table, "jacobian_reference"),
         tol_jacobian=_option(path, table, "tol_jacobian"),
+        full=_option(path, table, "full"),
     )
 
 

@@ -39,6 +39,8 @@ def _backend(record: BackendRecord) -> dict[str, Any]:
         "message": record.message,
         "method": record.method,
         "duration_s": round(record.duration_s, 6),
+        "configurations": record.configurations,
+        "subset": record.subset or None,
         **({"jacobian": _jacobian(record.jacobian)} if record.jacobian is not None else {}),
     }
 

@@ -34,13 +34,28 @@ __all__ = ["build_report_page", "verdict_line"]  # verdict_line: see fkcheck.rep
 
 
 def _headline(record: CheckRecord) -> tuple[str, ...]:
-    """One line per failing backend: its record's summary."""
-    return tuple(f"{r.name}: {r.summary}" for r in record.backends if r.status == "fail")
+    """One line per failing backend's summary; backends with the same summary share one."""
+    names: dict[str, list[str]] = {}
+    for r in record.backends:
+        if r.status == "fail":
+            names.setdefault(r.summary, []).append(r.name)
+    return tuple(f"{', '.join(who)}: {summary}" for summary, who in names.items())
 
 
-def _with_also(d: DiagnosisView) -> str:
-    """``pinocchio-urdf`` or ``pinocchio-urdf (and yourdfpy-urdf, rtb-urdf)``."""
-    return d.backend + (f" (and {', '.join(d.also)})" if d.also else "")
+def _diagnosis_bullets(views: Sequence[DiagnosisView]) -> tuple[str, ...]:
+    """One line per diagnosis; diagnoses that say the same thing share one.
+
+    ``Diagnosis against pinocchio-urdf (and yourdfpy-urdf, rtb-urdf): …``.
+    """
+    names: dict[str, list[str]] = {}
+    for d in views:
+        names.setdefault(d.short, []).extend([d.backend, *d.also])
+    out = []
+    for short, who in names.items():
+        first, *also = dict.fromkeys(who)
+        others = f" (and {', '.join(also)})" if also else ""
+        out.append(f"Diagnosis against {first}{others}: {short}")
+    return tuple(out)
 
 
 def _configurations(check: CheckResult) -> str:
@@ -130,7 +145,7 @@ def build_report_page(
     parting_views = partings(check)
     headline = (
         _headline(record)
-        + tuple(f"Diagnosis against {_with_also(d)}: {d.short}" for d in diagnosis_views)
+        + _diagnosis_bullets(diagnosis_views)
         + tuple(f"Where the chains part: {p.short}." for p in parting_views if p.short)
     )
     return ReportPage(

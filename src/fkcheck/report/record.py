@@ -33,6 +33,7 @@ from fkcheck.engine.verdict import (
     evidence_sentences,
     headline,
     numbers_line,
+    subset_text,
 )
 from fkcheck.io.format import (
     format_angle_summary,
@@ -165,6 +166,8 @@ class BackendRecord:
         diagnosed_with: For a failure, the failing backends its diagnosis stands
             for, in its order (this one among them); otherwise just this one.
         jacobian: Its Jacobian comparison, when the check compared Jacobians.
+        subset: ``95 081 of 1 000 081 configurations`` when the check's plan gave
+            it a subset only (:mod:`fkcheck.engine.plan`); ``""``: it had them all.
     """
 
     name: str
@@ -195,6 +198,7 @@ class BackendRecord:
     diagnosis_field: str
     diagnosed_with: tuple[str, ...]
     jacobian: JacobianRecord | None
+    subset: str = ""
 
 
 @dataclass(frozen=True)
@@ -299,14 +303,11 @@ _JACOBIANS_COUNTED = (
 def verdict_line(check: CheckResult) -> str:
     """The verdict as one sentence: who agrees, disagrees, errored, was skipped."""
     ran = check.ran
-    failing = [r.name for r in check.backends if r.status == "fail"]
+    failing = [r for r in check.backends if r.status == "fail"]
     if not ran:
         parts = ["No reference backend ran: nothing was cross-checked"]
     elif failing:
-        parts = [
-            f"{len(failing)} of {len(ran)} backends that ran disagree with the in-house core: "
-            + ", ".join(failing)
-        ]
+        parts = _disagreeing(ran, failing)
     else:
         agreed = sum(r.status == "pass" for r in ran)
         parts = [f"{agreed} of {len(ran)} backends that ran agree with the in-house core"]
@@ -319,6 +320,33 @@ def verdict_line(check: CheckResult) -> str:
         if names:
             parts.append(sentence.format(n=len(names), names=", ".join(names)))
     return "; ".join(parts) + "."
+
+
+def _disagreeing(ran: Sequence[BackendResult], failing: Sequence[BackendResult]) -> list[str]:
+    """Who disagrees, said as the evidence says it (as the headline blames the table or not).
+
+    Backends independent of the table (a URDF, measured poses) that disagree
+    disagree with the table; other implementations of the same table disagree
+    with the in-house core. When only the former disagree, the implementations
+    that agree are named too: the core computed the table as written.
+    """
+    parts = []
+    for kind, whom in (("implementation", "the in-house core"), ("table", "the table")):
+        names = [r.name for r in failing if r.evidence == kind]
+        if names:
+            parts.append(
+                f"{len(names)} of {len(ran)} backends that ran disagree with {whom}: "
+                + ", ".join(names)
+            )
+    if all(r.evidence == "table" for r in failing):
+        agree = [r.name for r in ran if r.evidence == "implementation" and r.status == "pass"]
+        if agree:
+            parts.append(
+                f"{len(agree)} other implementation{'s' if len(agree) > 1 else ''} of the table "
+                f"{'agree' if len(agree) > 1 else 'agrees'} with the in-house core: "
+                + ", ".join(agree)
+            )
+    return parts
 
 
 def _partial(verdict: str, evidence: EvidenceSummary) -> str:
@@ -417,6 +445,8 @@ def backend_record(
             f"{numbers}; {beyond} of {configurations} configurations beyond tolerance "
             f"({check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
         )
+        if r.subset is not None:
+            summary += f"; a subset: {subset_text(*r.subset)}"
     else:
         summary = r.message
     reasons = r.message
@@ -465,6 +495,7 @@ def backend_record(
         diagnosis_field=field,
         diagnosed_with=group,
         jacobian=_jacobian(check, r.jacobian) if r.jacobian is not None else None,
+        subset=subset_text(*r.subset) if r.subset is not None else "",
     )
 
 

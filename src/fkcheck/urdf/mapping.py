@@ -202,6 +202,11 @@ class MapResult:
         absorbs: Proposed frame → the table numbers its offset could absorb
             (``d1: translation along z of DH frame 0``): a table error there and an
             offset fitted around it look the same, so fkcheck cannot tell them apart.
+        check_declared: The model's file has a ``[check]`` table of its own, so the
+            block's ``[check]`` is written as comments (a second one would not parse).
+        twins: ``[frames.world]`` / ``[frames.tcp]`` the block declares, each the URDF
+            link that sits exactly on it, so that the model's own ``[check]`` (which
+            compares ``world`` → ``tcp`` unless it says otherwise) has URDF twins.
     """
 
     model: Model
@@ -219,6 +224,8 @@ class MapResult:
     pair: tuple[str, str] | None = None
     numbers: Coverage | None = None
     absorbs: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    check_declared: bool = False
+    twins: tuple[FrameSpec, ...] = ()
 
     @property
     def tolerances(self) -> tuple[float, float]:
@@ -246,6 +253,32 @@ class MapResult:
             and not self.nearest
             and any(f.fit is not None and f.spec.dh in (0, "world") for f in self.frames)
         )
+
+    @property
+    def unmapped_ends(self) -> tuple[str, ...]:
+        """Ends of the model's own ``[check]`` that have no URDF twin, the block pasted.
+
+        Empty when the block's ``[check]`` is live (the model declares none).
+        """
+        if not self.check_declared:
+            return ()
+        mapped = {f.spec.name for f in self.frames if f.fit is not None}
+        mapped |= {t.name for t in self.twins}
+        mapped |= {s.name for s in self.model.frames.values() if s.urdf is not None}
+        ends = dict.fromkeys((self.model.check.frame_from, self.model.check.frame_to))
+        return tuple(end for end in ends if end not in mapped)
+
+    @property
+    def check_flags(self) -> tuple[str, ...]:
+        """What ``fkcheck check MODEL`` needs, the block pasted, to compare mapped frames.
+
+        ``()`` when the check the model then runs has a URDF twin at both ends (the
+        block's live ``[check]``, or the model's own ``[check]`` with its frames
+        mapped); else ``("--from", A, "--to", B)``, the proposed pair.
+        """
+        if self.pair is None or not self.unmapped_ends:
+            return ()
+        return ("--from", self.pair[0], "--to", self.pair[1])
 
 
 # ----------------------------------------------------------------------------- geometry
@@ -694,6 +727,7 @@ def map_model(
     )
     frames, nearest = _frames(problem, best)
     pair, numbers, absorbs = _check_pair(model, frames, best.score(problem.tol)[0] == 0)
+    declared = _declares_check(model)
     return MapResult(
         model=model,
         urdf_path=urdf_path,
@@ -710,7 +744,38 @@ def map_model(
         pair=pair,
         numbers=numbers,
         absorbs=absorbs,
+        check_declared=declared,
+        twins=_default_twins(model, frames) if declared and pair is not None else (),
     )
+
+
+def _default_twins(model: Model, frames: Sequence[ProposedFrame]) -> tuple[FrameSpec, ...]:
+    """``world`` / ``tcp`` of the model's own check, each given the link sitting exactly on it.
+
+    A link on DH frame 0 is on the world when the model has no ``[base]`` (and on
+    the last DH frame, the TCP, without a ``[tool]``). Ends that already have a
+    twin, and ends no link sits exactly on, get none.
+    """
+    n = model.dof
+    on: dict[Literal["world", "tcp"], tuple[Anchor, ...]] = {
+        "world": ("world", 0) if model.base.is_identity else ("world",),
+        "tcp": ("tcp", n) if model.tool.is_identity else ("tcp",),
+    }
+    twins: list[FrameSpec] = []
+    for end in on:
+        spec = model.frames.get(end)
+        if end not in (model.check.frame_from, model.check.frame_to) or spec is None:
+            continue
+        if not _builtin(spec):
+            continue
+        exact = [
+            p.spec.urdf
+            for p in frames
+            if p.fit is not None and p.spec.dh in on[end] and p.spec.offset.is_identity
+        ]
+        if exact and exact[0] is not None:
+            twins.append(FrameSpec(end, end, Offset(), exact[0]))
+    return tuple(twins)
 
 
 def _check_pair(
@@ -1029,11 +1094,21 @@ def _check_block(result: MapResult) -> list[str]:
         ),
     ]
     body = ["[check]", f"from = {toml_string(frm)}", f"to = {toml_string(to)}"]
-    if _declares_check(result.model):  # a second [check] would not parse
-        lines += toml_comment(["The model declares its own [check]: set from and to there:"])
-        lines += toml_comment(body)
-    else:
-        lines += body
+    if not result.check_declared:
+        return lines + body
+    own = result.model.check
+    for twin in result.twins:  # the model's own check then compares these links
+        lines.append(
+            frame_toml(
+                twin,
+                result.model.angle_unit,
+                f"The model's own [check] compares {own.frame_from} → {own.frame_to}: "
+                f"{twin.urdf} sits exactly on {twin.name}.",
+            ).rstrip("\n")
+        )
+    # a second [check] would not parse
+    lines += toml_comment(["The model declares its own [check]: to check this pair, set there:"])
+    lines += toml_comment(body)
     return lines
 
 

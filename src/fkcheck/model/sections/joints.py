@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+from fkcheck.errors import ModelError
 from fkcheck.io.numbers import show_text
 from fkcheck.model.sections.header import Header
 from fkcheck.model.sections.reader import Reader, kind
@@ -73,6 +74,30 @@ def _read_joint(
             f"duplicate joint name {show_text(jname)} (also joint[{seen[jname]}])",
         )
     seen[jname] = i
+    # From here on, an error names the joint after its field (fkcheck.model.names) — when
+    # the file names it: a default joint1, joint2, … beside a 0-based path would mislead.
+    shown = jname if "name" in row else ""
+    try:
+        return _read_named_joint(r, row, where, jname, shown, header, linearised)
+    except ModelError as exc:
+        if not shown or exc.joint or not exc.field.startswith(where):
+            raise
+        raise ModelError(exc.path, exc.field, exc.problem, joint=shown) from None
+
+
+def _read_named_joint(
+    r: Reader,
+    row: Mapping[str, Any],
+    where: str,
+    jname: str,
+    shown: str,
+    header: Header,
+    linearised: bool,
+) -> tuple[Joint, list[str]]:
+    """The rest of row ``where`` named ``jname``; warnings show ``shown`` (``""``: no name).
+
+    A ``linearised`` table's θ beyond ±2π is the controller's number, not degrees.
+    """
     jtype = r.choice(row.get("type", "revolute"), f"{where}.type", JOINT_TYPES)
     flip = r.flag(row.get("flip", False), f"{where}.flip")
     alpha = r.number(row["alpha"], f"{where}.alpha")
@@ -80,7 +105,7 @@ def _read_joint(
     limits = _limits(r, row, where, jtype, header.to_rad)
     warnings = []
     if header.angle_unit == "rad":
-        warnings = _degree_warnings(where, alpha, 0.0 if linearised else theta)
+        warnings = _degree_warnings(where, shown, alpha, 0.0 if linearised else theta)
     to_rad = header.to_rad
     joint = Joint(
         name=jname,
@@ -111,10 +136,11 @@ def _limits(
     )
 
 
-def _degree_warnings(where: str, alpha: float, theta: float) -> list[str]:
+def _degree_warnings(where: str, shown: str, alpha: float, theta: float) -> list[str]:
     """A warning for each fixed angle beyond ±2π in a radian file: degrees, most likely."""
+    name = f" ({shown})" if shown else ""
     return [
-        f"{where}.{label} = {value:g} is beyond ±2π: it looks like degrees "
+        f"{where}.{label}{name} = {value:g} is beyond ±2π: it looks like degrees "
         'in a file with angle_unit = "rad"'
         for label, value in (("alpha", alpha), ("theta", theta))
         if abs(value) > 2 * math.pi + 1e-9
