@@ -43,9 +43,7 @@ def test_calibration_writes_the_model_and_says_what_it_changes(tmp_path, capsys)
 
 def test_check_of_a_calibrated_model_shows_the_effect_in_every_format(tmp_path, capsys):
     nominal = load_model("ur10e")
-    info = write_kinematics_info(
-        tmp_path / "info.log", composed(nominal.joints, "ur10e-test-b"), 2
-    )
+    info = write_kinematics_info(tmp_path / "info.log", composed(nominal.joints, "ur10e-test-b"), 2)
     model = tmp_path / "robot.toml"
     assert run(capsys, "calibration", "ur10e", info, "-o", model)[0] == 0
     outputs = {k: tmp_path / f"r.{k}" for k in ("json", "html", "junit")}
