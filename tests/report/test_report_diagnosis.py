@@ -176,7 +176,7 @@ def test_base_link_without_its_rz_pi_says_base_link_vs_base_and_the_fix_passes(t
     )
     snippet = fix_toml(best)
     fix = tomllib.loads(snippet)
-    assert fix["frames"]["base_link"].pop("source").startswith("ROS-Industrial")  # kept
+    assert fix["frames"]["base_link"].pop("source").startswith("Universal_Robots_ROS2")  # kept
     assert fix == {
         "frames": {"base_link": {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}}
     }
