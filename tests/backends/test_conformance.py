@@ -143,7 +143,7 @@ def test_is_built_and_probed_without_importing_its_library(registration, spec):
     reason, inputs, loaded = json.loads(done.stdout)
     assert (reason, loaded) == (None, [])
     if registration.declared("reads") == "urdf":  # the model's URDF file, resolved
-        assert [Path(p).name for p in inputs] == ["ur5_robot.urdf"]
+        assert [Path(p).name for p in inputs] == ["ur.urdf.xacro"]  # UR's ROS 2, bundled
 
 
 @pytest.mark.parametrize(("registration", "spec"), RUNNABLE)

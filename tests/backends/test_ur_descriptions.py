@@ -55,3 +55,16 @@ def test_the_older_ros1_description_still_agrees(name, frame_from, frame_to):
     assert check.verdict == "pass"
     assert check.evidence.table.status == "verified"
     assert [b.status for b in check.backends] == ["pass"] * len(URDF_READERS)
+
+
+def test_the_bundled_description_names_meshes_that_are_not_there():
+    """No mesh is bundled: the checks above pass without one (no reader opens a mesh)."""
+    from fkcheck.model.read import bundled_models_dir
+    from fkcheck.urdf.source import load_urdf
+
+    root = bundled_models_dir() / "ur_description"
+    assert not (root / "meshes").exists()
+    assert (root / "LICENSE").is_file()
+    assert "2221ec0f720fb1af99339eb891639b499b62f1da" in (root / "SOURCE.md").read_text()
+    info = load_urdf(load_model("ur5e"))
+    assert "package://ur_description/meshes/ur5e/visual/base.dae" in info.text

@@ -32,17 +32,11 @@ def write(tmp_path: Path, name: str, text: str) -> Path:
 
 
 def d1_in_the_base(tmp_path: Path) -> Path:
-    """UR5 with d1 10 mm long and its `base` frame lifted 10 mm: what `map` proposed.
-
-    (``map`` writes no ``source``: the bundled model's, vouching for its base, goes.)
-    """
+    """UR5 with d1 10 mm long and its `base` frame lifted 10 mm: what `map` proposed."""
     text = ur5_text().replace("d = 0.089159", "d = 0.099159", 1)
-    old = '[frames.base]\ndh = 0\nurdf = "base"\nsource = "'
+    old = '[frames.base]\ndh = 0\nurdf = "base"\n'
     assert old in text
-    start = text.index(old)
-    end = text.index("\n", start + len(old))
-    new = '[frames.base]\ndh = 0\nxyz = [0.0, 0.0, 0.01]\nurdf = "base"'
-    text = text[:start] + new + text[end:]
+    text = text.replace(old, '[frames.base]\ndh = 0\nxyz = [0.0, 0.0, 0.01]\nurdf = "base"\n')
     return write(tmp_path, "ur5_d1", text)
 
 

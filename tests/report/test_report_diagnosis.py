@@ -104,9 +104,10 @@ def test_d1_diagnosis_names_d1_and_its_0_301_mm(d1_pages):
     assert after_rot < ROUNDED_URDF
     assert "explains it: position 0.301 mm (3.01e-04 m) → " in text_of(first)
     offset = section[section.index('data-kind="offset"') :]
-    assert tomllib.loads(fix_toml(offset)) == {
-        "frames": {"base": {"dh": 0, "xyz": [0.0, 0.0, 0.000301], "urdf": "base"}}
-    }
+    fix = tomllib.loads(fix_toml(offset))["frames"]["base"]
+    # (UR's ROS 2 YAML writes π/2 as 1.570796327: the fitted shift is 0.301 mm to ~1e-10 m)
+    assert fix.pop("xyz") == pytest.approx([0.0, 0.0, 0.000301], abs=1e-10)
+    assert fix == {"dh": 0, "urdf": "base"}
     assert "exactly what d1" in text_of(offset)
     # Joint axes: joint 2's is the first that differs, by Δd1, turned by nothing.
     axes = section[section.index('class="diagnosis-axes"') :]
@@ -175,7 +176,7 @@ def test_base_link_without_its_rz_pi_says_base_link_vs_base_and_the_fix_passes(t
     )
     snippet = fix_toml(best)
     fix = tomllib.loads(snippet)
-    assert fix["frames"]["base_link"].pop("source").startswith("ROS-Industrial")  # kept
+    assert fix["frames"]["base_link"].pop("source").startswith("Universal_Robots_ROS2")  # kept
     assert fix == {
         "frames": {"base_link": {"dh": 0, "rpy": [0.0, 0.0, 180.0], "urdf": "base_link"}}
     }
