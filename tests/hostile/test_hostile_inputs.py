@@ -222,7 +222,7 @@ DH_CSV = {
     "csv_length_beyond_bound": (
         {"t.csv": "j1,1e308,0,0.2,0\n"},
         ["fk", "t.csv", "--q", "0"],
-        r"t\.csv: joint\[0\]\.a: 1e\+308 m is beyond ±1000 m",
+        r"t\.csv: joint\[0\]\.a \(j1\): 1e\+308 m is beyond ±1000 m",
     ),
 }
 

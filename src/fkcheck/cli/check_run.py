@@ -87,6 +87,7 @@ def check_with_progress(
     from fkcheck.cli.progress import check_progress, kernels_phase
     from fkcheck.model.options import jacobian_for
 
+    _read_inputs(model, backends, args.options.timeout_s)  # bad input: one line, nothing on stdout
     print_header(model, backends, args)
     quiet = getattr(args, "quiet", False)
     kernels_phase(jacobian=jacobian_for(args.options, model) is not None, quiet=quiet)
@@ -106,6 +107,28 @@ def check_with_progress(
             on_progress=on_progress,
             on_plan=lambda plan: print_plan(plan.notes()),
         )
+
+
+def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> None:
+    """Read what the check will read before its header is printed, so bad input is one line.
+
+    A measured-poses file and the model's URDF (expanded once, if xacro: the check
+    reuses the expansion) are read here; their errors are the check's own.
+    """
+    import contextlib
+
+    from fkcheck.backends.base import FixedConfigurations
+    from fkcheck.errors import BackendUnavailable
+    from fkcheck.urdf.source import load_urdf
+    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
+
+    for backend in backends:
+        if isinstance(backend, FixedConfigurations):
+            backend.configurations(model)
+    reads_urdf = any(b.reads == "urdf" for b in backends)
+    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
+        with contextlib.suppress(BackendUnavailable):  # each URDF backend says so itself
+            load_urdf(model, min(timeout_s, XACRO_TIMEOUT_S))
 
 
 def write_summaries(

@@ -100,8 +100,12 @@ def _join_negative_values(argv: list[str]) -> list[str]:
     return out
 
 
-class _Terminated(Exception):
-    """SIGTERM, turned into an exception so the run unwinds and says so."""
+class _Terminated(BaseException):  # noqa: N818 (a signal, like KeyboardInterrupt)
+    """SIGTERM, turned into an exception so the run unwinds and says so.
+
+    A ``BaseException``, as ``KeyboardInterrupt`` is: an ``except Exception`` on the
+    way (a library's fallback, the kernels' loader) must not swallow it.
+    """
 
 
 def _on_sigterm(signum: int, frame: object) -> None:

@@ -323,6 +323,10 @@ def _check_twins(model: Model, pair: Sequence[str], links: Sequence[str], urdf: 
             raise FrameError(link, f"URDF {urdf} (frame {name})", links)
 
 
+#: How long the main thread waits on a backend's thread at a time, s (see run_check).
+_JOIN_SLICE_S = 0.1
+
+
 def run_check(
     model: Model,
     backends: Sequence[Backend],
@@ -467,7 +471,11 @@ def run_check(
     for worker in workers:
         worker.start()
     for worker in workers:
-        worker.join()
+        # In slices: a signal that lands on a backend's thread (SIGTERM, Ctrl-C) runs its
+        # Python handler only when the main thread runs again — an unbounded join()
+        # would hold it until the slowest backend ended.
+        while worker.is_alive():
+            worker.join(_JOIN_SLICE_S)
     if errors:
         raise errors[0]
     ordered = apply_known_differences(
