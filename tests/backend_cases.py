@@ -13,8 +13,9 @@ from fkcheck.backends import registry
 from fkcheck.model.frames import frame_poses_from_dh, relative_pose
 from fkcheck.model.read import bundled_model_paths, load_model
 from fkcheck.model.types import Model
+from fkcheck.model.write import model_to_toml
 from fkcheck.urdf.source import load_urdf
-from tests.helpers import assert_pose_close, rotation_angle
+from tests.helpers import assert_pose_close, rotation_angle, ur5_ros1
 
 #: Every registered backend that reads the model's URDF (derived from the registry).
 URDF_BACKENDS = registry.names(reads="urdf")
@@ -65,6 +66,16 @@ def edited_bundled_model(tmp_path: Path, name: str, old: str, new: str) -> Model
     path = tmp_path / f"{name}_edited.toml"
     path.write_text(text.replace(old, new))
     return load_model(path)
+
+
+def edited_ur5_ros1(tmp_path: Path, old: str, new: str) -> Path:
+    """The bundled UR5 on example-robot-data's ROS 1 ``ur5_robot.urdf`` (``ur5_ros1``),
+    written to a model file with one exact piece of text replaced."""
+    text = model_to_toml(ur5_ros1())
+    assert text.count(old) == 1, f"{old!r} is not in the ROS 1 UR5 model exactly once"
+    path = tmp_path / "ur5_ros1_edited.toml"
+    path.write_text(text.replace(old, new))
+    return path
 
 
 def urdf_origin_rpy(model: Model, child_link: str) -> tuple[float, float, float]:

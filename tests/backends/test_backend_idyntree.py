@@ -28,7 +28,7 @@ from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import UnmappedFrameError, UrdfError
-from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.read import load_model
 from fkcheck.model.types import Model
 from fkcheck.urdf.source import load_urdf
 from tests.backend_cases import (
@@ -37,10 +37,11 @@ from tests.backend_cases import (
     URDF_MODELS,
     arm3_model,
     assert_every_pair_agrees,
+    edited_ur5_ros1,
     mapped_frames,
     pair_errors,
 )
-from tests.helpers import assert_pose_close, random_q
+from tests.helpers import assert_pose_close, random_q, ur5_ros1
 
 idt = pytest.importorskip("idyntree.bindings")
 
@@ -154,7 +155,7 @@ def test_missing_idyntree_is_reported_with_the_install_command(
 def test_its_input_is_the_models_urdf(backend: IdyntreeUrdf) -> None:
     ur5 = load_model("ur5")
     assert backend.inputs(ur5) == (load_urdf(ur5).path,)
-    assert backend.inputs(ur5)[0].name == "ur5_robot.urdf"
+    assert backend.inputs(ur5)[0].name == "ur.urdf.xacro"  # UR's ROS 2 description, bundled
 
 
 # ---------------------------------------------------------------- against the core
@@ -190,16 +191,14 @@ def test_jacobians_agree_with_core_in_every_reference(name: str, reference: str)
 def test_a_seeded_urdf_fault_of_0_1_mm_disagrees(
     backend: IdyntreeUrdf, tmp_path, rng: np.random.Generator
 ) -> None:
-    # A copy of UR5's URDF with the elbow 0.1 mm further along the upper arm.
-    urdf = load_urdf(load_model("ur5")).path.read_text()
+    # A copy of UR5's plain ROS 1 URDF (example-robot-data's ur5_robot.urdf; the bundled
+    # model reads ROS 2's xacro) with the elbow 0.1 mm further along the upper arm.
+    urdf = load_urdf(ur5_ros1()).path.read_text()
     old = '<origin rpy="0.0 0.0 0.0" xyz="0.0 -0.1197 0.425"/>'
     assert urdf.count(old) == 1
     (tmp_path / "ur5_seeded.urdf").write_text(urdf.replace(old, old.replace("0.425", "0.4251")))
-    text = bundled_model_paths()["ur5"].read_text()
     erd = 'path = "example-robot-data:ur_description/urdf/ur5_robot.urdf"'
-    assert text.count(erd) == 1
-    (tmp_path / "ur5_seeded.toml").write_text(text.replace(erd, 'path = "ur5_seeded.urdf"'))
-    model = load_model(tmp_path / "ur5_seeded.toml")
+    model = load_model(edited_ur5_ros1(tmp_path, erd, 'path = "ur5_seeded.urdf"'))
     q = random_q(model, rng, 50)
     pos, _ = pair_errors(
         model, q, "base", "tool0", backend.frame_poses(model, q, ["base", "tool0"])
@@ -272,9 +271,10 @@ def test_links_on_fixed_joints_are_found_though_idyntree_keeps_them_as_frames(
     ur5 = load_model("ur5")
     _, imodel = full_model(ur5)
     links = {imodel.getLinkName(i) for i in range(imodel.getNrOfLinks())}
-    names = ["base_link", "base", "tool0", "ee_link"]
-    assert {"world", "base", "tool0", "ee_link"}.isdisjoint(links)  # the trap: not links
-    assert "base_link" in links
+    names = ["base_link", "base", "tool0", "flange"]
+    assert {"world", "base", "tool0"}.isdisjoint(links)  # the trap: not links
+    # ROS 2's flange is on a fixed joint too, but tool0 hangs off it: iDynTree keeps it a link.
+    assert {"base_link", "flange"} <= links
     q = random_q(ur5, rng, 20)
     assert_every_pair_agrees(ur5, q, names, backend.frame_poses(ur5, q, names), ROUNDED_URDF)
 

@@ -23,7 +23,7 @@ from fkcheck.core.tolerances import FINITE_DIFFERENCE, FINITE_DIFFERENCE_STEP, R
 from fkcheck.core.typing import JACOBIAN_REFERENCES
 from fkcheck.errors import UnmappedFrameError, UrdfError
 from fkcheck.model.frames import reference_poses, relative_pose
-from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.read import load_model
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import locate_urdf
 from fkcheck.urdf.source import load_urdf
@@ -33,6 +33,7 @@ from tests.backend_cases import (
     URDF_MODELS,
     arm3_model,
     assert_every_pair_agrees,
+    edited_ur5_ros1,
     mapped_frames,
     pair_errors,
 )
@@ -43,7 +44,10 @@ mujoco = pytest.importorskip("mujoco")
 #: One small chain (arm3: three joints) in two float64 libraries: a few ulps.
 ARM3_TOL = 1e-12
 
-UR5_URDF = "example-robot-data:ur_description/urdf/ur5_robot.urdf"
+#: The bundled UR5's URDF: UR's ROS 2 description, bundled with fkcheck.
+UR5_XACRO = "fkcheck:ur_description/urdf/ur.urdf.xacro"
+#: UR5's older, plain ROS 1 URDF (example-robot-data's), for a copy to seed a fault into.
+UR5_ROS1_URDF = "example-robot-data:ur_description/urdf/ur5_robot.urdf"
 
 
 @pytest.fixture(scope="module")
@@ -121,7 +125,7 @@ def test_a_model_without_urdf_is_unavailable_and_reads_nothing(backend: MujocoUr
 
 
 def test_inputs_is_the_models_urdf(backend: MujocoUrdf, tmp_path: Path) -> None:
-    assert backend.inputs(load_model("ur5")) == (locate_urdf(UR5_URDF)[0],)
+    assert backend.inputs(load_model("ur5")) == (locate_urdf(UR5_XACRO)[0],)
     assert backend.inputs(arm3_model(tmp_path)) == (tmp_path / "arm3.urdf",)
 
 
@@ -215,16 +219,13 @@ def test_frame_without_twin_is_an_unmapped_frame_error(backend: MujocoUrdf) -> N
 
 @pytest.fixture
 def ur5_with_a_longer_upper_arm(tmp_path: Path) -> Path:
-    """ur5.toml next to a copy of its URDF whose elbow joint sits 0.1 mm further out."""
-    text = locate_urdf(UR5_URDF)[0].read_text()
+    """The UR5 on a copy of its plain ROS 1 URDF (``ur5_ros1``: the bundled model reads
+    ROS 2's xacro) whose elbow joint sits 0.1 mm further out."""
+    text = locate_urdf(UR5_ROS1_URDF)[0].read_text()
     old = 'xyz="0.0 -0.1197 0.425"'
     assert text.count(old) == 1
     (tmp_path / "ur5.urdf").write_text(text.replace(old, 'xyz="0.0 -0.1197 0.4251"'))
-    model = bundled_model_paths()["ur5"].read_text()
-    assert model.count(UR5_URDF) == 1
-    path = tmp_path / "ur5.toml"
-    path.write_text(model.replace(UR5_URDF, "ur5.urdf"))
-    return path
+    return edited_ur5_ros1(tmp_path, UR5_ROS1_URDF, "ur5.urdf")
 
 
 def test_a_seeded_urdf_fault_makes_it_disagree_with_the_core(
@@ -284,13 +285,13 @@ def test_mujoco_fact_fixed_links_are_fused_by_default() -> None:
     assert spec.compiler.fusestatic  # the URDF importer's default
     spec.compiler.boundmass = spec.compiler.boundinertia = 1.0
     bodies = _body_names(spec.compile())
-    assert not {"base", "base_link", "ee_link", "tool0"} & set(bodies)
+    assert not {"base", "base_link", "flange", "tool0"} & set(bodies)
 
 
 def test_fixed_links_are_kept_by_name(backend: MujocoUrdf, rng: np.random.Generator) -> None:
     ur5 = load_model("ur5")
     q = random_q(ur5, rng, 20)
-    frames = ["base", "base_link", "tool0", "ee_link"]
+    frames = ["base", "base_link", "tool0", "flange"]
     assert_every_pair_agrees(ur5, q, frames, backend.frame_poses(ur5, q, frames), ROUNDED_URDF)
 
 

@@ -24,6 +24,7 @@ from tests.backend_cases import (
     assert_every_pair_agrees,
     core_frame_poses,
     edited_bundled_model,
+    edited_ur5_ros1,
     mapped_frames,
     pair_errors,
     rpy_rotation,
@@ -301,7 +302,8 @@ def test_urdf_frame_without_twin_is_an_unmapped_frame_error(urdf_backend: Pinocc
 def test_urdf_wrong_tool_mapping_shows_the_tool0_to_ee_link_rotation(
     urdf_backend: PinocchioUrdf, tmp_path, rng: np.random.Generator
 ) -> None:
-    model = edited_bundled_model(tmp_path, "ur5", 'urdf = "tool0"', 'urdf = "ee_link"')
+    # ee_link is ROS 1's (example-robot-data's ur5_robot.urdf); the bundled UR5 reads ROS 2's.
+    model = load_model(edited_ur5_ros1(tmp_path, 'urdf = "tool0"', 'urdf = "ee_link"'))
     # Expected: the fixed rotation between the two links, from the URDF's own origins.
     expected = (
         rpy_rotation(urdf_origin_rpy(model, "tool0")).inv()

@@ -22,12 +22,13 @@ from tests.backend_cases import (
     arm3_model,
     assert_every_pair_agrees,
     edited_bundled_model,
+    edited_ur5_ros1,
     mapped_frames,
     pair_errors,
     rpy_rotation,
     urdf_origin_rpy,
 )
-from tests.helpers import assert_pose_close, random_q
+from tests.helpers import assert_pose_close, random_q, ur5_ros1
 
 yourdfpy = pytest.importorskip("yourdfpy")
 
@@ -124,7 +125,8 @@ def test_a_dh_joint_mapped_onto_a_mimic_joint_is_refused(backend: YourdfpyUrdf, 
 def test_wrong_tool_mapping_shows_the_tool0_to_ee_link_rotation(
     backend: YourdfpyUrdf, tmp_path, rng: np.random.Generator
 ) -> None:
-    model = edited_bundled_model(tmp_path, "ur5", 'urdf = "tool0"', 'urdf = "ee_link"')
+    # ee_link is ROS 1's (example-robot-data's ur5_robot.urdf); the bundled UR5 reads ROS 2's.
+    model = load_model(edited_ur5_ros1(tmp_path, 'urdf = "tool0"', 'urdf = "ee_link"'))
     expected = (
         rpy_rotation(urdf_origin_rpy(model, "tool0")).inv()
         * rpy_rotation(urdf_origin_rpy(model, "ee_link"))
@@ -185,7 +187,9 @@ def test_the_backend_loads_no_mesh(
 
 
 def test_get_transform_is_the_pose_of_frame_to_in_frame_from() -> None:
-    ur5_text = load_urdf(load_model("ur5")).text
+    # ROS 1's ur5_robot.urdf, where shoulder_pan_joint's parent is base_link itself (ROS 2's
+    # is base_link_inertia, base_link turned π about z).
+    ur5_text = load_urdf(ur5_ros1()).text
     robot = load_text(ur5_text)
     robot.update_cfg({"shoulder_pan_joint": 0.5})
     T = robot.get_transform("shoulder_link", "base_link")

@@ -36,7 +36,8 @@ from tests.paths import PLUGINS_DIR
 
 BACKENDS_DIR = Path(fkcheck.backends.__file__).parent
 PLUGINS = PLUGINS_DIR
-#: Every default reference (the registry's); all read the UR5's named frames.
+#: Every default reference (the registry's); all read the UR5's named frames (its URDF
+#: frames are UR's ROS 2 description's: ``flange``, not ROS 1's ``ee_link``).
 UR5_REFERENCES = list(registry.default_names())
 
 
@@ -91,7 +92,7 @@ def _swapped_roll_and_yaw(original):
 def _reversed_order(original):
     """``Rx(r)·Ry(p)·Rz(y)`` instead of URDF's ``Rz(y)·Ry(p)·Rx(r)`` (intrinsic/extrinsic mix-up).
 
-    At ee_link's pitch of -90°, swapping roll and yaw changes nothing (gimbal
+    At flange's pitch of -90°, swapping roll and yaw changes nothing (gimbal
     lock); the order does.
     """
 
@@ -103,14 +104,14 @@ def _reversed_order(original):
 
 
 def test_control_every_reference_passes_unbroken():
-    statuses, _ = _statuses(load_model("ur5"), UR5_REFERENCES, ("base_link", "ee_link"))
+    statuses, _ = _statuses(load_model("ur5"), UR5_REFERENCES, ("base_link", "flange"))
     assert statuses == dict.fromkeys(UR5_REFERENCES, "pass")
 
 
 @pytest.mark.parametrize(
     ("pair", "mutation"),
-    [(("base_link", "tool0"), _swapped_roll_and_yaw), (("tool0", "ee_link"), _reversed_order)],
-    ids=["base_link-swapped-roll-yaw", "ee_link-reversed-order"],
+    [(("base_link", "tool0"), _swapped_roll_and_yaw), (("tool0", "flange"), _reversed_order)],
+    ids=["base_link-swapped-roll-yaw", "flange-reversed-order"],
 )
 def test_broken_rpy_to_matrix_turns_every_reference_red(monkeypatch, pair, mutation):
     """fkcheck's rpy → matrix broken: the named frames' offsets come out wrong."""
@@ -159,7 +160,7 @@ def test_broken_frame_offset_turns_every_reference_red(monkeypatch):
         return poses
 
     monkeypatch.setattr(fkcheck.model.frames, "frame_poses_from_dh", broken)
-    for pair in [("base_link", "tool0"), ("tool0", "ee_link")]:
+    for pair in [("base_link", "tool0"), ("tool0", "flange")]:
         statuses, check = _statuses(load_model("ur5"), UR5_REFERENCES, pair)
         assert statuses == dict.fromkeys(UR5_REFERENCES, "fail"), (pair, check.backends)
 
