@@ -100,7 +100,7 @@ def _join_negative_values(argv: list[str]) -> list[str]:
     return out
 
 
-class _Terminated(BaseException):  # noqa: N818 (a signal, like KeyboardInterrupt)
+class _Terminated(BaseException):
     """SIGTERM, turned into an exception so the run unwinds and says so.
 
     A ``BaseException``, as ``KeyboardInterrupt`` is: an ``except Exception`` on the
