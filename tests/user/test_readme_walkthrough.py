@@ -32,7 +32,9 @@ def _walkthrough() -> tuple[list[str], str]:
 def _myarm_text() -> str:
     """This repository's UR5 numbers, named myarm, without its [urdf], [frames] or [check]."""
     text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
-    table = text.split("# The ROS UR description")[0]
+    table = text.split("\n[urdf]")[0]
+    while table.rstrip().splitlines()[-1].startswith("#"):  # the comments before [urdf]
+        table = table.rstrip().rsplit("\n", 1)[0] + "\n"
     for section in ("[urdf]", "[frames", "[check]"):
         assert section not in table
     return table.replace('name = "ur5"', 'name = "myarm"', 1)
