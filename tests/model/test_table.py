@@ -69,3 +69,10 @@ def test_a_bad_row_is_one_model_error_line(rows, kwargs, message):
 def test_a_bad_choice_names_the_alternatives():
     with pytest.raises(fkcheck.ModelError, match=r"standard.*modified"):
         fkcheck.model_from_table("2r", ROWS, convention="dh")
+
+
+def test_a_model_built_directly_has_the_default_frames_too():
+    joint = fkcheck.Joint("j", 0.1, 0.0, 0.0, 0.0)
+    direct = fkcheck.Model(name="1r", convention="standard", joints=(joint,))
+    assert direct.frames == fkcheck.model_from_table("1r", [(0.1, 0.0, 0.0, 0.0)]).frames
+    assert fkcheck.check(direct, against=["rtb-dh"], samples=5).verdict == "pass"
