@@ -11,6 +11,9 @@ Example:
     >>> outcome = fkcheck.check(model, against=["rtb-dh"], samples=100)
     >>> outcome.verdict
     'pass'
+    >>> table = fkcheck.model_from_table("2r", [(0.3, 0.0, 0.0, 0.0), (0.2, 0.0, 0.0, 0.0)])
+    >>> fkcheck.check(table, against=["rtb-dh"], samples=100).verdict
+    'pass'
 
 :func:`check` and :func:`write_report` (with :class:`Outcome`) are the engine's
 and the reports' façade, :mod:`fkcheck.api`; they are imported on first use.
@@ -27,6 +30,7 @@ from fkcheck.errors import (
     UrdfError,
 )
 from fkcheck.model.read import bundled_model_paths, load_model
+from fkcheck.model.table import model_from_table
 from fkcheck.model.types import Joint, Model
 
 if TYPE_CHECKING:
@@ -60,5 +64,6 @@ __all__ = [
     "bundled_model_paths",
     "check",
     "load_model",
+    "model_from_table",
     "write_report",
 ]

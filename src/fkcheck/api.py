@@ -38,9 +38,14 @@ from fkcheck.model.types import Model
 __all__ = ["Outcome", "check", "write_report"]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Outcome:
     """A finished check and the diagnoses of its disagreements: all a report shows.
+
+    In a notebook it shows as a short HTML summary (``_repr_html_``: verdict,
+    headline, each backend's status and largest errors), elsewhere as one line
+    (``repr``); both are laid out from the check's record
+    (:func:`fkcheck.report.record.check_record`), as every report is.
 
     Attributes:
         check: The check result (backends, errors, verdict, evidence).
@@ -65,6 +70,21 @@ class Outcome:
     def backends(self) -> tuple[BackendResult, ...]:
         """One result per backend, in the order asked."""
         return self.check.backends
+
+    def __repr__(self) -> str:
+        """One line: the model, its headline and how many backends answered."""
+        answered = len(self.check.ran)
+        return (
+            f"<fkcheck.Outcome {self.check.model.name!r}: {self.headline} "
+            f"({answered} of {len(self.check.backends)} backends ran)>"
+        )
+
+    def _repr_html_(self) -> str:
+        """The check's summary as an HTML fragment (Jupyter's rich display), escaped."""
+        from fkcheck.report.html import render_summary
+        from fkcheck.report.record import check_record
+
+        return render_summary(check_record(self.check, self.diagnoses))
 
 
 def check(

@@ -220,7 +220,7 @@ def test_page_is_self_contained(golden_page):
 def test_templates_ship_inside_the_package():
     templates = resources.files("fkcheck.report") / "templates"
     names = {p.name for p in templates.iterdir()}
-    assert {"base.html.j2", "report.html.j2", "index.html.j2", "macros.html.j2",
+    assert {"base.html.j2", "report.html.j2", "index.html.j2", "macros.html.j2", "summary.html.j2",
             "style.css"} <= names  # fmt: skip
 
 

@@ -12,6 +12,7 @@ are re-exported here.
 """
 
 from fkcheck.model.read import bundled_model_paths, load_model, model_from_dict
+from fkcheck.model.table import model_from_table
 from fkcheck.model.types import (
     MAX_JOINT_RAD,
     MAX_JOINTS,
@@ -40,5 +41,6 @@ __all__ = [
     "bundled_model_paths",
     "load_model",
     "model_from_dict",
+    "model_from_table",
     "resolve_frame",
 ]

@@ -56,6 +56,7 @@ __all__ = [
     "Model",
     "Offset",
     "UrdfSpec",
+    "default_frames",
     "resolve_frame",
 ]
 
@@ -201,6 +202,11 @@ class FrameSpec:
     source: str = ""
 
 
+def default_frames() -> dict[str, FrameSpec]:
+    """The frames every model has: ``world`` (before the base) and ``tcp`` (after the tool)."""
+    return {"world": FrameSpec("world", "world"), "tcp": FrameSpec("tcp", "tcp")}
+
+
 @dataclass(frozen=True)
 class KnownDifference:
     """A recorded disagreement between the published table and an independent reference.
@@ -296,7 +302,9 @@ class Model:
         tool: Fixed transform last DH frame → TCP.
         poses: Named configurations (radians / metres).
         urdf: The reference URDF, if any.
-        frames: Named frames (always includes ``world`` and ``tcp``).
+        frames: Named frames (always includes ``world`` and ``tcp``; default: just
+            those, :func:`default_frames`, so that a model built here checks
+            ``world`` → ``tcp`` as a file's does).
         check: The default check.
         angle_unit: The unit the file was written in (for display and export).
         path: The file it was read from, if any.
@@ -316,7 +324,7 @@ class Model:
     tool: Offset = field(default_factory=Offset)
     poses: Mapping[str, tuple[float, ...]] = field(default_factory=dict)
     urdf: UrdfSpec | None = None
-    frames: Mapping[str, FrameSpec] = field(default_factory=dict)
+    frames: Mapping[str, FrameSpec] = field(default_factory=default_frames)
     check: CheckSpec = field(default_factory=CheckSpec)
     angle_unit: Literal["rad", "deg"] = "rad"
     path: Path | None = None

@@ -26,8 +26,9 @@ if TYPE_CHECKING:
 
     from fkcheck.diagnose.failures import BackendDiagnosis
     from fkcheck.engine.results import CheckResult
+    from fkcheck.report.record import CheckRecord
 
-__all__ = ["render_index", "render_report", "write_html", "write_index"]
+__all__ = ["render_index", "render_report", "render_summary", "write_html", "write_index"]
 
 
 def _finalize(value: Any) -> Any:
@@ -64,6 +65,15 @@ def render_report(page: ReportPage) -> str:
 def render_index(page: IndexPage) -> str:
     """The index page as HTML text."""
     return _environment().get_template("index.html.j2").render(page=page)
+
+
+def render_summary(record: CheckRecord) -> str:
+    """A check's short summary as an HTML fragment, for a notebook cell.
+
+    Verdict, headline and each backend's status and largest errors, laid out
+    from the record alone: no page, no pictures, a diagnosis by its headline only.
+    """
+    return _environment().get_template("summary.html.j2").render(record=record)
 
 
 def write_html(

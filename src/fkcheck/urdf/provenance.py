@@ -41,7 +41,7 @@ from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.numbers import show_text
-from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.types import Model, default_frames
 from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
 from fkcheck.urdf.export import urdf_from_model
 from fkcheck.urdf.marker import read_marker, table_fingerprint
@@ -84,8 +84,7 @@ class Derivation:
 
 def _table_only(model: Model) -> Model:
     """The model with only its table, base and tool: what the export's chain is made of."""
-    frames = {"world": FrameSpec("world", "world"), "tcp": FrameSpec("tcp", "tcp")}
-    return replace(model, frames=frames, urdf=None, known_differences=())
+    return replace(model, frames=default_frames(), urdf=None, known_differences=())
 
 
 @dataclass(frozen=True)

@@ -54,7 +54,15 @@ from fkcheck.core.geometry import invert, rpy_from_matrix
 from fkcheck.core.typing import Float
 from fkcheck.errors import UrdfError
 from fkcheck.model.offsets import snap
-from fkcheck.model.types import CheckSpec, FrameSpec, Joint, Model, Offset, UrdfSpec
+from fkcheck.model.types import (
+    CheckSpec,
+    FrameSpec,
+    Joint,
+    Model,
+    Offset,
+    UrdfSpec,
+    default_frames,
+)
 from fkcheck.urdf.chain import JointGeometry, UrdfKinematics
 
 __all__ = [
@@ -430,10 +438,7 @@ def _named_frames(
         base: The base link (the model's world).
         tip: The tip link (the model's TCP).
     """
-    out: dict[str, FrameSpec] = {
-        "world": FrameSpec("world", "world"),
-        "tcp": FrameSpec("tcp", "tcp"),
-    }
+    out = default_frames()
     out[base] = FrameSpec(base, "world", Offset(), base)
     body = 0  # DH frame index of the body a link belongs to
     for joint, pose in zip(chain, poses, strict=True):

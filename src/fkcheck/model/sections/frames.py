@@ -7,7 +7,7 @@ from typing import Any
 
 from fkcheck.model.sections.offsets import read_offset
 from fkcheck.model.sections.reader import Reader, kind, shown_key, shown_value
-from fkcheck.model.types import DhIndex, FrameSpec
+from fkcheck.model.types import DhIndex, FrameSpec, default_frames
 
 __all__ = ["FRAME_KEYS", "read_frames"]
 
@@ -16,10 +16,7 @@ FRAME_KEYS = {"dh", "xyz", "rpy", "urdf", "source"}
 
 def read_frames(r: Reader, top: Mapping[str, Any], n: int, to_rad: float) -> dict[str, FrameSpec]:
     """``world`` and ``tcp``, then the file's ``[frames.NAME]`` tables, if any."""
-    frames: dict[str, FrameSpec] = {
-        "world": FrameSpec("world", "world"),
-        "tcp": FrameSpec("tcp", "tcp"),
-    }
+    frames = default_frames()
     if "frames" not in top:
         return frames
     raw = top["frames"]
