@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import shlex
 import sys
 from pathlib import Path
 from typing import Any
 
 from fkcheck.cli._arguments import utf8_text
+from fkcheck.cli._model_output import add_model_output, emit_model
 
 __all__ = ["add_parser", "run"]
 
@@ -38,13 +38,7 @@ def add_parser(sub: Any) -> None:
         "(one table and at most one YAML)",
     )
     p.add_argument("--name", type=utf8_text, help="model name (default: NOMINAL-calibrated)")
-    p.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        metavar="MODEL.toml",
-        help="write the model file here (default: print it)",
-    )
+    add_model_output(p)
     p.set_defaults(run=run)
 
 
@@ -54,8 +48,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.calibration.description import calibrated_description, split_files
     from fkcheck.calibration.ur_files import CalibrationError
     from fkcheck.cli._outputs import plan
-    from fkcheck.io.atomic import write_text_atomic
-    from fkcheck.io.text import operand, terminal_text
+    from fkcheck.io.text import terminal_text
     from fkcheck.model.read import load_model
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.locate import path_for
@@ -88,27 +81,21 @@ def run(args: argparse.Namespace) -> int:
     model = calibrated_description(result.model, nominal, yaml_file, args.output)
     header = _header(model.name, nominal.name, table_file, yaml_file, args.output)
     text = model_to_toml(model, header=header)
-    effect = result.effect.line
-    if args.output is None:
-        sys.stdout.write(text)
-        print(f"fkcheck calibration: {terminal_text(effect)}", file=sys.stderr)
-        return 0
-    write_text_atomic(args.output, text)
-    print(f"fkcheck calibration: {terminal_text(effect)}")
-    written = terminal_text(args.output)
-    again = terminal_text(shlex.quote(operand(str(args.output))))
-    print(f"wrote {written}; check it: fkcheck check {again}")
+    again = emit_model(args, text, f"fkcheck calibration: {terminal_text(result.effect.line)}")
+    advice = ""
     if table_file is None:
-        print(
+        advice = (
             "the table is derived from UR's description with the YAML, so that description "
             "cannot check it: compare it with what the controller recorded (fkcheck check "
-            f"{again} --against poses:RECORDING.csv), or give calibration.conf too"
+            f"{again or 'MODEL.toml'} --against poses:RECORDING.csv), or give calibration.conf too"
         )
     elif model.urdf is None:
-        print(
+        advice = (
             "no description to check the table against: give the robot's ur_calibration YAML "
             "too (fkcheck calibration NOMINAL calibration.conf robot_calibration.yaml)"
         )
+    if advice:
+        print(advice, file=sys.stdout if again else sys.stderr)
     return 0
 
 

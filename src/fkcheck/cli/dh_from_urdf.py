@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import shlex
-import sys
 from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
 from fkcheck.cli._arguments import utf8_text
+from fkcheck.cli._model_output import add_model_output, emit_model
 from fkcheck.cli.expand import add_xacro_options, xacro_inputs
 
 __all__ = ["add_parser", "run"]
@@ -44,21 +42,14 @@ def add_parser(sub: Any) -> None:
         help='write angles in degrees (angle_unit = "deg"), as a vendor\'s sheet does',
     )
     add_xacro_options(p)
-    p.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        metavar="MODEL.toml",
-        help="write the model file here (default: print it)",
-    )
+    add_model_output(p)
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
     from fkcheck.cli._outputs import plan, urdf_inputs
-    from fkcheck.io.atomic import write_text_atomic
-    from fkcheck.io.text import operand, terminal_text
+    from fkcheck.io.text import terminal_text
     from fkcheck.model.write import model_to_toml
     from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
@@ -104,13 +95,5 @@ def run(args: argparse.Namespace) -> int:
         f"consecutive axes: {', '.join(result.relations) or '-'}; self-check "
         f"{result.self_check_error:.2g}"
     )
-    if args.output is None:
-        sys.stdout.write(text)
-        print(summary, file=sys.stderr)
-        return 0
-    write_text_atomic(args.output, text)
-    print(summary)
-    written = terminal_text(args.output)
-    again = terminal_text(shlex.quote(operand(str(args.output))))
-    print(f"wrote {written}; check it: fkcheck check {again}")
+    emit_model(args, text, summary)
     return 0
