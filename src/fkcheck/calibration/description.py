@@ -139,7 +139,8 @@ def table_from_yaml(nominal: Model, yaml: UrCalibration | None) -> DhValues:
 
     assert yaml is not None
     _ur_description(nominal, yaml)
-    model = with_kinematics(_relocated(nominal, nominal, None), yaml.path.resolve(), None)
+    # The nominal model's own [urdf], read from where it is; the YAML by its absolute path.
+    model = with_kinematics(nominal, yaml.path.resolve(), None)
     info = read_model_urdf(model)
     extraction = dh_from_urdf(urdf_kinematics(info), "base", "tool0", "standard")
     derived = extraction.model
