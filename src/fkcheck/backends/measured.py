@@ -498,8 +498,13 @@ class MeasuredPoses(BackendDefaults):
         self._read: tuple[Model, _Table] | None = None
 
     def _table(self, model: Model) -> _Table:
-        """The file, read once per model (the check asks for it chunk by chunk)."""
-        if self._read is None or self._read[0] is not model:
+        """The file, read once per model (the check asks for it chunk by chunk).
+
+        Once per *equal* model: the command line reads it before its header, and the
+        check's copy of the model (its xacro expansion kept, which takes no part in
+        equality) must not read a recording of 10⁵ rows again.
+        """
+        if self._read is None or self._read[0] != model:
             self._read = model, _Table(*_read(self.path, model))
             self.method = self._read[1].method
         return self._read[1]
