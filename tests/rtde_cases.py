@@ -17,8 +17,8 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
-from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Model
+from tests.calibration.ur_test_data import Table, fk
 
 __all__ = [
     "RTDE_HEADER",
@@ -45,8 +45,27 @@ RTDE_HEADER: tuple[str, ...] = tuple(
 
 
 def poses_of(model: Model, q: np.ndarray, pair: tuple[str, str] = ("base", "tool0")) -> np.ndarray:
-    """``from_T_to`` at each configuration, ``(N, 4, 4)``, by the in-house core."""
-    return relative_pose(*reference_poses(model, q, pair))
+    """``base_T_tool0`` at each configuration, ``(N, 4, 4)``, by the tests' own composition.
+
+    Not fkcheck's core: a recording written by the core would agree with the core
+    whatever its maths. For a UR table, ``base`` is DH frame 0 and ``tool0`` the
+    last DH frame (no offsets), which the assertions below hold the model to.
+    """
+    assert pair == ("base", "tool0"), pair
+    assert model.convention == "standard"
+    assert model.dof == 6
+    for name, dh in zip(pair, (0, model.dof), strict=True):
+        frame = model.frames[name]
+        assert frame.dh == dh, (name, frame)
+        assert frame.offset.is_identity, (name, frame)
+    assert model.base.is_identity
+    assert not any(j.flip for j in model.joints)
+    js = model.joints
+    table = Table(
+        tuple(j.theta for j in js), tuple(j.a for j in js), tuple(j.d for j in js),
+        tuple(j.alpha for j in js),
+    )  # fmt: skip
+    return fk(table, q)
 
 
 def near_half_turn_configurations(

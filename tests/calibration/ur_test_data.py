@@ -243,13 +243,20 @@ def write_yaml(path: Path, table: Table, *, as_ur_writes: bool = True, hash_: st
 
 
 def fk(table: Table, q) -> np.ndarray:
-    """``base_T_tool0`` of a standard-DH table, the test's own composition: (N, 4, 4)."""
-    q = np.atleast_2d(q)
-    out = np.empty((q.shape[0], 4, 4))
-    for k, row in enumerate(q):
-        pose = np.eye(4)
-        for i in range(6):
-            pose = pose @ _h(_rz(table.theta[i] + row[i]), (0.0, 0.0, table.d[i]))
-            pose = pose @ _h(_rx(table.alpha[i]), (table.a[i], 0.0, 0.0))
-        out[k] = pose
+    """``base_T_tool0`` of a standard-DH table, the test's own composition: (N, 4, 4).
+
+    Each row composed from elementary transforms, ``Rz(θ+q)·Tz(d) · Tx(a)·Rx(α)``
+    (not the DH matrix written out, as fkcheck's core has it), batched over q.
+    """
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    out = np.broadcast_to(np.eye(4), (q.shape[0], 4, 4)).copy()
+    for i in range(6):
+        angle = table.theta[i] + q[:, i]
+        turn = np.broadcast_to(np.eye(4), out.shape).copy()
+        turn[:, 0, 0], turn[:, 0, 1] = np.cos(angle), -np.sin(angle)
+        turn[:, 1, 0], turn[:, 1, 1] = np.sin(angle), np.cos(angle)
+        fixed = _h(np.eye(3), (0.0, 0.0, table.d[i])) @ _h(
+            _rx(table.alpha[i]), (table.a[i], 0.0, 0.0)
+        )
+        out = out @ turn @ fixed
     return out
