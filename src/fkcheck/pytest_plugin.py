@@ -309,9 +309,26 @@ class ModelItem(pytest.Item):
         excinfo: ExceptionInfo[BaseException],
         style: Any = None,
     ) -> str | TerminalRepr:
-        """The report's text for fkcheck's own failures; pytest's usual one otherwise."""
+        """The report's text for fkcheck's own failures; pytest's usual one otherwise.
+
+        The report is the whole text; pytest's short summary line (``-rA``, and
+        untruncated in CI) shows its first line only, so that the diagnosis is
+        not printed again there. Built as pytest's own exception report, so that
+        it crosses pytest-xdist's workers as it is.
+        """
         if isinstance(excinfo.value, FkcheckFailure):
-            return str(excinfo.value)
+            from _pytest._code.code import (
+                ExceptionChainRepr,
+                ReprEntryNative,
+                ReprFileLocation,
+                ReprTraceback,
+            )
+
+            text = str(excinfo.value)
+            headline = text.split("\n", 1)[0]
+            report = ReprTraceback([ReprEntryNative([text + "\n"])], None, "native")
+            where = ReprFileLocation(str(self.path), 1, headline)
+            return ExceptionChainRepr([(report, where, None)])
         return super().repr_failure(excinfo, style=style)
 
     def reportinfo(self) -> tuple[Path, int, str]:

@@ -19,11 +19,19 @@ import pytest
 from tests.user.test_pytest_plugin import _env, _outcomes
 from tests.user.userrepo import WRONG_ALPHA, make_user_repo
 
+#: Where pytest runs, as far as its summary goes: ``CI`` set makes pytest print
+#: each failure's message whole in the short summary; unset, cut to the width.
+WHERE = {"terminal": {"COLUMNS": "200"}, "ci": {"CI": "true"}}
 
-def _pytest(repo: Path, tmp_path: Path, *args: str) -> subprocess.CompletedProcess[str]:
+
+def _pytest(
+    repo: Path, tmp_path: Path, *args: str, env: dict[str, str] | None = None
+) -> subprocess.CompletedProcess[str]:
+    run_env = {k: v for k, v in _env(tmp_path).items() if k not in ("CI", "BUILD_NUMBER")}
     return subprocess.run(
         [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-rA", *args],
-        cwd=repo, env=_env(tmp_path), capture_output=True, text=True, timeout=300, check=False,
+        cwd=repo, env=run_env | (env or {}), capture_output=True, text=True, timeout=300,
+        check=False,
     )  # fmt: skip
 
 
@@ -60,14 +68,17 @@ def test_a_run_given_paths_is_not_warned(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow
-def test_one_table_error_is_one_failure_per_backend_and_one_diagnosis(tmp_path: Path) -> None:
+@pytest.mark.parametrize("where", WHERE)
+def test_one_table_error_is_one_failure_per_backend_and_one_diagnosis(
+    tmp_path: Path, where: str
+) -> None:
     pytest.importorskip("pinocchio")
     tool = (
         'models = ["robots/bad.toml"]\nsamples = 10\nrequire = ["table"]\n'
         'against = ["pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]\n'
     )
     repo = make_user_repo(tmp_path / "repo", tool)
-    done = _pytest(repo, tmp_path, "-v")
+    done = _pytest(repo, tmp_path, "-v", env=WHERE[where])
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
     assert _outcomes(out) == {
@@ -83,3 +94,9 @@ def test_one_table_error_is_one_failure_per_backend_and_one_diagnosis(tmp_path: 
         )
         == 2
     ), out
+    # The short summary gives each failure its headline, in CI as on a terminal.
+    summary = out.split("short test summary info", 1)[1]
+    assert (
+        "FAILED robots/bad.toml::fkcheck[rtb-urdf] - fkcheck ur5: base → tool0: fail — "
+        "table disagrees\n"
+    ) in summary, out

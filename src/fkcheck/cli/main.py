@@ -108,8 +108,43 @@ class _Terminated(BaseException):
     """
 
 
+#: Seconds a SIGTERM's unwinding may take before the process ends anyway. The
+#: exception is raised wherever the main thread is; where that is a ``__del__``
+#: (llvmlite's, while numba compiles the kernels) or a library's ``except
+#: BaseException``, Python swallows it and the run would go on to its end.
+TERMINATE_BACKSTOP_S = 3.0
+
+_terminating = threading.Event()
+_terminated_said = threading.Event()
+#: The running command's arguments, for the backstop's line (what was written).
+_current_args: list[argparse.Namespace] = []
+
+
 def _on_sigterm(signum: int, frame: object) -> None:
+    if not _terminating.is_set():
+        _terminating.set()
+        backstop = threading.Timer(TERMINATE_BACKSTOP_S, _terminate_now)
+        backstop.daemon = True
+        backstop.start()
     raise _Terminated
+
+
+def _terminate_now() -> None:
+    """The SIGTERM backstop: stop the supervised programs, say so, and end with 143.
+
+    Runs only when the raised :class:`_Terminated` did not end the run within
+    :data:`TERMINATE_BACKSTOP_S` (it was swallowed on the way).
+    """
+    from fkcheck.process.supervise import terminate_all
+
+    if _terminated_said.is_set():  # unwound and said so: the exit is under way
+        return
+    with contextlib.suppress(Exception):
+        terminate_all()
+    written = _written(_current_args[-1]) if _current_args else "no report written"
+    with contextlib.suppress(Exception):
+        print(f"fkcheck: terminated (SIGTERM): results incomplete, {written}", file=sys.stderr)
+    _exit_now(143)
 
 
 def _open_closed_streams() -> None:
@@ -218,6 +253,7 @@ def _run(args_list: list[str]) -> int:
     except OSError as exc:  # --help on a stdout that cannot be written
         return _os_error(exc)
     args.argv = args_list
+    _current_args[:] = [args]
     try:
         code = int(args.run(args))
     except FkcheckError as exc:
@@ -228,6 +264,7 @@ def _run(args_list: list[str]) -> int:
               file=sys.stderr)  # fmt: skip
         return 130
     except _Terminated:
+        _terminated_said.set()
         print(f"fkcheck: terminated (SIGTERM): results incomplete, {_written(args)}",
               file=sys.stderr)  # fmt: skip
         return 143
