@@ -900,9 +900,19 @@ def _without(J: Float, directions: Sequence[Float]) -> Float:
     return out
 
 
+def _needs_full(J: Float) -> bool:
+    """Whether ``svd(J)`` needs ``full_matrices`` for all of ``Vᵀ`` (fewer rows than columns).
+
+    With at least as many rows, the reduced SVD has the whole ``Vᵀ`` already;
+    the full one would also build ``U`` of rows × rows (6N × 6N: 3.6·10⁹ numbers
+    at the 10⁴ configurations of a check), which nothing reads.
+    """
+    return J.shape[0] < J.shape[1]
+
+
 def _weak(J: Float, configurations: int, limit: float) -> Float:
     """Orthonormal rows spanning the combinations ``J`` shows under ``1/limit`` of (RMS)."""
-    _, sv, vt = np.linalg.svd(J, full_matrices=True)
+    _, sv, vt = np.linalg.svd(J, full_matrices=_needs_full(J))
     sv = np.concatenate([sv, np.zeros(J.shape[1] - len(sv))]) if len(sv) < J.shape[1] else sv
     weak: Float = vt[sv < math.sqrt(configurations) / limit]
     return weak
@@ -966,7 +976,7 @@ def _trades(
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
         return {}
-    _, sv, vt = np.linalg.svd(J[:, idx], full_matrices=True)
+    _, sv, vt = np.linalg.svd(J[:, idx], full_matrices=_needs_full(J[:, idx]))
     sv = np.concatenate([sv, np.zeros(len(idx) - len(sv))]) if len(sv) < len(idx) else sv
     weak = vt[sv < math.sqrt(configurations) / limit]
     parent = {i: i for i in idx}
