@@ -17,6 +17,7 @@ from fkcheck.bench import harness, peers, timing
 from fkcheck.bench import jacobian as bench_jacobian
 from fkcheck.cli.bench import write_json
 from fkcheck.cli.main import main
+from fkcheck.core import dh
 from fkcheck.model.read import model_from_dict
 
 
@@ -112,8 +113,9 @@ def test_json_is_written_atomically_and_readable(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.json"]
 
 
-def test_the_headline_ratio_is_like_for_like(capsys, tmp_path):
+def test_the_headline_ratio_is_like_for_like(capsys, tmp_path, monkeypatch):
     """Same N, one thread, a new array each call: the in-house row and RTB's ETS.eval."""
+    monkeypatch.setattr(dh, "JIT_MIN_POSES", 10_000)  # the kernel's rows, at a test's size
     code, out, err, data = bench(capsys, tmp_path, "ur5", "--n", "20000")
     assert code == 0, err
     rows = {t["name"]: t for t in data["timings"]}
@@ -197,8 +199,9 @@ def test_bench_jacobian_times_the_core_and_both_peers_on_the_same_configurations
     assert "× PEER: that peer's time per configuration divided by this row's" in text
 
 
-def test_bench_jacobian_headline_at_the_jit_threshold(capsys, tmp_path):
-    """At 20 000 configurations the like-for-like row is the kernel on one thread."""
+def test_bench_jacobian_headline_at_the_jit_threshold(capsys, tmp_path, monkeypatch):
+    """Above the JIT's threshold the like-for-like row is the kernel on one thread."""
+    monkeypatch.setattr(dh, "JIT_MIN_POSES", 10_000)  # the kernel's rows, at a test's size
     code, out, err, data = bench(capsys, tmp_path, "ur5", "--jacobian", "--n", "20000")
     assert code == 0, err
     rows = {t["name"]: t for t in data["timings"]}

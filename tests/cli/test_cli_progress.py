@@ -14,6 +14,7 @@ import time
 import pytest
 
 from fkcheck.cli.progress import check_progress, plain_line
+from fkcheck.core.dh import JIT_MIN_POSES
 
 pytest.importorskip("roboticstoolbox")
 
@@ -99,16 +100,30 @@ def test_a_log_on_a_cold_numba_cache_opens_with_the_header_then_the_kernels_phas
     stdout and stderr go to one pipe, as in a CI log: the order is the order written.
     """
     env = {**_ENV, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
-    run = subprocess.run([*_ARGV[:-3], "20000", "--against", "rtb-dh,pinocchio-dh"],
+    run = subprocess.run([*_ARGV[:-3], "200000", "--against", "rtb-dh,pinocchio-dh"],
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
                          timeout=600, check=False)  # fmt: skip
     assert run.returncode == 0, run.stdout
     lines = run.stdout.splitlines()
-    assert lines[0].startswith("fkcheck ur5: base → tool0, 20000 sobol samples"), lines[:3]
+    assert lines[0].startswith("fkcheck ur5: base → tool0, 200000 sobol samples"), lines[:3]
     assert lines[1] == "fkcheck: compiling the core's kernels (first run only: 8–30 s)…"
     assert re.fullmatch(r"fkcheck: kernels ready \(\d+\.\d s\)", lines[2]), lines[2]
     assert any((tmp_path / "numba").rglob("*.nbi")), "numba cached nothing there"
     assert "nanobind" not in run.stdout
+
+
+@pytest.mark.slow
+def test_a_check_below_the_jits_size_loads_no_kernels_on_a_cold_cache(tmp_path):
+    """10⁴ samples: the core's NumPy path takes milliseconds, numba would take seconds."""
+    env = {**_ENV, "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    samples = JIT_MIN_POSES - 100  # with the 81 structured configurations: still below
+    run = subprocess.run([*_ARGV[:-3], str(samples), "--against", "rtb-dh,pinocchio-dh"],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
+                         timeout=600, check=False)  # fmt: skip
+    assert run.returncode == 0, run.stdout
+    assert "kernels" not in run.stdout
+    assert "verdict: pass" in run.stdout
+    assert not any((tmp_path / "numba").rglob("*.nbi")), "numba compiled for a small check"
 
 
 def test_plain_progress_is_thread_safe_and_lists_only_running_backends():

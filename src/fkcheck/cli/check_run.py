@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
     from fkcheck.cli._targets import Target
     from fkcheck.diagnose.failures import BackendDiagnosis
+    from fkcheck.engine.plan import Plan
     from fkcheck.engine.results import CheckResult
     from fkcheck.engine.verdict import Kind
     from fkcheck.model.types import Model
@@ -76,12 +77,12 @@ def jacobian_from_args(args: argparse.Namespace) -> bool | None:
 def check_with_progress(
     args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
 ) -> Outcome:
-    """The header, the core's kernels, the plan, then the check with its progress on stderr.
+    """The header, the plan, the core's kernels, then the check with its progress on stderr.
 
-    The header is flushed first (the first line of a CI log); loading the core's
-    kernels is its own phase (:func:`~fkcheck.cli.progress.kernels_phase`); each
-    backend given a subset by the plan is said before it runs. No progress with
-    ``--quiet``.
+    The header is flushed first (the first line of a CI log); each backend given
+    a subset by the plan is said before it runs; loading the core's kernels, for
+    a check large enough to use them, is its own phase
+    (:func:`~fkcheck.cli.progress.kernels_phase`). No progress with ``--quiet``.
     """
     from fkcheck.api import check
     from fkcheck.cli.progress import check_progress, kernels_phase
@@ -90,7 +91,12 @@ def check_with_progress(
     _read_inputs(model, backends, args.options.timeout_s)  # bad input: one line, nothing on stdout
     print_header(model, backends, args)
     quiet = getattr(args, "quiet", False)
-    kernels_phase(jacobian=jacobian_for(args.options, model) is not None, quiet=quiet)
+    jacobian = jacobian_for(args.options, model) is not None
+
+    def on_plan(plan: Plan) -> None:
+        print_plan(plan.notes())
+        kernels_phase(jacobian=jacobian, configurations=plan.total, quiet=quiet)
+
     progress = check_progress(
         [b.name for b in backends],
         quiet=quiet,
@@ -105,7 +111,7 @@ def check_with_progress(
             options=args.options,
             diagnose=diagnose,
             on_progress=on_progress,
-            on_plan=lambda plan: print_plan(plan.notes()),
+            on_plan=on_plan,
         )
 
 

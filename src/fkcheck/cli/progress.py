@@ -113,18 +113,23 @@ def plain_line(
     return line
 
 
-def kernels_phase(*, jacobian: bool, stream: TextIO | None = None, quiet: bool = False) -> None:
+def kernels_phase(
+    *, jacobian: bool, configurations: int, stream: TextIO | None = None, quiet: bool = False
+) -> None:
     """Load the core's numba kernels now, as a phase of its own, said when it is slow.
 
     When numba's cache does not hold them (a machine's first run), a line says
     at once that they compile; otherwise a line comes only if loading takes more
     than :data:`ANNOUNCE_AFTER_S` (a stale cache compiles too). Either is
     followed by one when they are ready. Nothing with ``quiet``. Done before the
-    check starts, the compile is charged to no backend.
+    backends start, the compile is charged to no backend. A check of fewer than
+    :data:`~fkcheck.core.dh.JIT_MIN_POSES` configurations loads no kernels.
     """
-    from fkcheck.core.dh import kernels_cached
+    from fkcheck.core.dh import JIT_MIN_POSES, kernels_cached
     from fkcheck.engine.runner import load_kernels
 
+    if configurations < JIT_MIN_POSES:
+        return
     out = sys.stderr if stream is None else stream
     finished = threading.Event()
     said: list[bool] = []
@@ -140,7 +145,7 @@ def kernels_phase(*, jacobian: bool, stream: TextIO | None = None, quiet: bool =
     announcer = threading.Thread(target=announce, name="fkcheck-kernels", daemon=True)
     announcer.start()
     try:
-        load_kernels(jacobian)
+        load_kernels(jacobian, configurations)
     finally:
         finished.set()
         announcer.join()

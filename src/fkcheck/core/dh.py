@@ -76,9 +76,11 @@ _log = logging.getLogger(__name__)
 Convention = Literal["standard", "modified"]
 
 #: Batches of at least this many poses use the JIT kernel (loading numba if it is
-#: installed). Below it NumPy takes a few milliseconds, less than importing numba
-#: (~0.3–0.5 s) would add to a one-shot command.
-JIT_MIN_POSES = 10_000
+#: installed). Loading it from numba's cache costs 0.5–2.3 s (numba's import and
+#: the cached code; measured on the 2-core CI machine, quiet and loaded), NumPy
+#: ~2 µs a pose, the kernel ~0.14 µs: below this size NumPy is done first (a
+#: 10⁴-sample check: 10–30 ms on NumPy against ≥ 0.5 s to load the kernel).
+JIT_MIN_POSES = 200_000
 
 #: Poses per chunk of the NumPy path: its ~30 column temporaries of
 #: ``3 × NUMPY_CHUNK`` floats stay around 6 MB, and larger chunks are no faster.

@@ -257,15 +257,19 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
                 importlib.import_module(module)
 
 
-def load_kernels(jacobian: bool) -> None:
+def load_kernels(jacobian: bool, configurations: int) -> None:
     """Load (on a machine's first run: compile) the core's numba kernels before backends start.
 
     Compiling takes seconds; done here, once, it is charged to no backend's time.
-    Without numba the core keeps its NumPy path and this does nothing.
+    Nothing is loaded for a check of fewer than :data:`~fkcheck.core.dh.JIT_MIN_POSES`
+    configurations (the core's NumPy path is quicker there than loading numba),
+    nor without numba (the core keeps its NumPy path).
     """
     from fkcheck.core import dh
     from fkcheck.core import jacobian as core_jacobian
 
+    if configurations < dh.JIT_MIN_POSES:
+        return
     dh.load_jit()
     if jacobian:
         core_jacobian.load_kernel()
@@ -438,7 +442,7 @@ def run_check(
     if on_plan is not None:
         on_plan(plan)
     _import_libraries(model, backends)
-    load_kernels(jacobian is not None)
+    load_kernels(jacobian is not None, plan.total)
 
     results: dict[int, BackendResult] = {}
     errors: list[FkcheckError] = []

@@ -907,7 +907,7 @@ def _needs_full(J: Float) -> bool:
     the full one would also build ``U`` of rows × rows (6N × 6N: 3.6·10⁹ numbers
     at the 10⁴ configurations of a check), which nothing reads.
     """
-    return J.shape[0] < J.shape[1]
+    return bool(J.shape[0] < J.shape[1])
 
 
 def _weak(J: Float, configurations: int, limit: float) -> Float:
