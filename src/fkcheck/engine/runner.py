@@ -286,10 +286,6 @@ def _place_urdf_links(
         FkcheckError: The URDF cannot be read (example-robot-data missing included),
             the link is not in it, or it is at no constant offset from any DH frame.
     """
-    from fkcheck.urdf.chain import urdf_kinematics
-    from fkcheck.urdf.mapping import with_link_frames
-    from fkcheck.urdf.source import load_urdf
-
     wanted = [
         name
         for name in asked
@@ -298,6 +294,10 @@ def _place_urdf_links(
     ]
     if not wanted or model.urdf is None:
         return model, {}  # resolve_frame says what is wrong, if anything
+    from fkcheck.urdf.chain import urdf_kinematics  # scipy.optimize: only when needed
+    from fkcheck.urdf.mapping import with_link_frames
+    from fkcheck.urdf.source import load_urdf
+
     try:
         kin = urdf_kinematics(load_urdf(model, xacro_timeout_s))
     except BackendUnavailable as exc:
