@@ -156,6 +156,7 @@ def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
     env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home")}
     env.pop("PYTHONPATH", None)  # the hooks run the copy pre-commit installs, not this one
     env.pop("GITHUB_STEP_SUMMARY", None)
+    env["SKIP"] = "fkcheck-lint-system"  # the fkcheck on PATH: its own test below
     # One try-repo (one install, minutes): the manual stage runs both hooks.
     done = subprocess.run(
         [sys.executable, "-m", "pre_commit", "try-repo", str(REPO_ROOT), "--all-files",

@@ -5,7 +5,10 @@ actionlint (``nox -s actionlint``, in .ci/run) lints the workflow, and through i
 and its ``fkcheck check`` step's script is run by bash against a stand-in
 ``fkcheck`` that records its arguments and exits with a chosen code: the
 interface is ``fkcheck check --out-dir=DIR --summary=PATH -- FILE...``, exit 0/1/2
-(no input can become an option); once with the real fkcheck behind it.
+(no input can become an option); once with the real fkcheck behind it. Its install:
+the venv step's script (which Python, the cache key) with this interpreter, the
+install step's with a stand-in interpreter that logs what it is asked (a warm venv
+asks nothing).
 """
 
 from __future__ import annotations
