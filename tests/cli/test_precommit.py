@@ -14,6 +14,7 @@ import shutil
 import subprocess
 import sys
 import tomllib
+from pathlib import Path
 
 import pytest
 import yaml
@@ -28,11 +29,21 @@ REFERENCES = ("pinocchio", "roboticstoolbox", "spatialmath", "yourdfpy", "exampl
 
 def test_hooks_file_declares_a_fast_lint_and_an_opt_in_check():
     hooks = {h["id"]: h for h in yaml.safe_load((REPO_ROOT / ".pre-commit-hooks.yaml").read_text())}
-    assert set(hooks) == {"fkcheck-lint", "fkcheck-check"}
+    assert set(hooks) == {"fkcheck-lint", "fkcheck-check", "fkcheck-lint-system"}
     for hook in hooks.values():
         assert hook["files"] == r"\.(toml|csv)$"
+        assert hook["exclude"] == r"(^|/)pyproject\.toml$"
         assert hook["pass_filenames"] is True
-        assert hook["language"] == "python"
+    assert hooks["fkcheck-lint"]["language"] == "python"
+    assert hooks["fkcheck-check"]["language"] == "python"
+    # The light variant: the fkcheck on PATH, no environment of its own. `system`, not
+    # `unsupported` (pre-commit 4.4's new name): a pre-commit before 4.4 rejects the
+    # whole file for one hook it does not know, the python hooks with it.
+    system = hooks.pop("fkcheck-lint-system")
+    assert system["language"] == "system"
+    assert {k: v for k, v in system.items() if k not in ("id", "language", "description")} == {
+        k: v for k, v in hooks["fkcheck-lint"].items() if k not in ("id", "language", "description")
+    }
     # Every changed .toml/.csv is handed over: the hooks pick the model files by content,
     # and the names come after "--" (a file named like an option is a file).
     assert hooks["fkcheck-lint"]["entry"] == "fkcheck lint --only-models --"
@@ -145,6 +156,7 @@ def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
     env = {**os.environ, "PRE_COMMIT_HOME": str(tmp_path / "pre-commit-home")}
     env.pop("PYTHONPATH", None)  # the hooks run the copy pre-commit installs, not this one
     env.pop("GITHUB_STEP_SUMMARY", None)
+    env["SKIP"] = "fkcheck-lint-system"  # the fkcheck on PATH: its own test below
     # One try-repo (one install, minutes): the manual stage runs both hooks.
     done = subprocess.run(
         [sys.executable, "-m", "pre_commit", "try-repo", str(REPO_ROOT), "--all-files",
@@ -166,3 +178,66 @@ def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
     assert rows["robots/good.toml"] == "pass"
     assert rows["robots/bad.toml"] == "fail"
     assert "robots/bad.toml: pinocchio-urdf: " in check
+
+
+def _try_system_lint(user, path):
+    """``pre-commit try-repo`` of fkcheck-lint-system in ``user`` with ``path`` as PATH."""
+    env = {**os.environ, "PATH": path, "PRE_COMMIT_HOME": str(user.parent / "pre-commit-home")}
+    env.pop("GITHUB_STEP_SUMMARY", None)
+    done = subprocess.run(
+        [sys.executable, "-m", "pre_commit", "try-repo", str(REPO_ROOT), "fkcheck-lint-system",
+         "--all-files", "--verbose", "--color", "never"],
+        cwd=user, env=env, capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+    return done.returncode, done.stdout + done.stderr
+
+
+def test_pre_commit_runs_the_system_lint_hook_with_the_fkcheck_on_path(tmp_path):
+    """fkcheck-lint-system through the real pre-commit: no environment, the fkcheck on PATH."""
+    assert shutil.which("git"), "git is needed by pre-commit"
+    assert (REPO_ROOT / ".git").exists(), "pre-commit try-repo needs this repository's git checkout"
+    user = tmp_path / "user"
+    _user_repo(user)
+    # PATH: an fkcheck that runs this checkout's source (the project's own fkcheck), then
+    # the test's PATH without any other fkcheck (git and its helpers are needed).
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    dirs = os.environ["PATH"].split(os.pathsep)
+    others = [d for d in dirs if d and not Path(d, "fkcheck").exists()]
+    path = os.pathsep.join([str(bin_dir), *others])
+    fkcheck = bin_dir / "fkcheck"
+    fkcheck.write_text(
+        f'#!/bin/sh\nPYTHONPATH={REPO_ROOT / "src"} exec {sys.executable} -m fkcheck "$@"\n',
+        encoding="utf-8",
+    )
+    fkcheck.chmod(0o755)
+    rc, output = _try_system_lint(user, path)
+    assert rc == 1, output
+    lint = _section(output, "fkcheck lint")
+    assert "Failed" in lint.splitlines()[0], output
+    assert "- hook id: fkcheck-lint-system" in lint
+    assert "robots/good.toml: clean (6 joints, standard DH)" in lint
+    assert "robots/rounded.toml: joint[3].alpha (wrist_1): warning [rounded-angle]" in lint
+    assert "fkcheck lint: 3 models, 2 clean, 1 with warnings" in lint
+    # No environment was built: pre-commit's home holds its clone of the hooks repository.
+    home = tmp_path / "pre-commit-home"
+    assert not list(home.glob("*/py_env-*")), sorted(p.name for p in home.rglob("py_env-*"))
+    # The rounded angle corrected: every table passes.
+    for name in ("bad.toml", "rounded.toml"):
+        (user / "robots" / name).unlink()
+    subprocess.run(["git", "add", "-A"], cwd=user, check=True)
+    rc, output = _try_system_lint(user, path)
+    assert rc == 0, output
+    lint = _section(output, "fkcheck lint")
+    assert "Passed" in lint.splitlines()[0], output
+    assert "robots/good.toml: clean (6 joints, standard DH)" in lint
+    # Without an fkcheck on PATH: pre-commit's one line, exit 1.
+    fkcheck.unlink()
+    (user / "robots" / "good.toml").write_text(
+        (user / "robots" / "good.toml").read_text(encoding="utf-8") + "\n", encoding="utf-8"
+    )
+    rc, output = _try_system_lint(user, path)
+    assert rc == 1, output
+    lint = _section(output, "fkcheck lint")
+    assert "Failed" in lint.splitlines()[0], output
+    assert "Executable `fkcheck` not found" in lint.splitlines(), output

@@ -5,7 +5,10 @@ actionlint (``nox -s actionlint``, in .ci/run) lints the workflow, and through i
 and its ``fkcheck check`` step's script is run by bash against a stand-in
 ``fkcheck`` that records its arguments and exits with a chosen code: the
 interface is ``fkcheck check --out-dir=DIR --summary=PATH -- FILE...``, exit 0/1/2
-(no input can become an option); once with the real fkcheck behind it.
+(no input can become an option); once with the real fkcheck behind it. Its install:
+the venv step's script (which Python, the cache key) with this interpreter, the
+install step's with a stand-in interpreter that logs what it is asked (a warm venv
+asks nothing).
 """
 
 from __future__ import annotations
@@ -97,7 +100,8 @@ def _run_check_step(
     output.touch()
     summary.touch()
     env = {
-        "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}",
+        "PATH": os.environ["PATH"],
+        "FKCHECK_BIN": str(bin_dir),  # the venv's bin: the step puts it first on its PATH
         "GITHUB_OUTPUT": str(output),
         "GITHUB_STEP_SUMMARY": str(summary),
         "MODELS": inputs.get("models", ""),
@@ -170,7 +174,8 @@ def test_action_with_a_hostile_model_name_runs_no_program(tmp_path: Path) -> Non
     wrapper.chmod(0o755)
     output, summary = tmp_path / "output", tmp_path / "summary"
     env = {
-        "PATH": f"{bin_dir}{os.pathsep}{os.environ['PATH']}",
+        "PATH": os.environ["PATH"],
+        "FKCHECK_BIN": str(bin_dir),
         "PYTHONPATH": str(REPO_ROOT / "src"),
         "GITHUB_OUTPUT": str(output),
         "GITHUB_STEP_SUMMARY": str(summary),
@@ -210,3 +215,224 @@ def test_action_samples_take_the_flags_path_and_its_one_rule(tmp_path: Path, mon
     assert main(argv) == 2
     problem = option_problem("samples", -1)
     assert capsys.readouterr().err == f"fkcheck: error: --samples: {problem}\n"
+
+
+def _step(step_id: str) -> dict[str, Any]:
+    step = next(s for s in _load(ACTION)["runs"]["steps"] if s.get("id") == step_id)
+    assert isinstance(step, dict)
+    return step
+
+
+def test_action_leaves_the_callers_python_and_path_alone() -> None:
+    """setup-python only when python-version is given, and then off the caller's PATH."""
+    action = _load(ACTION)
+    assert action["inputs"]["python-version"]["default"] == ""
+    steps = action["runs"]["steps"]
+    setups = [s for s in steps if str(s.get("uses", "")).startswith("actions/setup-python")]
+    assert setups == [_step("setup-python")]
+    assert setups[0]["if"] == "inputs.python-version != ''"  # empty: the step does not run
+    assert setups[0]["with"] == {
+        "python-version": "${{ inputs.python-version }}",
+        "update-environment": False,
+    }
+    assert _step("venv")["env"] == {"SETUP_PYTHON": "${{ steps.setup-python.outputs.python-path }}"}
+    scripts = "\n".join(str(s.get("run", "")) for s in steps)
+    assert "GITHUB_PATH" not in scripts  # nothing reaches the caller's later steps
+    assert "GITHUB_ENV" not in scripts
+    assert "pip install" in _step("install")["run"]
+    assert "--user" not in _step("install")["run"]
+    # The venv is cached under the key the venv step computes; saved once installed.
+    restore, save = (
+        next(s for s in steps if s.get("uses") == f"actions/cache/{what}@v4")
+        for what in ("restore", "save")
+    )
+    cache = {"path": "${{ steps.venv.outputs.path }}", "key": "${{ steps.venv.outputs.key }}"}
+    assert restore["with"] == cache
+    assert save["with"] == cache
+    assert save["if"] == "steps.install.outputs.installed == 'true'"
+    assert _step("check")["env"]["FKCHECK_BIN"] == "${{ steps.venv.outputs.bin }}"
+    order = [s.get("id") for s in steps]
+    assert order[:4] == ["setup-python", "venv", "restore", "install"]
+
+
+def _action_copy(root: Path) -> Path:
+    """What the action's key hashes, copied: pyproject.toml, README.md, src/, models/."""
+    for name in ("pyproject.toml", "README.md"):
+        root.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(REPO_ROOT / name, root / name)
+    for top in ("src", "models"):
+        shutil.copytree(REPO_ROOT / top, root / top, ignore=shutil.ignore_patterns("__pycache__"))
+    return root
+
+
+def _run_venv_step(
+    tmp_path: Path, action: Path, path: str, setup_python: str = ""
+) -> tuple[subprocess.CompletedProcess[str], dict[str, str]]:
+    output = tmp_path / "venv-output"
+    output.write_text("", encoding="utf-8")
+    env = {
+        "PATH": path,
+        "SETUP_PYTHON": setup_python,
+        "GITHUB_ACTION_PATH": str(action),
+        "GITHUB_OUTPUT": str(output),
+        "RUNNER_TEMP": str(tmp_path / "runner-temp"),
+        "RUNNER_OS": "Linux",
+        "RUNNER_ARCH": "X64",
+    }
+    result = subprocess.run(
+        ["bash", "-e", "-c", _step("venv")["run"]], env=env, capture_output=True, text=True,
+        timeout=60, check=False,
+    )  # fmt: skip
+    outputs = dict(line.split("=", 1) for line in output.read_text("utf-8").splitlines())
+    return result, outputs
+
+
+def _python3_dir(tmp_path: Path, name: str) -> Path:
+    """A directory whose python3 is this interpreter (a symlink), first on a PATH."""
+    bin_dir = tmp_path / name
+    bin_dir.mkdir()
+    (bin_dir / "python3").symlink_to(sys.executable)
+    return bin_dir
+
+
+def test_action_venv_key_follows_python_and_the_action_source(tmp_path: Path) -> None:
+    assert shutil.which("bash"), "bash runs the action's steps"
+    action = _action_copy(tmp_path / "action")
+    first = _python3_dir(tmp_path, "py-a")
+    path = f"{first}{os.pathsep}{os.environ['PATH']}"
+    result, outputs = _run_venv_step(tmp_path, action, path)
+    assert result.returncode == 0, result.stderr
+    # No python-version: the runner's python3 as found on PATH, no setup-python.
+    assert outputs["python"] == str(first / "python3")
+    version = ".".join(map(str, sys.version_info[:3]))
+    key = outputs["key"]
+    assert re.fullmatch(rf"fkcheck-venv-v1-Linux-X64-py{re.escape(version)}-[0-9a-f]{{64}}", key)
+    venv = Path(outputs["path"])
+    assert venv.parent == tmp_path / "runner-temp"
+    assert venv.name == "fkcheck-venv-" + key[-64:][:12]
+    assert outputs["bin"] == str(venv / "bin")
+    # Same source, same Python: same key (bytecode caches are not the source).
+    (action / "src" / "fkcheck" / "__pycache__").mkdir(exist_ok=True)
+    (action / "src" / "fkcheck" / "__pycache__" / "cli.cpython-311.pyc").write_bytes(b"\0")
+    assert _run_venv_step(tmp_path, action, path)[1] == outputs
+    # A changed source file, a changed pyproject.toml: another key and venv.
+    source = action / "src" / "fkcheck" / "model" / "lint.py"
+    source.write_text(source.read_text(encoding="utf-8") + "\n# changed\n", encoding="utf-8")
+    changed = _run_venv_step(tmp_path, action, path)[1]
+    assert changed["key"] != key
+    assert changed["path"] != outputs["path"]
+    pyproject = action / "pyproject.toml"
+    pyproject.write_text(pyproject.read_text(encoding="utf-8") + "\n", encoding="utf-8")
+    assert _run_venv_step(tmp_path, action, path)[1]["key"] not in {key, changed["key"]}
+    # Another Python (another path, e.g. setup-python's): another key.
+    other = _run_venv_step(tmp_path, action, path, setup_python=sys.executable)[1]
+    assert other["python"] == sys.executable
+    assert other["key"] != _run_venv_step(tmp_path, action, path)[1]["key"]
+
+
+def test_action_refuses_a_python_older_than_3_11_in_one_line(tmp_path: Path) -> None:
+    assert shutil.which("bash"), "bash runs the action's steps"
+    bin_dir = tmp_path / "old"
+    bin_dir.mkdir()
+    old = bin_dir / "python3"
+    old.write_text("#!/bin/sh\necho 3.10\n", encoding="utf-8")  # what 3.10 prints for the check
+    old.chmod(0o755)
+    path = f"{bin_dir}{os.pathsep}{os.environ['PATH']}"
+    result, outputs = _run_venv_step(tmp_path, _action_copy(tmp_path / "action"), path)
+    assert result.returncode == 1
+    assert result.stdout == (
+        f"::error::fkcheck needs Python 3.11 or newer; {old} is 3.10;"
+        " set the action's python-version input\n"
+    )
+    assert outputs == {}
+
+
+#: A stand-in interpreter: logs its arguments; `-m venv DIR` makes DIR/bin/python (this
+#: stand-in again) and `-m pip install ...` makes bin/fkcheck next to it.
+STAND_IN_PYTHON = """#!{python}
+import os, shutil, sys
+from pathlib import Path
+with open({log!r}, "a") as log:
+    log.write(" ".join(sys.argv[1:]) + "\\n")
+if sys.argv[1:3] == ["-m", "venv"]:
+    (Path(sys.argv[3]) / "bin").mkdir(parents=True)
+    shutil.copy(__file__, Path(sys.argv[3]) / "bin" / "python")
+elif sys.argv[1:4] == ["-m", "pip", "install"]:
+    fkcheck = Path(__file__).parent / "fkcheck"
+    fkcheck.write_text("#!/bin/sh\\necho fkcheck 0.1.0\\n")
+    fkcheck.chmod(0o755)
+"""
+
+
+def _run_install_step(
+    tmp_path: Path, venv: Path
+) -> tuple[subprocess.CompletedProcess[str], dict[str, str], list[str]]:
+    """The install step's script with a stand-in interpreter; returns what it ran."""
+    log = tmp_path / "python.log"
+    log.write_text("", encoding="utf-8")
+    python = tmp_path / "python3"
+    python.write_text(STAND_IN_PYTHON.format(python=sys.executable, log=str(log)), "utf-8")
+    python.chmod(0o755)
+    output = tmp_path / "install-output"
+    output.write_text("", encoding="utf-8")
+    env = {
+        "PATH": os.environ["PATH"],
+        "PYTHON": str(python),
+        "VENV": str(venv),
+        "VENV_BIN": str(venv / "bin"),
+        "GITHUB_ACTION_PATH": "/the/action",
+        "GITHUB_OUTPUT": str(output),
+    }
+    result = subprocess.run(
+        ["bash", "-e", "-c", _step("install")["run"]], env=env, capture_output=True, text=True,
+        timeout=60, check=False,
+    )  # fmt: skip
+    outputs = dict(line.split("=", 1) for line in output.read_text("utf-8").splitlines())
+    return result, outputs, log.read_text("utf-8").splitlines()
+
+
+def test_action_install_cold_makes_the_venv_and_asks_for_a_save(tmp_path: Path) -> None:
+    assert shutil.which("bash"), "bash runs the action's steps"
+    venv = tmp_path / "runner-temp" / "fkcheck-venv-0123456789ab"
+    result, outputs, ran = _run_install_step(tmp_path, venv)
+    assert result.returncode == 0, result.stderr
+    assert ran == [
+        f"-m venv {venv}",
+        "-m pip install --quiet --disable-pip-version-check /the/action",
+    ]
+    assert result.stdout == f"fkcheck: fkcheck 0.1.0, installed in {venv}\n"
+    assert outputs == {"installed": "true"}
+
+
+def test_action_install_warm_cache_skips_pip(tmp_path: Path) -> None:
+    """A venv restored from the cache that runs ``fkcheck --version``: nothing installed."""
+    assert shutil.which("bash"), "bash runs the action's steps"
+    venv = tmp_path / "runner-temp" / "fkcheck-venv-0123456789ab"
+    _run_install_step(tmp_path, venv)  # cold: the venv as the cache would restore it
+    result, outputs, ran = _run_install_step(tmp_path, venv)
+    assert result.returncode == 0, result.stderr
+    assert ran == []  # neither venv nor pip
+    assert result.stdout == f"fkcheck: fkcheck 0.1.0, from the cached venv {venv}\n"
+    assert outputs == {}  # no save: the key is in the cache
+
+
+def test_action_install_replaces_a_cached_venv_that_does_not_run(tmp_path: Path) -> None:
+    assert shutil.which("bash"), "bash runs the action's steps"
+    venv = tmp_path / "runner-temp" / "fkcheck-venv-0123456789ab"
+    (venv / "bin").mkdir(parents=True)
+    broken = venv / "bin" / "fkcheck"
+    broken.write_text("#!/bin/sh\necho 'No module named fkcheck' >&2\nexit 1\n", encoding="utf-8")
+    broken.chmod(0o755)
+    (venv / "stale").write_text("from an older interpreter", encoding="utf-8")
+    result, outputs, ran = _run_install_step(tmp_path, venv)
+    assert result.returncode == 0, result.stderr
+    assert ran == [
+        f"-m venv {venv}",
+        "-m pip install --quiet --disable-pip-version-check /the/action",
+    ]
+    assert result.stdout == (
+        f"fkcheck: the cached venv {venv} does not run fkcheck; reinstalling\n"
+        f"fkcheck: fkcheck 0.1.0, installed in {venv}\n"
+    )
+    assert not (venv / "stale").exists()
+    assert outputs == {"installed": "true"}
