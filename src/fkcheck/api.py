@@ -110,6 +110,7 @@ def check(
     on_done: Callable[[BackendResult], None] | None = None,
     full: bool | None = None,
     on_plan: Callable[[Plan], None] | None = None,
+    lint_ignore: Sequence[str] = (),
 ) -> Outcome:
     """Cross-check a model's forward kinematics, and diagnose a failure.
 
@@ -154,6 +155,8 @@ def check(
             else no: a backend whose declared cost does not fit its time limit
             compares a stated subset, :mod:`fkcheck.engine.plan`).
         on_plan: Called with the check's plan before any backend starts.
+        lint_ignore: Lint rules the check's ``lint`` leaves out (as ``fkcheck lint
+            --ignore``), on top of the model's own ``[lint] ignore``.
 
     Returns:
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
@@ -197,6 +200,7 @@ def check(
         tolerance_source=opts.tolerance_source,
         full=opts.full,
         on_plan=on_plan,
+        lint_ignore=lint_ignore,
     )
     diagnoses = diagnose_failures(result, backends) if diagnose else ()
     return Outcome(result, diagnoses)

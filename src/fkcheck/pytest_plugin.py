@@ -218,7 +218,7 @@ class ModelFile(pytest.File):
             limit = BackendOptions(timeout_s=options.timeout_s)
             against = list(p.against) if p.against else None
             backends = parse_against(against, limit) if against else default_backends(limit)
-            return check(self.path, backends, options=options)
+            return check(self.path, backends, options=options, lint_ignore=p.lint_ignore)
         except FkcheckError as exc:
             self._error = str(exc)
             return None

@@ -239,6 +239,7 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     args.require = list(options.require) or None
     if args.against is None and project is not None and project.against is not None:
         args.against = list(project.against)
+    args.lint_ignore = project.lint_ignore if project is not None else ()
 
 
 def _validate(args: argparse.Namespace) -> None:

@@ -109,6 +109,7 @@ def check_with_progress(
             model,
             backends,
             options=args.options,
+            lint_ignore=getattr(args, "lint_ignore", ()),
             diagnose=diagnose,
             on_progress=on_progress,
             on_plan=on_plan,

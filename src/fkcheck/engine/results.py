@@ -220,6 +220,10 @@ class CheckResult:
             its defaults, as the CLI names it (set by the CLI); ``None``: none did.
         calibration: For a calibrated model (``[calibration]``), what the
             calibration changes against its nominal model over ``q``.
+        lint: What ``fkcheck lint`` finds in the model, one line each (with the
+            ignores the check was given): a check does not compare what lint
+            flags (degrees read as radians agree with themselves), so its
+            headline says so.
     """
 
     model: Model
@@ -243,6 +247,7 @@ class CheckResult:
     tolerance_source: tuple[str, str] = ("", "")
     config: str | None = None
     calibration: CalibrationEffect | None = None
+    lint: tuple[str, ...] = ()
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

@@ -45,6 +45,7 @@ from fkcheck.model.coverage import coverage
 from fkcheck.model.frames import (
     resolve_frame,
 )
+from fkcheck.model.lint import lint_lines
 from fkcheck.model.options import (
     DEFAULT_SAMPLER,
     DEFAULT_SAMPLES,
@@ -351,6 +352,7 @@ def run_check(
     tolerance_source: str | tuple[str, str] = "",
     full: bool = False,
     on_plan: Callable[[Plan], None] | None = None,
+    lint_ignore: Sequence[str] = (),
 ) -> CheckResult:
     """Check ``backends`` against the in-house core on sampled configurations.
 
@@ -387,6 +389,8 @@ def run_check(
             whose declared cost does not fit its limit compares a stated subset
             (:mod:`fkcheck.engine.plan`).
         on_plan: Called with the plan once it is made, before any backend starts.
+        lint_ignore: Lint rules left out of the check's ``lint`` (a project's
+            ``[tool.fkcheck] lint_ignore``), on top of the model's own ``[lint]``.
 
     Returns:
         The check result.
@@ -513,6 +517,7 @@ def run_check(
         numbers=numbers,
         tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
         calibration=calibration,
+        lint=lint_lines(model, lint_ignore),
     )
 
 

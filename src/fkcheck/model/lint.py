@@ -28,11 +28,11 @@ from dataclasses import dataclass
 from typing import Literal
 
 from fkcheck.model.lint_rules import Rule
-from fkcheck.model.names import PARAMS, param_field, param_symbol
+from fkcheck.model.names import PARAMS, field_text, param_field, param_symbol
 from fkcheck.model.published import published_tables, variant_note
 from fkcheck.model.types import Model
 
-__all__ = ["LONG_M", "Finding", "Rule", "lint_model"]
+__all__ = ["LONG_M", "Finding", "Rule", "lint_lines", "lint_model"]
 
 #: Lengths beyond this look like a unit error (no arm in the bundled set exceeds 1.3 m).
 LONG_M = 5.0
@@ -259,3 +259,11 @@ def lint_model(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:
         *_published(model),
     ]
     return [f for f in findings if f.rule not in skipped]
+
+
+def lint_lines(model: Model, ignore: Iterable[str] = ()) -> tuple[str, ...]:
+    """:func:`lint_model`'s findings as one line each: ``field (joint): message [rule]``."""
+    return tuple(
+        f"{field_text(model, f.field) + ': ' if f.field else ''}{f.message} [{f.rule}]"
+        for f in lint_model(model, ignore)
+    )

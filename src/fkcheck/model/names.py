@@ -47,13 +47,14 @@ def param_field(model: Model, joint: int, param: str) -> str:
 def field_text(model: Model, field: str) -> str:
     """``"joint[3].alpha (wrist_1)"``: a file field, with its joint's name when it is a joint's.
 
-    Other fields (``base.xyz``, ``frames.tool0.rpy``) come back unchanged, and so
-    does a joint with the reader's default name (``joint1`` for ``joint[0]``: a
-    1-based name beside a 0-based path would mislead).
+    A joint with the reader's default name (``joint1`` for ``joint[0]``) is
+    said in prose, ``joint[0].alpha (joint 1)``: the count every other message
+    uses, with a space, so that it cannot read as a name. Other fields
+    (``base.xyz``, ``frames.tool0.rpy``) come back unchanged.
     """
     found = _JOINT_FIELD.match(field)
     if found is None or int(found.group(1)) >= model.dof:
         return field
     i = int(found.group(1))
     name = model.joints[i].name
-    return field if name == f"joint{i + 1}" else f"{field} ({name})"
+    return f"{field} (joint {i + 1})" if name == f"joint{i + 1}" else f"{field} ({name})"

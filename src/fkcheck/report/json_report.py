@@ -180,6 +180,7 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "evidence": _evidence(check, record),
         "numbers": _numbers(check, record),
         "calibration": _calibration(record),
+        "lint": list(check.lint),
         "cross_checked": record.answered,
         "fkcheck_version": __version__,
         "command": check.command,

@@ -349,6 +349,19 @@ def _disagreeing(ran: Sequence[BackendResult], failing: Sequence[BackendResult])
     return parts
 
 
+def _lint_note(check: CheckResult) -> str:
+    """``; lint: 1 warning (fkcheck lint names it)`` when lint flags the model, else ``""``.
+
+    What lint flags (degrees in a radian file, a rounded published number) a
+    check cannot see: every backend reads the same numbers.
+    """
+    n = len(check.lint)
+    if not n:
+        return ""
+    noun, them = ("warnings", "them") if n > 1 else ("warning", "it")
+    return f"; lint: {n} {noun} (fkcheck lint names {them})"
+
+
 def _partial(verdict: str, evidence: EvidenceSummary) -> str:
     """What a pass proves less than the table, in a few words; ``""`` otherwise."""
     if verdict != "pass" or evidence.table.status == "verified":
@@ -517,7 +530,7 @@ def check_record(check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ())
     return CheckRecord(
         model=check.model.name,
         verdict=check.verdict,
-        headline=headline(check.verdict, evidence, len(check.ran)),
+        headline=headline(check.verdict, evidence, len(check.ran)) + _lint_note(check),
         verdict_line=verdict_line(check),
         partial=_partial(check.verdict, evidence),
         evidence=tuple(
