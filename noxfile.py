@@ -124,3 +124,17 @@ def bench(session: nox.Session) -> None:
         "fkcheck", "bench", "ur5", "--jacobian", "--n", "1000000",
         "--json", "reports/bench-jacobian.json", *session.posargs,
     )  # fmt: skip
+
+
+@nox.session(default=False)
+def wall(session: nox.Session) -> None:
+    """Wall time of whole checks (benchmarks/check_wall.py): reports/check-wall.json.
+
+    ``check ur5 --samples 10000`` with every default backend, median of 7 fresh
+    runs, against ``--against rtb-dh`` alone in the same session; ``nox -s wall
+    -- --big`` adds the 10⁶-sample and 3·10⁵-sample Jacobian checks.
+    """
+    _install(session)
+    session.run(
+        "python", "benchmarks/check_wall.py", "--json", "reports/check-wall.json", *session.posargs
+    )
