@@ -20,7 +20,7 @@ from fkcheck import __version__  # noqa: E402
 
 project = "fkcheck"
 author = "fkcheck developers"
-copyright = "fkcheck developers"  # noqa: A001
+copyright = "fkcheck developers"
 release = __version__
 version = __version__
 

@@ -84,6 +84,7 @@ class _Table(SphinxDirective):
     """A directive that writes a Markdown table and parses it as MyST."""
 
     def markdown(self) -> list[str]:
+        """The table's Markdown lines."""
         raise NotImplementedError
 
     def run(self) -> list[nodes.Node]:
@@ -102,6 +103,7 @@ class BackendsTable(_Table):
     """``fkcheck-backends``: the registry, one row per backend."""
 
     def markdown(self) -> list[str]:
+        """One row per registration, the plugin form last."""
         from fkcheck.backends import registry
 
         rows = [
@@ -118,9 +120,7 @@ class BackendsTable(_Table):
             if reg is registry._PLUGIN:
                 runs = "`--against mypkg.fk:forward`"
             name = f"`{reg.shown}`"
-            rows.append(
-                f"| {name} | {_cell(_first_line(cls))} | {evidence} | {reads} | {runs} |"
-            )
+            rows.append(f"| {name} | {_cell(_first_line(cls))} | {evidence} | {reads} | {runs} |")
         return rows
 
 
@@ -128,6 +128,7 @@ class ModelSchema(_Table):
     """``fkcheck-model-schema``: each section's keys, as its reader declares them."""
 
     def markdown(self) -> list[str]:
+        """A table per section; a key without a description is an error, not a blank."""
         out: list[str] = []
         for heading, module_name, keys_name, type_target, alias in SECTIONS:
             module = importlib.import_module(module_name)
@@ -151,6 +152,7 @@ class ProjectKeys(_Table):
     """``fkcheck-project-keys``: ``[tool.fkcheck]``'s keys, as the project reader declares them."""
 
     def markdown(self) -> list[str]:
+        """One row per key, in the reader's order."""
         from fkcheck.model import project
 
         described = attributes(project.ProjectConfig)
