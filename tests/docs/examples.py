@@ -11,8 +11,9 @@ The convention (also in CONTRIBUTING.md):
   that is only ``…`` stands for any number of lines; a ``…`` inside a line for any
   text (volatile parts: timings, absolute paths).
 * A ```` ```python ```` block is run; a page's blocks share one namespace (which starts
-  with ``fkcheck`` imported), in the page's order, in a scratch directory. When the next block is ```` ```text ````, the
-  block's last line is an expression whose ``repr`` is that text (a notebook cell).
+  with ``fkcheck`` imported), in the page's order, in a scratch directory. When the
+  next block is ```` ```text ````, the block's last line is an expression whose
+  ``repr`` is that text (a notebook cell).
 * A block preceded by a ``% not run: REASON`` line (a MyST comment; in the README
   ``<!-- not run: REASON -->``) is not run here: REASON names where it is tested or why
   it cannot run (an install, a command that needs files the page makes earlier).
@@ -124,8 +125,10 @@ def output_matches(shown: list[str], printed: str) -> str | None:
             return a == len(actual)
         if _norm(expected[e]) == ELLIPSIS:
             return any(match(e + 1, k) for k in range(a, len(actual) + 1))
-        return a < len(actual) and bool(_line_pattern(expected[e]).match(actual[a])) and match(
-            e + 1, a + 1
+        return (
+            a < len(actual)
+            and bool(_line_pattern(expected[e]).match(actual[a]))
+            and match(e + 1, a + 1)
         )
 
     if match(0, 0):
