@@ -10,6 +10,7 @@ Directives (in MyST pages as ```{fkcheck-backends}``` blocks):
   described by the ``Attributes:`` of the type it is read into.
 * ``fkcheck-project-keys`` — the keys of ``[tool.fkcheck]``
   (:mod:`fkcheck.model.project`), described by :class:`~fkcheck.model.project.ProjectConfig`.
+* ``fkcheck-action`` — the GitHub Action's inputs and outputs, from ``action.yml``.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from __future__ import annotations
 import importlib
 import inspect
 import re
+from pathlib import Path
 from typing import Any
 
 from docutils import nodes
@@ -164,9 +166,30 @@ class ProjectKeys(_Table):
         return rows
 
 
+class ActionTable(_Table):
+    """``fkcheck-action``: ``action.yml``'s inputs and outputs, with their descriptions."""
+
+    def markdown(self) -> list[str]:
+        """One row per input (with its default), then one per output."""
+        import yaml
+
+        action_yml = Path(self.env.srcdir).parent / "action.yml"
+        self.env.note_dependency(str(action_yml))
+        action = yaml.safe_load(action_yml.read_text(encoding="utf-8"))
+        rows = ["| | name | default | meaning |", "|---|---|---|---|"]
+        for name, spec in action["inputs"].items():
+            default = spec.get("default", "")
+            shown = f"`{default}`" if default else "(empty)"
+            rows.append(f"| input | `{name}` | {shown} | {_cell(spec['description'])} |")
+        for name, spec in action.get("outputs", {}).items():
+            rows.append(f"| output | `{name}` | | {_cell(spec['description'])} |")
+        return rows
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     """Register the directives."""
     app.add_directive("fkcheck-backends", BackendsTable)
     app.add_directive("fkcheck-model-schema", ModelSchema)
     app.add_directive("fkcheck-project-keys", ProjectKeys)
+    app.add_directive("fkcheck-action", ActionTable)
     return {"parallel_read_safe": True, "parallel_write_safe": True, "version": "1"}
