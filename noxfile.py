@@ -138,3 +138,23 @@ def wall(session: nox.Session) -> None:
     session.run(
         "python", "benchmarks/check_wall.py", "--json", "reports/check-wall.json", *session.posargs
     )
+
+
+@nox.session(default=False)
+def docs(session: nox.Session) -> None:
+    """Build the docs site (warnings are errors) and run its examples.
+
+    `sphinx-build -W --keep-going` into docs/_build/html: the CLI, API, backends and
+    model-file reference are generated from the code, so a docstring autodoc cannot
+    read or a key without a description fails the build. Then tests/docs runs every
+    console and python example of the pages and the README, and the user tests that
+    run the walkthrough and notebook pages.
+    """
+    _install(session, "test", "docs")
+    session.run(
+        "sphinx-build", "-W", "--keep-going", "-b", "html", "docs", "docs/_build/html",
+    )  # fmt: skip
+    session.run(
+        "pytest", "-p", "no:cacheprovider", "tests/docs", "tests/user/test_docs_notebook.py",
+        "tests/user/test_docs_your_robot.py", *session.posargs,
+    )  # fmt: skip

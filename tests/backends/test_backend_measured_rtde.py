@@ -142,10 +142,10 @@ def test_a_model_of_another_joint_count_is_refused(tmp_path):
         read_poses_file(path, load_model("xarm7"))
 
 
-def test_the_readme_recording_passes_its_table_and_shows_the_nominal_tables_millimetres(
+def test_the_docs_recording_passes_its_table_and_shows_the_nominal_tables_millimetres(
     capsys,
 ):
-    """README, "A UR RTDE recording": the recording and the numbers it shows."""
+    """docs/reference/measured-poses.md: the recording and the numbers it shows."""
     recording = DATA_DIR / "ur5_rtde_recording.csv"
     code = main(["check", str(DATA_DIR / "ur5_rtde_calibrated.toml"), "--against",
                  f"poses:{recording}"])  # fmt: skip

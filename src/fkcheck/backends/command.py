@@ -121,7 +121,7 @@ class CommandSpecError(FkcheckError, ValueError):
 
 
 class CommandBackend(BackendDefaults):
-    """FK from an external program speaking the stdin/stdout protocol above.
+    """FK from an external program over stdin/stdout: one line in, one pose out.
 
     Attributes:
         name: ``cmd:<command line>``.

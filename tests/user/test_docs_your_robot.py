@@ -1,8 +1,9 @@
-"""The README's "Bring your own robot" walk-through, run as written.
+"""The "Bring your own robot" walk-through (docs/howto/your-robot.md), run as written.
 
-The commands are read from README.md's code block (the lines starting ``$ ``),
-so the README and this test cannot drift apart: a command the README shows
-that no longer works fails here.
+The commands are read from the page's first ``console`` block (the lines starting
+``$ ``), so the page and this test cannot drift apart: a command the page shows
+that no longer works fails here. The docs' own example test leaves this block to
+this test (it needs ``myarm.toml``, written here).
 """
 
 from __future__ import annotations
@@ -16,14 +17,13 @@ from pathlib import Path
 import fkcheck
 from tests.paths import REPO_ROOT
 
-SECTION = "## Bring your own robot"
+PAGE = REPO_ROOT / "docs" / "howto" / "your-robot.md"
 
 
 def _walkthrough() -> tuple[list[str], str]:
-    """The section's first code block: its ``$`` commands and the verdict line it shows."""
-    text = (REPO_ROOT / "README.md").read_text(encoding="utf-8")
-    section = text[text.index(SECTION) :]
-    block = section.split("```", 2)[1]
+    """The page's first console block: its ``$`` commands and the verdict line it shows."""
+    text = PAGE.read_text(encoding="utf-8")
+    block = text.split("```console\n", 1)[1].split("```", 1)[0]
     commands = [line[2:] for line in block.splitlines() if line.startswith("$ ")]
     verdict = next(line for line in block.splitlines() if line.startswith("verdict: "))
     return commands, verdict
@@ -40,7 +40,7 @@ def _myarm_text() -> str:
     return table.replace('name = "ur5"', 'name = "myarm"', 1)
 
 
-def test_the_commands_are_read_from_the_readme():
+def test_the_commands_are_read_from_the_page():
     commands, verdict = _walkthrough()
     assert [c.split()[:2] for c in commands] == [
         ["fkcheck", "lint"],
@@ -52,7 +52,7 @@ def test_the_commands_are_read_from_the_readme():
     assert verdict.startswith("verdict: pass — table verified independently")
 
 
-def test_bring_your_own_robot_runs_as_the_readme_shows(tmp_path):
+def test_bring_your_own_robot_runs_as_the_page_shows(tmp_path):
     commands, verdict = _walkthrough()
     (tmp_path / "myarm.toml").write_text(_myarm_text(), encoding="utf-8")
     src = str(Path(fkcheck.__file__).resolve().parents[1])
@@ -62,7 +62,7 @@ def test_bring_your_own_robot_runs_as_the_readme_shows(tmp_path):
         "COLUMNS": "200",
         "FKCHECK_PYTHON": sys.executable,
     }
-    shown = verdict.split("(…", 1)[0]  # the README elides the count of backends
+    shown = verdict.split("(…", 1)[0]  # the page elides the count of backends
     for command in commands:
         # `fkcheck` is this interpreter's fkcheck, whatever is on PATH.
         script = f'fkcheck() {{ "$FKCHECK_PYTHON" -m fkcheck "$@"; }}\n{command}\n'
@@ -76,7 +76,7 @@ def test_bring_your_own_robot_runs_as_the_readme_shows(tmp_path):
             check=False,
         )
         assert done.returncode == 0, f"$ {command}\n{done.stdout}\n{done.stderr}"
-    # The last command is the check: it passes with the verdict the README shows.
+    # The last command is the check: it passes with the verdict the page shows.
     assert commands[-1].startswith("fkcheck check myarm.toml")
     assert shown in done.stdout, done.stdout
     assert re.search(r"\(\d+ backend\(s\) answered\)", done.stdout)

@@ -1,8 +1,8 @@
-"""The README's notebook example ("In a notebook"), run as written.
+"""The notebook example (docs/howto/notebook.md), run as written.
 
-The code and the output it shows are read from README.md, so the two cannot
+The code and the output it shows are read from the page, so the two cannot
 drift apart: the last line is evaluated as a notebook cell's would be, and its
-``repr`` must be the text the README prints.
+``repr`` must be the text the page prints.
 """
 
 from __future__ import annotations
@@ -12,13 +12,12 @@ from typing import Any
 import fkcheck
 from tests.paths import REPO_ROOT
 
-SECTION = "### In a notebook"
+PAGE = REPO_ROOT / "docs" / "howto" / "notebook.md"
 
 
 def _example() -> tuple[list[str], str]:
-    """The section's ``python`` block (its lines) and the ``text`` block after it."""
-    text = (REPO_ROOT / "README.md").read_text(encoding="utf-8")
-    section = text[text.index(SECTION) :]
+    """The page's ``python`` block (its lines) and the ``text`` block after it."""
+    section = PAGE.read_text(encoding="utf-8")
     code = section.split("```python\n", 1)[1].split("```", 1)[0]
     shown = section.split("```text\n", 1)[1].split("```", 1)[0]
     return [line for line in code.splitlines() if line.strip()], shown.strip()
@@ -32,10 +31,10 @@ def test_the_example_is_three_lines_ending_in_the_result():
     assert shown.startswith("<fkcheck.Outcome ")
 
 
-def test_the_readme_example_runs_and_shows_its_output():
+def test_the_page_example_runs_and_shows_its_output():
     lines, shown = _example()
     namespace: dict[str, Any] = {"fkcheck": fkcheck}
-    exec("\n".join(lines[:-1]), namespace)  # the README's own code
+    exec("\n".join(lines[:-1]), namespace)  # the page's own code
     result = eval(lines[-1], namespace)  # as a notebook cell shows its last line
     assert isinstance(result, fkcheck.Outcome)
     assert result.verdict == "pass"
