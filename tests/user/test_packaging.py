@@ -86,3 +86,12 @@ def test_the_entry_points_a_user_needs_are_declared() -> None:
     assert project["scripts"] == {"fkcheck": "fkcheck.cli.main:main"}
     assert project["entry-points"]["pytest11"] == {"fkcheck": "fkcheck.pytest_plugin"}
     assert Path(REPO_ROOT / "src" / "fkcheck" / "pytest_plugin.py").is_file()
+
+
+def test_ci_runs_the_dist_session_and_the_noxfile_defines_it() -> None:
+    ci = (REPO_ROOT / ".ci" / "run").read_text("utf-8").splitlines()
+    assert "python3 -m nox -s dist" in ci
+    assert ci.index("python3 -m nox -s dist") > ci.index("python3 -m nox -s crossval")
+    noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
+    assert "@nox.session(default=False)\ndef dist(session: nox.Session) -> None:" in noxfile
+    assert '"twine", "check", "--strict"' in noxfile
