@@ -174,8 +174,11 @@ def _run_installed(session: nox.Session, artefact: Path, version: str, work: Pat
     venv = work / "venv"
     run_dir = work / "run"
     bin_dir = venv / "bin"
-    # Only the fresh venv: no PYTHONPATH reaching a checkout's src/.
-    env: dict[str, str | None] = {"PYTHONPATH": None, "VIRTUAL_ENV": str(venv)}
+    # Only the fresh venv: no PYTHONPATH reaching a checkout's src/; and no second
+    # ur5 summary in a GitHub job's step summary.
+    env: dict[str, str | None] = {
+        "PYTHONPATH": None, "VIRTUAL_ENV": str(venv), "GITHUB_STEP_SUMMARY": None,
+    }  # fmt: skip
     try:
         session.run("python", "-m", "venv", str(venv))
         session.run(
