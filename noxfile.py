@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import json
+import shutil
+import tempfile
+import zipfile
+from pathlib import Path
+
 import nox
 
 nox.needs_version = ">=2025.2.9"
@@ -158,3 +164,78 @@ def docs(session: nox.Session) -> None:
         "pytest", "-p", "no:cacheprovider", "tests/docs", "tests/user/test_docs_notebook.py",
         "tests/user/test_docs_your_robot.py", *session.posargs,
     )  # fmt: skip
+
+
+def _built_version(wheel: Path) -> str:
+    """The ``Version:`` of a wheel's METADATA."""
+    with zipfile.ZipFile(wheel) as zf:
+        name = next(n for n in zf.namelist() if n.endswith(".dist-info/METADATA"))
+        for line in zf.read(name).decode("utf-8").splitlines():
+            if line.startswith("Version: "):
+                return line.removeprefix("Version: ")
+    raise ValueError(f"{wheel.name}: no Version in its METADATA")
+
+
+@nox.session(default=False)
+def dist(session: nox.Session) -> None:
+    """Build the sdist and wheel, `twine check --strict` them, and run each installed.
+
+    Each of the two goes into a fresh venv of its own (the sdist through pip's build
+    of it), which runs the main job (bare `fkcheck` in an empty directory: exit 0,
+    reports/ur5.json and reports/ur5.html, the JSON's fkcheck_version the built
+    version) and `fkcheck --version`; the venv is then removed. Nothing is published.
+    """
+    session.install("build", "twine")
+    work = Path(tempfile.mkdtemp(prefix="fkcheck-dist-"))
+    try:
+        out = work / "dist"
+        session.run("python", "-m", "build", "--outdir", str(out), ".")
+        (wheel,) = out.glob("fkcheck-*.whl")
+        (sdist,) = out.glob("fkcheck-*.tar.gz")
+        session.run("twine", "check", "--strict", str(wheel), str(sdist))
+        version = _built_version(wheel)
+        if sdist.name != f"fkcheck-{version}.tar.gz":
+            session.error(f"sdist {sdist.name} is not version {version} (the wheel's)")
+        for artefact in (wheel, sdist):
+            _run_installed(session, artefact, version, work)
+        session.log(f"dist: {wheel.name} and {sdist.name} install and run the main job")
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def _run_installed(session: nox.Session, artefact: Path, version: str, work: Path) -> None:
+    """Install one artefact into a fresh venv; run the main job and --version there."""
+    venv = work / "venv"
+    run_dir = work / "run"
+    bin_dir = venv / "bin"
+    # Only the fresh venv: no PYTHONPATH reaching a checkout's src/; and no second
+    # ur5 summary in a GitHub job's step summary.
+    env: dict[str, str | None] = {
+        "PYTHONPATH": None, "VIRTUAL_ENV": str(venv), "GITHUB_STEP_SUMMARY": None,
+    }  # fmt: skip
+    try:
+        session.run("python", "-m", "venv", str(venv))
+        session.run(
+            str(bin_dir / "python"), "-m", "pip", "install", "--quiet",
+            "--disable-pip-version-check", str(artefact), external=True, env=env,
+        )  # fmt: skip
+        run_dir.mkdir()
+        with session.chdir(run_dir):
+            session.run(str(bin_dir / "fkcheck"), external=True, env=env)  # the main job
+        json_report = run_dir / "reports" / "ur5.json"
+        html_report = run_dir / "reports" / "ur5.html"
+        for report in (json_report, html_report):
+            if not report.is_file():
+                session.error(f"{artefact.name}: the main job wrote no {report.name}")
+        reported = json.loads(json_report.read_text(encoding="utf-8"))["fkcheck_version"]
+        if reported != version:
+            session.error(f"{artefact.name}: ur5.json has fkcheck_version {reported!r}")
+        shown = session.run(
+            str(bin_dir / "fkcheck"), "--version", external=True, env=env, silent=True
+        )
+        if not isinstance(shown, str) or shown.strip() != f"fkcheck {version}":
+            session.error(f"{artefact.name}: fkcheck --version printed {shown!r}")
+        session.log(f"{artefact.name}: main job and `fkcheck --version` ({version}): ok")
+    finally:
+        shutil.rmtree(venv, ignore_errors=True)
+        shutil.rmtree(run_dir, ignore_errors=True)

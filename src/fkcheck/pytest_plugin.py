@@ -90,6 +90,20 @@ def pytest_configure(config: pytest.Config) -> None:
     config.stash[_COLLECTED_KEY] = set()
 
 
+def pytest_report_header(config: pytest.Config) -> str | None:
+    """``fkcheck VERSION: N [tool.fkcheck] models`` in pytest's header, when there are models.
+
+    Without ``[tool.fkcheck] models`` the plugin does nothing and adds no line
+    (pytest's ``plugins:`` line names it with its version anyway).
+    """
+    from fkcheck._version import __version__
+
+    found = config.stash.get(_PROJECT_KEY, None)
+    if found is None:
+        return None
+    return f"fkcheck {__version__}: {len(found[1])} [tool.fkcheck] models"
+
+
 def pytest_collect_file(file_path: Path, parent: pytest.Collector) -> ModelFile | None:
     """A model file named by ``[tool.fkcheck] models`` becomes a :class:`ModelFile`."""
     found = parent.config.stash.get(_PROJECT_KEY, None)

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from fkcheck._version import __version__
 from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
 
@@ -47,7 +48,7 @@ def test_the_repositorys_pyproject_is_named_by_every_output(repo, capsys):
     assert result["samples"] == 4
     assert result["config"] == "../pyproject.toml"
     # Not a terminal: the description opens the table, naming the file as the header does.
-    assert out.splitlines()[0].endswith("; config: ../pyproject.toml"), out
+    assert out.splitlines()[0].endswith(f"; config: ../pyproject.toml; fkcheck {__version__}"), out
     assert "[tool.fkcheck] of ../pyproject.toml" in Path("r.html").read_text()
 
 
@@ -69,7 +70,7 @@ def test_the_header_names_the_file_as_pytest_names_its_configfile():
         seed=0, config="../pyproject.toml",
     )  # fmt: skip
     text = header(load_model("planar2"), [make_backend("rtb-dh")], args)
-    assert text.endswith("against rtb-dh; config: ../pyproject.toml")
+    assert text.endswith(f"against rtb-dh; config: ../pyproject.toml; fkcheck {__version__}")
 
 
 def test_no_output_replaces_the_configuration_file(repo, capsys):

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from fkcheck._version import __version__
 from fkcheck.cli.main import main
 from fkcheck.model.read import bundled_model_paths
 
@@ -65,7 +66,7 @@ def test_the_header_names_what_runs_and_keeps_brackets(tmp_path):
     console.print(text)
     assert console.export_text() == (
         "fkcheck arm [red]x[/]: base → tool0, 200000 sobol samples (seed 3), tolerance "
-        "1e-06 m / 2e-06 rad, against rtb-dh, pinocchio-urdf\n"
+        f"1e-06 m / 2e-06 rad, against rtb-dh, pinocchio-urdf; fkcheck {__version__}\n"
     )
 
 
@@ -79,7 +80,7 @@ def test_no_line_wraps_in_a_log(tmp_path, capsys):
     # The header, flushed before the check runs, is the log's first line.
     assert lines[0] == (
         f"fkcheck {name}: base → tool0, 2 sobol samples (seed 0), "
-        "tolerance 0.000123456 m / 1e-06 rad, against rtb-dh"
+        f"tolerance 0.000123456 m / 1e-06 rad, against rtb-dh; fkcheck {__version__}"
     )
     assert lines[1] == "83 configurations compared"
     assert len(lines[0]) > 140  # longer than the log's width, and whole

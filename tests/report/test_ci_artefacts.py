@@ -8,6 +8,7 @@ from dataclasses import replace
 
 import pytest
 
+from fkcheck._version import __version__
 from fkcheck.report.annotations import (
     escape_data,
     escape_property,
@@ -76,6 +77,8 @@ def test_summary_of_one_model_adds_the_diagnosis_under_its_table():
         "\n"
         "- ✘ **shifted** — diagnosis: not explained by any hypothesis tried\n"
         "- ✘ **twisted-dh** — diagnosis: one number differs: α2 (shoulder)\n"
+        "\n"
+        f"<sub>fkcheck {__version__}</sub>\n"
     )
 
 

@@ -1,4 +1,4 @@
-"""The reusable action (action.yml) and the CI workflow: their interface; the action's script.
+"""The reusable action (action.yml), the CI and release workflows: interface and scripts.
 
 actionlint (``nox -s actionlint``, in .ci/run) lints the workflow, and through its
 ``uses: ./`` step the action's inputs. Here the action's metadata is read as YAML,
@@ -8,7 +8,9 @@ interface is ``fkcheck check --out-dir=DIR --summary=PATH -- FILE...``, exit 0/1
 (no input can become an option); once with the real fkcheck behind it. Its install:
 the venv step's script (which Python, the cache key) with this interpreter, the
 install step's with a stand-in interpreter that logs what it is asked (a warm venv
-asks nothing).
+asks nothing). The release workflow (release.yml) runs on tags, publishes by
+trusted publishing from one job, and its tag check is run here against a wheel of
+a known version.
 """
 
 from __future__ import annotations
@@ -19,11 +21,13 @@ import re
 import shutil
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 from typing import Any
 
 import pytest
 
+from fkcheck._version import __version__
 from fkcheck.model.read import bundled_model_paths
 from tests.paths import REPO_ROOT
 
@@ -31,6 +35,7 @@ yaml = pytest.importorskip("yaml")  # PyYAML: installed with fkcheck (xacrodoc n
 
 ACTION = REPO_ROOT / "action.yml"
 WORKFLOW = REPO_ROOT / ".github" / "workflows" / "ci.yml"
+RELEASE = REPO_ROOT / ".github" / "workflows" / "release.yml"
 
 
 def _load(path: Path) -> dict[str, Any]:
@@ -436,3 +441,83 @@ def test_action_install_replaces_a_cached_venv_that_does_not_run(tmp_path: Path)
     )
     assert not (venv / "stale").exists()
     assert outputs == {"installed": "true"}
+
+
+def _on(workflow: dict[str, Any]) -> Any:
+    """The workflow's ``on:`` (YAML 1.1 reads the bare key ``on`` as True)."""
+    return workflow["on"] if "on" in workflow else workflow[True]
+
+
+def test_release_runs_on_version_tags_and_builds_checks_and_uploads() -> None:
+    release = _load(RELEASE)
+    assert _on(release) == {"push": {"tags": ["v*"]}}
+    assert release["permissions"] == {"contents": "read"}
+    assert set(release["jobs"]) == {"build", "publish"}
+    build = release["jobs"]["build"]
+    assert "permissions" not in build  # contents: read, from the workflow
+    runs = [str(s.get("run", "")) for s in build["steps"]]
+    assert "python -m build" in runs
+    assert "python -m twine check --strict dist/*" in runs
+    uses = [str(s.get("uses", "")) for s in build["steps"]]
+    assert uses[:2] == ["actions/checkout@v4", "actions/setup-python@v5"]
+    assert build["steps"][1]["with"]["python-version"] == "3.11"
+    # The tag is checked after the build and before the upload.
+    names = [s.get("name") for s in build["steps"]]
+    check = names.index("The tag is the built version")
+    assert runs.index("python -m build") < check < uses.index("actions/upload-artifact@v4")
+    upload = build["steps"][uses.index("actions/upload-artifact@v4")]["with"]
+    assert (upload["name"], upload["path"], upload["if-no-files-found"]) == (
+        "dist", "dist/", "error",
+    )  # fmt: skip
+
+
+def test_release_publishes_by_trusted_publishing_from_one_job() -> None:
+    release = _load(RELEASE)
+    publish = release["jobs"]["publish"]
+    assert publish["needs"] == "build"
+    assert publish["environment"]["name"] == "pypi"
+    assert publish["permissions"] == {"id-token": "write"}
+    others = [j for name, j in release["jobs"].items() if name != "publish"]
+    assert all("id-token" not in (j.get("permissions") or {}) for j in others)
+    download, upload = publish["steps"]
+    assert download["uses"] == "actions/download-artifact@v4"
+    assert download["with"] == {"name": "dist", "path": "dist/"}
+    assert upload == {"uses": "pypa/gh-action-pypi-publish@release/v1"}  # no token, no inputs
+    assert "secrets." not in RELEASE.read_text(encoding="utf-8")
+
+
+def _run_tag_check(tmp_path: Path, tag: str, version: str) -> subprocess.CompletedProcess[str]:
+    """The tag check step's script, run as ``shell: python`` runs it, beside a wheel."""
+    step = next(
+        s for s in _load(RELEASE)["jobs"]["build"]["steps"]
+        if s.get("name") == "The tag is the built version"
+    )  # fmt: skip
+    assert step["shell"] == "python"
+    assert step["env"] == {"TAG": "${{ github.ref_name }}"}
+    dist = tmp_path / "dist"
+    dist.mkdir()
+    (dist / f"fkcheck-{version}.tar.gz").write_bytes(b"")
+    with zipfile.ZipFile(dist / f"fkcheck-{version}-py3-none-any.whl", "w") as zf:
+        zf.writestr(f"fkcheck-{version}.dist-info/METADATA",
+                    f"Metadata-Version: 2.4\nName: fkcheck\nVersion: {version}\n")  # fmt: skip
+    script = tmp_path / "check.py"
+    script.write_text(str(step["run"]), encoding="utf-8")
+    env = {**os.environ, "TAG": tag}
+    return subprocess.run(
+        [sys.executable, str(script)], cwd=tmp_path, env=env,
+        capture_output=True, text=True, timeout=60, check=False,
+    )  # fmt: skip
+
+
+def test_release_tag_check_passes_when_the_tag_is_the_version(tmp_path: Path) -> None:
+    result = _run_tag_check(tmp_path, f"v{__version__}", __version__)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == f"tag v{__version__}: fkcheck {__version__}\n"
+
+
+@pytest.mark.parametrize("tag", ["v9.9.9", "0.1.0", "v0.1.0rc1"])
+def test_release_tag_check_fails_in_one_line_when_it_is_not(tmp_path: Path, tag: str) -> None:
+    result = _run_tag_check(tmp_path, tag, "0.1.0")
+    assert result.returncode == 1
+    assert result.stdout == ""
+    assert result.stderr == (f"tag {tag} is not v0.1.0, the version in src/fkcheck/_version.py\n")

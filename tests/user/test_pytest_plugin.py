@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 
+from fkcheck._version import __version__
 from fkcheck.model.read import bundled_model_paths
 from tests.paths import REPO_ROOT
 from tests.user.userrepo import WRONG_ALPHA, make_user_repo
@@ -144,6 +145,13 @@ def test_pytest_xdist_spreads_the_models(tmp_path: Path) -> None:
     _assert_report(result)
 
 
+def test_the_report_header_names_the_version_and_the_models(tmp_path: Path) -> None:
+    result = _run(tmp_path, "--collect-only")
+    assert result.returncode == 0, result.stdout + result.stderr
+    header = result.stdout.split("collected ", 1)[0]
+    assert f"\nfkcheck {__version__}: 3 [tool.fkcheck] models\n" in header, header
+
+
 def test_a_project_without_tool_fkcheck_collects_nothing(tmp_path: Path) -> None:
     repo = tmp_path / "plain"
     (repo / "robots").mkdir(parents=True)
@@ -155,6 +163,7 @@ def test_a_project_without_tool_fkcheck_collects_nothing(tmp_path: Path) -> None
     )  # fmt: skip
     assert result.returncode == 5, result.stdout  # pytest: no tests collected
     assert "collected 0 items" in result.stdout
+    assert f"fkcheck {__version__}:" not in result.stdout  # no models: no header line
 
 
 def test_a_bad_tool_fkcheck_table_is_one_usage_error(tmp_path: Path) -> None:

@@ -6,6 +6,7 @@ import argparse
 import shlex
 from typing import TYPE_CHECKING, Any
 
+from fkcheck._version import __version__
 from fkcheck.io.format import format_angle_console, format_length_console, format_scientific
 from fkcheck.io.text import operand, terminal_markup, terminal_text
 
@@ -59,7 +60,12 @@ def header(
     return terminal_markup(
         f"fkcheck {model.name}: {frame_from} → {frame_to}, {where}, tolerance {tol_pos:g} m / "
         f"{tol_rot:g} rad, against {names}{_config(getattr(args, 'config', None))}"
+        f"{_VERSION}"
     )
+
+
+#: The end of a check's first line: the version that ran, where a CI log shows it.
+_VERSION = f"; fkcheck {__version__}"
 
 
 def _config(path: str | None) -> str:
@@ -112,7 +118,7 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
         f"{terminal_markup(check.frame_to)}, "
         f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
         f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
-        f"{terminal_markup(_config(check.config))}"
+        f"{terminal_markup(_config(check.config))}{_VERSION}"
     )
     if title:
         console.print(described)

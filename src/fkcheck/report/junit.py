@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from fkcheck._version import __version__
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.io.atomic import write_bytes_atomic
 from fkcheck.io.text import xml_safe_tree
@@ -104,6 +105,9 @@ def junit_xml(check: CheckResult, *, diagnoses: Sequence[BackendDiagnosis] = ())
     name = f"fkcheck.{check.model.name}"
     suite = ET.Element("testsuite", name=name, timestamp=check.created,
                        time=f"{check.duration_s:.3f}")  # fmt: skip
+    # The version that wrote it: first in the suite, as the JUnit schema orders them.
+    properties = ET.SubElement(suite, "properties")
+    ET.SubElement(properties, "property", name="fkcheck_version", value=__version__)
     counts = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
     record = check_record(check, diagnoses)
     for result in record.backends:

@@ -22,6 +22,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from fkcheck._version import __version__
 from fkcheck.engine.results import CheckResult
 from fkcheck.io.format import format_angle_summary, format_length_summary, format_scientific
 from fkcheck.io.text import markdown_text as escape_markdown
@@ -139,6 +140,8 @@ def markdown_summary(
     if causes:
         lines.append("")
         lines.extend(causes)
+    lines.append("")
+    lines.append(f"<sub>fkcheck {__version__}</sub>")
     return "\n".join(lines) + "\n"
 
 

@@ -1,0 +1,97 @@
+"""What the wheel and the sdist ship, as pyproject.toml's hatch config says (no build here).
+
+``nox -s dist`` builds both, installs each into a fresh venv and runs the main job;
+these fast checks guard the config that makes that work: the bundled models go
+into the wheel where :func:`fkcheck.model.read.bundled_models_dir` looks once
+installed, the sdist carries them (a wheel built from it needs them) and its
+source tree by name, never reports/ or a CI venv, and the licences are declared.
+"""
+
+from __future__ import annotations
+
+import inspect
+import subprocess
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from fkcheck.model.read import bundled_model_paths, bundled_models_dir
+from tests.paths import REPO_ROOT
+
+
+def _pyproject() -> dict[str, Any]:
+    with (REPO_ROOT / "pyproject.toml").open("rb") as f:
+        return tomllib.load(f)
+
+
+def _hatch_build() -> dict[str, Any]:
+    build: dict[str, Any] = _pyproject()["tool"]["hatch"]["build"]
+    return build
+
+
+def test_the_wheel_ships_the_models_where_fkcheck_looks_for_them() -> None:
+    wheel = _hatch_build()["targets"]["wheel"]
+    assert wheel["packages"] == ["src/fkcheck"]
+    assert wheel["force-include"] == {"models": "fkcheck/_bundled_models"}
+    # Installed, read.py sits in fkcheck/model/: its first candidate is fkcheck/_bundled_models.
+    assert 'package / "_bundled_models"' in inspect.getsource(bundled_models_dir)
+    assert (REPO_ROOT / "src" / "fkcheck" / "py.typed").is_file()
+
+
+def test_the_models_directory_holds_every_bundled_model_and_the_ur_description() -> None:
+    models = REPO_ROOT / "models"
+    assert {p.stem for p in models.glob("*.toml")} == set(bundled_model_paths())
+    assert {"ur5", "panda", "planar2"} <= set(bundled_model_paths())
+    ur = models / "ur_description"
+    for name in ("LICENSE", "SOURCE.md", "package.xml", "urdf/ur.urdf.xacro"):
+        assert (ur / name).is_file(), name
+
+
+def test_the_sdist_ships_the_source_tree_by_name() -> None:
+    only = _hatch_build()["targets"]["sdist"]["only-include"]
+    # What the wheel (built from the sdist) and the tests need.
+    assert {"src", "models", "tests", "README.md", "LICENSE", "noxfile.py"} <= set(only)
+    # Only names, each at the top of the checkout; never the run's outputs or a venv.
+    assert all("/" not in name and "*" not in name for name in only)
+    assert not {"reports", ".ci-venv", ".nox", "dist", "build"} & set(only)
+    # Every entry at the top of the checkout that git tracks is shipped, or is reports/.
+    shipped = set(only) | {"pyproject.toml", ".gitignore", "reports"}
+    assert _top_level_tracked() <= shipped, _top_level_tracked() - shipped
+
+
+def _top_level_tracked() -> set[str]:
+    """The names at the top of the checkout that git tracks (an unpacked sdist: all of them)."""
+    if not (REPO_ROOT / ".git").exists():
+        return {p.name for p in REPO_ROOT.iterdir()} - {"PKG-INFO"}
+    listed = subprocess.run(
+        ["git", "ls-files", "-z"], cwd=REPO_ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    return {path.split("/", 1)[0] for path in listed.split("\0") if path}
+
+
+def test_the_licences_are_declared_and_present() -> None:
+    project = _pyproject()["project"]
+    assert project["license"] == "MIT"
+    assert project["license-files"] == ["LICENSE", "models/ur_description/LICENSE"]
+    for name in project["license-files"]:
+        assert (REPO_ROOT / name).is_file(), name
+    assert (REPO_ROOT / "LICENSE").read_text("utf-8").startswith("MIT License\n")
+    assert "Redistribution and use in source and binary forms" in (
+        REPO_ROOT / "models" / "ur_description" / "LICENSE"
+    ).read_text("utf-8")
+
+
+def test_the_entry_points_a_user_needs_are_declared() -> None:
+    project = _pyproject()["project"]
+    assert project["scripts"] == {"fkcheck": "fkcheck.cli.main:main"}
+    assert project["entry-points"]["pytest11"] == {"fkcheck": "fkcheck.pytest_plugin"}
+    assert Path(REPO_ROOT / "src" / "fkcheck" / "pytest_plugin.py").is_file()
+
+
+def test_ci_runs_the_dist_session_and_the_noxfile_defines_it() -> None:
+    ci = (REPO_ROOT / ".ci" / "run").read_text("utf-8").splitlines()
+    assert "python3 -m nox -s dist" in ci
+    assert ci.index("python3 -m nox -s dist") > ci.index("python3 -m nox -s crossval")
+    noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
+    assert "@nox.session(default=False)\ndef dist(session: nox.Session) -> None:" in noxfile
+    assert '"twine", "check", "--strict"' in noxfile
