@@ -149,6 +149,8 @@ def test_at_80_columns_no_number_breaks_across_lines(tmp_path, capsys, monkeypat
     assert not broken, out
     assert re.search(r"│ \d\.\d\d s │", out), out  # whole numbers, with their units
     if wrong:  # the wrong sign's 251 mm and 180°, each number whole on its line
-        assert re.search(r"│ 0\.251 m +│.*\n.*│ \(250\.854 +│ \(180\.000°\)", out), out
+        # The human unit first, the SI value in parentheses (as every output).
+        both = r"│ 250\.854 mm +│ 180\.000° +│.*\n.*│ \(0\.251 m\) +│ \(3\.14 rad\)"
+        assert re.search(both, out), out
     else:
         assert re.search(r"│ \d(\.\d+)?e-\d\d m +│ \d\.\de-\d\d rad +│", out), out

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck._version import __version__
 from fkcheck.engine.results import REFERENCE_NAME, CheckResult
-from fkcheck.io.format import format_deg, format_mm, format_seconds
+from fkcheck.io.format import format_deg, format_mm, format_pair, format_seconds
 from fkcheck.report.views import (
     DiagnosisView,
     EvidenceLine,
@@ -113,8 +113,8 @@ def build_report_page(
         ]
     versions = library_versions() if versions is None else versions
     tol = (
-        f"{check.tol_pos_m:g} m ({format_mm(check.tol_pos_m)}) position, "
-        f"{check.tol_rot_rad:g} rad ({format_deg(check.tol_rot_rad)}) rotation"
+        f"{format_pair(format_mm(check.tol_pos_m), f'{check.tol_pos_m:g} m')} position, "
+        f"{format_pair(format_deg(check.tol_rot_rad), f'{check.tol_rot_rad:g} rad')} rotation"
     )
     model = check.model
     facts = (
