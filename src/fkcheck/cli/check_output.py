@@ -64,7 +64,9 @@ def header(
 
 def _config(path: str | None) -> str:
     """``; config: PATH``: the ``pyproject.toml`` that applied (as pytest's ``configfile:``)."""
-    return "" if path is None else f"; config: {path}"
+    from fkcheck.urdf.locate import display_path
+
+    return "" if path is None else f"; config: {display_path(path)}"
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
