@@ -166,8 +166,8 @@ def golden_check(model: Model | None = None, message_extra: str = "") -> CheckRe
         BackendResult(
             "shifted",
             "fail",
-            "6 of 6 configurations differ: max position error 0.0003 m, max rotation error 0 rad"
-            + message_extra,
+            "6 of 6 configurations differ: max position error 0.300 mm (3.00e-04 m), "
+            "max rotation error 0.00° (0.00e+00 rad)" + message_extra,
             "pose @ Tz(0.3 mm)",
             0.25,
             shifted_pos,
@@ -178,7 +178,8 @@ def golden_check(model: Model | None = None, message_extra: str = "") -> CheckRe
         BackendResult(
             "twisted-dh",
             "fail",
-            "5 of 6 configurations differ: max position error 0.5 m, max rotation error 3 rad",
+            "5 of 6 configurations differ: max position error 500 mm (5.00e-01 m), "
+            "max rotation error 172° (3.00e+00 rad)",
             "flipped alpha_2",
             0.5,
             twisted_pos,

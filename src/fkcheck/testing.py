@@ -30,7 +30,7 @@ from fkcheck.core.tolerances import check_limit
 from fkcheck.core.typing import Float
 from fkcheck.engine.compare import SE3_TOLERANCE
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.io.format import format_deg, format_mm
+from fkcheck.io.format import format_deg, format_mm, format_pair
 from fkcheck.io.text import terminal_text
 from fkcheck.model.require import Kind
 from fkcheck.model.types import Model
@@ -306,14 +306,16 @@ def assert_pose_close(
         return
     batch = a.shape[:-2]
     i_pos, i_rot = int(np.argmax(pos)), int(np.argmax(rot))
+    worst_pos = format_pair(format_mm(float(pos[i_pos])), f"{pos[i_pos]:.3e} m")
+    worst_rot = format_pair(format_deg(float(rot[i_rot])), f"{rot[i_rot]:.3e} rad")
     lines = [
         f"{head}Poses not close (tol_pos_m={tol_pos_m:g}, tol_rot_rad={tol_rot_rad:g} = "
         f"{format_mm(tol_pos_m)}, {format_deg(tol_rot_rad)})",
         f"Mismatched poses: {int(bad_mask.sum())} / {bad_mask.size}"
         f" ({100.0 * bad_mask.mean():.3g}%)",
-        f"Max position difference: {format_mm(float(pos[i_pos]))} ({pos[i_pos]:.3e} m)"
+        f"Max position difference: {worst_pos}"
         + (f" at index {_index(i_pos, batch)}" if batch else ""),
-        f"Max rotation difference: {format_deg(float(rot[i_rot]))} ({rot[i_rot]:.3e} rad)"
+        f"Max rotation difference: {worst_rot}"
         + (f" at index {_index(i_rot, batch)}" if batch else ""),
     ]
     raise AssertionError("\n".join(lines))

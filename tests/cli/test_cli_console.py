@@ -122,6 +122,21 @@ def test_without_github_actions_there_is_no_annotation(tmp_path, capsys):
     assert "::error" not in capsys.readouterr().out
 
 
+#: How the Pinocchio backends compute a Jacobian (the ``how`` of ``check --jacobian``).
+PINOCCHIO_JACOBIAN = "computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)"
+
+
+def test_a_wide_terminal_keeps_the_jacobian_method_in_its_table(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "160")
+    argv = ["check", str(_model(tmp_path, "arm")), "--samples", "5", "--jacobian",
+            "--against", "pinocchio-dh"]  # fmt: skip
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert re.search(r"┃ how +┃", out), out
+    assert re.search(rf"│ {re.escape(PINOCCHIO_JACOBIAN)} +│", out), out
+    assert "how: " not in out
+
+
 @pytest.mark.parametrize("wrong", [False, True])
 def test_at_80_columns_no_number_breaks_across_lines(tmp_path, capsys, monkeypatch, wrong):
     # rich wrapped inside numbers at 80 columns: `5.6e-` on one line, `17 m` on the next.
@@ -149,7 +164,17 @@ def test_at_80_columns_no_number_breaks_across_lines(tmp_path, capsys, monkeypat
     ]
     assert not broken, out
     assert re.search(r"│ \d\.\d\d s │", out), out  # whole numbers, with their units
+    # The Jacobian table's text column would break its words (`computeFram` /
+    # `eJacobian`): it goes, and each backend's method is a whole line below the table.
+    assert (
+        "how: pinocchio-dh: computeFrameJacobian (LOCAL_WORLD_ALIGNED | LOCAL | WORLD, loop)\n"
+        in out
+    )
+    assert "     mujoco-urdf: mj_kinematics + mj_comPos + mj_jacBody at the body (loop)\n" in out
+    assert "┃ how" not in out
     if wrong:  # the wrong sign's 251 mm and 180°, each number whole on its line
-        assert re.search(r"│ 0\.251 m +│.*\n.*│ \(250\.854 +│ \(180\.000°\)", out), out
+        # The human unit first, the SI value in parentheses (as every output).
+        both = r"│ 250\.854 mm +│ 180\.000° +│.*\n.*│ \(0\.251 m\) +│ \(3\.14 rad\)"
+        assert re.search(both, out), out
     else:
         assert re.search(r"│ \d(\.\d+)?e-\d\d m +│ \d\.\de-\d\d rad +│", out), out

@@ -13,6 +13,7 @@ import pytest
 from fkcheck import load_model
 from fkcheck.cli.main import main
 from fkcheck.core.tolerances import SAME_CHAIN, SIX_DECIMALS
+from fkcheck.model.read import bundled_model_paths
 from tests import seed_ur5
 from tests.helpers import assert_pose_close
 
@@ -144,14 +145,45 @@ def test_q_file_bad_line_names_the_line(tmp_path, capsys):
     assert f"{path}: line 2: model ur5 has 6 joints, got 3 values" in err
 
 
-def test_models_lists_every_bundled_model(capsys):
+def test_models_lists_every_bundled_model_on_one_line_each_within_80_columns(capsys):
     code, out, _ = run(capsys, "models")
     assert code == 0
-    for name in ("ur3", "ur5", "ur10", "ur3e", "ur5e", "ur10e", "ur16e", "ur20", "ur30",
-                 "panda", "puma560", "stanford", "planar2", "planar3"):  # fmt: skip
-        assert f" {name} " in out
-    assert "modified" in out
+    lines = out.splitlines()
+    bundled = bundled_model_paths()
+    # A header, one line per model, a footer: no wrapped source text.
+    assert len(lines) == len(bundled) + 2
+    assert max(len(line) for line in lines) <= 80
+    assert lines[0].split() == ["model", "joints", "DH", "evidence", "(URDF)"]
+    rows = {line.split()[0]: line.split(maxsplit=3)[1:] for line in lines[1:-1]}
+    assert list(rows) == list(bundled)  # sorted by name
     assert "ur_description" not in out  # the bundled description is no model
+    assert rows["ur5"] == ["6", "standard", "table + code (ur.urdf.xacro)"]
+    assert rows["panda"] == ["7", "modified", "table + code (panda.urdf)"]
+    assert rows["planar2"] == ["2", "standard", "code only (no URDF)"]
+    assert rows["xarm7"] == ["7", "modified", "table + code (xarm7.urdf, 1 known difference)"]
+    assert lines[-1] == (
+        f"{len(bundled)} bundled models; details: fkcheck models NAME (e.g. ur5), or --long for all"
+    )
+
+
+def test_models_name_and_long_show_the_source_in_full(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")  # a wide table: each source on one line
+    code, out, _ = run(capsys, "models", "ur5", "panda")
+    assert code == 0
+    assert "fkcheck:ur_description/urdf/ur.urdf.xacro" in out
+    assert "DH parameters for calculations of kinematics and dynamics" in out
+    assert re.search(r"│ panda +│ 7 +│ modified +│", out), out
+    assert "│ ur10 " not in out  # only the named ones
+    code, out, _ = run(capsys, "models", "--long")
+    assert code == 0
+    for name in bundled_model_paths():
+        assert f"│ {name} " in out
+
+
+def test_models_of_an_unknown_name_is_a_usage_error(capsys):
+    code, _, err = run(capsys, "models", "ur7")
+    assert code == 2
+    assert "no bundled model of that name; bundled models are: baxter_left" in err
 
 
 def test_console_script_entry_point_runs():

@@ -12,7 +12,7 @@ from fkcheck import load_model
 from fkcheck.cli._console import PIPE_WIDTH
 from fkcheck.cli.main import MAIN_JOB, main
 from fkcheck.model.options import DEFAULT_SAMPLES
-from fkcheck.model.read import bundled_model_paths
+from fkcheck.model.read import bundled_model_paths, bundled_models_dir
 from fkcheck.report.markdown import escape_markdown
 from tests.report_cases import page_numbers
 
@@ -39,6 +39,13 @@ def ur5_variant(tmp_path: Path, old: str, new: str, after: str = "", name: str =
     return path
 
 
+def model_file_fact(page: str) -> str:
+    """The report's ``model file`` fact, as the page shows it."""
+    found = re.search(r"<dt>model file</dt>\s*<dd><span[^>]*>([^<]*)</span></dd>", page)
+    assert found, page
+    return found[1]
+
+
 def first_screen(page: str) -> str:
     """The verdict header: what a person sees before scrolling."""
     return page[page.index('id="verdict"') : page.index('id="summary"')]
@@ -63,6 +70,25 @@ def test_html_summary_and_step_summary_are_written(tmp_path, monkeypatch, capsys
     assert text.startswith("## fkcheck ur5: ❔ PASS (implementation only)\n")
     assert "| rtb-dh | ✅ pass |" in text
     assert step.read_text(encoding="utf-8") == "earlier step\n" + text + "\n"
+    # The bundled model by its spec, never its place in site-packages or the checkout.
+    root = str(bundled_models_dir().resolve())
+    assert model_file_fact(page) == "fkcheck:ur5.toml"
+    assert '<code data-volatile="path">fkcheck:ur5.toml</code>' in page
+    for output in (page, text, capsys.readouterr().out, js.read_text(encoding="utf-8")):
+        assert root not in output
+
+
+def test_a_model_under_the_current_directory_is_shown_relative_to_it(tmp_path, monkeypatch):
+    (tmp_path / "robots").mkdir()
+    model = ur5_variant(tmp_path / "robots", "d = 0.089159", "d = 0.089159", name="arm")
+    monkeypatch.chdir(tmp_path)
+    html = tmp_path / "r.html"
+    argv = ["check", str(model), "--samples", "4", "--against", "rtb-dh", "--html", str(html)]
+    assert main(argv) == 0
+    page = html.read_text(encoding="utf-8")
+    assert model_file_fact(page) == "robots/arm.toml"
+    assert '<code data-volatile="path">robots/arm.toml</code>' in page  # the model section
+    assert page.count(str(tmp_path)) == 2  # only in the command line, as it was typed
 
 
 def test_older_d1_report_says_fail_names_backends_and_shows_0_3_mm(tmp_path):

@@ -163,7 +163,7 @@ def test_a_sign_flip_is_said_as_one_not_as_a_difference_of_180_degrees():
     flip = Change("joint[3].alpha", "α4 (wrist_1)", -math.pi / 2, math.pi / 2, angle=True)
     assert flip.sign_flip
     assert flip.text() == (
-        "α4 (wrist_1) = -1.5708 rad (-90°) here, 1.5708 rad (90°) would match: the sign flipped"
+        "α4 (wrist_1) = -90° (-1.5708 rad) here, 90° (1.5708 rad) would match: the sign flipped"
     )
     length = Change("joint[0].d", "d1 (shoulder_pan)", -0.089159, 0.089159, angle=False)
     assert length.text().endswith("0.089159 would match: the sign flipped")

@@ -111,9 +111,10 @@ def test_lint_of_many_files_prints_a_block_each_and_exits_with_the_worst(tmp_pat
     bad = wide_axis(tmp_path)
     assert main(["lint", "ur5", str(bad), "planar2"]) == 1
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0].endswith("ur5.toml: clean (6 joints, standard DH)")
+    # A bundled model by its fkcheck: spec, never its place in site-packages or the checkout.
+    assert lines[0] == "fkcheck:ur5.toml: clean (6 joints, standard DH)"
     assert lines[1].startswith(f"{bad}: joint[5].limits (wrist_3): warning [limits]")
-    assert lines[2].endswith("planar2.toml: clean (2 joints, standard DH)")
+    assert lines[2] == "fkcheck:planar2.toml: clean (2 joints, standard DH)"
     assert lines[3] == "fkcheck lint: 3 models, 2 clean, 1 with warnings"
 
 

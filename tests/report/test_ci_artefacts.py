@@ -52,8 +52,8 @@ def test_junit_failure_says_verdict_numbers_and_cause_once():
     text = failure.text or ""
     assert text.splitlines() == [
         "fail: twisted-dh disagrees with the in-house core (base -> tool)",
-        "5 of 6 configurations differ: max position error 0.5 m, max rotation error 3 rad "
-        "(tolerance 1e-06 m, 1e-06 rad)",
+        "5 of 6 configurations differ: max position error 500 mm (5.00e-01 m), max rotation "
+        "error 172° (3.00e+00 rad) (tolerance 1e-06 m, 1e-06 rad)",
         "diagnosis: one number differs: α2 (shoulder)",
         "explain it: fkcheck diagnose golden-3r --against twisted-dh --from base --to tool "
         "--seed 7",
@@ -64,7 +64,7 @@ def test_junit_failure_says_verdict_numbers_and_cause_once():
 
 def test_junit_failure_without_a_diagnosis_keeps_the_numbers_once():
     failure = _failure(golden_check(), (), "shifted")
-    assert (failure.text or "").count("max position error 0.0003 m") == 1
+    assert (failure.text or "").count("max position error 0.300 mm (3.00e-04 m)") == 1
     assert "diagnosis" not in (failure.text or "")
     assert failure.get("message", "").startswith("shifted disagrees: 6 of 6 configurations")
 
@@ -102,8 +102,9 @@ def test_summary_of_many_models_is_a_row_per_model_with_a_legend_and_causes():
     )  # one row per model
     assert any(line.startswith(LEGEND) for line in lines)
     assert (
-        "- ✘ **golden-3r · twisted-dh**: 5 of 6 configurations differ: max position error 0.5 m, "
-        "max rotation error 3 rad — diagnosis: one number differs: α2 (shoulder)"
+        "- ✘ **golden-3r · twisted-dh**: 5 of 6 configurations differ: max position error "
+        "500 mm (5.00e-01 m), max rotation error 172° (3.00e+00 rad) — diagnosis: one number "
+        "differs: α2 (shoulder)"
     ) in lines
     assert "- ! **golden-3r · raises**: ZeroDivisionError: boom (fake.py:1)" in lines
     assert len(lines) < 45  # compact: no per-backend rows, no per-model paragraphs
@@ -145,8 +146,9 @@ def test_annotations_point_at_the_file_and_the_parameter_line(tmp_path, monkeypa
     assert lines[0].startswith("::error file=robots/arm.toml,title=fkcheck golden-3r%3A shifted ")
     assert lines[1] == (
         "::error file=robots/arm.toml,line=15,title=fkcheck golden-3r%3A twisted-dh disagrees "
-        "with the in-house core::5 of 6 configurations differ: max position error 0.5 m, max "
-        "rotation error 3 rad; diagnosis: one number differs: α2 (shoulder)"
+        "with the in-house core::5 of 6 configurations differ: max position error 500 mm "
+        "(5.00e-01 m), max rotation error 172° (3.00e+00 rad); diagnosis: one number differs: "
+        "α2 (shoulder)"
     )
     assert lines[2] == (
         "::error file=robots/arm.toml,title=fkcheck golden-3r%3A raises errored::"

@@ -83,7 +83,7 @@ def test_the_record_holds_the_numbers_and_the_sentences(case):
     assert twisted.worst_q_text == "[-160.00°, 100.00°, 75.00°]"
     assert twisted.worst_origin == "random"
     assert twisted.summary == (
-        "max position error 500 mm (5.00e-01 m), max rotation error 3.00e+00 rad (172°); "
+        "max position error 500 mm (5.00e-01 m), max rotation error 172° (3.00e+00 rad); "
         "5 of 6 configurations beyond tolerance (1e-06 m, 1e-06 rad)"
     )
     assert twisted.diagnosis == "one number differs: α2 (shoulder)"

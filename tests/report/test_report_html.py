@@ -23,6 +23,7 @@ from fkcheck.io.format import (
     format_length_summary,
     format_microseconds,
     format_mm,
+    format_pair,
     format_rad,
 )
 from fkcheck.report.html import render_index, render_report, write_html
@@ -271,14 +272,16 @@ def test_number_formats(value, mm, rad, deg):
 
 
 def test_the_other_outputs_number_formats():
-    # Terminal table: small errors in the base unit only, larger ones also in mm / °.
-    assert format_length_console(3.01e-4) == "0.000301 m (0.301 mm)"
+    # One rule (format_pair): the human unit first, the SI value in parentheses.
+    assert format_pair("251 mm", "2.51e-01 m") == "251 mm (2.51e-01 m)"
+    # Terminal table: small errors in the base unit only, larger ones in mm / ° then SI.
+    assert format_length_console(3.01e-4) == "0.301 mm (0.000301 m)"
     assert format_length_console(2e-9) == "2e-09 m"
-    assert format_angle_console(math.pi) == "3.14 rad (180.000°)"
+    assert format_angle_console(math.pi) == "180.000° (3.14 rad)"
     assert format_length_console(None) == format_angle_console(None) == "-"
     # Markdown summary: both units, missing as an en dash.
     assert format_length_summary(3.01e-4) == "0.301 mm (3.01e-04 m)"
-    assert format_angle_summary(math.pi) == "3.14e+00 rad (180°)"
+    assert format_angle_summary(math.pi) == "180° (3.14e+00 rad)"
     assert format_length_summary(None) == format_angle_summary(None) == "–"
     # Table constants, fixed-point matrix entries (no "-0"), benchmark µs.
     assert (format_constant(0.089159), format_constant(-0.0), format_constant(90.0)) == (

@@ -9,7 +9,13 @@ import pytest
 from fkcheck.cli.main import main
 from fkcheck.errors import UrdfError
 from fkcheck.model.read import bundled_models_dir
-from fkcheck.urdf.locate import bundled_location, locate, locate_urdf, urdf_spec_for
+from fkcheck.urdf.locate import (
+    bundled_location,
+    display_path,
+    locate,
+    locate_urdf,
+    urdf_spec_for,
+)
 
 UR_XACRO = "fkcheck:ur_description/urdf/ur.urdf.xacro"
 
@@ -72,3 +78,39 @@ def test_map_writes_a_bundled_package_with_the_prefix(tmp_path, capsys):
     assert f'path = "{UR_XACRO}"' in out
     assert 'packages = { "ur_description" = "fkcheck:ur_description" }' in out
     assert 'rpy = [-90.0, -90.0, 0.0]\nurdf = "flange"' in out  # as the bundled model has it
+
+
+# --- display_path: how every output names a file to a person -------------------------------------
+
+
+def test_a_bundled_file_is_shown_by_its_fkcheck_spec_which_reads_back(monkeypatch, tmp_path):
+    monkeypatch.chdir(tmp_path)  # elsewhere, as a user of an installed fkcheck
+    ur5 = bundled_models_dir() / "ur5.toml"
+    assert display_path(ur5) == "fkcheck:ur5.toml"
+    assert display_path(str(ur5)) == "fkcheck:ur5.toml"
+    assert bundled_location(display_path(ur5)).resolve() == ur5.resolve()
+    assert display_path(bundled_models_dir() / "ur_description" / "urdf") == (
+        "fkcheck:ur_description/urdf"
+    )
+
+
+def test_a_bundled_file_is_shown_by_its_spec_from_inside_the_checkout_too(monkeypatch):
+    monkeypatch.chdir(bundled_models_dir())  # under the current directory, but bundled first
+    assert display_path(bundled_models_dir() / "planar2.toml") == "fkcheck:planar2.toml"
+
+
+def test_a_file_under_the_current_directory_is_shown_relative_to_it(monkeypatch, tmp_path):
+    (tmp_path / "robots").mkdir()
+    arm = tmp_path / "robots" / "arm.toml"
+    arm.write_text("", encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert display_path(arm) == "robots/arm.toml"
+    assert display_path("robots/arm.toml") == "robots/arm.toml"  # relative: as given
+
+
+def test_any_other_file_is_shown_as_given(monkeypatch, tmp_path):
+    (tmp_path / "here").mkdir()
+    monkeypatch.chdir(tmp_path / "here")
+    outside = tmp_path / "arm.toml"
+    assert display_path(outside) == str(outside)
+    assert display_path("../arm.toml") == "../arm.toml"

@@ -118,7 +118,7 @@ def _assert_report(result: subprocess.CompletedProcess[str]) -> None:
     section = out.split("robots/bad.toml::fkcheck[pinocchio-urdf] _", 1)[1]
     assert "fkcheck ur5: base → tool0: fail — table disagrees" in section
     assert re.search(r"pinocchio-urdf: fail — max position error 251 mm \(2\.51e-01 m\), "
-                     r"max rotation error \S+ rad \(180°\)", section)  # fmt: skip
+                     r"max rotation error 180° \(\S+ rad\)", section)  # fmt: skip
     assert re.search(r"worst q: \[(-?\d+\.\d\d°, ){5}-?\d+\.\d\d°\]", section)
     assert f"diagnosis: {WRONG_ALPHA}" in section
     assert "Traceback" not in out

@@ -156,8 +156,8 @@ def test_fk_matches_message_names_backend_numbers_worst_q_and_diagnosis(tmp_path
     lines = str(info.value).splitlines()
     assert lines[0] == "fkcheck ur5: base → tool0: fail — table disagrees"
     assert re.fullmatch(
-        r"pinocchio-urdf: fail — max position error \d+ mm \(\S+ m\), max rotation error \S+ rad"
-        r" \(180°\); \d+ of \d+ configurations beyond tolerance \(1e-06 m, 1e-06 rad\)",
+        r"pinocchio-urdf: fail — max position error \d+ mm \(\S+ m\), max rotation error 180° \(\S+"
+        r" rad\); \d+ of \d+ configurations beyond tolerance \(1e-06 m, 1e-06 rad\)",
         lines[1],
     ), lines[1]
     assert re.fullmatch(r"  worst q: \[(-?\d+\.\d\d°, ){5}-?\d+\.\d\d°\]", lines[3]), lines[3]

@@ -70,7 +70,9 @@ _VERSION = f"; fkcheck {__version__}"
 
 def _config(path: str | None) -> str:
     """``; config: PATH``: the ``pyproject.toml`` that applied (as pytest's ``configfile:``)."""
-    return "" if path is None else f"; config: {path}"
+    from fkcheck.urdf.locate import display_path
+
+    return "" if path is None else f"; config: {display_path(path)}"
 
 
 def print_header(model: Model, backends: Sequence[Backend], args: argparse.Namespace) -> None:
@@ -132,7 +134,16 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
         table = _backends_table(record, evidence=False)
     console.print(table)
     if check.jacobian is not None:
-        console.print(_jacobian_table(check, record))
+        # As the table above: where its text column would break words, it goes, and
+        # each backend's way of computing the Jacobian (or why it had none) is a line below.
+        jacobian = _jacobian_table(check, record, how=True)
+        if not _fits(console, jacobian):
+            console.print(_jacobian_table(check, record, how=False))
+            for i, (name, how) in enumerate(_jacobian_how(record)):
+                lead = "how: " if i == 0 else " " * len("how: ")
+                console.print(f"{lead}{terminal_markup(name)}: {terminal_markup(how)}")
+        else:
+            console.print(jacobian)
     notes: dict[str, list[str]] = {}  # a pass's message (a URDF from this table), once each
     for r in record.backends:
         if r.status == "pass" and r.message:
@@ -188,10 +199,11 @@ def _fits(console: Any, table: Any) -> bool:
 
 
 def _number_column(table: Any, header: str, values: Sequence[str]) -> None:
-    """A column of numbers: it wraps between words, never inside one (``6.8e-`` / ``16 m``).
+    """A column that wraps between words, never inside one (``6.8e-`` / ``16 m``).
 
-    rich folds a word wider than its column; the column's minimum is its longest
-    word (rich keeps it when it narrows a table), its maximum its widest value.
+    Numbers and names alike (no ``computeFram`` / ``eJacobian``): rich folds a word
+    wider than its column; the column's minimum is its longest word (rich keeps it
+    when it narrows a table), its maximum its widest value.
     """
     from rich.cells import cell_len
 
@@ -238,8 +250,23 @@ def _backends_table(record: CheckRecord, *, evidence: bool) -> Any:
     return table
 
 
-def _jacobian_table(check: CheckResult, record: CheckRecord) -> Any:
-    """The Jacobian comparison, one row per backend (``check --jacobian``)."""
+def _jacobian_how(record: CheckRecord) -> list[tuple[str, str]]:
+    """Each Jacobian backend's method, or why it was not compared (the table's ``how``)."""
+    return [
+        (r.name if r.jacobian.ran else f"{r.name} ({r.jacobian.status})",
+         r.jacobian.method if r.jacobian.ran else r.jacobian.message)
+        for r in record.backends
+        if r.jacobian is not None
+    ]  # fmt: skip
+
+
+def _jacobian_table(check: CheckResult, record: CheckRecord, *, how: bool) -> Any:
+    """The Jacobian comparison, one row per backend (``check --jacobian``).
+
+    With ``how``, a column says how each backend computed its Jacobian (or why it
+    has none); without it the caller prints that below the table
+    (:func:`_jacobian_how`), for a terminal too narrow for it whole.
+    """
     from rich.table import Table
 
     assert check.jacobian is not None
@@ -255,20 +282,22 @@ def _jacobian_table(check: CheckResult, record: CheckRecord) -> Any:
     _number_column(table, "max linear diff", linear)
     angular = [format_scientific(j.max_angular, "rad/rad") for j in ran]
     _number_column(table, "max angular diff", angular)
-    for column in ("first column", "how"):
-        table.add_column(column, overflow="fold")
+    _number_column(table, "first column", [j.first_label for j in ran])
+    hows = [text for _, text in _jacobian_how(record)]
+    if how:
+        _number_column(table, "how", hows)
     for r in record.backends:
         j = r.jacobian
         if j is None:
             continue
         status = f"[{_STYLE[j.status]}]{j.status}[/]"
+        said = (terminal_markup(j.method if j.ran else j.message),) if how else ()
         if not j.ran:
-            table.add_row(terminal_markup(r.name), status, "", "", "", terminal_markup(j.message))
+            table.add_row(terminal_markup(r.name), status, "", "", "", *said)
             continue
         table.add_row(
             terminal_markup(r.name), status, format_scientific(j.max_linear, "m/rad"),
-            format_scientific(j.max_angular, "rad/rad"), terminal_markup(j.first_label),
-            terminal_markup(j.method),
+            format_scientific(j.max_angular, "rad/rad"), terminal_markup(j.first_label), *said,
         )  # fmt: skip
     return table
 

@@ -91,7 +91,10 @@ def run(args: argparse.Namespace) -> int:
         ]
         print(strict_json(blocks[0] if len(blocks) == 1 else blocks))
     else:
-        for model, where, findings in reports:
+        from fkcheck.urdf.locate import display_path
+
+        for model, path, findings in reports:
+            where = display_path(path)  # a bundled model as fkcheck:NAME.toml (JSON: its file)
             for f in findings:
                 field = f"{field_text(model, f.field)}: " if f.field else ""
                 print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))

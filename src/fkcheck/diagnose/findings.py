@@ -15,7 +15,7 @@ from typing import Any, Literal, get_args
 
 from fkcheck.diagnose.problem import Residual
 from fkcheck.engine.axes import AxisRow
-from fkcheck.io.format import format_seconds
+from fkcheck.io.format import format_pair, format_seconds
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import Model
 
@@ -89,14 +89,15 @@ class Change:
     def text(self) -> str:
         """``d1 = 0.089459 here, 0.089159 would match, Δ = -0.300 mm``.
 
-        A sign flip says so, ``…, 1.5708 rad (90°) would match: the sign flipped``,
+        An angle reads in degrees, then radians in parentheses (as every two-unit
+        reading, :func:`~fkcheck.io.format.format_pair`). A sign flip says so,
+        ``…, 90° (1.5708 rad) would match: the sign flipped``,
         not ``Δ = +180°``: a difference of 180° reads as a turn, which it is not.
         """
         if self.angle:
-            head = (
-                f"{self.symbol} = {self.old:.6g} rad ({math.degrees(self.old):.4g}°) here, "
-                f"{self.new:.6g} rad ({math.degrees(self.new):.4g}°) would match"
-            )
+            old = format_pair(f"{math.degrees(self.old):.4g}°", f"{self.old:.6g} rad")
+            new = format_pair(f"{math.degrees(self.new):.4g}°", f"{self.new:.6g} rad")
+            head = f"{self.symbol} = {old} here, {new} would match"
             delta = f"Δ = {math.degrees(self.delta):+.4f}°"
         else:
             head = f"{self.symbol} = {self.old:.6g} here, {self.new:.6g} would match"

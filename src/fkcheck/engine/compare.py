@@ -29,6 +29,7 @@ from fkcheck.engine.evidence import (
 )
 from fkcheck.engine.jacobian import Explain, JacobianComparison, JacobianSpec
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, JacobianResult, Status
+from fkcheck.io.format import format_angle_summary, format_length_summary
 from fkcheck.model.frames import (
     CHUNK,
     reference_poses,
@@ -166,7 +167,8 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
     if n_bad:
         reasons.append(
             f"{n_bad} of {q.shape[0]} configurations differ: max position error "
-            f"{pos.max():.3g} m, max rotation error {rot.max():.3g} rad"
+            f"{format_length_summary(float(pos.max()))}, max rotation error "
+            f"{format_angle_summary(float(rot.max()))}"
         )
         if isinstance(backend, FixedConfigurations):
             reasons.append(_spread(pos, rot))

@@ -62,6 +62,7 @@ from fkcheck.process.isolation import (
     run_isolated,
     terminate_all,
 )
+from fkcheck.urdf.locate import display_path
 
 if TYPE_CHECKING:
     from fkcheck.urdf.mapping import LinkFit
@@ -548,7 +549,8 @@ def _tolerance_source(
 ) -> tuple[str, str]:
     """Where each of the check's tolerances came from, in words: ``(position, rotation)``."""
     said = (given, given) if isinstance(given, str) else given
-    own = f"the model's [check]{f' of {model.path}' if model.path is not None else ''}"
+    of = f" of {display_path(model.path)}" if model.path is not None else ""
+    own = f"the model's [check]{of}"
     return (
         own if tol_pos_m is None else said[0] or "the caller",
         own if tol_rot_rad is None else said[1] or "the caller",

@@ -1,4 +1,9 @@
-"""How numbers read in fkcheck's output: lengths in mm and m, angles in rad and degrees.
+"""How numbers read in fkcheck's output: lengths in mm and m, angles in degrees and rad.
+
+A quantity shown in two units follows one rule (:func:`format_pair`): the unit a
+person reads first (mm, °), then the SI value in parentheses (m, rad) —
+``251 mm (2.51e-01 m)``, ``180° (3.14e+00 rad)``. Machine outputs (JSON) keep
+plain SI numbers.
 
 Pure functions over floats, and the one place that decides how a number is
 written for a person: the HTML, Markdown and terminal outputs all use them, so a
@@ -21,6 +26,7 @@ __all__ = [
     "format_m",
     "format_microseconds",
     "format_mm",
+    "format_pair",
     "format_rad",
     "format_scientific",
     "format_seconds",
@@ -36,6 +42,16 @@ def _sig3(value: float) -> str:
     """Three significant digits, trailing zeros kept (0.300), no bare trailing point (251)."""
     text = f"{value:#.3g}"
     return text[:-1] if text.endswith(".") else text
+
+
+def format_pair(human: str, si: str) -> str:
+    """A quantity in two units: the human one first, the SI value in parentheses.
+
+    The one rule of every two-unit reading: ``format_pair("251 mm", "2.51e-01 m")``
+    is ``251 mm (2.51e-01 m)``, ``format_pair("180°", "3.14e+00 rad")`` is
+    ``180° (3.14e+00 rad)``.
+    """
+    return f"{human} ({si})"
 
 
 def format_scientific(value: float | None, unit: str) -> str:
@@ -79,30 +95,36 @@ def format_value(value: float, prismatic: bool) -> str:
 
 def format_length_summary(value_m: float | None) -> str:
     """A length error as the Markdown summary shows it: mm, then m in scientific notation."""
-    return _MISSING if value_m is None else f"{format_mm(value_m)} ({format_m(value_m)})"
+    return _MISSING if value_m is None else format_pair(format_mm(value_m), format_m(value_m))
 
 
 def format_angle_summary(value_rad: float | None) -> str:
-    """An angle error as the Markdown summary shows it: rad in scientific notation, then °."""
-    return _MISSING if value_rad is None else f"{format_rad(value_rad)} ({format_deg(value_rad)})"
+    """An angle error as the Markdown summary shows it: °, then rad in scientific notation."""
+    if value_rad is None:
+        return _MISSING
+    return format_pair(format_deg(value_rad), format_rad(value_rad))
 
 
 def _with_larger_unit(value: float | None, unit: str, scale: float, larger: str) -> str:
-    """``value`` in ``unit``, and times ``scale`` in ``larger`` when it is 1e-5 or more."""
+    """``value`` times ``scale`` in ``larger``, then ``value`` in ``unit``, when 1e-5 or more.
+
+    Smaller values (round-off: ``5.7e-17 m``) read in ``unit`` alone: in mm or °
+    they would be no easier to read, only longer.
+    """
     if value is None:
         return "-"
     if value >= 1e-5:
-        return f"{value:.3g} {unit} ({value * scale:.3f}{larger})"
+        return format_pair(f"{value * scale:.3f}{larger}", f"{value:.3g} {unit}")
     return f"{value:.2g} {unit}"
 
 
 def format_length_console(value_m: float | None) -> str:
-    """A length error as the terminal table shows it: m, with mm when 1e-5 m or more."""
+    """A length error as the terminal table shows it: mm then m, when 1e-5 m or more; else m."""
     return _with_larger_unit(value_m, "m", 1e3, " mm")
 
 
 def format_angle_console(value_rad: float | None) -> str:
-    """An angle error as the terminal table shows it: rad, with ° when 1e-5 rad or more."""
+    """An angle error as the terminal table shows it: ° then rad, when 1e-5 rad or more."""
     return _with_larger_unit(value_rad, "rad", 180.0 / math.pi, "°")  # as math.degrees
 
 

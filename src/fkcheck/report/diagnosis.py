@@ -11,7 +11,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from fkcheck.io.format import format_seconds
-from fkcheck.report.measures import measure_deg, measure_m
+from fkcheck.report.measures import measure_m, measure_rad
 from fkcheck.report.views import AxisView, DiagnosisView, ExplanationView
 
 if TYPE_CHECKING:
@@ -29,7 +29,7 @@ def _explanation_view(rank: int, e: Explanation) -> ExplanationView:
         explains=e.explains,
         verdict="explains it" if e.explains else "explains part of it",
         position_after=measure_m(e.residual.position_m),
-        rotation_after=measure_deg(e.residual.rotation_rad),
+        rotation_after=measure_rad(e.residual.rotation_rad),
         changes=tuple(c.text() + (f" ({c.note})" if c.note else "") for c in e.changes),
         details=e.details,
         fix_toml=e.fix_toml,
@@ -43,7 +43,7 @@ def _axes(d: Diagnosis) -> tuple[AxisView, ...]:
         AxisView(
             joint=f"{a.joint + 1} · {a.name}",
             urdf_joint=urdf[a.joint] if a.joint < len(urdf) else "",
-            angle=measure_deg(a.angle_rad),
+            angle=measure_rad(a.angle_rad),
             distance=measure_m(a.distance_m),
             status="agrees" if a.agrees else ("reversed" if a.reversed else "differs"),
             first=a.joint == first,
@@ -99,7 +99,7 @@ def diagnosis_view(outcome: BackendDiagnosis) -> DiagnosisView:
             short=f"could not run: {first_line}",
             configurations=0,
             position_before=measure_m(None),
-            rotation_before=measure_deg(None),
+            rotation_before=measure_rad(None),
             explanations=(),
             axes=(),
             axes_note="",
@@ -117,7 +117,7 @@ def diagnosis_view(outcome: BackendDiagnosis) -> DiagnosisView:
         short=short,
         configurations=d.configurations,
         position_before=measure_m(d.before.position_m),
-        rotation_before=measure_deg(d.before.rotation_rad),
+        rotation_before=measure_rad(d.before.rotation_rad),
         explanations=tuple(_explanation_view(k, e) for k, e in enumerate(d.explanations, start=1)),
         axes=_axes(d),
         axes_note=_sentence(d.axes_note),

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
 
 from fkcheck.report.measures import measure_m, measure_rad
 from fkcheck.report.record import CheckRecord, check_record
+from fkcheck.urdf.locate import display_path
 
 __all__ = ["IndexEntry", "build_index_page", "overall_verdict"]
 
@@ -121,7 +122,7 @@ def build_index_page(
     facts.append(
         Fact(
             "configuration",
-            ", ".join(f"[tool.fkcheck] of {c}" for c in configs) or "none",
+            ", ".join(f"[tool.fkcheck] of {display_path(c)}" for c in configs) or "none",
             volatile="path" if configs else "",
         )
     )

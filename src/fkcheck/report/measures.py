@@ -42,7 +42,6 @@ __all__ = [
     "difference_entry",
     "joint_values",
     "matrix_view",
-    "measure_deg",
     "measure_m",
     "measure_rad",
     "pose_forms",
@@ -57,12 +56,7 @@ def measure_m(value: float | None) -> Measure:
 
 
 def measure_rad(value: float | None) -> Measure:
-    """An angle: radians first, degrees second."""
-    return Measure(value, format_rad(value), format_deg(value))
-
-
-def measure_deg(value: float | None) -> Measure:
-    """An angle: degrees first, radians second (the diagnosis speaks in degrees)."""
+    """An angle given in radians: degrees first, radians second (as every output)."""
     return Measure(value, format_deg(value), format_rad(value))
 
 

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     pass
 
 from fkcheck.report.measures import matrix_view, xyz_rpy_text
+from fkcheck.urdf.locate import display_path
 
 __all__ = ["frame_sides", "model_view", "placement", "urdf_twin"]
 
@@ -152,7 +153,7 @@ def model_view(check: CheckResult) -> ModelView:
         name=model.name,
         description=model.description,
         source=model.source,
-        path=str(model.path) if model.path is not None else "(built in memory)",
+        path=display_path(model.path) if model.path is not None else "(built in memory)",
         convention=model.convention,
         convention_formula=_FORMULA[model.convention],
         a_matrix=_STANDARD_A if model.convention == "standard" else _MODIFIED_A,

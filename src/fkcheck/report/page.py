@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from fkcheck._version import __version__
 from fkcheck.engine.results import REFERENCE_NAME, CheckResult
-from fkcheck.io.format import format_deg, format_mm, format_seconds
+from fkcheck.io.format import format_deg, format_mm, format_pair, format_seconds
 from fkcheck.report.views import (
     DiagnosisView,
     EvidenceLine,
@@ -29,6 +29,7 @@ from fkcheck.report.model_view import frame_sides, model_view
 from fkcheck.report.numbers_view import numbers_view
 from fkcheck.report.partings import partings
 from fkcheck.report.record import CheckRecord, check_record, verdict_line
+from fkcheck.urdf.locate import display_path
 
 __all__ = ["build_report_page", "verdict_line"]  # verdict_line: see fkcheck.report.record
 
@@ -113,8 +114,8 @@ def build_report_page(
         ]
     versions = library_versions() if versions is None else versions
     tol = (
-        f"{check.tol_pos_m:g} m ({format_mm(check.tol_pos_m)}) position, "
-        f"{check.tol_rot_rad:g} rad ({format_deg(check.tol_rot_rad)}) rotation"
+        f"{format_pair(format_mm(check.tol_pos_m), f'{check.tol_pos_m:g} m')} position, "
+        f"{format_pair(format_deg(check.tol_rot_rad), f'{check.tol_rot_rad:g} rad')} rotation"
     )
     model = check.model
     facts = (
@@ -129,12 +130,12 @@ def build_report_page(
         Fact("reference", f"{REFERENCE_NAME}: the in-house DH core ({model.convention} DH)"),
         Fact(
             "model file",
-            str(model.path) if model.path is not None else "(built in memory)",
+            display_path(model.path) if model.path is not None else "(built in memory)",
             volatile="path",
         ),
         Fact(
             "configuration",
-            f"[tool.fkcheck] of {check.config}" if check.config is not None else "none",
+            "none" if check.config is None else f"[tool.fkcheck] of {display_path(check.config)}",
             volatile="path" if check.config is not None else "",
         ),
         Fact("checked at", check.created or "–", volatile="date"),

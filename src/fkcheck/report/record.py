@@ -150,7 +150,7 @@ class BackendRecord:
         worst_q_text: That configuration, ``[30.00°, -60.00°, 0.1000 m]`` (``""``: none).
         worst_origin: Where it came from (``random``, ``pose:home`` …; ``""``: none).
         numbers: ``max position error 0.300 mm (3.00e-04 m), max rotation error
-            0.00e+00 rad (0.00°)`` (``""`` when it did not run).
+            0.00° (0.00e+00 rad)`` (``""`` when it did not run).
         summary: One line: the numbers and how many configurations are beyond
             the tolerance, ``…; 5 of 6 configurations beyond tolerance (1e-06 m,
             1e-06 rad)``; for a backend that did not run, its message.

@@ -121,8 +121,8 @@ class Measure:
 
     Attributes:
         value: The exact value in SI units (m or rad), or ``None`` when absent.
-        primary: The main reading, e.g. ``"0.300 mm"`` or ``"1.2e-16 rad"``.
-        secondary: The other unit, e.g. ``"3.00e-04 m"`` or ``"6.88e-15°"``.
+        primary: The human reading, e.g. ``"0.300 mm"`` or ``"6.88e-15°"``.
+        secondary: The SI value, e.g. ``"3.00e-04 m"`` or ``"1.20e-16 rad"``.
     """
 
     value: float | None

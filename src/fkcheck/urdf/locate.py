@@ -6,7 +6,8 @@ example-robot-data package's ``robots/`` directory without importing its loaders
 fkcheck's models (:func:`fkcheck.model.read.bundled_models_dir`, e.g. UR's ROS 2
 description ``fkcheck:ur_description``), or a file path, relative to the model
 file (or, on the command line, to the current directory). :func:`urdf_spec_for`
-goes the other way, for a generated model file.
+goes the other way, for a generated model file; :func:`display_path` is how every
+output (terminal, HTML, Markdown, messages) names a file to a person.
 """
 
 from __future__ import annotations
@@ -15,13 +16,14 @@ import importlib.util
 import os
 from pathlib import Path
 
-from fkcheck.errors import BackendUnavailable, UrdfError
+from fkcheck.errors import BackendUnavailable, ModelError, UrdfError
 from fkcheck.urdf.screen import check_urdf_path
 
 __all__ = [
     "ERD_PREFIX",
     "FKCHECK_PREFIX",
     "bundled_location",
+    "display_path",
     "example_robot_data_dir",
     "locate",
     "locate_urdf",
@@ -168,3 +170,32 @@ def path_for(path: Path, output: Path | None) -> str:
     if output is None:
         return str(resolved)
     return Path(os.path.relpath(resolved, output.resolve().parent)).as_posix()
+
+
+def display_path(path: Path | str) -> str:
+    """How an output names a file to a person: ``fkcheck:…``, relative, or as given.
+
+    A file bundled with fkcheck reads ``fkcheck:<subpath>`` (``fkcheck:ur5.toml``,
+    the spec :func:`bundled_location` reads back), never its place in
+    site-packages or a source checkout; a file under the current directory reads
+    relative to it (``robots/arm.toml``); anything else as given. Every
+    human-readable output names model and configuration files through this one
+    function (JSON keeps its machine fields as they are).
+    """
+    from fkcheck.model.read import bundled_models_dir
+
+    given = Path(path)
+    try:
+        resolved = given.resolve()
+        here = Path.cwd().resolve()
+    except (OSError, RuntimeError):  # a symbolic-link loop, a removed current directory
+        return str(path)
+    try:
+        bundled: Path | None = bundled_models_dir().resolve()
+    except ModelError:  # an incomplete installation: nothing is bundled
+        bundled = None
+    if bundled is not None and resolved.is_relative_to(bundled) and resolved != bundled:
+        return FKCHECK_PREFIX + resolved.relative_to(bundled).as_posix()
+    if given.is_absolute() and resolved.is_relative_to(here) and resolved != here:
+        return resolved.relative_to(here).as_posix()
+    return str(path)
