@@ -30,6 +30,11 @@ their source and in the tests:
   backend's resolution near such steps to about 1e-8 (the property tests leave
   such configurations out of yourdfpy's comparison, and pin the behaviour in
   named regression tests).
+* trimesh's ``SceneGraph.update`` keeps an edge's stored matrix when the new one
+  is within 1e-8 of it (``np.ptp`` of the difference): a joint that moves by
+  less than ~5e-9 from the previous configuration (the first one: from q = 0)
+  keeps the previous configuration's value. The same bound, and the reason the
+  configurations this backend sees are compared in the check's order only.
 
 It is slow (a few hundred µs per configuration, all in Python): one
 ``update_cfg`` and one ``get_transform`` per frame are the least the API allows.
