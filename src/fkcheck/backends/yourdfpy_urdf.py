@@ -33,8 +33,8 @@ their source and in the tests:
 * trimesh's ``SceneGraph.update`` keeps an edge's stored matrix when the new one
   is within 1e-8 of it (``np.ptp`` of the difference): a joint that moves by
   less than ~5e-9 from the previous configuration (the first one: from q = 0)
-  keeps the previous configuration's value. The same bound, and the reason the
-  configurations this backend sees are compared in the check's order only.
+  keeps the previous configuration's value. The same ~1e-8 bound, but a pose can
+  depend on the configuration before it.
 
 It is slow (a few hundred µs per configuration, all in Python): one
 ``update_cfg`` and one ``get_transform`` per frame are the least the API allows.
