@@ -755,7 +755,7 @@ def test_a_closed_stream_is_no_traceback_and_the_run_keeps_its_exit_code(
     [
         pytest.param(["check", "planar2", "--samples", "3", "--against", "rtb-dh"],
                      "world \\u2192 tcp", id="check-arrow"),
-        pytest.param(["models"], "Armstrong-H\\xe9louvry", id="models-accents"),
+        pytest.param(["models", "--long"], "Armstrong-H\\xe9louvry", id="models-accents"),
         pytest.param(["convert", "planar2", "--to", "modified", "--samples", "3"],
                      "standard \\u2192 modified", id="convert-arrow-on-stderr"),
     ],
