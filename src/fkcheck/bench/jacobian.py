@@ -57,12 +57,13 @@ REFERENCE: Reference = "world-aligned"
 #: Configurations each peer's Jacobians are checked on before it is timed.
 CHECK_CONFIGS = 64
 
-#: Largest n per contender (the first n of the N configurations): the peers'
-#: loops take a few µs a configuration, so 20 000 is well under a second.
+#: Largest n per contender (the first n of the N configurations): at least
+#: :data:`~fkcheck.core.dh.JIT_MIN_POSES`, so that the like-for-like row is the
+#: kernel (the peers' loops take 2–14 µs a configuration: 0.4–2.7 s a run).
 JACOBIAN_CONFIGS = {
     "numpy": 200_000,
-    "rtb": 20_000,
-    "pinocchio": 20_000,
+    "rtb": 200_000,
+    "pinocchio": 200_000,
 }
 
 #: A peer's Jacobian of one configuration: ``q (dof,) -> (6, dof)`` array.
