@@ -63,6 +63,20 @@ def test_older_d1_without_a_known_source_is_flagged_too(tmp_path, capsys):
     assert "Robotics Toolbox" not in findings[0]["message"]
 
 
+def test_a_tiny_angle_difference_reads_as_its_digits_not_as_zero(tmp_path, capsys):
+    # α1 of the UR5 written with 1.7e-6 rad less than the published π/2: was "-0.000 °".
+    ur5 = load_model("ur5")
+    path = write(tmp_path, with_joint(ur5, 0, alpha=ur5.joints[0].alpha - 1.7e-6))
+    code, findings = lint(capsys, path)
+    assert code == 1
+    assert [f["rule"] for f in findings] == ["rounded-angle", "published"]
+    finding = findings[1]
+    assert finding["field"] == "joint[0].alpha"
+    assert (
+        " is -9.74e-05° from 1.5707963267948966 in the published table ur5" in (finding["message"])
+    )
+
+
 def test_degrees_declared_as_radians(tmp_path, capsys):
     path = write(
         tmp_path,

@@ -201,6 +201,11 @@ def _convention(model: Model) -> list[Finding]:
     return []
 
 
+def _signed(value: float, unit: str) -> str:
+    """``+0.300 mm``, ``-9.74e-05°``: three decimals, or three digits when they would read 0."""
+    return f"{value:+.3f}{unit}" if abs(value) >= 5e-4 else f"{value:+.3g}{unit}"
+
+
 def _published(model: Model) -> list[Finding]:
     out: list[Finding] = []
     for table in published_tables():
@@ -222,8 +227,8 @@ def _published(model: Model) -> list[Finding]:
         if not matches or not near:
             continue
         for i, pname, a, b in near:
-            unit = "mm" if pname in ("a", "d") else "°"
-            delta = (a - b) * 1e3 if unit == "mm" else math.degrees(a - b)
+            length = pname in ("a", "d")
+            delta = _signed((a - b) * 1e3, " mm") if length else _signed(math.degrees(a - b), "°")
             others = [param_symbol(model, k, p) for k, p, _, _ in near if (k, p) != (i, pname)]
             rest = (
                 "every other number matches"
@@ -232,7 +237,7 @@ def _published(model: Model) -> list[Finding]:
                 "every other number matches"
             )
             text = (
-                f"{param_field(model, i, pname)} = {a!r} is {delta:+.3f} {unit} from "
+                f"{param_field(model, i, pname)} = {a!r} is {delta} from "
                 f"{b!r} in the published table {table.name} ({table.description or table.name}); "
                 f"{rest}: a rounded or outdated value?"
             )
