@@ -286,12 +286,12 @@ def _jacobian_table(check: CheckResult, record: CheckRecord, *, how: bool) -> An
     hows = [text for _, text in _jacobian_how(record)]
     if how:
         _number_column(table, "how", hows)
-    for r in record.backends:
+    compared = [r for r in record.backends if r.jacobian is not None]
+    for r, text in zip(compared, hows, strict=True):
         j = r.jacobian
-        if j is None:
-            continue
+        assert j is not None
         status = f"[{_STYLE[j.status]}]{j.status}[/]"
-        said = (terminal_markup(j.method if j.ran else j.message),) if how else ()
+        said = (terminal_markup(text),) if how else ()
         if not j.ran:
             table.add_row(terminal_markup(r.name), status, "", "", "", *said)
             continue
