@@ -17,6 +17,17 @@ LINUX_ONLY = pytest.mark.skipif(
 )
 
 
+def interruptible() -> None:
+    """``preexec_fn`` giving the child SIGINT's default action.
+
+    A shell without job control starts a background command (``nox … &``) with SIGINT
+    ignored, and a Python child inherits that: it honours the ignore, as ``nohup`` users
+    expect, so a test that sends SIGINT would wait in vain. The tests start their fkcheck
+    as an interactive shell would.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def alive(pid: int) -> bool:
     """Whether a process exists and is not a zombie (PID 1 may not reap in containers)."""
     try:

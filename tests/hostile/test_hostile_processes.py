@@ -40,7 +40,14 @@ from fkcheck.process.supervise import (
     run_supervised,
 )
 from tests.paths import TESTS_DIR
-from tests.processes import LINUX_ONLY, alive, assert_gone, descendants, wait_for_pids
+from tests.processes import (
+    LINUX_ONLY,
+    alive,
+    assert_gone,
+    descendants,
+    interruptible,
+    wait_for_pids,
+)
 
 pytestmark = LINUX_ONLY
 
@@ -79,7 +86,7 @@ def _none_left_running() -> Iterator[None]:
 def _popen(argv: list[str], tmp_path: Path) -> subprocess.Popen[str]:
     proc = subprocess.Popen(
         argv, cwd=tmp_path, env=_env(tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        text=True,
+        text=True, preexec_fn=interruptible,
     )  # fmt: skip
     _STARTED.append(proc)
     return proc

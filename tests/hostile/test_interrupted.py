@@ -9,6 +9,8 @@ import time
 
 import pytest
 
+from tests.processes import interruptible
+
 
 @pytest.mark.parametrize(
     ("sig", "code", "word"),
@@ -19,7 +21,7 @@ def test_signal_during_a_check_leaves_no_report(tmp_path, sig, code, word):
     proc = subprocess.Popen(
         [sys.executable, "-m", "fkcheck.cli.main", "check", "ur5", "--samples", "300000",
          "--against", "yourdfpy-urdf", "--json", str(report)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=interruptible,
     )  # fmt: skip
     time.sleep(4.0)  # well into the run: 300 000 yourdfpy poses take minutes
     assert proc.poll() is None, proc.communicate()
