@@ -122,3 +122,32 @@ def test_a_table_that_is_no_ur_arm_is_refused(tmp_path: Path) -> None:
 def test_fit_limit_is_far_above_urs_calibrations_and_far_below_a_wrong_type() -> None:
     # UR's four test calibrations move the tool 3.3-7.9 mm; ur10e-test-a on a UR5e 180 mm.
     assert 0.01 < FIT_LIMIT_M < 0.18
+
+
+@pytest.mark.parametrize("name", sorted(DELTAS))
+def test_a_calibrated_table_is_no_lint_finding_though_the_same_numbers_uncalibrated_are(
+    tmp_path: Path, name: str
+) -> None:
+    from dataclasses import replace
+
+    from fkcheck.model.lint import MEASURED_RULES, lint_model
+
+    model = _apply(DELTAS[name][0], write_conf(tmp_path / "calibration.conf", name)).model
+    assert lint_model(model) == []
+    # The exemption is what keeps it clean: the same table without [calibration] warns.
+    bare = lint_model(replace(model, calibration=None))
+    assert bare
+    assert {f.rule for f in bare} <= MEASURED_RULES
+    assert all(f.field.startswith("joint[") for f in bare)
+
+
+def test_a_calibrated_model_is_still_held_to_the_other_rules(tmp_path: Path) -> None:
+    from dataclasses import replace
+
+    from fkcheck.model.lint import lint_model
+
+    model = _apply("ur10e", write_conf(tmp_path / "calibration.conf", "ur10e-test-a")).model
+    wide = replace(
+        model, joints=(replace(model.joints[0], limits=(-10.0, 10.0)), *model.joints[1:])
+    )
+    assert [(f.rule, f.field) for f in lint_model(wide)] == [("limits", "joint[0].limits")]

@@ -141,3 +141,13 @@ def test_unreadable_files_are_one_line(tmp_path: Path, kind: str) -> None:
     with pytest.raises(InputFileError, match=str(path)) as info:
         read_ur_calibration(path)
     assert "\n" not in str(info.value)
+
+
+def test_the_docs_calibration_files_are_urs_test_data_as_the_writers_write_it(tmp_path: Path):
+    """The how-to's example files (tests/data/calibration/) are written, not hand-edited."""
+    shipped = Path(__file__).parents[1] / "data" / "calibration" / "ur10e-test-b"
+    conf = write_conf(tmp_path / "calibration.conf", "ur10e-test-b")
+    table = composed(load_model("ur10e").joints, "ur10e-test-b")
+    yaml = write_yaml(tmp_path / "robot_calibration.yaml", table)
+    for written in (conf, yaml):
+        assert (shipped / written.name).read_bytes() == written.read_bytes(), written.name

@@ -64,6 +64,23 @@ def test_check_of_a_calibrated_model_shows_the_effect_in_every_format(tmp_path, 
     assert line in outputs["html"].read_text().replace("&gt;", ">")
     assert line in outputs["junit"].read_text()
     assert escape_markdown(line) in summary.read_text()
+    # A linearised table (d2 of 439 m, α a few 1e-4 off 90°) is no lint finding.
+    verdict = next(x for x in out.splitlines() if x.startswith("verdict:"))
+    assert "lint" not in verdict
+    assert json.loads(outputs["json"].read_text())["lint"] == []
+
+
+def test_lint_of_a_calibrated_model_says_which_rules_its_joints_are_not_held_to(tmp_path, capsys):
+    conf = write_conf(tmp_path / "calibration.conf", "ur10e-test-a")  # θ3 of 7.1 rad
+    model = tmp_path / "robot.toml"
+    assert run(capsys, "calibration", "ur10e", conf, "-o", model)[0] == 0
+    code, out, _ = run(capsys, "lint", model)
+    assert code == 0
+    assert out.splitlines() == [
+        f"{model}: clean (6 joints, standard DH)",
+        f"{model}: calibrated from ur10e: its joints' measured values are not held to the "
+        "degrees, length, published, rounded-angle, twist rules (lint ur10e for those)",
+    ]
 
 
 @pytest.mark.parametrize(

@@ -15,6 +15,12 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
 * ``published``: every number matches a published table (a bundled model) except
   a few that are close but not equal — a rounded or outdated value.
 
+A calibrated model (``[calibration]``, written by ``fkcheck calibration``) holds one
+robot's measured table: α a few 1e-4 rad off a quarter turn, or d2/d3 of hundreds of
+metres, θ of 7 rad in a linearised table, are what the calibration says, so the rules
+about units and round or plausible values (:data:`MEASURED_RULES`) do not look at its
+joints; ``fkcheck lint`` says so, and the nominal model is where those rules apply.
+
 A rule can be turned off per model (``[lint] ignore = ["limits"]`` in the model
 file), per project (``lint_ignore`` in ``[tool.fkcheck]``) or per run
 (``fkcheck lint --ignore limits``): a real ±400° axis is not a unit error.
@@ -32,7 +38,7 @@ from fkcheck.model.names import PARAMS, field_text, param_field, param_symbol
 from fkcheck.model.published import published_tables, variant_note
 from fkcheck.model.types import Model
 
-__all__ = ["LONG_M", "Finding", "Rule", "lint_lines", "lint_model"]
+__all__ = ["LONG_M", "MEASURED_RULES", "Finding", "Rule", "lint_lines", "lint_model"]
 
 #: Lengths beyond this look like a unit error (no arm in the bundled set exceeds 1.3 m).
 LONG_M = 5.0
@@ -42,6 +48,13 @@ _LIMIT_SLACK = 1e-6
 NEAR_LENGTH_M = 1e-3
 NEAR_ANGLE_RAD = 1e-3
 _EXACT = 1e-12
+
+
+#: Rules a calibrated model's joints are exempt from: its numbers are measured, not written
+#: (radians and metres from UR's files; lint the nominal model for its own values).
+MEASURED_RULES: frozenset[Rule] = frozenset(
+    {"degrees", "rounded-angle", "twist", "length", "published"}
+)
 
 
 @dataclass(frozen=True)
@@ -263,6 +276,10 @@ def lint_model(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:
         *_convention(model),
         *_published(model),
     ]
+    if model.calibration is not None:
+        findings = [
+            f for f in findings if not (f.rule in MEASURED_RULES and f.field.startswith("joint["))
+        ]
     return [f for f in findings if f.rule not in skipped]
 
 
