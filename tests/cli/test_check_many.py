@@ -42,6 +42,12 @@ def test_a_directory_is_one_run_one_table_one_exit_code(repo, capsys):
     assert table[1].startswith("│ robots/good.toml │ pass ")
     assert "robots/bad.toml: pinocchio-urdf: " in stdout
     assert "fkcheck: 1 of 2 models pass; reports in" in stdout
+    tally = stdout[stdout.index("fkcheck: 1 of 2 models pass") :].splitlines()[1:]
+    assert tally == [
+        "fkcheck: table verified independently: 1 (robots/good.toml)",
+        "fkcheck: table FAILED against independent evidence: 1 (robots/bad.toml)",
+        "fkcheck: implementation only, table not checked: 0",
+    ]
     assert {p.name for p in out.iterdir()} == {
         "index.html", "bad.html", "bad.json", "bad.junit.xml",
         "good.html", "good.json", "good.junit.xml",

@@ -267,8 +267,11 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
 
 
 #: The ``--all`` tally's lines by the table's evidence status, after "table verified".
+#: ``--all``'s evidence lines: a table status, what it means, and whether it is said at 0.
 _TALLY = (
+    ("verified", "table verified independently", True),
     ("partly-verified", "table partly verified (numbers the frame pair cannot verify)", False),
+    ("failed", "table FAILED against independent evidence", False),
     ("not-checked", "implementation only, table not checked", True),
     (
         "expected-failure",
@@ -283,15 +286,12 @@ def _print_tally(labelled: list[tuple[str, CheckResult]], out_dir: Path | None) 
     failed = [label for label, c in labelled if c.verdict != "pass"]
     where = f"reports in {out_dir}/ (index.html)" if out_dir is not None else "no reports written"
     print(f"fkcheck: {len(labelled) - len(failed)} of {len(labelled)} models pass; {where}")
-    verified = [label for label, c in labelled if c.evidence.table.status == "verified"]
-    print(
-        f"fkcheck: table verified independently: {len(verified)} "
-        f"({terminal_text(', '.join(verified))})"
-    )
     for status, what, always in _TALLY:
         found = [label for label, c in labelled if c.evidence.table.status == status]
-        if found or always:
+        if found:
             print(f"fkcheck: {what}: {len(found)} ({terminal_text(', '.join(found))})")
+        elif always:
+            print(f"fkcheck: {what}: 0")
     return 0 if not failed else 1
 
 
