@@ -3,9 +3,9 @@
 :func:`run_check` samples configurations (or takes a measured-poses backend's),
 plans how many of them each backend compares (:mod:`fkcheck.engine.plan`: a
 backend whose declared cost does not fit its limit gets a stated subset),
-imports the backends' libraries, loads the core's kernels (a phase of its own,
-charged to no backend), runs each backend in a thread — an isolated
-one's poses in a child process — within its time limit, has
+loads the core's kernels (a phase of its own, charged to no backend), runs each
+backend in a thread — an isolated one's poses in a child process, started first,
+while the libraries of the others are imported — within its time limit, has
 :func:`fkcheck.engine.compare.compare` judge each against the in-house core,
 and returns a :class:`~fkcheck.engine.results.CheckResult` with the verdict.
 
@@ -446,7 +446,6 @@ def run_check(
                       jacobian=jacobian is not None, full=full)  # fmt: skip
     if on_plan is not None:
         on_plan(plan)
-    _import_libraries(model, backends)
     load_kernels(jacobian is not None, plan.total)
 
     results: dict[int, BackendResult] = {}
@@ -477,8 +476,15 @@ def run_check(
         threading.Thread(target=run_and_collect, args=(i, b), daemon=True)
         for i, b in enumerate(backends)
     ]
-    for worker in workers:
-        worker.start()
+    # An isolated backend's process starts first: it imports its own libraries on the
+    # other core while this process imports those of the backends that run here.
+    for worker, backend in zip(workers, backends, strict=True):
+        if backend.isolated:
+            worker.start()
+    _import_libraries(model, backends)
+    for worker, backend in zip(workers, backends, strict=True):
+        if not backend.isolated:
+            worker.start()
     for worker in workers:
         # In slices: a signal that lands on a backend's thread (SIGTERM, Ctrl-C) runs its
         # Python handler only when the main thread runs again — an unbounded join()
