@@ -99,8 +99,9 @@ class Backend(Protocol):
             ``urdf:LINK`` for a link no frame declares
             (:func:`fkcheck.urdf.mapping.with_link_frames`).
         isolated: ``True``: the engine calls its :meth:`frame_poses` (and
-            :meth:`frame_jacobian`) in a process of its own — for slow pure-Python
-            backends that hold the GIL; the object, the model and ``q`` must pickle.
+            :meth:`frame_jacobian`) in processes of its own, a large ``q`` split over
+            the cores — for slow pure-Python backends that hold the GIL; the object,
+            the model and ``q`` must pickle.
         imports: Module names the engine imports once, in the main thread, before
             backends start (two threads importing one heavy library lazily at the
             same time can hit Python's import-deadlock detection).

@@ -34,7 +34,8 @@ their source and in the tests:
   is within 1e-8 of it (``np.ptp`` of the difference): a joint that moves by
   less than ~5e-9 from the previous configuration (the first one: from q = 0)
   keeps the previous configuration's value. The same ~1e-8 bound, but a pose can
-  depend on the configuration before it.
+  depend on the configuration before it (and so, at that level, on where the
+  engine split a large check over processes: each part starts from q = 0).
 
 It is slow (a few hundred µs per configuration, all in Python): one
 ``update_cfg`` and one ``get_transform`` per frame are the least the API allows.
@@ -83,9 +84,9 @@ class YourdfpyUrdf(UrdfReader):
     #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
     pose_cost_us = 630.0
     distributions = ("yourdfpy", "trimesh")
-    method = "URDF.update_cfg + URDF.get_transform (loop, own process)"
+    method = "URDF.update_cfg + URDF.get_transform (loop, own processes)"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
-    #: the engine computes its poses in a process of its own, on the other core.
+    #: the engine computes its poses in processes of its own, split over the cores.
     isolated = True
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:

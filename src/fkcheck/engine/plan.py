@@ -19,7 +19,10 @@ planned from numbers known before it starts:
   machine. Backends that run in the engine's process share one interpreter lock,
   so they share one budget: each is given up to a common number of seconds
   (water-filling), which leaves the cheap ones their full set. An isolated
-  backend (its own process) has its budget to itself.
+  backend (its own processes) has its budget to itself; the plan counts it as one
+  process, though its configurations are split over the cores when there are
+  enough of them (:data:`fkcheck.engine.runner.SPLIT_MIN_CONFIGS`): a machine's
+  core count changes how soon it ends, never what it compares.
 * **The subset.** A backend over its budget compares every structured
   configuration (named poses, zero, mid-range, limit corners and edges: see
   :mod:`fkcheck.model.sampling`; measured poses count as structured) and the

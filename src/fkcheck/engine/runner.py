@@ -19,6 +19,8 @@ import contextlib
 import datetime as _dt
 import functools
 import importlib
+import itertools
+import os
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -62,6 +64,7 @@ from fkcheck.process.isolation import (
     run_isolated,
     terminate_all,
 )
+from fkcheck.process.supervise import acting_for
 from fkcheck.urdf.locate import display_path
 
 if TYPE_CHECKING:
@@ -168,16 +171,39 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
         return "error", str(exc) if own else f"{type(exc).__name__}: {exc}"
 
 
+#: An isolated backend's configurations are split over several processes (one per
+#: core, at most) only when each process gets at least this many: starting one costs
+#: about a second (an interpreter, NumPy, the backend's library, its model), about
+#: 3,000 of yourdfpy's UR5 poses.
+SPLIT_MIN_CONFIGS = 2_500
+
+
+def _cores() -> int:
+    """The cores this process may run on."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0))
+    return os.cpu_count() or 1  # pragma: no cover - not Linux
+
+
+def _split(n: int) -> list[tuple[int, int]]:
+    """Contiguous ``[start, stop)`` parts of ``n`` configurations, one per process."""
+    parts = max(1, min(_cores(), n // SPLIT_MIN_CONFIGS))
+    bounds = [n * k // parts for k in range(parts + 1)]
+    return list(itertools.pairwise(bounds))
+
+
 class _InChild:
     """An isolated backend (``isolated = True``) as the engine sees it.
 
-    Only the backend's poses (and its own Jacobians) are computed in a process of its own
-    (:func:`~fkcheck.process.isolation.run_isolated`); the reference and the comparison
-    stay in this process, like every other backend's. A slow pure-Python backend
-    that holds the GIL then uses the second core; a crash of its process (e.g.
-    a segfault in a C extension) or an answer larger than
-    :func:`~fkcheck.process.isolation.answer_limit` is its error, and at the time limit
-    its process is killed with all it started.
+    Only the backend's poses (and its own Jacobians) are computed in processes of its
+    own (:func:`~fkcheck.process.isolation.run_isolated`); the reference and the
+    comparison stay in this process, like every other backend's. A slow pure-Python
+    backend that holds the GIL then uses the other cores: its configurations are
+    split over up to one process per core (:data:`SPLIT_MIN_CONFIGS` each at least),
+    run at once and joined in order. A crash of a process (e.g. a segfault in a C
+    extension) or an answer larger than :func:`~fkcheck.process.isolation.answer_limit`
+    is the backend's error, and at the time limit every process it started is killed
+    with all they started.
     """
 
     def __init__(self, backend: Backend, timeout_s: float) -> None:
@@ -201,41 +227,87 @@ class _InChild:
         return self.backend.inputs(model)
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
-        poses: Float = self._run(
-            functools.partial(self.backend.frame_poses, model, q, tuple(frames)), q
-        )
+        """``(len(frames), N, 4, 4)``, computed in the backend's processes."""
+        calls = [
+            (functools.partial(self.backend.frame_poses, model, part, tuple(frames)), len(part))
+            for part in self._parts(q)
+        ]
+        poses: Float = self._run(calls, axis=1)
         return poses
 
     def frame_jacobian(
         self, model: Model, q: Float, frame: str, reference: JacobianReference
     ) -> Float | None:
-        """The backend's own Jacobian, computed in its process; ``None`` if it has none."""
+        """The backend's own Jacobian, ``(N, 6, n)``, from its processes; ``None``: none."""
         if self.backend.jacobian_method is None:
             return None
-        jac: Float | None = self._run(
-            functools.partial(self.backend.frame_jacobian, model, q, frame, reference), q
-        )
+        calls = [
+            (
+                functools.partial(self.backend.frame_jacobian, model, part, frame, reference),
+                len(part),
+            )
+            for part in self._parts(q)
+        ]
+        jac: Float | None = self._run(calls, axis=0)
         return jac
 
-    def _run(self, call: Callable[[], Any], q: Float) -> Any:
+    @staticmethod
+    def _parts(q: Float) -> list[Float]:
+        return [q[start:stop] for start, stop in _split(q.shape[0])]
+
+    def _run(self, calls: list[tuple[functools.partial[Any], int]], axis: int) -> Any:
+        """Each ``(call, configurations)`` in a process of its own, at once, joined on ``axis``."""
+        if len(calls) == 1:
+            answers: list[tuple[str, Any] | BaseException] = [self._answer(*calls[0])]
+        else:
+            owner = threading.current_thread()
+            boxes: list[list[tuple[str, Any] | BaseException]] = [[] for _ in calls]
+
+            def part(k: int) -> None:
+                try:
+                    with acting_for(owner):  # abandoning the backend stops every part
+                        boxes[k].append(self._answer(*calls[k]))
+                except BaseException as exc:
+                    boxes[k].append(exc)
+
+            helpers = [
+                threading.Thread(target=part, args=(k,), name=f"{owner.name}-{k}", daemon=True)
+                for k in range(len(calls))
+            ]
+            for helper in helpers:
+                helper.start()
+            for helper in helpers:  # each ends by the deadline (its process is killed then)
+                helper.join()
+            answers = [box[0] for box in boxes]
+        for answer in answers:  # the first part that did not answer says why
+            if isinstance(answer, BaseException):
+                raise answer
+            kind, value = answer
+            if kind == "skip":
+                raise Skip(value)
+            if kind == "bad-input":
+                raise FkcheckError(value)
+            if kind == "error":
+                raise NoAnswerError(value)
+        kinds = {a[0] for a in answers if isinstance(a, tuple)}
+        if kinds == {"none"}:
+            return None
+        if kinds != {"ok"}:
+            raise NoAnswerError("it gave a Jacobian for some configurations and none for others")
+        return np.concatenate([a[1] for a in answers if isinstance(a, tuple)], axis=axis)
+
+    def _answer(self, call: functools.partial[Any], n: int) -> tuple[str, Any]:
+        """One process's ``(kind, value)`` over ``n`` configurations (see :func:`_in_child`)."""
         remaining = max(0.0, self.deadline - time.monotonic())
         try:
-            kind, value = run_isolated(
-                functools.partial(_in_child, call), remaining, answer_limit(q.shape[0])
+            answer: tuple[str, Any] = run_isolated(
+                functools.partial(_in_child, call), remaining, answer_limit(n)
             )
         except IsolatedTimeout:
             raise NoAnswerError(f"timed out after {self.timeout_s:g} s") from None
         except IsolatedDied as exc:
             raise NoAnswerError(str(exc)) from None
-        if kind == "ok":
-            return value
-        if kind == "none":
-            return None
-        if kind == "skip":
-            raise Skip(value)
-        if kind == "bad-input":
-            raise FkcheckError(value)
-        raise NoAnswerError(value)
+        return answer
 
 
 def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:

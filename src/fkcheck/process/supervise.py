@@ -42,7 +42,7 @@ import sys
 import threading
 import time
 import weakref
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,6 +55,7 @@ __all__ = [
     "IsolatedOutputLimit",
     "IsolatedTimeout",
     "SpawnError",
+    "acting_for",
     "ended",
     "last_stderr_line",
     "run_supervised",
@@ -136,6 +137,34 @@ _live_lock = threading.Lock()
 #: Threads the check has given up on (:func:`terminate_all` with ``started_by``):
 #: they may start no new program, so an abandoned backend's next batch never runs.
 _abandoned: weakref.WeakSet[threading.Thread] = weakref.WeakSet()
+#: Helper threads starting programs for another thread (:func:`acting_for`), by ident.
+_helpers: dict[int, threading.Thread] = {}
+
+
+@contextlib.contextmanager
+def acting_for(owner: threading.Thread) -> Iterator[None]:
+    """Programs this thread starts within the block count as ``owner``'s.
+
+    For a backend's helper threads (its configurations split over several
+    processes): :func:`terminate_all` with ``started_by=owner`` stops their
+    programs too, and once ``owner`` is given up they may start no new one.
+    """
+    ident = threading.get_ident()
+    with _live_lock:
+        _helpers[ident] = owner
+    try:
+        yield
+    finally:
+        with _live_lock:
+            _helpers.pop(ident, None)
+
+
+def _starter() -> tuple[threading.Thread, int]:
+    """The thread a program started now belongs to, and its ident (``_live_lock`` held)."""
+    owner = _helpers.get(threading.get_ident())
+    if owner is None or owner.ident is None:
+        return threading.current_thread(), threading.get_ident()
+    return owner, owner.ident
 
 
 def _send(proc: subprocess.Popen[bytes], sig: int, *, group: bool = False) -> None:
@@ -230,7 +259,7 @@ def run_supervised(
     limits = _Limits(max_stdout_bytes, max_line_bytes, max_lines)
     deadline = time.monotonic() + timeout_s
     with _live_lock:
-        if threading.current_thread() in _abandoned:
+        if _starter()[0] in _abandoned:
             raise IsolatedTimeout("the check gave this backend up: no new program is started")
     status_r, status_w = os.pipe()
     try:
@@ -250,9 +279,10 @@ def run_supervised(
     finally:
         os.close(status_w)
     with _live_lock:
-        given_up = threading.current_thread() in _abandoned
+        owner, owner_ident = _starter()
+        given_up = owner in _abandoned
         if not given_up:
-            _live[proc] = threading.get_ident()
+            _live[proc] = owner_ident
     if given_up:  # abandoned between the check above and now
         _send(proc, signal.SIGTERM)
         _reap([proc], time.monotonic() + TERMINATE_GRACE_S)

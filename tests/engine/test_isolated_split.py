@@ -1,0 +1,132 @@
+"""An isolated backend's configurations split over several processes, run at once.
+
+The split is forced here (two cores, a handful of configurations a part) so that
+small checks exercise it; the parts' processes are seen through the pids they
+write, and none is left running whatever happens to the backend.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fkcheck import load_model
+from fkcheck.engine import runner
+from fkcheck.engine.runner import run_check
+from tests.engine.test_check_engine import ReferenceChain
+from tests.processes import LINUX_ONLY, alive, descendants
+
+pytestmark = LINUX_ONLY
+
+
+class PidChain(ReferenceChain):
+    """The table's own poses, from an isolated process that writes its pid down."""
+
+    name = "pid-chain"
+    isolated = True
+
+    def frame_poses(self, model, q, frames):
+        where = Path(os.environ["FKCHECK_TEST_PIDS"])
+        (where / f"{os.getpid()}-{q.shape[0]}").write_text(repr(float(q[0, 0])))
+        return super().frame_poses(model, q, frames)
+
+
+class HangInSecondPart(ReferenceChain):
+    """Answers at once for the first part; the second part's process hangs."""
+
+    name = "hang-in-second-part"
+    isolated = True
+
+    def frame_poses(self, model, q, frames):
+        where = Path(os.environ["FKCHECK_TEST_PIDS"])
+        (where / str(os.getpid())).write_text("")
+        if float(q[0, 0]) != FIRST_Q0:
+            time.sleep(60)
+        return super().frame_poses(model, q, frames)
+
+
+class CrashInSecondPart(ReferenceChain):
+    name = "crash-in-second-part"
+    isolated = True
+
+    def frame_poses(self, model, q, frames):
+        if float(q[0, 0]) != FIRST_Q0:
+            os._exit(3)
+        return super().frame_poses(model, q, frames)
+
+
+#: q[0, 0] of the check's first configuration (its zero pose comes first).
+FIRST_Q0 = 0.0
+
+
+@pytest.fixture
+def two_parts(monkeypatch, tmp_path):
+    """Two cores, and 10 configurations a part at least; pids written to ``tmp_path``."""
+    monkeypatch.setattr(runner, "_cores", lambda: 2)
+    monkeypatch.setattr(runner, "SPLIT_MIN_CONFIGS", 10)
+    monkeypatch.setenv("FKCHECK_TEST_PIDS", str(tmp_path))
+    return tmp_path
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    return load_model("ur5")
+
+
+def test_split_is_contiguous_in_order_and_only_when_each_part_is_worth_a_process(monkeypatch):
+    monkeypatch.setattr(runner, "_cores", lambda: 2)
+    least = runner.SPLIT_MIN_CONFIGS
+    assert runner._split(2 * least - 1) == [(0, 2 * least - 1)]
+    assert runner._split(10_081) == [(0, 5_040), (5_040, 10_081)]
+    monkeypatch.setattr(runner, "_cores", lambda: 8)
+    assert runner._split(3 * least) == [(0, least), (least, 2 * least), (2 * least, 3 * least)]
+    monkeypatch.setattr(runner, "_cores", lambda: 1)
+    assert runner._split(100 * least) == [(0, 100 * least)]
+
+
+def test_the_parts_run_in_two_processes_and_join_to_the_unsplit_answer(ur5, two_parts):
+    check = run_check(ur5, [PidChain(), ReferenceChain()], samples=100)
+    split, threaded = check.backends
+    assert split.status == threaded.status == "pass"
+    np.testing.assert_array_equal(split.position_error_m, threaded.position_error_m)
+    np.testing.assert_array_equal(split.rotation_error_rad, threaded.rotation_error_rad)
+    written = sorted(p.name for p in two_parts.iterdir())
+    n = check.q.shape[0]
+    assert len(written) == 2
+    assert {int(w.split("-")[0]) for w in written} != {os.getpid()}
+    assert len({w.split("-")[0] for w in written}) == 2  # two processes
+    assert sorted(int(w.split("-")[1]) for w in written) == [n // 2, n - n // 2]
+    # The part tests below tell the first part from the second by its first q.
+    assert check.q[0, 0] == FIRST_Q0 != check.q[n // 2, 0]
+    firsts = sorted(float((two_parts / w).read_text()) for w in written)
+    assert FIRST_Q0 in firsts
+    assert len(set(firsts)) == 2
+
+
+def test_a_part_that_hangs_times_the_backend_out_and_every_part_is_killed(ur5, two_parts):
+    start = time.perf_counter()
+    check = run_check(ur5, [HangInSecondPart()], samples=40, timeout_s=3)
+    assert time.perf_counter() - start < 20
+    assert check.backends[0].status == "error"
+    assert check.backends[0].message == "timed out after 3 s"
+    pids = [int(p.name) for p in two_parts.iterdir()]
+    assert len(pids) == 2
+    deadline = time.monotonic() + 10
+    while any(alive(pid) for pid in pids) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(alive(pid) for pid in pids)
+    assert descendants(os.getpid()) == []
+
+
+def test_a_part_that_dies_is_the_backends_error(ur5, two_parts):
+    check = run_check(ur5, [CrashInSecondPart(), ReferenceChain()], samples=40)
+    crashed, good = check.backends
+    assert (crashed.status, crashed.message) == (
+        "error",
+        "its process exited with code 3 without an answer",
+    )
+    assert good.status == "pass"
