@@ -31,7 +31,6 @@ from tests.calibration.ur_test_data import (
     yaml_links,
 )
 
-LINEARISED = ("ur10-test", "ur10e-test-a", "ur10e-test-b")
 #: What UR's YAML path gives against the controller's table (max position error, m),
 #: measured with `fkcheck check` on 1080 configurations: 44, 6.8 and 3.3 µm for UR's
 #: linearised test calibrations, 2.29 mm for the small one that is not linearised (its
@@ -63,7 +62,7 @@ def _check_json(capsys, tmp_path: Path, model: Path, *extra: str) -> dict:
     return __import__("json").loads(report.read_text())
 
 
-@pytest.mark.parametrize("name", LINEARISED)
+@pytest.mark.parametrize("name", sorted(DELTAS))
 def test_a_description_built_from_the_calibrated_table_verifies_it(tmp_path, capsys, name):
     model = _calibrated(tmp_path, name, as_ur_writes=False)
     doc = _check_json(capsys, tmp_path, model)
@@ -86,7 +85,7 @@ def test_urs_own_yaml_path_misses_the_controller_by_what_was_measured(tmp_path, 
     assert 0.3 * UR_YAML_PATH_M[name] < worst <= UR_YAML_PATH_M[name] * 1.01
 
 
-@pytest.mark.parametrize("name", [*LINEARISED, "ur5e-small"])
+@pytest.mark.parametrize("name", sorted(DELTAS))
 def test_the_difference_is_the_euler_order_of_urs_yaml(name):
     # The test's own composition: UR's YAML read as Rx·Ry·Rz (what Eigen wrote) is the
     # controller's table to round-off; read as URDF's Rz·Ry·Rx it is not.
@@ -138,12 +137,13 @@ def test_one_changed_joint_fails_and_diagnose_names_it(tmp_path, capsys, link, k
     assert int(found.group(1)) == LINKS.index(link) + 1
 
 
-def test_a_yaml_alone_gives_a_table_that_reproduces_its_description(tmp_path, capsys):
-    nominal = load_model("ur10e")
-    want = composed(nominal.joints, "ur10e-test-b")
+@pytest.mark.parametrize("name", sorted(DELTAS))
+def test_a_yaml_alone_gives_a_table_that_reproduces_its_description(tmp_path, capsys, name):
+    nominal_name = DELTAS[name][0]
+    want = composed(load_model(nominal_name).joints, name)
     yaml = write_yaml(tmp_path / "robot_calibration.yaml", want, as_ur_writes=False)
     out = tmp_path / "robot.toml"
-    assert main(["calibration", "ur10e", str(yaml), "-o", str(out)]) == 0
+    assert main(["calibration", nominal_name, str(yaml), "-o", str(out)]) == 0
     said = capsys.readouterr().out
     assert (
         "derived from UR's description with the YAML, so that description cannot check it" in said
