@@ -266,7 +266,6 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     return _print_tally(labelled, out_dir)
 
 
-#: The ``--all`` tally's lines by the table's evidence status, after "table verified".
 #: ``--all``'s evidence lines: a table status, what it means, and whether it is said at 0.
 _TALLY = (
     ("verified", "table verified independently", True),
