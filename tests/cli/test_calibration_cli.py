@@ -83,6 +83,42 @@ def test_lint_of_a_calibrated_model_says_which_rules_its_joints_are_not_held_to(
     ]
 
 
+def test_a_calibrated_model_edited_in_millimetres_is_no_calibration_and_lint_says_so(
+    tmp_path, capsys
+):
+    conf = write_conf(tmp_path / "calibration.conf", "ur10e-test-a")
+    model = tmp_path / "robot.toml"
+    assert run(capsys, "calibration", "ur10e", conf, "-o", model)[0] == 0
+    # wrist_2's d (~0.1198 m) typed in millimetres: [calibration] must not hide it.
+    text = model.read_text()
+    d5 = load_model(model).joints[4].d
+    assert text.count(f"d = {d5!r}\n") == 1
+    model.write_text(text.replace(f"d = {d5!r}\n", f"d = {d5 * 1000!r}\n"))
+    code, out, _ = run(capsys, "lint", model)
+    assert code == 1
+    assert f"{model}: joint[4].d (wrist_2): warning [length]: " in out
+    assert f"{model}: warning [calibration]: the table moves tool0 up to " in out
+    assert "not held to" not in out
+    code, out, _ = run(capsys, "check", model, "--samples", "20")
+    verdict = next(x for x in out.splitlines() if x.startswith("verdict:"))
+    assert "lint: " in verdict
+
+
+def test_a_hand_written_calibration_whose_nominal_does_not_load_exempts_nothing(tmp_path):
+    from fkcheck.model.lint import lint_model
+
+    text = Path(load_model("ur5").path).read_text()
+    text += (
+        '\n[calibration]\nnominal = "no-such-model"\nfile = "calibration.conf"\n'
+        f'form = "calibration.conf"\nsha256 = "{"0" * 64}"\n'
+    )
+    model = tmp_path / "robot.toml"
+    model.write_text(text.replace("d = 0.089159", "d = 89.159", 1))
+    findings = lint_model(load_model(model))
+    assert [(f.rule, f.field) for f in findings if f.rule == "length"] == [("length", "joint[0].d")]
+    assert [f.rule for f in findings][-1] == "calibration"
+
+
 @pytest.mark.parametrize(
     ("files", "match"),
     [

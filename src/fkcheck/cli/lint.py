@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.errors import FkcheckError
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_text
-    from fkcheck.model.lint import MEASURED_RULES, lint_model
+    from fkcheck.model.lint import MEASURED_RULES, calibration_misfit, lint_model
     from fkcheck.model.lint_rules import parse_lint_rules
     from fkcheck.model.names import field_text
 
@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:
                 print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
             if not findings:
                 print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
-            if model.calibration is not None:
+            if model.calibration is not None and calibration_misfit(model) is None:
                 print(
                     terminal_text(
                         f"{where}: calibrated from {model.calibration.nominal}: its joints' "

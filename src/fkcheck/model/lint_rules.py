@@ -12,7 +12,16 @@ from typing import Literal, get_args
 
 __all__ = ["LINT_RULES", "Rule", "parse_lint_rules"]
 
-Rule = Literal["degrees", "rounded-angle", "twist", "length", "limits", "convention", "published"]
+Rule = Literal[
+    "degrees",
+    "rounded-angle",
+    "twist",
+    "length",
+    "limits",
+    "convention",
+    "published",
+    "calibration",
+]
 
 #: Every rule, in the order :func:`fkcheck.model.lint.lint_model` applies them.
 LINT_RULES: tuple[Rule, ...] = get_args(Rule)
