@@ -179,10 +179,48 @@ SPLIT_MIN_CONFIGS = 2_500
 
 
 def _cores() -> int:
-    """The cores this process may run on."""
+    """The cores this process may run on, no more than its cgroup's CPU quota allows."""
     if hasattr(os, "sched_getaffinity"):
-        return len(os.sched_getaffinity(0))
-    return os.cpu_count() or 1  # pragma: no cover - not Linux
+        cores = len(os.sched_getaffinity(0))
+    else:  # pragma: no cover - not Linux
+        cores = os.cpu_count() or 1
+    quota = cpu_quota()
+    return cores if quota is None else max(1, min(cores, quota))
+
+
+def cpu_quota(
+    root: Path = Path("/sys/fs/cgroup"), own: Path = Path("/proc/self/cgroup")
+) -> int | None:
+    """Whole CPUs this process's cgroups allow it (their tightest quota, rounded up).
+
+    ``None``: no quota, or none readable. A container limited to 2 CPUs of a
+    64-core host has all 64 in its affinity: one process per core there is 64
+    interpreters (a second and ~100 MB each) sharing 2 CPUs' time. Read from
+    cgroup v2's ``cpu.max`` and v1's ``cpu.cfs_quota_us``/``cpu.cfs_period_us``,
+    in this process's cgroups and their parents, as mounted under ``root``.
+    """
+    try:
+        paths = {line.split(":", 2)[2].strip("/") for line in own.read_text().splitlines()}
+    except (OSError, IndexError):
+        paths = set()
+    paths.add("")  # a container's own cgroup is often mounted at the root
+    bases = [root, root / "unified", root / "cpu", root / "cpu,cpuacct"]
+    found: list[int] = []
+    for base in bases:
+        for path in paths:
+            parts = Path(path).parts
+            for k in range(len(parts) + 1):
+                where = base.joinpath(*parts[:k])
+                with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
+                    v2 = (where / "cpu.max").read_text().split()
+                    if v2[0] != "max":
+                        found.append(-(-int(v2[0]) // int(v2[1])))
+                with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
+                    quota = int((where / "cpu.cfs_quota_us").read_text())
+                    if quota > 0:
+                        period = int((where / "cpu.cfs_period_us").read_text())
+                        found.append(-(-quota // period))
+    return min(found) if found else None
 
 
 def _split(n: int) -> list[tuple[int, int]]:
