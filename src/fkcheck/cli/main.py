@@ -31,7 +31,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 
 from fkcheck._version import __version__
 from fkcheck.errors import FkcheckError
@@ -175,6 +175,36 @@ def _tolerant_streams() -> None:
             stream.reconfigure(errors="backslashreplace")
 
 
+class _ClosedPipeTolerant:
+    """The program's stdout, except that a reader that went away (``| head``) silences it.
+
+    A closed pipe is no error (:func:`_flush_stdout`), but a plain ``print`` that
+    meets it mid-run raises ``BrokenPipeError`` there: ``check --all | head -1``
+    stopped after its first model, with no further reports, no index.html, and
+    exit 0 whatever the models' verdicts. Here the write goes to ``/dev/null``
+    and the run finishes with its own exit code, as rich's console does.
+    """
+
+    def __init__(self, stream: TextIO) -> None:
+        self._stream = stream
+
+    def write(self, text: str) -> int:
+        try:
+            return self._stream.write(text)
+        except BrokenPipeError:
+            _silence_stdout()
+            return len(text)
+
+    def flush(self) -> None:
+        try:
+            self._stream.flush()
+        except BrokenPipeError:
+            _silence_stdout()
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+
 def _silence_stdout() -> None:
     """Point file descriptor 1 at /dev/null, so the interpreter's last flush cannot fail."""
     with contextlib.suppress(OSError, ValueError, AttributeError, io.UnsupportedOperation):
@@ -212,6 +242,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         signal.signal(signal.SIGTERM, _on_sigterm)
     _open_closed_streams()
     _tolerant_streams()
+    if argv is None and not isinstance(sys.stdout, _ClosedPipeTolerant):  # the program
+        sys.stdout = _ClosedPipeTolerant(sys.stdout)  # type: ignore[assignment]
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     code = _flush_stdout(_run(args_list))
     if argv is None:  # the program, not a caller in Python
