@@ -119,6 +119,19 @@ def test_a_hand_written_calibration_whose_nominal_does_not_load_exempts_nothing(
     assert [f.rule for f in findings][-1] == "calibration"
 
 
+def test_a_calibrated_model_naming_itself_as_its_nominal_exempts_nothing(tmp_path, capsys):
+    conf = write_conf(tmp_path / "calibration.conf", "ur10e-test-a")
+    model = tmp_path / "robot.toml"
+    assert run(capsys, "calibration", "ur10e", conf, "-o", model)[0] == 0
+    text = model.read_text().replace('nominal = "ur10e"', 'nominal = "robot.toml"')
+    d5 = load_model(model).joints[4].d
+    model.write_text(text.replace(f"d = {d5!r}\n", f"d = {d5 * 1000!r}\n"))
+    code, out, _ = run(capsys, "lint", model)
+    assert code == 1
+    assert f"{model}: joint[4].d (wrist_2): warning [length]: " in out
+    assert "warning [calibration]: [calibration] nominal 'robot.toml' is a calibrated" in out
+
+
 @pytest.mark.parametrize(
     ("files", "match"),
     [

@@ -302,6 +302,12 @@ def calibration_misfit(model: Model) -> str | None:
             f"[calibration] nominal {spec.nominal!r} cannot be compared with this table "
             f"({exc}), so its joints are held to every rule"
         )
+    if nominal.calibration is not None:  # itself, or a table calibrated already
+        return (
+            f"[calibration] nominal {spec.nominal!r} is a calibrated model itself (from "
+            f"{nominal.calibration.nominal}), not a nominal one, so its joints are held to "
+            "every rule"
+        )
     pos, rot = effect.max_position_m, effect.max_rotation_rad
     if pos <= FIT_LIMIT_M and rot <= FIT_LIMIT_RAD:
         return None
