@@ -132,6 +132,16 @@ def test_a_calibrated_model_naming_itself_as_its_nominal_exempts_nothing(tmp_pat
     assert "warning [calibration]: [calibration] nominal 'robot.toml' is a calibrated" in out
 
 
+def test_a_calibrated_model_is_no_nominal_model_to_calibrate_again(tmp_path, capsys):
+    conf = write_conf(tmp_path / "calibration.conf", "ur5e-small")  # 3.4 mm: twice still fits
+    once = tmp_path / "once.toml"
+    assert run(capsys, "calibration", "ur5e", conf, "-o", once)[0] == 0
+    code, out, err = run(capsys, "calibration", once, conf, "-o", tmp_path / "twice.toml")
+    assert (code, out) == (2, "")
+    assert "it is calibrated already (from ur5e, calibration.conf); give its nominal" in err
+    assert not (tmp_path / "twice.toml").exists()
+
+
 @pytest.mark.parametrize(
     ("files", "match"),
     [

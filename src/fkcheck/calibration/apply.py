@@ -62,8 +62,16 @@ def check_nominal(nominal: Model, cal: UrCalibration) -> None:
     """Refuse a nominal model no UR calibration can apply to (in one line).
 
     Raises:
-        CalibrationError: Not six revolute joints in standard DH without ``flip``.
+        CalibrationError: Not six revolute joints in standard DH without ``flip``,
+            or a calibrated model already (its deltas would be added twice).
     """
+    if nominal.calibration is not None:
+        raise CalibrationError(
+            cal.path,
+            f"cannot apply to {nominal.name!r}: it is calibrated already (from "
+            f"{nominal.calibration.nominal}, {nominal.calibration.form}); give its nominal "
+            f"model, {nominal.calibration.nominal}",
+        )
     problems = []
     if nominal.dof != _UR_JOINTS:
         problems.append(f"{nominal.dof} joints (a UR arm has 6)")
