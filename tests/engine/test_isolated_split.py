@@ -103,6 +103,15 @@ def test_a_cgroup_cpu_quota_caps_the_parts(monkeypatch, tmp_path):
     assert runner.cpu_quota(v1, tmp_path / "none") == 3
     (v1 / "cpu" / "cpu.cfs_quota_us").write_text("-1\n")
     assert runner.cpu_quota(v1, tmp_path / "none") is None
+    # v1: only the cpu controller's cgroup counts, not another controller's path.
+    (v1 / "cpu" / "cpu.cfs_quota_us").write_text("-1\n")
+    (v1 / "cpu" / "job").mkdir()
+    (v1 / "cpu" / "job" / "cpu.cfs_quota_us").write_text("100000\n")
+    (v1 / "cpu" / "job" / "cpu.cfs_period_us").write_text("100000\n")
+    own.write_text("4:memory:/job\n1:cpu:/\n0::/\n")
+    assert runner.cpu_quota(v1, own) is None
+    own.write_text("4:memory:/\n1:cpu,cpuacct:/job\n0::/\n")
+    assert runner.cpu_quota(v1, own) == 1
     monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(64)))
     monkeypatch.setattr(runner, "cpu_quota", lambda: 2)
     least = runner.SPLIT_MIN_CONFIGS

@@ -197,29 +197,39 @@ def cpu_quota(
     64-core host has all 64 in its affinity: one process per core there is 64
     interpreters (a second and ~100 MB each) sharing 2 CPUs' time. Read from
     cgroup v2's ``cpu.max`` and v1's ``cpu.cfs_quota_us``/``cpu.cfs_period_us``,
-    in this process's cgroups and their parents, as mounted under ``root``.
+    in this process's cgroup (of the ``cpu`` controller, for v1) and its parents,
+    as mounted under ``root``.
     """
-    try:
-        paths = {line.split(":", 2)[2].strip("/") for line in own.read_text().splitlines()}
-    except (OSError, IndexError):
-        paths = set()
-    paths.add("")  # a container's own cgroup is often mounted at the root
-    bases = [root, root / "unified", root / "cpu", root / "cpu,cpuacct"]
+    v2, v1 = {""}, {""}  # a container's own cgroup is often mounted at the root
+    with contextlib.suppress(OSError):
+        for line in own.read_text().splitlines():
+            _, controllers, path = [*line.split(":", 2), "", ""][:3]
+            if controllers == "":
+                v2.add(path.strip("/"))
+            elif "cpu" in controllers.split(","):
+                v1.add(path.strip("/"))
+
+    def v2_quota(where: Path) -> int | None:
+        limit, period = (where / "cpu.max").read_text().split()
+        return None if limit == "max" else -(-int(limit) // int(period))
+
+    def v1_quota(where: Path) -> int | None:
+        limit = int((where / "cpu.cfs_quota_us").read_text())
+        return None if limit <= 0 else -(-limit // int((where / "cpu.cfs_period_us").read_text()))
+
     found: list[int] = []
-    for base in bases:
-        for path in paths:
-            parts = Path(path).parts
-            for k in range(len(parts) + 1):
-                where = base.joinpath(*parts[:k])
-                with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
-                    v2 = (where / "cpu.max").read_text().split()
-                    if v2[0] != "max":
-                        found.append(-(-int(v2[0]) // int(v2[1])))
-                with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
-                    quota = int((where / "cpu.cfs_quota_us").read_text())
-                    if quota > 0:
-                        period = int((where / "cpu.cfs_period_us").read_text())
-                        found.append(-(-quota // period))
+    for bases, paths, read in (
+        ((root, root / "unified"), v2, v2_quota),
+        ((root / "cpu", root / "cpu,cpuacct"), v1, v1_quota),
+    ):
+        for base in bases:
+            for path in paths:
+                parts = Path(path).parts
+                for k in range(len(parts) + 1):
+                    with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
+                        quota = read(base.joinpath(*parts[:k]))
+                        if quota is not None:
+                            found.append(quota)
     return min(found) if found else None
 
 
