@@ -130,12 +130,14 @@ def test_a_calibrated_table_is_no_lint_finding_though_the_same_numbers_uncalibra
 ) -> None:
     from dataclasses import replace
 
+    from fkcheck.calibration.lint import lint_calibrated
     from fkcheck.model.lint import MEASURED_RULES, lint_model
 
     model = _apply(DELTAS[name][0], write_conf(tmp_path / "calibration.conf", name)).model
-    assert lint_model(model) == []
-    # The exemption is what keeps it clean: the same table without [calibration] warns.
-    bare = lint_model(replace(model, calibration=None))
+    assert lint_calibrated(model) == ([], True)
+    # The exemption is what keeps it clean: the same table without it warns.
+    bare = lint_model(model)
+    assert bare == lint_calibrated(replace(model, calibration=None))[0]
     assert bare
     assert {f.rule for f in bare} <= MEASURED_RULES
     assert all(f.field.startswith("joint[") for f in bare)
@@ -144,10 +146,12 @@ def test_a_calibrated_table_is_no_lint_finding_though_the_same_numbers_uncalibra
 def test_a_calibrated_model_is_still_held_to_the_other_rules(tmp_path: Path) -> None:
     from dataclasses import replace
 
-    from fkcheck.model.lint import lint_model
+    from fkcheck.calibration.lint import lint_calibrated
 
     model = _apply("ur10e", write_conf(tmp_path / "calibration.conf", "ur10e-test-a")).model
     wide = replace(
         model, joints=(replace(model.joints[0], limits=(-10.0, 10.0)), *model.joints[1:])
     )
-    assert [(f.rule, f.field) for f in lint_model(wide)] == [("limits", "joint[0].limits")]
+    findings, measured = lint_calibrated(wide)
+    assert measured
+    assert [(f.rule, f.field) for f in findings] == [("limits", "joint[0].limits")]

@@ -105,7 +105,7 @@ def test_a_calibrated_model_edited_in_millimetres_is_no_calibration_and_lint_say
 
 
 def test_a_hand_written_calibration_whose_nominal_does_not_load_exempts_nothing(tmp_path):
-    from fkcheck.model.lint import lint_model
+    from fkcheck.calibration.lint import lint_calibrated
 
     text = Path(load_model("ur5").path).read_text()
     text += (
@@ -114,7 +114,8 @@ def test_a_hand_written_calibration_whose_nominal_does_not_load_exempts_nothing(
     )
     model = tmp_path / "robot.toml"
     model.write_text(text.replace("d = 0.089159", "d = 89.159", 1))
-    findings = lint_model(load_model(model))
+    findings, measured = lint_calibrated(load_model(model))
+    assert not measured
     assert [(f.rule, f.field) for f in findings if f.rule == "length"] == [("length", "joint[0].d")]
     assert [f.rule for f in findings][-1] == "calibration"
 

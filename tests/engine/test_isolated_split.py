@@ -88,36 +88,6 @@ def test_split_is_contiguous_in_order_and_only_when_each_part_is_worth_a_process
     assert runner._split(100 * least) == [(0, 100 * least)]
 
 
-def test_a_cgroup_cpu_quota_caps_the_parts(monkeypatch, tmp_path):
-    # A container given 1.5 CPUs of a 64-core host: two processes, not 64.
-    own = tmp_path / "self-cgroup"
-    own.write_text("0::/ci/job\n")
-    (tmp_path / "ci" / "job").mkdir(parents=True)
-    (tmp_path / "ci" / "cpu.max").write_text("150000 100000\n")
-    (tmp_path / "ci" / "job" / "cpu.max").write_text("max 100000\n")
-    assert runner.cpu_quota(tmp_path, own) == 2
-    v1 = tmp_path / "v1"
-    (v1 / "cpu").mkdir(parents=True)
-    (v1 / "cpu" / "cpu.cfs_quota_us").write_text("300000\n")
-    (v1 / "cpu" / "cpu.cfs_period_us").write_text("100000\n")
-    assert runner.cpu_quota(v1, tmp_path / "none") == 3
-    (v1 / "cpu" / "cpu.cfs_quota_us").write_text("-1\n")
-    assert runner.cpu_quota(v1, tmp_path / "none") is None
-    # v1: only the cpu controller's cgroup counts, not another controller's path.
-    (v1 / "cpu" / "cpu.cfs_quota_us").write_text("-1\n")
-    (v1 / "cpu" / "job").mkdir()
-    (v1 / "cpu" / "job" / "cpu.cfs_quota_us").write_text("100000\n")
-    (v1 / "cpu" / "job" / "cpu.cfs_period_us").write_text("100000\n")
-    own.write_text("4:memory:/job\n1:cpu:/\n0::/\n")
-    assert runner.cpu_quota(v1, own) is None
-    own.write_text("4:memory:/\n1:cpu,cpuacct:/job\n0::/\n")
-    assert runner.cpu_quota(v1, own) == 1
-    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(64)))
-    monkeypatch.setattr(runner, "cpu_quota", lambda: 2)
-    least = runner.SPLIT_MIN_CONFIGS
-    assert runner._split(100 * least) == [(0, 50 * least), (50 * least, 100 * least)]
-
-
 def test_the_parts_run_in_two_processes_and_join_to_the_unsplit_answer(ur5, two_parts):
     check = run_check(ur5, [PidChain(), ReferenceChain()], samples=100)
     split, threaded = check.backends

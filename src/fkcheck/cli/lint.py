@@ -52,11 +52,12 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Lint every model and print one block per file; exit 1 if any has a warning."""
+    from fkcheck.calibration.lint import lint_calibrated
     from fkcheck.cli._targets import load_targets, named_model_files, project_config
     from fkcheck.errors import FkcheckError
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_text
-    from fkcheck.model.lint import MEASURED_RULES, calibration_misfit, lint_model
+    from fkcheck.model.lint import MEASURED_RULES
     from fkcheck.model.lint_rules import parse_lint_rules
     from fkcheck.model.names import field_text
 
@@ -77,7 +78,8 @@ def run(args: argparse.Namespace) -> int:
         model = target.model
         # A file as it was named (relative when it can be); a bundled model by its file.
         where = target.arg if model.path is None or Path(target.arg).exists() else str(model.path)
-        reports.append((model, where, lint_model(model, ignore)))
+        findings, measured = lint_calibrated(model, ignore)
+        reports.append((model, where, findings, measured))
     if args.json:
         blocks = [
             {
@@ -87,20 +89,20 @@ def run(args: argparse.Namespace) -> int:
                     {"rule": f.rule, "field": f.field, "message": f.message} for f in findings
                 ],
             }
-            for model, where, findings in reports
+            for model, where, findings, _ in reports
         ]
         print(strict_json(blocks[0] if len(blocks) == 1 else blocks))
     else:
         from fkcheck.urdf.locate import display_path
 
-        for model, path, findings in reports:
+        for model, path, findings, measured in reports:
             where = display_path(path)  # a bundled model as fkcheck:NAME.toml (JSON: its file)
             for f in findings:
                 field = f"{field_text(model, f.field)}: " if f.field else ""
                 print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
             if not findings:
                 print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
-            if model.calibration is not None and calibration_misfit(model) is None:
+            if measured and model.calibration is not None:
                 print(
                     terminal_text(
                         f"{where}: calibrated from {model.calibration.nominal}: its joints' "
@@ -109,9 +111,9 @@ def run(args: argparse.Namespace) -> int:
                     )
                 )
         if len(reports) > 1:
-            warned = sum(1 for _, _, findings in reports if findings)
+            warned = sum(1 for _, _, findings, _ in reports if findings)
             print(
                 f"fkcheck lint: {len(reports)} models, {len(reports) - warned} clean, "
                 f"{warned} with warnings"
             )
-    return 1 if any(findings for _, _, findings in reports) else 0
+    return 1 if any(findings for _, _, findings, _ in reports) else 0

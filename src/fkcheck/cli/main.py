@@ -243,7 +243,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     _open_closed_streams()
     _tolerant_streams()
     if argv is None and not isinstance(sys.stdout, _ClosedPipeTolerant):  # the program
-        sys.stdout = _ClosedPipeTolerant(sys.stdout)  # type: ignore[assignment]
+        sys.stdout = _ClosedPipeTolerant(sys.stdout)
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     code = _flush_stdout(_run(args_list))
     if argv is None:  # the program, not a caller in Python

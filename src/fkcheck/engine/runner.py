@@ -20,7 +20,6 @@ import datetime as _dt
 import functools
 import importlib
 import itertools
-import os
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -33,6 +32,7 @@ import numpy as np
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.backends.registry import check_known_differences
 from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
+from fkcheck.calibration.lint import lint_calibrated
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
@@ -57,6 +57,7 @@ from fkcheck.model.options import (
 )
 from fkcheck.model.sampling import Sampler, Samples, sample_configurations
 from fkcheck.model.types import URDF_FRAME_PREFIX, Model
+from fkcheck.process.cpus import usable_cores
 from fkcheck.process.isolation import (
     IsolatedDied,
     IsolatedTimeout,
@@ -179,58 +180,8 @@ SPLIT_MIN_CONFIGS = 2_500
 
 
 def _cores() -> int:
-    """The cores this process may run on, no more than its cgroup's CPU quota allows."""
-    if hasattr(os, "sched_getaffinity"):
-        cores = len(os.sched_getaffinity(0))
-    else:  # pragma: no cover - not Linux
-        cores = os.cpu_count() or 1
-    quota = cpu_quota()
-    return cores if quota is None else max(1, min(cores, quota))
-
-
-def cpu_quota(
-    root: Path = Path("/sys/fs/cgroup"), own: Path = Path("/proc/self/cgroup")
-) -> int | None:
-    """Whole CPUs this process's cgroups allow it (their tightest quota, rounded up).
-
-    ``None``: no quota, or none readable. A container limited to 2 CPUs of a
-    64-core host has all 64 in its affinity: one process per core there is 64
-    interpreters (a second and ~100 MB each) sharing 2 CPUs' time. Read from
-    cgroup v2's ``cpu.max`` and v1's ``cpu.cfs_quota_us``/``cpu.cfs_period_us``,
-    in this process's cgroup (of the ``cpu`` controller, for v1) and its parents,
-    as mounted under ``root``.
-    """
-    v2, v1 = {""}, {""}  # a container's own cgroup is often mounted at the root
-    with contextlib.suppress(OSError):
-        for line in own.read_text().splitlines():
-            _, controllers, path = [*line.split(":", 2), "", ""][:3]
-            if controllers == "":
-                v2.add(path.strip("/"))
-            elif "cpu" in controllers.split(","):
-                v1.add(path.strip("/"))
-
-    def v2_quota(where: Path) -> int | None:
-        limit, period = (where / "cpu.max").read_text().split()
-        return None if limit == "max" else -(-int(limit) // int(period))
-
-    def v1_quota(where: Path) -> int | None:
-        limit = int((where / "cpu.cfs_quota_us").read_text())
-        return None if limit <= 0 else -(-limit // int((where / "cpu.cfs_period_us").read_text()))
-
-    found: list[int] = []
-    for bases, paths, read in (
-        ((root, root / "unified"), v2, v2_quota),
-        ((root / "cpu", root / "cpu,cpuacct"), v1, v1_quota),
-    ):
-        for base in bases:
-            for path in paths:
-                parts = Path(path).parts
-                for k in range(len(parts) + 1):
-                    with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
-                        quota = read(base.joinpath(*parts[:k]))
-                        if quota is not None:
-                            found.append(quota)
-    return min(found) if found else None
+    """The cores this process may use (:func:`fkcheck.process.cpus.usable_cores`)."""
+    return usable_cores()
 
 
 def _split(n: int) -> list[tuple[int, int]]:
@@ -644,7 +595,7 @@ def run_check(
         numbers=numbers,
         tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
         calibration=calibration,
-        lint=lint_lines(model, lint_ignore),
+        lint=lint_lines(model, lint_calibrated(model, lint_ignore)[0]),
     )
 
 

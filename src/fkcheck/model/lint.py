@@ -15,18 +15,19 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
 * ``published``: every number matches a published table (a bundled model) except
   a few that are close but not equal — a rounded or outdated value;
 * ``calibration``: a calibrated model whose table moves its ``[check] to`` frame
-  further from its nominal model's than a factory calibration can
-  (:data:`~fkcheck.calibration.apply.FIT_LIMIT_M`, the limit ``fkcheck calibration``
-  refuses beyond), or whose nominal model cannot be compared with it.
+  further from its nominal model's than a factory calibration can, or whose nominal
+  model cannot be compared with it (:mod:`fkcheck.calibration.lint`).
 
 A calibrated model (``[calibration]``, written by ``fkcheck calibration``) holds one
 robot's measured table: α a few 1e-4 rad off a quarter turn, or d2/d3 of hundreds of
 metres, θ of 7 rad in a linearised table, are what the calibration says, so the rules
 about units and round or plausible values (:data:`MEASURED_RULES`) do not look at its
 joints; ``fkcheck lint`` says so, and the nominal model is where those rules apply.
-Only while the table fits its nominal model: one that does not (a hand-written
-``[calibration]``, a value edited in millimetres or degrees) is no calibration of
-it, and its joints are held to every rule.
+Only while the table fits its nominal model (:mod:`fkcheck.calibration.lint` decides,
+and adds the ``calibration`` finding when it does not): one that does not (a
+hand-written ``[calibration]``, a value edited in millimetres or degrees) is no
+calibration of it, and its joints are held to every rule. :func:`lint_model` alone
+exempts nothing.
 
 A rule can be turned off per model (``[lint] ignore = ["limits"]`` in the model
 file), per project (``lint_ignore`` in ``[tool.fkcheck]``) or per run
@@ -50,7 +51,6 @@ __all__ = [
     "MEASURED_RULES",
     "Finding",
     "Rule",
-    "calibration_misfit",
     "lint_lines",
     "lint_model",
 ]
@@ -276,55 +276,22 @@ def _published(model: Model) -> list[Finding]:
     return out
 
 
-def calibration_misfit(model: Model) -> str | None:
-    """Why a calibrated model's table is no calibration of its nominal model, or ``None``.
-
-    The test ``fkcheck calibration`` applies before it writes a model: over the
-    same configurations, the calibrated ``[check] to`` may move from the nominal
-    one by at most :data:`~fkcheck.calibration.apply.FIT_LIMIT_M` and
-    :data:`~fkcheck.calibration.apply.FIT_LIMIT_RAD`. ``None`` for a model without
-    ``[calibration]``.
-    """
-    if model.calibration is None:
-        return None
-    from fkcheck.calibration.apply import FIT_LIMIT_M, FIT_LIMIT_RAD, FIT_SAMPLES
-    from fkcheck.calibration.effect import calibration_effect, nominal_model
-    from fkcheck.errors import FkcheckError
-    from fkcheck.model.sampling import sample_configurations
-
-    spec, check = model.calibration, model.check
-    try:
-        nominal = nominal_model(model)
-        q = sample_configurations(nominal, FIT_SAMPLES, seed=0).q
-        effect = calibration_effect(model, nominal, q, check.frame_from, check.frame_to)
-    except FkcheckError as exc:
-        return (
-            f"[calibration] nominal {spec.nominal!r} cannot be compared with this table "
-            f"({exc}), so its joints are held to every rule"
-        )
-    if nominal.calibration is not None:  # itself, or a table calibrated already
-        return (
-            f"[calibration] nominal {spec.nominal!r} is a calibrated model itself (from "
-            f"{nominal.calibration.nominal}), not a nominal one, so its joints are held to "
-            "every rule"
-        )
-    pos, rot = effect.max_position_m, effect.max_rotation_rad
-    if pos <= FIT_LIMIT_M and rot <= FIT_LIMIT_RAD:
-        return None
-    return (
-        f"the table moves {check.frame_to} up to {pos:.3g} m and {math.degrees(rot):.3g}° "
-        f"from {spec.nominal}'s (a factory calibration: at most {FIT_LIMIT_M * 1e3:g} mm and "
-        f"{math.degrees(FIT_LIMIT_RAD):.2g}°): not a calibration of {spec.nominal} — a value "
-        "in millimetres or degrees, or another type's table? Its joints are held to every rule"
-    )
-
-
-def lint_model(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:
+def lint_model(
+    model: Model,
+    ignore: Iterable[str] = (),
+    *,
+    measured: bool = False,
+    more: Iterable[Finding] = (),
+) -> list[Finding]:
     """Every warning for ``model``, in the order of the rules above.
 
     Args:
         model: The model.
         ignore: Rules to leave out, on top of the model file's ``[lint] ignore``.
+        measured: Its joints hold measured values (a calibration that fits its
+            nominal model, as :func:`fkcheck.calibration.lint.lint_calibrated`
+            decides): the :data:`MEASURED_RULES` do not look at them.
+        more: Findings of rules decided elsewhere (``calibration``), added last.
     """
     skipped = {*model.lint_ignore, *ignore}
     findings = [
@@ -334,22 +301,17 @@ def lint_model(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:
         *_convention(model),
         *_published(model),
     ]
-    if model.calibration is not None:
-        misfit = calibration_misfit(model)
-        if misfit is None:  # a calibration of its nominal model: its numbers are measured
-            findings = [
-                f
-                for f in findings
-                if not (f.rule in MEASURED_RULES and f.field.startswith("joint["))
-            ]
-        else:
-            findings.append(Finding("calibration", "", misfit))
+    if measured:
+        findings = [
+            f for f in findings if not (f.rule in MEASURED_RULES and f.field.startswith("joint["))
+        ]
+    findings += more
     return [f for f in findings if f.rule not in skipped]
 
 
-def lint_lines(model: Model, ignore: Iterable[str] = ()) -> tuple[str, ...]:
-    """:func:`lint_model`'s findings as one line each: ``field (joint): message [rule]``."""
+def lint_lines(model: Model, findings: Iterable[Finding]) -> tuple[str, ...]:
+    """``findings`` of ``model`` as one line each: ``field (joint): message [rule]``."""
     return tuple(
         f"{field_text(model, f.field) + ': ' if f.field else ''}{f.message} [{f.rule}]"
-        for f in lint_model(model, ignore)
+        for f in findings
     )
