@@ -66,7 +66,7 @@ FIRST_Q0 = 0.0
 @pytest.fixture
 def two_parts(monkeypatch, tmp_path):
     """Two cores, and 10 configurations a part at least; pids written to ``tmp_path``."""
-    monkeypatch.setattr(runner, "_cores", lambda: 2)
+    monkeypatch.setattr(runner, "usable_cores", lambda: 2)
     monkeypatch.setattr(runner, "SPLIT_MIN_CONFIGS", 10)
     monkeypatch.setenv("FKCHECK_TEST_PIDS", str(tmp_path))
     return tmp_path
@@ -78,13 +78,13 @@ def ur5():
 
 
 def test_split_is_contiguous_in_order_and_only_when_each_part_is_worth_a_process(monkeypatch):
-    monkeypatch.setattr(runner, "_cores", lambda: 2)
+    monkeypatch.setattr(runner, "usable_cores", lambda: 2)
     least = runner.SPLIT_MIN_CONFIGS
     assert runner._split(2 * least - 1) == [(0, 2 * least - 1)]
     assert runner._split(10_081) == [(0, 5_040), (5_040, 10_081)]
-    monkeypatch.setattr(runner, "_cores", lambda: 8)
+    monkeypatch.setattr(runner, "usable_cores", lambda: 8)
     assert runner._split(3 * least) == [(0, least), (least, 2 * least), (2 * least, 3 * least)]
-    monkeypatch.setattr(runner, "_cores", lambda: 1)
+    monkeypatch.setattr(runner, "usable_cores", lambda: 1)
     assert runner._split(100 * least) == [(0, 100 * least)]
 
 

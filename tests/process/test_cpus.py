@@ -36,3 +36,14 @@ def test_a_cgroup_cpu_quota_caps_the_usable_cores(monkeypatch, tmp_path):
     assert cpus.usable_cores() == 2
     monkeypatch.setattr(cpus, "cpu_quota", lambda: None)
     assert cpus.usable_cores() == 64
+
+
+def test_a_cgroup_outside_the_namespace_is_not_followed_above_the_mount(tmp_path):
+    mount = tmp_path / "sys" / "fs" / "cgroup"
+    mount.mkdir(parents=True)
+    (tmp_path / "sys" / "fs" / "cpu.max").write_text("100000 100000\n")  # above the mount
+    own = tmp_path / "self-cgroup"
+    own.write_text("0::/../..\n")
+    assert cpus.cpu_quota(mount, own) is None
+    (mount / "cpu.max").write_text("200000 100000\n")
+    assert cpus.cpu_quota(mount, own) == 2

@@ -35,18 +35,18 @@ def calibration_misfit(model: Model) -> str | None:
     spec, check = model.calibration, model.check
     try:
         nominal = nominal_model(model)
+        if nominal.calibration is not None:  # itself, or a table calibrated already
+            return (
+                f"[calibration] nominal {spec.nominal!r} is a calibrated model itself (from "
+                f"{nominal.calibration.nominal}), not a nominal one, so its joints are held "
+                "to every rule"
+            )
         q = sample_configurations(nominal, FIT_SAMPLES, seed=0).q
         effect = calibration_effect(model, nominal, q, check.frame_from, check.frame_to)
     except FkcheckError as exc:
         return (
             f"[calibration] nominal {spec.nominal!r} cannot be compared with this table "
             f"({exc}), so its joints are held to every rule"
-        )
-    if nominal.calibration is not None:  # itself, or a table calibrated already
-        return (
-            f"[calibration] nominal {spec.nominal!r} is a calibrated model itself (from "
-            f"{nominal.calibration.nominal}), not a nominal one, so its joints are held to "
-            "every rule"
         )
     pos, rot = effect.max_position_m, effect.max_rotation_rad
     if pos <= FIT_LIMIT_M and rot <= FIT_LIMIT_RAD:

@@ -179,14 +179,10 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
 SPLIT_MIN_CONFIGS = 2_500
 
 
-def _cores() -> int:
-    """The cores this process may use (:func:`fkcheck.process.cpus.usable_cores`)."""
-    return usable_cores()
-
-
 def _split(n: int) -> list[tuple[int, int]]:
     """Contiguous ``[start, stop)`` parts of ``n`` configurations, one per process."""
-    parts = max(1, min(_cores(), n // SPLIT_MIN_CONFIGS))
+    worth = n // SPLIT_MIN_CONFIGS  # parts worth a process each
+    parts = min(usable_cores(), worth) if worth > 1 else 1
     bounds = [n * k // parts for k in range(parts + 1)]
     return list(itertools.pairwise(bounds))
 

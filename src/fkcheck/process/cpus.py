@@ -28,12 +28,11 @@ def cpu_quota(
 ) -> int | None:
     """Whole CPUs this process's cgroups allow it (their tightest quota, rounded up).
 
-    ``None``: no quota, or none readable. A container limited to 2 CPUs of a
-    64-core host has all 64 in its affinity: one process per core there is 64
-    interpreters (a second and ~100 MB each) sharing 2 CPUs' time. Read from
-    cgroup v2's ``cpu.max`` and v1's ``cpu.cfs_quota_us``/``cpu.cfs_period_us``,
-    in this process's cgroup (of the ``cpu`` controller, for v1) and its parents,
-    as mounted under ``root``.
+    ``None``: no quota, or none readable. Read from cgroup v2's ``cpu.max`` and
+    v1's ``cpu.cfs_quota_us``/``cpu.cfs_period_us``, in this process's cgroup (of
+    the ``cpu`` controller, for v1) and its parents, as mounted under ``root``. A
+    cgroup outside this process's cgroup namespace (``/../..``) is not followed
+    above ``root``: only ``root`` itself is read for it.
     """
     v2, v1 = {""}, {""}  # a container's own cgroup is often mounted at the root
     with contextlib.suppress(OSError):
@@ -60,6 +59,8 @@ def cpu_quota(
         for base in bases:
             for path in paths:
                 parts = Path(path).parts
+                if ".." in parts:  # above the namespace's root: not under this mount
+                    parts = ()
                 for k in range(len(parts) + 1):
                     with contextlib.suppress(OSError, ValueError, ZeroDivisionError):
                         quota = read(base.joinpath(*parts[:k]))
