@@ -131,7 +131,8 @@ def run(args: argparse.Namespace) -> int:
             summary.append(
                 f"fkcheck map: {', '.join(hiding)} "
                 f"{'carries an offset' if len(hiding) == 1 else 'carry offsets'} that a table "
-                "error would also produce: either the URDF defines it so, or the table is off "
+                "error would also produce, or sit beside links that could be the DH frame "
+                "instead: either the URDF defines it so, or the table is off "
                 "— fkcheck cannot tell (see the NOT IDENTIFIABLE comments)"
             )
     else:

@@ -43,7 +43,7 @@ from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
-from fkcheck.model.coverage import coverage
+from fkcheck.model.coverage import Competitor, coverage
 from fkcheck.model.frames import (
     resolve_frame,
 )
@@ -66,6 +66,7 @@ from fkcheck.process.isolation import (
     terminate_all,
 )
 from fkcheck.process.supervise import acting_for
+from fkcheck.urdf.chain import competing_links, urdf_kinematics
 from fkcheck.urdf.locate import display_path
 
 if TYPE_CHECKING:
@@ -487,6 +488,7 @@ def run_check(
     if jacobian is not None:
         check_fixed_from(model, pair[0])
     reads_urdf = any(b.reads == "urdf" for b in backends)
+    competitors: dict[str, list[Competitor]] = {}
     # A xacro file is expanded (its macros run) only when a backend reads the URDF.
     if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
         # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
@@ -495,6 +497,7 @@ def run_check(
             info = load_urdf(model, xacro_timeout_s)
             if reads_urdf:
                 _check_twins(model, pair, info.links, info.path.name)
+                competitors = competing_links(model, pair, urdf_kinematics(info))
             if model.urdf.xacro:  # the expansion travels with the model: run the file once
                 model = replace(model, urdf=replace(model.urdf, expanded=info.text))
     q = _fixed_configurations(model, backends) or sample_configurations(
@@ -502,7 +505,9 @@ def run_check(
     )
     calibration = _calibration_effect(model, q.q, pair)
     required = tuple(k for k in KINDS if k in (*model.check.require, *require))
-    numbers = coverage(model, pair[0], pair[1], tol[0], tol[1], q=q.q)  # what it exercises
+    numbers = coverage(  # what it exercises, and what a choice among links could hide
+        model, pair[0], pair[1], tol[0], tol[1], q=q.q, competitors=competitors
+    )
     if "table" in required and numbers.spans_no_joint:
         raise FkcheckError(
             f"require table: the frame pair {pair[0]} → {pair[1]} spans no joint of model "

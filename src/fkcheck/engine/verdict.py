@@ -334,9 +334,12 @@ def _headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
                 f"table NOT verified), {tail}"
             )
         if evidence.table.status == "verified":
+            # A number verified only because a frame is vouched for rests on that word.
+            word = evidence.numbers.on_word() if evidence.numbers is not None else ""
+            said = f", {word};" if word else ","
             if evidence.implementation.status == "verified":
-                return "pass — table verified independently, implementation agrees"
-            return "pass — table verified independently; no second implementation ran"
+                return f"pass — table verified independently{said} implementation agrees"
+            return f"pass — table verified independently{said.rstrip(',;')}; no second implementation ran"
         if evidence.table.status == "partly-verified" and evidence.numbers is not None:
             tail = (
                 "implementation agrees"
@@ -412,6 +415,11 @@ def numbers_line(numbers: Coverage, table: KindStatus) -> str:
     vouched = _unique_groups(n for n in numbers.numbers if n.status == "vouched")
     if vouched:
         text += "; vouched for by the model's source: " + ", ".join(vouched)
+    resting = [n for n in numbers.table_numbers if n.status == "verified" and n.on_word_of]
+    if resting:
+        text += "; on the word of a vouched frame: " + ", ".join(
+            f"{n.name} ({', '.join(n.on_word_of)})" for n in resting
+        )
     return text
 
 

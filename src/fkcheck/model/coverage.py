@@ -58,7 +58,7 @@ looks like.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
@@ -83,6 +83,7 @@ __all__ = [
     "SPAN_RTOL",
     "STEP",
     "TRADE_SHARE",
+    "Competitor",
     "Coverage",
     "NumberEvidence",
     "Reason",
@@ -91,10 +92,12 @@ __all__ = [
 ]
 
 Status = Literal["verified", "not-identifiable", "not-covered", "vouched"]
-#: Why a number is not identifiable: an offset carries it; an offset fitted over
-#: the check's configurations takes it; they cannot tell a joint's direction, or
-#: the number from others; or its effect is too faint for the tolerance.
-Reason = Literal["", "offset", "taken", "direction", "configurations", "faint"]
+#: Why a number is not identifiable: an offset carries it; another link of the
+#: description could be the DH frame instead of the compared one (``link``: the
+#: choice among them is a fit); an offset fitted over the check's configurations
+#: takes it; they cannot tell a joint's direction, or the number from others; or
+#: its effect is too faint for the tolerance.
+Reason = Literal["", "offset", "link", "taken", "direction", "configurations", "faint"]
 Unit = Literal["m", "rad"]
 
 #: Configurations the sensitivities are taken at (seeded, uniform within limits).
@@ -160,6 +163,10 @@ class NumberEvidence:
         source: For ``vouched``: the model's source for the offset.
         reason: For ``not-identifiable``, which kind of reason (:data:`Reason`).
         by: The compared frames' offsets (``[frames.NAME]``) that carry or take it.
+        competing: For reason ``link``: the description's links that could be the
+            DH frame instead of the compared one.
+        on_word_of: For ``verified``: the vouched frames (``[frames.NAME]``) without
+            whose ``source`` it would not be identifiable: verified on their word.
     """
 
     name: str
@@ -173,6 +180,28 @@ class NumberEvidence:
     source: str = ""
     reason: Reason = ""
     by: tuple[str, ...] = ()
+    competing: tuple[str, ...] = ()
+    on_word_of: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, eq=False)
+class Competitor:
+    """Another link of the description, rigidly attached to a compared frame's link.
+
+    Which link of a description is DH frame 0, or the last DH frame, is a choice.
+    When another link sits where a change of the table's numbers at that end would
+    put the DH frame exactly, choosing the compared link over it is a fit: those
+    numbers are not identifiable unless a frame of the group is vouched for.
+
+    Attributes:
+        link: Its name in the description.
+        anchor_T_link: Where it sits relative to the compared frame's DH frame (or
+            ``world``/``tcp``), 4×4, metres: the compared frame's offset composed
+            with the description's fixed joints between the two links.
+    """
+
+    link: str
+    anchor_T_link: Float
 
 
 @dataclass(frozen=True)
@@ -186,6 +215,8 @@ class Coverage:
         joints_spanned: 1-based joints whose motion moves ``from_T_to``.
         tol_pos_m: Position tolerance the resolutions are measured in, metres.
         tol_rot_rad: Rotation tolerance, radians.
+        vouches: The vouched frames some verified number rests on, with their
+            ``source``: ``(("[frames.base_link]", "UR's ur_macro.xacro …"), …)``.
     """
 
     frame_from: str
@@ -194,6 +225,7 @@ class Coverage:
     joints_spanned: tuple[int, ...]
     tol_pos_m: float
     tol_rot_rad: float
+    vouches: tuple[tuple[str, str], ...] = ()
 
     @property
     def table_numbers(self) -> tuple[NumberEvidence, ...]:
@@ -223,6 +255,19 @@ class Coverage:
         """Compared frames' offsets taken from their ``source``."""
         return tuple(n for n in self.numbers if n.status == "vouched")
 
+    def on_word(self) -> str:
+        """Which verified table numbers rest on a vouch, and whose; ``""`` when none.
+
+        E.g. ``θ1, α6 on the word of [frames.base_link] ("UR's ur_macro.xacro …")``.
+        """
+        resting = [n for n in self.table_numbers if n.status == "verified" and n.on_word_of]
+        if not resting:
+            return ""
+        sources = dict(self.vouches)
+        whose = _unique(f for n in resting for f in n.on_word_of)
+        said = ", ".join(f'{f} ("{_cut(sources.get(f, ""))}")' for f in whose)
+        return f"{_short(resting)} on the word of {said}"
+
     def gaps(self) -> str:
         """What keeps the table from being verified, one clause; ``""`` when nothing does.
 
@@ -235,6 +280,8 @@ class Coverage:
         hidden = self.by_status("not-identifiable")
         clauses: dict[Reason, str] = {
             "offset": "the offset{s} of {by} could absorb {them}",
+            "link": "link{ls} {links} of the description could be the DH frame instead of "
+            "{by}: the choice is a fit; vouch for the frame with source",
             "taken": "over the check's configurations the offset{s} of {by} could take {them}",
             "direction": "the check's configurations cannot tell which way the joint turns",
             "configurations": "the check's configurations cannot tell them apart: compare more",
@@ -245,9 +292,11 @@ class Coverage:
             if not these:
                 continue
             by = _unique(f for n in these for f in n.by)
+            links = _unique(link for n in these for link in n.competing)
             text = clause.format(
                 s="s" if len(by) > 1 else "", by=", ".join(by),
                 them="it" if len(these) == 1 else "them",
+                ls="s" if len(links) > 1 else "", links=", ".join(links),
             )  # fmt: skip
             parts.append(f"{_short(these)} not identifiable ({text})")
         uncovered = self.by_status("not-covered")
@@ -279,7 +328,8 @@ class Coverage:
         if self.spans_no_joint:
             return f"table not verified: {self.gaps()}"
         if self.complete:
-            return "table verified"
+            word = self.on_word()
+            return f"table verified, {word}" if word else "table verified"
         if not self.verifies_any:
             return f"table not verified: {self.gaps()}"
         dof = len(_row_groups(self))
@@ -314,6 +364,15 @@ def _unique(items: Iterable[str]) -> list[str]:
         if item not in out:
             out.append(item)
     return out
+
+
+#: A vouch's source in a headline is cut to this many characters (the JSON and
+#: the numbers' table carry it whole).
+SOURCE_SHOWN = 80
+
+
+def _cut(text: str) -> str:
+    return text if len(text) <= SOURCE_SHOWN else text[: SOURCE_SHOWN - 1] + "…"
 
 
 def _short(numbers: Sequence[NumberEvidence]) -> str:
@@ -379,23 +438,28 @@ class _Pose:
         return frames[:, int(spec.dh)]
 
     def pose(self, number: _Number | None = None, h: float = 0.0) -> Float:
+        return self.changed(() if number is None else ((number, h),))
+
+    def changed(self, changes: Sequence[tuple[_Number, float]]) -> Float:
+        """``from_T_to`` with each ``(number, h)`` of ``changes`` nudged by ``h``."""
         chain, q = self.chain, self.q
         base, tool = chain.world_T_base, chain.flange_T_tool
         offsets = {side: spec.offset.matrix for side, spec in self.spec.items()}
-        kind = number.kind if number is not None else None
-        if number is not None and kind == "row":
-            values = getattr(chain, number.param).copy()
-            values[number.index] += h
-            chain = replace(chain, **{number.param: values})
-        elif number is not None and kind in ("joint", "flip"):
-            q = q.copy()
-            q[:, number.index] += h
-        elif number is not None and kind == "base":
-            base = base @ _twist_matrix(number.index, h)
-        elif number is not None and kind == "tool":
-            tool = tool @ _twist_matrix(number.index, h)
-        elif number is not None and kind in ("from", "to"):
-            offsets[kind] = offsets[kind] @ _twist_matrix(number.index, h)
+        for number, h in changes:
+            kind = number.kind
+            if kind == "row":
+                values = getattr(chain, number.param).copy()
+                values[number.index] += h
+                chain = replace(chain, **{number.param: values})
+            elif kind in ("joint", "flip"):
+                q = q.copy()
+                q[:, number.index] += h
+            elif kind == "base":
+                base = base @ _twist_matrix(number.index, h)
+            elif kind == "tool":
+                tool = tool @ _twist_matrix(number.index, h)
+            else:  # "from", "to"
+                offsets[kind] = offsets[kind] @ _twist_matrix(number.index, h)
         chain = replace(chain, world_T_base=base, flange_T_tool=tool)
         frames = np.asarray(dh.fk(chain, q, all_frames=True))
         ends = {
@@ -571,6 +635,7 @@ def coverage(
     samples: int = SAMPLES,
     seed: int = 0,
     q: Float | None = None,
+    competitors: Mapping[str, Sequence[Competitor]] | None = None,
 ) -> Coverage:
     """Every number of ``model`` against a check of ``frame_from → frame_to``.
 
@@ -589,6 +654,11 @@ def coverage(
         samples: Configurations the sensitivities are taken at (at most).
         seed: Their seed (or of the subset of ``q``).
         q: The check's configurations ``(N, n)``, radians / metres.
+        competitors: By compared frame name, the other links of the description
+            rigidly attached to its link (:class:`Competitor`): where one sits
+            exactly where a change of the table's numbers at that end would put
+            the DH frame, those numbers are not identifiable (reason ``link``),
+            unless a frame of the group is vouched for (then verified on its word).
 
     Raises:
         FrameError: An unknown frame.
@@ -601,7 +671,12 @@ def coverage(
     J, moving, spanned = _sensitivities(model, specs, numbers, generic, tols)
     norms = np.linalg.norm(J, axis=0)
     offsets = _absorption(specs, numbers, J, moving, norms, tols)
-    absorbed = offsets.absorbed
+    word = _vouched_absorption(specs, numbers, J, moving, norms, tols, offsets)
+    links = _link_choice(model, specs, numbers, generic, J, moving, tols, competitors or {})
+    for i, frames in links.on_word.items():
+        word.on_word.setdefault(i, []).extend(f for f in frames if f not in word.on_word[i])
+    word.sources.update(links.sources)
+    absorbed = {**links.absorbed, **offsets.absorbed}
     unit_tol = np.array([tol_pos_m if n.unit == "m" else tol_rot_rad for n in numbers])
     candidates = [
         bool(moving[i] and n.table and n.kind != "flip" and i not in absorbed)
@@ -633,6 +708,7 @@ def coverage(
         moving=moving,
         spanned=spanned,
         offsets=offsets,
+        links=links,
         tied=tied,
         takers=takers,
         alone=alone,
@@ -648,9 +724,18 @@ def coverage(
         )
         for i, n in enumerate(numbers)
     ]
+    out = [
+        replace(e, on_word_of=tuple(word.on_word[i]))
+        if e.status == "verified" and word.on_word.get(i)
+        else e
+        for i, e in enumerate(out)
+    ]
+    resting = _unique(f for e in out if e.status == "verified" for f in e.on_word_of)
+    vouches = tuple((f, word.sources[f]) for f in resting)
     return Coverage(
-        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad
-    )
+        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad,
+        vouches,
+    )  # fmt: skip
 
 
 @dataclass
@@ -679,15 +764,22 @@ def _absorption(
     moving: Float,
     norms: Float,
     tols: tuple[float, float],
+    *,
+    sides: tuple[str, ...] = ("from", "to"),
+    vouches: bool = True,
 ) -> _Absorption:
-    """Which table numbers each compared frame's offset absorbs (see :class:`_Absorption`)."""
+    """Which table numbers each compared frame's offset absorbs (see :class:`_Absorption`).
+
+    A vouched offset absorbs nothing, unless ``vouches`` is false (what it would
+    absorb is what the check takes on its word).
+    """
     tol_pos_m, tol_rot_rad = tols
     to_si = np.array([tol_pos_m] * 3 + [tol_rot_rad] * 3)
     found = _Absorption()
-    for side in ("from", "to"):
+    for side in sides:
         spec = specs[side]
         cols = [i for i, n in enumerate(numbers) if n.kind == side]
-        if not cols or spec.source:
+        if not cols or (spec.source and vouches):
             continue
         found.carriers[side] = cols
         A = J[:, cols]
@@ -707,6 +799,265 @@ def _absorption(
                 if weight[k] > SPAN_RTOL * weight.max():
                     found.carrying.setdefault(c, []).append(n.name)
     return found
+
+
+@dataclass
+class _Word:
+    """Table numbers verified only on the word of a vouched frame.
+
+    Attributes:
+        on_word: Number → the vouched frames (``[frames.NAME]``) it rests on.
+        sources: Vouched frame → its ``source``.
+    """
+
+    on_word: dict[int, list[str]] = field(default_factory=dict)
+    sources: dict[str, str] = field(default_factory=dict)
+
+
+def _vouched_absorption(
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    J: Float,
+    moving: Float,
+    norms: Float,
+    tols: tuple[float, float],
+    honoured: _Absorption,
+) -> _Word:
+    """What a vouched compared frame's offset would absorb were it not vouched for."""
+    word = _Word()
+    for side in ("from", "to"):
+        spec = specs[side]
+        if not spec.source or (side == "to" and specs["from"].name == spec.name):
+            continue
+        group = f"[frames.{spec.name}]"
+        would = _absorption(specs, numbers, J, moving, norms, tols, sides=(side,), vouches=False)
+        for i in would.absorbed:
+            if i not in honoured.absorbed:
+                word.on_word.setdefault(i, []).append(group)
+                word.sources[group] = spec.source
+        for c, names in would.carrying.items():
+            del c  # an offset component trading with table numbers: those numbers rest on it
+            for name in names:
+                i = next(k for k, n in enumerate(numbers) if n.name == name)
+                if i not in honoured.absorbed and group not in word.on_word.get(i, []):
+                    word.on_word.setdefault(i, []).append(group)
+                    word.sources[group] = spec.source
+    return word
+
+
+@dataclass
+class _LinkChoice:
+    """Numbers a choice among the description's links could hide (see :class:`Competitor`).
+
+    Attributes:
+        absorbed: Number → the compared frame (``[frames.NAME]``) and how.
+        competing: Number → the competing links.
+        on_word: Number → the vouched frames that settle the choice.
+        sources: Vouched frame → its ``source``.
+    """
+
+    absorbed: dict[int, tuple[str, str]] = field(default_factory=dict)
+    competing: dict[int, list[str]] = field(default_factory=dict)
+    on_word: dict[int, list[str]] = field(default_factory=dict)
+    sources: dict[str, str] = field(default_factory=dict)
+
+
+#: Gauss–Newton iterations of the search for the numbers that put the DH frame on a
+#: competing link; a turn about an axis the numbers produce converges in one or two.
+PRODUCE_ITERATIONS = 12
+
+
+def _link_choice(
+    model: Model,
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    generic: Float,
+    J: Float,
+    moving: Float,
+    tols: tuple[float, float],
+    competitors: Mapping[str, Sequence[Competitor]],
+) -> _LinkChoice:
+    """Which table numbers could put a competing link exactly on the compared frame's DH frame.
+
+    At each end of the pair, the table numbers acting there (those whose effect a
+    change of that frame's offset reproduces at every configuration: d1 and θ1 at
+    DH frame 0, the last row's and ``[tool]``'s at the TCP) are solved for, so that
+    a competing link would be the DH frame exactly. If they can (within the check's
+    tolerances, at two configurations), the numbers that change are not
+    identifiable — or, when a frame of the group is vouched for with an offset the
+    description bears out, verified on its word.
+    """
+    found = _LinkChoice()
+    if specs["from"].name == specs["to"].name:
+        return found
+    unit_tol = np.array([tols[0] if n.unit == "m" else tols[1] for n in numbers])
+    pose = _Pose(model, generic, specs["from"], specs["to"])
+    F_inv = invert(pose.pose())
+    scale = np.array([1.0 / tols[0]] * 3 + [1.0 / tols[1]] * 3)
+    for side in ("from", "to"):
+        spec = specs[side]
+        comps = competitors.get(spec.name, ())
+        if not comps:
+            continue
+        group = f"[frames.{spec.name}]"
+        end = _end_numbers(pose, F_inv, numbers, J, moving, side, scale)
+        if not end:
+            continue
+        pins = _pins(model, spec, comps, tols)
+        solved: dict[bytes, Float | None] = {}  # links at one place are solved for once
+        for comp in comps:
+            key = np.round(comp.anchor_T_link, 9).tobytes()
+            if key not in solved:
+                solved[key] = _produce(pose, side, [numbers[i] for i in end], comp.anchor_T_link,
+                                       tols)  # fmt: skip
+            delta = solved[key]
+            if delta is None:
+                continue
+            hit = [i for k, i in enumerate(end) if abs(delta[k]) > unit_tol[i]]
+            if not hit:
+                continue
+            change = ", ".join(
+                f"{numbers[i].name} changed by {_amount(float(delta[k]), numbers[i].unit)}"
+                for k, i in enumerate(end)
+                if i in hit
+            )
+            anchor = {"world": "the world", "tcp": "the TCP"}.get(
+                str(spec.dh), f"DH frame {spec.dh}"
+            )
+            for i in hit:
+                if pins:
+                    found.on_word.setdefault(i, [])
+                    for frame, source in pins:
+                        if frame not in found.on_word[i]:
+                            found.on_word[i].append(frame)
+                        found.sources[frame] = source
+                    continue
+                found.absorbed.setdefault(
+                    i,
+                    (
+                        group,
+                        f"link {comp.link} of the description would be {anchor} exactly "
+                        f"with {change}: choosing {spec.urdf or spec.name} over it is a fit",
+                    ),
+                )
+                found.competing.setdefault(i, [])
+                if comp.link not in found.competing[i]:
+                    found.competing[i].append(comp.link)
+    return found
+
+
+def _end_numbers(
+    pose: _Pose,
+    F_inv: Float,
+    numbers: Sequence[_Number],
+    J: Float,
+    moving: Float,
+    side: str,
+    scale: Float,
+) -> list[int]:
+    """Table numbers whose effect a change of ``side``'s offset reproduces at every configuration.
+
+    ``J`` holds the numbers' columns over ``pose``'s configurations (in tolerances).
+    """
+    comps = [_Number("", "", _unit(c), side, c) for c in range(6)]  # type: ignore[arg-type]
+    A = np.stack([_twists(pose, F_inv, c) for c in comps], axis=2)
+    A = (A * scale[None, :, None]).reshape(-1, 6)
+    idx = [i for i, n in enumerate(numbers) if n.table and n.kind != "flip" and moving[i]]
+    if not idx:
+        return []
+    cols = J[:, idx]
+    left = cols - A @ np.linalg.lstsq(A, cols, rcond=None)[0]
+    inside = np.linalg.norm(left, axis=0) <= SPAN_RTOL * np.linalg.norm(cols, axis=0)
+    return [i for i, ok in zip(idx, inside, strict=True) if ok]
+
+
+def _anchor_change(pose: _Pose, side: str, P0: Float, P: Float) -> Float:
+    """How a change of the table moves ``side``'s DH frame (right-multiplied), ``(N, 4, 4)``."""
+    O = pose.spec[side].offset.matrix
+    if side == "from":  # P = O⁻¹·E⁻¹·O·P0
+        return invert(O @ P @ invert(P0) @ invert(O))
+    return O @ invert(P0) @ P @ invert(O)  # P = P0·O⁻¹·E·O
+
+
+def _produce(
+    pose: _Pose,
+    side: str,
+    end: Sequence[_Number],
+    target: Float,
+    tols: tuple[float, float],
+) -> Float | None:
+    """The change of the ``end`` numbers that moves ``side``'s DH frame onto ``target``.
+
+    Gauss–Newton on the group over two configurations: each step linearises the
+    frame's motion about where it is (smooth even half a turn away, where the
+    rotation vector of the rest flips sign). ``None`` when no change reaches
+    ``target`` within the check's tolerances.
+    """
+    from scipy.spatial.transform import Rotation
+
+    two = _Pose.__new__(_Pose)
+    two.chain, two.q, two.spec = pose.chain, pose.q[:2], pose.spec
+    P0 = two.pose()
+    scale = np.array([1.0 / tols[0]] * 3 + [1.0 / tols[1]] * 3)
+
+    def frame(delta: Float) -> Float:
+        P = two.changed(list(zip(end, (float(d) for d in delta), strict=True)))
+        return _anchor_change(two, side, P0, P)
+
+    def log(X: Float) -> Float:
+        rot = Rotation.from_matrix(X[:, :3, :3]).as_rotvec()
+        out: Float = (np.concatenate([X[:, :3, 3], rot], axis=1) * scale).reshape(-1)
+        return out
+
+    delta = np.zeros(len(end))
+    here = frame(delta)
+    rest = log(invert(here) @ target)
+    for _ in range(PRODUCE_ITERATIONS):
+        if np.abs(rest).max() <= 1e-3:
+            break
+        inv_here = invert(here)
+        Jl = np.stack([log(inv_here @ frame(delta + STEP * e)) / STEP for e in np.eye(len(end))], 1)
+        step = delta + np.linalg.lstsq(Jl, rest, rcond=None)[0]
+        there = frame(step)
+        rest_there = log(invert(there) @ target)
+        if not np.linalg.norm(rest_there) < 0.5 * np.linalg.norm(rest):  # no way there: stop
+            break
+        delta, here, rest = step, there, rest_there
+    if not np.all(np.isfinite(rest)) or np.abs(rest).max() > 1.0:
+        return None
+    return delta
+
+
+def _pins(
+    model: Model, spec: FrameSpec, comps: Sequence[Competitor], tols: tuple[float, float]
+) -> list[tuple[str, str]]:
+    """The vouched frames that settle which link is the DH frame: ``[(group, source)]``.
+
+    The compared frame itself when vouched for; else any frame of the model at the
+    same DH frame, on a competing link, vouched for with an offset the description
+    bears out (its offset is where the compared frame and the description put it).
+    """
+    if spec.source:
+        return [(f"[frames.{spec.name}]", spec.source)]
+    where = {c.link: c.anchor_T_link for c in comps}
+    out = []
+    for other in model.frames.values():
+        if not other.source or other.dh != spec.dh or other.urdf not in where:
+            continue
+        declared, described = other.offset.matrix, where[other.urdf]
+        if (
+            float(position_error_m(declared, described)) <= tols[0]
+            and float(rotation_error_rad(declared, described)) <= tols[1]
+        ):
+            out.append((f"[frames.{other.name}]", other.source))
+    return out
+
+
+def _amount(value: float, unit: Unit) -> str:
+    """``-180°`` or ``+10 mm``: a change as a person reads it."""
+    if unit == "rad":
+        return f"{math.degrees(value):+.6g}°"
+    return f"{value * 1000.0:+.6g} mm"
 
 
 def _take(
@@ -745,6 +1096,7 @@ class _Findings:
         moving: Per number, whether the compared pose depends on it.
         spanned: The joints (1-based) that move the compared pose.
         offsets: What the compared frames' offsets absorb.
+        links: What a choice among the description's links could hide.
         tied: Number → the numbers the check's configurations cannot tell it from.
         takers: Number → the offsets that could take it over the check's configurations.
         alone: Per number, its worst effect with the carried directions only removed.
@@ -759,6 +1111,7 @@ class _Findings:
     moving: Float
     spanned: tuple[int, ...]
     offsets: _Absorption
+    links: _LinkChoice
     tied: dict[int, tuple[int, ...]]
     takers: dict[int, list[str]]
     alone: Float
@@ -784,6 +1137,12 @@ def _number_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
             why=f"{absorbed[i][0]}: {absorbed[i][1]}",
             reason="offset",
             by=(absorbed[i][0],),
+        )
+    if i in f.links.absorbed:
+        frame, why = f.links.absorbed[i]
+        return replace(
+            _evidence(n, "not-identifiable", why=f"{frame}: {why}", reason="link", by=(frame,)),
+            competing=tuple(f.links.competing.get(i, ())),
         )
     if i in carrying:
         return _evidence(

@@ -25,6 +25,8 @@ import numpy as np
 from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError, UrdfError, XacroRefused
+from fkcheck.model.coverage import Competitor
+from fkcheck.model.types import Model, resolve_frame
 from fkcheck.urdf.tree import UrdfInfo, chain_between
 
 __all__ = [
@@ -32,6 +34,7 @@ __all__ = [
     "JointGeometry",
     "UrdfKinematics",
     "axis_rotation",
+    "competing_links",
     "read_urdf_file",
     "read_urdf_source",
     "urdf_kinematics",
@@ -160,6 +163,33 @@ class UrdfKinematics:
             for j in climb
         ]
         return inverted + up_tip[shared:]
+
+    def rigid(self, link: str) -> dict[str, Float]:
+        """The links attached to ``link`` by fixed joints alone, and where they sit.
+
+        A breadth-first walk over fixed joints, up and down the tree. Such links
+        keep their pose relative to ``link`` whatever the joints do.
+
+        Returns:
+            Link name → ``link_T_other`` (4×4, metres), ``link`` itself excluded.
+        """
+        if link not in self.links:
+            return {}
+        around: dict[str, list[tuple[str, Float]]] = {}
+        for j in self.joints.values():
+            if j.type == "fixed":
+                around.setdefault(j.parent, []).append((j.child, j.origin))
+                around.setdefault(j.child, []).append((j.parent, invert(j.origin)))
+        found: dict[str, Float] = {link: np.eye(4)}
+        todo = [link]
+        while todo:
+            here = todo.pop()
+            for other, here_T_other in around.get(here, ()):
+                if other not in found:
+                    found[other] = found[here] @ here_T_other
+                    todo.append(other)
+        del found[link]
+        return found
 
     def _path_from_root(self, link: str) -> list[JointGeometry]:
         """The joints from the root link down to ``link``.
@@ -355,3 +385,25 @@ def read_urdf_file(
     """
     info = read_urdf_source(spec, xacro_args=xacro_args, packages=packages)
     return info.path, info.text, urdf_kinematics(info)
+
+
+def competing_links(
+    model: Model, pair: Sequence[str], kin: UrdfKinematics
+) -> dict[str, list[Competitor]]:
+    """For each compared frame with a URDF twin, the other links fixed to its link.
+
+    Each is placed relative to the frame's DH frame: the frame's offset composed
+    with the URDF's fixed joints (:meth:`UrdfKinematics.rigid`). Which of them is
+    the DH frame is a choice (:class:`~fkcheck.model.coverage.Competitor`).
+    """
+    out: dict[str, list[Competitor]] = {}
+    for name in dict.fromkeys(pair):
+        spec = resolve_frame(model, name)
+        if spec.urdf is None:
+            continue
+        anchor_T_frame = spec.offset.matrix
+        out[spec.name] = [
+            Competitor(link, anchor_T_frame @ frame_T_link)
+            for link, frame_T_link in kin.rigid(spec.urdf).items()
+        ]
+    return out

@@ -47,7 +47,7 @@ from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError, FrameError, UrdfError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.format import format_deg, format_mm
-from fkcheck.model.coverage import Coverage, coverage
+from fkcheck.model.coverage import Competitor, Coverage, coverage
 from fkcheck.model.sampling import sample_configurations, sampling_box
 from fkcheck.model.types import (
     URDF_FRAME_PREFIX,
@@ -797,8 +797,9 @@ def _check_pair(
     tol = (model.check.tol_pos_m, model.check.tol_rot_rad)
     absorbs: dict[str, tuple[str, ...]] = {}
     score: dict[str, tuple[int, int, int]] = {}
+    rivals = _rivals(model, linked)
     for spec in linked:
-        judged = _hidden_at_end(mapped, spec, tol)
+        judged = _hidden_at_end(mapped, spec, tol, rivals)
         if judged is None:
             continue
         hidden, outer = judged
@@ -812,25 +813,55 @@ def _check_pair(
     if not (chain_ok and base and tip):
         return None, None, absorbs
     pair = (base[0].name, tip[0].name)
-    return pair, coverage(mapped, pair[0], pair[1], *tol), absorbs
+    return pair, coverage(mapped, pair[0], pair[1], *tol, competitors=rivals), absorbs
+
+
+def _rivals(model: Model, linked: Sequence[FrameSpec]) -> dict[str, list[Competitor]]:
+    """For each linked frame, the other linked frames at its end: which is the DH frame is a choice.
+
+    Frames at DH frame 0 and at the world are at one place when the model has no
+    ``[base]``; at the last DH frame and the TCP when it has no ``[tool]``.
+    """
+    n = model.dof
+    same: dict[Anchor, Anchor] = {}
+    if model.base.is_identity:
+        same["world"] = 0
+    if model.tool.is_identity:
+        same["tcp"] = n
+
+    def place(spec: FrameSpec) -> Anchor:
+        return same.get(spec.dh, spec.dh)  # type: ignore[arg-type]
+
+    return {
+        spec.name: [
+            Competitor(str(other.urdf), other.offset.matrix)
+            for other in linked
+            if other is not spec and place(other) == place(spec)
+        ]
+        for spec in linked
+    }
 
 
 def _hidden_at_end(
-    mapped: Model, spec: FrameSpec, tol: tuple[float, float]
+    mapped: Model,
+    spec: FrameSpec,
+    tol: tuple[float, float],
+    rivals: Mapping[str, Sequence[Competitor]],
 ) -> tuple[tuple[str, ...], int] | None:
     """What a frame at one end of the chain hides, judged against the other end.
 
     Returns:
-        The table numbers its offset carries (``"d1: translation along z of …"``)
-        and ``0`` for the outermost end (``world``, ``tcp``), ``1`` for a DH frame;
-        ``None`` for a frame at neither end.
+        The table numbers its offset carries, or that another link at its end
+        could take (``"d1: translation along z of …"``), and ``0`` for the
+        outermost end (``world``, ``tcp``), ``1`` for a DH frame; ``None`` for a
+        frame at neither end.
     """
     n = mapped.dof
     if spec.dh in (0, "world"):
-        c = coverage(mapped, spec.name, "tcp", *tol)
+        c = coverage(mapped, spec.name, "tcp", *tol, competitors=rivals)
         outer = 0 if spec.dh == "world" else 1
     elif spec.dh in (n, "tcp"):
-        c = coverage(mapped, "world", spec.name, *tol)
+        c = coverage(mapped, "world", spec.name, *tol, competitors=rivals)
         outer = 0 if spec.dh == "tcp" else 1
     else:
         return None
@@ -838,7 +869,7 @@ def _hidden_at_end(
     hidden = tuple(
         f"{e.name}: {e.absorbed_by.removeprefix(mine + ': ')}"
         for e in c.table_numbers
-        if e.status == "not-identifiable" and e.reason == "offset" and mine in e.by
+        if e.status == "not-identifiable" and e.reason in ("offset", "link") and mine in e.by
     )
     return hidden, outer
 
@@ -1067,15 +1098,33 @@ def _absorb_warning(p: ProposedFrame, hidden: Sequence[str]) -> list[str]:
         if p.spec.dh == "tcp"
         else (f"DH frame {p.spec.dh}")
     )
-    names = ", ".join(h.split(":", 1)[0] for h in hidden)
+    chosen = [h for h in hidden if _CHOSEN in h]
+    carried = [h for h in hidden if _CHOSEN not in h]
+    out = []
+    if carried:
+        names = ", ".join(h.split(":", 1)[0] for h in carried)
+        out += [
+            f"NOT IDENTIFIABLE: this offset from {anchor} carries what {names} of the table "
+            f"{'produces' if len(carried) == 1 else 'produce'}:",
+            *(f"  {h}" for h in carried),
+        ]
+    if chosen:
+        names = ", ".join(h.split(":", 1)[0] for h in chosen)
+        out += [
+            f"NOT IDENTIFIABLE: another link fixed beside this one could be {anchor} instead, "
+            f"with {names} of the table changed:",
+            *(f"  {h}" for h in chosen),
+        ]
     return [
-        f"NOT IDENTIFIABLE: this offset from {anchor} carries what {names} of the table "
-        f"{'produces' if len(hidden) == 1 else 'produce'}:",
-        *(f"  {h}" for h in hidden),
+        *out,
         "either the URDF defines the link so, or the table is off by it: fkcheck cannot tell "
         "(a check through this frame does not verify those numbers). If the vendor defines "
         'the link so, vouch for it: source = "<where the vendor says so>".',
     ]
+
+
+#: What a number a choice among links could hide says (:func:`fkcheck.model.coverage`).
+_CHOSEN = "of the description would be"
 
 
 def _check_block(result: MapResult) -> list[str]:
