@@ -243,15 +243,89 @@ def test_map_never_hides_a_first_or_last_row_error_in_an_offset(
     assert "table verified independently" not in verdict
 
 
-def test_map_on_the_right_table_proposes_a_check_that_verifies_every_number(capsys, tmp_path):
+def test_map_on_the_right_table_names_the_links_that_compete_and_a_vouch_settles_them(
+    capsys, tmp_path
+):
+    # ROS 1's UR5 description has base_link and base half a turn apart: the right
+    # table maps onto base, a table with θ1 off by 180° onto base_link. At the tip,
+    # wrist_3_link sits where α6 + 90° and d6 − 82.3 mm would put DH frame 6. Which
+    # link is the DH frame is the vendor's word, not something the poses can tell.
     model = _ur5_table_only(tmp_path)
     assert main(["map", str(model), UR5_URDF]) == 0
     out, err = capsys.readouterr()
     assert tomllib.loads(out)["check"] == {"from": "base", "to": "tool0"}
-    assert "can verify every number of the table" in err
-    model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
+    assert "can verify every number of the table except θ1, α6, d6 not identifiable (link" in err
+    assert "base_link" in err and "wrist_3_link" in err
+    table = model.read_text(encoding="utf-8")
+    model.write_text(table + "\n" + out, encoding="utf-8")
     assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf"]) == 0
-    assert "table verified independently" in capsys.readouterr().out
+    printed = " ".join(capsys.readouterr().out.split())
+    assert "table verified except θ1, α6, d6 not identifiable (link" in printed
+    assert "table verified independently" not in printed
+    # The vendor's word, as a source on the compared frames: verified, and said so.
+    vouched = out.replace('[frames.base]\ndh = 0\nurdf = "base"',
+                          '[frames.base]\ndh = 0\nurdf = "base"\nsource = "UR: base is DH 0"')
+    vouched = vouched.replace('[frames.tool0]\ndh = 6\nurdf = "tool0"',
+                              '[frames.tool0]\ndh = 6\nurdf = "tool0"\nsource = "UR: tool0"')
+    assert vouched.count("\nsource = ") == 2
+    model.write_text(table + "\n" + vouched, encoding="utf-8")
+    assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf",
+                 "--require", "table"]) == 0  # fmt: skip
+    printed = " ".join(capsys.readouterr().out.split())
+    assert (
+        'verdict: pass — table verified independently, θ1, α6, d6 on the word of '
+        '[frames.base] ("UR: base is DH 0"), [frames.tool0] ("UR: tool0"); no second '
+        "implementation ran"
+    ) in printed
+
+
+UR_ROS2 = [
+    "fkcheck:ur_description/urdf/ur.urdf.xacro", "--allow-xacro", "--arg", "ur_type=ur5e",
+    "--arg", "name=ur5e", "--package", "ur_description=fkcheck:ur_description",
+]  # fmt: skip
+
+
+def _ur5e_table_only(tmp_path, old, new):
+    text = (REPO_ROOT / "models" / "ur5e.toml").read_text(encoding="utf-8").split("[poses]")[0]
+    assert old in text
+    path = tmp_path / "arm.toml"
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "number", "pair", "rival"),
+    [
+        # θ1 = 180°: map moved the pair to base_link, and the check said "table verified".
+        ("d = 0.1625\ntheta = 0", "d = 0.1625\ntheta = 180", "θ1", ("base_link", "tool0"),
+         "base"),
+        # α6 = 180°: map moved it to ft_frame.
+        ("alpha = 0\nd = 0.0996", "alpha = 180\nd = 0.0996", "α6", ("base", "ft_frame"),
+         "tool0"),
+    ],
+)  # fmt: skip
+def test_map_then_check_never_verifies_a_half_turn_hidden_in_the_choice_of_link(
+    capsys, tmp_path, old, new, number, pair, rival
+):
+    model = _ur5e_table_only(tmp_path, old, new)
+    assert main(["map", str(model), *UR_ROS2]) == 0
+    out, err = capsys.readouterr()
+    assert tomllib.loads(out)["check"] == dict(zip(("from", "to"), pair, strict=True))
+    # map says so, and names the rivals
+    hidden, rivals = err.split("except ", 1)[1].split(" not identifiable (link", 1)
+    assert number in hidden.split(", ")
+    assert rival in rivals.split(" of the description")[0]
+    model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
+    code = main(["check", str(model), *FAST, "--against", "pinocchio-urdf", "--require", "table",
+                 "--json", str(tmp_path / "r.json")])  # fmt: skip
+    printed = " ".join(capsys.readouterr().out.split())
+    assert code == 1
+    assert "verdict: unverified" in printed
+    assert number in printed.split("table PARTLY verified", 1)[1].split(" not identifiable (link")[0]
+    result = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
+    evidence = next(n for n in result["numbers"]["numbers"] if n["name"] == number)
+    assert evidence["pair_can"] == "not-identifiable"
+    assert rival in evidence["competing"]
 
 
 def _printed_check(summary: str) -> list[str]:

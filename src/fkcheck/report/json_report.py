@@ -106,6 +106,8 @@ def _numbers(check: CheckResult, record: CheckRecord) -> dict[str, Any] | None:
             "absorbed_by": n.absorbed_by,
             "trades_with": list(n.trades_with),
             "source": n.source,
+            "competing": list(n.competing),
+            "on_word_of": list(n.on_word_of),
         }
         for n in numbers.numbers
     ]
@@ -120,6 +122,7 @@ def _numbers(check: CheckResult, record: CheckRecord) -> dict[str, Any] | None:
         "summary": numbers.summary(),
         "line": record.numbers_line,
         "counts": counts,
+        "vouches": [{"frame": frame, "source": source} for frame, source in numbers.vouches],
         "numbers": rows,
     }
 

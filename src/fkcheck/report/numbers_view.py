@@ -38,6 +38,8 @@ def _note(n: NumberEvidence, status: str) -> str:
         parts.append("only its combination with " + ", ".join(n.trades_with) + " is checked")
     if n.source:
         parts.append(f"source: {n.source}")
+    if n.on_word_of and status == "verified":
+        parts.append("verified on the word of " + ", ".join(n.on_word_of))
     if n.status == "not-covered":
         parts.append("the compared pose does not depend on it")
     return "; ".join(parts)
