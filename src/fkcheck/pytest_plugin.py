@@ -66,6 +66,7 @@ __all__ = ["FkcheckCollectionWarning", "FkcheckFailure", "ModelFile", "ModelItem
 
 _PROJECT_KEY = pytest.StashKey["tuple[ProjectConfig, frozenset[Path]] | None"]()
 _COLLECTED_KEY = pytest.StashKey["set[Path]"]()
+_VOUCHED_KEY = pytest.StashKey["dict[Path, str]"]()
 
 
 class FkcheckFailure(Exception):
@@ -88,6 +89,26 @@ def pytest_configure(config: pytest.Config) -> None:
         raise pytest.UsageError(f"fkcheck: {exc}") from None
     config.stash[_PROJECT_KEY] = (project, paths) if project is not None and paths else None
     config.stash[_COLLECTED_KEY] = set()
+    config.stash[_VOUCHED_KEY] = {}
+
+
+def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:
+    """Name the models whose table was verified partly on the word of a vouched frame.
+
+    A vouch (``[frames.NAME] source = "…"``) is the model author's claim, not
+    something the check compared: a passing test that rests on one says so here
+    (and in the ``fkcheck_on_word_of`` property of its ``require:table`` test).
+    """
+    from fkcheck.io.text import terminal_text
+
+    vouched = config.stash.get(_VOUCHED_KEY, {})
+    if not vouched:
+        return
+    terminalreporter.section("fkcheck: verified on a vouch's word")
+    root = config.rootpath.resolve()
+    for path, said in sorted(vouched.items()):
+        shown = path.relative_to(root) if path.is_relative_to(root) else path
+        terminalreporter.write_line(terminal_text(f"{shown}: {said}"))
 
 
 def pytest_report_header(config: pytest.Config) -> str | None:
@@ -216,6 +237,10 @@ class ModelFile(pytest.File):
         """
         if self._error is None and self._outcome is None:
             self._outcome = self._run()
+            numbers = None if self._outcome is None else self._outcome.check.numbers
+            word = "" if numbers is None else numbers.on_word()
+            if word:
+                self.config.stash[_VOUCHED_KEY][self.path.resolve()] = word
         if self._outcome is None:
             raise FkcheckFailure(str(self._error))  # it names the file
         return self._outcome
@@ -303,6 +328,9 @@ class ModelItem(pytest.Item):
                     f"required evidence {kind.kind!r} not verified ({kind.status}): {sentence}\n"
                     + check_message(outcome, details=False)
                 )
+            word = c.numbers.on_word() if c.numbers is not None and kind.kind == "table" else ""
+            if word:  # verified, partly on a vouch's word: the run's summary names it too
+                self.user_properties.append(("fkcheck_on_word_of", word))
             return
         result = next(b for b in c.backends if b.name == self.target)
         if result.status == "skipped" and not c.ran:  # a skip must not hide that nothing ran
