@@ -233,7 +233,11 @@ def test_the_headline_claims_no_implementation_check_that_did_not_run(capsys, tm
     code, doc, out, _ = run(capsys, tmp_path, "ur5", "--against", "pinocchio-urdf")
     assert code == 0, out
     assert doc["evidence"]["implementation"]["status"] == "not-checked"
-    assert doc["headline"] == "pass — table verified independently; no second implementation ran"
+    assert doc["headline"] == (
+        "pass — table verified independently, θ1, α6 on the word of [frames.base_link], "
+        '[frames.flange] ("Universal_Robots_ROS2_Description 2.4.5, ur_macro.xacro: jo…"); '
+        "no second implementation ran"
+    )
     assert "pinocchio-urdf agrees (evidence independent of the table)" in " ".join(out.split())
 
 

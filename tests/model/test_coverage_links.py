@@ -170,4 +170,4 @@ def test_a_long_source_is_cut_in_the_summary_and_kept_whole_in_the_record():
     )
     c = coverage(model, "base", "tool0", *TOL)
     assert c.vouches == (("[frames.base]", source),)
-    assert source not in c.summary() and "x" * 79 + "…" in c.summary()
+    assert source not in c.summary() and "x" * 59 + "…" in c.summary()

@@ -57,6 +57,7 @@ looks like.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -265,7 +266,10 @@ class Coverage:
             return ""
         sources = dict(self.vouches)
         whose = _unique(f for n in resting for f in n.on_word_of)
-        said = ", ".join(f'{f} ("{_cut(sources.get(f, ""))}")' for f in whose)
+        by_source: dict[str, list[str]] = {}  # frames whose shown sources read the same, once
+        for frame in whose:
+            by_source.setdefault(_cut(sources.get(frame, "")), []).append(frame)
+        said = ", ".join(f'{", ".join(frames)} ("{cut}")' for cut, frames in by_source.items())
         return f"{_short(resting)} on the word of {said}"
 
     def gaps(self) -> str:
@@ -368,7 +372,7 @@ def _unique(items: Iterable[str]) -> list[str]:
 
 #: A vouch's source in a headline is cut to this many characters (the JSON and
 #: the numbers' table carry it whole).
-SOURCE_SHOWN = 80
+SOURCE_SHOWN = 60
 
 
 def _cut(text: str) -> str:
@@ -672,7 +676,9 @@ def coverage(
     norms = np.linalg.norm(J, axis=0)
     offsets = _absorption(specs, numbers, J, moving, norms, tols)
     word = _vouched_absorption(specs, numbers, J, moving, norms, tols, offsets)
-    links = _link_choice(model, specs, numbers, generic, J, moving, tols, competitors or {})
+    links = _link_choice(
+        model, specs, numbers, (generic, J, moving), tols, competitors or {}, set(offsets.absorbed)
+    )
     for i, frames in links.on_word.items():
         word.on_word.setdefault(i, []).extend(f for f in frames if f not in word.on_word[i])
     word.sources.update(links.sources)
@@ -871,11 +877,10 @@ def _link_choice(
     model: Model,
     specs: dict[str, FrameSpec],
     numbers: Sequence[_Number],
-    generic: Float,
-    J: Float,
-    moving: Float,
+    analysed: tuple[Float, Float, Float],
     tols: tuple[float, float],
     competitors: Mapping[str, Sequence[Competitor]],
+    carried: set[int],
 ) -> _LinkChoice:
     """Which table numbers could put a competing link exactly on the compared frame's DH frame.
 
@@ -886,7 +891,12 @@ def _link_choice(
     tolerances, at two configurations), the numbers that change are not
     identifiable — or, when a frame of the group is vouched for with an offset the
     description bears out, verified on its word.
+
+    ``analysed`` is the generic configurations, the numbers' columns over them and
+    which numbers move the pose; ``carried`` the numbers the compared frames'
+    offsets already make not identifiable.
     """
+    generic, J, moving = analysed
     found = _LinkChoice()
     if specs["from"].name == specs["to"].name:
         return found
@@ -903,47 +913,85 @@ def _link_choice(
         end = _end_numbers(pose, F_inv, numbers, J, moving, side, scale)
         if not end:
             continue
-        pins = _pins(model, spec, comps, tols)
-        solved: dict[bytes, Float | None] = {}  # links at one place are solved for once
+        solved: dict[bytes, list[dict[int, float]]] = {}  # a place is solved for once
+        anchor = {"world": "the world", "tcp": "the TCP"}.get(str(spec.dh), f"DH frame {spec.dh}")
         for comp in comps:
             key = np.round(comp.anchor_T_link, 9).tobytes()
             if key not in solved:
-                solved[key] = _produce(pose, side, [numbers[i] for i in end], comp.anchor_T_link,
-                                       tols)  # fmt: skip
-            delta = solved[key]
+                solved[key] = _fewest(pose, side, numbers, end, comp.anchor_T_link, tols, unit_tol)
+            for changes in solved[key]:
+                change = ", ".join(
+                    f"{numbers[i].name} changed by {_amount(d, numbers[i].unit)}"
+                    for i, d in changes.items()
+                )
+                unsettled = set(changes) - carried  # what the choice alone could hide
+                pins = _pins(model, spec, comps, tols, (pose, side, numbers, end), unsettled)
+                for i in changes:
+                    if pins:
+                        for frame, source in pins:
+                            if frame not in found.on_word.setdefault(i, []):
+                                found.on_word[i].append(frame)
+                            found.sources[frame] = source
+                        continue
+                    found.absorbed.setdefault(
+                        i,
+                        (
+                            group,
+                            f"link {comp.link} of the description would be {anchor} exactly "
+                            f"with {change}: choosing {spec.urdf or spec.name} over it is a fit",
+                        ),
+                    )
+                    if comp.link not in found.competing.setdefault(i, []):
+                        found.competing[i].append(comp.link)
+    return found
+
+
+#: At most this many of an end's numbers (a ``[base]`` or ``[tool]`` counts as one) are
+#: tried together for the fewest that put the DH frame on a competing link; beyond,
+#: all of them at once (a least-norm change).
+FEWEST = 3
+
+
+def _fewest(
+    pose: _Pose,
+    side: str,
+    numbers: Sequence[_Number],
+    end: Sequence[int],
+    target: Float,
+    tols: tuple[float, float],
+    unit_tol: Float,
+) -> list[dict[int, float]]:
+    """The smallest sets of ``end`` numbers whose change puts the DH frame on ``target``.
+
+    Each solution maps a number to its change (only those beyond one tolerance).
+    With several numbers able to do it, a least-norm change would spread over all
+    of them; the fewest that do it alone are what could hide behind the choice.
+    Empty when not even all of them together reach ``target``.
+    """
+    if _produce(pose, side, [numbers[i] for i in end], target, tols) is None:
+        return []
+    groups: dict[str, list[int]] = {}
+    for i in end:
+        key = numbers[i].group if numbers[i].kind in ("base", "tool") else numbers[i].name
+        groups.setdefault(key, []).append(i)
+    units = list(groups.values())
+    for size in range(1, min(FEWEST, len(units)) + 1):
+        found = []
+        for combo in itertools.combinations(units, size):
+            chosen = [i for unit in combo for i in unit]
+            delta = _produce(pose, side, [numbers[i] for i in chosen], target, tols)
             if delta is None:
                 continue
-            hit = [i for k, i in enumerate(end) if abs(delta[k]) > unit_tol[i]]
-            if not hit:
-                continue
-            change = ", ".join(
-                f"{numbers[i].name} changed by {_amount(float(delta[k]), numbers[i].unit)}"
-                for k, i in enumerate(end)
-                if i in hit
-            )
-            anchor = {"world": "the world", "tcp": "the TCP"}.get(
-                str(spec.dh), f"DH frame {spec.dh}"
-            )
-            for i in hit:
-                if pins:
-                    found.on_word.setdefault(i, [])
-                    for frame, source in pins:
-                        if frame not in found.on_word[i]:
-                            found.on_word[i].append(frame)
-                        found.sources[frame] = source
-                    continue
-                found.absorbed.setdefault(
-                    i,
-                    (
-                        group,
-                        f"link {comp.link} of the description would be {anchor} exactly "
-                        f"with {change}: choosing {spec.urdf or spec.name} over it is a fit",
-                    ),
-                )
-                found.competing.setdefault(i, [])
-                if comp.link not in found.competing[i]:
-                    found.competing[i].append(comp.link)
-    return found
+            changes = {i: float(d) for i, d in zip(chosen, delta, strict=True)
+                       if abs(d) > unit_tol[i]}  # fmt: skip
+            if changes:
+                found.append(changes)
+        if found:
+            return found
+    delta = _produce(pose, side, [numbers[i] for i in end], target, tols)
+    assert delta is not None  # reached above
+    changes = {i: float(d) for i, d in zip(end, delta, strict=True) if abs(d) > unit_tol[i]}
+    return [changes] if changes else []
 
 
 def _end_numbers(
@@ -1029,26 +1077,39 @@ def _produce(
 
 
 def _pins(
-    model: Model, spec: FrameSpec, comps: Sequence[Competitor], tols: tuple[float, float]
+    model: Model,
+    spec: FrameSpec,
+    comps: Sequence[Competitor],
+    tols: tuple[float, float],
+    where: tuple[_Pose, str, Sequence[_Number], Sequence[int]],
+    hidden: set[int],
 ) -> list[tuple[str, str]]:
     """The vouched frames that settle which link is the DH frame: ``[(group, source)]``.
 
     The compared frame itself when vouched for; else any frame of the model at the
     same DH frame, on a competing link, vouched for with an offset the description
-    bears out (its offset is where the compared frame and the description put it).
+    bears out — where the compared frame's offset and the description put it, up to
+    what numbers other than the ``hidden`` ones produce (a d1 fitted into the
+    compared frame's offset, already not identifiable through it, leaves a vouch
+    for a half turn standing; a vouch off by the half turn itself settles nothing).
     """
     if spec.source:
         return [(f"[frames.{spec.name}]", spec.source)]
-    where = {c.link: c.anchor_T_link for c in comps}
+    pose, side, numbers, end = where
+    placed = {c.link: c.anchor_T_link for c in comps}
+    others = [numbers[i] for i in end if i not in hidden]
     out = []
     for other in model.frames.values():
-        if not other.source or other.dh != spec.dh or other.urdf not in where:
+        if not other.source or other.dh != spec.dh or other.urdf not in placed:
             continue
-        declared, described = other.offset.matrix, where[other.urdf]
-        if (
+        declared, described = other.offset.matrix, placed[other.urdf]
+        agrees = (
             float(position_error_m(declared, described)) <= tols[0]
             and float(rotation_error_rad(declared, described)) <= tols[1]
-        ):
+        )
+        if not agrees and others:  # off only by what other numbers produce?
+            agrees = _produce(pose, side, others, described @ invert(declared), tols) is not None
+        if agrees:
             out.append((f"[frames.{other.name}]", other.source))
     return out
 
