@@ -255,7 +255,8 @@ def test_map_on_the_right_table_names_the_links_that_compete_and_a_vouch_settles
     out, err = capsys.readouterr()
     assert tomllib.loads(out)["check"] == {"from": "base", "to": "tool0"}
     assert "can verify every number of the table except θ1, α6, d6 not identifiable (link" in err
-    assert "base_link" in err and "wrist_3_link" in err
+    assert "base_link" in err
+    assert "wrist_3_link" in err
     table = model.read_text(encoding="utf-8")
     model.write_text(table + "\n" + out, encoding="utf-8")
     assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf"]) == 0
@@ -263,17 +264,21 @@ def test_map_on_the_right_table_names_the_links_that_compete_and_a_vouch_settles
     assert "table verified except θ1, α6, d6 not identifiable (link" in printed
     assert "table verified independently" not in printed
     # The vendor's word, as a source on the compared frames: verified, and said so.
-    vouched = out.replace('[frames.base]\ndh = 0\nurdf = "base"',
-                          '[frames.base]\ndh = 0\nurdf = "base"\nsource = "UR: base is DH 0"')
-    vouched = vouched.replace('[frames.tool0]\ndh = 6\nurdf = "tool0"',
-                              '[frames.tool0]\ndh = 6\nurdf = "tool0"\nsource = "UR: tool0"')
+    vouched = out.replace(
+        '[frames.base]\ndh = 0\nurdf = "base"',
+        '[frames.base]\ndh = 0\nurdf = "base"\nsource = "UR: base is DH 0"',
+    )
+    vouched = vouched.replace(
+        '[frames.tool0]\ndh = 6\nurdf = "tool0"',
+        '[frames.tool0]\ndh = 6\nurdf = "tool0"\nsource = "UR: tool0"',
+    )
     assert vouched.count("\nsource = ") == 2
     model.write_text(table + "\n" + vouched, encoding="utf-8")
     assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf",
                  "--require", "table"]) == 0  # fmt: skip
     printed = " ".join(capsys.readouterr().out.split())
     assert (
-        'verdict: pass — table verified independently, θ1, α6, d6 on the word of '
+        "verdict: pass — table verified independently, θ1, α6, d6 on the word of "
         '[frames.base] ("UR: base is DH 0"), [frames.tool0] ("UR: tool0"); no second '
         "implementation ran"
     ) in printed
@@ -321,7 +326,8 @@ def test_map_then_check_never_verifies_a_half_turn_hidden_in_the_choice_of_link(
     printed = " ".join(capsys.readouterr().out.split())
     assert code == 1
     assert "verdict: unverified" in printed
-    assert number in printed.split("table PARTLY verified", 1)[1].split(" not identifiable (link")[0]
+    partly = printed.split("table PARTLY verified", 1)[1]
+    assert number in partly.split(" not identifiable (link")[0]
     result = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
     evidence = next(n for n in result["numbers"]["numbers"] if n["name"] == number)
     assert evidence["pair_can"] == "not-identifiable"

@@ -59,7 +59,8 @@ def test_a_half_turn_in_theta1_hides_behind_the_choice_of_base_link():
     assert theta1.status == "not-identifiable"
     assert theta1.reason == "link"
     assert theta1.competing == ("base",)
-    assert "with θ1 changed by" in theta1.absorbed_by and "180°" in theta1.absorbed_by
+    assert "with θ1 changed by" in theta1.absorbed_by
+    assert "180°" in theta1.absorbed_by
     assert not c.complete
     assert "link base of the description could be the DH frame" in c.summary()
     # Without the competitor (what the check said before), the same pair verified it.
@@ -158,7 +159,7 @@ def test_a_vouched_offset_that_absorbs_d1_is_shown_as_the_word_it_rests_on():
     c = coverage(wrong, "base", "tool0", *TOL)
     assert c.complete  # the vouch is taken …
     assert _status(c, "d1").on_word_of == ("[frames.base]",)  # … and said
-    assert "d1 on the word of [frames.base] (\"anything\")" in c.summary()
+    assert 'd1 on the word of [frames.base] ("anything")' in c.summary()
 
 
 def test_a_long_source_is_cut_in_the_summary_and_kept_whole_in_the_record():
@@ -170,4 +171,5 @@ def test_a_long_source_is_cut_in_the_summary_and_kept_whole_in_the_record():
     )
     c = coverage(model, "base", "tool0", *TOL)
     assert c.vouches == (("[frames.base]", source),)
-    assert source not in c.summary() and "x" * 59 + "…" in c.summary()
+    assert source not in c.summary()
+    assert "x" * 59 + "…" in c.summary()

@@ -339,7 +339,8 @@ def _headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
             said = f", {word};" if word else ","
             if evidence.implementation.status == "verified":
                 return f"pass — table verified independently{said} implementation agrees"
-            return f"pass — table verified independently{said.rstrip(',;')}; no second implementation ran"
+            said = said.rstrip(",;")
+            return f"pass — table verified independently{said}; no second implementation ran"
         if evidence.table.status == "partly-verified" and evidence.numbers is not None:
             tail = (
                 "implementation agrees"

@@ -1021,10 +1021,10 @@ def _end_numbers(
 
 def _anchor_change(pose: _Pose, side: str, P0: Float, P: Float) -> Float:
     """How a change of the table moves ``side``'s DH frame (right-multiplied), ``(N, 4, 4)``."""
-    O = pose.spec[side].offset.matrix
-    if side == "from":  # P = O⁻¹·E⁻¹·O·P0
-        return invert(O @ P @ invert(P0) @ invert(O))
-    return O @ invert(P0) @ P @ invert(O)  # P = P0·O⁻¹·E·O
+    M = pose.spec[side].offset.matrix
+    if side == "from":  # P = M⁻¹·E⁻¹·M·P0
+        return invert(M @ P @ invert(P0) @ invert(M))
+    return M @ invert(P0) @ P @ invert(M)  # P = P0·M⁻¹·E·M
 
 
 def _produce(

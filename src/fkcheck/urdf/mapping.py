@@ -830,7 +830,7 @@ def _rivals(model: Model, linked: Sequence[FrameSpec]) -> dict[str, list[Competi
         same["tcp"] = n
 
     def place(spec: FrameSpec) -> Anchor:
-        return same.get(spec.dh, spec.dh)  # type: ignore[arg-type]
+        return same.get(spec.dh, spec.dh)
 
     return {
         spec.name: [
