@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from fkcheck.core.geometry import matrix_from_xyz_rpy
-from fkcheck.model.coverage import Competitor, coverage
+from fkcheck.model.coverage import MAX_COMPETITORS, Competitor, coverage
 from fkcheck.model.read import load_model
 from fkcheck.model.types import FrameSpec, Model, Offset
 
@@ -173,3 +173,23 @@ def test_a_long_source_is_cut_in_the_summary_and_kept_whole_in_the_record():
     assert c.vouches == (("[frames.base]", source),)
     assert source not in c.summary()
     assert "x" * 59 + "…" in c.summary()
+
+
+def test_more_links_fixed_at_an_end_than_analysed_leave_its_numbers_unidentified(rng):
+    # A hostile description: hundreds of links fixed around the base. Solving each
+    # would cost time out of proportion; the end's numbers are reported unanalysed.
+    model = _with(
+        _table(), FrameSpec("b", 0, Offset(), "b"), FrameSpec("tool0", 6, Offset(), "tool0")
+    )
+    many = [
+        Competitor(f"l{i}", matrix_from_xyz_rpy(rng.uniform(-1, 1, 3), rng.uniform(-3, 3, 3)))
+        for i in range(MAX_COMPETITORS + 1)
+    ]
+    c = coverage(model, "b", "tool0", *TOL, competitors={"b": many})
+    for name in ("d1", "θ1"):
+        assert _status(c, name).reason == "link"
+        assert "more than the 128 fkcheck analyses" in _status(c, name).absorbed_by
+    vouched = _with(model, FrameSpec("b", 0, Offset(), "b", source="vendor: b is DH 0"))
+    c = coverage(vouched, "b", "tool0", *TOL, competitors={"b": many})
+    assert c.complete
+    assert _status(c, "θ1").on_word_of == ("[frames.b]",)

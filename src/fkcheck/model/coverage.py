@@ -77,10 +77,14 @@ __all__ = [
     "BLAME_MARGIN",
     "CARRY_EPS",
     "CHECK_SAMPLES",
+    "FEWEST",
     "FLAT",
+    "MAX_COMPETITORS",
     "MOVING_EPS",
+    "PRODUCE_ITERATIONS",
     "RESOLUTION_LIMIT",
     "SAMPLES",
+    "SOURCE_SHOWN",
     "SPAN_RTOL",
     "STEP",
     "TRADE_SHARE",
@@ -868,6 +872,10 @@ class _LinkChoice:
     sources: dict[str, str] = field(default_factory=dict)
 
 
+#: At most this many places of competing links are solved for at one end (nearest
+#: first); a description with more links fixed there has the end's numbers reported
+#: not identifiable, unanalysed, rather than costing time out of proportion.
+MAX_COMPETITORS = 128
 #: Gauss–Newton iterations of the search for the numbers that put the DH frame on a
 #: competing link; a turn about an axis the numbers produce converges in one or two.
 PRODUCE_ITERATIONS = 12
@@ -915,6 +923,21 @@ def _link_choice(
             continue
         solved: dict[bytes, list[dict[int, float]]] = {}  # a place is solved for once
         anchor = {"world": "the world", "tcp": "the TCP"}.get(str(spec.dh), f"DH frame {spec.dh}")
+        places = {np.round(c.anchor_T_link, 9).tobytes() for c in comps}
+        if len(places) > MAX_COMPETITORS:
+            why = (
+                f"{len(places)} places of links fixed beside {spec.urdf or spec.name} in the "
+                f"description, more than the {MAX_COMPETITORS} fkcheck analyses: any of them "
+                "could be the DH frame"
+            )
+            for i in end:
+                if spec.source:  # the compared frame is vouched for: its word settles it
+                    found.on_word.setdefault(i, []).append(group)
+                    found.sources[group] = spec.source
+                else:
+                    found.absorbed.setdefault(i, (group, why))
+                    found.competing.setdefault(i, [c.link for c in comps[:3]] + ["…"])
+            continue
         for comp in comps:
             key = np.round(comp.anchor_T_link, 9).tobytes()
             if key not in solved:

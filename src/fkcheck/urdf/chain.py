@@ -15,6 +15,7 @@ tested against Pinocchio's.
 
 from __future__ import annotations
 
+import collections
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -171,7 +172,8 @@ class UrdfKinematics:
         keep their pose relative to ``link`` whatever the joints do.
 
         Returns:
-            Link name → ``link_T_other`` (4×4, metres), ``link`` itself excluded.
+            Link name → ``link_T_other`` (4×4, metres), ``link`` itself excluded,
+            nearest (fewest joints away) first.
         """
         if link not in self.links:
             return {}
@@ -181,9 +183,9 @@ class UrdfKinematics:
                 around.setdefault(j.parent, []).append((j.child, j.origin))
                 around.setdefault(j.child, []).append((j.parent, invert(j.origin)))
         found: dict[str, Float] = {link: np.eye(4)}
-        todo = [link]
-        while todo:
-            here = todo.pop()
+        todo = collections.deque([link])
+        while todo:  # breadth first: the nearest links first
+            here = todo.popleft()
             for other, here_T_other in around.get(here, ()):
                 if other not in found:
                     found[other] = found[here] @ here_T_other
