@@ -100,15 +100,21 @@ class Offset:
 class Joint:
     """One row of the DH table, in metres and radians.
 
+    A model file's angles are written in its ``angle_unit``; a ``Joint`` holds them in
+    radians.
+
     Attributes:
         name: Joint name, unique in the model.
         type: ``"revolute"`` or ``"prismatic"``.
         a: Link length (m); in a modified table, ``a_{i-1}``.
-        alpha: Link twist (rad); in a modified table, ``α_{i-1}``.
+        alpha: Link twist, in the file's ``angle_unit`` (held in radians); in a
+            modified table, ``α_{i-1}``.
         d: Link offset (m); for a prismatic joint, added to q.
-        theta: Angle offset (rad) added to q; for a prismatic joint, the fixed angle.
+        theta: Angle offset added to q, in the file's ``angle_unit`` (held in
+            radians); for a prismatic joint, the fixed angle.
         flip: The joint moves the other way (q enters with a minus sign).
-        limits: ``(lower, upper)`` in rad (revolute) or m (prismatic), or ``None``.
+        limits: ``(lower, upper)``: for a revolute joint in the file's ``angle_unit``
+            (held in radians), for a prismatic one in metres; or ``None``.
     """
 
     name: str
@@ -304,13 +310,17 @@ class Model:
         source: Where the numbers come from.
         base: Fixed transform world → DH frame 0.
         tool: Fixed transform last DH frame → TCP.
-        poses: Named configurations (radians / metres).
+        poses: Named configurations: revolute values in the file's ``angle_unit``
+            (held in radians), prismatic ones in metres.
         urdf: The reference URDF, if any.
         frames: Named frames (always includes ``world`` and ``tcp``; default: just
             those, :func:`default_frames`, so that a model built here checks
             ``world`` → ``tcp`` as a file's does).
         check: The default check.
-        angle_unit: The unit the file was written in (for display and export).
+        angle_unit: ``"rad"`` (the default) or ``"deg"``: the unit of every angle in
+            the file — ``alpha``, ``theta``, revolute ``limits``, ``rpy`` and revolute
+            pose values. The model holds them in radians; lint and export write
+            them back in this unit.
         path: The file it was read from, if any.
         warnings: Things that look wrong but are not errors (e.g. degrees in a radian file).
         lint_ignore: ``fkcheck lint`` rules this model's file turns off (``[lint] ignore``).
