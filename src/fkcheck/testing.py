@@ -120,7 +120,10 @@ def check_message(
     """The text of a finished check: headline, each backend's lines, the model's numbers.
 
     A diagnosis that stands for several backends is written out once, under the
-    first of them.
+    first of them. The whole check's text (every backend, with details) also says
+    what each required kind of evidence lacks, naming the numbers (``d1 not
+    identifiable (the offset of [frames.base] could absorb it)``), as ``fkcheck
+    check`` does.
 
     Args:
         outcome: What :func:`fkcheck.check` returned.
@@ -138,6 +141,8 @@ def check_message(
     for b in shown:
         text = _backend_lines(b, once=True)
         lines.append(text if details else text.split("\n", 1)[0])
+    if details and backends is None:  # what a required kind lacks, by number (d1 not identifiable)
+        lines += [terminal_text(e.sentence) for e in record.evidence if e.required]
     if record.numbers_line:  # which numbers of the model the pair verified
         lines.append(terminal_text(record.numbers_line))
     if record.calibration_line:  # what the calibration changes against the nominal table
@@ -185,6 +190,7 @@ def assert_fk_matches(
             the message is :func:`check_message`.
         FkcheckError: Bad input (unknown model, backend or frame, bad file…).
     """
+    __tracebackhide__ = True  # pytest shows the caller's line and the message, not this code
     backends = [against] if isinstance(against, str | Backend) else list(against)
     frame_from, frame_to = frames if frames is not None else (None, None)
     outcome = check(
@@ -234,6 +240,7 @@ def _refuse_non_rigid(name: str, x: Float, tol_rot_rad: float, head: str) -> Non
     would mean nothing at that tolerance. Matrices typed with six decimals are
     within 2e-6, with four within 2e-4.
     """
+    __tracebackhide__ = True
     flat = x.reshape(-1, 4, 4)
     last = np.abs(flat[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
     bad = (last > SE3_TOLERANCE) | (se3_defect(flat) > max(SE3_TOLERANCE, tol_rot_rad))
@@ -280,6 +287,7 @@ def assert_pose_close(
             and the index of each.
         ToleranceError: A tolerance out of its range; it is a ``ValueError``.
     """
+    __tracebackhide__ = True  # pytest shows the caller's line and the message, not this code
     check_limit(tol_pos_m, "tol_pos", "tol_pos_m")
     check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad")
     a = np.asarray(actual, dtype=np.float64)

@@ -242,6 +242,31 @@ def test_non_finite_q_is_refused_before_anything_runs(ur5: Model) -> None:
 _NO_TOOLCHAIN = "no C++ compiler / cmake / Eigen3 found: "
 
 
+def missing_tool(cmake_output: str) -> str | None:
+    """cmake's own error when a configure failed for want of a compiler or Eigen3, else ``None``.
+
+    The error's heading (``CMake Error at CMakeLists.txt:14 (find_package):``) and its
+    first paragraph, on one line: the lines cmake printed before it (``The CXX compiler
+    identification is GNU 12.2.0``) say what it found, not what is missing.
+    """
+    lines = cmake_output.splitlines()
+    for i, line in enumerate(lines):
+        if not line.startswith("CMake Error"):
+            continue
+        paragraph = []
+        for more in lines[i + 1 :]:
+            if not more.strip():
+                break
+            paragraph.append(more.strip())
+        text = " ".join(paragraph)
+        if 'provided by "Eigen3"' in text:
+            text = text.split(" with any of the following names", 1)[0]
+            return f"{line.strip()} {text} (Debian: apt-get install libeigen3-dev)"
+        if "No CMAKE_CXX_COMPILER" in text:
+            return f"{line.strip()} {text}"
+    return None
+
+
 @pytest.fixture(scope="module")
 def fk_tool(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """examples/cpp_eigen built from source into a fresh directory."""
@@ -258,8 +283,9 @@ def fk_tool(tmp_path_factory: pytest.TempPathFactory) -> Path:
     )
     if configure.returncode != 0:
         output = configure.stdout + configure.stderr
-        if 'provided by "Eigen3"' in output or "No CMAKE_CXX_COMPILER" in output:
-            pytest.skip(_NO_TOOLCHAIN + output.strip().splitlines()[0])
+        missing = missing_tool(output)
+        if missing is not None:
+            pytest.skip(_NO_TOOLCHAIN + missing)
         pytest.fail(f"cmake configure failed:\n{output}")
     compiled = subprocess.run(
         ["cmake", "--build", str(build)], capture_output=True, text=True, check=False
@@ -429,3 +455,47 @@ def test_program_that_does_not_read_its_input_is_stopped_at_the_time_limit(ur5: 
     with pytest.raises(CommandError, match=r"timed out after 1 s"):
         backend.frame_poses(ur5, np.zeros((4096, 6)), ["tcp"])
     assert time.monotonic() - start < 1.0 + TERMINATE_GRACE_S + 1.0
+
+
+#: What cmake 3.25 prints configuring examples/cpp_eigen without Eigen3 (stdout + stderr).
+_NO_EIGEN = """\
+-- The CXX compiler identification is GNU 12.2.0
+-- Detecting CXX compiler ABI info
+-- Detecting CXX compiler ABI info - done
+-- Check for working CXX compiler: /usr/bin/c++ - skipped
+-- Detecting CXX compile features
+-- Detecting CXX compile features - done
+-- Configuring incomplete, errors occurred!
+CMake Error at CMakeLists.txt:14 (find_package):
+  Could not find a package configuration file provided by "Eigen3" with any
+  of the following names:
+
+    Eigen3Config.cmake
+    eigen3-config.cmake
+
+"""
+
+#: ... and without a C++ compiler.
+_NO_COMPILER = """\
+-- Configuring incomplete, errors occurred!
+CMake Error at CMakeLists.txt:4 (project):
+  No CMAKE_CXX_COMPILER could be found.
+
+  Tell CMake where to find the compiler by setting either the environment
+  variable "CXX" or the CMake cache entry CMAKE_CXX_COMPILER to the full path
+  to the compiler executable or the compiler name if it is in the PATH.
+
+"""
+
+
+def test_the_skip_reason_quotes_cmakes_error_not_its_first_line() -> None:
+    # It quoted "-- The CXX compiler identification is GNU 12.2.0": what cmake found.
+    assert missing_tool(_NO_EIGEN) == (
+        "CMake Error at CMakeLists.txt:14 (find_package): Could not find a package "
+        'configuration file provided by "Eigen3" (Debian: apt-get install libeigen3-dev)'
+    )
+    assert missing_tool(_NO_COMPILER) == (
+        "CMake Error at CMakeLists.txt:4 (project): No CMAKE_CXX_COMPILER could be found."
+    )
+    # Any other failure is the example's own: the fixture fails the test, it does not skip.
+    assert missing_tool("CMake Error at CMakeLists.txt:9 (add_executable):\n  bad\n") is None

@@ -65,6 +65,93 @@ def test_fk_all_frames_prints_each_T_0_i(capsys):
     ]
 
 
+def fk_subprocess(*argv):
+    """``fkcheck fk …`` in a fresh process, as a user runs it."""
+    return subprocess.run(
+        [sys.executable, "-m", "fkcheck", "fk", *argv], capture_output=True, text=True, check=False
+    )
+
+
+def test_fk_from_to_in_a_subprocess_is_rz_pi_times_base_to_tool0():
+    # ur5e's base_link is base turned π about z (ur_macro.xacro), written here by hand.
+    rz_pi = np.diag([-1.0, -1.0, 1.0, 1.0])
+    runs = {
+        frame: fk_subprocess("ur5e", "--q", ARTICLE, "--deg", "--from", frame, "--to", "tool0",
+                             "--json")
+        for frame in ("base", "base_link")
+    }  # fmt: skip
+    for proc in runs.values():
+        assert proc.returncode == 0, proc.stderr
+        assert proc.stderr == ""
+    base, base_link = (json.loads(runs[f].stdout) for f in ("base", "base_link"))
+    assert (base_link["from"], base_link["to"]) == ("base_link", "tool0")
+    assert_pose_close(base_link["matrix"], rz_pi @ np.array(base["matrix"]), SAME_CHAIN)
+    # The text form prints the same matrix, six decimals.
+    proc = fk_subprocess("ur5e", "--q", ARTICLE, "--deg", "--from", "base_link", "--to", "tool0")
+    printed = np.array([[float(v) for v in line.split()] for line in proc.stdout.splitlines()])
+    assert_pose_close(printed, base_link["matrix"], SIX_DECIMALS)
+
+
+def test_fk_from_base_to_tool0_is_the_seeds_T0_6(capsys):
+    code, out, err = run(capsys, "fk", "ur5", "--q", ARTICLE, "--deg", "--from", "base", "--to",
+                         "tool0")  # fmt: skip
+    assert code == 0, err
+    printed = np.array([[float(v) for v in line.split()] for line in out.strip().splitlines()])
+    assert_pose_close(printed, seed_ur5.T0[6], SIX_DECIMALS)
+
+
+def test_fk_from_to_each_seed_link_in_a_model_file(tmp_path, capsys):
+    # A model file naming every DH frame: --from dh{k-1} --to dh{k} prints the seed's A_k.
+    text = load_model("ur5").path.read_text(encoding="utf-8")
+    text += "".join(f"\n[frames.dh{k}]\ndh = {k}\n" for k in range(7))
+    path = tmp_path / "ur5_dh_frames.toml"
+    path.write_text(text, encoding="utf-8")
+    for k in range(1, 7):
+        code, out, err = run(capsys, "fk", str(path), "--q", ARTICLE, "--deg", "--from",
+                             f"dh{k - 1}", "--to", f"dh{k}", "--json")  # fmt: skip
+        assert code == 0, err
+        assert_pose_close(json.loads(out)["matrix"], seed_ur5.A[k - 1], SIX_DECIMALS, f"A{k}")
+
+
+def test_fk_from_to_on_a_q_file_and_in_a_pose_format(tmp_path, capsys, rng):
+    model = load_model("ur5e")
+    q = rng.uniform(-3, 3, (7, 6))
+    path = tmp_path / "q.csv"
+    path.write_text("".join(",".join(repr(float(v)) for v in row) + "\n" for row in q))
+    expected = model.fk(q, frame_from="base_link", frame_to="flange")
+    code, out, err = run(capsys, "fk", "ur5e", "--q-file", str(path), "--from", "base_link",
+                         "--to", "flange")  # fmt: skip
+    assert code == 0, err
+    rows = np.array([[float(v) for v in ln.split()] for ln in out.strip().splitlines()])
+    np.testing.assert_array_equal(rows.reshape(7, 4, 4), expected)
+    code, out, err = run(capsys, "fk", "ur5e", "--q-file", str(path), "--to", "flange", "--json")
+    records = json.loads(out)
+    assert {(r["from"], r["to"]) for r in records} == {("world", "flange")}
+    np.testing.assert_array_equal([r["matrix"] for r in records],
+                                  model.fk(q, frame_to="flange"))  # fmt: skip
+    first = ",".join(repr(float(v)) for v in q[0])
+    code, out, err = run(capsys, "fk", "ur5e", "--q", first, "--from", "base_link", "--to",
+                         "flange", "--format", "quat", "--json")  # fmt: skip
+    assert code == 0, err
+    np.testing.assert_array_equal(json.loads(out)["position_m"], expected[0, :3, 3])
+
+
+def test_fk_without_from_to_keeps_its_json_contract(capsys):
+    code, out, _ = run(capsys, "fk", "ur5", "--q", ARTICLE, "--deg", "--json")
+    assert code == 0
+    assert "from" not in json.loads(out)
+
+
+def test_fk_unknown_frame_in_a_subprocess_is_one_line_listing_the_frames():
+    proc = fk_subprocess("ur5e", "--q", "0,0,0,0,0,0", "--from", "base_lnk", "--to", "tool0")
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert proc.stderr.splitlines() == [
+        "fkcheck: error: frame 'base_lnk' not in model ur5e; frames are: world, tcp, base, "
+        "base_link, tool0, flange"
+    ]
+
+
 def test_fk_named_pose(capsys):
     code, out, _ = run(capsys, "fk", "ur5", "--pose", "worked_example", "--json")
     assert code == 0
@@ -117,6 +204,18 @@ def test_fk_accepts_a_csv_model(capsys):
             r"has no pose 'nope'; poses are: zero, home, worked_example",
         ),
         (["fk", "ur7", "--q", "0"], r"no bundled model of that name"),
+        (
+            ["fk", "ur5", "--q", "0,0,0,0,0,0", "--to", "tool9"],
+            r"frame 'tool9' not in model ur5; frames are: world, tcp, base, base_link, tool0, ",
+        ),
+        (
+            ["fk", "ur5", "--q", "0,0,0,0,0,0", "--to", "urdf:tool9"],
+            r"no declared frame has URDF twin 'tool9'.*frames are: urdf:base \(= base\)",
+        ),
+        (
+            ["fk", "ur5", "--q", "0,0,0,0,0,0", "--from", "base", "--all-frames"],
+            r"--all-frames: prints every DH frame in the world; it does not combine with --from",
+        ),
         (["fk", "ur5"], r"give joint values with --q, --q-file or --pose"),
         (["fk", "ur5", "--q-file", "missing.csv"], r"missing\.csv: no such file"),
         (["fk", "ur5", "--bogus"], r"unrecognized arguments: --bogus"),

@@ -124,6 +124,74 @@ def test_rounded_and_odd_twists(tmp_path, capsys):
     assert by_field["joint[3].alpha"]["rule"] == "twist"
 
 
+def test_a_theta_offset_written_as_rounded_radians(tmp_path, capsys):
+    # θ2 = -1.5708 in a radian file: 3.7e-6 rad off -π/2, passed lint when only α was looked at.
+    model = with_joint(load_model("ur5"), 1, theta=-1.5708)
+    path = write(tmp_path, model, angle_unit="rad")
+    assert main(["lint", str(path)]) == 1
+    assert capsys.readouterr().out.splitlines() == [
+        f"{path}: joint[1].theta (shoulder_lift): warning [rounded-angle]: θ2 (joint[1].theta, "
+        "shoulder_lift) = -1.5708 rad is -90° rounded (3.7e-06 rad off): write "
+        "-1.5707963267948966 rad or -90 in a degree file"
+    ]
+
+
+@pytest.mark.parametrize("theta", [-math.pi / 2, math.pi, math.radians(0.01), -0.3])
+def test_exact_small_and_odd_theta_offsets_are_clean(theta, tmp_path, capsys):
+    # An exact quarter turn, a calibrated table's 0.01°, a θ offset of any size: not rounded
+    # (0.01° from UR5's table is `published`'s: "close to the published table").
+    _, findings = lint(capsys, write(tmp_path, with_joint(load_model("ur5"), 1, theta=theta)))
+    assert [f["rule"] for f in findings] == (["published"] if abs(theta) < 1e-3 else [])
+
+
+def test_a_theta_in_a_degree_file_converted_from_rounded_radians(tmp_path, capsys):
+    model = with_joint(load_model("ur5"), 4, theta=math.radians(89.9999))
+    code, findings = lint(capsys, write(tmp_path, model, angle_unit="deg"))
+    assert code == 1
+    assert [(f["rule"], f["field"]) for f in findings] == [("rounded-angle", "joint[4].theta")]
+    assert "= 89.9999° is 90° rounded" in findings[0]["message"]
+
+
+def test_limits_of_a_rounded_full_turn_are_not_degrees(tmp_path, capsys):
+    # ±6.2832 rad (J6 of a vendor sheet) was "beyond ±360° (degrees in a file with
+    # angle_unit = rad?)".
+    model = with_joint(load_model("ur5"), 5, limits=(-6.2832, 6.2832))
+    path = write(tmp_path, model, angle_unit="rad")
+    assert main(["lint", str(path)]) == 1
+    assert capsys.readouterr().out.splitlines() == [
+        f"{path}: joint[5].limits (wrist_3): warning [rounded-angle]: revolute joint wrist_3 has "
+        "limits [-6.2832 rad, 6.2832 rad]: ±360° rounded up (1.5e-05 rad beyond): write "
+        "±6.283185307179586 rad or ±360 in a degree file"
+    ]
+
+
+@pytest.mark.parametrize(
+    ("limits", "rules"),
+    [
+        ((-6.28318530718, 6.28318530718), []),  # a URDF's 2π: within float slack
+        ((-3.1416, 6.2832), ["rounded-angle"]),  # one side rounded beyond a turn
+        ((-6.2842, 6.2842), ["limits"]),  # 1.0e-3 beyond: more than rounding
+        ((-6.3, 6.3), ["limits"]),
+    ],
+)
+def test_limits_near_a_full_turn(limits, rules, tmp_path, capsys):
+    model = with_joint(load_model("ur5"), 5, limits=limits)
+    code, findings = lint(capsys, write(tmp_path, model, angle_unit="rad"))
+    assert [f["rule"] for f in findings] == rules
+    assert code == (1 if rules else 0)
+    assert all("degrees" not in f["message"] for f in findings if f["rule"] == "rounded-angle")
+
+
+def test_a_calibrations_measured_theta_and_limits_are_exempt():
+    # What fkcheck.calibration.lint passes for a calibrated model that fits its nominal one.
+    model = with_joint(with_joint(load_model("ur5"), 1, theta=-1.5708), 5, limits=(-6.2832, 6.2832))
+    assert [(f.rule, f.field) for f in lint_model(model)] == [
+        ("rounded-angle", "joint[1].theta"),
+        ("rounded-angle", "joint[5].limits"),
+    ]
+    assert lint_model(model, measured=True) == []
+
+
 def test_millimetres_in_a_metre_file(tmp_path, capsys):
     code, findings = lint(capsys, write(tmp_path, with_joint(load_model("ur5"), 1, a=-425.0)))
     assert code == 1

@@ -13,13 +13,18 @@ import json
 import re
 import shutil
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
 from fkcheck.cli.main import main
 from fkcheck.io.format import format_deg, format_mm, format_rad
+from fkcheck.model.types import UrdfSpec
+from fkcheck.model.write import model_to_toml
+from fkcheck.urdf.locate import example_robot_data_dir
 from tests.cli.test_report_cli import URDF_BACKENDS, ur5_variant
+from tests.helpers import ur5_ros1
 from tests.paths import REPO_ROOT
 from tests.report_cases import page_numbers
 
@@ -140,3 +145,78 @@ def test_browser_shows_where_a_flipped_alpha_parts(tmp_path):
     target.unlink(missing_ok=True)
     chromium(tmp_path, html.as_uri(), f"--screenshot={target}", "--window-size=1280,900")
     assert target.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+#: Measures, once the page has loaded, how far each table runs past the box it sits in
+#: and how far the page scrolls sideways; the result goes into ``<body data-overflow>``.
+_MEASURE = """<script>
+addEventListener('load', () => {
+  const out = [];
+  for (const table of document.querySelectorAll('table')) {
+    const box = table.parentElement.getBoundingClientRect();
+    const past = table.getBoundingClientRect().right - box.right;
+    if (past > 0.5) {
+      const where = table.closest('section');
+      out.push((where ? where.id : '?') + ':' + table.rows[0].textContent.trim().slice(0, 30)
+               + ':' + Math.round(past) + 'px');
+    }
+  }
+  const sideways = document.documentElement.scrollWidth - document.documentElement.clientWidth;
+  if (sideways > 0) out.push('page:' + sideways + 'px');
+  document.body.setAttribute('data-overflow', out.join(' | ') || 'none');
+});
+</script>"""
+
+
+def overflow_at(tmp_path: Path, page: Path, width: int) -> str:
+    """What runs past its box when chromium lays ``page`` out ``width`` pixels wide.
+
+    The copy measured has the page's Content-Security-Policy taken out, so that the
+    measuring script may run; the layout is the page's own.
+    """
+    text = page.read_text(encoding="utf-8")
+    text, n = re.subn(r'<meta http-equiv="Content-Security-Policy"[^>]*>', "", text)
+    assert n == 1
+    measured = tmp_path / f"measured-{width}.html"
+    measured.write_text(text.replace("</body>", _MEASURE + "</body>"), encoding="utf-8")
+    done = chromium(tmp_path, measured.as_uri(), "--dump-dom", f"--window-size={width},900",
+                    "--virtual-time-budget=5000")  # fmt: skip
+    found = re.search(r'data-overflow="([^"]*)"', done.stdout)
+    assert found, done.stdout[-2000:]
+    return found[1]
+
+
+def test_no_table_runs_past_its_column_at_1280_px(tmp_path):
+    # A URDF of one's own sits deep in a workspace: its path, unbroken, pushed the frames
+    # table 368 px past its half of the page, and the 10-column DH table ran over Aᵢ.
+    deep = tmp_path / "ws" / "src" / "fanuc_lrmate200id_support_and_other_packages" / "urdf"
+    deep.mkdir(parents=True)
+    shutil.copy(example_robot_data_dir() / "ur_description" / "urdf" / "ur5_robot.urdf", deep)
+    model = ur5_ros1()
+    joints = list(model.joints)
+    joints[0] = replace(joints[0], d=0.08946)  # a failing report: every section shown
+    model = replace(model, joints=tuple(joints),
+                    urdf=UrdfSpec(str((deep / "ur5_robot.urdf").relative_to(tmp_path)),
+                                  model.urdf.joints))  # fmt: skip
+    path = tmp_path / "ur5-own-urdf.toml"
+    path.write_text(model_to_toml(model), encoding="utf-8")
+    html = tmp_path / "ur5-own-urdf.html"
+    argv = ["check", str(path), "--samples", "32", "--against", f"rtb-dh,{URDF_BACKENDS}",
+            "--html", str(html)]  # fmt: skip
+    assert main(argv) == 1
+    assert "fanuc_lrmate200id_support_and_other_packages/urdf/ur5_robot.urdf" in html.read_text(
+        encoding="utf-8"
+    )
+    for width in (1280, 1024):
+        assert overflow_at(tmp_path, html, width) == "none", width
+
+
+def test_the_overflow_measure_sees_a_table_that_runs_past_its_column(tmp_path):
+    page = tmp_path / "wide.html"
+    page.write_text(
+        '<!DOCTYPE html><html><head><meta http-equiv="Content-Security-Policy" '
+        'content="default-src \'none\'"></head><body><section id="s" style="width:300px">'
+        f"<table><tr><td>{'x' * 200}</td></tr></table></section></body></html>",
+        encoding="utf-8",
+    )
+    assert re.fullmatch(r"s:x+:\d+px \| page:\d+px", overflow_at(tmp_path, page, 1280))

@@ -15,18 +15,17 @@ import sys
 from pathlib import Path
 
 import fkcheck
+from tests.docs.examples import Command, blocks, commands, output_matches
 from tests.paths import REPO_ROOT
 
 PAGE = REPO_ROOT / "docs" / "howto" / "your-robot.md"
 
 
-def _walkthrough() -> tuple[list[str], str]:
-    """The page's first console block: its ``$`` commands and the verdict line it shows."""
-    text = PAGE.read_text(encoding="utf-8")
-    block = text.split("```console\n", 1)[1].split("```", 1)[0]
-    commands = [line[2:] for line in block.splitlines() if line.startswith("$ ")]
-    verdict = [line for line in block.splitlines() if line.startswith("verdict: ")][-1]
-    return commands, verdict
+def _walkthrough() -> tuple[list[Command], str]:
+    """The page's first console block: its commands with what each shows, and the verdict."""
+    block = next(b for b in blocks(PAGE) if b.lang == "console")
+    verdict = [line for line in block.text.splitlines() if line.startswith("verdict: ")][-1]
+    return commands(block), verdict
 
 
 def _myarm_text() -> str:
@@ -41,8 +40,8 @@ def _myarm_text() -> str:
 
 
 def test_the_commands_are_read_from_the_page():
-    commands, verdict = _walkthrough()
-    assert [c.split()[:2] for c in commands] == [
+    shown, verdict = _walkthrough()
+    assert [c.command.split()[:2] for c in shown] == [
         ["fkcheck", "lint"],
         ["fkcheck", "map"],
         ["sed", "-n"],
@@ -55,7 +54,9 @@ def test_the_commands_are_read_from_the_page():
 
 
 def test_bring_your_own_robot_runs_as_the_page_shows(tmp_path):
-    commands, verdict = _walkthrough()
+    # Each command runs and prints what the page shows (the docs' `…` convention): map's
+    # NOT IDENTIFIABLE lines over base_link were once left out of the excerpt.
+    steps, verdict = _walkthrough()
     (tmp_path / "myarm.toml").write_text(_myarm_text(), encoding="utf-8")
     src = str(Path(fkcheck.__file__).resolve().parents[1])
     env = {
@@ -64,10 +65,9 @@ def test_bring_your_own_robot_runs_as_the_page_shows(tmp_path):
         "COLUMNS": "200",
         "FKCHECK_PYTHON": sys.executable,
     }
-    shown = verdict.split("(…", 1)[0]  # the page elides the count of backends
-    for command in commands:
+    for step in steps:
         # `fkcheck` is this interpreter's fkcheck, whatever is on PATH.
-        script = f'fkcheck() {{ "$FKCHECK_PYTHON" -m fkcheck "$@"; }}\n{command}\n'
+        script = f'fkcheck() {{ "$FKCHECK_PYTHON" -m fkcheck "$@"; }}\n{step.command}\n'
         done = subprocess.run(
             ["bash", "-c", script],
             cwd=tmp_path,
@@ -77,8 +77,10 @@ def test_bring_your_own_robot_runs_as_the_page_shows(tmp_path):
             timeout=300,
             check=False,
         )
-        assert done.returncode == 0, f"$ {command}\n{done.stdout}\n{done.stderr}"
+        assert done.returncode == 0, f"$ {step.command}\n{done.stdout}\n{done.stderr}"
+        mismatch = output_matches(step.shown, done.stdout)
+        assert mismatch is None, f"$ {step.command}\n{mismatch}\n--- printed:\n{done.stdout}"
     # The last command is the check: it passes with the verdict the page shows.
-    assert commands[-1].startswith("fkcheck check myarm.toml")
-    assert shown in done.stdout, done.stdout
+    assert steps[-1].command.startswith("fkcheck check myarm.toml")
+    assert verdict.split("(…", 1)[0] in done.stdout, done.stdout
     assert re.search(r"\(\d+ backend\(s\) answered\)", done.stdout)

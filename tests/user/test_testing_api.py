@@ -3,7 +3,11 @@
 from __future__ import annotations
 
 import math
+import os
 import re
+import subprocess
+import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +16,11 @@ import pytest
 from fkcheck.core.geometry import matrix_from_xyz_rpy
 from fkcheck.errors import ToleranceError
 from fkcheck.model.read import load_model
+from fkcheck.model.types import Offset
+from fkcheck.model.write import model_to_toml
 from fkcheck.testing import assert_fk_matches, assert_pose_close
+from tests.helpers import ur5_ros1
+from tests.paths import REPO_ROOT
 from tests.user.userrepo import WRONG_ALPHA, bad_ur5_text
 
 
@@ -179,3 +187,60 @@ def test_assert_fk_matches_uses_the_models_check_and_honours_its_known_differenc
     (result,) = outcome.backends
     assert result.status == "xfail"
     assert outcome.check.frame_to == load_model("jaco2_6s").check.frame_to
+
+
+#: A user's test file: a table whose d1 the base frame's offset could absorb, checked with
+#: ``require=["table"]``, and two poses 1 mm apart.
+USER_TESTS = """\
+import numpy as np
+from fkcheck.testing import assert_fk_matches, assert_pose_close
+
+
+def test_arm_table():
+    assert_fk_matches("hidden.toml", against="pinocchio-urdf", samples=20, require=["table"])
+
+
+def test_two_poses():
+    moved = np.eye(4)
+    moved[0, 3] = 1e-3
+    assert_pose_close(np.eye(4), moved)
+"""
+
+
+def test_failures_in_a_users_pytest_run_are_short_and_name_the_number(tmp_path: Path) -> None:
+    # Each failure was about 70 lines, most of them fkcheck's own source (no
+    # __tracebackhide__), and "1 not identifiable" did not say which number.
+    pytest.importorskip("pinocchio")
+    model = ur5_ros1()
+    frames = dict(model.frames)
+    frames["base"] = replace(frames["base"], offset=Offset((0.0, 0.0, 0.01)))
+    joints = list(model.joints)
+    joints[0] = replace(joints[0], d=joints[0].d + 0.01)  # the base frame's offset absorbs it
+    hidden = replace(model, frames=frames, joints=tuple(joints))
+    (tmp_path / "hidden.toml").write_text(model_to_toml(hidden), encoding="utf-8")
+    (tmp_path / "test_arm.py").write_text(USER_TESTS, encoding="utf-8")
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTEST_", "GITHUB_"))}
+    env["PYTHONPATH"] = str(REPO_ROOT / "src")
+    proc = subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-q", "test_arm.py"],
+        cwd=tmp_path, env=env, capture_output=True, text=True, check=False, timeout=300,
+    )  # fmt: skip
+    out = proc.stdout
+    assert proc.returncode == 1, out + proc.stderr
+    assert "2 failed" in out
+    assert (
+        "E       table PARTLY verified: pinocchio-urdf agrees (evidence independent of the "
+        "table), but d1 not identifiable (the offset of [frames.base] could absorb it) — "
+        "required (require = table)"
+    ) in out.splitlines()
+    assert "E       Max position difference: 1.00 mm (1.000e-03 m)" in out.splitlines()
+    # No line of fkcheck's own code: the user's line, then the message.
+    assert "testing.py" not in out
+    assert "raise AssertionError" not in out
+    failures = re.split(r"^=+ short test summary info", out, flags=re.M)[0]
+    sections = re.split(r"^_{3,} test_\w+ _{3,}$", failures, flags=re.M)[1:]
+    assert len(sections) == 2
+    for section in sections:
+        lines = section.strip().splitlines()
+        assert len(lines) <= 15, section
+        assert re.fullmatch(r"test_arm\.py:\d+: AssertionError", lines[-1]), section

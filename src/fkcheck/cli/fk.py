@@ -1,5 +1,9 @@
 """``fkcheck fk``: print the pose (or every DH frame) for given joint values.
 
+``--from``/``--to`` name the check's frames (``[frames.NAME]``, ``world``,
+``tcp``, ``urdf:LINK``) and print ``from_T_to``, as Robotics Toolbox's
+``fkine(q, start=, end=)`` does.
+
 Many configurations (``--q-file``) are computed and printed a chunk at a time,
 so memory holds the configurations and one chunk of poses, not every pose and
 its JSON record at once (a million-line file with ``--json`` peaked at 4 GB).
@@ -35,6 +39,7 @@ def add_parser(sub: Any) -> None:
         "fk",
         help="forward kinematics with the in-house core",
         description="Print world_T_tcp (base and tool included) for joint values; "
+        "with --from/--to, the pose of one named frame in another (from_T_to); "
         "with --all-frames, every DH frame T_0_i.",
     )
     p.add_argument("model", metavar="MODEL", help="bundled model name (ur5) or a .toml/.csv file")
@@ -44,6 +49,19 @@ def add_parser(sub: Any) -> None:
     src.add_argument("--pose", help="a named pose of the model (e.g. zero, worked_example)")
     p.add_argument("--deg", action="store_true", help="revolute joint values are in degrees")
     p.add_argument("--all-frames", action="store_true", help="print every DH frame T_0_i")
+    p.add_argument(
+        "--from",
+        dest="frame_from",
+        metavar="FRAME",
+        help="express the pose in this frame (the check's names: base, base_link, "
+        "urdf:LINK…; default: the world)",
+    )
+    p.add_argument(
+        "--to",
+        dest="frame_to",
+        metavar="FRAME",
+        help="the frame whose pose is printed (default: the TCP, tool included)",
+    )
     p.add_argument("--json", action="store_true", help="print JSON")
     p.add_argument(
         "--format",
@@ -57,8 +75,15 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(run=run)
 
 
-def _record(model_name: str, q: NDArray[np.float64], T: NDArray[np.float64]) -> dict[str, Any]:
+def _record(
+    model_name: str,
+    q: NDArray[np.float64],
+    T: NDArray[np.float64],
+    frames: tuple[str, str] | None = None,
+) -> dict[str, Any]:
     record: dict[str, Any] = {"model": model_name, "q_rad": q.tolist()}
+    if frames is not None:
+        record["from"], record["to"] = frames
     if T.ndim == 3:
         record["frames"] = T.tolist()
         T = T[-1]
@@ -69,7 +94,7 @@ def _record(model_name: str, q: NDArray[np.float64], T: NDArray[np.float64]) -> 
 
 
 def _fk_chunks(
-    model: Model, q: NDArray[np.float64], all_frames: bool
+    model: Model, q: NDArray[np.float64], args: argparse.Namespace
 ) -> Iterator[tuple[NDArray[np.float64], NDArray[np.float64]]]:
     """``(q chunk, poses)`` for ``(N, n)`` configurations, a bounded chunk at a time.
 
@@ -79,6 +104,7 @@ def _fk_chunks(
     """
     from fkcheck.core.dh import JIT_MIN_POSES
 
+    all_frames = args.all_frames
     total = q.shape[0]
     jit = not all_frames and total >= JIT_MIN_POSES
     if all_frames:
@@ -89,7 +115,7 @@ def _fk_chunks(
     if jit and bounds[-1] - bounds[-2] < JIT_MIN_POSES:
         del bounds[-2]
     for start, stop in itertools.pairwise(bounds):
-        yield q[start:stop], model.fk(q[start:stop], all_frames=all_frames)
+        yield q[start:stop], _fk(model, q[start:stop], args)
 
 
 def _write_json_array(records: Iterable[dict[str, Any]]) -> None:
@@ -100,6 +126,37 @@ def _write_json_array(records: Iterable[dict[str, Any]]) -> None:
         sys.stdout.write(strict_json(record))
         separator = ", "
     sys.stdout.write("]\n")
+
+
+def _fk(model: Model, q: NDArray[np.float64], args: argparse.Namespace) -> NDArray[np.float64]:
+    return model.fk(
+        q, all_frames=args.all_frames, frame_from=args.frame_from, frame_to=args.frame_to
+    )
+
+
+def _frame_pair(model: Model, args: argparse.Namespace) -> tuple[str, str] | None:
+    """``(from, to)`` as asked with ``--from``/``--to``, frames of ``model``; ``None``: neither.
+
+    Raises:
+        FrameError: A frame the model does not name (the message lists its frames).
+        OptionError: ``--all-frames`` with ``--from`` or ``--to``.
+    """
+    from fkcheck.errors import OptionError
+    from fkcheck.model.types import resolve_frame
+
+    if args.frame_from is None and args.frame_to is None:
+        return None
+    for name in (args.frame_from, args.frame_to):
+        if name is not None:
+            resolve_frame(model, name)
+    if args.all_frames:
+        flag = "--from" if args.frame_from is not None else "--to"
+        raise OptionError(
+            "--all-frames",
+            f"prints every DH frame in the world; it does not combine with {flag} "
+            "(ask for one frame at a time)",
+        )
+    return (args.frame_from or "world", args.frame_to or "tcp")
 
 
 def _format_matrix(T: NDArray[np.float64]) -> str:
@@ -120,6 +177,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.model.read import load_model
 
     model = load_model(args.model)
+    pair = _frame_pair(model, args)  # a wrong frame name is said before anything is read
     for warning in model.warnings:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     if args.q_file is not None:
@@ -140,12 +198,12 @@ def run(args: argparse.Namespace) -> int:
     check_bounds(q, model)
 
     if q.ndim == 2:
-        return _print_batch(model, q, args)
-    T = model.fk(q, all_frames=args.all_frames)
+        return _print_batch(model, q, args, pair)
+    T = _fk(model, q, args)
     if args.format != "matrix":
-        return _print_formatted(model.name, q, T, args)
+        return _print_formatted(model.name, q, T, args, pair)
     if args.json:
-        print(strict_json(_record(model.name, q, T)))
+        print(strict_json(_record(model.name, q, T, pair)))
     elif args.all_frames:
         print("\n\n".join(f"T_0_{i} =\n{_format_matrix(Ti)}" for i, Ti in enumerate(T)))
     else:
@@ -153,18 +211,23 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_batch(model: Model, q: NDArray[np.float64], args: argparse.Namespace) -> int:
+def _print_batch(
+    model: Model,
+    q: NDArray[np.float64],
+    args: argparse.Namespace,
+    pair: tuple[str, str] | None,
+) -> int:
     """Print the poses of ``(N, n)`` configurations, a chunk at a time."""
     from fkcheck.core.pose_formats import pose_from_matrix, pose_record
 
-    chunks = _fk_chunks(model, q, args.all_frames)
+    chunks = _fk_chunks(model, q, args)
     fmt = args.format
     if args.json:
 
         def records() -> Iterator[dict[str, Any]]:
             for q_chunk, T in chunks:
                 for qi, Ti in zip(q_chunk, T, strict=True):
-                    record = _record(model.name, qi, Ti)
+                    record = _record(model.name, qi, Ti, pair)
                     if fmt != "matrix":
                         record.update(pose_record(Ti[-1] if args.all_frames else Ti, fmt))
                     yield record
@@ -183,7 +246,11 @@ def _print_batch(model: Model, q: NDArray[np.float64], args: argparse.Namespace)
 
 
 def _print_formatted(
-    model_name: str, q: NDArray[np.float64], T: NDArray[np.float64], args: argparse.Namespace
+    model_name: str,
+    q: NDArray[np.float64],
+    T: NDArray[np.float64],
+    args: argparse.Namespace,
+    pair: tuple[str, str] | None,
 ) -> int:
     """Print poses in a controller's format (``--format``) instead of matrices."""
     from fkcheck.core.pose_formats import format_pose, pose_record
@@ -191,7 +258,7 @@ def _print_formatted(
     fmt = args.format
     poses = T if args.all_frames else T[None]
     if args.json:
-        record = _record(model_name, q, T)
+        record = _record(model_name, q, T, pair)
         record.update(pose_record(poses[-1], fmt))
         print(strict_json(record))
     else:

@@ -5,10 +5,12 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
 
 * ``degrees``: an angle beyond ±2π in a radian file (or one that reads like a
   radian value — π/2, π — in a degree file);
-* ``rounded-angle``: α within 0.001 rad of a multiple of π/2 but not on it (1.5708);
+* ``rounded-angle``: α within 0.001 rad of a multiple of π/2 but not on it (1.5708),
+  θ within 0.001 rad of a non-zero one (−1.5708; a small θ is an offset), or revolute
+  limits up to 0.001 rad beyond ±2π (±6.2832, not degrees);
 * ``twist``: α not a multiple of π/2;
 * ``length``: a length beyond :data:`LONG_M` (millimetres in a metre file?);
-* ``limits``: a revolute joint whose limits exceed ±2π;
+* ``limits``: a revolute joint whose limits exceed ±2π by more than rounding;
 * ``convention``: a modified table whose first row has a ≠ 0 or α ≠ 0 (usual for
   standard, unusual for modified), or a standard table shaped like a modified one
   (first row a = α = 0, last row a or α ≠ 0);
@@ -137,30 +139,71 @@ def _angles(model: Model) -> list[Finding]:
                                 f"{name} in radians",
                             )
                         )
+    for i in range(model.dof):
+        for param in ("alpha", "theta"):
+            out += _rounded_or_odd(model, i, param)
+    return out
+
+
+def _rounded_or_odd(model: Model, i: int, param: Literal["alpha", "theta"]) -> list[Finding]:
+    """``rounded-angle`` for α or θ near a quarter turn; ``twist`` for any other α."""
+    value = getattr(model.joints[i], param)
+    k, off = _quarter_turns(value)
+    if off <= _EXACT or abs(value) > 2 * math.pi + 1e-9:
+        return []
+    if param == "theta" and k == 0:  # a small θ offset (0.01°) is a calibrated table's
+        return []
+    where = param_field(model, i, param)
+    if off < NEAR_ANGLE_RAD:
+        exact = k * math.pi / 2
+        return [
+            Finding(
+                "rounded-angle",
+                f"joint[{i}].{param}",
+                f"{where} = {_angle_text(model, value)} is {k * 90}° rounded "
+                f"({off:.2g} rad off): write {exact!r} rad or {k * 90} in a degree file",
+            )
+        ]
+    if param == "theta":  # a θ offset of any size is common (Jaco's, a calibration's)
+        return []
+    return [
+        Finding(
+            "twist",
+            f"joint[{i}].alpha",
+            f"{where} = {_angle_text(model, value)} is not a multiple of 90° "
+            "(some arms have such twists; most tables do not)",
+        )
+    ]
+
+
+def _rounded_limits(model: Model) -> list[Finding]:
+    """``rounded-angle`` for revolute limits just beyond ±2π: ±6.2832 is ±360° rounded.
+
+    Within :data:`NEAR_ANGLE_RAD` of a full turn a limit is a rounded 2π (URDFs and
+    vendor sheets write 6.2832, 6.28319), not degrees, and ``limits`` leaves it alone.
+    """
+    out: list[Finding] = []
     for i, joint in enumerate(model.joints):
-        k, off = _quarter_turns(joint.alpha)
-        if off <= _EXACT or abs(joint.alpha) > 2 * math.pi + 1e-9:
+        if joint.type != "revolute" or joint.limits is None:
             continue
-        where = param_field(model, i, "alpha")
-        if off < NEAR_ANGLE_RAD:
-            exact = k * math.pi / 2
-            out.append(
-                Finding(
-                    "rounded-angle",
-                    f"joint[{i}].alpha",
-                    f"{where} = {_angle_text(model, joint.alpha)} is {k * 90}° rounded "
-                    f"({off:.2g} rad off): write {exact!r} rad or {k * 90} in a degree file",
-                )
+        beyond = [
+            v
+            for v in joint.limits
+            if 2 * math.pi + _LIMIT_SLACK < abs(v) <= 2 * math.pi + NEAR_ANGLE_RAD
+        ]
+        if not beyond:
+            continue
+        off = max(abs(v) - 2 * math.pi for v in beyond)
+        lo, hi = joint.limits
+        out.append(
+            Finding(
+                "rounded-angle",
+                f"joint[{i}].limits",
+                f"revolute joint {joint.name} has limits [{_angle_text(model, lo)}, "
+                f"{_angle_text(model, hi)}]: ±360° rounded up ({off:.2g} rad beyond): write "
+                f"±{2 * math.pi!r} rad or ±360 in a degree file",
             )
-        else:
-            out.append(
-                Finding(
-                    "twist",
-                    f"joint[{i}].alpha",
-                    f"{where} = {_angle_text(model, joint.alpha)} is not a multiple of 90° "
-                    "(some arms have such twists; most tables do not)",
-                )
-            )
+        )
     return out
 
 
@@ -178,7 +221,7 @@ def _lengths(model: Model) -> list[Finding]:
 
 def _limits(model: Model) -> list[Finding]:
     out: list[Finding] = []
-    bound = 2 * math.pi + _LIMIT_SLACK
+    bound = 2 * math.pi + NEAR_ANGLE_RAD  # closer to ±2π is a rounded full turn
     for i, joint in enumerate(model.joints):
         if joint.type != "revolute" or joint.limits is None:
             continue
@@ -296,6 +339,7 @@ def lint_model(
     skipped = {*model.lint_ignore, *ignore}
     findings = [
         *_angles(model),
+        *_rounded_limits(model),
         *_lengths(model),
         *_limits(model),
         *_convention(model),

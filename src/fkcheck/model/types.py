@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike
 
 from fkcheck.core import dh
 from fkcheck.core import jacobian as core_jacobian
-from fkcheck.core.geometry import matrix_from_xyz_rpy
+from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.tolerances import (
     DEFAULT_TOL_JACOBIAN,
     DEFAULT_TOL_POS_M,
@@ -40,7 +40,7 @@ from fkcheck.core.tolerances import (
     check_limit,
 )
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.errors import FrameError
+from fkcheck.errors import FrameError, OptionError
 
 __all__ = [
     "MAX_JOINTS",
@@ -100,15 +100,21 @@ class Offset:
 class Joint:
     """One row of the DH table, in metres and radians.
 
+    A model file's angles are written in its ``angle_unit``; a ``Joint`` holds them in
+    radians.
+
     Attributes:
         name: Joint name, unique in the model.
         type: ``"revolute"`` or ``"prismatic"``.
         a: Link length (m); in a modified table, ``a_{i-1}``.
-        alpha: Link twist (rad); in a modified table, ``α_{i-1}``.
+        alpha: Link twist, in the file's ``angle_unit`` (held in radians); in a
+            modified table, ``α_{i-1}``.
         d: Link offset (m); for a prismatic joint, added to q.
-        theta: Angle offset (rad) added to q; for a prismatic joint, the fixed angle.
+        theta: Angle offset added to q, in the file's ``angle_unit`` (held in
+            radians); for a prismatic joint, the fixed angle.
         flip: The joint moves the other way (q enters with a minus sign).
-        limits: ``(lower, upper)`` in rad (revolute) or m (prismatic), or ``None``.
+        limits: ``(lower, upper)``: for a revolute joint in the file's ``angle_unit``
+            (held in radians), for a prismatic one in metres; or ``None``.
     """
 
     name: str
@@ -202,9 +208,13 @@ class FrameSpec:
     source: str = ""
 
 
+_WORLD = FrameSpec("world", "world")
+_TCP = FrameSpec("tcp", "tcp")
+
+
 def default_frames() -> dict[str, FrameSpec]:
     """The frames every model has: ``world`` (before the base) and ``tcp`` (after the tool)."""
-    return {"world": FrameSpec("world", "world"), "tcp": FrameSpec("tcp", "tcp")}
+    return {"world": _WORLD, "tcp": _TCP}
 
 
 @dataclass(frozen=True)
@@ -300,13 +310,17 @@ class Model:
         source: Where the numbers come from.
         base: Fixed transform world → DH frame 0.
         tool: Fixed transform last DH frame → TCP.
-        poses: Named configurations (radians / metres).
+        poses: Named configurations: revolute values in the file's ``angle_unit``
+            (held in radians), prismatic ones in metres.
         urdf: The reference URDF, if any.
         frames: Named frames (always includes ``world`` and ``tcp``; default: just
             those, :func:`default_frames`, so that a model built here checks
             ``world`` → ``tcp`` as a file's does).
         check: The default check.
-        angle_unit: The unit the file was written in (for display and export).
+        angle_unit: ``"rad"`` (the default) or ``"deg"``: the unit of every angle in
+            the file — ``alpha``, ``theta``, revolute ``limits``, ``rpy`` and revolute
+            pose values. The model holds them in radians; lint and export write
+            them back in this unit.
         path: The file it was read from, if any.
         warnings: Things that look wrong but are not errors (e.g. degrees in a radian file).
         lint_ignore: ``fkcheck lint`` rules this model's file turns off (``[lint] ignore``).
@@ -367,25 +381,67 @@ class Model:
             dtype=np.float64,
         ).reshape(self.dof, 2)
 
-    def fk(self, q: ArrayLike, all_frames: bool = False) -> Float:
+    def fk(
+        self,
+        q: ArrayLike,
+        all_frames: bool = False,
+        *,
+        frame_from: str | None = None,
+        frame_to: str | None = None,
+    ) -> Float:
         """Forward kinematics with the in-house core.
 
         Joint limits are not checked: any finite value is computed (as
         ``fkcheck fk --ignore-limits``). ``fkcheck fk`` checks them by default with
         :func:`fkcheck.model.joint_input.check_limits`, which a caller can use too.
 
+        ``frame_from`` and ``frame_to`` are the check's frame names (``[frames.NAME]``,
+        ``world``, ``tcp``, ``urdf:LINK``), as Robotics Toolbox's ``fkine(q,
+        start=, end=)``: ``model.fk(q, frame_from="base_link", frame_to="tool0")``
+        is ``base_link_T_tool0``, ``(world_T_base_link)⁻¹ · world_T_tool0``.
+
         Args:
             q: Joint values, shape ``(n,)`` or ``(N, n)``, radians / metres.
-            all_frames: Return DH frames ``0…n`` (base included, tool not).
+            all_frames: Return DH frames ``0…n`` (base included, tool not), in
+                the world; not with ``frame_from`` or ``frame_to``.
+            frame_from: The frame the pose is expressed in (default: the world).
+            frame_to: The frame whose pose is returned (default: the TCP, after
+                the tool).
 
         Returns:
-            ``world_T_tcp`` as ``(4, 4)`` or ``(N, 4, 4)``; with ``all_frames``,
-            ``(n+1, 4, 4)`` or ``(N, n+1, 4, 4)``.
+            ``from_T_to`` (by default ``world_T_tcp``) as ``(4, 4)`` or
+            ``(N, 4, 4)``; with ``all_frames``, ``(n+1, 4, 4)`` or ``(N, n+1, 4, 4)``.
 
         Raises:
             JointInputError: Wrong shape or non-finite values.
+            FrameError: An unknown frame; the message lists the model's frames.
+            OptionError: ``all_frames`` with ``frame_from`` or ``frame_to``.
         """
-        return dh.fk(self.chain, q, all_frames=all_frames)
+        if frame_from is None and frame_to is None:
+            return dh.fk(self.chain, q, all_frames=all_frames)
+        specs = (
+            resolve_frame(self, frame_from) if frame_from is not None else _WORLD,
+            resolve_frame(self, frame_to) if frame_to is not None else _TCP,
+        )
+        if all_frames:
+            raise OptionError(
+                "all_frames",
+                "gives every DH frame in the world, so it does not combine with frame_from "
+                "or frame_to (ask for one frame at a time)",
+            )
+        world_T_dh = dh.fk(self.chain, q, all_frames=True)  # q is validated there, once
+        world_T_tcp = world_T_dh[..., -1, :, :] @ self.chain.flange_T_tool
+        placed: list[Float] = []
+        for spec in specs:
+            if spec.dh == "world":
+                anchor: Float = np.broadcast_to(np.eye(4), world_T_tcp.shape)
+            elif spec.dh == "tcp":
+                anchor = world_T_tcp
+            else:
+                anchor = world_T_dh[..., spec.dh, :, :]
+            placed.append(anchor @ spec.offset.matrix)
+        from_T_to: Float = invert(placed[0]) @ placed[1]
+        return from_T_to
 
     def jacobian(
         self, q: ArrayLike, frame: str = "tcp", reference: JacobianReference = "world-aligned"

@@ -1,4 +1,4 @@
-"""The ``[[joint]]`` rows: the DH table, in metres and radians."""
+"""The ``[[joint]]`` rows: the DH table, lengths in metres, angles in the file's ``angle_unit``."""
 
 from __future__ import annotations
 
