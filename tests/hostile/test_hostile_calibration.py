@@ -1,0 +1,174 @@
+"""Hostile calibration files (issue 31) and calibrations that are not what they claim (issue 30).
+
+* ur_calibration's YAML costs work in proportion to what it is worth: a 600-byte
+  alias bomb took 56 s and 1.4 GB (the message built the repr of a
+  1.26-billion-character value before cutting it); 60,000 nested ``[`` or 30,000
+  nested ``{a:`` ended in RecursionError, a 4000-digit integer in OverflowError.
+  Each is now one line, exit 2, in well under a second — run in a child process
+  under an address-space limit, so that a regression fails the test, not the machine;
+* a key given twice in the YAML is refused, as the conf and KinematicsInfo readers
+  refuse theirs.
+"""
+
+from __future__ import annotations
+
+import resource
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from fkcheck.calibration.ur_files import (
+    MAX_YAML_DEPTH,
+    MAX_YAML_NODES,
+    CalibrationError,
+    read_ur_calibration,
+)
+from fkcheck.cli.main import main
+from fkcheck.model.read import load_model
+from tests.calibration.ur_test_data import composed, write_yaml
+from tests.helpers import deadline
+
+#: Address space of the child that reads a hostile file: the reader needs ~60 MB;
+#: the alias bomb needed 1.4 GB resident before the fix.
+LIMIT_BYTES = 512 << 20
+#: Every case ends well within this (measured after the fix: under 1 s each).
+TIME_BOUND_S = 20.0
+
+
+def _limited() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (LIMIT_BYTES, LIMIT_BYTES))
+
+
+def alias_bomb() -> str:
+    """Nine levels of nine aliases each, under ``kinematics.shoulder.x``: 540 bytes."""
+    lines = ["a0: &a0 [1, 1, 1, 1, 1, 1, 1, 1, 1]"]
+    lines += [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]" for i in range(1, 9)]
+    lines += ["kinematics:", "  shoulder: {x: *a8, y: 0, z: 0, roll: 0, pitch: 0, yaw: 0}"]
+    return "\n".join(lines) + "\n"
+
+
+def _shoulder(x: str) -> str:
+    return f"kinematics:\n  shoulder: {{x: {x}, y: 0, z: 0, roll: 0, pitch: 0, yaw: 0}}\n"
+
+
+HOSTILE_YAML = {
+    # id: (text, the refusal)
+    "alias_bomb": (alias_bomb(), r"line 1: an anchor or alias \(&name, \*name\)"),
+    "alias_to_a_link": (
+        "kinematics:\n  shoulder: &s {x: 0, y: 0, z: 0, roll: 0, pitch: 0, yaw: 0}\n"
+        "  upper_arm: *s\n",
+        r"line 2: an anchor or alias",
+    ),
+    "nested_60000_lists": (
+        _shoulder("[" * 60_000 + "]" * 60_000),
+        rf"line 2: nested more than {MAX_YAML_DEPTH} levels deep",
+    ),
+    "nested_30000_mappings": (
+        _shoulder("{a: " * 30_000 + "1" + "}" * 30_000),
+        rf"line 2: nested more than {MAX_YAML_DEPTH} levels deep",
+    ),
+    "integer_4000_digits": (_shoulder("9" * 4000), r"line 2: number too long: 4000 characters"),
+    "integer_5000_digits": (_shoulder("9" * 5000), r"line 2: number too long: 5000 characters"),
+    "float_4000_digits": (_shoulder("0." + "1" * 4000), r"number too long: 4002 characters"),
+    "sexagesimal_200_parts": (_shoulder(":".join(["59"] * 200)), r"number too long"),
+    "merge_key": (
+        "kinematics:\n  shoulder:\n    <<: {x: 0, y: 0, z: 0, roll: 0, pitch: 0, yaw: 0}\n",
+        r"line 3: a merge key \(<<\)",
+    ),
+    "a_list_of_a_million_characters": (
+        _shoulder("[" + "1, " * 300_000 + "1]"),
+        rf"line 2: more than {MAX_YAML_NODES} values",
+    ),
+    "a_list_of_500_items": (
+        _shoulder("[" + "1, " * 500 + "1]"),
+        r"kinematics\.shoulder\.x: expected a number, got a list of 501 items$",
+    ),
+    "a_string_of_a_million_characters": (
+        _shoulder('"' + "x" * 1_000_000 + '"'),
+        r"kinematics\.shoulder\.x: expected a number, got 'x{30,}'… \(1000000 characters\)$",
+    ),
+    "a_tag_of_a_million_characters": (
+        _shoulder("!" + "t" * 1_000_000 + " 1"),
+        r"line 2: could not determine a constructor for the tag .{0,120}…$",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOSTILE_YAML))
+def test_a_hostile_yaml_is_one_line_in_bounded_time_and_memory(tmp_path: Path, case: str):
+    text, refusal = HOSTILE_YAML[case]
+    path = tmp_path / "robot_calibration.yaml"
+    path.write_text(text, encoding="utf-8")
+    assert path.stat().st_size <= 1 << 20  # every case fits the reader's size limit
+    code = (
+        "import sys; from fkcheck.calibration.ur_files import read_ur_calibration as r\n"
+        "try:\n    r(sys.argv[1])\n"
+        "except Exception as exc:\n    print(type(exc).__name__, exc, sep='|')\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code, str(path)],
+        capture_output=True, text=True, preexec_fn=_limited, timeout=TIME_BOUND_S,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-2000:]
+    kind, _, message = done.stdout.rstrip("\n").partition("|")
+    assert kind == "CalibrationError", done.stdout[-2000:]
+    assert "\n" not in message
+    assert len(message) < 400 + len(str(path)), message[:600]
+    assert message.startswith(f"{path}: ")
+    assert __import__("re").search(refusal, message), message
+
+
+def test_the_alias_bomb_is_one_line_and_exit_2_on_the_command_line(tmp_path: Path, capfd):
+    path = tmp_path / "robot_calibration.yaml"
+    path.write_text(alias_bomb(), encoding="utf-8")
+    assert len(alias_bomb()) < 600
+    with deadline(TIME_BOUND_S):
+        code = main(["calibration", "ur5e", str(path), "-o", str(tmp_path / "robot.toml")])
+    out, err = capfd.readouterr()
+    assert code == 2
+    assert err.count("\n") == 1, err
+    assert "anchor or alias" in err
+    assert not (tmp_path / "robot.toml").exists()
+
+
+# --------------------------------------------------------------------------- keys given twice
+
+
+def _robot_yaml(tmp_path: Path) -> Path:
+    table = composed(load_model("ur10e").joints, "ur10e-test-b")
+    return write_yaml(tmp_path / "robot_calibration.yaml", table)
+
+
+def test_the_robot_yaml_is_read(tmp_path: Path):
+    cal = read_ur_calibration(_robot_yaml(tmp_path))
+    assert cal.links is not None
+    assert len(cal.links) == 6
+
+
+@pytest.mark.parametrize(
+    ("edit", "refusal"),
+    [
+        # `shoulder: z` twice: the second, a centimetre more, was taken silently
+        (lambda t: t.replace("    z: ", "    z: 0.01\n    z: ", 1),
+         r"line 6: key 'z' given twice \(first on line 5\)"),
+        # a link mapping twice: the second shoulder was taken silently
+        (lambda t: t.replace("  hash:", "  shoulder: {x: 0, y: 0, z: 0, roll: 0, pitch: 0, "
+                                        "yaw: 0}\n  hash:"),
+         r"line 44: key 'shoulder' given twice \(first on line 2\)"),
+        (lambda t: t + "kinematics: {}\n", r"key 'kinematics' given twice \(first on line 1\)"),
+        (lambda t: t.replace("  hash: calib_12345", "  hash: calib_1\n  hash: calib_2"),
+         r"key 'hash' given twice"),
+        # equal as values, though written differently
+        (lambda t: t.replace("    x: ", "    0x1: 0\n    1: 0\n    x: ", 1),
+         r"key '1' given twice"),
+    ],
+    ids=["a_number", "a_link", "the_top_key", "the_hash", "equal_values"],
+)  # fmt: skip
+def test_a_key_given_twice_is_refused(tmp_path: Path, edit, refusal):
+    path = _robot_yaml(tmp_path)
+    path.write_text(edit(path.read_text(encoding="utf-8")), encoding="utf-8")
+    with pytest.raises(CalibrationError, match=refusal) as info:
+        read_ur_calibration(path)
+    assert "\n" not in str(info.value)
