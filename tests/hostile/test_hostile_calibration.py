@@ -7,16 +7,20 @@
   Each is now one line, exit 2, in well under a second — run in a child process
   under an address-space limit, so that a regression fails the test, not the machine;
 * a key given twice in the YAML is refused, as the conf and KinematicsInfo readers
-  refuse theirs.
+  refuse theirs;
+* a calibration's fit is measured from DH frame 0 to the last DH frame, never between
+  the nominal model's ``[check]`` pair, in ``fkcheck calibration`` and in lint.
 """
 
 from __future__ import annotations
 
+import re
 import resource
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from fkcheck.calibration.ur_files import (
@@ -27,7 +31,7 @@ from fkcheck.calibration.ur_files import (
 )
 from fkcheck.cli.main import main
 from fkcheck.model.read import load_model
-from tests.calibration.ur_test_data import composed, write_yaml
+from tests.calibration.ur_test_data import Table, composed, fk, write_kinematics_info, write_yaml
 from tests.helpers import deadline
 
 #: Address space of the child that reads a hostile file: the reader needs ~60 MB;
@@ -117,7 +121,7 @@ def test_a_hostile_yaml_is_one_line_in_bounded_time_and_memory(tmp_path: Path, c
     assert "\n" not in message
     assert len(message) < 400 + len(str(path)), message[:600]
     assert message.startswith(f"{path}: ")
-    assert __import__("re").search(refusal, message), message
+    assert re.search(refusal, message), message
 
 
 def test_the_alias_bomb_is_one_line_and_exit_2_on_the_command_line(tmp_path: Path, capfd):
@@ -172,3 +176,119 @@ def test_a_key_given_twice_is_refused(tmp_path: Path, edit, refusal):
     with pytest.raises(CalibrationError, match=refusal) as info:
         read_ur_calibration(path)
     assert "\n" not in str(info.value)
+
+
+# --------------------------------------------------------------------------- the fit's frames
+# (issue 30, item 6) The fit was measured between the nominal model's own [check] pair:
+# with `tool0 → tool0`, or a pair spanning joint 1 only, a UR10 table onto a UR5 and a
+# table in millimetres "fitted" by 0 mm, were written, and lint of them was clean.
+
+
+def _nominal_with_pair(tmp_path: Path, frame_from: str, frame_to: str) -> Path:
+    from fkcheck.model.read import bundled_model_paths
+
+    text = bundled_model_paths()["ur5"].read_text(encoding="utf-8")
+    old = '[check]\nfrom = "base"\nto = "tool0"'
+    assert old in text
+    path = tmp_path / "ur5-nominal.toml"
+    path.write_text(text.replace(old, f'[check]\nfrom = "{frame_from}"\nto = "{frame_to}"'))
+    return path
+
+
+def _ur10_table() -> Table:
+    return composed(load_model("ur10").joints, "ur10-test")
+
+
+def _ur5_in_millimetres() -> Table:
+    js = load_model("ur5").joints
+    return Table(
+        tuple(j.theta for j in js), tuple(j.a * 1e3 for j in js), tuple(j.d * 1e3 for j in js),
+        tuple(j.alpha for j in js),
+    )  # fmt: skip
+
+
+PAIRS = {"tool0_to_tool0": ("tool0", "tool0"), "joint_1_only": ("world", "base_link")}
+TABLES = {"ur10_onto_ur5": (_ur10_table, r"431 mm"), "millimetres": (_ur5_in_millimetres, r"1\.03e\+03 m")}
+
+
+@pytest.mark.parametrize("pair", sorted(PAIRS))
+@pytest.mark.parametrize("table", sorted(TABLES))
+def test_a_table_that_does_not_fit_is_refused_whatever_the_nominal_pair(
+    tmp_path: Path, capfd, pair: str, table: str
+):
+    nominal = _nominal_with_pair(tmp_path, *PAIRS[pair])
+    make, size = TABLES[table]
+    info = write_kinematics_info(tmp_path / "info.log", make(), 2)
+    out = tmp_path / "robot.toml"
+    with deadline(TIME_BOUND_S):
+        code = main(["calibration", str(nominal), str(info), "-o", str(out)])
+    _, err = capfd.readouterr()
+    assert code == 2, err
+    assert err.count("\n") == 1, err
+    assert re.search(
+        rf"does not fit ur5: the calibrated DH frame 6 is up to {size} .* relative to DH frame 0",
+        err,
+    ), err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("pair", sorted(PAIRS))
+@pytest.mark.parametrize("table", sorted(TABLES))
+def test_lint_measures_the_fit_between_the_dh_frames_whatever_the_pair(
+    tmp_path: Path, pair: str, table: str
+):
+    """A calibrated model made before the fix (or by hand) is no calibration to lint."""
+    from dataclasses import replace
+
+    from fkcheck.calibration.lint import lint_calibrated
+    from fkcheck.model.types import CalibrationSpec
+
+    nominal_path = _nominal_with_pair(tmp_path, *PAIRS[pair])
+    nominal = load_model(nominal_path)
+    values = TABLES[table][0]()
+    joints = tuple(
+        replace(j, theta=values.theta[i], a=values.a[i], d=values.d[i], alpha=values.alpha[i])
+        for i, j in enumerate(nominal.joints)
+    )
+    spec = CalibrationSpec(
+        nominal=nominal_path.name, file="info.log", form="KinematicsInfo", sha256="0" * 64,
+        identity="", status=2,
+    )  # fmt: skip
+    model = replace(nominal, joints=joints, calibration=spec, path=tmp_path / "robot.toml")
+    findings, measured = lint_calibrated(model)
+    assert not measured
+    misfit = [f for f in findings if f.rule == "calibration"]
+    assert len(misfit) == 1, findings
+    assert re.search(r"moves DH frame 6 up to .* relative to DH frame 0", misfit[0].message)
+    assert {f.rule for f in findings} - {"calibration"}  # the unit rules apply again
+
+
+def test_the_dh_chain_effect_is_the_tables_composed_by_hand():
+    """DH frame 0 → 6 of both tables, against the test's own composition of them."""
+    from dataclasses import replace
+
+    from fkcheck.calibration.effect import dh_chain_effect
+
+    nominal = load_model("ur5")
+    ur10 = _ur10_table()
+    calibrated = replace(
+        nominal,
+        joints=tuple(
+            replace(j, theta=ur10.theta[i], a=ur10.a[i], d=ur10.d[i], alpha=ur10.alpha[i])
+            for i, j in enumerate(nominal.joints)
+        ),
+    )
+    q = np.random.default_rng(11).uniform(-np.pi, np.pi, (50, 6))
+    effect = dh_chain_effect(calibrated, nominal, q)
+    ours, theirs = fk(ur10, q), fk(_table_of(nominal), q)
+    position = np.linalg.norm(ours[:, :3, 3] - theirs[:, :3, 3], axis=1)
+    assert effect.max_position_m == pytest.approx(position.max(), abs=1e-12)
+    assert (effect.frame_from, effect.frame_to) == ("DH frame 0", "DH frame 6")
+
+
+def _table_of(model) -> Table:
+    js = model.joints
+    return Table(
+        tuple(j.theta for j in js), tuple(j.a for j in js), tuple(j.d for j in js),
+        tuple(j.alpha for j in js),
+    )  # fmt: skip

@@ -18,10 +18,10 @@ import numpy as np
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import ModelError
-from fkcheck.model.frames import reference_poses, relative_pose
+from fkcheck.model.frames import CHUNK, reference_poses, relative_pose
 from fkcheck.model.types import Model
 
-__all__ = ["CalibrationEffect", "calibration_effect", "nominal_model"]
+__all__ = ["CalibrationEffect", "calibration_effect", "dh_chain_effect", "dh_frame", "nominal_model"]
 
 
 @dataclass(frozen=True)
@@ -114,6 +114,37 @@ def _from_T_to(model: Model, q: Float, frame_from: str, frame_to: str) -> Float:
     return relative_pose(poses[0], poses[1])
 
 
+def dh_frame(index: int) -> str:
+    """How an effect names DH frame ``index`` (not a named frame of the model)."""
+    return f"DH frame {index}"
+
+
+def _dh0_T_dhn(model: Model, q: Float) -> Float:
+    out = np.empty((q.shape[0], 4, 4))
+    for start in range(0, q.shape[0], CHUNK):
+        frames = model.fk(q[start : start + CHUNK], all_frames=True)  # (N, n+1, 4, 4)
+        out[start : start + CHUNK] = relative_pose(frames[:, 0], frames[:, -1])
+    return out
+
+
+def dh_chain_effect(
+    calibrated: Model, nominal: Model, q: Float, identity: str = ""
+) -> CalibrationEffect:
+    """Compare the two tables' DH frame 0 → last DH frame at ``q`` (shape ``(N, dof)``, N ≥ 1).
+
+    What the calibration changes of the table itself, whatever frames the models
+    name: every joint lies between the two frames, and neither base nor tool
+    offset does. A calibration's fit is measured so (``fkcheck calibration`` and
+    lint): measured between a ``[check]`` pair, a pair that spans no joint or
+    only the first (``tool0 → tool0``) would let another type's table, or one in
+    millimetres, "fit" by 0 mm.
+    """
+    return _effect(
+        calibrated, nominal, q, (dh_frame(0), dh_frame(calibrated.dof)),
+        _dh0_T_dhn(calibrated, q), _dh0_T_dhn(nominal, q), identity,
+    )  # fmt: skip
+
+
 def calibration_effect(
     calibrated: Model,
     nominal: Model,
@@ -129,14 +160,27 @@ def calibration_effect(
     """
     ours = _from_T_to(calibrated, q, frame_from, frame_to)
     theirs = _from_T_to(nominal, q, frame_from, frame_to)
+    return _effect(calibrated, nominal, q, (frame_from, frame_to), ours, theirs, identity)
+
+
+def _effect(
+    calibrated: Model,
+    nominal: Model,
+    q: Float,
+    pair: tuple[str, str],
+    ours: Float,
+    theirs: Float,
+    identity: str,
+) -> CalibrationEffect:
+    """The summary of two batches of ``from_T_to`` (``(N, 4, 4)`` each)."""
     pos = position_error_m(ours, theirs)
     rot = rotation_error_rad(ours, theirs)
     worst = int(np.argmax(pos))
     return CalibrationEffect(
         nominal=nominal.name,
         identity=identity or (calibrated.calibration.identity if calibrated.calibration else ""),
-        frame_from=frame_from,
-        frame_to=frame_to,
+        frame_from=pair[0],
+        frame_to=pair[1],
         configurations=int(q.shape[0]),
         max_position_m=float(pos.max()),
         median_position_m=float(np.median(pos)),
