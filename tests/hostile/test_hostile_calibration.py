@@ -292,3 +292,89 @@ def _table_of(model) -> Table:
         tuple(j.theta for j in js), tuple(j.a for j in js), tuple(j.d for j in js),
         tuple(j.alpha for j in js),
     )  # fmt: skip
+
+
+# --------------------------------------------------------------------------- [calibration] nominal
+# It named any path (absolute, ../), and the first key of that file was echoed in the
+# error. It is held to the calibrated model's folder now, and nothing of a file outside
+# it is read or quoted.
+
+SECRET = "s3cr3t_first_key_of_a_foreign_file"
+CONF = Path(__file__).parents[1] / "data" / "calibration" / "ur10e-test-b" / "calibration.conf"
+
+
+@pytest.fixture
+def calibrated_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capfd) -> Path:
+    """``m/robot.toml`` calibrated from ur10e, and a foreign file beside ``m/``."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "m").mkdir()
+    (tmp_path / "foreign.toml").write_text(f"{SECRET} = 1\n", encoding="utf-8")
+    (tmp_path / "m" / "plain").write_text(f"{SECRET} = 1\n", encoding="utf-8")
+    assert main(["calibration", "ur10e", str(CONF), "-o", "m/robot.toml"]) == 0
+    capfd.readouterr()
+    return tmp_path
+
+
+NOMINALS = {
+    "climbs_out": ("../foreign.toml", r"named relative to the calibrated model's folder, without '\.\.'"),
+    "absolute": ("{tmp}/foreign.toml", r"named relative to the calibrated model's folder"),
+    "symbolic_link_out": ("link.toml", r"leads outside the calibrated model's folder \(a symbolic link\)"),
+    "a_file_named_like_a_model": ("plain", r"'plain' is no bundled model \(.*\) and no model file's name"),
+    "bundled_climbing_out": ("fkcheck:../../foreign.toml", r"fkcheck: path names a file bundled"),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("case", sorted(NOMINALS))
+@pytest.mark.parametrize("command", ["check", "lint"])
+def test_a_nominal_outside_the_models_folder_is_refused_unread(calibrated_dir, capfd, case, command):
+    ref, refusal = NOMINALS[case]
+    (calibrated_dir / "m" / "link.toml").symlink_to(calibrated_dir / "foreign.toml")
+    model = calibrated_dir / "m" / "robot.toml"
+    text = model.read_text(encoding="utf-8")
+    assert 'nominal = "ur10e"' in text
+    edited = calibrated_dir / "m" / "edited.toml"
+    ref = ref.replace("{tmp}", str(calibrated_dir))
+    edited.write_text(text.replace('nominal = "ur10e"', f'nominal = "{ref}"'), encoding="utf-8")
+    with deadline(60.0):
+        code = main([command, str(edited)])
+    out, err = capfd.readouterr()
+    assert SECRET not in out + err
+    assert "Traceback" not in err
+    if command == "check":
+        assert code == 2
+        assert err.count("\n") == 1, err
+        assert re.search(rf"edited\.toml: calibration\.nominal: .*{refusal}", err), err
+    else:  # lint says it, and holds the joints to every rule
+        assert code == 1
+        assert re.search(rf"warning \[calibration\]: .*{refusal}", out), out
+
+
+def test_a_nominal_in_the_models_folder_is_read(calibrated_dir, capfd):
+    import shutil
+
+    from fkcheck.model.read import bundled_model_paths
+
+    shutil.copy(bundled_model_paths()["ur10e"], calibrated_dir / "m" / "nominal.toml")
+    model = calibrated_dir / "m" / "robot.toml"
+    text = model.read_text(encoding="utf-8").replace('nominal = "ur10e"', 'nominal = "nominal.toml"')
+    model.write_text(text, encoding="utf-8")
+    assert main(["lint", str(model)]) == 0
+    out, _ = capfd.readouterr()
+    assert "calibrated from nominal.toml" in out
+
+
+def test_calibration_refuses_to_write_a_nominal_it_could_not_read_back(calibrated_dir, capfd):
+    import shutil
+
+    from fkcheck.model.read import bundled_model_paths
+
+    shutil.copy(bundled_model_paths()["ur10e"], calibrated_dir / "nominal.toml")
+    code = main(["calibration", "nominal.toml", str(CONF), "-o", "m/again.toml"])
+    _, err = capfd.readouterr()
+    assert code == 2
+    assert err.count("\n") == 1, err
+    assert "the nominal model is outside m, where the calibrated model goes" in err
+    assert not (calibrated_dir / "m" / "again.toml").exists()
+    # beside it, the same call writes the model, and its check reads the nominal model
+    assert main(["calibration", "nominal.toml", str(CONF), "-o", "again.toml"]) == 0
+    assert 'nominal = "nominal.toml"' in (calibrated_dir / "again.toml").read_text()

@@ -18,10 +18,18 @@ import numpy as np
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import ModelError
+from fkcheck.io.numbers import show_text
 from fkcheck.model.frames import CHUNK, reference_poses, relative_pose
 from fkcheck.model.types import Model
 
-__all__ = ["CalibrationEffect", "calibration_effect", "dh_chain_effect", "dh_frame", "nominal_model"]
+__all__ = [
+    "CalibrationEffect",
+    "calibration_effect",
+    "dh_chain_effect",
+    "dh_frame",
+    "nominal_location",
+    "nominal_model",
+]
 
 
 @dataclass(frozen=True)
@@ -77,14 +85,69 @@ class CalibrationEffect:
         )
 
 
+def nominal_location(ref: str, folder: Path) -> Path:
+    """The model file ``[calibration] nominal`` names, held to the calibrated model's folder.
+
+    ``ref`` is a bundled model's name (``ur5e``), ``fkcheck:<subpath>`` (a model
+    file bundled with fkcheck), or a model file (``.toml``, ``.csv``) named
+    relative to ``folder`` — the calibrated model's folder — by a relative path
+    without ``..`` that stays inside ``folder`` once symbolic links are followed.
+    Nothing is read here, and no message quotes more than the reference.
+
+    Raises:
+        ModelError: (field ``calibration.nominal``, no file) An unknown name, an
+            absolute path, ``..``, a path leading out of ``folder``, or not a
+            model file's name.
+    """
+    from fkcheck.errors import UrdfError
+    from fkcheck.model.read import bundled_model_paths
+    from fkcheck.urdf.locate import FKCHECK_PREFIX, bundled_location
+
+    field = "calibration.nominal"
+    shown = show_text(ref)
+    if ref.startswith(FKCHECK_PREFIX):
+        try:
+            return bundled_location(ref)
+        except UrdfError as exc:
+            raise ModelError(None, field, f"{shown}: {exc.problem}") from None
+    pure = Path(ref)
+    if "/" not in ref and "\\" not in ref and pure.suffix == "":
+        bundled = bundled_model_paths()
+        if ref not in bundled:
+            raise ModelError(
+                None,
+                field,
+                f"{shown} is no bundled model ({', '.join(bundled)}) and no model file's name "
+                "(.toml or .csv)",
+            )
+        return bundled[ref]
+    if pure.is_absolute() or ".." in pure.parts or "\\" in ref:
+        raise ModelError(
+            None,
+            field,
+            f"{shown}: a nominal model file is named relative to the calibrated model's folder, "
+            "without '..' (keep the nominal model in that folder, or name a bundled model)",
+        )
+    if pure.suffix.lower() not in (".toml", ".csv"):
+        raise ModelError(None, field, f"{shown} names no model file (.toml or .csv)")
+    target = folder / pure
+    if not target.resolve().is_relative_to(folder.resolve()):
+        raise ModelError(
+            None, field, f"{shown} leads outside the calibrated model's folder (a symbolic link)"
+        )
+    return target
+
+
 def nominal_model(calibrated: Model) -> Model:
     """The nominal model a calibrated model names in ``[calibration] nominal``.
 
-    A bundled model's name, or a model file relative to the calibrated model's file.
+    A bundled model's name, or a model file in the calibrated model's folder
+    (:func:`nominal_location`; the current directory for a model built in memory).
 
     Raises:
-        ModelError: No ``[calibration]``, or the nominal model cannot be loaded,
-            or its joints are not the calibrated model's.
+        ModelError: No ``[calibration]``, a nominal model outside the calibrated
+            model's folder, or one that cannot be loaded, or whose joints are
+            not the calibrated model's.
     """
     from fkcheck.model.read import load_model
 
@@ -92,18 +155,18 @@ def nominal_model(calibrated: Model) -> Model:
     if spec is None:
         raise ModelError(calibrated.path, "calibration", "the model has no [calibration]")
     ref = spec.nominal
-    target: str | Path = ref
-    if ("/" in ref or "\\" in ref or ref.endswith((".toml", ".csv"))) and calibrated.path:
-        target = calibrated.path.parent / ref
+    folder = calibrated.path.parent if calibrated.path is not None else Path.cwd()
     try:
+        target = nominal_location(ref, folder)
         nominal = load_model(target)
     except ModelError as exc:
-        raise ModelError(calibrated.path, "calibration.nominal", str(exc)) from None
+        problem = exc.problem if exc.path is None else str(exc)
+        raise ModelError(calibrated.path, "calibration.nominal", problem) from None
     if nominal.joint_names != calibrated.joint_names:
         raise ModelError(
             calibrated.path,
             "calibration.nominal",
-            f"{ref!r} has joints {', '.join(nominal.joint_names)}; "
+            f"{show_text(ref)} has joints {', '.join(nominal.joint_names)}; "
             f"this model has {', '.join(calibrated.joint_names)}",
         )
     return nominal
