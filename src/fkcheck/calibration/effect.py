@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.calibration.provenance import Provenance
 from fkcheck.core.typing import Float
 from fkcheck.errors import ModelError
 from fkcheck.io.numbers import show_text
@@ -50,6 +51,8 @@ class CalibrationEffect:
         p95_rotation_rad: Its 95th percentile, rad.
         worst_index: The configuration of the largest position difference.
         worst_q: That configuration, rad.
+        provenance: Whether the model is still what its calibration file gives
+            (:mod:`fkcheck.calibration.provenance`), ``None`` where not compared.
     """
 
     nominal: str
@@ -65,6 +68,7 @@ class CalibrationEffect:
     p95_rotation_rad: float
     worst_index: int
     worst_q: tuple[float, ...]
+    provenance: Provenance | None = None
 
     @property
     def line(self) -> str:
@@ -72,8 +76,9 @@ class CalibrationEffect:
         mm = 1e3
         deg = 180.0 / math.pi
         where = ", ".join(f"{v * deg:.1f}°" for v in self.worst_q)
+        note = self.provenance.note if self.provenance is not None else ""
         return (
-            f"calibration {self.identity} vs nominal {self.nominal} "
+            f"calibration {self.identity}{f' ({note})' if note else ''} vs nominal {self.nominal} "
             f"({self.frame_from} → {self.frame_to}, {self.configurations} configurations): "
             f"position max {self.max_position_m * mm:.3f} mm, "
             f"median {self.median_position_m * mm:.3f} mm, "

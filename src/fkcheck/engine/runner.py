@@ -33,6 +33,7 @@ from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.backends.registry import check_known_differences
 from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
 from fkcheck.calibration.lint import lint_calibrated
+from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
@@ -609,9 +610,11 @@ def _calibration_effect(model: Model, q: Float, pair: tuple[str, str]) -> Calibr
     nominal = nominal_model(model)
     try:
         name = Path(model.calibration.file).name
-        return calibration_effect(model, nominal, q, pair[0], pair[1], name)
+        effect = calibration_effect(model, nominal, q, pair[0], pair[1], name)
     except FrameError:
         return None
+    # Said with the effect: whether the file and the table are still as calibrated.
+    return replace(effect, provenance=calibration_provenance(model, nominal))
 
 
 def _tolerance_source(
