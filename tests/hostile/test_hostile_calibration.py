@@ -378,3 +378,75 @@ def test_calibration_refuses_to_write_a_nominal_it_could_not_read_back(calibrate
     # beside it, the same call writes the model, and its check reads the nominal model
     assert main(["calibration", "nominal.toml", str(CONF), "-o", "again.toml"]) == 0
     assert 'nominal = "nominal.toml"' in (calibrated_dir / "again.toml").read_text()
+
+
+# --------------------------------------------------------------------------- one screen at both places
+# A calibrated model's YAML holding "${…}" (which `fkcheck calibration` refuses) was
+# evaluated as an expression at check time by the description's xacro: a YAML z of
+# "${0.18053981171425867 + 0.001}" moved the shoulder by 1 mm and the check compared that.
+
+YAML = CONF.parent / "robot_calibration.yaml"
+Z1 = "    z: 0.18053981171425867\n"
+
+
+@pytest.fixture
+def with_yaml(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capfd) -> Path:
+    """``robot.toml``: ur10e with calibration.conf, its description reading robot_calibration.yaml."""
+    import shutil
+
+    monkeypatch.chdir(tmp_path)
+    for source in (CONF, YAML):
+        shutil.copy(source, tmp_path / source.name)
+    argv = ["calibration", "ur10e", "calibration.conf", "robot_calibration.yaml", "-o", "robot.toml"]
+    assert main(argv) == 0
+    capfd.readouterr()
+    assert '"kinematics_params" = "robot_calibration.yaml"' in (tmp_path / "robot.toml").read_text()
+    return tmp_path
+
+
+@pytest.mark.parametrize(
+    "value",
+    ['"${0.18053981171425867 + 0.001}"', '"${0.5}"', "'$(eval 0.5)'", "[0.18]", "{a: 1}"],
+)
+def test_the_check_screens_the_description_yaml_as_calibration_does(with_yaml: Path, capfd, value):
+    yaml = with_yaml / "robot_calibration.yaml"
+    text = yaml.read_text(encoding="utf-8")
+    assert text.count(Z1) == 1
+    yaml.write_text(text.replace(Z1, f"    z: {value}\n"), encoding="utf-8")
+    with deadline(120.0):
+        refused = main(["calibration", "ur10e", "robot_calibration.yaml"])
+    _, at_calibration = capfd.readouterr()
+    assert refused == 2
+    with deadline(120.0):
+        code = main(["check", "robot.toml", "--against", "pinocchio-urdf"])
+    out, err = capfd.readouterr()
+    assert code == 2, out
+    assert err.count("\n") == 1, err
+    # the same refusal, naming the same field, at both places
+    problem = at_calibration.strip().removeprefix("fkcheck: error: ")
+    assert problem.startswith("robot_calibration.yaml: kinematics.shoulder.z: expected a number")
+    assert err.strip() == (
+        f"fkcheck: error: {problem} (the kinematics_params of ur10e-calibrated's description)"
+    )
+
+
+def test_the_check_screens_it_in_the_api_too(with_yaml: Path):
+    from fkcheck.backends.registry import make_backend
+    from fkcheck.engine.runner import run_check
+
+    yaml = with_yaml / "robot_calibration.yaml"
+    yaml.write_text(yaml.read_text().replace(Z1, '    z: "${0.5}"\n'), encoding="utf-8")
+    model = load_model(with_yaml / "robot.toml")
+    with pytest.raises(
+        CalibrationError, match=r"kinematics\.shoulder\.z: expected a number, got '\$\{0\.5\}'"
+    ):
+        run_check(model, [make_backend("rtb-dh")], samples=8)
+
+
+def test_a_right_yaml_is_still_read_and_compared(with_yaml: Path, capfd):
+    with deadline(180.0):
+        code = main(["check", "robot.toml", "--against", "pinocchio-urdf", "--tol-pos", "1e-4",
+                     "--tol-rot", "1e-4"])  # fmt: skip
+    out, err = capfd.readouterr()
+    assert code == 0, out + err
+    assert "pinocchio-urdf" in out

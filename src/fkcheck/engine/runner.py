@@ -32,6 +32,7 @@ import numpy as np
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.backends.registry import check_known_differences
 from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
+from fkcheck.calibration.description import screen_kinematics
 from fkcheck.calibration.lint import lint_calibrated
 from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
@@ -478,6 +479,7 @@ def run_check(
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
     check_known_differences(model)
+    screen_kinematics(model)  # a calibration YAML is read as fkcheck calibration reads it
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
     # frame declares is placed from the URDF, and only URDF backends compare it.
