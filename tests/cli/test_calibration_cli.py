@@ -27,7 +27,8 @@ def test_calibration_writes_the_model_and_says_what_it_changes(tmp_path, capsys)
     assert code == 0, err
     first = out.splitlines()[0]
     assert first.startswith(
-        "fkcheck calibration: calibration calibration.conf vs nominal ur10 (DH frame 0 → DH frame 6, "
+        "fkcheck calibration: calibration calibration.conf vs nominal ur10 "
+        "(DH frame 0 → DH frame 6, "
     )
     assert "position max 7.8" in first
     assert "95th percentile" in first

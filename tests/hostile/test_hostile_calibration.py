@@ -130,7 +130,7 @@ def test_the_alias_bomb_is_one_line_and_exit_2_on_the_command_line(tmp_path: Pat
     assert len(alias_bomb()) < 600
     with deadline(TIME_BOUND_S):
         code = main(["calibration", "ur5e", str(path), "-o", str(tmp_path / "robot.toml")])
-    out, err = capfd.readouterr()
+    _, err = capfd.readouterr()
     assert code == 2
     assert err.count("\n") == 1, err
     assert "anchor or alias" in err
@@ -208,7 +208,10 @@ def _ur5_in_millimetres() -> Table:
 
 
 PAIRS = {"tool0_to_tool0": ("tool0", "tool0"), "joint_1_only": ("world", "base_link")}
-TABLES = {"ur10_onto_ur5": (_ur10_table, r"431 mm"), "millimetres": (_ur5_in_millimetres, r"1\.03e\+03 m")}
+TABLES = {
+    "ur10_onto_ur5": (_ur10_table, r"431 mm"),
+    "millimetres": (_ur5_in_millimetres, r"1\.03e\+03 m"),
+}
 
 
 @pytest.mark.parametrize("pair", sorted(PAIRS))
@@ -315,18 +318,21 @@ def calibrated_dir(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capfd) -> Pa
     return tmp_path
 
 
+RELATIVE = r"named relative to the calibrated model's folder"
 NOMINALS = {
-    "climbs_out": ("../foreign.toml", r"named relative to the calibrated model's folder, without '\.\.'"),
-    "absolute": ("{tmp}/foreign.toml", r"named relative to the calibrated model's folder"),
-    "symbolic_link_out": ("link.toml", r"leads outside the calibrated model's folder \(a symbolic link\)"),
-    "a_file_named_like_a_model": ("plain", r"'plain' is no bundled model \(.*\) and no model file's name"),
+    "climbs_out": ("../foreign.toml", RELATIVE + r", without '\.\.'"),
+    "absolute": ("{tmp}/foreign.toml", RELATIVE),
+    "symbolic_link_out": ("link.toml", r"leads outside the calibrated model's folder"),
+    "a_file_named_like_a_model": ("plain", r"'plain' is no bundled model \(.*\) and no model"),
     "bundled_climbing_out": ("fkcheck:../../foreign.toml", r"fkcheck: path names a file bundled"),
 }  # fmt: skip
 
 
 @pytest.mark.parametrize("case", sorted(NOMINALS))
 @pytest.mark.parametrize("command", ["check", "lint"])
-def test_a_nominal_outside_the_models_folder_is_refused_unread(calibrated_dir, capfd, case, command):
+def test_a_nominal_outside_the_models_folder_is_refused_unread(
+    calibrated_dir, capfd, case, command
+):
     ref, refusal = NOMINALS[case]
     (calibrated_dir / "m" / "link.toml").symlink_to(calibrated_dir / "foreign.toml")
     model = calibrated_dir / "m" / "robot.toml"
@@ -356,7 +362,9 @@ def test_a_nominal_in_the_models_folder_is_read(calibrated_dir, capfd):
 
     shutil.copy(bundled_model_paths()["ur10e"], calibrated_dir / "m" / "nominal.toml")
     model = calibrated_dir / "m" / "robot.toml"
-    text = model.read_text(encoding="utf-8").replace('nominal = "ur10e"', 'nominal = "nominal.toml"')
+    text = model.read_text(encoding="utf-8").replace(
+        'nominal = "ur10e"', 'nominal = "nominal.toml"'
+    )
     model.write_text(text, encoding="utf-8")
     assert main(["lint", str(model)]) == 0
     out, _ = capfd.readouterr()
@@ -380,7 +388,7 @@ def test_calibration_refuses_to_write_a_nominal_it_could_not_read_back(calibrate
     assert 'nominal = "nominal.toml"' in (calibrated_dir / "again.toml").read_text()
 
 
-# --------------------------------------------------------------------------- one screen at both places
+# --------------------------------------------------------------------------- one screen, two places
 # A calibrated model's YAML holding "${…}" (which `fkcheck calibration` refuses) was
 # evaluated as an expression at check time by the description's xacro: a YAML z of
 # "${0.18053981171425867 + 0.001}" moved the shoulder by 1 mm and the check compared that.
@@ -391,13 +399,20 @@ Z1 = "    z: 0.18053981171425867\n"
 
 @pytest.fixture
 def with_yaml(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capfd) -> Path:
-    """``robot.toml``: ur10e with calibration.conf, its description reading robot_calibration.yaml."""
+    """``robot.toml``: ur10e with calibration.conf; its description reads robot_calibration.yaml."""
     import shutil
 
     monkeypatch.chdir(tmp_path)
     for source in (CONF, YAML):
         shutil.copy(source, tmp_path / source.name)
-    argv = ["calibration", "ur10e", "calibration.conf", "robot_calibration.yaml", "-o", "robot.toml"]
+    argv = [
+        "calibration",
+        "ur10e",
+        "calibration.conf",
+        "robot_calibration.yaml",
+        "-o",
+        "robot.toml",
+    ]
     assert main(argv) == 0
     capfd.readouterr()
     assert '"kinematics_params" = "robot_calibration.yaml"' in (tmp_path / "robot.toml").read_text()

@@ -92,11 +92,11 @@ def screen_kinematics(model: Model) -> None:
 
     A calibrated model (``[calibration]``), or any model on UR's bundled
     description, that names a ``kinematics_params`` file in ``[urdf.xacro_files]``:
-    that file must be a ur_calibration YAML :func:`~fkcheck.calibration.ur_files.read_ur_calibration`
-    accepts — numbers only, bounded, each key once — before the description is
-    expanded with it. The expansion would otherwise evaluate a string such as
-    ``"${0.5}"`` as an expression, which the calibration reader refuses: one
-    screen at both places.
+    that file must be a ur_calibration YAML that
+    :func:`~fkcheck.calibration.ur_files.read_ur_calibration` accepts — numbers
+    only, bounded, each key once — before the description is expanded with it.
+    The expansion would otherwise evaluate a string such as ``"${0.5}"`` as an
+    expression, which the calibration reader refuses: one screen at both places.
 
     Raises:
         CalibrationError: The file is not such a YAML (one line naming it).

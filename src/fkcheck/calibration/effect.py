@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.calibration.provenance import Provenance
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import ModelError
 from fkcheck.io.numbers import show_text

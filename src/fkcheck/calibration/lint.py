@@ -16,6 +16,7 @@ from collections.abc import Iterable
 from fkcheck.calibration.apply import FIT_LIMIT_M, FIT_LIMIT_RAD, FIT_SAMPLES
 from fkcheck.calibration.effect import dh_chain_effect, nominal_model
 from fkcheck.errors import FkcheckError
+from fkcheck.io.numbers import show_text
 from fkcheck.model.lint import Finding, lint_model
 from fkcheck.model.sampling import sample_configurations
 from fkcheck.model.types import Model
@@ -35,11 +36,12 @@ def calibration_misfit(model: Model) -> str | None:
     if model.calibration is None:
         return None
     spec = model.calibration
+    shown = show_text(spec.nominal)  # (the model's own text, quoted bounded)
     try:
         nominal = nominal_model(model)
         if nominal.calibration is not None:  # itself, or a table calibrated already
             return (
-                f"[calibration] nominal {spec.nominal!r} is a calibrated model itself (from "
+                f"[calibration] nominal {shown} is a calibrated model itself (from "
                 f"{nominal.calibration.nominal}), not a nominal one, so its joints are held "
                 "to every rule"
             )
@@ -47,7 +49,7 @@ def calibration_misfit(model: Model) -> str | None:
         effect = dh_chain_effect(model, nominal, q)
     except FkcheckError as exc:
         return (
-            f"[calibration] nominal {spec.nominal!r} cannot be compared with this table "
+            f"[calibration] nominal {shown} cannot be compared with this table "
             f"({exc}), so its joints are held to every rule"
         )
     pos, rot = effect.max_position_m, effect.max_rotation_rad
@@ -55,9 +57,10 @@ def calibration_misfit(model: Model) -> str | None:
         return None
     return (
         f"the table moves {effect.frame_to} up to {pos:.3g} m and {math.degrees(rot):.3g}° "
-        f"from {spec.nominal}'s, relative to {effect.frame_from} (a factory calibration: at most {FIT_LIMIT_M * 1e3:g} mm and "
-        f"{math.degrees(FIT_LIMIT_RAD):.2g}°): not a calibration of {spec.nominal} — a value "
-        "in millimetres or degrees, or another type's table? Its joints are held to every rule"
+        f"from where nominal {shown} puts it, relative to {effect.frame_from} (a factory "
+        f"calibration: at most {FIT_LIMIT_M * 1e3:g} mm and {math.degrees(FIT_LIMIT_RAD):.2g}°): "
+        f"not a calibration of {shown} — a value in millimetres or degrees, or another type's "
+        "table? Its joints are held to every rule"
     )
 
 

@@ -112,7 +112,9 @@ def _table_again(nominal: Model, path: Path) -> tuple[tuple[float, ...], ...]:
 
     cal = read_ur_calibration(path)
     check_nominal(nominal, cal)  # six revolute joints, standard DH: what the table has
-    values = table_from_yaml(nominal, cal) if cal.links is not None else controller_table(nominal, cal)
+    values = (
+        table_from_yaml(nominal, cal) if cal.links is not None else controller_table(nominal, cal)
+    )
     return values.theta, values.a, values.d, values.alpha
 
 

@@ -265,7 +265,9 @@ def _yaml_number(path: Path, field: str, value: Any) -> float:
     try:
         number = float(value)
     except OverflowError:  # (the loader bounds an integer's digits; kept for any other int)
-        raise CalibrationError(path, f"{field}: {_shown_value(value)} is beyond ±{_BOUND:g}") from None
+        raise CalibrationError(
+            path, f"{field}: {_shown_value(value)} is beyond ±{_BOUND:g}"
+        ) from None
     if not math.isfinite(number):
         raise CalibrationError(path, f"{field}: must be finite, got {number}")
     if abs(number) > _BOUND:
@@ -390,7 +392,7 @@ def _load_yaml(path: Path, text: str) -> Any:
     import yaml
 
     try:
-        return yaml.load(text, Loader=_calibration_yaml_loader())  # noqa: S506  (a SafeLoader)
+        return yaml.load(text, Loader=_calibration_yaml_loader())
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""

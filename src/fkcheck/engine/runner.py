@@ -31,8 +31,8 @@ import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.backends.registry import check_known_differences
-from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
 from fkcheck.calibration.description import screen_kinematics
+from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
 from fkcheck.calibration.lint import lint_calibrated
 from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
