@@ -99,3 +99,43 @@ def random_q(model: Model, rng: np.random.Generator, n: int) -> np.ndarray:
     lo = np.where(np.isfinite(model.limits[:, 0]), model.limits[:, 0], -np.pi)
     hi = np.where(np.isfinite(model.limits[:, 1]), model.limits[:, 1], np.pi)
     return rng.uniform(lo, hi, size=(n, model.dof))
+
+
+def _address_space_bytes() -> int:
+    """This process's address space now (``VmSize``), bytes; 0 where /proc is not there."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmSize:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 0
+
+
+@contextlib.contextmanager
+def address_space_cap(extra_bytes: int) -> Iterator[None]:
+    """Let the block grow this process's address space by at most ``extra_bytes``.
+
+    ``RLIMIT_AS``'s soft limit (what ``ulimit -v`` and ``nox -s bounded`` set)
+    is lowered to the address space now plus ``extra_bytes`` (never above the
+    hard limit) and put back after: a reader whose memory blows up raises
+    ``MemoryError`` in the test instead of taking the machine's memory. Virtual
+    memory counts, so ``extra_bytes`` must leave room for the libraries' mappings
+    the block may make (a new thread's stack, an import).
+    """
+    import resource
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    now = _address_space_bytes()
+    if now == 0:  # no /proc: no cap (the bounded session's own limit still holds)
+        yield
+        return
+    cap = now + extra_bytes
+    if hard != resource.RLIM_INFINITY:
+        cap = min(cap, hard)
+    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))

@@ -95,7 +95,10 @@ def test_effect_is_what_the_tables_give_composed_by_hand(tmp_path: Path, name: s
 
 def test_deltas_of_another_type_do_not_fit(tmp_path: Path) -> None:
     path = write_conf(tmp_path / "calibration.conf", "ur10e-test-a")
-    with pytest.raises(CalibrationError, match=r"does not fit ur5e: the calibrated tool0 is up to"):
+    with pytest.raises(
+        CalibrationError,
+        match=r"does not fit ur5e: the calibrated DH frame 6 is up to .* relative to DH frame 0",
+    ):
         _apply("ur5e", path)
 
 

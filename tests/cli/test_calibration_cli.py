@@ -27,7 +27,8 @@ def test_calibration_writes_the_model_and_says_what_it_changes(tmp_path, capsys)
     assert code == 0, err
     first = out.splitlines()[0]
     assert first.startswith(
-        "fkcheck calibration: calibration calibration.conf vs nominal ur10 (base → tool0, "
+        "fkcheck calibration: calibration calibration.conf vs nominal ur10 "
+        "(DH frame 0 → DH frame 6, "
     )
     assert "position max 7.8" in first
     assert "95th percentile" in first
@@ -97,7 +98,7 @@ def test_a_calibrated_model_edited_in_millimetres_is_no_calibration_and_lint_say
     code, out, _ = run(capsys, "lint", model)
     assert code == 1
     assert f"{model}: joint[4].d (wrist_2): warning [length]: " in out
-    assert f"{model}: warning [calibration]: the table moves tool0 up to " in out
+    assert f"{model}: warning [calibration]: the table moves DH frame 6 up to " in out
     assert "not held to" not in out
     code, out, _ = run(capsys, "check", model, "--samples", "20")
     verdict = next(x for x in out.splitlines() if x.startswith("verdict:"))

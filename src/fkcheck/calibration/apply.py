@@ -9,10 +9,14 @@ checksums or hash, the calibration status).
 
 A calibration that does not fit the nominal model is refused, by what it does
 rather than by its numbers (a linearised table's d2/d3 of hundreds of metres
-are normal): the calibrated tool may move from the nominal one by at most
-:data:`FIT_LIMIT_M` and :data:`FIT_LIMIT_RAD` over :data:`FIT_SAMPLES`
-configurations. UR's own test calibrations move it by 3.5–7.9 mm; deltas added
-to another type's table, or full values taken for deltas, move it by metres.
+are normal): the calibrated last DH frame may move from the nominal one,
+relative to DH frame 0, by at most :data:`FIT_LIMIT_M` and :data:`FIT_LIMIT_RAD`
+over :data:`FIT_SAMPLES` configurations. UR's own test calibrations move it by
+3.5–7.9 mm; deltas added to another type's table, or full values taken for
+deltas, move it by metres. The fit is always measured between those two DH
+frames (:func:`~fkcheck.calibration.effect.dh_chain_effect`), never between the
+nominal model's ``[check]`` pair: a pair such as ``tool0 → tool0``, or one that
+spans the first joint only, let a UR10 table onto a UR5 "fit" by 0 mm.
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from fkcheck.calibration.effect import CalibrationEffect, calibration_effect
+from fkcheck.calibration.effect import CalibrationEffect, dh_chain_effect
 from fkcheck.calibration.ur_files import CalibrationError, DhValues, UrCalibration
 from fkcheck.model.sampling import sample_configurations
 from fkcheck.model.types import CalibrationSpec, Model
@@ -168,18 +172,16 @@ def apply_calibration(
         known_differences=(),
         calibration=spec,
     )
-    check = model.check
     samples = sample_configurations(nominal, FIT_SAMPLES, seed=0)
-    effect = calibration_effect(
-        model, nominal, samples.q, check.frame_from, check.frame_to, cal.path.name
-    )
+    effect = dh_chain_effect(model, nominal, samples.q, cal.path.name)
     bad = not (effect.max_position_m <= FIT_LIMIT_M and effect.max_rotation_rad <= FIT_LIMIT_RAD)
     if bad:
         raise CalibrationError(
             cal.path,
-            f"does not fit {nominal.name}: the calibrated {check.frame_to} is up to "
+            f"does not fit {nominal.name}: the calibrated {effect.frame_to} is up to "
             f"{_size(effect.max_position_m)} and {math.degrees(effect.max_rotation_rad):.3g}° "
-            f"from the nominal one (a factory calibration moves it by millimetres, at most "
+            f"from the nominal one, relative to {effect.frame_from} (a factory calibration "
+            f"moves it by millimetres, at most "
             f"{FIT_LIMIT_M * 1e3:g} mm and {math.degrees(FIT_LIMIT_RAD):.2g}°); "
             "is the nominal model this robot's type"
             + (" and are these deltas, not full values?" if cal.delta is not None else "?"),

@@ -35,6 +35,7 @@ __all__ = [
     "KINEMATICS_ARG",
     "YAML_TABLE_TOL",
     "calibrated_description",
+    "screen_kinematics",
     "split_files",
     "table_from_yaml",
     "with_kinematics",
@@ -83,6 +84,45 @@ def _ur_description(nominal: Model, yaml: UrCalibration) -> None:
             f"{nominal.name!r} has no UR xacro description to read a ur_calibration YAML with "
             "(its [urdf] must be UR's ur.urdf.xacro with xacro_args ur_type, as the bundled "
             "UR models have)",
+        )
+
+
+def screen_kinematics(model: Model) -> None:
+    """Read the YAML a model's UR description expands with, as ``fkcheck calibration`` reads it.
+
+    A calibrated model (``[calibration]``), or any model on UR's bundled
+    description, that names a ``kinematics_params`` file in ``[urdf.xacro_files]``:
+    that file must be a ur_calibration YAML that
+    :func:`~fkcheck.calibration.ur_files.read_ur_calibration` accepts — numbers
+    only, bounded, each key once — before the description is expanded with it.
+    The expansion would otherwise evaluate a string such as ``"${0.5}"`` as an
+    expression, which the calibration reader refuses: one screen at both places.
+
+    Raises:
+        CalibrationError: The file is not such a YAML (one line naming it).
+        InputFileError: The file cannot be read.
+    """
+    from fkcheck.urdf.locate import FKCHECK_PREFIX, locate
+
+    urdf = model.urdf
+    if urdf is None or KINEMATICS_ARG not in urdf.xacro_files:
+        return
+    on_ur = urdf.path.startswith(f"{FKCHECK_PREFIX}ur_description/")
+    if model.calibration is None and not on_ur:
+        return
+    base = Path.cwd() if model.path is None else model.path.parent
+    path = locate(urdf.xacro_files[KINEMATICS_ARG], base)
+    try:
+        cal = read_ur_calibration(path)
+    except CalibrationError as exc:
+        raise CalibrationError(
+            exc.path, f"{exc.problem} (the {KINEMATICS_ARG} of {model.name}'s description)"
+        ) from None
+    if cal.form != "ur_calibration YAML":
+        raise CalibrationError(
+            path,
+            f"a {cal.form}, not a ur_calibration YAML (the {KINEMATICS_ARG} of "
+            f"{model.name}'s description)",
         )
 
 

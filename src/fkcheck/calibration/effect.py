@@ -15,13 +15,22 @@ from pathlib import Path
 
 import numpy as np
 
+from fkcheck.calibration.provenance import Provenance
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import ModelError
-from fkcheck.model.frames import reference_poses, relative_pose
+from fkcheck.io.numbers import show_text
+from fkcheck.model.frames import CHUNK, reference_poses, relative_pose
 from fkcheck.model.types import Model
 
-__all__ = ["CalibrationEffect", "calibration_effect", "nominal_model"]
+__all__ = [
+    "CalibrationEffect",
+    "calibration_effect",
+    "dh_chain_effect",
+    "dh_frame",
+    "nominal_location",
+    "nominal_model",
+]
 
 
 @dataclass(frozen=True)
@@ -42,6 +51,8 @@ class CalibrationEffect:
         p95_rotation_rad: Its 95th percentile, rad.
         worst_index: The configuration of the largest position difference.
         worst_q: That configuration, rad.
+        provenance: Whether the model is still what its calibration file gives
+            (:mod:`fkcheck.calibration.provenance`), ``None`` where not compared.
     """
 
     nominal: str
@@ -57,6 +68,7 @@ class CalibrationEffect:
     p95_rotation_rad: float
     worst_index: int
     worst_q: tuple[float, ...]
+    provenance: Provenance | None = None
 
     @property
     def line(self) -> str:
@@ -64,8 +76,9 @@ class CalibrationEffect:
         mm = 1e3
         deg = 180.0 / math.pi
         where = ", ".join(f"{v * deg:.1f}°" for v in self.worst_q)
+        note = self.provenance.note if self.provenance is not None else ""
         return (
-            f"calibration {self.identity} vs nominal {self.nominal} "
+            f"calibration {self.identity}{f' ({note})' if note else ''} vs nominal {self.nominal} "
             f"({self.frame_from} → {self.frame_to}, {self.configurations} configurations): "
             f"position max {self.max_position_m * mm:.3f} mm, "
             f"median {self.median_position_m * mm:.3f} mm, "
@@ -77,14 +90,69 @@ class CalibrationEffect:
         )
 
 
+def nominal_location(ref: str, folder: Path) -> Path:
+    """The model file ``[calibration] nominal`` names, held to the calibrated model's folder.
+
+    ``ref`` is a bundled model's name (``ur5e``), ``fkcheck:<subpath>`` (a model
+    file bundled with fkcheck), or a model file (``.toml``, ``.csv``) named
+    relative to ``folder`` — the calibrated model's folder — by a relative path
+    without ``..`` that stays inside ``folder`` once symbolic links are followed.
+    Nothing is read here, and no message quotes more than the reference.
+
+    Raises:
+        ModelError: (field ``calibration.nominal``, no file) An unknown name, an
+            absolute path, ``..``, a path leading out of ``folder``, or not a
+            model file's name.
+    """
+    from fkcheck.errors import UrdfError
+    from fkcheck.model.read import bundled_model_paths
+    from fkcheck.urdf.locate import FKCHECK_PREFIX, bundled_location
+
+    field = "calibration.nominal"
+    shown = show_text(ref)
+    if ref.startswith(FKCHECK_PREFIX):
+        try:
+            return bundled_location(ref)
+        except UrdfError as exc:
+            raise ModelError(None, field, f"{shown}: {exc.problem}") from None
+    pure = Path(ref)
+    if "/" not in ref and "\\" not in ref and pure.suffix == "":
+        bundled = bundled_model_paths()
+        if ref not in bundled:
+            raise ModelError(
+                None,
+                field,
+                f"{shown} is no bundled model ({', '.join(bundled)}) and no model file's name "
+                "(.toml or .csv)",
+            )
+        return bundled[ref]
+    if pure.is_absolute() or ".." in pure.parts or "\\" in ref:
+        raise ModelError(
+            None,
+            field,
+            f"{shown}: a nominal model file is named relative to the calibrated model's folder, "
+            "without '..' (keep the nominal model in that folder, or name a bundled model)",
+        )
+    if pure.suffix.lower() not in (".toml", ".csv"):
+        raise ModelError(None, field, f"{shown} names no model file (.toml or .csv)")
+    target = folder / pure
+    if not target.resolve().is_relative_to(folder.resolve()):
+        raise ModelError(
+            None, field, f"{shown} leads outside the calibrated model's folder (a symbolic link)"
+        )
+    return target
+
+
 def nominal_model(calibrated: Model) -> Model:
     """The nominal model a calibrated model names in ``[calibration] nominal``.
 
-    A bundled model's name, or a model file relative to the calibrated model's file.
+    A bundled model's name, or a model file in the calibrated model's folder
+    (:func:`nominal_location`; the current directory for a model built in memory).
 
     Raises:
-        ModelError: No ``[calibration]``, or the nominal model cannot be loaded,
-            or its joints are not the calibrated model's.
+        ModelError: No ``[calibration]``, a nominal model outside the calibrated
+            model's folder, or one that cannot be loaded, or whose joints are
+            not the calibrated model's.
     """
     from fkcheck.model.read import load_model
 
@@ -92,18 +160,18 @@ def nominal_model(calibrated: Model) -> Model:
     if spec is None:
         raise ModelError(calibrated.path, "calibration", "the model has no [calibration]")
     ref = spec.nominal
-    target: str | Path = ref
-    if ("/" in ref or "\\" in ref or ref.endswith((".toml", ".csv"))) and calibrated.path:
-        target = calibrated.path.parent / ref
+    folder = calibrated.path.parent if calibrated.path is not None else Path.cwd()
     try:
+        target = nominal_location(ref, folder)
         nominal = load_model(target)
     except ModelError as exc:
-        raise ModelError(calibrated.path, "calibration.nominal", str(exc)) from None
+        problem = exc.problem if exc.path is None else str(exc)
+        raise ModelError(calibrated.path, "calibration.nominal", problem) from None
     if nominal.joint_names != calibrated.joint_names:
         raise ModelError(
             calibrated.path,
             "calibration.nominal",
-            f"{ref!r} has joints {', '.join(nominal.joint_names)}; "
+            f"{show_text(ref)} has joints {', '.join(nominal.joint_names)}; "
             f"this model has {', '.join(calibrated.joint_names)}",
         )
     return nominal
@@ -112,6 +180,37 @@ def nominal_model(calibrated: Model) -> Model:
 def _from_T_to(model: Model, q: Float, frame_from: str, frame_to: str) -> Float:
     poses = reference_poses(model, q, (frame_from, frame_to))
     return relative_pose(poses[0], poses[1])
+
+
+def dh_frame(index: int) -> str:
+    """How an effect names DH frame ``index`` (not a named frame of the model)."""
+    return f"DH frame {index}"
+
+
+def _dh0_T_dhn(model: Model, q: Float) -> Float:
+    out = np.empty((q.shape[0], 4, 4))
+    for start in range(0, q.shape[0], CHUNK):
+        frames = model.fk(q[start : start + CHUNK], all_frames=True)  # (N, n+1, 4, 4)
+        out[start : start + CHUNK] = relative_pose(frames[:, 0], frames[:, -1])
+    return out
+
+
+def dh_chain_effect(
+    calibrated: Model, nominal: Model, q: Float, identity: str = ""
+) -> CalibrationEffect:
+    """Compare the two tables' DH frame 0 → last DH frame at ``q`` (shape ``(N, dof)``, N ≥ 1).
+
+    What the calibration changes of the table itself, whatever frames the models
+    name: every joint lies between the two frames, and neither base nor tool
+    offset does. A calibration's fit is measured so (``fkcheck calibration`` and
+    lint): measured between a ``[check]`` pair, a pair that spans no joint or
+    only the first (``tool0 → tool0``) would let another type's table, or one in
+    millimetres, "fit" by 0 mm.
+    """
+    return _effect(
+        calibrated, nominal, q, (dh_frame(0), dh_frame(calibrated.dof)),
+        _dh0_T_dhn(calibrated, q), _dh0_T_dhn(nominal, q), identity,
+    )  # fmt: skip
 
 
 def calibration_effect(
@@ -129,14 +228,27 @@ def calibration_effect(
     """
     ours = _from_T_to(calibrated, q, frame_from, frame_to)
     theirs = _from_T_to(nominal, q, frame_from, frame_to)
+    return _effect(calibrated, nominal, q, (frame_from, frame_to), ours, theirs, identity)
+
+
+def _effect(
+    calibrated: Model,
+    nominal: Model,
+    q: Float,
+    pair: tuple[str, str],
+    ours: Float,
+    theirs: Float,
+    identity: str,
+) -> CalibrationEffect:
+    """The summary of two batches of ``from_T_to`` (``(N, 4, 4)`` each)."""
     pos = position_error_m(ours, theirs)
     rot = rotation_error_rad(ours, theirs)
     worst = int(np.argmax(pos))
     return CalibrationEffect(
         nominal=nominal.name,
         identity=identity or (calibrated.calibration.identity if calibrated.calibration else ""),
-        frame_from=frame_from,
-        frame_to=frame_to,
+        frame_from=pair[0],
+        frame_to=pair[1],
         configurations=int(q.shape[0]),
         max_position_m=float(pos.max()),
         median_position_m=float(np.median(pos)),

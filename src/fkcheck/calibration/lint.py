@@ -14,8 +14,9 @@ import math
 from collections.abc import Iterable
 
 from fkcheck.calibration.apply import FIT_LIMIT_M, FIT_LIMIT_RAD, FIT_SAMPLES
-from fkcheck.calibration.effect import calibration_effect, nominal_model
+from fkcheck.calibration.effect import dh_chain_effect, nominal_model
 from fkcheck.errors import FkcheckError
+from fkcheck.io.numbers import show_text
 from fkcheck.model.lint import Finding, lint_model
 from fkcheck.model.sampling import sample_configurations
 from fkcheck.model.types import Model
@@ -27,35 +28,39 @@ def calibration_misfit(model: Model) -> str | None:
     """Why a calibrated model's table is no calibration of its nominal model, or ``None``.
 
     Over the configurations ``fkcheck calibration`` checks a fit on, the calibrated
-    ``[check] to`` may move from the nominal one by at most ``FIT_LIMIT_M`` and
-    ``FIT_LIMIT_RAD``. ``None`` for a model without ``[calibration]``.
+    last DH frame may move from the nominal one, relative to DH frame 0, by at most
+    ``FIT_LIMIT_M`` and ``FIT_LIMIT_RAD`` — whatever the model's ``[check]`` pair
+    (:func:`~fkcheck.calibration.effect.dh_chain_effect`). ``None`` for a model
+    without ``[calibration]``.
     """
     if model.calibration is None:
         return None
-    spec, check = model.calibration, model.check
+    spec = model.calibration
+    shown = show_text(spec.nominal)  # (the model's own text, quoted bounded)
     try:
         nominal = nominal_model(model)
         if nominal.calibration is not None:  # itself, or a table calibrated already
             return (
-                f"[calibration] nominal {spec.nominal!r} is a calibrated model itself (from "
+                f"[calibration] nominal {shown} is a calibrated model itself (from "
                 f"{nominal.calibration.nominal}), not a nominal one, so its joints are held "
                 "to every rule"
             )
         q = sample_configurations(nominal, FIT_SAMPLES, seed=0).q
-        effect = calibration_effect(model, nominal, q, check.frame_from, check.frame_to)
+        effect = dh_chain_effect(model, nominal, q)
     except FkcheckError as exc:
         return (
-            f"[calibration] nominal {spec.nominal!r} cannot be compared with this table "
+            f"[calibration] nominal {shown} cannot be compared with this table "
             f"({exc}), so its joints are held to every rule"
         )
     pos, rot = effect.max_position_m, effect.max_rotation_rad
     if pos <= FIT_LIMIT_M and rot <= FIT_LIMIT_RAD:
         return None
     return (
-        f"the table moves {check.frame_to} up to {pos:.3g} m and {math.degrees(rot):.3g}° "
-        f"from {spec.nominal}'s (a factory calibration: at most {FIT_LIMIT_M * 1e3:g} mm and "
-        f"{math.degrees(FIT_LIMIT_RAD):.2g}°): not a calibration of {spec.nominal} — a value "
-        "in millimetres or degrees, or another type's table? Its joints are held to every rule"
+        f"the table moves {effect.frame_to} up to {pos:.3g} m and {math.degrees(rot):.3g}° "
+        f"from where nominal {shown} puts it, relative to {effect.frame_from} (a factory "
+        f"calibration: at most {FIT_LIMIT_M * 1e3:g} mm and {math.degrees(FIT_LIMIT_RAD):.2g}°): "
+        f"not a calibration of {shown} — a value in millimetres or degrees, or another type's "
+        "table? Its joints are held to every rule"
     )
 
 

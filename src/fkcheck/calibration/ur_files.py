@@ -194,7 +194,7 @@ def _read_conf(path: Path, text: str, digest: str) -> UrCalibration:
         parser.read_string(text, source=str(path))
     except configparser.Error as exc:
         first = str(exc).splitlines()[0]
-        raise CalibrationError(path, f"not a calibration.conf: {first}") from None
+        raise CalibrationError(path, f"not a calibration.conf: {_cut(first)}") from None
     if not parser.has_section("mounting"):
         raise CalibrationError(path, "no [mounting] section: this is not a UR calibration.conf")
     mounting = parser["mounting"]
@@ -246,10 +246,28 @@ def _read_info(path: Path, text: str, digest: str) -> UrCalibration:
     )
 
 
+def _shown_value(value: object) -> str:
+    """A YAML value as a message names it, bounded whatever its size: never a whole ``repr``."""
+    if isinstance(value, str):
+        return show_text(value)
+    if isinstance(value, bool | int | float) or value is None:
+        return show_text(str(value))  # (an int's digits are bounded by the loader)
+    if isinstance(value, Mapping):
+        return f"a mapping of {len(value)} keys"
+    if isinstance(value, list):
+        return f"a list of {len(value)} items"
+    return f"a {type(value).__name__}"
+
+
 def _yaml_number(path: Path, field: str, value: Any) -> float:
     if isinstance(value, bool) or not isinstance(value, int | float):
-        raise CalibrationError(path, f"{field}: expected a number, got {show_text(repr(value))}")
-    number = float(value)
+        raise CalibrationError(path, f"{field}: expected a number, got {_shown_value(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # (the loader bounds an integer's digits; kept for any other int)
+        raise CalibrationError(
+            path, f"{field}: {_shown_value(value)} is beyond ±{_BOUND:g}"
+        ) from None
     if not math.isfinite(number):
         raise CalibrationError(path, f"{field}: must be finite, got {number}")
     if abs(number) > _BOUND:
@@ -257,16 +275,135 @@ def _yaml_number(path: Path, field: str, value: Any) -> float:
     return number
 
 
-def _read_yaml(path: Path, text: str, digest: str) -> UrCalibration:
-    import yaml  # PyYAML's safe loader: plain data only, no tags that build objects
+#: How deep a ur_calibration YAML may nest: ``kinematics`` → link → number is three.
+MAX_YAML_DEPTH = 8
+#: How many values (keys, numbers, mappings) it may hold: ``ur_calibration`` writes 89.
+#: PyYAML's pure-Python reader takes ~60 µs a value: 300,000 of them (a list in 1 MiB) took 19 s.
+MAX_YAML_NODES = 1000
+#: How long a message quotes a line of the YAML parser's own (its tags, keys…).
+_SHOWN_PROBLEM = 160
+
+
+def _cut(text: str) -> str:
+    """A message of a library's, on one line and at most :data:`_SHOWN_PROBLEM` characters."""
+    flat = " ".join(text.split())
+    return flat if len(flat) <= _SHOWN_PROBLEM else flat[:_SHOWN_PROBLEM] + "…"
+
+
+def _calibration_yaml_loader() -> type[Any]:
+    """PyYAML's safe loader, cut down to what ``ur_calibration`` writes.
+
+    Plain data only, and bounded work whatever the text: no anchors or aliases
+    (an alias bomb of 600 bytes expands to billions of values), at most
+    :data:`MAX_YAML_DEPTH` levels of nesting (the composer recurses per level),
+    numbers of at most :data:`~fkcheck.io.numbers.MAX_NUMBER_CHARS` characters
+    (a 4000-digit integer is no length in metres), at most :data:`MAX_YAML_NODES`
+    values (PyYAML is pure Python here), each key once per mapping
+    and no merge keys (``<<``): ``ur_calibration`` writes none of them. A
+    refusal is PyYAML's own error, with the line it is on.
+    """
+    import yaml
+    from yaml.composer import ComposerError
+    from yaml.constructor import ConstructorError
+
+    from fkcheck.io.numbers import MAX_NUMBER_CHARS
+
+    class Loader(yaml.SafeLoader):  # type: ignore[misc]  # (no stubs)
+        """yaml's safe loader without aliases, deep nesting, long numbers or repeated keys."""
+
+        _depth = 0
+        _nodes = 0
+
+        def compose_node(self, parent: Any, index: Any) -> Any:
+            event = self.peek_event()
+            if isinstance(event, yaml.AliasEvent) or event.anchor is not None:
+                raise ComposerError(
+                    None, None,
+                    "an anchor or alias (&name, *name): a ur_calibration YAML has none; "
+                    "write each value out",
+                    event.start_mark,
+                )  # fmt: skip
+            if self._depth >= MAX_YAML_DEPTH:
+                raise ComposerError(
+                    None, None,
+                    f"nested more than {MAX_YAML_DEPTH} levels deep (a ur_calibration YAML "
+                    "has three: kinematics, link, number)",
+                    event.start_mark,
+                )  # fmt: skip
+            self._nodes += 1
+            if self._nodes > MAX_YAML_NODES:
+                raise ComposerError(
+                    None, None,
+                    f"more than {MAX_YAML_NODES} values (a ur_calibration YAML has 89)",
+                    event.start_mark,
+                )  # fmt: skip
+            self._depth += 1
+            try:
+                return super().compose_node(parent, index)
+            finally:
+                self._depth -= 1
+
+        def construct_mapping(self, node: Any, deep: bool = False) -> Any:
+            seen: dict[Any, int] = {}
+            for key_node, _ in node.value:
+                if key_node.tag == "tag:yaml.org,2002:merge":
+                    raise ConstructorError(
+                        None, None, "a merge key (<<): write each value out", key_node.start_mark
+                    )
+                key = self.construct_object(key_node, deep=True)
+                try:
+                    first = seen.setdefault(key, key_node.start_mark.line + 1)
+                except TypeError:
+                    raise ConstructorError(
+                        None, None, "a key that is not a name or a number", key_node.start_mark
+                    ) from None
+                if first != key_node.start_mark.line + 1:
+                    raise ConstructorError(
+                        None, None,
+                        f"key {_shown_value(key)} given twice (first on line {first}): "
+                        "which one is the robot's?",
+                        key_node.start_mark,
+                    )  # fmt: skip
+            return super().construct_mapping(node, deep)
+
+        def _bounded(self, node: Any) -> None:
+            if len(node.value) > MAX_NUMBER_CHARS:
+                raise ConstructorError(
+                    None, None,
+                    f"number too long: {len(node.value)} characters (at most {MAX_NUMBER_CHARS})",
+                    node.start_mark,
+                )  # fmt: skip
+
+        def construct_yaml_int(self, node: Any) -> Any:
+            self._bounded(node)
+            return super().construct_yaml_int(node)
+
+        def construct_yaml_float(self, node: Any) -> Any:
+            self._bounded(node)
+            return super().construct_yaml_float(node)
+
+    Loader.add_constructor("tag:yaml.org,2002:int", Loader.construct_yaml_int)
+    Loader.add_constructor("tag:yaml.org,2002:float", Loader.construct_yaml_float)
+    return Loader
+
+
+def _load_yaml(path: Path, text: str) -> Any:
+    """The YAML's data, by :func:`_calibration_yaml_loader`; any refusal is one line."""
+    import yaml
 
     try:
-        data = yaml.safe_load(text)
+        return yaml.load(text, Loader=_calibration_yaml_loader())
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""
         problem = getattr(exc, "problem", None) or "not YAML"
-        raise CalibrationError(path, f"{where}{problem}") from None
+        raise CalibrationError(path, f"{where}{_cut(problem)}") from None
+    except RecursionError:  # (the depth limit comes first; kept as xacro's load_yaml keeps it)
+        raise CalibrationError(path, "nested too deeply") from None
+
+
+def _read_yaml(path: Path, text: str, digest: str) -> UrCalibration:
+    data = _load_yaml(path, text)
     if not isinstance(data, Mapping) or not isinstance(data.get("kinematics"), Mapping):
         raise CalibrationError(path, "no 'kinematics' mapping: this is not a ur_calibration YAML")
     kin = data["kinematics"]
@@ -285,10 +422,12 @@ def _read_yaml(path: Path, text: str, digest: str) -> UrCalibration:
         links.append(
             LinkOrigin(link, (values[0], values[1], values[2]), (values[3], values[4], values[5]))
         )
-    unknown = sorted(str(k) for k in kin if k not in UR_LINKS and k != "hash")
+    unknown = [k for k in kin if k not in UR_LINKS and k != "hash"]
     if unknown:
         raise CalibrationError(
-            path, f"kinematics.{unknown[0]}: unknown link (the links are {', '.join(UR_LINKS)})"
+            path,
+            f"kinematics: unknown link {_shown_value(unknown[0])} (the links are "
+            f"{', '.join(UR_LINKS)})",
         )
     raw_hash = kin.get("hash", "")
     if not isinstance(raw_hash, str) or not re.fullmatch(r"(calib_[0-9]{1,24})?", raw_hash):

@@ -59,9 +59,7 @@ def run(args: argparse.Namespace) -> int:
     if nominal.path is not None:
         inputs.append(("the nominal model", nominal.path))
     plan(args, [("-o", args.output)], inputs)
-    nominal_ref = args.nominal
-    if nominal.path is not None and Path(args.nominal).exists():
-        nominal_ref = path_for(nominal.path, args.output)
+    nominal_ref = _nominal_ref(args, nominal)
     table = None
     if table_file is None:
         from fkcheck.calibration.description import table_from_yaml
@@ -97,6 +95,37 @@ def run(args: argparse.Namespace) -> int:
     if advice:
         print(advice, file=sys.stdout if again else sys.stderr)
     return 0
+
+
+def _nominal_ref(args: argparse.Namespace, nominal: Any) -> str:
+    """How the written model names its nominal model: a bundled name, or a file in its folder.
+
+    A printed model is taken to be written in the current directory.
+
+    Raises:
+        CalibrationError: The nominal model file is outside the written model's
+            folder (the model could not name it: ``[calibration] nominal`` is held
+            to the model's folder).
+    """
+    from fkcheck.calibration.effect import nominal_location
+    from fkcheck.calibration.ur_files import CalibrationError
+    from fkcheck.errors import ModelError
+    from fkcheck.urdf.locate import path_for
+
+    if nominal.path is None or not Path(args.nominal).exists():
+        return str(args.nominal)  # a bundled model's name
+    target = args.output if args.output is not None else Path.cwd() / "calibrated.toml"
+    ref = path_for(nominal.path, target)
+    try:
+        nominal_location(ref, target.parent)
+    except ModelError as exc:
+        raise CalibrationError(
+            nominal.path,
+            f"the nominal model is outside {target.parent}, where the calibrated model goes "
+            f"({exc.problem}): write it beside the nominal model, or copy the nominal model "
+            "to its folder",
+        ) from None
+    return ref
 
 
 def _header(

@@ -125,6 +125,7 @@ def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> Non
     import contextlib
 
     from fkcheck.backends.base import FixedConfigurations
+    from fkcheck.calibration.description import screen_kinematics
     from fkcheck.errors import BackendUnavailable
     from fkcheck.urdf.source import load_urdf
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
@@ -133,6 +134,7 @@ def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> Non
         if isinstance(backend, FixedConfigurations):
             backend.configurations(model)
     reads_urdf = any(b.reads == "urdf" for b in backends)
+    screen_kinematics(model)  # before the description is expanded with it
     if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
         with contextlib.suppress(BackendUnavailable):  # each URDF backend says so itself
             load_urdf(model, min(timeout_s, XACRO_TIMEOUT_S))

@@ -31,8 +31,10 @@ import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.backends.registry import check_known_differences
+from fkcheck.calibration.description import screen_kinematics
 from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
 from fkcheck.calibration.lint import lint_calibrated
+from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
@@ -478,6 +480,7 @@ def run_check(
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
     check_known_differences(model)
+    screen_kinematics(model)  # a calibration YAML is read as fkcheck calibration reads it
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
     # frame declares is placed from the URDF, and only URDF backends compare it.
@@ -614,9 +617,11 @@ def _calibration_effect(model: Model, q: Float, pair: tuple[str, str]) -> Calibr
     nominal = nominal_model(model)
     try:
         name = Path(model.calibration.file).name
-        return calibration_effect(model, nominal, q, pair[0], pair[1], name)
+        effect = calibration_effect(model, nominal, q, pair[0], pair[1], name)
     except FrameError:
         return None
+    # Said with the effect: whether the file and the table are still as calibrated.
+    return replace(effect, provenance=calibration_provenance(model, nominal))
 
 
 def _tolerance_source(

@@ -150,6 +150,7 @@ def _calibration(record: CheckRecord) -> dict[str, Any] | None:
         },
         "worst_index": effect.worst_index,
         "worst_q": list(effect.worst_q),
+        "provenance": effect.provenance.state if effect.provenance is not None else None,
         "line": record.calibration_line,
     }
 

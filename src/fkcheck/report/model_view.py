@@ -149,10 +149,14 @@ def model_view(check: CheckResult) -> ModelView:
         )
         for name, spec in model.frames.items()
     )
+    source = model.source
+    effect = check.calibration
+    if effect is not None and effect.provenance is not None and effect.provenance.note:
+        source = f"{source} — {effect.provenance.note}"  # the provenance no longer holds as said
     return ModelView(
         name=model.name,
         description=model.description,
-        source=model.source,
+        source=source,
         path=display_path(model.path) if model.path is not None else "(built in memory)",
         convention=model.convention,
         convention_formula=_FORMULA[model.convention],
