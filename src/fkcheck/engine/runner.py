@@ -42,7 +42,7 @@ from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
-from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
+from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, failure_text
 from fkcheck.model.coverage import coverage
 from fkcheck.model.frames import (
     resolve_frame,
@@ -145,10 +145,7 @@ def _outcome(job: Job, on_progress: Progress | None = None) -> BackendResult | F
     except FkcheckError as exc:
         return exc
     except Exception as exc:
-        # fkcheck's own messages are sentences; a library's exception keeps its type name.
-        own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
-        detail = str(exc) if own else f"{type(exc).__name__}: {exc}"
-        return _error(backend, detail, time.perf_counter() - start)
+        return _error(backend, failure_text(exc), time.perf_counter() - start)
 
 
 def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
@@ -168,8 +165,7 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
     except FkcheckError as exc:
         return "bad-input", str(exc)
     except Exception as exc:
-        own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
-        return "error", str(exc) if own else f"{type(exc).__name__}: {exc}"
+        return "error", failure_text(exc)
 
 
 #: An isolated backend's configurations are split over several processes (one per
