@@ -310,7 +310,7 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
     that fails to import is left to its backend, which reports it.
     """
     for backend in backends:
-        if backend.isolated:
+        if backend.isolated or not backend.imports:  # nothing to import here
             continue
         try:
             if backend.unavailable_reason(model) is not None:
@@ -472,7 +472,7 @@ def run_check(
     CheckOptions(samples=samples, seed=seed, sampler=sampler, timeout_s=timeout_s)  # in range
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
-    check_known_differences(model)
+    check_known_differences(model, backends)
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
     # frame declares is placed from the URDF, and only URDF backends compare it.
