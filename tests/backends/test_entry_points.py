@@ -79,6 +79,24 @@ class Exits(ClosedFormUr5):
         os._exit(0)
 
 
+class ProbeExits(ClosedFormUr5):
+    """Ends its process, with status 0, when asked whether it can run."""
+
+    name = "demo-probe-exits"
+
+    def unavailable_reason(self, model):
+        os._exit(0)
+
+
+class BuildExits(ClosedFormUr5):
+    """Ends its process, with status 0, when built."""
+
+    name = "demo-build-exits"
+
+    def __init__(self, arg, options):
+        os._exit(0)
+
+
 class Chatty(ClosedFormUr5):
     """Right poses, and prints that look like fkcheck's own output (issue 31)."""
 
@@ -440,3 +458,31 @@ def test_a_broken_backend_the_check_does_not_use_does_not_end_it(tmp_path):
     assert verdict == [line for line in broken.stdout.splitlines() if line.startswith("verdict:")]
     assert broken.returncode == clean.returncode, broken.stderr
     assert "demo-missing" not in broken.stderr
+
+
+def test_a_backend_that_ends_its_process_anywhere_never_ends_fkcheck_s(tmp_path):
+    site = tmp_path / "site"
+    _install(site, {"demo-probe-exits": "fkcheck_demo_backend:ProbeExits",
+                    "demo-build-exits": "fkcheck_demo_backend:BuildExits"})  # fmt: skip
+    done, row = _one_backend(site, tmp_path, "demo-probe-exits")  # asked whether it can run
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "Traceback" not in done.stderr
+    assert row is not None
+    assert row["status"] == "error"
+    assert "exited with code 0 without an answer" in row["message"], row["message"]
+    diagnosed = _run(site, "-m", "fkcheck", "diagnose", "ur5", "--against", "demo-probe-exits",
+                     cwd=tmp_path)  # fmt: skip
+    assert diagnosed.returncode == 2, diagnosed.stdout + diagnosed.stderr
+    assert diagnosed.stderr.startswith(
+        "fkcheck: error: cannot diagnose against demo-probe-exits: it failed: asking it about "
+        "the model: its process exited with code 0 without an answer"
+    ), diagnosed.stderr
+    assert len(diagnosed.stderr.splitlines()) == 1
+    # Built before anything runs: a backend that cannot be built is bad input.
+    built = _run(site, "-m", "fkcheck", "check", "ur5", "--against", "demo-build-exits",
+                 cwd=tmp_path)  # fmt: skip
+    assert built.returncode == 2, built.stdout + built.stderr
+    assert built.stderr == (
+        "fkcheck: error: backend demo-build-exits (fkcheck-demo-backend 0.1): building it: its "
+        "process exited with code 0 without an answer\n"
+    )

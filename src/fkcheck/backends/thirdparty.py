@@ -15,9 +15,9 @@ error message.
 In fkcheck's process the backend is an :class:`IsolatedBackend`: the members it
 declared (read in its process when it is built, then held to the contract here
 again) and methods that each build it afresh in a child and call it there. Each
-call costs a process start (about half a second); what a backend answers about a
-model (:meth:`~IsolatedBackend.unavailable_reason`, :meth:`~IsolatedBackend.inputs`)
-is asked once per model.
+call costs a process start (about half a second on a quiet machine); what a backend
+answers about a model (:meth:`~IsolatedBackend.unavailable_reason` and
+:meth:`~IsolatedBackend.inputs`) is asked once per model, in one process.
 
 Its failures become what a built-in's would: a :class:`~fkcheck.errors.Skip`
 (``BackendUnavailable``, ``FrameUnavailable``) skips it, bad input
@@ -140,14 +140,21 @@ def _call_method(
     method: str,
     args: tuple[Any, ...],
 ) -> Any:
-    """In the backend's process: build it and call one of its methods."""
+    """In the backend's process: build it and call one of its array methods (poses, Jacobians)."""
     backend = build_in_process(registration, arg, options)
     answer = getattr(backend, method)(*args)
-    if method in ("frame_poses", "frame_jacobian", "configurations"):
-        return None if answer is None else np.asarray(answer, dtype=np.float64)
-    if method == "inputs":
-        return tuple(Path(p) for p in answer)
-    return None if answer is None else str(answer)  # unavailable_reason
+    return None if answer is None else np.asarray(answer, dtype=np.float64)
+
+
+def _probe_model(
+    registration: Registration, arg: str, options: BackendOptions, model: Model
+) -> tuple[str | None, tuple[Path, ...]]:
+    """In the backend's process: whether it can run on ``model``, and the files it reads."""
+    backend = build_in_process(registration, arg, options)
+    reason = backend.unavailable_reason(model)
+    if reason is not None:
+        return str(reason), ()
+    return None, tuple(Path(p) for p in backend.inputs(model))
 
 
 def _run(
@@ -235,7 +242,7 @@ class IsolatedBackend:
         self.imports: tuple[str, ...] = ()  # imported in its own processes only
         self.pose_cost_us: float | None = members.get("pose_cost_us")
         self.jacobian_cost_us: float | None = members.get("jacobian_cost_us")
-        self._probes: list[tuple[Model, tuple[str | None, tuple[Path, ...]]]] = []
+        self._probes: list[tuple[Model, tuple[str | None, tuple[Path, ...]] | Exception]] = []
 
     @classmethod
     def build(
@@ -274,23 +281,51 @@ class IsolatedBackend:
         return _run(f"{method}()", job, self.timeout_s, limit)
 
     def _probe(self, model: Model) -> tuple[str | None, tuple[Path, ...]]:
-        """Whether it can run on ``model`` and the files it reads, asked once per model."""
-        for seen, answer in self._probes:
+        """Whether it can run on ``model`` and the files it reads, asked once per model.
+
+        Raises:
+            Skip, FkcheckError, ThirdPartyError: What asking it gave (kept: asked again,
+                the same is raised without a second process).
+        """
+        for seen, known in self._probes:
             if seen is model:
-                return answer
-        reason = self._call("unavailable_reason", (model,))
-        inputs = () if reason is not None else self._call("inputs", (model,))
-        answer = (reason, inputs)
+                if isinstance(known, Exception):
+                    raise known
+                return known
+        job = functools.partial(_probe_model, self.registration, self.arg, self.options, model)
+        try:
+            reason, inputs = _run("asking it about the model", job, self.timeout_s)
+            answer = (
+                None if reason is None else str(reason),
+                tuple(Path(p) for p in inputs),  # only paths: its process could answer anything
+            )
+        except (Skip, FkcheckError, ThirdPartyError) as exc:
+            self._probes.append((model, exc))
+            raise
+        except (TypeError, ValueError):
+            failed = ThirdPartyError("asking it about the model: it answered something else")
+            self._probes.append((model, failed))
+            raise failed from None
         self._probes.append((model, answer))
         return answer
 
     def unavailable_reason(self, model: Model) -> str | None:
-        """Why it cannot check ``model`` here (asked in its process), or ``None``."""
+        """Why it cannot check ``model`` here (asked in its process), or ``None``.
+
+        Raises:
+            Skip, FkcheckError, ThirdPartyError: Asking it failed (the check reports it).
+        """
         return self._probe(model)[0]
 
     def inputs(self, model: Model) -> tuple[Path, ...]:
-        """The files it reads for ``model`` (asked in its process)."""
-        return self._probe(model)[1]
+        """The files it reads for ``model`` (asked in its process); none when asking failed.
+
+        Never raises: a failure is reported when the check asks whether it can run.
+        """
+        try:
+            return self._probe(model)[1]
+        except (Skip, FkcheckError, ThirdPartyError):
+            return ()
 
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """Its poses, ``(len(frames), N, 4, 4)``, computed in its process."""

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -97,12 +97,13 @@ def run(args: argparse.Namespace) -> int:
     outputs = [("--json", args.json)]
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend], model)]
     plan(args, outputs, inputs)
-    reason = backend.unavailable_reason(model)
+    reference = _Reference(backend)
+    reason = reference.unavailable_reason(model)
     if reason is not None:
         raise FkcheckError(f"cannot diagnose against {backend.name}: it cannot run here: {reason}")
     result = diagnose(
         model,
-        _Reference(backend),
+        reference,
         frame_from=args.frame_from,
         frame_to=args.frame_to,
         samples=args.samples,
@@ -132,15 +133,28 @@ class _Reference:
     def __getattr__(self, member: str) -> Any:
         return getattr(self._backend, member)
 
+    def unavailable_reason(self, model: Model) -> str | None:
+        """Why the backend cannot run on ``model``, or one line when asking it failed.
+
+        Raises:
+            FkcheckError: Bad input, or asking it failed.
+        """
+        reason: str | None = self._answer(self._backend.unavailable_reason, model)
+        return reason
+
     def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
         """The backend's poses, or one line naming it and what went wrong.
 
         Raises:
             FkcheckError: Bad input, or the backend cannot run or failed.
         """
+        poses: Float = self._answer(self._backend.frame_poses, model, q, frames)
+        return poses
+
+    def _answer(self, call: Callable[..., Any], *args: Any) -> Any:
         name = self._backend.name
         try:
-            poses: Float = self._backend.frame_poses(model, q, frames)
+            return call(*args)
         except FkcheckError:
             raise
         except Skip as exc:
@@ -151,4 +165,3 @@ class _Reference:
             raise FkcheckError(
                 f"cannot diagnose against {name}: it failed: {failure_text(exc)}"
             ) from None
-        return poses
