@@ -29,6 +29,7 @@ __all__ = [
     "UnmappedFrameError",
     "UrdfError",
     "XacroRefused",
+    "failure_text",
 ]
 
 
@@ -160,3 +161,14 @@ class UnmappedFrameError(Exception):
     stay green. The check reports the backend as ``error`` with this message,
     which names the frames to map and the URDF links to map them onto.
     """
+
+
+def failure_text(exc: BaseException) -> str:
+    """A backend's failure as its result (and a one-line error) says it.
+
+    fkcheck's own messages are sentences and are shown as they are; another
+    library's exception (or a third party's) keeps its type name, which is often
+    all that says what went wrong (``KeyError: 'tool0'``).
+    """
+    own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
+    return str(exc) if own else f"{type(exc).__name__}: {exc}"

@@ -55,3 +55,21 @@ def test_bad_input_still_ends_with_exit_2_and_its_one_line(tmp_path):
     assert done.stderr.count("\n") == 1
     assert done.stderr.startswith("fkcheck: error: ")
     assert hook.exists()
+
+
+def test_a_run_that_code_it_calls_ends_with_sys_exit_0_is_never_exit_0(monkeypatch, capsys):
+    # CI reads exit 0 as a pass: a run ended before its verdict must not give it.
+    import fkcheck.backends.registry as registry
+    from fkcheck.cli.main import main
+
+    def ends(*args: object, **kwargs: object) -> None:
+        sys.exit(0)
+
+    monkeypatch.setattr(registry, "parse_against", ends)
+    assert main(["check", "ur5", "--samples", "2", "--against", "rtb-dh"]) == 1
+    captured = capsys.readouterr()
+    assert "verdict" not in captured.out
+    assert captured.err == (
+        "fkcheck: error: the run was ended by sys.exit(0) before it finished: no verdict, "
+        "no report written\n"
+    )

@@ -11,8 +11,12 @@ The callable runs in a process of its own (:mod:`fkcheck.process.isolation`), ne
 fkcheck's: a plugin that loops forever (even holding the GIL in C), calls
 ``os._exit`` or ``sys.exit``, crashes, or leaves threads or processes running
 cannot stop or hang the check. Its process gets this process's ``sys.path``,
-current directory and environment, so the module is found exactly as an
-``import`` here would find it. At the time limit
+current directory and environment, so the module is found as an ``import``
+here would find it, and then in the current directory (:func:`search_path`:
+``--against teamfk.fk:forward`` from the team's repository needs no
+``PYTHONPATH=.``). Only a name given on the command line, to the API or in a
+project's ``[tool.fkcheck] against`` is imported: a model file names no plugin.
+At the time limit
 (:attr:`~fkcheck.backends.registry.BackendOptions.timeout_s`, per call) the
 process and all it started are killed. What the plugin prints goes to its
 stderr, never into its answer.
@@ -38,6 +42,7 @@ from __future__ import annotations
 
 import functools
 import importlib
+import os
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -53,7 +58,7 @@ from fkcheck.errors import BackendNotFoundError
 from fkcheck.model.types import Model, Offset, resolve_frame
 from fkcheck.process.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
 
-__all__ = ["PluginBackend", "PluginError"]
+__all__ = ["PluginBackend", "PluginError", "module_file", "search_path"]
 
 
 #: Output dtypes accepted as they are (converted to float64 exactly).
@@ -121,14 +126,9 @@ class PluginBackend(BackendDefaults):
         self.timeout_s = options.timeout_s
 
     def inputs(self, model: Model) -> tuple[Path, ...]:
-        """The module's source file, found on ``sys.path`` without importing anything."""
-        parts = self.module.split(".")
-        for entry in sys.path:
-            base = Path(entry or ".").joinpath(*parts)
-            for candidate in (base.with_suffix(".py"), base / "__init__.py"):
-                if candidate.is_file():
-                    return (candidate,)
-        return ()
+        """The module's source file, found where it is imported from, without importing it."""
+        found = module_file(self.module)
+        return () if found is None else (found,)
 
     def unavailable_reason(self, model: Model) -> str | None:
         """Always ``None``: whether the plugin works is only known by calling it."""
@@ -155,7 +155,9 @@ class PluginBackend(BackendDefaults):
         q = validated_q(model, q)
         require_tcp_frames(model, frames)
         shape = (q.shape[0], 4, 4)
-        job = functools.partial(_call, self.name, self.module, self.function, q.copy(), shape)
+        job = functools.partial(
+            _call, self.name, self.module, self.function, q.copy(), shape, os.getcwd()
+        )
         kind, value = self._in_child(job, q)
         if kind != "ok":
             raise PluginError(self.name, str(value))
@@ -199,7 +201,9 @@ class PluginBackend(BackendDefaults):
             return None
         shape = (q.shape[0], 6, model.dof)
         function = f"{self.function}_jacobian"
-        job = functools.partial(_call, self.name, self.module, function, q.copy(), shape)
+        job = functools.partial(
+            _call, self.name, self.module, function, q.copy(), shape, os.getcwd()
+        )
         kind, value = self._in_child(job, q)
         if kind == "absent":
             return None
@@ -209,15 +213,44 @@ class PluginBackend(BackendDefaults):
         return jacobian
 
 
+def search_path(cwd: str | None = None) -> list[str]:
+    """Where a plugin's module is looked for: ``sys.path``, then the working directory.
+
+    The working directory comes last, as an entry of its own: a module there is
+    found when nothing installed has its name (``--against teamfk.fk:forward``
+    from the team's repository, without ``PYTHONPATH=.``), and it never shadows
+    a module fkcheck or a library imports.
+    """
+    here = os.path.abspath(cwd if cwd is not None else os.getcwd())
+    path = list(sys.path)
+    return path if here in path else [*path, here]
+
+
+def module_file(module: str) -> Path | None:
+    """The source file of ``module`` (dotted) where an import in a plugin's process finds it.
+
+    Looked for as ``module.py`` or ``module/__init__.py`` on :func:`search_path`,
+    without importing anything.
+    """
+    parts = module.split(".")
+    for entry in search_path():
+        base = Path(entry or ".").joinpath(*parts)
+        for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+            if candidate.is_file():
+                return candidate
+    return None
+
+
 def _call(
-    spec: str, module: str, function: str, q: Float, shape: tuple[int, ...]
+    spec: str, module: str, function: str, q: Float, shape: tuple[int, ...], cwd: str
 ) -> tuple[str, Any]:
-    """In the plugin's own process: import, call, check.
+    """In the plugin's own process: import (:func:`search_path`), call, check.
 
     Returns:
         ``("ok", array)``, ``("absent", None)`` (an optional ``…_jacobian`` the
         module does not define) or ``("error", why)``.
     """
+    sys.path[:] = search_path(cwd)
     try:
         optional = function.endswith("_jacobian") and shape[1:2] == (6,)
         who = f"{function} " if optional else ""  # the pose callable is the spec's own

@@ -25,16 +25,21 @@ Names:
       my-urdf = "my_fk.backend:MyUrdf"
 
   Such a backend is named with ``--against my-urdf``, appears in reports and,
-  when its evidence is ``table``, may be named in ``[[known_difference]]``.
+  when its evidence is ``table``, may be named in ``[[known_difference]]``. Its
+  code runs only in processes of its own (:mod:`fkcheck.backends.thirdparty`).
+
+A name answers to one source only: a name a built-in has or two distributions
+register, and a prefix whose ``prefix:function`` also names an importable
+module, are refused when asked for, naming both (:func:`make_backend`).
 """
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import importlib
 import platform
 import re
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from importlib import metadata
@@ -51,16 +56,19 @@ __all__ = [
     "BUILTIN",
     "ENTRY_POINT_GROUP",
     "MAX_TIMEOUT_S",
+    "AmbiguousBackendError",
     "BackendContractError",
     "BackendOptions",
     "Registration",
     "against_help",
+    "build_in_process",
     "check_known_differences",
     "default_backends",
     "default_names",
     "known_difference_names",
     "library_versions",
     "make_backend",
+    "name_problems",
     "names",
     "parse_against",
     "registrations",
@@ -140,8 +148,16 @@ class Registration:
         """A member every backend of this registration declares (``reads``, ``evidence``).
 
         A prefix's class declares it as a class attribute; a plain name's backend
-        is built (cheap: libraries are imported when poses are asked for).
+        is built (cheap: libraries are imported when poses are asked for). A
+        third party's code runs only in a process of its own.
+
+        Raises:
+            BackendContractError: It cannot be imported or built.
         """
+        if self.prefixed and self.origin != "fkcheck":  # its class, read in its own process
+            from fkcheck.backends.thirdparty import class_members
+
+            return class_members(self).get(member)
         if self.prefixed:
             return getattr(self.factory(), member, None)
         return getattr(_built(self.name), member, None)
@@ -168,39 +184,50 @@ _PLUGIN_SPEC = re.compile(r"^[A-Za-z_][\w.]*:[A-Za-z_]\w*$")
 _NAME = re.compile(r"^[a-z0-9][a-z0-9._-]*:?$")
 
 
-def _entry_point_registrations() -> list[Registration]:
-    """Registrations from installed distributions' ``fkcheck.backends`` entry points.
+def _scan() -> tuple[list[Registration], dict[str, str]]:
+    """Third-party registrations, and the names no backend may answer to (with why).
 
-    Raises:
-        BackendContractError: A name that is not a backend name, or one taken already.
+    A name that is not a backend name, that a built-in has, or that two
+    distributions register is not registered: asking for it is one line naming
+    every source (:func:`make_backend`); asking for any other backend is not
+    affected.
     """
-    found: list[Registration] = []
-    taken = {r.name: r.origin for r in BUILTIN}
+    found: dict[str, Registration] = {}
+    problems: dict[str, str] = {}
+    owners: dict[str, list[str]] = {}
+    builtin = {r.name for r in BUILTIN}
     for ep in metadata.entry_points(group=ENTRY_POINT_GROUP):
         dist = getattr(ep, "dist", None)
         origin = f"{dist.name} {dist.version}" if dist is not None else "an entry point"
         where = f"entry point {ep.name!r} of {origin} (group {ENTRY_POINT_GROUP})"
+        owners.setdefault(ep.name, []).append(origin)
         if not _NAME.match(ep.name):
-            raise BackendContractError(
+            problems[ep.name] = (
                 f"{where}: not a backend name (lower-case letters, digits, '-', '_', '.'; "
                 "a prefix ends in ':')"
             )
-        if ep.name in taken:
-            raise BackendContractError(f"{where}: the name is taken by {taken[ep.name]}")
-        if not re.match(r"^[\w.]+:[\w.]+$", ep.value):
-            raise BackendContractError(f"{where}: {ep.value!r} is not module:Class")
-        taken[ep.name] = origin
-        found.append(Registration(ep.name, ep.value, default=False, origin=origin))
-    return found
+        elif ep.name in builtin:
+            problems[ep.name] = f"{where}: the name is taken by fkcheck"
+        elif len(owners[ep.name]) > 1:
+            found.pop(ep.name, None)
+            problems[ep.name] = (
+                f"backend name {ep.name!r} is registered by {' and by '.join(owners[ep.name])} "
+                f"(group {ENTRY_POINT_GROUP}): uninstall one of them"
+            )
+        elif not re.match(r"^[\w.]+:[\w.]+$", ep.value):
+            problems[ep.name] = f"{where}: {ep.value!r} is not module:Class"
+        else:
+            found[ep.name] = Registration(ep.name, ep.value, default=False, origin=origin)
+    return sorted(found.values(), key=lambda r: r.name), problems
 
 
 def registrations() -> tuple[Registration, ...]:
-    """Every registered backend: the built-ins, then third-party ones (by name).
+    """Every usable registered backend: the built-ins, then third-party ones (by name).
 
-    Raises:
-        BackendContractError: A third-party registration is malformed.
+    A malformed or clashing third-party registration is left out (asking for its
+    name says why: :func:`make_backend`).
     """
-    return (*BUILTIN, *sorted(_entry_point_registrations(), key=lambda r: r.name))
+    return (*BUILTIN, *_scan()[0])
 
 
 def valid_names() -> list[str]:
@@ -208,8 +235,18 @@ def valid_names() -> list[str]:
     return [*(r.shown for r in registrations()), _PLUGIN.name]
 
 
-def _build(registration: Registration, arg: str, options: BackendOptions) -> Backend:
-    """Build one backend and hold it to the contract."""
+def build_in_process(registration: Registration, arg: str, options: BackendOptions) -> Backend:
+    """Build one backend in this process and hold it to the contract.
+
+    fkcheck's own backends are built so; a third-party one only inside its own
+    process (:mod:`fkcheck.backends.thirdparty`).
+
+    Raises:
+        BackendContractError: It cannot be built, or it breaks the contract: a
+            member missing or of the wrong type, evidence its reads cannot give, a
+            plain backend not called by its registered name, a prefixed one whose
+            name does not start with its prefix (``rtb-model:UR5``).
+    """
     try:
         backend = registration.factory()(arg, options)
     except FkcheckError:
@@ -219,10 +256,7 @@ def _build(registration: Registration, arg: str, options: BackendOptions) -> Bac
             f"backend {registration.name} ({registration.origin}): building it failed: "
             f"{type(exc).__name__}: {exc}"
         ) from None
-    problems = contract_problems(backend)
-    plain = not registration.prefixed and registration is not _PLUGIN
-    if not problems and plain and backend.name != registration.name:
-        problems.append(f"calls itself {backend.name!r}")
+    problems = contract_problems(backend) or name_problems(registration, backend)
     if problems:
         raise BackendContractError(
             f"backend {registration.name} ({registration.origin}, {registration.target}) "
@@ -232,45 +266,145 @@ def _build(registration: Registration, arg: str, options: BackendOptions) -> Bac
     return built
 
 
+def name_problems(registration: Registration, backend: Any) -> list[str]:
+    """How a built backend's name breaks its registration's (empty: it keeps it).
+
+    A plain backend is called by its registered name; a prefixed one's name
+    starts with its prefix, so no backend can answer to another's name.
+    """
+    name = getattr(backend, "name", None)
+    if not isinstance(name, str) or registration is _PLUGIN:
+        return []
+    if registration.prefixed and not (
+        name.startswith(registration.name) and name[len(registration.name) :]
+    ):
+        return [
+            f"calls itself {name!r}, which does not start with its prefix {registration.name!r}"
+        ]
+    if not registration.prefixed and name != registration.name:
+        return [f"calls itself {name!r}"]
+    return []
+
+
 @functools.cache
 def _built(name: str) -> Backend:
     """A plain-named backend with default options, to read what it declares."""
     return make_backend(name)
 
 
+class AmbiguousBackendError(FkcheckError):
+    """An ``--against`` name two sources answer to (exit 2: say which one is meant).
+
+    Attributes:
+        spec: The name asked for.
+        sources: What answers to it, in words.
+    """
+
+    def __init__(self, spec: str, sources: Sequence[str]) -> None:
+        self.spec = spec
+        self.sources = tuple(sources)
+        super().__init__(
+            f"backend {spec!r} is ambiguous: {' and '.join(self.sources)} both answer to it; "
+            "rename the module or uninstall the distribution"
+        )
+
+
+def _plugin_module(spec: str, owner: Registration) -> str | None:
+    """Where the Python module a ``module:function`` spec names is, if it could be imported.
+
+    Found without importing anything, on ``sys.path`` and then the working directory
+    (where a plugin's module is looked for: :mod:`fkcheck.backends.plugin`). The
+    standard library's modules and the registering distribution's own package are
+    not counted: nobody names them as a plugin.
+    """
+    if not _PLUGIN_SPEC.match(spec):
+        return None
+    top = spec.partition(":")[0].split(".")[0]
+    if top in sys.stdlib_module_names or top in sys.builtin_module_names:
+        return None
+    if owner.origin != "fkcheck" and owner.target.split(".")[0].split(":")[0] == top:
+        return None
+    from fkcheck.backends.plugin import module_file
+
+    found = module_file(top)
+    return None if found is None else str(found)
+
+
 def make_backend(spec: str, options: BackendOptions | None = None) -> Backend:
     """Build one backend from its name.
 
+    A name answers to exactly one source: a built-in, an installed distribution's
+    entry point, or a Python module (``module:function``). A prefix (``rt4mod:``)
+    whose ``--against rt4mod:fk`` also names an importable module ``rt4mod`` is
+    refused, naming both, and so is a name registered twice or taken from a
+    built-in. A third-party backend is built, and runs, in processes of its own
+    (:class:`~fkcheck.backends.thirdparty.IsolatedBackend`).
+
     Raises:
         BackendNotFoundError: The name matches no backend, prefix or plugin form.
+        AmbiguousBackendError: Two sources answer to it.
         BackendContractError: Its registration or the backend breaks the contract.
     """
     options = options or BackendOptions()
     spec = spec.strip()
-    found = registrations()
+    found, problems = _scan()
+    for name, problem in problems.items():
+        if spec == name or (name.endswith(":") and spec.startswith(name)):
+            raise BackendContractError(problem)
+    registration, arg = _find(spec, (*BUILTIN, *found))
+    if registration is None:
+        raise BackendNotFoundError(spec, valid_names())
+    if registration is not _PLUGIN:
+        module = _plugin_module(spec, registration) if registration.prefixed else None
+        if module is not None:
+            raise AmbiguousBackendError(
+                spec,
+                [
+                    f"the prefix {registration.name} of {registration.origin}",
+                    f"the Python module {spec.partition(':')[0]} ({module})",
+                ],
+            )
+    if registration.origin == "fkcheck":
+        return build_in_process(registration, arg, options)
+    from fkcheck.backends.thirdparty import IsolatedBackend
+
+    return IsolatedBackend.build(registration, arg, options)
+
+
+def _find(spec: str, found: Sequence[Registration]) -> tuple[Registration | None, str]:
+    """The registration ``spec`` names and its argument (``None``: none)."""
     for registration in found:
         if not registration.prefixed and spec == registration.name:
-            return _build(registration, "", options)
+            return registration, ""
     for registration in found:
         prefix = registration.name
         if registration.prefixed and spec.startswith(prefix) and spec[len(prefix) :].strip():
-            return _build(registration, spec[len(prefix) :].strip(), options)
+            return registration, spec[len(prefix) :].strip()
     if _PLUGIN_SPEC.match(spec):
-        return _build(_PLUGIN, spec, options)
-    raise BackendNotFoundError(spec, valid_names())
+        return _PLUGIN, spec
+    return None, ""
 
 
 def names(
     *, reads: Reads | None = None, evidence: Evidence | None = None, default: bool | None = None
 ) -> tuple[str, ...]:
-    """Registered names (prefixes as ``"cmd:"``) with the given declarations, in order."""
+    """Registered names (prefixes as ``"cmd:"``) with the given declarations, in order.
+
+    Asking for declarations builds each third-party backend in its own process; one
+    that cannot be built is left out (asking for it by name says why).
+    """
     out = []
     for r in registrations():
         if default is not None and r.default != default:
             continue
-        if reads is not None and r.declared("reads") != reads:
-            continue
-        if evidence is not None and r.declared("evidence") != evidence:
+        try:
+            if reads is not None and r.declared("reads") != reads:
+                continue
+            if evidence is not None and r.declared("evidence") != evidence:
+                continue
+        except FkcheckError:
+            if r.origin == "fkcheck":
+                raise
             continue
         out.append(r.name)
     return tuple(out)
@@ -295,25 +429,42 @@ def known_difference_names() -> tuple[str, ...]:
     return names(evidence="table")
 
 
-def _known_difference_ok(name: str, allowed: Sequence[str]) -> bool:
-    return any(
-        name.startswith(a) and len(name) > len(a) if a.endswith(":") else name == a for a in allowed
-    )
+def _known_difference_ok(name: str, used: Sequence[Backend]) -> bool:
+    """Whether a ``[[known_difference]]`` may name ``name``.
+
+    A backend this check uses says its own evidence. Otherwise the name must be
+    registered: a built-in's evidence is read from it; a third party's is held
+    to it only by a check that uses it (building it would run its code, and a
+    broken distribution the check does not use must not end it).
+    """
+    for backend in used:
+        if backend.name == name:
+            return backend.evidence == "table"
+    registration, _ = _find(name, registrations())
+    if registration is None or registration is _PLUGIN:
+        return False
+    if registration.origin != "fkcheck":
+        return True
+    return bool(registration.declared("evidence") == "table")
 
 
-def check_known_differences(model: Model) -> None:
+def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
     """Refuse a ``[[known_difference]]`` naming a backend whose evidence is not the table's.
+
+    Builds no backend but the built-ins it names (``used``: those a check has
+    built already).
 
     Raises:
         ModelError: The first such name, with its field and the names allowed.
     """
     if not model.known_differences:
         return
-    allowed = known_difference_names()
-    shown = ", ".join(a + "…" if a.endswith(":") else a for a in allowed)
     for i, known in enumerate(model.known_differences):
         for k, name in enumerate(known.backends):
-            if not _known_difference_ok(name, allowed):
+            if not _known_difference_ok(name, used):
+                builtin = [r.name for r in BUILTIN if r.declared("evidence") == "table"]
+                others = [r.name for r in registrations() if r.origin != "fkcheck"]
+                shown = ", ".join(a + "…" if a.endswith(":") else a for a in builtin + others)
                 raise ModelError(
                     model.path,
                     f"known_difference[{i}].backends[{k}]",
@@ -329,19 +480,16 @@ CORE_DISTRIBUTIONS = ("fkcheck", "numpy", "numba", "scipy", "matplotlib")
 def library_versions() -> dict[str, str]:
     """Python's version, then each distribution's: the core's and every registered backend's.
 
-    A backend names its distributions (``distributions``); a third-party one's own
-    distribution is listed too. Nothing is imported; a distribution that is
+    A built-in backend names its distributions (``distributions``); a third-party
+    one's own distribution is listed. Nothing is imported; a distribution that is
     absent reads ``"not installed"``.
     """
     wanted: list[str] = list(CORE_DISTRIBUTIONS)
-    try:
-        found = registrations()
-    except BackendContractError:
-        found = BUILTIN
-    for r in found:
-        names = [r.origin.rpartition(" ")[0]] if r.origin != "fkcheck" else []
-        with contextlib.suppress(FkcheckError):  # a broken third party: reported when used
-            names += list(r.declared("distributions") or ())
+    for r in registrations():
+        if r.origin != "fkcheck":  # its own distribution: its code runs only when it is used
+            names = [r.origin.rpartition(" ")[0]]
+        else:
+            names = list(r.declared("distributions") or ())
         wanted += [name for name in names if name and name not in wanted]
     out = {"Python": platform.python_version()}
     for dist in wanted:
@@ -354,10 +502,7 @@ def library_versions() -> dict[str, str]:
 
 def against_help() -> str:
     """What ``--against`` accepts, for the command line's help (from the registry)."""
-    try:
-        found = registrations()
-    except BackendContractError:  # reported when a backend is made; help still works
-        found = BUILTIN
+    found = registrations()  # a broken registration is reported when it is asked for
     plain = [r.name for r in found if r.default]
     extra = [r.name for r in found if not r.default and not r.prefixed]
     return (

@@ -4,8 +4,16 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+from fkcheck.errors import FkcheckError, Skip, failure_text
+
+if TYPE_CHECKING:
+    from fkcheck.backends.base import Backend
+    from fkcheck.core.typing import Float
+    from fkcheck.model.types import Model
 
 __all__ = ["add_parser", "run"]
 
@@ -48,14 +56,12 @@ def add_parser(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
     from fkcheck.backends import registry
-    from fkcheck.backends.base import BackendUnavailable
     from fkcheck.backends.registry import (
         check_known_differences,
         make_backend,
     )
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, writes
     from fkcheck.diagnose import diagnose, format_text, to_dict
-    from fkcheck.errors import FkcheckError
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_lines, terminal_text
@@ -91,12 +97,13 @@ def run(args: argparse.Namespace) -> int:
     outputs = [("--json", args.json)]
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend], model)]
     plan(args, outputs, inputs)
-    reason = backend.unavailable_reason(model)
+    reference = _Reference(backend)
+    reason = reference.unavailable_reason(model)
     if reason is not None:
-        raise BackendUnavailable(f"{backend.name} cannot run here: {reason}")
+        raise FkcheckError(f"cannot diagnose against {backend.name}: it cannot run here: {reason}")
     result = diagnose(
         model,
-        backend,
+        reference,
         frame_from=args.frame_from,
         frame_to=args.frame_to,
         samples=args.samples,
@@ -108,3 +115,53 @@ def run(args: argparse.Namespace) -> int:
     if args.json is not None:
         write_text_atomic(args.json, strict_json(to_dict(result), indent=2) + "\n")
     return 0 if result.agrees or result.explained else 1
+
+
+class _Reference:
+    """The reference as ``diagnose`` uses it: its failure is one line and exit 2.
+
+    A check reports a backend that cannot run or fails as that backend's result
+    (``skipped``, ``error``) and goes on with the others; a diagnosis has only
+    this one, so the same words (:func:`~fkcheck.errors.failure_text`) end the
+    command as bad input: a missing library, a frame the URDF does not map, a
+    plugin that does not import.
+    """
+
+    def __init__(self, backend: Backend) -> None:
+        self._backend = backend
+
+    def __getattr__(self, member: str) -> Any:
+        return getattr(self._backend, member)
+
+    def unavailable_reason(self, model: Model) -> str | None:
+        """Why the backend cannot run on ``model``, or one line when asking it failed.
+
+        Raises:
+            FkcheckError: Bad input, or asking it failed.
+        """
+        reason: str | None = self._answer(self._backend.unavailable_reason, model)
+        return reason
+
+    def frame_poses(self, model: Model, q: Float, frames: Sequence[str]) -> Float:
+        """The backend's poses, or one line naming it and what went wrong.
+
+        Raises:
+            FkcheckError: Bad input, or the backend cannot run or failed.
+        """
+        poses: Float = self._answer(self._backend.frame_poses, model, q, frames)
+        return poses
+
+    def _answer(self, call: Callable[..., Any], *args: Any) -> Any:
+        name = self._backend.name
+        try:
+            return call(*args)
+        except FkcheckError:
+            raise
+        except Skip as exc:
+            raise FkcheckError(
+                f"cannot diagnose against {name}: it cannot run here: {exc}"
+            ) from None
+        except Exception as exc:  # the check reports it as the backend's error
+            raise FkcheckError(
+                f"cannot diagnose against {name}: it failed: {failure_text(exc)}"
+            ) from None

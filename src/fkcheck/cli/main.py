@@ -6,6 +6,10 @@ libraries only inside ``run``, so ``fkcheck --help`` stays fast.
 
 Exit codes: 0 ok, 1 a check disagreed or errored, 2 bad input or an output that
 cannot be written (one line on stderr), 130/143 interrupted by Ctrl-C/SIGTERM.
+A run that ends without a verdict never exits 0: code it calls ending it with
+``sys.exit(0)`` is exit 1 with one line. Code fkcheck did not write (third-party
+backends, plugins, ``cmd:`` programs) runs in processes of its own, so its
+``os._exit(0)`` ends only that process: the backend's *error*.
 
 Whatever the input, what reaches the terminal is safe (:mod:`fkcheck.io.text`):
 the error line escapes control characters, and standard output replaces a
@@ -313,6 +317,10 @@ def _run(args_list: list[str]) -> int:
         return 143
     except OSError as exc:  # BrokenPipeError included
         return _os_error(exc)
+    except SystemExit as exc:  # sys.exit() in code the run called: no verdict, never 0
+        print(f"fkcheck: error: the run was ended by sys.exit({exc.code!r}) before it "
+              f"finished: no verdict, {_written(args)}", file=sys.stderr)  # fmt: skip
+        return EXIT_FAIL
     if main_job:
         print(_main_job_line(args))
     return code

@@ -44,7 +44,7 @@ from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
-from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, UnmappedFrameError
+from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, failure_text
 from fkcheck.model.coverage import Competitor, coverage
 from fkcheck.model.frames import (
     resolve_frame,
@@ -148,10 +148,7 @@ def _outcome(job: Job, on_progress: Progress | None = None) -> BackendResult | F
     except FkcheckError as exc:
         return exc
     except Exception as exc:
-        # fkcheck's own messages are sentences; a library's exception keeps its type name.
-        own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
-        detail = str(exc) if own else f"{type(exc).__name__}: {exc}"
-        return _error(backend, detail, time.perf_counter() - start)
+        return _error(backend, failure_text(exc), time.perf_counter() - start)
 
 
 def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
@@ -171,8 +168,7 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
     except FkcheckError as exc:
         return "bad-input", str(exc)
     except Exception as exc:
-        own = isinstance(exc, UnmappedFrameError) or type(exc).__module__.startswith("fkcheck.")
-        return "error", str(exc) if own else f"{type(exc).__name__}: {exc}"
+        return "error", failure_text(exc)
 
 
 #: An isolated backend's configurations are split over several processes (one per
@@ -317,7 +313,7 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
     that fails to import is left to its backend, which reports it.
     """
     for backend in backends:
-        if backend.isolated:
+        if backend.isolated or not backend.imports:  # nothing to import here
             continue
         try:
             if backend.unavailable_reason(model) is not None:
@@ -479,7 +475,7 @@ def run_check(
     CheckOptions(samples=samples, seed=seed, sampler=sampler, timeout_s=timeout_s)  # in range
     created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
     t0 = time.perf_counter()
-    check_known_differences(model)
+    check_known_differences(model, backends)
     screen_kinematics(model)  # a calibration YAML is read as fkcheck calibration reads it
     asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
     # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
