@@ -468,6 +468,7 @@ def run_check(
         OptionError: ``samples``, ``seed``, ``sampler`` or ``timeout_s`` out of its
             range (:mod:`fkcheck.model.options`); a tolerance is a ``ToleranceError``.
         UrdfError: The model's URDF is missing, unsafe or does not fit the model.
+        TimeLimitError: The per-number evidence did not finish within ``timeout_s``.
         FkcheckError: Other bad input reported by a backend.
     """
     from fkcheck.urdf.source import load_urdf
@@ -502,7 +503,8 @@ def run_check(
     )
     calibration = _calibration_effect(model, q.q, pair)
     required = tuple(k for k in KINDS if k in (*model.check.require, *require))
-    numbers = coverage(model, pair[0], pair[1], tol[0], tol[1], q=q.q)  # what it exercises
+    # What it exercises, within the check's time limit as a backend is.
+    numbers = coverage(model, pair[0], pair[1], tol[0], tol[1], q=q.q, time_limit_s=timeout_s)
     if "table" in required and numbers.spans_no_joint:
         raise FkcheckError(
             f"require table: the frame pair {pair[0]} → {pair[1]} spans no joint of model "

@@ -1,0 +1,83 @@
+"""Work and memory that grow with what an input is worth, not with its size alone.
+
+Round four of the hostile inputs (issue 31): per-number evidence on a chain at
+the model limit took 76–164 s and 1.3 GB for two samples, outside ``--timeout``
+(every nudged number recomputed the whole chain; the trade search joined sets
+pair by pair). It now costs seconds and stops at the check's time limit in one line.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from fkcheck.model.types import MAX_JOINTS
+
+#: CPU seconds the analysis of a chain at the model limit may take, one BLAS
+#: thread: about 5 s measured (it was over 90 s); the margin is for slow runners.
+EVIDENCE_CPU_S = 40.0
+#: Its peak resident memory, bytes (250 MB measured, the libraries included).
+EVIDENCE_RSS_BYTES = 700 << 20
+
+
+def _long_chain(path: Path, joints: int = MAX_JOINTS) -> Path:
+    lines = ['name = "long"', 'convention = "standard"', 'angle_unit = "deg"']
+    for i in range(joints):
+        lines += [
+            "[[joint]]", f'name = "j{i + 1}"', f"a = {0.01 + 0.0001 * (i % 7)}",
+            f"alpha = {(0, 90, -90)[i % 3]}", f"d = {0.001 * (i % 5)}", "limits = [-180, 180]",
+        ]  # fmt: skip
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+_ANALYSE = """
+import resource, sys, time
+from fkcheck.model.coverage import coverage
+from fkcheck.model.read import load_model
+from fkcheck.model.sampling import sample_configurations
+model = load_model(sys.argv[1])
+q = sample_configurations(model, 2, 0, "sobol").q  # 2 samples and every corner: 772
+c = coverage(model, "world", "tcp", 1e-6, 1e-6, q=q)
+print(q.shape[0], c.count("verified"), c.count("not-identifiable"))
+"""
+
+
+def test_per_number_evidence_at_the_model_limit_costs_seconds(tmp_path):
+    model = _long_chain(tmp_path / "long.toml")
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    env = {**os.environ, "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+    done = subprocess.run(
+        [sys.executable, "-c", _ANALYSE, str(model)],
+        capture_output=True, text=True, timeout=600, env=env,
+    )  # fmt: skip
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    assert done.returncode == 0, done.stderr[-2000:]
+    configurations, verified, hidden = map(int, done.stdout.split())
+    assert configurations == 772
+    assert verified + hidden == 4 * MAX_JOINTS + MAX_JOINTS  # a, α, d, θ and a direction each
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    assert cpu < EVIDENCE_CPU_S
+    assert after.ru_maxrss * 1024 < EVIDENCE_RSS_BYTES  # the largest child so far
+
+
+def test_the_analysis_obeys_the_check_s_timeout_in_one_line(tmp_path):
+    model = _long_chain(tmp_path / "long.toml")
+    start = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-m", "fkcheck", "check", str(model), "--samples", "2",
+         "--against", "rtb-dh", "--timeout", "0.5"],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    elapsed = time.monotonic() - start
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [
+        "fkcheck: error: per-number evidence of long (world → tcp) did not finish within "
+        "the check's time limit of 0.5 s; give it more with --timeout"
+    ]
+    assert "Traceback" not in done.stdout + done.stderr
+    assert elapsed < 120.0  # start-up, sampling and one step past the limit; not minutes
