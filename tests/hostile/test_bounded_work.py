@@ -81,3 +81,18 @@ def test_the_analysis_obeys_the_check_s_timeout_in_one_line(tmp_path):
     ]
     assert "Traceback" not in done.stdout + done.stderr
     assert elapsed < 120.0  # start-up, sampling and one step past the limit; not minutes
+
+
+def test_a_denormal_tolerance_is_one_line_before_any_work():
+    # --tol-pos 5e-324 made every column of the evidence infinite: "SVD did not converge".
+    done = subprocess.run(
+        [sys.executable, "-m", "fkcheck", "check", "ur5", "--samples", "2", "--against",
+         "rtb-dh", "--tol-pos", "5e-324"],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert done.stdout == ""
+    assert done.stderr.splitlines() == [
+        "fkcheck: error: --tol-pos: must be at least 1e-12 m (a tighter check judges the "
+        "round-off of float arithmetic, not the table), got 4.94066e-324"
+    ]

@@ -484,7 +484,9 @@ def run_check(
     xacro_timeout_s = min(timeout_s, XACRO_TIMEOUT_S)  # the check's limit, when shorter
     model, placed = _place_urdf_links(model, asked, xacro_timeout_s)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
-    tol = pose_tolerances(tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad))
+    tol = pose_tolerances(
+        tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad), model.reach_m
+    )
     if jacobian is not None:
         check_fixed_from(model, pair[0])
     reads_urdf = any(b.reads == "urdf" for b in backends)
