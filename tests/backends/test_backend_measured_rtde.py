@@ -172,3 +172,28 @@ def test_a_recording_is_for_the_models_check_pair_and_says_so(ur5, tmp_path):
     )
     with pytest.raises(FrameUnavailable, match=match):
         backend.frame_poses(ur5, q, ("base", "flange"))
+
+
+@pytest.mark.parametrize("rtde", [True, False], ids=["rtde", "poses-csv"])
+def test_rows_beyond_the_row_limit_are_refused_at_the_first_one_unparsed(
+    tmp_path, monkeypatch, rtde
+):
+    # The byte limit let 10 million short rows through (236 s, 7.7 GB): rows are
+    # counted as they stream, and the first beyond the limit ends the read.
+    import fkcheck.backends.measured as measured
+
+    monkeypatch.setattr(measured, "MAX_POSES_ROWS", 3)
+    ur5 = load_model("ur5")
+    if rtde:
+        head = " ".join([f"actual_q_{i}" for i in range(6)] + [f"actual_TCP_pose_{i}" for i in
+                                                                range(6)])  # fmt: skip
+        row = "0 0 0 0 0 0 1 0 0 0 0 0"
+    else:
+        head, row = "q1,q2,q3,q4,q5,q6,x,y,z,rx,ry,rz", "0,0,0,0,0,0,1,0,0,0,0,0"
+    path = tmp_path / "r.csv"
+    path.write_text("\n".join([head, row, row, row]) + "\n")
+    assert read_poses_file(path, ur5)[0].shape == (3, 6)  # at the limit: read
+    path.write_text("\n".join([head, row, row, row, "not even numbers"]) + "\n")
+    match = r"r\.csv: line 5: more than 3 data rows \(at most 3\); cut the recording or keep "
+    with pytest.raises(PosesFileError, match=match + r"every k-th row$"):
+        read_poses_file(path, ur5)

@@ -82,7 +82,7 @@ from fkcheck.io.files import InputFileError, read_lines
 from fkcheck.io.numbers import NumberError, parse_number, parse_numbers, show_text, split_fields
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
 
-__all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
+__all__ = ["MAX_POSES_ROWS", "MeasuredPoses", "PosesFileError", "read_poses_file"]
 
 
 #: Joint values within this of a file row (radians / metres) are that row; two rows
@@ -90,6 +90,12 @@ __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
 MATCH_TOL = 1e-9
 #: Largest rotation number (a quaternion component or an angle in radians).
 MAX_ROTATION_NUMBER = 1e3
+#: Data rows a poses file or RTDE recording may hold. The byte limit alone let 10
+#: million short rows through (236 s, 7.7 GB); each row costs about 300 bytes
+#: here (its numbers, its pose, the duplicate check) and every backend then computes
+#: its pose. 250,000 rows are 33 minutes of RTDE at 125 Hz (8 at 500 Hz) and about
+#: 80 MB; a longer recording is cut or thinned (every k-th row) until recordings stream.
+MAX_POSES_ROWS = 250_000
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
 #: The columns of an RTDE recording that are read: joints, then TCP pose (UR's recorder
 #: names the elements of a vector output ``name_0 … name_5``).
@@ -333,7 +339,8 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
     Raises:
         PosesFileError: Not a regular file, too large, not UTF-8, a missing or
             repeated column, a bad or out-of-bounds number (with its line and
-            column), no rows, or one configuration with two different poses.
+            column), no rows or more than :data:`MAX_POSES_ROWS`, or one configuration with
+            two different poses.
     """
     q, poses, pair, _ = _read(path, model)
     return q, poses, pair
@@ -366,13 +373,21 @@ def _read(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | Non
             if layout is None:
                 layout = _layout(line, lineno, model, path)
                 continue
+            if len(linenos) == MAX_POSES_ROWS:  # counted while streaming: refused unparsed
+                raise PosesFileError(
+                    path,
+                    f"line {lineno}: more than {MAX_POSES_ROWS:,} data rows (at most "
+                    f"{MAX_POSES_ROWS:,}); cut the recording or keep every k-th row",
+                )
             kept.extend(layout.row(line, lineno, path))
             linenos.append(lineno)
     except InputFileError as exc:
         raise PosesFileError(path, exc.problem) from None
     if layout is None or not linenos:
         raise PosesFileError(path, "no header line and data rows")
-    values = np.frombuffer(kept, dtype=np.float64).reshape(len(linenos), -1) * layout.factor
+    values = np.frombuffer(kept, dtype=np.float64).reshape(len(linenos), -1)
+    if np.any(layout.factor != 1.0):  # an RTDE recording's are all 1: no copy
+        values = values * layout.factor
     bad = np.argwhere(np.abs(values) > layout.bound)
     if bad.size:
         row, k = (int(v) for v in bad[0])
