@@ -10,6 +10,7 @@ space-separated, full precision, the 12 columns read among others. Rotations wit
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -197,3 +198,52 @@ def test_rows_beyond_the_row_limit_are_refused_at_the_first_one_unparsed(
     match = r"r\.csv: line 5: more than 3 data rows \(at most 3\); cut the recording or keep "
     with pytest.raises(PosesFileError, match=match + r"every k-th row$"):
         read_poses_file(path, ur5)
+
+
+def _stanford_csv(path, header, q_si):
+    """A poses CSV of the Stanford arm: joints in the header's units, poses in m and rad."""
+    from fkcheck.core.pose_formats import pose_from_matrix
+
+    stanford = load_model("stanford")
+    poses = pose_from_matrix(stanford.fk(q_si), "rotvec")
+    scale = [180 / np.pi if n.endswith("_deg") else 1e3 if n.endswith("_mm") else 1.0
+             for n in header[:6]]  # fmt: skip
+    rows = [
+        ",".join(repr(float(v)) for v in [*(q * scale), *p])
+        for q, p in zip(q_si, poses, strict=True)
+    ]
+    path.write_text(",".join(header) + "\n" + "\n".join(rows) + "\n")
+    return stanford
+
+
+def test_each_joint_reads_the_suffix_of_its_own_quantity(tmp_path):
+    # Stanford: the prismatic joint 3 in millimetres, the revolute ones in degrees. The
+    # _mm factor went to the revolute joints and not the prismatic one: 499 m off.
+    header = ["q1_deg", "q2_deg", "q3_mm", "q4_deg", "q5_deg", "q6", "x", "y", "z", "rx", "ry",
+              "rz"]  # fmt: skip
+    q = np.array([[0.1, -0.2, 0.5, 0.3, 0.4, -0.5], [0.0, 0.3, 1.0, 0.0, -0.2, 0.1]])
+    stanford = _stanford_csv(tmp_path / "p.csv", header, q)
+    read_q, poses, _ = read_poses_file(tmp_path / "p.csv", stanford)
+    np.testing.assert_allclose(read_q, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(poses, stanford.fk(q), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("rename", "says"),
+    [
+        ({"q1": "q1_mm"}, "column q1_mm: _mm is for a length, but q1 is joint 1 (j1), revolute; "
+         "name it q1 or q1_deg"),
+        ({"q3": "q3_deg"}, "column q3_deg: _deg is for an angle, but q3 is joint 3 (j3), "
+         "prismatic; name it q3 or q3_mm"),
+        ({"x": "x_deg"}, "column x_deg: _deg is for an angle, but x is a position; name it x or "
+         "x_mm"),
+        ({"rx": "rx_mm"}, "column rx_mm: _mm is for a length, but rx is an angle; name it rx or "
+         "rx_deg"),
+    ],
+)  # fmt: skip
+def test_a_suffix_for_another_quantity_is_refused_in_one_line(tmp_path, rename, says):
+    header = ["q1", "q2", "q3", "q4", "q5", "q6", "x", "y", "z", "rx", "ry", "rz"]
+    header = [rename.get(n, n) for n in header]
+    stanford = _stanford_csv(tmp_path / "p.csv", header, np.array([[0, 0, 0.5, 0, 0, 0]]))
+    with pytest.raises(PosesFileError, match=rf"p\.csv: {re.escape(says)}$"):
+        read_poses_file(tmp_path / "p.csv", stanford)

@@ -121,3 +121,29 @@ def test_a_mimic_that_follows_no_moving_joint_is_one_line_and_exit_2(tmp_path, m
     assert len(lines) == 1, done.stderr
     assert lines[0].startswith(f"fkcheck: error: {model.parent / 'arm3.urdf'}: line ")
     assert lines[0].endswith(f"joint 'grip': {says}")
+
+
+@pytest.mark.parametrize(
+    ("header", "says"),
+    [
+        ("q1_mm,q2,q3,q4,q5,q6,x,y,z,rx,ry,rz", "column q1_mm: _mm is for a length, but q1 is "
+         "joint 1 (j1), revolute; name it q1 or q1_deg"),
+        ("q1,q2,q3,q4,q5,q6,x_deg,y,z,rx,ry,rz", "column x_deg: _deg is for an angle, but x is a "
+         "position; name it x or x_mm"),
+        ("q1,q2,q3,q4,q5,q6,x,y,z,rx_mm,ry,rz", "column rx_mm: _mm is for a length, but rx is an "
+         "angle; name it rx or rx_deg"),
+        ("q1,q2,q3_deg,q4,q5,q6,x,y,z,rx,ry,rz", "column q3_deg: _deg is for an angle, but q3 is "
+         "joint 3 (j3), prismatic; name it q3 or q3_mm"),
+    ],
+)  # fmt: skip
+def test_a_poses_column_with_the_unit_of_another_quantity_is_one_line(tmp_path, header, says):
+    # q1_mm on a revolute joint was read as milliradians, x_deg as a position, rx_mm as a
+    # rotation; on the Stanford arm _mm went to the revolute joints, not the prismatic one.
+    path = tmp_path / "p.csv"
+    path.write_text(header + "\n0,0,0.5,0,0,0,0,0,1,0,0,0\n", encoding="utf-8")
+    done = subprocess.run(
+        [sys.executable, "-m", "fkcheck", "check", "stanford", "--against", f"poses:{path}"],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert done.stderr.splitlines() == [f"fkcheck: error: {path}: {says}"]
