@@ -147,3 +147,28 @@ def test_a_poses_column_with_the_unit_of_another_quantity_is_one_line(tmp_path, 
     )  # fmt: skip
     assert done.returncode == 2
     assert done.stderr.splitlines() == [f"fkcheck: error: {path}: {says}"]
+
+
+@pytest.mark.parametrize("entry", ["../outside.toml", "{outside}"])
+def test_a_project_models_file_outside_the_project_is_one_line(tmp_path, entry):
+    # Absolute and ../ entries of [tool.fkcheck] models were read (directories and globs
+    # were already held to the project, as the documentation says of every entry).
+    outside = tmp_path / "outside.toml"
+    outside.write_text('name = "arm"\nconvention = "standard"\n[[joint]]\na = 0.1\nalpha = 0\n'
+                       "d = 0\n", encoding="utf-8")  # fmt: skip
+    project = tmp_path / "p"
+    project.mkdir()
+    shown = entry.format(outside=outside)
+    (project / "pyproject.toml").write_text(
+        f"[tool.fkcheck]\nmodels = [{json.dumps(shown)}]\n", encoding="utf-8"
+    )
+    done = subprocess.run(
+        [sys.executable, "-m", "fkcheck", "check", "--against", "rtb-dh", "--samples", "2"],
+        capture_output=True, text=True, timeout=300, cwd=project,
+    )  # fmt: skip
+    assert done.returncode == 2
+    assert done.stdout == ""
+    assert done.stderr.splitlines() == [
+        f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.models: {shown!r}: a file "
+        "outside the project"
+    ]
