@@ -254,9 +254,9 @@ class _Layout:
         position = _needed(header, ["x", "y", "z"], [_LENGTH] * 3, ["a position"] * 3, path)
         rotation = None
         for fmt, names in _ROTATIONS.items():
-            units = [_PLAIN if fmt == "quat" else _ANGLE] * len(names)
+            suffixes = [_PLAIN if fmt == "quat" else _ANGLE] * len(names)
             what = "a quaternion component" if fmt == "quat" else "an angle"
-            rotation = _columns(header, names, units, [what] * len(names), path)
+            rotation = _columns(header, names, suffixes, [what] * len(names), path)
             if rotation is not None:
                 self.fmt = fmt
                 break
