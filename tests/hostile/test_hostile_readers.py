@@ -172,3 +172,19 @@ def test_a_project_models_file_outside_the_project_is_one_line(tmp_path, entry):
         f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.models: {shown!r}: a file "
         "outside the project"
     ]
+
+
+def test_diagnose_against_a_reader_that_cannot_read_the_urdf_is_one_line(tmp_path):
+    # Its BackendUnavailable (a Skip, not bad input) ended in a traceback.
+    pytest.importorskip("mujoco")
+    urdf, toml, _ = WORLD_LINK
+    model = _write(tmp_path, urdf, toml)
+    done = subprocess.run(
+        [sys.executable, "-m", "fkcheck", "diagnose", str(model), "--against", "mujoco-urdf",
+         "--from", "base", "--to", "tip"],
+        capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert done.returncode == 1
+    assert done.stderr.splitlines() == [
+        "fkcheck: unavailable: MuJoCo cannot read arm3.urdf: Error: joint found in world body"
+    ]
