@@ -90,6 +90,7 @@ def bounded(session: nox.Session) -> None:
         "tests/hostile/test_hostile_xacro.py", "tests/hostile/test_hostile_outputs.py",
         "tests/hostile/test_hostile_processes.py", "tests/hostile/test_bounded_memory.py",
         "tests/hostile/test_hostile_calibration.py", "tests/hostile/test_property_calibration.py",
+        "tests/hostile/test_bounded_work.py", "tests/hostile/test_hostile_readers.py",
         *session.posargs,
     )  # fmt: skip
 

@@ -25,6 +25,7 @@ __all__ = [
     "ModelError",
     "OptionError",
     "Skip",
+    "TimeLimitError",
     "ToleranceError",
     "UnmappedFrameError",
     "UrdfError",
@@ -92,6 +93,13 @@ class OptionError(FkcheckError, ValueError):
 
 class ToleranceError(OptionError):
     """A tolerance or a known difference's bound out of range (:mod:`fkcheck.core.tolerances`)."""
+
+
+class TimeLimitError(FkcheckError):
+    """Work of fkcheck's own (not a backend's) that did not finish within the check's time limit.
+
+    Said in one line, with the limit and how to give more (``--timeout``).
+    """
 
 
 class FrameError(FkcheckError):

@@ -10,6 +10,7 @@ space-separated, full precision, the 12 columns read among others. Rotations wit
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -172,3 +173,77 @@ def test_a_recording_is_for_the_models_check_pair_and_says_so(ur5, tmp_path):
     )
     with pytest.raises(FrameUnavailable, match=match):
         backend.frame_poses(ur5, q, ("base", "flange"))
+
+
+@pytest.mark.parametrize("rtde", [True, False], ids=["rtde", "poses-csv"])
+def test_rows_beyond_the_row_limit_are_refused_at_the_first_one_unparsed(
+    tmp_path, monkeypatch, rtde
+):
+    # The byte limit let 10 million short rows through (236 s, 7.7 GB): rows are
+    # counted as they stream, and the first beyond the limit ends the read.
+    import fkcheck.backends.measured as measured
+
+    monkeypatch.setattr(measured, "MAX_POSES_ROWS", 3)
+    ur5 = load_model("ur5")
+    if rtde:
+        head = " ".join([f"actual_q_{i}" for i in range(6)] + [f"actual_TCP_pose_{i}" for i in
+                                                                range(6)])  # fmt: skip
+        row = "0 0 0 0 0 0 1 0 0 0 0 0"
+    else:
+        head, row = "q1,q2,q3,q4,q5,q6,x,y,z,rx,ry,rz", "0,0,0,0,0,0,1,0,0,0,0,0"
+    path = tmp_path / "r.csv"
+    path.write_text("\n".join([head, row, row, row]) + "\n")
+    assert read_poses_file(path, ur5)[0].shape == (3, 6)  # at the limit: read
+    path.write_text("\n".join([head, row, row, row, "not even numbers"]) + "\n")
+    match = r"r\.csv: line 5: more than 3 data rows \(at most 3\); cut the recording or keep "
+    with pytest.raises(PosesFileError, match=match + r"every k-th row$"):
+        read_poses_file(path, ur5)
+
+
+def _stanford_csv(path, header, q_si):
+    """A poses CSV of the Stanford arm: joints in the header's units, poses in m and rad."""
+    from fkcheck.core.pose_formats import pose_from_matrix
+
+    stanford = load_model("stanford")
+    poses = pose_from_matrix(stanford.fk(q_si), "rotvec")
+    scale = [180 / np.pi if n.endswith("_deg") else 1e3 if n.endswith("_mm") else 1.0
+             for n in header[:6]]  # fmt: skip
+    rows = [
+        ",".join(repr(float(v)) for v in [*(q * scale), *p])
+        for q, p in zip(q_si, poses, strict=True)
+    ]
+    path.write_text(",".join(header) + "\n" + "\n".join(rows) + "\n")
+    return stanford
+
+
+def test_each_joint_reads_the_suffix_of_its_own_quantity(tmp_path):
+    # Stanford: the prismatic joint 3 in millimetres, the revolute ones in degrees. The
+    # _mm factor went to the revolute joints and not the prismatic one: 499 m off.
+    header = ["q1_deg", "q2_deg", "q3_mm", "q4_deg", "q5_deg", "q6", "x", "y", "z", "rx", "ry",
+              "rz"]  # fmt: skip
+    q = np.array([[0.1, -0.2, 0.5, 0.3, 0.4, -0.5], [0.0, 0.3, 1.0, 0.0, -0.2, 0.1]])
+    stanford = _stanford_csv(tmp_path / "p.csv", header, q)
+    read_q, poses, _ = read_poses_file(tmp_path / "p.csv", stanford)
+    np.testing.assert_allclose(read_q, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(poses, stanford.fk(q), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("rename", "says"),
+    [
+        ({"q1": "q1_mm"}, "column q1_mm: _mm is for a length, but q1 is joint 1 (j1), revolute; "
+         "name it q1 or q1_deg"),
+        ({"q3": "q3_deg"}, "column q3_deg: _deg is for an angle, but q3 is joint 3 (j3), "
+         "prismatic; name it q3 or q3_mm"),
+        ({"x": "x_deg"}, "column x_deg: _deg is for an angle, but x is a position; name it x or "
+         "x_mm"),
+        ({"rx": "rx_mm"}, "column rx_mm: _mm is for a length, but rx is an angle; name it rx or "
+         "rx_deg"),
+    ],
+)  # fmt: skip
+def test_a_suffix_for_another_quantity_is_refused_in_one_line(tmp_path, rename, says):
+    header = ["q1", "q2", "q3", "q4", "q5", "q6", "x", "y", "z", "rx", "ry", "rz"]
+    header = [rename.get(n, n) for n in header]
+    stanford = _stanford_csv(tmp_path / "p.csv", header, np.array([[0, 0, 0.5, 0, 0, 0]]))
+    with pytest.raises(PosesFileError, match=rf"p\.csv: {re.escape(says)}$"):
+        read_poses_file(tmp_path / "p.csv", stanford)

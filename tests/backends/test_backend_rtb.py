@@ -342,9 +342,9 @@ def test_kinematic_text_keeps_links_and_joints_verbatim(tmp_path: Path) -> None:
     assert '<origin xyz="0.5 0 0" rpy="0 0 0" />' in text
 
 
-def test_rtb_urdf_reader_rejection_is_a_urdf_error(tmp_path: Path) -> None:
-    # A <mimic> without the joint it mimics: the screen does not require mimic's
-    # attributes (the tree is fine), RTB's reader refuses it.
+def test_a_mimic_naming_no_joint_is_refused_before_rtb_reads_it(tmp_path: Path) -> None:
+    # A <mimic> without the joint it mimics: RTB's reader refused it, others ignored it;
+    # fkcheck's screen now refuses it for every reader (issue 31).
     extra = (
         '<link name="ghost"/><joint name="dangling" type="fixed"><parent link="tip"/>'
         '<child link="ghost"/><origin xyz="0 0 0" rpy="0 0 0"/><mimic/></joint>'
@@ -352,9 +352,7 @@ def test_rtb_urdf_reader_rejection_is_a_urdf_error(tmp_path: Path) -> None:
     model = _two_r(tmp_path, extra=extra)
     before = set(Path(tempfile.gettempdir()).glob("rtb-expanded-*"))
     with pytest.raises(
-        UrdfError,
-        match=r"two_r\.urdf: Robotics Toolbox's URDF reader rejects it: "
-        r'missing required attribute "joint"',
+        UrdfError, match=r"two_r\.urdf: line \d+: joint 'dangling': <mimic joint> names no joint"
     ):
         RtbUrdf().frame_poses(model, np.zeros((1, 2)), ["base", "tip"])
     # URDF_file would save the text it failed on in the temp directory; it is never used.

@@ -165,3 +165,76 @@ def test_the_loosest_check_still_fails_a_link_2_cm_off(tmp_path: Path):
     outcome = check(wrong, ["pinocchio-urdf"], samples=20, tol_pos_m=0.01, tol_rot_rad=0.1,
                     diagnose=False)  # fmt: skip
     assert outcome.verdict == "fail"
+
+
+FLOOR = r"must be at least 1e-12 {unit} \(a tighter check judges the round-off of float "
+FLOOR += r"arithmetic, not the table\), got {got}"
+
+
+@pytest.mark.parametrize(
+    ("flags", "line"),
+    [
+        (["--tol-pos", "5e-324"], "--tol-pos: " + FLOOR.format(unit="m", got=r"4\.94066e-324")),
+        (["--tol-pos", "9.9e-13"], "--tol-pos: " + FLOOR.format(unit="m", got=r"9\.9e-13")),
+        (["--tol-rot", "1e-300"], "--tol-rot: " + FLOOR.format(unit="rad", got=r"1e-300")),
+        (["--tol-jacobian", "1e-300"],
+         "--tol-jacobian: " + FLOOR.format(unit="m/rad and rad/rad", got=r"1e-300")),
+    ],
+)  # fmt: skip
+def test_a_flag_below_the_round_off_is_one_line_and_exit_2(capsys, flags, line):
+    # 5e-324 ended in "LinAlgError: SVD did not converge" (issue 31).
+    assert main(["check", "ur5", "--against", "rtb-dh", "--samples", "2", *flags]) == 2
+    assert re.fullmatch(f"fkcheck: error: {line}", _one_line(capsys))
+
+
+def test_the_tightest_allowed_flags_run_and_a_right_table_passes(capsys):
+    argv = ["check", "ur5", "--against", "rtb-dh", "--samples", "20", "--tol-pos", "1e-12",
+            "--tol-rot", "1e-12"]  # fmt: skip
+    assert main(argv) == 0, capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("line", "field", "unit"),
+    [("tol_pos_m = 1e-300", "check.tol_pos_m", "m"), ("tol_rot_rad = 1e-300", "check.tol_rot_rad",
+                                                      "rad")],
+)  # fmt: skip
+def test_a_models_check_below_the_round_off_is_one_line(tmp_path, capsys, line, field, unit):
+    path = tmp_path / "tight.toml"
+    path.write_text(bundled_model_paths()["ur5"].read_text(encoding="utf-8") + line + "\n")
+    assert main(["check", str(path), "--against", "rtb-dh", "--samples", "2"]) == 2
+    floor = FLOOR.format(unit=unit, got="1e-300")
+    assert re.fullmatch(f"fkcheck: error: {re.escape(str(path))}: {field}: {floor}",
+                        _one_line(capsys))  # fmt: skip
+
+
+def test_a_pyproject_below_the_round_off_is_named(tmp_path, monkeypatch, capsys):
+    (tmp_path / "pyproject.toml").write_text("[tool.fkcheck]\ntol_pos_m = 1e-300\n", "utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", "ur5", "--against", "rtb-dh", "--samples", "2"]) == 2
+    where = re.escape(str((tmp_path / "pyproject.toml").resolve()))
+    floor = FLOOR.format(unit="m", got="1e-300")
+    assert re.fullmatch(f"fkcheck: error: {where}: tool\\.fkcheck\\.tol_pos_m: {floor}",
+                        _one_line(capsys))  # fmt: skip
+
+
+def test_the_python_api_refuses_a_tolerance_below_the_round_off():
+    with pytest.raises(ToleranceError, match=r"^tol_pos_m: must be at least 1e-12 m "):
+        check("ur5", ["rtb-dh"], samples=2, diagnose=False, tol_pos_m=5e-324)
+    with pytest.raises(ToleranceError, match=r"^tol_rot_rad: must be at least 1e-12 rad "):
+        assert_fk_matches("ur5", against="rtb-dh", samples=2, tol_rot_rad=1e-300)
+
+
+def test_the_floor_grows_with_the_models_reach(tmp_path, capsys):
+    # A kilometre-long arm rounds off a hundred times more than a 10 m one.
+    path = tmp_path / "long.toml"
+    path.write_text('name = "long"\nconvention = "standard"\n[[joint]]\nname = "j1"\n'
+                    'a = 600.0\nalpha = 0\nd = 300.0\n', encoding="utf-8")  # fmt: skip
+    argv = ["check", str(path), "--against", "rtb-dh", "--samples", "20"]
+    assert main([*argv, "--tol-pos", "8e-11"]) == 2
+    err = capsys.readouterr().err  # after the check's header: the model's reach is known then
+    assert err.splitlines() == [
+        "fkcheck: error: tol_pos_m: must be at least 9e-11 m for a model whose lengths add up "
+        "to 900 m (a tighter check judges the round-off of float arithmetic, not the table), "
+        "got 8e-11"
+    ]
+    assert main([*argv, "--tol-pos", "9e-11"]) == 0, capsys.readouterr().err

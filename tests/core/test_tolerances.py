@@ -28,11 +28,29 @@ from fkcheck.model.read import bundled_model_paths, load_model
 
 
 @pytest.mark.parametrize("kind", sorted(LIMITS))
-def test_the_range_is_above_zero_up_to_the_bound_inclusive(kind):
-    upper = LIMITS[kind].upper
-    for value in (upper, upper / 2, 1e-300, 5e-324, np.float64(upper), np.float32(upper / 2)):
+def test_the_range_is_from_its_floor_up_to_the_bound_inclusive(kind):
+    upper, lower = LIMITS[kind].upper, LIMITS[kind].lower
+    tiny = (1e-300, 5e-324) if lower == 0.0 else (lower, np.float64(lower))
+    for value in (upper, upper / 2, *tiny, np.float64(upper), np.float32(upper / 2)):
         assert limit_problem(value, kind) is None, value
     assert limit_problem(Fraction(1, 1000), "tol_pos") is None  # any real number, as a float
+
+
+@pytest.mark.parametrize("kind", ["tol_pos", "tol_rot", "tol_jacobian"])
+@pytest.mark.parametrize("value", [1e-300, 5e-324, 9.99e-13])
+def test_a_tolerance_below_the_round_off_is_refused(kind, value):
+    # 5e-324 made the evidence's columns infinite (SVD did not converge); 1e-300 failed a
+    # right table on round-off (issue 31).
+    problem = limit_problem(value, kind)
+    assert problem is not None
+    assert problem.startswith(f"must be at least 1e-12 {LIMITS[kind].unit} (a tighter check ")
+    assert problem.endswith(f"got {value:g}")
+
+
+def test_known_differences_have_no_floor():
+    # A tiny recorded difference excuses nothing: it is harmless, and stays allowed.
+    assert limit_problem(1e-300, "known_position") is None
+    assert limit_problem(5e-324, "known_angle") is None
 
 
 @pytest.mark.parametrize("kind", sorted(LIMITS))

@@ -1,18 +1,25 @@
 """Property-based fuzzing of the text readers (issue 15): model TOML, DH CSV, --q-file,
-measured poses CSV, and the number parser under them.
+measured poses CSV, UR RTDE recordings, and the number parser under them.
 
 Each reader gets random bytes and structured mutations of a valid file (a number
 replaced by a hostile token, a slice deleted, text inserted, a line repeated or moved,
 a byte-order mark, a separator doubled). Whatever it gets, it either reads the file —
 and then every number it returns is finite and within the documented bounds — or raises
 a FkcheckError subclass whose message is one line. Never another exception.
-`nox -s fuzz` runs these with 10x the examples.
+The poses readers run under a memory cap (:data:`POSES_MEMORY_CAP`, an address-space
+limit over what the process already holds), and their mutations include a line
+repeated thousands of times: a blow-up fails the test instead of the machine (issue
+31: 10 million short rows took 7.7 GB). `nox -s fuzz` runs these with 10x the examples.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
+import os
 import re
+import resource
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -50,7 +57,9 @@ def mutated(draw: st.DrawFn, text: str) -> bytes:
     """``text`` with one to four structured mutations, as bytes (maybe not UTF-8)."""
     for _ in range(draw(st.integers(1, 4))):
         kind = draw(
-            st.sampled_from(("number", "delete", "insert", "repeat", "move", "bom", "separator"))
+            st.sampled_from(
+                ("number", "delete", "insert", "repeat", "flood", "move", "bom", "separator")
+            )
         )
         lines = text.split("\n")
         if kind == "number":
@@ -68,6 +77,10 @@ def mutated(draw: st.DrawFn, text: str) -> bytes:
         elif kind == "repeat":
             k = draw(st.integers(0, len(lines) - 1))
             lines.insert(k, lines[k])
+            text = "\n".join(lines)
+        elif kind == "flood":  # one line many times: rows, not bytes, grow
+            k = draw(st.integers(0, len(lines) - 1))
+            lines[k:k] = [lines[k]] * draw(st.integers(100, 5000))
             text = "\n".join(lines)
         elif kind == "move":
             line = lines.pop(draw(st.integers(0, len(lines) - 1)))
@@ -121,6 +134,37 @@ BUNDLED_TOML = [bundled_model_paths()[m].read_text(encoding="utf-8") for m in ("
 SEED_CSV = (DATA / "ur5_seed001.csv").read_text(encoding="utf-8")
 Q_FILE = "# logged joint states\n0.1,-0.5,1.0,-1.2,-1.5,0.7\n0,0,0,0,0,0\n-3e-1;2.5e0;.1;0.;-0;1\n"
 PENDANT = (DATA / "ur5_pendant.csv").read_text(encoding="utf-8")
+RTDE = (DATA / "ur5_rtde_recording.csv").read_text(encoding="utf-8")
+STANFORD = load_model("stanford")
+#: A Stanford arm's poses with each joint in its own unit (q3 prismatic, in mm).
+STANFORD_POSES = (
+    "q1_deg,q2_deg,q3_mm,q4_deg,q5_deg,q6,x_mm,y_mm,z_mm,rx_deg,ry_deg,rz_deg\n"
+    "0,0,500,0,0,0,0,0,1000,0,0,0\n10,-20,700,30,40,0.5,100,-200,900,10,20,30\n"
+)
+#: Address space a poses reader may take over what the process holds, bytes: a
+#: valid file of these sizes needs a few MB; a reader that holds far more than it
+#: must hits this instead of the machine's memory.
+POSES_MEMORY_CAP = 512 << 20
+
+
+def _vm_bytes() -> int:
+    """The process's address space now (``/proc/self/statm``'s first field)."""
+    with open("/proc/self/statm", encoding="ascii") as f:
+        return int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+
+
+@contextlib.contextmanager
+def _memory_cap(extra: int = POSES_MEMORY_CAP) -> Iterator[None]:
+    """An address-space limit of what the process holds plus ``extra``, while inside."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    cap = _vm_bytes() + extra
+    if hard != resource.RLIM_INFINITY:
+        cap = min(cap, hard)
+    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    try:
+        yield
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
 
 
 @given(data=st.data(), which=st.sampled_from([0, 1]))
@@ -157,7 +201,8 @@ def test_property_q_file_reader_loads_or_refuses(workdir, content):
 def test_property_poses_csv_reader_loads_or_refuses(workdir, content):
     path = workdir / "poses.csv"
     path.write_bytes(content)
-    table = _read_or_refuse(lambda p: read_poses_file(p, UR5), path)
+    with _memory_cap():
+        table = _read_or_refuse(lambda p: read_poses_file(p, UR5), path)
     if table is not None:
         q, poses, _ = table
         assert q.shape == (poses.shape[0], 6)
@@ -219,3 +264,39 @@ def test_property_line_parser_fast_path_agrees_with_field_by_field(fields, separ
 def test_property_every_float_reads_back_exactly(value):
     assert parse_number(repr(value)) == value
     assert parse_numbers(f" {value!r} ,{value!r}") == [value, value]
+
+
+@given(content=_contents(RTDE))
+def test_property_rtde_recording_reader_loads_or_refuses(workdir, content):
+    path = workdir / "rtde.csv"
+    path.write_bytes(content)
+    with _memory_cap():
+        table = _read_or_refuse(lambda p: read_poses_file(p, UR5), path)
+    if table is not None:
+        q, poses, _ = table
+        assert q.shape == (poses.shape[0], 6)
+        assert np.isfinite(q).all()
+        assert np.isfinite(poses).all()
+        assert (np.abs(q) <= MAX_JOINT_RAD).all()
+        assert (poses[:, 3] == [0.0, 0.0, 0.0, 1.0]).all()  # rigid transforms' last row
+
+
+@given(content=_contents(STANFORD_POSES))
+def test_property_poses_units_per_joint_type_load_or_refuse(workdir, content):
+    # Mutated headers give suffixes of other quantities (q3_deg, x_deg): refused in one
+    # line; what is read is within the bounds of each joint's own unit.
+    path = workdir / "stanford.csv"
+    path.write_bytes(content)
+    with _memory_cap():
+        table = _read_or_refuse(lambda p: read_poses_file(p, STANFORD), path)
+    if table is not None:
+        q, poses, _ = table
+        assert q.shape == (poses.shape[0], 6)
+        assert (np.abs(q[:, 2]) <= MAX_LENGTH_M).all()
+        assert np.isfinite(poses).all()
+
+
+def test_the_memory_cap_fails_a_blow_up_instead_of_the_machine():
+    with _memory_cap(), pytest.raises(MemoryError):
+        np.ones(POSES_MEMORY_CAP // 8 * 2)  # twice the cap
+    assert np.ones(POSES_MEMORY_CAP // 8 * 2).size  # and it is lifted after

@@ -222,3 +222,92 @@ def test_a_placed_urdf_link_named_with_a_colon_is_named_whole(ur5):
     frames["urdf:base"] = FrameSpec("urdf:base", 0, Offset((0.0, 0.0, 0.01)), "base")
     c = coverage(replace(wrong, frames=frames), "urdf:base", "tool0", TOL, TOL)
     assert c.gaps() == "d1 not identifiable (the offset of [frames.urdf:base] could absorb it)"
+
+
+def _rebuilt_pose(model, q, pair, number, h, chain=None):
+    """``from_T_to`` with ``number`` nudged by ``h``, the whole chain rebuilt (the slow way)."""
+    from fkcheck.core import dh
+    from fkcheck.core.geometry import invert
+    from fkcheck.model.coverage import _twist_matrix
+
+    chain, q = chain or model.chain, q.copy()
+    offsets = {side: spec.offset.matrix for side, spec in zip(("from", "to"), pair, strict=True)}
+    base, tool = chain.world_T_base, chain.flange_T_tool
+    if number.kind == "row":
+        values = getattr(chain, number.param).copy()
+        values[number.index] += h
+        chain = replace(chain, **{number.param: values})
+    elif number.kind in ("joint", "flip"):
+        q[:, number.index] += h
+    elif number.kind == "base":
+        base = base @ _twist_matrix(number.index, h)
+    elif number.kind == "tool":
+        tool = tool @ _twist_matrix(number.index, h)
+    else:
+        offsets[number.kind] = offsets[number.kind] @ _twist_matrix(number.index, h)
+    chain = replace(chain, world_T_base=base, flange_T_tool=tool)
+    frames = dh.fk_reference(chain, q, all_frames=True)
+    ends = []
+    for side, spec in zip(("from", "to"), pair, strict=True):
+        if spec.dh == "world":
+            anchor = np.broadcast_to(np.eye(4), frames[:, 0].shape)
+        elif spec.dh == "tcp":
+            anchor = frames[:, -1] @ tool
+        else:
+            anchor = frames[:, int(spec.dh)]
+        ends.append(anchor @ offsets[side])
+    return invert(ends[0]) @ ends[1]
+
+
+@pytest.mark.parametrize(
+    ("name", "pair", "offsets"),
+    [
+        ("ur5", ("on1", "base_link"), {"from", "to"}),  # standard, an offset on each side
+        ("ur5", ("world", "on0"), {"to"}),
+        ("panda", ("panda_link2", "tcp"), {"tool"}),  # modified (Craig), a tool
+        ("stanford", ("world", "tcp"), set()),  # a prismatic joint
+        ("baxter_left", ("world", "tcp"), {"base"}),
+    ],
+)
+def test_a_nudged_number_moves_the_pose_as_the_whole_chain_rebuilt_does(ur5, name, pair, offsets):
+    # The analysis moves only the ends after a nudged link (F_i · A' · F_(i+1)⁻¹ · F_k)
+    # instead of recomputing the chain per number; it must give the rebuilt chain's pose.
+    from fkcheck.model.coverage import _numbers, _Pose
+
+    model = ur5 if name == "ur5" else load_model(name)
+    specs = [_resolve(model, f) for f in pair]
+    q = np.random.default_rng(5).uniform(-2.0, 2.0, size=(7, model.dof))
+    pose = _Pose(model, q, *specs)
+    numbers = _numbers(model, tuple(specs))
+    joints = [replace(numbers[0], kind="joint", index=i) for i in range(model.dof)]
+    kinds = set()
+    for number in [*numbers, *joints]:
+        for h in (0.3, -1e-6):
+            got = pose.pose(number, h)
+            want = _rebuilt_pose(model, q, specs, number, h)
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-12, err_msg=str(number))
+        kinds.add(number.kind)
+    np.testing.assert_allclose(pose.pose(), _rebuilt_pose(model, q, specs, numbers[0], 0.0),
+                               rtol=0, atol=1e-12)  # fmt: skip
+    for i in range(model.dof):  # a joint turned the other way
+        sign = model.chain.sign.copy()
+        sign[i] = -sign[i]
+        want = _rebuilt_pose(model, q, specs, numbers[0], 0.0, replace(model.chain, sign=sign))
+        np.testing.assert_allclose(pose.flipped(i), want, rtol=0, atol=1e-12)
+    assert kinds == {"row", "flip", "joint", *offsets}
+
+
+def _resolve(model, name):
+    from fkcheck.model.types import resolve_frame
+
+    return resolve_frame(model, name)
+
+
+def test_the_analysis_stops_at_its_time_limit_in_one_line(ur5):
+    from fkcheck.errors import TimeLimitError
+
+    with pytest.raises(TimeLimitError, match=r"^per-number evidence of ur5 \(world → tcp\) did "
+                       r"not finish within the check's time limit of 0 s; give it more with "
+                       r"--timeout$"):  # fmt: skip
+        coverage(ur5, "world", "tcp", TOL, TOL, time_limit_s=0.0)
+    assert coverage(ur5, "world", "tcp", TOL, TOL, time_limit_s=60.0).joints_spanned

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -163,6 +164,35 @@ def test_globs_stay_inside_the_project_and_must_match(tmp_path, models):
     assert config is not None
     with pytest.raises(ProjectError, match=r"tool\.fkcheck\.models: '.*': "):
         config.model_paths()
+
+
+@pytest.mark.parametrize(
+    "entry", ["../outside.toml", "{outside}", "link.toml", "a/../../outside.toml"]
+)
+def test_files_stay_inside_the_project_as_directories_and_globs_do(tmp_path, entry):
+    # Absolute and ../ file entries were read, against the documentation (issue 31).
+    project = tmp_path / "p"
+    (project / "a").mkdir(parents=True)
+    outside = tmp_path / "outside.toml"
+    outside.write_text(MODEL_TOML)
+    (project / "link.toml").symlink_to(outside)
+    shown = entry.format(outside=outside)
+    root = _project(project, f"models = [{json.dumps(shown)}]")
+    config = load_project(root)
+    assert config is not None
+    with pytest.raises(ProjectError, match=rf"tool\.fkcheck\.models: '{re.escape(shown)}': a file "
+                       "outside the project$"):  # fmt: skip
+        config.model_paths()
+
+
+def test_a_file_inside_the_project_through_dot_dot_is_taken(tmp_path):
+    project = tmp_path / "p"
+    (project / "a").mkdir(parents=True)
+    (project / "arm.toml").write_text(MODEL_TOML)
+    root = _project(project, 'models = ["a/../arm.toml"]')
+    config = load_project(root)
+    assert config is not None
+    assert [p.resolve() for p in config.model_paths()] == [(project / "arm.toml").resolve()]
 
 
 def test_a_directory_without_models_is_refused_on_the_command_line(tmp_path):

@@ -152,8 +152,11 @@ class IdyntreeUrdf(UrdfReader):
                 lacks the twin link.
             UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
             UrdfError: The URDF is missing, unsafe or does not fit the model,
-                iDynTree cannot load it, a DH joint is mapped onto a mimic
-                joint, or a twin lies below a mimic joint iDynTree would misplace.
+                a DH joint is mapped onto a mimic joint, or a twin lies below a
+                mimic joint iDynTree would misplace.
+            BackendUnavailable: iDynTree cannot load a URDF fkcheck's screen accepts
+                (a floating joint outside the mapped chain): its limit, not the
+                input's; the other readers answer.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         info, q2, twins = urdf_inputs(model, q, frames, self.name)
@@ -320,7 +323,8 @@ def _load(idt: Any, info: UrdfInfo, text: str, joints: list[str]) -> Any:
     Its ``model()`` is a reference into the loader, valid only while the loader lives.
 
     Raises:
-        UrdfError: The loader refuses the URDF (its first ``[ERROR]`` line is the reason).
+        BackendUnavailable: The loader refuses the URDF (its first ``[ERROR]`` line is
+            the reason): fkcheck's screen accepted it, so this is iDynTree's limit.
     """
     loader = idt.ModelLoader()
     with captured_stderr() as native:
@@ -328,7 +332,7 @@ def _load(idt: Any, info: UrdfInfo, text: str, joints: list[str]) -> Any:
     if not ok:
         errors = [ln.strip() for ln in native.text.splitlines() if "[ERROR]" in ln]
         said = errors[0].removeprefix("[ERROR]").strip() if errors else "no reason given"
-        raise UrdfError(info.path, f"iDynTree cannot load it: {said}")
+        raise BackendUnavailable(f"iDynTree cannot load {info.path.name}: {said}")
     return loader
 
 

@@ -11,11 +11,15 @@ controller showed (or a tracker measured) for each. The file:
 
 Columns, by header name:
 
-* joints ``q1 … qn`` in radians / metres, or ``q1_deg …`` in degrees (revolute joints);
+* joints ``q1 … qn`` in radians / metres, each revolute one optionally ``_deg``
+  (degrees), each prismatic one ``_mm`` (millimetres);
 * position ``x, y, z`` in metres, or ``x_mm, y_mm, z_mm``;
 * rotation, one of: ``qx, qy, qz, qw`` (quaternion); ``rx, ry, rz`` (rotation vector in
   radians, as a UR pendant shows it); ``roll, pitch, yaw`` (URDF rpy); ``A, B, C``
   (Z-Y'-X'' Euler) — the angles in radians, or with ``_deg`` in degrees.
+
+A suffix is valid only for the quantity it measures (``q1_mm`` on a revolute joint,
+``x_deg``, ``rx_mm``, ``qx_deg`` are refused in one line).
 
 **A recording of Universal Robots' RTDE recorder** (``record.py`` of UR's RTDE
 client library, without ``--binary``) is read as it is: a header line of output
@@ -82,7 +86,7 @@ from fkcheck.io.files import InputFileError, read_lines
 from fkcheck.io.numbers import NumberError, parse_number, parse_numbers, show_text, split_fields
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
 
-__all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
+__all__ = ["MAX_POSES_ROWS", "MeasuredPoses", "PosesFileError", "read_poses_file"]
 
 
 #: Joint values within this of a file row (radians / metres) are that row; two rows
@@ -90,6 +94,12 @@ __all__ = ["MeasuredPoses", "PosesFileError", "read_poses_file"]
 MATCH_TOL = 1e-9
 #: Largest rotation number (a quaternion component or an angle in radians).
 MAX_ROTATION_NUMBER = 1e3
+#: Data rows a poses file or RTDE recording may hold. The byte limit alone let 10
+#: million short rows through (236 s, 7.7 GB); each row costs about 300 bytes
+#: here (its numbers, its pose, the duplicate check) and every backend then computes
+#: its pose. 250,000 rows are 33 minutes of RTDE at 125 Hz (8 at 500 Hz) and about
+#: 80 MB; a longer recording is cut or thinned (every k-th row) until recordings stream.
+MAX_POSES_ROWS = 250_000
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
 #: The columns of an RTDE recording that are read: joints, then TCP pose (UR's recorder
 #: names the elements of a vector output ``name_0 … name_5``).
@@ -123,16 +133,83 @@ class PosesFileError(FkcheckError):
         super().__init__(f"{path}: {problem}")
 
 
-def _column(header: list[str], names: Sequence[str], path: Path) -> tuple[list[int], float]:
-    """Indices of ``names`` (or ``names`` + unit suffix) and the factor to SI units."""
-    for suffix, factor in (("", 1.0), ("_deg", math.pi / 180), ("_mm", 1e-3)):
-        wanted = [n + suffix for n in names]
-        if all(w in header for w in wanted):
-            return [header.index(w) for w in wanted], factor
-    raise PosesFileError(
-        path,
-        f"header needs columns {', '.join(names)} (or with _deg/_mm); it has: {_names(header)}",
-    )
+#: The unit suffixes a column may carry, per quantity, with their factors to SI: a
+#: suffix is valid only for what it measures (``q1_mm`` on a revolute joint was read
+#: as milliradians, ``x_deg`` as a position, ``rx_mm`` as a rotation).
+_ANGLE: dict[str, float] = {"": 1.0, "_deg": math.pi / 180}
+_LENGTH: dict[str, float] = {"": 1.0, "_mm": 1e-3}
+_PLAIN: dict[str, float] = {"": 1.0}
+_SUFFIXES = ("_deg", "_mm")
+_MEASURES = {"_deg": "an angle", "_mm": "a length"}
+
+
+def _column(
+    header: list[str], name: str, units: dict[str, float], what: str, path: Path
+) -> tuple[int, float] | None:
+    """The index and factor to SI of column ``name`` (with one of ``units``' suffixes).
+
+    ``None`` when no such column is there. ``what`` says what the column measures
+    (``joint 2 (shoulder), revolute``) for the messages.
+
+    Raises:
+        PosesFileError: The column carries a suffix for another quantity, or is
+            there twice with different suffixes.
+    """
+    found = [(header.index(name + u), f) for u, f in units.items() if name + u in header]
+    wrong = [name + u for u in _SUFFIXES if u not in units and name + u in header]
+    if wrong:
+        allowed = " or ".join(name + u for u in units)
+        suffix = wrong[0][len(name) :]
+        raise PosesFileError(
+            path,
+            f"column {wrong[0]}: {suffix} is for {_MEASURES[suffix]}, but {name} is {what}; "
+            f"name it {allowed}",
+        )
+    if len(found) > 1:
+        names = " and ".join(header[i] for i, _ in found)
+        raise PosesFileError(path, f"columns {names} are the same number; keep one")
+    return found[0] if found else None
+
+
+def _columns(
+    header: list[str], names: Sequence[str], units: Sequence[dict[str, float]],
+    whats: Sequence[str], path: Path,
+) -> tuple[list[int], list[float]] | None:  # fmt: skip
+    """:func:`_column` of each name; ``None`` when none of them is there.
+
+    Raises:
+        PosesFileError: Some are there and some are not, or one carries a wrong suffix.
+    """
+    found = [_column(header, n, u, w, path) for n, u, w in zip(names, units, whats, strict=True)]
+    if all(f is None for f in found):
+        return None
+    missing = [n for n, f in zip(names, found, strict=True) if f is None]
+    if missing:
+        raise PosesFileError(
+            path,
+            f"header needs columns {', '.join(names)} (each with its unit's suffix, if any); "
+            f"it lacks {', '.join(missing)}; it has: {_names(header)}",
+        )
+    return [f[0] for f in found if f], [f[1] for f in found if f]
+
+
+def _needed(
+    header: list[str], names: Sequence[str], units: Sequence[dict[str, float]],
+    whats: Sequence[str], path: Path,
+) -> tuple[list[int], list[float]]:  # fmt: skip
+    """:func:`_columns`, which must be there.
+
+    Raises:
+        PosesFileError: They are not, or one carries a wrong suffix.
+    """
+    found = _columns(header, names, units, whats, path)
+    if found is None:
+        raise PosesFileError(
+            path,
+            f"header needs columns {', '.join(names)} (or with their unit's suffix: _deg "
+            f"for angles, _mm for lengths); it has: {_names(header)}",
+        )
+    return found
 
 
 def _show(name: str) -> str:
@@ -166,40 +243,40 @@ class _Layout:
 
     def __init__(self, header: list[str], model: Model, path: Path) -> None:
         self.header = header
-        q_cols, q_factor = _column(header, [f"q{i + 1}" for i in range(model.dof)], path)
-        p_cols, p_factor = _column(header, ["x", "y", "z"], path)
-        found = None
+        revolute = [j.type == "revolute" for j in model.joints]
+        joints = _needed(
+            header,
+            [f"q{i + 1}" for i in range(model.dof)],
+            [_ANGLE if rev else _LENGTH for rev in revolute],
+            [f"joint {i + 1} ({j.name}), {j.type}" for i, j in enumerate(model.joints)],
+            path,
+        )
+        position = _needed(header, ["x", "y", "z"], [_LENGTH] * 3, ["a position"] * 3, path)
+        rotation = None
         for fmt, names in _ROTATIONS.items():
-            try:
-                found = fmt, *_column(header, names, path)
-            except PosesFileError:
-                continue
-            break
-        if found is None:
+            suffixes = [_PLAIN if fmt == "quat" else _ANGLE] * len(names)
+            what = "a quaternion component" if fmt == "quat" else "an angle"
+            rotation = _columns(header, names, suffixes, [what] * len(names), path)
+            if rotation is not None:
+                self.fmt = fmt
+                break
+        if rotation is None:
             raise PosesFileError(
                 path,
                 "header needs a rotation: qx,qy,qz,qw or rx,ry,rz or "
                 f"roll,pitch,yaw or A,B,C; it has: {_names(header)}",
             )
-        self.fmt, r_cols, r_factor = found
-        if self.fmt == "quat":
-            r_factor = 1.0
-        revolute = [j.type == "revolute" for j in model.joints]
-        self.columns = [*q_cols, *p_cols, *r_cols]
+        self.columns = [*joints[0], *position[0], *rotation[0]]
         self.n = model.dof
         # Per kept column: factor to SI and the bound after it.
-        self.factor = np.array(
-            [q_factor if rev else 1.0 for rev in revolute]
-            + [p_factor] * 3
-            + [r_factor] * len(r_cols)
-        )
+        self.factor = np.array([*joints[1], *position[1], *rotation[1]])
         self.bound = np.array(
             [MAX_JOINT_RAD if rev else MAX_LENGTH_M for rev in revolute]
             + [MAX_LENGTH_M] * 3
-            + [MAX_ROTATION_NUMBER] * len(r_cols)
+            + [MAX_ROTATION_NUMBER] * len(rotation[0])
         )
         units = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3
-        self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(r_cols)
+        self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(rotation[0])
         self.method = MeasuredPoses.method
 
     def row(self, line: str, lineno: int, path: Path) -> list[float]:
@@ -333,7 +410,8 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
     Raises:
         PosesFileError: Not a regular file, too large, not UTF-8, a missing or
             repeated column, a bad or out-of-bounds number (with its line and
-            column), no rows, or one configuration with two different poses.
+            column), no rows or more than :data:`MAX_POSES_ROWS`, or one configuration with
+            two different poses.
     """
     q, poses, pair, _ = _read(path, model)
     return q, poses, pair
@@ -366,13 +444,21 @@ def _read(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | Non
             if layout is None:
                 layout = _layout(line, lineno, model, path)
                 continue
+            if len(linenos) == MAX_POSES_ROWS:  # counted while streaming: refused unparsed
+                raise PosesFileError(
+                    path,
+                    f"line {lineno}: more than {MAX_POSES_ROWS:,} data rows (at most "
+                    f"{MAX_POSES_ROWS:,}); cut the recording or keep every k-th row",
+                )
             kept.extend(layout.row(line, lineno, path))
             linenos.append(lineno)
     except InputFileError as exc:
         raise PosesFileError(path, exc.problem) from None
     if layout is None or not linenos:
         raise PosesFileError(path, "no header line and data rows")
-    values = np.frombuffer(kept, dtype=np.float64).reshape(len(linenos), -1) * layout.factor
+    values = np.frombuffer(kept, dtype=np.float64).reshape(len(linenos), -1)
+    if np.any(layout.factor != 1.0):  # an RTDE recording's are all 1: no copy
+        values = values * layout.factor
     bad = np.argwhere(np.abs(values) > layout.bound)
     if bad.size:
         row, k = (int(v) for v in bad[0])

@@ -215,8 +215,11 @@ class MujocoUrdf(UrdfReader):
             FrameError: A name is not a frame of the model, or MuJoCo's model
                 lacks the twin link.
             UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
-            UrdfError: The URDF is missing, unsafe, does not fit the model (a
-                mapped joint is a mimic joint), or MuJoCo cannot read it.
+            UrdfError: The URDF is missing, unsafe, or does not fit the model (a
+                mapped joint is a mimic joint).
+            BackendUnavailable: MuJoCo cannot read a URDF fkcheck's screen accepts
+                (a link named ``world`` that is not the root, an axis under 1e-15):
+                its limit, not the input's; the other readers answer.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         info, q2, twins = urdf_inputs(model, q, frames, self.name)
@@ -339,7 +342,8 @@ def _compile(mj: Any, info: UrdfInfo) -> Any:
     """MuJoCo's model of the URDF's tree: one body per link, fixed links kept.
 
     Raises:
-        UrdfError: MuJoCo's importer or compiler refuses it (its message, on one line).
+        BackendUnavailable: MuJoCo's importer or compiler refuses it (its message, on
+            one line): fkcheck's screen accepted the URDF, so this is MuJoCo's limit.
     """
     try:
         spec = mj.MjSpec.from_string(kinematic_text(info, inertials=False))
@@ -349,7 +353,9 @@ def _compile(mj: Any, info: UrdfInfo) -> Any:
         return spec.compile()
     except ValueError as exc:
         said = "; ".join(line.strip() for line in str(exc).splitlines() if line.strip())
-        raise UrdfError(info.path, f"MuJoCo cannot read it: {said or type(exc).__name__}") from None
+        raise BackendUnavailable(
+            f"MuJoCo cannot read {info.path.name}: {said or type(exc).__name__}"
+        ) from None
 
 
 def _names(mj: Any, mjmodel: Any, kind: Any, count: int) -> list[str]:

@@ -52,7 +52,7 @@ from fkcheck.backends.urdf_common import (
     urdf_unavailable_reason,
 )
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
+from fkcheck.errors import BackendUnavailable, FrameError
 from fkcheck.model.types import Model
 from fkcheck.urdf.tree import UrdfInfo
 
@@ -141,7 +141,8 @@ def _read_robot(info: UrdfInfo) -> Any:
     copies of failing text).
 
     Raises:
-        UrdfError: RTB's reader rejects the URDF.
+        BackendUnavailable: RTB's reader rejects a URDF fkcheck's screen accepted
+            (an axis of ``0 0 1e-300``): its limit, not the input's.
     """
     rtb = import_rtb()
     from roboticstoolbox.models.URDF.URDFRobot import _links_from_urdf
@@ -150,15 +151,16 @@ def _read_robot(info: UrdfInfo) -> Any:
     try:
         elinks, name = _links_from_urdf(URDF.loadstr(kinematic_text(info), None))
         robot = rtb.Robot(elinks, name=name)
-    except (URDFError, ValueError) as exc:
+    except (URDFError, ValueError, ArithmeticError) as exc:
         lines = str(exc).strip().splitlines()
         first_line = lines[0] if lines else type(exc).__name__
-        raise UrdfError(
-            info.path, f"Robotics Toolbox's URDF reader rejects it: {first_line}"
+        raise BackendUnavailable(
+            f"Robotics Toolbox's URDF reader rejects {info.path.name}: {first_line}"
         ) from None
     if robot.base_link.name != info.root:
-        raise UrdfError(
-            info.path, f"RTB's root link is {robot.base_link.name!r}, expected {info.root!r}"
+        raise BackendUnavailable(
+            f"Robotics Toolbox's reader makes {robot.base_link.name!r} the root of "
+            f"{info.path.name}, not {info.root!r}"
         )
     return robot
 
@@ -200,7 +202,8 @@ def _columns(model: Model, info: UrdfInfo, robot: Any) -> NDArray[np.intp]:
     """RTB's joint index (``jindex``) for each DH joint, through the URDF joint's child link.
 
     Raises:
-        UrdfError: A mapped joint did not become a moving joint in RTB's robot.
+        BackendUnavailable: A mapped joint did not become a moving joint in RTB's robot
+            (its reader drops an axis as short as ``0 0 1e-300``).
         FrameError: RTB's robot lacks the joint's child link.
     """
     assert model.urdf is not None
@@ -213,8 +216,9 @@ def _columns(model: Model, info: UrdfInfo, robot: Any) -> NDArray[np.intp]:
                 child, f"Robotics Toolbox's robot of {info.path.name}", robot.link_dict
             )
         if not link.isjoint or link.jindex is None:
-            raise UrdfError(
-                info.path, f"joint {urdf_name!r} is not a moving joint in Robotics Toolbox's robot"
+            raise BackendUnavailable(  # RTB's reading, not the URDF (an axis of 0 0 1e-300)
+                f"joint {urdf_name!r} of {info.path.name} is not a moving joint in Robotics "
+                "Toolbox's robot"
             )
         columns.append(int(link.jindex))
     return np.array(columns, dtype=np.intp)

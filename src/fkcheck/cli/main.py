@@ -38,7 +38,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 
 from fkcheck._version import __version__
-from fkcheck.errors import FkcheckError
+from fkcheck.errors import FkcheckError, Skip
 from fkcheck.io.text import terminal_text
 
 if TYPE_CHECKING:
@@ -306,6 +306,9 @@ def _run(args_list: list[str]) -> int:
     except FkcheckError as exc:
         print(f"fkcheck: error: {terminal_text(exc)}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except Skip as exc:  # the one backend a command needs cannot run here: not bad input
+        print(f"fkcheck: unavailable: {terminal_text(exc)}", file=sys.stderr)
+        return EXIT_FAIL
     except KeyboardInterrupt:
         print(f"fkcheck: interrupted (Ctrl-C): results incomplete, {_written(args)}",
               file=sys.stderr)  # fmt: skip

@@ -7,9 +7,11 @@ as ~1e-11 in poses; real modelling errors start around 1e-4 m (UR5's rounded d1
 is 3.0e-4 m off).
 
 A user's tolerances, and a ``[[known_difference]]``'s bounds, are limits a check
-obeys: each is refused unless it is within ``(0, MAX_…]`` (:func:`limit_problem`,
-the one rule every way in uses: flags, model files, ``[tool.fkcheck]``, the
-Python API, the pytest plugin, :mod:`fkcheck.testing`).
+obeys: each is refused unless it is within ``(0, MAX_…]``, and a tolerance unless it
+is at least ``MIN_…`` (:func:`limit_problem`, the one rule every way in uses: flags,
+model files, ``[tool.fkcheck]``, the Python API, the pytest plugin,
+:mod:`fkcheck.testing`). A check also holds its position tolerance to the round-off
+of its model's reach (:func:`roundoff_floor_m`).
 """
 
 from __future__ import annotations
@@ -36,7 +38,11 @@ __all__ = [
     "MAX_TOL_JACOBIAN",
     "MAX_TOL_POS_M",
     "MAX_TOL_ROT_RAD",
+    "MIN_TOL_JACOBIAN",
+    "MIN_TOL_POS_M",
+    "MIN_TOL_ROT_RAD",
     "ROUNDED_URDF",
+    "ROUNDOFF_REACH_M",
     "SAME_CHAIN",
     "SIX_DECIMALS",
     "Limit",
@@ -44,6 +50,7 @@ __all__ = [
     "check_limit",
     "limit_problem",
     "pose_tolerances",
+    "roundoff_floor_m",
 ]
 
 #: Same chain, two float64 implementations (poses of unit-scale arms, m or rad).
@@ -112,6 +119,26 @@ MAX_TOL_ROT_RAD = 0.1
 #: Jacobian is off by about 1 and still fails.
 MAX_TOL_JACOBIAN = 1e-2
 
+#: Tightest position tolerance a check accepts, metres, for a model whose lengths add
+#: up to at most :data:`ROUNDOFF_REACH_M` (:func:`roundoff_floor_m` scales it beyond):
+#: :data:`SAME_CHAIN`, the round-off of two float64 implementations of one chain with
+#: three orders of margin. A tighter check judges round-off, not the table (a right table failed at
+#: 1e-300), and at 5e-324 the evidence's columns, in tolerances, overflowed to
+#: infinity ("SVD did not converge").
+MIN_TOL_POS_M = SAME_CHAIN
+
+#: Reach up to which :data:`MIN_TOL_POS_M` holds, metres: round-off grows with the
+#: lengths (~ε per metre and joint), and at 10 m it is still two orders below it.
+ROUNDOFF_REACH_M = 10.0
+
+#: Tightest rotation tolerance, radians: :data:`SAME_CHAIN`. Rotation entries are
+#: unitless, at most 1, whatever the reach: their round-off is a few ulps per joint
+#: (256 joints: ~6e-14).
+MIN_TOL_ROT_RAD = SAME_CHAIN
+
+#: Tightest Jacobian tolerance, m/rad and rad/rad: :data:`SAME_CHAIN`, as a pose's.
+MIN_TOL_JACOBIAN = SAME_CHAIN
+
 #: Largest position error a ``[[known_difference]]`` may record, metres: 0.1 m. A
 #: known difference is one finding (a rounded length, a mm offset): the largest a
 #: bundled model records is Baxter's 61.8 mm (rounded lengths and a last d that ends
@@ -126,22 +153,28 @@ MAX_KNOWN_POSITION_M = 0.1
 #: difference.
 MAX_KNOWN_ANGLE_RAD = 0.1
 
+_ROUNDOFF = "a tighter check judges the round-off of float arithmetic, not the table"
+
 LimitKind = Literal["tol_pos", "tol_rot", "tol_jacobian", "known_position", "known_angle"]
 
 
 @dataclass(frozen=True)
 class Limit:
-    """The range ``(0, upper]`` of one kind of limit, and why it ends there.
+    """The range ``(0, upper]`` of one kind of limit (``[lower, upper]``), and why.
 
     Attributes:
         upper: The largest value allowed (inclusive).
         unit: Its unit, as printed.
         why: The reason for ``upper``, a few words for the error message.
+        lower: The smallest value allowed (inclusive); ``0.0``: any above zero.
+        lower_why: The reason for ``lower``.
     """
 
     upper: float
     unit: str
     why: str
+    lower: float = 0.0
+    lower_why: str = ""
 
 
 #: Every limit a user sets, by kind.
@@ -151,16 +184,22 @@ LIMITS: Mapping[LimitKind, Limit] = MappingProxyType(
             MAX_TOL_POS_M,
             "m",
             "1 cm: a looser check cannot tell a wrong link length from a right one",
+            MIN_TOL_POS_M,
+            _ROUNDOFF,
         ),
         "tol_rot": Limit(
             MAX_TOL_ROT_RAD,
             "rad",
             "5.7°: a looser one lets a wrong joint offset through, and at π accepts every rotation",
+            MIN_TOL_ROT_RAD,
+            _ROUNDOFF,
         ),
         "tol_jacobian": Limit(
             MAX_TOL_JACOBIAN,
             "m/rad and rad/rad",
             "a Jacobian column is about 1 m/rad or 1 rad/rad: a looser one passes wrong columns",
+            MIN_TOL_JACOBIAN,
+            _ROUNDOFF,
         ),
         "known_position": Limit(
             MAX_KNOWN_POSITION_M,
@@ -191,13 +230,16 @@ def limit_problem(value: object, kind: LimitKind) -> str | None:
     """Why ``value`` cannot be a limit of this kind, one phrase; ``None`` when it can.
 
     The phrase names the range and the value: ``must be > 0 and at most 0.01 m
-    (…), got 1000``. NaN, infinities, zero, negatives, booleans and non-numbers
+    (…), got 1000``; ``must be at least 1e-12 m (…), got 1e-300`` below a
+    tolerance's floor. NaN, infinities, zero, negatives, booleans and non-numbers
     are all refused.
     """
     limit = LIMITS[kind]
     number = _number(value)
-    if 0.0 < number <= limit.upper:
+    if limit.lower <= number <= limit.upper and number > 0.0:
         return None
+    if 0.0 < number < limit.lower:
+        return f"must be at least {limit.lower:g} {limit.unit} ({limit.lower_why}), got {number:g}"
     if isinstance(value, float) or (math.isfinite(number) and not isinstance(value, bool)):
         shown = f"{number:g}"
     elif isinstance(value, int) and not isinstance(value, bool):
@@ -221,14 +263,38 @@ def check_limit(value: object, kind: LimitKind, where: str) -> float:
 
 
 def pose_tolerances(
-    tol_pos_m: float | None, tol_rot_rad: float | None, defaults: tuple[float, float]
+    tol_pos_m: float | None,
+    tol_rot_rad: float | None,
+    defaults: tuple[float, float],
+    reach_m: float = 0.0,
 ) -> tuple[float, float]:
     """The check's ``(m, rad)`` tolerances: each given one, checked, else its default.
 
+    The position tolerance is also held to :func:`roundoff_floor_m` of the model's
+    ``reach_m``: a model a kilometre long rounds off more than 1e-12 m.
+
     Raises:
-        ToleranceError: A given tolerance is out of its range.
+        ToleranceError: A given tolerance is out of its range, or the position
+            tolerance (given or the default) is below the model's round-off.
     """
-    return (
+    tol = (
         defaults[0] if tol_pos_m is None else check_limit(tol_pos_m, "tol_pos", "tol_pos_m"),
         defaults[1] if tol_rot_rad is None else check_limit(tol_rot_rad, "tol_rot", "tol_rot_rad"),
     )
+    floor = roundoff_floor_m(reach_m)
+    if tol[0] < floor:
+        raise ToleranceError(
+            "tol_pos_m" if tol_pos_m is not None else "the model's [check] tol_pos_m",
+            f"must be at least {floor:g} m for a model whose lengths add up to {reach_m:g} m "
+            f"({_ROUNDOFF}), got {tol[0]:g}",
+        )
+    return tol
+
+
+def roundoff_floor_m(reach_m: float) -> float:
+    """The tightest position tolerance for a model whose lengths add up to ``reach_m``, metres.
+
+    :data:`MIN_TOL_POS_M` up to :data:`ROUNDOFF_REACH_M`; beyond, it grows with the
+    reach, as round-off does (a 1 km arm's poses round off 100 times a 10 m arm's).
+    """
+    return MIN_TOL_POS_M * max(1.0, reach_m / ROUNDOFF_REACH_M)

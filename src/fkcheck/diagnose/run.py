@@ -67,7 +67,9 @@ def diagnose(
     """
     start = time.perf_counter()
     pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
-    tol = pose_tolerances(tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad))
+    tol = pose_tolerances(
+        tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad), model.reach_m
+    )
     if q is None and isinstance(backend, FixedConfigurations):
         q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)

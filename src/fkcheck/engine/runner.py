@@ -74,7 +74,7 @@ from fkcheck.urdf.locate import display_path
 if TYPE_CHECKING:
     from fkcheck.urdf.mapping import LinkFit
 
-__all__ = ["Progress", "load_kernels", "run_check"]
+__all__ = ["EVIDENCE_MIN_S", "Progress", "load_kernels", "run_check"]
 
 
 def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
@@ -397,6 +397,11 @@ def _check_twins(model: Model, pair: Sequence[str], links: Sequence[str], urdf: 
 
 #: How long the main thread waits on a backend's thread at a time, s (see run_check).
 _JOIN_SLICE_S = 0.1
+#: The per-number evidence's time limit is the check's ``timeout_s``, but never less
+#: than this, seconds: it costs a few seconds even at 256 joints (about 5 s of one
+#: core), and a ``--timeout`` short enough for a hanging backend (0.5 s) must not end
+#: a six-joint check on a busy machine.
+EVIDENCE_MIN_S = 10.0
 
 
 def run_check(
@@ -467,6 +472,8 @@ def run_check(
         OptionError: ``samples``, ``seed``, ``sampler`` or ``timeout_s`` out of its
             range (:mod:`fkcheck.model.options`); a tolerance is a ``ToleranceError``.
         UrdfError: The model's URDF is missing, unsafe or does not fit the model.
+        TimeLimitError: The per-number evidence did not finish within ``timeout_s``
+            (or :data:`EVIDENCE_MIN_S`, when longer).
         FkcheckError: Other bad input reported by a backend.
     """
     from fkcheck.urdf.source import load_urdf
@@ -483,7 +490,9 @@ def run_check(
     xacro_timeout_s = min(timeout_s, XACRO_TIMEOUT_S)  # the check's limit, when shorter
     model, placed = _place_urdf_links(model, asked, xacro_timeout_s)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
-    tol = pose_tolerances(tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad))
+    tol = pose_tolerances(
+        tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad), model.reach_m
+    )
     if jacobian is not None:
         check_fixed_from(model, pair[0])
     reads_urdf = any(b.reads == "urdf" for b in backends)
@@ -504,8 +513,16 @@ def run_check(
     )
     calibration = _calibration_effect(model, q.q, pair)
     required = tuple(k for k in KINDS if k in (*model.check.require, *require))
-    numbers = coverage(  # what it exercises, and what a choice among links could hide
-        model, pair[0], pair[1], tol[0], tol[1], q=q.q, competitors=competitors
+    # What it exercises, and what a choice among links could hide, within the check's
+    # time limit (at least EVIDENCE_MIN_S).
+    numbers = coverage(
+        model,
+        pair[0],
+        pair[1],
+        *tol,
+        q=q.q,
+        competitors=competitors,
+        time_limit_s=max(timeout_s, EVIDENCE_MIN_S),
     )
     if "table" in required and numbers.spans_no_joint:
         raise FkcheckError(

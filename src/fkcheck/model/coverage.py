@@ -59,16 +59,19 @@ from __future__ import annotations
 
 import itertools
 import math
+import time
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from fkcheck.core import dh
 from fkcheck.core.geometry import invert
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
+from fkcheck.errors import TimeLimitError
 from fkcheck.model.names import PARAMS, param_symbol
 from fkcheck.model.sampling import sampling_box
 from fkcheck.model.types import FrameSpec, Model, Offset, resolve_frame
@@ -400,6 +403,29 @@ def _short(numbers: Sequence[NumberEvidence]) -> str:
 # ----------------------------------------------------------------------------- sensitivities
 
 
+class _Clock:
+    """The analysis' time limit, looked at between its steps.
+
+    A step is at most one decomposition of the model's columns (about a second at
+    :data:`~fkcheck.model.types.MAX_JOINTS` joints), or one number's nudge.
+    """
+
+    def __init__(self, limit_s: float | None, what: str) -> None:
+        self.limit_s, self.what = limit_s, what
+        self.deadline = math.inf if limit_s is None else time.monotonic() + limit_s
+
+    def check(self) -> None:
+        """Raise :class:`TimeLimitError` once the limit has passed."""
+        if time.monotonic() > self.deadline:
+            raise TimeLimitError(
+                f"per-number evidence of {self.what} did not finish within the check's "
+                f"time limit of {self.limit_s:g} s; give it more with --timeout"
+            )
+
+
+_NO_LIMIT = _Clock(None, "")
+
+
 @dataclass(frozen=True)
 class _Number:
     """A number to nudge: where it lives and how."""
@@ -431,25 +457,114 @@ def _twist_matrix(component: int, h: float) -> Float:
 
 
 class _Pose:
-    """``from_T_to`` of one model and frame pair, with any one number nudged."""
+    """``from_T_to`` of one model and frame pair, with any one number nudged.
+
+    The chain's frames are computed once by the core (``dh.fk``, every DH frame).
+    A nudged number changes one link (a row's number, a joint value), the base,
+    the tool or one compared frame's offset; only the compared ends at or after it
+    move, each by the same left factor: ``F'_k = F_i · A'_{i+1} · F_{i+1}⁻¹ · F_k``
+    for a link. A nudge costs a few 4×4 products per configuration, not a
+    chain (``n`` numbers × ``n`` links × configurations was minutes at the model
+    limit); the round-off is the chain's own, ε·reach, against a step of ``2h``.
+    """
 
     def __init__(self, model: Model, q: Float, spec_from: FrameSpec, spec_to: FrameSpec) -> None:
-        self.chain, self.q = model.chain, q
+        self.chain, self.q = model.chain, np.asarray(q, dtype=np.float64)
         self.spec = {"from": spec_from, "to": spec_to}
+        self.frames = np.asarray(dh.fk(self.chain, self.q, all_frames=True))
+        self.offsets = {side: spec.offset.matrix for side, spec in self.spec.items()}
+        tool = self.chain.flange_T_tool
+        n = self.chain.dof
+        # Each end's anchor and the index of the DH frame it sits on (the TCP on the
+        # last one, after the tool; the world, before the base, on none: -1).
+        self.index: dict[str, int] = {}
+        self.anchor: dict[str, Float] = {}
+        for side, spec in self.spec.items():
+            if spec.dh == "world":
+                self.index[side] = -1
+                self.anchor[side] = np.broadcast_to(np.eye(4), self.frames[:, 0].shape)
+            elif spec.dh == "tcp":
+                self.index[side] = n
+                self.anchor[side] = self.frames[:, -1] @ tool
+            else:
+                self.index[side] = int(spec.dh)
+                self.anchor[side] = self.frames[:, int(spec.dh)]
+        self.ends = {side: self.anchor[side] @ self.offsets[side] for side in self.spec}
+        self.inverse = invert(self.frames)
 
-    @staticmethod
-    def _anchor(spec: FrameSpec, frames: Float, tool: Float) -> Float:
-        if spec.dh == "world":
-            return np.broadcast_to(np.eye(4), frames[:, 0].shape)
-        if spec.dh == "tcp":
-            return frames[:, -1] @ tool
-        return frames[:, int(spec.dh)]
+    def _link(
+        self, i: int, q: Float, sign: Float | None = None, param: str = "", h: float = 0.0
+    ) -> Float:
+        """``A_{i+1}`` at joint values ``q[:, i]`` (``param`` nudged by ``h``), ``(N, 4, 4)``."""
+        chain = self.chain
+        values = {p: float(getattr(chain, p)[i]) for p in ("a", "alpha", "d", "theta")}
+        if param:
+            values[param] += h
+        s = float(chain.sign[i] if sign is None else sign[i])
+        qs = q[:, i] * s
+        if chain.prismatic[i]:
+            d, theta = qs + values["d"], np.full_like(qs, values["theta"])
+        else:
+            d, theta = np.full_like(qs, values["d"]), qs + values["theta"]
+        A: Float = dh.dh_matrix(chain.convention, values["a"], values["alpha"], d, theta)
+        return A
+
+    def _relinked(self, i: int, A_new: Float) -> Float:
+        """``from_T_to`` with link ``i + 1`` replaced by ``A_new``."""
+        head = self.frames[:, i] @ A_new
+        ends = {
+            side: head @ (self.inverse[:, i + 1] @ end) if self.index[side] > i else end
+            for side, end in self.ends.items()
+        }
+        return invert(ends["from"]) @ ends["to"]
+
+    def _moved(self, first: int, L: Float) -> Float:
+        """``from_T_to`` with every end on DH frame ``first`` or later moved by ``L``."""
+        ends = {
+            side: L @ end if self.index[side] >= first else end for side, end in self.ends.items()
+        }
+        return invert(ends["from"]) @ ends["to"]
 
     def pose(self, number: _Number | None = None, h: float = 0.0) -> Float:
-        return self.changed(() if number is None else ((number, h),))
+        if number is None:
+            return invert(self.ends["from"]) @ self.ends["to"]
+        kind, i = number.kind, number.index
+        if kind == "row":
+            return self._relinked(i, self._link(i, self.q, param=number.param, h=h))
+        if kind in ("joint", "flip"):
+            q = self.q.copy()
+            q[:, i] += h
+            return self._relinked(i, self._link(i, q))
+        E = _twist_matrix(i, h)
+        if kind == "base":
+            B = self.chain.world_T_base
+            return self._moved(0, B @ E @ invert(B))
+        ends = dict(self.ends)
+        if kind == "tool":
+            tool = self.chain.flange_T_tool
+            ends = {
+                side: self.frames[:, -1] @ tool @ E @ self.offsets[side]
+                if self.spec[side].dh == "tcp"
+                else end
+                for side, end in ends.items()
+            }
+        else:  # a compared frame's offset
+            ends[kind] = self.anchor[kind] @ self.offsets[kind] @ E
+        return invert(ends["from"]) @ ends["to"]
+
+    def flipped(self, i: int) -> Float:
+        """``from_T_to`` with joint ``i + 1`` turning the other way."""
+        sign = self.chain.sign.copy()
+        sign[i] = -sign[i]
+        return self._relinked(i, self._link(i, self.q, sign))
 
     def changed(self, changes: Sequence[tuple[_Number, float]]) -> Float:
-        """``from_T_to`` with each ``(number, h)`` of ``changes`` nudged by ``h``."""
+        """``from_T_to`` with each ``(number, h)`` of ``changes`` changed by ``h``, at once.
+
+        The whole chain again, for finite changes of several numbers (the search
+        for the numbers that put a DH frame on a competing link, on a few
+        configurations); :meth:`pose` nudges one number, incrementally.
+        """
         chain, q = self.chain, self.q
         base, tool = chain.world_T_base, chain.flange_T_tool
         offsets = {side: spec.offset.matrix for side, spec in self.spec.items()}
@@ -470,15 +585,22 @@ class _Pose:
                 offsets[kind] = offsets[kind] @ _twist_matrix(number.index, h)
         chain = replace(chain, world_T_base=base, flange_T_tool=tool)
         frames = np.asarray(dh.fk(chain, q, all_frames=True))
-        ends = {
-            side: self._anchor(spec, frames, tool) @ offsets[side]
-            for side, spec in self.spec.items()
-        }
-        return invert(ends["from"]) @ ends["to"]
+        ends = {}
+        for side, spec in self.spec.items():
+            if spec.dh == "world":
+                anchor = np.broadcast_to(np.eye(4), frames[:, 0].shape)
+            elif spec.dh == "tcp":
+                anchor = frames[:, -1] @ tool
+            else:
+                anchor = frames[:, int(spec.dh)]
+            ends[side] = anchor @ offsets[side]
+        out: Float = invert(ends["from"]) @ ends["to"]
+        return out
 
 
-def _twists(pose: _Pose, F_inv: Float, number: _Number) -> Float:
+def _twists(pose: _Pose, F_inv: Float, number: _Number, clock: _Clock = _NO_LIMIT) -> Float:
     """The body twist of ``from_T_to`` per unit of ``number``, ``(N, 6)`` (m and rad)."""
+    clock.check()
     G = (F_inv @ pose.pose(number, STEP) - F_inv @ pose.pose(number, -STEP)) / (2.0 * STEP)
     W = G[:, :3, :3]
     w = np.stack([W[:, 2, 1] - W[:, 1, 2], W[:, 0, 2] - W[:, 2, 0], W[:, 1, 0] - W[:, 0, 1]], 1)
@@ -513,7 +635,11 @@ def _numbers(model: Model, pair: tuple[FrameSpec, FrameSpec]) -> list[_Number]:
 
 
 def _flip_errors(
-    model: Model, specs: dict[str, FrameSpec], q: Float, tols: tuple[float, float]
+    model: Model,
+    specs: dict[str, FrameSpec],
+    q: Float,
+    tols: tuple[float, float],
+    clock: _Clock = _NO_LIMIT,
 ) -> Float:
     """Per joint, how far (in tolerances) ``from_T_to`` moves at worst if it turned the other way.
 
@@ -525,11 +651,8 @@ def _flip_errors(
     F = pose.pose()
     out = np.zeros(model.dof)
     for i in range(model.dof):
-        sign = pose.chain.sign.copy()
-        sign[i] = -sign[i]
-        flipped = _Pose(model, q, specs["from"], specs["to"])
-        flipped.chain = replace(pose.chain, sign=sign)
-        G = flipped.pose()
+        clock.check()
+        G = pose.flipped(i)
         out[i] = max(
             float((position_error_m(F, G) / tols[0]).max()),
             float((rotation_error_rad(F, G) / tols[1]).max()),
@@ -644,6 +767,7 @@ def coverage(
     seed: int = 0,
     q: Float | None = None,
     competitors: Mapping[str, Sequence[Competitor]] | None = None,
+    time_limit_s: float | None = None,
 ) -> Coverage:
     """Every number of ``model`` against a check of ``frame_from → frame_to``.
 
@@ -667,22 +791,27 @@ def coverage(
             exactly where a change of the table's numbers at that end would put
             the DH frame, those numbers are not identifiable (reason ``link``),
             unless a frame of the group is vouched for (then verified on its word).
+        time_limit_s: The analysis' time limit, seconds (a check's ``--timeout``);
+            ``None``: none.
 
     Raises:
         FrameError: An unknown frame.
+        TimeLimitError: The analysis did not finish within ``time_limit_s``.
     """
     specs = {"from": resolve_frame(model, frame_from), "to": resolve_frame(model, frame_to)}
     numbers = _numbers(model, (specs["from"], specs["to"]))
     tols = (tol_pos_m, tol_rot_rad)
+    clock = _Clock(time_limit_s, f"{model.name} ({frame_from} → {frame_to})")
     # What the pair can tell, over generic configurations (the kinematics) …
     generic = _configurations(model, samples, seed)
-    J, moving, spanned = _sensitivities(model, specs, numbers, generic, tols)
+    J, moving, spanned = _sensitivities(model, specs, numbers, generic, tols, clock)
     norms = np.linalg.norm(J, axis=0)
     offsets = _absorption(specs, numbers, J, moving, norms, tols)
     word = _vouched_absorption(specs, numbers, J, moving, norms, tols, offsets)
     links = _link_choice(
-        model, specs, numbers, (generic, J, moving), tols, competitors or {}, set(offsets.absorbed)
-    )
+        model, specs, numbers, (generic, J, moving), tols, competitors or {},
+        set(offsets.absorbed), clock,
+    )  # fmt: skip
     for i, frames in links.on_word.items():
         word.on_word.setdefault(i, []).extend(f for f in frames if f not in word.on_word[i])
     word.sources.update(links.sources)
@@ -694,11 +823,11 @@ def coverage(
     ]
     rows = generic.shape[0]
     generic_residual = _without(J, [J[:, c] @ k for c, k in offsets.absorbing]) * unit_tol
-    trades = _trades(generic_residual, candidates, rows)
+    trades = _trades(generic_residual, candidates, rows, clock=clock)
     # … and what the check's own configurations exercise: its resolution, its trades.
     if q is not None:
         checked = _subset(q, CHECK_SAMPLES, seed)
-        J_check = _sensitivities(model, specs, numbers, checked, tols)[0]
+        J_check = _sensitivities(model, specs, numbers, checked, tols, clock)[0]
     else:
         checked, J_check = generic, J
     carried = [J_check[:, c] @ k for c, k in offsets.absorbing]
@@ -706,7 +835,7 @@ def coverage(
     # Combinations the check's configurations hide that generic ones show at least
     # 1:1: its configurations, not the kinematics, leave those numbers apart.
     tied = (
-        _unseen(generic_residual, residual * unit_tol, candidates, rows, checked.shape[0])
+        _unseen(generic_residual, residual * unit_tol, candidates, rows, checked.shape[0], clock)
         if q is not None
         else {}
     )
@@ -723,7 +852,7 @@ def coverage(
         takers=takers,
         alone=alone,
         worst=_worst(residual, checked.shape[0]),
-        flips=_flip_errors(model, specs, checked, tols),
+        flips=_flip_errors(model, specs, checked, tols, clock),
         unit_tol=unit_tol,
         configurations=checked.shape[0],
     )
@@ -889,6 +1018,7 @@ def _link_choice(
     tols: tuple[float, float],
     competitors: Mapping[str, Sequence[Competitor]],
     carried: set[int],
+    clock: _Clock = _NO_LIMIT,
 ) -> _LinkChoice:
     """Which table numbers could put a competing link exactly on the compared frame's DH frame.
 
@@ -939,6 +1069,7 @@ def _link_choice(
                     found.competing.setdefault(i, [c.link for c in comps[:3]] + ["…"])
             continue
         for comp in comps:
+            clock.check()
             key = np.round(comp.anchor_T_link, 9).tobytes()
             if key not in solved:
                 solved[key] = _fewest(pose, side, numbers, end, comp.anchor_T_link, tols, unit_tol)
@@ -1068,7 +1199,7 @@ def _produce(
 
     two = _Pose.__new__(_Pose)
     two.chain, two.q, two.spec = pose.chain, pose.q[:2], pose.spec
-    P0 = two.pose()
+    P0 = two.changed(())
     scale = np.array([1.0 / tols[0]] * 3 + [1.0 / tols[1]] * 3)
 
     def frame(delta: Float) -> Float:
@@ -1309,15 +1440,18 @@ def _sensitivities(
     numbers: Sequence[_Number],
     q: Float,
     tol: tuple[float, float],
+    clock: _Clock = _NO_LIMIT,
 ) -> tuple[Float, Float, tuple[int, ...]]:
     """Columns in tolerances per unit ``(N·6, P)``, which numbers move the pose, joints spanned."""
     pose = _Pose(model, q, specs["from"], specs["to"])
     F_inv = invert(pose.pose())
-    twists = np.stack([_twists(pose, F_inv, n) for n in numbers], axis=2)  # (N, 6, P)
+    twists = np.stack([_twists(pose, F_inv, n, clock) for n in numbers], axis=2)  # (N, 6, P)
     moving = np.abs(twists).max(axis=(0, 1)) > MOVING_EPS
     joints = [_Number("", "", "rad", "joint", i) for i in range(model.dof)]
     spanned = tuple(
-        i + 1 for i, j in enumerate(joints) if np.abs(_twists(pose, F_inv, j)).max() > MOVING_EPS
+        i + 1
+        for i, j in enumerate(joints)
+        if np.abs(_twists(pose, F_inv, j, clock)).max() > MOVING_EPS
     )
     scale = np.array([1.0 / tol[0]] * 3 + [1.0 / tol[1]] * 3)
     J: Float = (twists * scale[None, :, None]).reshape(-1, len(numbers))
@@ -1367,6 +1501,7 @@ def _unseen(
     candidates: Sequence[bool],
     generic_configurations: int,
     checked_configurations: int,
+    clock: _Clock = _NO_LIMIT,
 ) -> dict[int, tuple[int, ...]]:
     """Numbers in combinations the check's configurations hide but generic ones show.
 
@@ -1381,28 +1516,53 @@ def _unseen(
     if not idx:
         return {}
     loose = _weak(generic[:, idx], generic_configurations, RESOLUTION_LIMIT / BLAME_MARGIN)
+    clock.check()
     strict = _weak(checked[:, idx], checked_configurations, RESOLUTION_LIMIT)
+    clock.check()
     if not len(strict):
         return {}
     extra = strict - (strict @ loose.T) @ loose if len(loose) else strict
     _, sv, vt = np.linalg.svd(extra, full_matrices=False)
+    clock.check()
     per = checked[:, idx].reshape(-1, 6, len(idx))
-    out: dict[int, set[int]] = {}
-    for vec in vt[sv > 0.5]:  # at least half outside what generic configurations blur
-        effect = np.einsum("nrk,k->nr", per, vec)
-        shows = np.maximum(
-            np.linalg.norm(effect[:, :3], axis=1), np.linalg.norm(effect[:, 3:], axis=1)
-        )
-        if float(shows.max()) * RESOLUTION_LIMIT >= float(np.linalg.norm(vec)):
-            continue
-        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > TRADE_SHARE * np.abs(vec).max())]
-        for m in support:
-            out.setdefault(m, set()).update(x for x in support if x != m)
-    return {m: tuple(sorted(others)) for m, others in out.items()}
+    supports = _supports(per, vt[sv > 0.5])  # at least half outside what generic ones blur
+    # Each number with the others of every combination it is in: one product of
+    # the supports, not a set per pair (a whole table is ~10⁶ pairs per combination).
+    together = (supports.T.astype(np.int64) @ supports.astype(np.int64)) > 0
+    return {
+        idx[k]: tuple(idx[j] for j in np.flatnonzero(together[k]) if j != k)
+        for k in np.flatnonzero(supports.any(axis=0))
+    }
+
+
+def _supports(per: Float, vecs: Float, limit: float = RESOLUTION_LIMIT) -> NDArray[np.bool_]:
+    """Per combination the check cannot see, the numbers taking part in it, ``(V, K)``.
+
+    ``per`` is ``J`` as ``(N, 6, K)``, ``vecs`` the combinations ``(V, K)``. A
+    combination is kept when its worst configuration shows it under ``1/limit``
+    of its length; its numbers are those with a share above :data:`TRADE_SHARE`
+    of its largest. Rows of combinations not kept are empty.
+    """
+    if not len(vecs):
+        return np.zeros((0, per.shape[2]), dtype=np.bool_)
+    effect = np.einsum("nrk,vk->vnr", per, vecs)
+    shows = np.maximum(
+        np.linalg.norm(effect[:, :, :3], axis=2), np.linalg.norm(effect[:, :, 3:], axis=2)
+    ).max(axis=1)
+    kept = shows * limit < np.linalg.norm(vecs, axis=1)
+    share = np.abs(vecs)
+    out: NDArray[np.bool_] = (share > TRADE_SHARE * share.max(axis=1, keepdims=True)) & kept[
+        :, None
+    ]
+    return out
 
 
 def _trades(
-    J: Float, candidates: Sequence[bool], configurations: int, limit: float = RESOLUTION_LIMIT
+    J: Float,
+    candidates: Sequence[bool],
+    configurations: int,
+    limit: float = RESOLUTION_LIMIT,
+    clock: _Clock = _NO_LIMIT,
 ) -> dict[int, tuple[int, ...]]:
     """Numbers whose columns depend on each other only: ``{i: (j, …)}``.
 
@@ -1422,29 +1582,25 @@ def _trades(
     _, sv, vt = np.linalg.svd(J[:, idx], full_matrices=_needs_full(J[:, idx]))
     sv = np.concatenate([sv, np.zeros(len(idx) - len(sv))]) if len(sv) < len(idx) else sv
     weak = vt[sv < math.sqrt(configurations) / limit]
-    parent = {i: i for i in idx}
+    clock.check()
+    parent = list(range(len(idx)))
 
-    def root(i: int) -> int:
-        while parent[i] != i:
-            i = parent[i]
-        return i
+    def root(k: int) -> int:
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]  # path halving: the trees stay shallow
+            k = parent[k]
+        return k
 
     per = J[:, idx].reshape(-1, 6, len(idx))
-    for vec in _rref(weak):
-        # The singular value bounds the columns' length; the check sees the worst
-        # configuration: keep the combination only if that stays under a tenth.
-        effect = np.einsum("nrk,k->nr", per, vec)
-        shows = np.maximum(
-            np.linalg.norm(effect[:, :3], axis=1), np.linalg.norm(effect[:, 3:], axis=1)
-        )
-        if float(shows.max()) * limit >= float(np.linalg.norm(vec)):
-            continue
-        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > TRADE_SHARE * np.abs(vec).max())]
-        for m in support[1:]:
-            parent[root(m)] = root(support[0])
+    # The singular value bounds the columns' length; the check sees the worst
+    # configuration: a combination counts only if that stays under a tenth.
+    for support in _supports(per, _rref(weak, clock), limit):
+        members = np.flatnonzero(support)
+        for k in members[1:]:
+            parent[root(int(k))] = root(int(members[0]))
     groups: dict[int, list[int]] = {}
-    for i in idx:
-        groups.setdefault(root(i), []).append(i)
+    for k, i in enumerate(idx):
+        groups.setdefault(root(k), []).append(i)
     return {
         m: tuple(x for x in members if x != m)
         for members in groups.values()
@@ -1453,11 +1609,12 @@ def _trades(
     }
 
 
-def _rref(rows: Float) -> Float:
+def _rref(rows: Float, clock: _Clock = _NO_LIMIT) -> Float:
     """Reduced row echelon form of a few orthonormal rows (partial pivoting)."""
     M = np.array(rows, dtype=np.float64)
     r = 0
     for c in range(M.shape[1]):
+        clock.check()
         if r == M.shape[0]:
             break
         p = r + int(np.argmax(np.abs(M[r:, c])))
@@ -1465,8 +1622,8 @@ def _rref(rows: Float) -> Float:
             continue
         M[[r, p]] = M[[p, r]]
         M[r] /= M[r, c]
-        for k in range(M.shape[0]):
-            if k != r:
-                M[k] -= M[k, c] * M[r]
+        factors = M[:, c].copy()
+        factors[r] = 0.0
+        M -= np.outer(factors, M[r])  # every other row at once: the same arithmetic
         r += 1
     return M[:r]

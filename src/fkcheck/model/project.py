@@ -279,11 +279,13 @@ def expand_model_paths(
     file is taken as it is (its reader checks it), and a path that exists is a
     file or directory, never a glob (``arm[2].toml``).
     With ``root`` (a project's directory), relative items are relative to it,
-    and directories and globs must stay inside it.
+    and files, directories and globs must stay inside it (resolved: an absolute
+    path, ``../`` or a link out of it is refused).
 
     Raises:
-        FkcheckError: A glob or directory that names no model file, one outside
-            ``root``, or more than :data:`MAX_MODEL_FILES` files.
+        FkcheckError: A glob or directory that names no model file; a file,
+            directory or glob outside ``root``; or more than
+            :data:`MAX_MODEL_FILES` files.
     """
     out: list[Path] = []
     seen: set[Path] = set()
@@ -294,6 +296,8 @@ def expand_model_paths(
             found = _glob_models(item, root, where)
         elif path.is_dir():
             found = _directory_models(item, path, root, where)
+        elif root is not None and not _inside(path, root):  # absolute, ../, or a link out
+            raise _paths_error(where, item, "a file outside the project")
         else:
             found = [path]
         for p in found:

@@ -381,6 +381,22 @@ class Model:
             dtype=np.float64,
         ).reshape(self.dof, 2)
 
+    @cached_property
+    def reach_m(self) -> float:
+        """Every length of the chain added up, metres: base, ``|a| + |d|``, strokes, tool.
+
+        An upper bound of how far any pose's origin is from the world's, sampled or
+        not: the scale of the core's round-off
+        (:func:`~fkcheck.core.tolerances.roundoff_floor_m`).
+        """
+        finite = np.where(np.isfinite(self.limits), np.abs(self.limits), 0.0)
+        strokes = sum(
+            float(finite[i].max()) for i, j in enumerate(self.joints) if j.type == "prismatic"
+        )
+        rows = sum(abs(j.a) + abs(j.d) for j in self.joints)
+        ends = float(np.linalg.norm(self.base.xyz) + np.linalg.norm(self.tool.xyz))
+        return float(rows + strokes + ends)
+
     def fk(
         self,
         q: ArrayLike,

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -43,8 +44,10 @@ from fkcheck.urdf.screen import ScreenedUrdf, check_urdf_path, read_urdf_bytes, 
 
 __all__ = [
     "JOINT_TYPES",
+    "MAX_AXIS_LENGTH",
     "MAX_URDF_DEPTH",
     "MAX_URDF_LINKS",
+    "MIN_AXIS_LENGTH",
     "UrdfInfo",
     "UrdfJoint",
     "chain_between",
@@ -60,6 +63,13 @@ MAX_URDF_LINKS = 4096
 MAX_URDF_DEPTH = 256
 #: The joint types of the URDF specification (urdfdom refuses any other).
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_ONE_DOF = ("revolute", "continuous", "prismatic")
+#: Shortest and longest ``<axis xyz>`` a reader can normalise: every one divides by
+#: ``sqrt(x² + y² + z²)``, whose square must be a normal float (2.2e-308 … 1.8e308).
+#: ``0 0 1e-300`` gave 0 (Pinocchio's and yourdfpy's poses were not rotations),
+#: ``0 1e300 1e300`` gave infinity.
+MIN_AXIS_LENGTH = math.sqrt(sys.float_info.min)
+MAX_AXIS_LENGTH = math.sqrt(sys.float_info.max) / 2.0  # three components: room for the sum
 
 #: A URDF number, as urdfdom reads it: decimal, optional sign and exponent (no
 #: ``inf``, ``nan``, ``1_0``, hexadecimal or non-ASCII digits).
@@ -242,6 +252,7 @@ def urdf_info_from_bytes(path: Path, data: bytes, package_dirs: tuple[Path, ...]
         raise UrdfError(path, f"root element is <{root.tag}>, expected <robot>")
     links, joints = _links_and_joints(path, doc)
     _check_numbers(path, doc)
+    _check_mimics(path, doc, joints)
     return UrdfInfo(
         path=path,
         text=doc.text(),
@@ -426,6 +437,43 @@ def _check_numbers(path: Path, doc: ScreenedUrdf) -> None:
                 f"{_where(doc, axis)}joint {joint.get('name')!r}: <axis xyz> is zero; a "
                 f"{joint.get('type')} joint needs a direction",
             )
+        length = math.sqrt(sum(v * v for v in values))  # as every reader normalises it
+        if not MIN_AXIS_LENGTH <= length <= MAX_AXIS_LENGTH:
+            raise UrdfError(
+                path,
+                f"{_where(doc, axis)}joint {joint.get('name')!r}: <axis xyz> is "
+                f"{axis.get('xyz')!r}, whose length no reader can take (its square is not a "
+                f"normal float: {MIN_AXIS_LENGTH:.3g} … {MAX_AXIS_LENGTH:.3g}); write the "
+                "direction as a unit vector",
+            )
+
+
+def _check_mimics(path: Path, doc: ScreenedUrdf, joints: dict[str, UrdfJoint]) -> None:
+    """Every ``<mimic>`` names a one-DOF joint (revolute, continuous, prismatic) other than its own.
+
+    A mimic naming no joint, one that does not exist or a fixed one passed silently:
+    each reader then did what it liked with it (ignored it, or refused the file).
+    """
+    for el in doc.root.findall("joint"):
+        name = el.get("name")
+        for mimic in el.findall("mimic"):
+            leader = mimic.get("joint")
+            where = f"{_where(doc, mimic)}joint {name!r}: <mimic joint>"
+            if not leader:
+                raise UrdfError(path, f"{where} names no joint; it must name the joint it follows")
+            if leader not in joints:
+                raise UrdfError(
+                    path,
+                    f"{where} is {leader!r}, which is not a joint; joints are: {listed(joints)}",
+                )
+            if leader == name:
+                raise UrdfError(path, f"{where} is the joint itself")
+            if joints[leader].type not in _ONE_DOF:
+                raise UrdfError(
+                    path,
+                    f"{where} is {leader!r}, a {joints[leader].type} joint; a mimic follows "
+                    f"a {', '.join(_ONE_DOF[:-1])} or {_ONE_DOF[-1]} joint",
+                )
 
 
 def _numbers(
