@@ -568,6 +568,9 @@ def run_check(
         {b.name: b.reads for b in backends},
     )
     ordered = apply_provenance(model, backends, tol, ordered)  # a URDF from this very table
+    answered = _table_answered(ordered, len(q.q))
+    if 0 < answered < len(q.q):  # the numbers are judged on what the table's evidence compared
+        numbers = coverage(model, pair[0], pair[1], tol[0], tol[1], q=q.q[:answered])
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.
     jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]
@@ -592,6 +595,25 @@ def run_check(
         tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
         calibration=calibration,
         lint=lint_lines(model, lint_calibrated(model, lint_ignore)[0]),
+    )
+
+
+def _table_answered(results: Sequence[BackendResult], total: int) -> int:
+    """How many configurations the agreeing table evidence compared: the most any one did.
+
+    A backend on a subset compares a prefix of the check's configurations
+    (:mod:`fkcheck.engine.plan`), so the prefixes nest: the longest one is their
+    union, and it is one backend's own. Each number is then verified only when
+    configurations that one agreeing backend answered tell it apart. ``0`` when
+    no table evidence agreed (no number is verified then anyway).
+    """
+    return max(
+        (
+            r.subset[0] if r.subset is not None else total
+            for r in results
+            if r.evidence == "table" and r.status == "pass"
+        ),
+        default=0,
     )
 
 
