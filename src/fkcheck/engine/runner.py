@@ -36,7 +36,7 @@ from fkcheck.calibration.lint import lint_calibrated
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
-from fkcheck.engine.expected import apply_known_differences
+from fkcheck.engine.expected import apply_known_differences, known_difference_findings
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
 from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.provenance import apply_provenance
@@ -594,7 +594,13 @@ def run_check(
         numbers=numbers,
         tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
         calibration=calibration,
-        lint=lint_lines(model, lint_calibrated(model, lint_ignore)[0]),
+        lint=lint_lines(
+            model,
+            [
+                *lint_calibrated(model, lint_ignore)[0],
+                *known_difference_findings(model, lint_ignore),
+            ],
+        ),
     )
 
 

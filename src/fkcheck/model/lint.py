@@ -19,7 +19,10 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
   a few that are close but not equal — a rounded or outdated value;
 * ``calibration``: a calibrated model whose table moves its ``[check] to`` frame
   further from its nominal model's than a factory calibration can, or whose nominal
-  model cannot be compared with it (:mod:`fkcheck.calibration.lint`).
+  model cannot be compared with it (:mod:`fkcheck.calibration.lint`);
+* ``known-difference``: a ``[[known_difference]]`` naming several URDF readers one
+  by one, which a check reads as ``reads = "urdf"``: the current form
+  (:func:`fkcheck.engine.expected.known_difference_findings`).
 
 A calibrated model (``[calibration]``, written by ``fkcheck calibration``) holds one
 robot's measured table: α a few 1e-4 rad off a quarter turn, or d2/d3 of hundreds of
@@ -326,7 +329,8 @@ def lint_model(
         measured: Its joints hold measured values (a calibration that fits its
             nominal model, as :func:`fkcheck.calibration.lint.lint_calibrated`
             decides): the :data:`MEASURED_RULES` do not look at them.
-        more: Findings of rules decided elsewhere (``calibration``), added last.
+        more: Findings of rules decided elsewhere (``calibration``,
+            ``known-difference``), added last.
     """
     skipped = {*model.lint_ignore, *ignore}
     findings = [
