@@ -7,6 +7,7 @@ Issue 20, item 4: ``fkcheck urdf --write-model`` from a wrong table, then
 from __future__ import annotations
 
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -65,6 +66,44 @@ def test_a_self_written_urdf_of_a_wrong_table_leaves_it_unverified(tmp_path, cap
     how = "is what fkcheck urdf writes" if unmark else "was written by fkcheck"
     assert f"{', '.join(URDF_BACKENDS)}: the URDF {how} from this table" in flat
     assert "it cannot verify the table" in flat
+
+
+def test_a_dressed_export_of_a_table_748_mm_off_leaves_it_unverified(tmp_path, capsys):
+    """Issue 30, item 5: mark deleted, inertia added to every link: still the table's own."""
+    text = bundled_model_paths()["ur5"].read_text(encoding="utf-8")
+    assert "a = -0.425\n" in text
+    table = tmp_path / "wrong.toml"
+    table.write_text(text.replace("a = -0.425\n", "a = -1.173\n", 1), encoding="utf-8")
+    urdf, mapped = tmp_path / "out" / "robot.urdf", tmp_path / "mapped.toml"
+    assert main(["urdf", str(table), "-o", str(urdf), "--write-model", str(mapped)]) == 0
+    dressed = re.sub(r"<!--.*?-->", "", urdf.read_text(encoding="utf-8"), flags=re.DOTALL)
+    dressed = re.sub(r"<fkcheck:written-from[^>]*/>", "", dressed)
+    dressed = dressed.replace(' xmlns:fkcheck="urn:fkcheck:urdf-provenance"', "")
+    dressed = re.sub(
+        r'<link name="([^"]+)" />',
+        r'<link name="\1"><inertial><mass value="3.7" /><inertia ixx="0.01" ixy="0" ixz="0" '
+        r'iyy="0.01" iyz="0" izz="0.01" /></inertial></link>',
+        dressed,
+    )
+    assert "fkcheck" not in dressed
+    assert dressed.count("<inertial>") >= 8
+    urdf.write_text(dressed, encoding="utf-8")
+    capsys.readouterr()
+    code = main(["check", str(mapped), "--require", "table", "--samples", "20"])
+    out = capsys.readouterr().out
+    assert code == 1, out
+    assert "verdict: unverified" in out
+    assert "table verified" not in out
+    assert "is what fkcheck urdf writes from this table" in " ".join(out.split())
+    # the right table against that URDF: 748 mm apart at zero, and said so
+    right = load_model(mapped)
+    joints = list(right.joints)
+    joints[1] = replace(joints[1], a=-0.425)
+    check = run_check(replace(right, joints=tuple(joints)), [make_backend("pinocchio-urdf")],
+                      samples=8)  # fmt: skip
+    assert check.verdict == "fail"
+    assert check.backends[0].evidence == "table"
+    assert 0.74 < (check.backends[0].max_position_error_m or 0.0) < 1.5
 
 
 def test_its_urdf_backends_count_as_implementation_evidence(tmp_path):
