@@ -535,7 +535,8 @@ def _limited(
         J = _sensitivities(
             model, specs, numbers, _configurations(model, samples, seed, free), tols
         )[0]
-        return _without(J, [J[:, c] @ k for c, k in removed]) * unit_tol
+        out: Float = _without(J, [J[:, c] @ k for c, k in removed]) * unit_tol
+        return out
 
     ties = _hidden(residual(frozen), within, candidates, samples)
     if not ties:
