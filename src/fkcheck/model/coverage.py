@@ -506,6 +506,35 @@ def _configurations(
     return q
 
 
+def _held_still(
+    model: Model,
+    specs: dict[str, FrameSpec],
+    q: Float,
+    spanned: Sequence[int],
+    tols: tuple[float, float],
+) -> list[int]:
+    """Joints (0-based) whose whole range moves the pose by at most ``RESOLUTION_LIMIT`` tolerances.
+
+    Over configurations ``q`` within limits: the joint's twist per unit, at its
+    worst, times its range (``[0, 0]``, ``[v, v]``, ±1e-7°: held still).
+    """
+    lo, hi = sampling_box(model)
+    pose = _Pose(model, q, specs["from"], specs["to"])
+    F_inv = invert(pose.pose())
+    out = []
+    for j in range(model.dof):
+        if j + 1 not in spanned:
+            continue
+        twist = _twists(pose, F_inv, _Number("", "", "rad", "joint", j))
+        per_unit = max(
+            float(np.linalg.norm(twist[:, :3], axis=1).max()) / tols[0],
+            float(np.linalg.norm(twist[:, 3:], axis=1).max()) / tols[1],
+        )
+        if per_unit * float(hi[j] - lo[j]) <= RESOLUTION_LIMIT:
+            out.append(j)
+    return out
+
+
 def _limited(
     model: Model,
     specs: dict[str, FrameSpec],
@@ -555,23 +584,25 @@ def _hidden(
 ) -> dict[int, tuple[int, ...]]:
     """Numbers in combinations ``within`` hides and ``free`` shows: ``{i: (the others, …)}``.
 
-    The combinations are the sparsest (reduced row echelon) basis of those
-    ``within`` shows under a tenth of (:func:`_trades`' test, at the worst
-    configuration too), kept when more than half of one lies outside what
-    ``free`` shows under :data:`BLAME_MARGIN` tenths of.
+    Among the combinations ``within`` shows under a tenth of (root mean square),
+    those ``free`` shows at least :data:`BLAME_MARGIN` tenths of, in their
+    sparsest (reduced row echelon) basis, each kept when the worst configuration
+    within limits shows it under a tenth too (:func:`_trades`' test).
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
         return {}
     strict = _weak(within[:, idx], configurations, RESOLUTION_LIMIT)
-    loose = _weak(free[:, idx], configurations, RESOLUTION_LIMIT / BLAME_MARGIN)
+    if not len(strict):
+        return {}
+    # Of what the limits hide, the combinations free joints show at least as well as
+    # a trade's margin (BLAME_MARGIN tenths, root mean square), in their sparsest basis.
+    _, sv, vt = np.linalg.svd(free[:, idx] @ strict.T, full_matrices=False)
+    shown = vt[sv >= math.sqrt(configurations) * BLAME_MARGIN / RESOLUTION_LIMIT] @ strict
     per = within[:, idx].reshape(-1, 6, len(idx))
     out: dict[int, set[int]] = {}
-    for vec in _rref(strict) if len(strict) else ():
+    for vec in _rref(shown) if len(shown) else ():
         size = float(np.linalg.norm(vec))
-        outside = vec - loose.T @ (loose @ vec) if len(loose) else vec
-        if float(np.linalg.norm(outside)) <= 0.5 * size:
-            continue  # free joints hide it too: the kinematics' trade, not the limits'
         effect = np.einsum("nrk,k->nr", per, vec)
         shows = np.maximum(
             np.linalg.norm(effect[:, :3], axis=1), np.linalg.norm(effect[:, 3:], axis=1)
@@ -724,10 +755,7 @@ def coverage(
         else {}
     )
     # Combinations the joint limits hide that free joints show: the limits', not the table's.
-    flips_within = _flip_errors(model, specs, generic, tols)
-    frozen = [
-        j for j in range(model.dof) if j + 1 in spanned and flips_within[j] <= RESOLUTION_LIMIT
-    ]
+    frozen = _held_still(model, specs, generic, spanned, tols)
     limited = _limited(
         model,
         specs,
@@ -754,7 +782,7 @@ def coverage(
         alone=alone,
         worst=_worst(residual, checked.shape[0]),
         flips=_flip_errors(model, specs, checked, tols),
-        flips_within=flips_within,
+        flips_within=_flip_errors(model, specs, generic, tols),
         unit_tol=unit_tol,
         configurations=checked.shape[0],
         box=sampling_box(model),
