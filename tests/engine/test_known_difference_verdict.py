@@ -114,3 +114,46 @@ def test_a_record_naming_one_backend_leaves_the_other_urdf_readers_failing(capsy
     status = {b["name"]: b["status"] for b in doc["backends"]}
     assert status["pinocchio-urdf"] == "xfail"
     assert {status[n] for n in URDF if n != "pinocchio-urdf"} == {"fail"}
+
+
+OLD_READERS = ("pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf")  # the URDF readers of its day
+
+
+def test_a_record_naming_the_readers_of_its_day_covers_the_ones_that_joined(capsys, tmp_path):
+    """Issue 30, item 8: a known difference of the description, recorded reader by reader."""
+    assert set(OLD_READERS) < set(URDF)  # readers joined since
+    listed = ", ".join(f'"{n}"' for n in OLD_READERS)
+    record = (
+        "\n[[known_difference]]\nbackends = ["
+        + listed
+        + ']\nfinding = "d1 +0.3 mm: the table has the older d1"\n'
+        "max_position_m = 1e-3\nmax_angle_rad = 1e-3\n"
+    )
+    code, doc, text, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=record))
+    assert code == 0, text
+    status = {b["name"]: b["status"] for b in doc["backends"]}
+    assert [status[n] for n in URDF] == ["xfail"] * len(URDF)
+    assert doc["evidence"]["table"]["status"] == "expected-failure"
+    # beyond its bound, a reader that joined still fails
+    tight = record.replace("max_position_m = 1e-3", "max_position_m = 1e-4")
+    code, doc, text, _ = run(capsys, tmp_path, ur5(tmp_path, older_d1=True, record=tight))
+    assert code == 1
+    assert {b["name"]: b["status"] for b in doc["backends"]}["mujoco-urdf"] == "fail"
+
+
+def test_lint_suggests_reads_urdf_for_a_record_naming_the_readers(capsys, tmp_path):
+    listed = ", ".join(f'"{n}"' for n in OLD_READERS)
+    record = RECORD.replace('reads = "urdf"', f"backends = [{listed}]")
+    model = ur5(tmp_path, older_d1=False, record=record)
+    assert main(["lint", str(model), "--json"]) == 1
+    (finding,) = json.loads(capsys.readouterr().out)["findings"]
+    assert (finding["rule"], finding["field"]) == (
+        "known-difference",
+        "known_difference[0].backends",
+    )
+    assert 'write reads = "urdf" instead' in finding["message"]
+    assert main(["lint", str(model), "--ignore", "known-difference"]) == 0
+    capsys.readouterr()
+    # the current form, and one reader named alone (a parser's own difference), are clean
+    for clean in (RECORD, RECORD.replace('reads = "urdf"', 'backends = ["pinocchio-urdf"]')):
+        assert main(["lint", str(ur5(tmp_path, older_d1=False, record=clean))]) == 0

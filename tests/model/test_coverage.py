@@ -311,3 +311,19 @@ def test_the_analysis_stops_at_its_time_limit_in_one_line(ur5):
                        r"--timeout$"):  # fmt: skip
         coverage(ur5, "world", "tcp", TOL, TOL, time_limit_s=0.0)
     assert coverage(ur5, "world", "tcp", TOL, TOL, time_limit_s=60.0).joints_spanned
+
+
+@pytest.mark.parametrize("limits", [(0.0, 0.0), (-1e-9, 1e-9)], ids=["zero", "1e-9 rad"])
+def test_numbers_a_frozen_joint_keeps_together_are_the_limits_to_hide(limits):
+    """Issue 30, item 3: UR5's elbow held still hides a2 against a3; free, it separates them."""
+    model = load_model("ur5")
+    joints = list(model.joints)
+    joints[2] = replace(joints[2], limits=limits)
+    frozen = replace(model, joints=tuple(joints))
+    numbers = {n.name: n for n in coverage(frozen, "base", "tool0", TOL, TOL).numbers}
+    for name in ("a2", "a3", "flip3"):
+        assert (numbers[name].status, numbers[name].reason) == ("not-identifiable", "limits")
+    assert "the limits of joint 3" in numbers["a2"].absorbed_by
+    assert numbers["d2"].status == "verified"  # parallel d2, d3, d4: the kinematics' trade
+    assert numbers["d2"].trades_with == ("d3", "d4")
+    assert coverage(model, "base", "tool0", TOL, TOL).complete  # the same arm, free

@@ -220,6 +220,30 @@ def test_limits_beyond_a_full_turn(tmp_path, capsys):
     assert [(f["rule"], f["field"]) for f in findings] == [("limits", "joint[2].limits")]
 
 
+@pytest.mark.parametrize(
+    ("model_name", "joint", "limits", "said"),
+    [
+        ("ur5", 2, (0.0, 0.0), "no range at all"),
+        ("ur5", 2, (-math.radians(1e-7), math.radians(1e-7)), "a range under 0.057°"),
+        ("ur5", 2, (-math.radians(0.02), math.radians(0.02)), "a range under 0.057°"),
+        ("stanford", 2, (0.5, 0.5), "no range at all"),  # a prismatic joint held still
+    ],
+)
+def test_a_joint_the_limits_freeze_is_flagged(tmp_path, capsys, model_name, joint, limits, said):
+    model = with_joint(load_model(model_name), joint, limits=limits)
+    code, findings = lint(capsys, write(tmp_path, model))
+    assert code == 1
+    assert [(f["rule"], f["field"]) for f in findings] == [("limits", f"joint[{joint}].limits")]
+    assert said in findings[0]["message"]
+    assert "is the joint meant to move?" in findings[0]["message"]
+
+
+def test_a_range_of_a_tenth_of_a_degree_is_not_flagged():
+    """Over NARROW_RANGE_RAD (1 mrad, 0.057°): a narrow axis, not one held still."""
+    model = with_joint(load_model("ur5"), 2, limits=(-math.radians(0.05), math.radians(0.05)))
+    assert lint_model(model) == []
+
+
 def test_modified_table_declared_standard(tmp_path, capsys):
     path = write(
         tmp_path,

@@ -595,6 +595,11 @@ class MeasuredPoses(BackendDefaults):
             self.method = self._read[1].method
         return self._read[1]
 
+    @property
+    def recording(self) -> bool:
+        """Whether the file read is a UR RTDE recording: poses the controller computed itself."""
+        return self._read is not None and self._read[1].method != MeasuredPoses.method
+
     def unavailable_reason(self, model: Model) -> str | None:
         """``None`` when the path exists; it is read (and validated: a regular file) when used."""
         return None if os.path.lexists(self.path) else f"no such file: {self.path}"

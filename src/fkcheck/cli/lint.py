@@ -54,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
     """Lint every model and print one block per file; exit 1 if any has a warning."""
     from fkcheck.calibration.lint import lint_calibrated
     from fkcheck.cli._targets import load_targets, named_model_files, project_config
+    from fkcheck.engine.expected import known_difference_findings
     from fkcheck.errors import FkcheckError
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_text
@@ -79,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
         # A file as it was named (relative when it can be); a bundled model by its file.
         where = target.arg if model.path is None or Path(target.arg).exists() else str(model.path)
         findings, measured = lint_calibrated(model, ignore)
+        findings += known_difference_findings(model, ignore)
         reports.append((model, where, findings, measured))
     if args.json:
         blocks = [

@@ -13,6 +13,13 @@ backends' results, like pytest's strict ``xfail``:
   because the record in the model file is stale;
 * it errored or was skipped → unchanged (nothing was compared).
 
+A record that names several URDF readers and nothing else (``backends =
+["pinocchio-urdf", "yourdfpy-urdf", "rtb-urdf"]``, the readers of its day)
+records a difference of the description, not of those parsers: it is read as
+``reads = "urdf"``, so a URDF reader that joined since is expected to disagree
+as they do, and a model written for an older fkcheck keeps its verdict. One
+reader named alone stays that reader's (a parser's own difference).
+
 Checks of another frame pair, or with other tolerances than the model's
 ``[check]``, are left as they are: the finding was recorded for the default
 check only (a looser tolerance may rightly pass it, a tighter one fail it).
@@ -26,25 +33,66 @@ beyond them it stays ``fail`` (a wrong Jacobian is never excused by a pose recor
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 
 from fkcheck.engine.results import BackendResult
 from fkcheck.io.format import format_angle_summary, format_length_summary
+from fkcheck.model.lint import Finding
 from fkcheck.model.types import KnownDifference, Model
 
-__all__ = ["apply_known_differences", "known_difference_for"]
+__all__ = [
+    "apply_known_differences",
+    "known_difference_findings",
+    "known_difference_for",
+    "of_the_description",
+]
 
 
 def known_difference_for(model: Model, backend: str, reads: str) -> KnownDifference | None:
     """The model's recorded difference with ``backend`` (which reads ``reads``), if any.
 
-    One naming it wins over one selecting what it reads.
+    One naming it wins over one selecting what it reads; one naming several URDF
+    readers and nothing else selects every URDF reader (:func:`of_the_description`).
     """
     named = [e for e in model.known_differences if backend in e.backends]
-    selected = [e for e in model.known_differences if e.applies_to(backend, reads)]
+    selected = [
+        e
+        for e in model.known_differences
+        if e.applies_to(backend, reads) or (reads == "urdf" and of_the_description(e))
+    ]
     found = named or selected
     return found[0] if found else None
+
+
+def of_the_description(entry: KnownDifference) -> bool:
+    """Whether ``entry`` names several URDF readers and nothing else: the URDF's own difference."""
+    from fkcheck.backends.registry import names  # the registry, only when a record names some
+
+    listed = set(entry.backends)
+    return entry.reads == "" and len(listed) > 1 and listed <= set(names(reads="urdf"))
+
+
+def known_difference_findings(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:
+    """Lint's ``known-difference`` rule: records to write as ``reads = "urdf"``.
+
+    Args:
+        model: The model.
+        ignore: Rules left out, on top of the model file's ``[lint] ignore``.
+    """
+    if "known-difference" in {*model.lint_ignore, *ignore}:
+        return []
+    return [
+        Finding(
+            "known-difference",
+            f"known_difference[{i}].backends",
+            f"names the URDF readers {', '.join(entry.backends)} one by one: a difference "
+            "with the URDF is the description's, and a check reads it as every URDF "
+            'reader\'s, those that joined since too; write reads = "urdf" instead',
+        )
+        for i, entry in enumerate(model.known_differences)
+        if of_the_description(entry)
+    ]
 
 
 def _beyond(result: BackendResult, entry: KnownDifference) -> list[str]:

@@ -7,6 +7,13 @@ its numbers): a wrong table is wrong in it too. So after the run, the results of
 the backends that read the model's URDF are counted as *implementation*
 evidence, as a backend built from the table is, with the reason added to their
 message; ``--require table`` then finds the table unverified.
+
+Measured poses (``poses:``) likewise: a file whose every pose is the table's
+own forward kinematics to round-off (:data:`ROUND_OFF`) holds more digits than
+any measurement, so it was computed from this table (``fkcheck fk``, or a
+program given it), marks or no marks, and is implementation evidence. A UR RTDE
+recording is exempt: its poses are the controller's own computation, from the
+controller's table, which a calibrated model is meant to be.
 """
 
 from __future__ import annotations
@@ -15,13 +22,19 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 from fkcheck.backends.base import Backend
+from fkcheck.backends.measured import MeasuredPoses
 from fkcheck.engine.results import BackendResult
 from fkcheck.errors import FkcheckError, Skip
 from fkcheck.model.types import Model
 from fkcheck.urdf.provenance import Derivation, derived_from_table
 from fkcheck.urdf.source import load_urdf
 
-__all__ = ["apply_provenance", "urdf_derivation"]
+__all__ = ["ROUND_OFF", "apply_provenance", "urdf_derivation"]
+
+#: Poses that agree with the table's forward kinematics within this (m and rad) at every
+#: configuration were computed from it: a file of doubles written in full agrees to
+#: ~1e-15, while a pendant shows 0.1 mm and a laser tracker resolves about 10 µm.
+ROUND_OFF = 1e-9
 
 
 def urdf_derivation(model: Model, tol: tuple[float, float]) -> Derivation | None:
@@ -39,13 +52,36 @@ def urdf_derivation(model: Model, tol: tuple[float, float]) -> Derivation | None
     return derived_from_table(model, info, tol)
 
 
+def _computed_poses(
+    backends: Sequence[Backend], results: Sequence[BackendResult]
+) -> tuple[BackendResult, ...]:
+    """The results, those of ``poses:`` files that are the table's own poses demoted."""
+    out = list(results)
+    for i, (b, r) in enumerate(zip(backends, results, strict=True)):
+        if not (isinstance(b, MeasuredPoses) and r.evidence == "table" and r.status == "pass"):
+            continue
+        pos, rot = r.max_position_error_m, r.max_rotation_error_rad
+        if b.recording or pos is None or rot is None or pos > ROUND_OFF or rot > ROUND_OFF:
+            continue
+        why = (
+            f"the poses are this table's own forward kinematics to round-off (at most "
+            f"{pos:.2g} m and {rot:.2g} rad): no measurement carries that many digits, so they "
+            "were computed from this table (fkcheck fk, or a program given it) and cannot "
+            "verify it; their agreement counts as implementation evidence"
+        )
+        out[i] = replace(
+            r, evidence="implementation", message=f"{r.message}; {why}" if r.message else why
+        )
+    return tuple(out)
+
+
 def apply_provenance(
     model: Model,
     backends: Sequence[Backend],
     tol: tuple[float, float],
     results: Sequence[BackendResult],
 ) -> tuple[BackendResult, ...]:
-    """The results, those of URDF backends reading a URDF written from this table demoted.
+    """The results, URDF backends reading a URDF written from this table demoted, poses too.
 
     Args:
         model: The model checked.
@@ -56,8 +92,10 @@ def apply_provenance(
     Returns:
         The results, where a table-evidence backend that reads the model's URDF
         (``reads == "urdf"``) now counts as implementation evidence, its message
-        saying why, when that URDF was written from the model's own table.
+        saying why, when that URDF was written from the model's own table; and so
+        does a measured-poses file computed from it (see the module docstring).
     """
+    results = _computed_poses(backends, results)
     readers = [
         i
         for i, (b, r) in enumerate(zip(backends, results, strict=True))

@@ -38,7 +38,7 @@ from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
-from fkcheck.engine.expected import apply_known_differences
+from fkcheck.engine.expected import apply_known_differences, known_difference_findings
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
 from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.provenance import apply_provenance
@@ -589,6 +589,12 @@ def run_check(
         {b.name: b.reads for b in backends},
     )
     ordered = apply_provenance(model, backends, tol, ordered)  # a URDF from this very table
+    answered = _table_answered(ordered, len(q.q))
+    if 0 < answered < len(q.q):  # the numbers are judged on what the table's evidence compared
+        numbers = coverage(
+            model, pair[0], pair[1], *tol, q=q.q[:answered], competitors=competitors,
+            time_limit_s=max(timeout_s, EVIDENCE_MIN_S),
+        )  # fmt: skip
     # A Jacobian that disagrees fails the check, one that could not be computed is
     # its error; the evidence (what the poses proved) is the poses' alone.
     jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]
@@ -612,7 +618,32 @@ def run_check(
         numbers=numbers,
         tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
         calibration=calibration,
-        lint=lint_lines(model, lint_calibrated(model, lint_ignore)[0]),
+        lint=lint_lines(
+            model,
+            [
+                *lint_calibrated(model, lint_ignore)[0],
+                *known_difference_findings(model, lint_ignore),
+            ],
+        ),
+    )
+
+
+def _table_answered(results: Sequence[BackendResult], total: int) -> int:
+    """How many configurations the agreeing table evidence compared: the most any one did.
+
+    A backend on a subset compares a prefix of the check's configurations
+    (:mod:`fkcheck.engine.plan`), so the prefixes nest: the longest one is their
+    union, and it is one backend's own. Each number is then verified only when
+    configurations that one agreeing backend answered tell it apart. ``0`` when
+    no table evidence agreed (no number is verified then anyway).
+    """
+    return max(
+        (
+            r.subset[0] if r.subset is not None else total
+            for r in results
+            if r.evidence == "table" and r.status == "pass"
+        ),
+        default=0,
     )
 
 

@@ -73,7 +73,7 @@ from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.errors import TimeLimitError
 from fkcheck.model.names import PARAMS, param_symbol
-from fkcheck.model.sampling import sampling_box
+from fkcheck.model.sampling import UNLIMITED_PRISMATIC_M, sampling_box
 from fkcheck.model.types import FrameSpec, Model, Offset, resolve_frame
 
 __all__ = [
@@ -103,9 +103,10 @@ Status = Literal["verified", "not-identifiable", "not-covered", "vouched"]
 #: Why a number is not identifiable: an offset carries it; another link of the
 #: description could be the DH frame instead of the compared one (``link``: the
 #: choice among them is a fit); an offset fitted over the check's configurations
-#: takes it; they cannot tell a joint's direction, or the number from others; or
-#: its effect is too faint for the tolerance.
-Reason = Literal["", "offset", "link", "taken", "direction", "configurations", "faint"]
+#: takes it; they cannot tell a joint's direction, or the number from others; the
+#: joint limits keep it from others that free joints tell apart; or its effect is
+#: too faint for the tolerance.
+Reason = Literal["", "offset", "link", "taken", "direction", "configurations", "limits", "faint"]
 Unit = Literal["m", "rad"]
 
 #: Configurations the sensitivities are taken at (seeded, uniform within limits).
@@ -296,6 +297,8 @@ class Coverage:
             "taken": "over the check's configurations the offset{s} of {by} could take {them}",
             "direction": "the check's configurations cannot tell which way the joint turns",
             "configurations": "the check's configurations cannot tell them apart: compare more",
+            "limits": "the joint limits keep any configuration from telling them apart: "
+            "are the limits right?",
             "faint": "too faint for the tolerance",
         }
         for reason, clause in clauses.items():
@@ -674,11 +677,137 @@ def _subset(q: Float, samples: int, seed: int) -> Float:
     return subset
 
 
-def _configurations(model: Model, samples: int, seed: int) -> Float:
+def _configurations(
+    model: Model, samples: int, seed: int, free: Sequence[int] | None = ()
+) -> Float:
+    """Seeded configurations within limits; the joints in ``free`` (all: ``None``) freed.
+
+    A freed joint ranges over at least a whole turn (revolute) or
+    :data:`~fkcheck.model.sampling.UNLIMITED_PRISMATIC_M` either side of its
+    range's middle (prismatic): what the kinematics could tell, whatever the limits.
+    """
     lo, hi = sampling_box(model)
+    for j in range(model.dof) if free is None else free:
+        if model.joints[j].type == "prismatic":
+            mid = (lo[j] + hi[j]) / 2.0
+            lo[j], hi[j] = (
+                min(lo[j], mid - UNLIMITED_PRISMATIC_M),
+                max(hi[j], mid + UNLIMITED_PRISMATIC_M),
+            )
+        else:
+            lo[j], hi[j] = min(lo[j], -math.pi), max(hi[j], math.pi)
     rng = np.random.default_rng(seed)
     q: Float = lo + (hi - lo) * rng.random((samples, model.dof))
     return q
+
+
+def _held_still(
+    model: Model,
+    specs: dict[str, FrameSpec],
+    q: Float,
+    spanned: Sequence[int],
+    tols: tuple[float, float],
+) -> list[int]:
+    """Joints (0-based) whose whole range moves the pose by at most ``RESOLUTION_LIMIT`` tolerances.
+
+    Over configurations ``q`` within limits: the joint's twist per unit, at its
+    worst, times its range (``[0, 0]``, ``[v, v]``, ±1e-7°: held still).
+    """
+    lo, hi = sampling_box(model)
+    pose = _Pose(model, q, specs["from"], specs["to"])
+    F_inv = invert(pose.pose())
+    out = []
+    for j in range(model.dof):
+        if j + 1 not in spanned:
+            continue
+        twist = _twists(pose, F_inv, _Number("", "", "rad", "joint", j))
+        per_unit = max(
+            float(np.linalg.norm(twist[:, :3], axis=1).max()) / tols[0],
+            float(np.linalg.norm(twist[:, 3:], axis=1).max()) / tols[1],
+        )
+        if per_unit * float(hi[j] - lo[j]) <= RESOLUTION_LIMIT:
+            out.append(j)
+    return out
+
+
+def _limited(
+    model: Model,
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    removed: Sequence[tuple[list[int], Float]],
+    within: Float,
+    candidates: Sequence[bool],
+    frozen: Sequence[int],
+    samples: int,
+    seed: int,
+    tols: tuple[float, float],
+) -> dict[int, tuple[tuple[int, ...], tuple[int, ...]]]:
+    """Numbers the joint limits tie: ``{i: (the numbers, the joints whose limits do)}``.
+
+    ``within`` is the residual over configurations within limits, in tolerances
+    per tolerance of each number; ``frozen`` the joints whose whole range moves
+    the pose by at most :data:`RESOLUTION_LIMIT` tolerances (``[0, 0]``,
+    ±1e-7°). The same numbers with those joints free (a whole turn each) show
+    what the kinematics could tell: a combination only their limits hide is the
+    limits'. A joint is named when freeing it alone shows that number's combination.
+    """
+    if not frozen:  # every joint moves the pose within its limits: they hide nothing
+        return {}
+    unit_tol = np.array([tols[0] if n.unit == "m" else tols[1] for n in numbers])
+
+    def residual(free: Sequence[int] | None) -> Float:
+        J = _sensitivities(
+            model, specs, numbers, _configurations(model, samples, seed, free), tols
+        )[0]
+        out: Float = _without(J, [J[:, c] @ k for c, k in removed]) * unit_tol
+        return out
+
+    ties = _hidden(residual(frozen), within, candidates, samples)
+    if not ties:
+        return {}
+    held: dict[int, list[int]] = {}
+    for j in frozen:
+        shown = _hidden(residual([j]), within, candidates, samples)
+        for i in ties:
+            if i in shown:  # freeing this joint alone tells the number apart
+                held.setdefault(i, []).append(j)
+    return {i: (others, tuple(held.get(i, ()))) for i, others in ties.items()}
+
+
+def _hidden(
+    free: Float, within: Float, candidates: Sequence[bool], configurations: int
+) -> dict[int, tuple[int, ...]]:
+    """Numbers in combinations ``within`` hides and ``free`` shows: ``{i: (the others, …)}``.
+
+    Among the combinations ``within`` shows under a tenth of (root mean square),
+    those ``free`` shows at least :data:`BLAME_MARGIN` tenths of, in their
+    sparsest (reduced row echelon) basis, each kept when the worst configuration
+    within limits shows it under a tenth too (:func:`_trades`' test).
+    """
+    idx = [i for i, c in enumerate(candidates) if c]
+    if len(idx) < 2:
+        return {}
+    strict = _weak(within[:, idx], configurations, RESOLUTION_LIMIT)
+    if not len(strict):
+        return {}
+    # Of what the limits hide, the combinations free joints show at least as well as
+    # a trade's margin (BLAME_MARGIN tenths, root mean square), in their sparsest basis.
+    _, sv, vt = np.linalg.svd(free[:, idx] @ strict.T, full_matrices=False)
+    shown = vt[sv >= math.sqrt(configurations) * BLAME_MARGIN / RESOLUTION_LIMIT] @ strict
+    per = within[:, idx].reshape(-1, 6, len(idx))
+    out: dict[int, set[int]] = {}
+    for vec in _rref(shown) if len(shown) else ():
+        size = float(np.linalg.norm(vec))
+        effect = np.einsum("nrk,k->nr", per, vec)
+        shows = np.maximum(
+            np.linalg.norm(effect[:, :3], axis=1), np.linalg.norm(effect[:, 3:], axis=1)
+        )
+        if float(shows.max()) * RESOLUTION_LIMIT >= size:
+            continue
+        support = [idx[k] for k in np.flatnonzero(np.abs(vec) > TRADE_SHARE * np.abs(vec).max())]
+        for m in support:
+            out.setdefault(m, set()).update(x for x in support if x != m)
+    return {m: tuple(sorted(others)) for m, others in out.items()}
 
 
 # ----------------------------------------------------------------------------- carrying
@@ -839,6 +968,20 @@ def coverage(
         if q is not None
         else {}
     )
+    # Combinations the joint limits hide that free joints show: the limits', not the table's.
+    frozen = _held_still(model, specs, generic, spanned, tols)
+    limited = _limited(
+        model,
+        specs,
+        numbers,
+        offsets.absorbing,
+        generic_residual,
+        candidates,
+        frozen,
+        rows,
+        seed,
+        tols,
+    )
     alone = _worst(residual, checked.shape[0])  # with the carried directions only
     takers = _take(specs, numbers, offsets, J_check, carried, residual)
     findings = _Findings(
@@ -849,12 +992,16 @@ def coverage(
         offsets=offsets,
         links=links,
         tied=tied,
+        limited=limited,
         takers=takers,
         alone=alone,
         worst=_worst(residual, checked.shape[0]),
         flips=_flip_errors(model, specs, checked, tols, clock),
+        flips_within=_flip_errors(model, specs, generic, tols, clock),
         unit_tol=unit_tol,
         configurations=checked.shape[0],
+        box=sampling_box(model),
+        revolute=tuple(j.type != "prismatic" for j in model.joints),
     )
     out = [
         replace(
@@ -1313,12 +1460,17 @@ class _Findings:
         offsets: What the compared frames' offsets absorb.
         links: What a choice among the description's links could hide.
         tied: Number → the numbers the check's configurations cannot tell it from.
+        limited: Number → the numbers the joint limits keep it from being told
+            from, and the joints whose limits do (free joints would tell them apart).
         takers: Number → the offsets that could take it over the check's configurations.
         alone: Per number, its worst effect with the carried directions only removed.
         worst: Per number, its worst effect once every offset took what it can.
         flips: Per joint, the worst error of the joint turned the other way, in tolerances.
+        flips_within: The same over generic configurations within limits.
         unit_tol: Per number, the tolerance of its unit.
         configurations: How many of the check's configurations were analysed.
+        box: The joints' sampling box (lower, upper), radians / metres.
+        revolute: Per joint, whether it is revolute.
     """
 
     specs: dict[str, FrameSpec]
@@ -1328,12 +1480,16 @@ class _Findings:
     offsets: _Absorption
     links: _LinkChoice
     tied: dict[int, tuple[int, ...]]
+    limited: dict[int, tuple[tuple[int, ...], tuple[int, ...]]]
     takers: dict[int, list[str]]
     alone: Float
     worst: Float
     flips: Float
+    flips_within: Float
     unit_tol: Float
     configurations: int
+    box: tuple[Float, Float]
+    revolute: tuple[bool, ...]
 
 
 def _number_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
@@ -1367,6 +1523,8 @@ def _number_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
             reason="offset",
             by=(n.group,),
         )
+    if i in f.limited:
+        return _limited_evidence(i, n, f)
     if i in f.tied:
         others = ", ".join(f.numbers[j].name for j in f.tied[i]) or "the others"
         return _evidence(
@@ -1381,10 +1539,49 @@ def _number_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
     return _resolved_evidence(i, n, f)
 
 
+def _limited_evidence(i: int, n: _Number, f: _Findings) -> NumberEvidence:
+    """A number the joint limits keep from others (a joint frozen at ``[0, 0]``)."""
+    tied, joints = f.limited[i]
+    others = ", ".join(f.numbers[j].name for j in tied) or "the others"
+    lo, hi = f.box
+    held = ", ".join(
+        f"joint {j + 1} ([{math.degrees(lo[j]):.3g}°, {math.degrees(hi[j]):.3g}°])"
+        if f.revolute[j]
+        else f"joint {j + 1} ([{lo[j]:.3g}, {hi[j]:.3g}] m)"
+        for j in joints
+    )
+    whose = f"the limits of {held}" if held else "the joint limits"
+    return _evidence(
+        n,
+        "not-identifiable",
+        why=(
+            f"{whose} keep any configuration from telling it from {others} "
+            "(free joints would: are the limits right?)"
+        ),
+        reason="limits",
+    )
+
+
 def _flip_evidence(n: _Number, f: _Findings) -> NumberEvidence:
     """A joint's direction: not covered, told apart by the check's configurations or not."""
     if n.index + 1 not in f.spanned:
         return _evidence(n, "not-covered")
+    if f.flips_within[n.index] <= 1.0:  # no configuration within limits tells it
+        lo, hi = f.box
+        span = (
+            f"[{math.degrees(lo[n.index]):.3g}°, {math.degrees(hi[n.index]):.3g}°]"
+            if f.revolute[n.index]
+            else f"[{lo[n.index]:.3g}, {hi[n.index]:.3g}] m"
+        )
+        return _evidence(
+            n,
+            "not-identifiable",
+            why=(
+                f"joint {n.index + 1} turned the other way would pass: its limits {span} keep "
+                "any configuration from telling its direction (are the limits right?)"
+            ),
+            reason="limits",
+        )
     if f.flips[n.index] <= 1.0:
         return _evidence(
             n,

@@ -10,7 +10,10 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
   limits up to 0.001 rad beyond ±2π (±6.2832, not degrees);
 * ``twist``: α not a multiple of π/2;
 * ``length``: a length beyond :data:`LONG_M` (millimetres in a metre file?);
-* ``limits``: a revolute joint whose limits exceed ±2π by more than rounding;
+* ``limits``: a revolute joint whose limits exceed ±2π by more than rounding, or
+  whose range is under :data:`NARROW_RANGE_RAD` (a prismatic one: no range at all):
+  within them no check can tell apart the numbers the joint's motion separates (a
+  50 mm split of a2 and a3 around a frozen elbow passes);
 * ``convention``: a modified table whose first row has a ≠ 0 or α ≠ 0 (usual for
   standard, unusual for modified), or a standard table shaped like a modified one
   (first row a = α = 0, last row a or α ≠ 0);
@@ -18,7 +21,10 @@ a twist that is not a multiple of 90°, or a 6 m reach. The rules:
   a few that are close but not equal — a rounded or outdated value;
 * ``calibration``: a calibrated model whose table moves its ``[check] to`` frame
   further from its nominal model's than a factory calibration can, or whose nominal
-  model cannot be compared with it (:mod:`fkcheck.calibration.lint`).
+  model cannot be compared with it (:mod:`fkcheck.calibration.lint`);
+* ``known-difference``: a ``[[known_difference]]`` naming several URDF readers one
+  by one, which a check reads as ``reads = "urdf"``: the current form
+  (:func:`fkcheck.engine.expected.known_difference_findings`).
 
 A calibrated model (``[calibration]``, written by ``fkcheck calibration``) holds one
 robot's measured table: α a few 1e-4 rad off a quarter turn, or d2/d3 of hundreds of
@@ -51,6 +57,7 @@ from fkcheck.model.types import Model
 __all__ = [
     "LONG_M",
     "MEASURED_RULES",
+    "NARROW_RANGE_RAD",
     "Finding",
     "Rule",
     "lint_lines",
@@ -61,6 +68,12 @@ __all__ = [
 LONG_M = 5.0
 #: Limits within this of ±2π count as ±2π (URDFs write 6.28318530718).
 _LIMIT_SLACK = 1e-6
+#: A revolute joint's range under this (0.057°) looks like a joint held still by a
+#: placeholder: a turn of it moves a point 1 m away by under 1 mm, and no arm's axis
+#: is built to move so little. Within such limits a check cannot tell apart the
+#: numbers the joint's turn separates (evidence per number says which, from the
+#: tolerances: :mod:`fkcheck.model.coverage`). The bundled arms' least is 153° (Baxter).
+NARROW_RANGE_RAD = 1e-3
 #: "Rounded, not different": the largest differences treated as rounding or an old value.
 NEAR_LENGTH_M = 1e-3
 NEAR_ANGLE_RAD = 1e-3
@@ -223,9 +236,34 @@ def _limits(model: Model) -> list[Finding]:
     out: list[Finding] = []
     bound = 2 * math.pi + NEAR_ANGLE_RAD  # closer to ±2π is a rounded full turn
     for i, joint in enumerate(model.joints):
-        if joint.type != "revolute" or joint.limits is None:
+        if joint.limits is None:
             continue
         lo, hi = joint.limits
+        narrow = NARROW_RANGE_RAD if joint.type == "revolute" else 0.0
+        if hi - lo < narrow or hi == lo:
+            shown = (
+                f"[{_angle_text(model, lo)}, {_angle_text(model, hi)}]"
+                if joint.type == "revolute"
+                else f"[{lo:g} m, {hi:g} m]"
+            )
+            out.append(
+                Finding(
+                    "limits",
+                    f"joint[{i}].limits",
+                    f"{joint.type} joint {joint.name} has limits {shown}, "
+                    + (
+                        "no range at all"
+                        if hi == lo
+                        else f"a range under {math.degrees(NARROW_RANGE_RAD):.2g}°"
+                    )
+                    + ": within them no check can tell apart the numbers its motion "
+                    "separates (evidence per number calls them not identifiable) — is the "
+                    "joint meant to move?",
+                )
+            )
+            continue
+        if joint.type != "revolute":
+            continue
         if lo < -bound or hi > bound:
             hint = (
                 ' (degrees in a file with angle_unit = "rad"?)' if model.angle_unit == "rad" else ""
@@ -334,7 +372,8 @@ def lint_model(
         measured: Its joints hold measured values (a calibration that fits its
             nominal model, as :func:`fkcheck.calibration.lint.lint_calibrated`
             decides): the :data:`MEASURED_RULES` do not look at them.
-        more: Findings of rules decided elsewhere (``calibration``), added last.
+        more: Findings of rules decided elsewhere (``calibration``,
+            ``known-difference``), added last.
     """
     skipped = {*model.lint_ignore, *ignore}
     findings = [

@@ -21,6 +21,7 @@ Rule = Literal[
     "convention",
     "published",
     "calibration",
+    "known-difference",
 ]
 
 #: Every rule, in the order :func:`fkcheck.model.lint.lint_model` applies them.

@@ -16,15 +16,17 @@ two independent ways, whatever the file is called and whatever comments it lost:
   where the TCP is — as the robot moves: each movable joint seen from the one
   before it (the fixed joints between composed, so fixed joints added, merged
   or split change nothing), the same kinds of joint, origins and axes within
-  the check's tolerances (at least 1e-9), and links that carry no inertia or
-  geometry (the export writes none). Names do not matter.
+  the check's tolerances (at least 1e-9). Only the kinematic chain counts:
+  names, comments, whitespace, how the numbers are written, and what the links
+  hold (inertia, geometry: a copy given them is still the export) do not.
 
-The numbers find the export however it was renamed, rewritten or re-jointed. A
-URDF derived from the table another way — geometry added, the mark removed —
-is not found, and a URDF that is itself a DH table written out (a vendor's
-modified-DH URDF with the same numbers, e.g. the Panda's) is not taken for a
-copy: its links carry inertia and geometry, and its root and tool joints
-differ from the export's.
+The numbers find the export however it was renamed, rewritten, re-jointed or
+dressed. A vendor's URDF that is itself its DH table written out joint for
+joint (the Panda's) has the export's numbers too: numbers cannot tell it from a
+copy. One read from a package fkcheck resolves (``example-robot-data:``,
+``fkcheck:``, see :mod:`fkcheck.urdf.locate`) is the package's, not a file
+written from this table, and is not taken for a copy; the same file copied
+beside the model is (its agreement proves the transcription, as a copy's would).
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ from fkcheck.io.numbers import show_text
 from fkcheck.model.types import Model, default_frames
 from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
 from fkcheck.urdf.export import urdf_from_model
+from fkcheck.urdf.locate import ERD_PREFIX, FKCHECK_PREFIX
 from fkcheck.urdf.marker import read_marker, table_fingerprint
 from fkcheck.urdf.tree import UrdfInfo, chain_between, urdf_info_from_bytes
 
@@ -51,8 +54,8 @@ __all__ = ["NUMBERS_FLOOR", "Derivation", "derived_from_table"]
 
 #: The tightest comparison of the numbers (m, rad): a URDF's decimal digits, not noise.
 NUMBERS_FLOOR = 1e-9
-#: What a link of fkcheck's export never holds.
-_PHYSICAL = ("inertial", "visual", "collision")
+#: Where a URDF comes from a package fkcheck resolves, not from the user's files.
+_PACKAGED = (ERD_PREFIX, FKCHECK_PREFIX)
 
 
 @dataclass(frozen=True)
@@ -95,13 +98,11 @@ class _Step:
         origin: The previous movable joint's child (the root at first) → this joint.
         axis: Its axis, in its own frame.
         kind: ``revolute`` (continuous too) or ``prismatic``.
-        links: The links passed on the way (for the no-inertia rule).
     """
 
     origin: Float
     axis: Float
     kind: str
-    links: tuple[str, ...]
 
 
 def _steps(kin: UrdfKinematics, movable: Sequence[str]) -> tuple[list[_Step], str] | None:
@@ -119,8 +120,7 @@ def _steps(kin: UrdfKinematics, movable: Sequence[str]) -> tuple[list[_Step], st
         for fixed in between:
             origin = origin @ fixed.origin
         kind = "revolute" if joint.type == "continuous" else joint.type
-        passed = (link, *(j.child for j in between))
-        steps.append(_Step(origin @ joint.origin, joint.axis, kind, passed))
+        steps.append(_Step(origin @ joint.origin, joint.axis, kind))
         link = joint.child
     return steps, link
 
@@ -179,21 +179,9 @@ def _is_export(
     tcp = np.eye(4)
     for fixed in tail:
         tcp = tcp @ fixed.origin
-    ends = [passed for pose, passed in _fixed_below(theirs, last) if _near(pose, tcp, tol)]
-    if not ends:
+    if not any(_near(pose, tcp, tol) for pose, _ in _fixed_below(theirs, last)):
         return None
-    links = {*(link for step in found for link in step.links), *ends[0]}
-    return len(found) if _bare(ET.fromstring(info.text), links) else None
-
-
-def _bare(root: ET.Element, links: set[str]) -> bool:
-    """Whether none of ``links`` holds an inertial, a visual or a collision."""
-    return not any(
-        el.find(part) is not None
-        for el in root.findall("link")
-        if el.get("name") in links
-        for part in _PHYSICAL
-    )
+    return len(found)
 
 
 def derived_from_table(
@@ -220,7 +208,7 @@ def derived_from_table(
             f"its fkcheck mark names model {show_text(mark.model)} and table {mark.table}, "
             "this table",
         )
-    if model.urdf is None:
+    if model.urdf is None or model.urdf.path.startswith(_PACKAGED):
         return None
     floor = (max(tol[0], NUMBERS_FLOOR), max(tol[1], NUMBERS_FLOOR))
     compared = _is_export(model, info, model.urdf.joints, floor)
@@ -229,5 +217,6 @@ def derived_from_table(
     return Derivation(
         "numbers",
         f"it has no fkcheck mark, but its {compared} joints from the root to the TCP are "
-        "the export's, to the check's tolerance, on links without inertia or geometry",
+        "the export's, to the check's tolerance, whatever its names, comments and links' "
+        "inertia or geometry",
     )
