@@ -54,7 +54,12 @@ def dh_model(
     rows: Sequence[tuple[float, float, float]] = UR5E,
     limits: Sequence[tuple[float, float]] = (),
 ) -> Path:
-    """A model file of ``rows`` (no named poses), its URDF ``urdf``; ``limits`` in degrees."""
+    """A model file of ``rows`` (no named poses), its URDF ``urdf``; ``limits`` in degrees.
+
+    Its frames ``base`` and ``tool0`` are vouched for: the URDF's link ``l6`` sits where
+    d6 = 0 would put the last DH frame, a choice among links only a vouch settles
+    (:class:`fkcheck.model.coverage.Competitor`).
+    """
     (directory / "arm.urdf").write_text(urdf, encoding="utf-8")
     limits = tuple(limits) or (WHOLE_TURNS,) * len(rows)
     joints = "".join(
@@ -68,8 +73,9 @@ def dh_model(
         'name = "arm"\nconvention = "standard"\nangle_unit = "deg"\n\n'
         f"{joints}"
         f'[urdf]\npath = "arm.urdf"\njoints = [{names}]\n\n'
-        '[frames.base]\ndh = 0\nurdf = "base"\n\n'
-        f'[frames.tool0]\ndh = {len(rows)}\nurdf = "tool0"\n\n'
+        '[frames.base]\ndh = 0\nurdf = "base"\nsource = "the test URDF: base is DH frame 0"\n\n'
+        f'[frames.tool0]\ndh = {len(rows)}\nurdf = "tool0"\n'
+        'source = "the test URDF: tool0 is the last DH frame"\n\n'
         '[check]\nfrom = "base"\nto = "tool0"\n',
         encoding="utf-8",
     )
