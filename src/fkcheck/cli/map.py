@@ -158,8 +158,23 @@ def _why_not(result: Any) -> str:
             f"{format_mm(result.fit_m)} / {format_deg(result.fit_rad)} off)"
         )
     flipped = [j.dh for j in result.joints if j.flipped]
+    edits = []
     if flipped:
-        return f"joints {', '.join(flipped)} turn the other way in the URDF: toggle their flip"
+        edits.append(
+            f"joints {', '.join(flipped)} turn the other way in the URDF: toggle their flip"
+        )
+    moved = [
+        line
+        for line in result.edits.lines(result.model)
+        if not line.endswith(("= true", "= false"))
+    ]
+    if moved:
+        edits.append(
+            "the chain moves like the table only with these rows changed (the block's comments "
+            "say so too): " + "; ".join(moved)
+        )
+    if edits:
+        return "; ".join(edits)
     parts = [
         f"no link at a constant offset from DH frame {n.anchor} (nearest: {n.link}, "
         f"{format_mm(n.spread_m)} / {format_deg(n.spread_rad)})"

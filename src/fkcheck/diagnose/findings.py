@@ -35,7 +35,8 @@ __all__ = [
 #: explanations that make the disagreement vanish and change as many numbers: the
 #: difference the model file already records (``[[known_difference]]``), a
 #: frame-naming difference (base_link vs base, flange vs tool0) or two URDF joints
-#: swapped in the mapping before a whole-table mistake (units, convention), before a
+#: swapped in the mapping before a whole-table mistake (units, convention, a vendor's
+#: conventions against a URDF: joints reversed, zeros apart), before a
 #: one-character typo (a sign, a flip, a missing θ offset), before a different number
 #: (one parameter), before unexplained constant offsets, before a fit of everything.
 Kind = Literal[
@@ -44,6 +45,7 @@ Kind = Literal[
     "mapping",
     "degrees",
     "convention",
+    "conventions",
     "sign",
     "flip",
     "theta-offset",
@@ -117,6 +119,8 @@ class Explanation:
         details: More lines of evidence or caveats.
         changes: The parameters it changes.
         fix_toml: Model-file text that applies it (``[frames…]`` tables), if any.
+        edits: Edits of the ``[[joint]]`` tables that apply it, one line each
+            (``[[joint]] J3: flip = true``), if any.
         model: The changed model (not serialised).
         numbers: How many numbers (or settings) of the model file it changes, when
             that is not one per change: ``angle_unit`` is one setting however many
@@ -133,6 +137,7 @@ class Explanation:
     fix_toml: str = ""
     model: Model | None = field(default=None, repr=False)
     numbers: int | None = None
+    edits: tuple[str, ...] = ()
 
     @property
     def changed(self) -> int:
@@ -267,6 +272,7 @@ def to_dict(d: Diagnosis) -> dict[str, Any]:
                     for c in e.changes
                 ],
                 "fix_toml": e.fix_toml,
+                "edits": list(e.edits),
                 "numbers_changed": e.changed,
             }
             for e in d.explanations
@@ -310,8 +316,11 @@ def format_text(d: Diagnosis) -> str:
         lines.append(f"   {verdict}: {d.before.text()} → {e.residual.text()}")
         lines.extend(f"   {c.text()}" + (f" ({c.note})" if c.note else "") for c in e.changes)
         lines.extend(f"   {line}" for line in e.details)
+        if e.edits:
+            lines.append("   edit, in the model file:")
+            lines.extend(f"     {line}" for line in e.edits)
         if e.fix_toml:
-            lines.append("   fix, in the model file:")
+            lines.append("   and set these tables:" if e.edits else "   fix, in the model file:")
             lines.extend(f"     {line}" for line in e.fix_toml.rstrip("\n").splitlines())
     if d.axes:
         lines.append("")
