@@ -15,7 +15,7 @@ from typing import Any, Literal, get_args
 
 from fkcheck.diagnose.problem import Residual
 from fkcheck.engine.axes import AxisRow
-from fkcheck.io.format import format_pair, format_seconds
+from fkcheck.io.format import format_delta, format_distinct, format_pair, format_seconds
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import Model
 
@@ -92,18 +92,24 @@ class Change:
         """``d1 = 0.089459 here, 0.089159 would match, Δ = -0.300 mm``.
 
         An angle reads in degrees, then radians in parentheses (as every two-unit
-        reading, :func:`~fkcheck.io.format.format_pair`). A sign flip says so,
+        reading, :func:`~fkcheck.io.format.format_pair`). The two values get as
+        many digits as tell them apart (:func:`~fkcheck.io.format.format_distinct`:
+        ``-90.0002° (-1.5708 rad) here, -90° (-1.570796 rad) would match``), and
+        a difference too small for its decimals reads in scientific notation. A sign flip says so,
         ``…, 90° (1.5708 rad) would match: the sign flipped``,
         not ``Δ = +180°``: a difference of 180° reads as a turn, which it is not.
         """
         if self.angle:
-            old = format_pair(f"{math.degrees(self.old):.4g}°", f"{self.old:.6g} rad")
-            new = format_pair(f"{math.degrees(self.new):.4g}°", f"{self.new:.6g} rad")
+            old_deg, new_deg = format_distinct(math.degrees(self.old), math.degrees(self.new), 4)
+            old_rad, new_rad = format_distinct(self.old, self.new, 6)
+            old = format_pair(f"{old_deg}°", f"{old_rad} rad")
+            new = format_pair(f"{new_deg}°", f"{new_rad} rad")
             head = f"{self.symbol} = {old} here, {new} would match"
-            delta = f"Δ = {math.degrees(self.delta):+.4f}°"
+            delta = f"Δ = {format_delta(math.degrees(self.delta), 4)}°"
         else:
-            head = f"{self.symbol} = {self.old:.6g} here, {self.new:.6g} would match"
-            delta = f"Δ = {self.delta * 1e3:+.3f} mm"
+            old, new = format_distinct(self.old, self.new, 6)
+            head = f"{self.symbol} = {old} here, {new} would match"
+            delta = f"Δ = {format_delta(self.delta * 1e3, 3)} mm"
         return f"{head}: the sign flipped" if self.sign_flip else f"{head}, {delta}"
 
 
