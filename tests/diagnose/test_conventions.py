@@ -10,6 +10,7 @@ as printed, must make the real check pass.
 
 from __future__ import annotations
 
+import json
 import re
 from pathlib import Path
 
@@ -129,9 +130,25 @@ def test_the_combination_is_named_and_its_printed_edits_make_the_check_pass(
         assert toml == ""
     apply_printed(path, edits, toml)
     assert check_passes(path)
-    # And the edited file has nothing left to explain.
-    assert main(["diagnose", str(path), *SAMPLES]) == 0
-    assert "the table agrees with the reference: nothing to explain" in capsys.readouterr().out
+    # And the edited file has nothing left to explain; what the agreement leaves open
+    # (the tool frame's turn carries α6 and θ6) is named, with what would settle it.
+    assert main(["diagnose", str(path), *SAMPLES, "--json", str(tmp_path / "d.json")]) == 0
+    out = capsys.readouterr().out
+    hidden = ["α6", "θ6"]
+    assert "the table agrees with the reference, but 2 numbers are not identifiable" in out
+    last = arm.rows[-1][0]
+    for name in hidden:
+        axis = "x" if name == "α6" else "z"
+        line = (
+            f"   {name} (joint 6 ({last})): [frames.tool0]: rotation about {axis} of DH frame 6\n"
+        )
+        assert line in out
+    assert "or take [frames.tool0] from the vendor's drawing" in out
+    data = json.loads((tmp_path / "d.json").read_text(encoding="utf-8"))
+    assert [u["name"] for u in data["not_identifiable"]] == hidden
+    assert all(
+        u["settle"].startswith("compare frames that sit exactly") for u in data["not_identifiable"]
+    )
 
 
 def test_a_table_error_on_top_of_the_conventions_is_named_with_them(tmp_path, capsys):
@@ -172,3 +189,4 @@ def test_one_flip_alone_is_left_to_its_own_hypothesis(tmp_path):
     assert result.best.kind == "flip"
     assert "J4" in result.best.title
     assert not [e for e in result.explanations if e.kind == "conventions"]
+

@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Literal, get_args
 
+from fkcheck.diagnose.identify import Unsettled
 from fkcheck.diagnose.problem import Residual
 from fkcheck.engine.axes import AxisRow
 from fkcheck.io.format import format_delta, format_distinct, format_pair, format_seconds
@@ -169,6 +170,9 @@ class Diagnosis:
         axes_note: What the axes say, in one line.
         tried: The hypotheses tried, one line each.
         duration_s: Wall time, seconds.
+        unsettled: When the table agrees with a reference independent of it: the
+            numbers the agreement says nothing about, each with what would settle
+            it (:mod:`.identify`).
     """
 
     model: Model
@@ -184,6 +188,7 @@ class Diagnosis:
     axes_note: str = ""
     tried: tuple[str, ...] = ()
     duration_s: float = 0.0
+    unsettled: tuple[Unsettled, ...] = ()
 
     @property
     def agrees(self) -> bool:
@@ -296,6 +301,10 @@ def to_dict(d: Diagnosis) -> dict[str, Any]:
         "axes_note": d.axes_note,
         "tried": list(d.tried),
         "duration_s": d.duration_s,
+        "not_identifiable": [
+            {"name": u.name, "group": u.group, "why": u.why, "settle": u.settle}
+            for u in d.unsettled
+        ],
     }
 
 
@@ -311,7 +320,22 @@ def format_text(d: Diagnosis) -> str:
         f"disagreement as given: {d.before.text()} (tolerance {d.tol_pos_m:g} m, "
         f"{d.tol_rot_rad:g} rad)",
     ]
-    if d.agrees:
+    if d.agrees and d.unsettled:
+        one = len(d.unsettled) == 1
+        lines.append(
+            f"the table agrees with the reference, but {len(d.unsettled)} "
+            f"{'number is' if one else 'numbers are'} not identifiable in this comparison: "
+            f"the agreement says nothing about {'it' if one else 'them'}"
+        )
+        settles: list[str] = []
+        for u in d.unsettled:
+            lines.append(
+                f"   {terminal_text(u.name)} ({terminal_text(u.group)}): {terminal_text(u.why)}"
+            )
+            if u.settle not in settles:
+                settles.append(u.settle)
+        lines.extend(f"   to settle {'it' if one else 'them'}: {s}" for s in settles)
+    elif d.agrees:
         lines.append("the table agrees with the reference: nothing to explain")
     elif not d.explanations:
         lines.append("no hypothesis explains the disagreement, or even half of it")

@@ -12,6 +12,7 @@ from fkcheck.diagnose.axes import axes_note, compare_axes
 from fkcheck.diagnose.conventions import explain_conventions
 from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
 from fkcheck.diagnose.hypotheses import explain_hypotheses, explain_swapped_mapping
+from fkcheck.diagnose.identify import Unsettled, unsettled_numbers
 from fkcheck.diagnose.offsets import explain_offsets
 from fkcheck.diagnose.paramfit import explain_parameter_fit
 from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
@@ -42,6 +43,10 @@ def diagnose(
     end frames — together when nothing alone explains it and the reference reads
     the URDF (:mod:`.conventions`), and a fit of every
     parameter (:mod:`.paramfit`) when nothing simpler leaves less than the tolerances.
+
+    When the table agrees with a reference independent of it, the numbers that
+    agreement does not identify are named, with what would settle each
+    (:mod:`.identify`).
 
     A ``[[known_difference]]`` the model records for this reference applies as the
     check applies it (the model's own frame pair and tolerances): a disagreement
@@ -116,6 +121,9 @@ def diagnose(
         if backend.reads == "urdf":
             axes = compare_axes(problem)
             tried.append("joint axes against the URDF")
+    unsettled: tuple[Unsettled, ...] = ()
+    if problem.exact(before) and backend.evidence == "table":  # agreement: what it leaves open
+        unsettled = unsettled_numbers(model, pair, tol, configs)
     return Diagnosis(
         model=model,
         backend=backend.name,
@@ -130,6 +138,7 @@ def diagnose(
         axes_note=axes_note(model, axes),
         tried=tuple(tried),
         duration_s=time.perf_counter() - start,
+        unsettled=unsettled,
     )
 
 
