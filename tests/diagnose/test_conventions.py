@@ -190,3 +190,17 @@ def test_one_flip_alone_is_left_to_its_own_hypothesis(tmp_path):
     assert "J4" in result.best.title
     assert not [e for e in result.explanations if e.kind == "conventions"]
 
+
+def test_the_html_report_of_the_failing_check_carries_the_edits(tmp_path, capsys, monkeypatch):
+    path = write_arm(KUKA, tmp_path)
+    monkeypatch.chdir(tmp_path)
+    html = tmp_path / "report.html"
+    argv = ["check", str(path), "--samples", "16", "--against", "pinocchio-urdf", "--html"]
+    assert main([*argv, str(html)]) == 1
+    out = capsys.readouterr().out
+    assert "diagnosis (pinocchio-urdf): the table and the URDF differ by conventions: A1, A4" in out
+    page = html.read_text(encoding="utf-8")
+    at = page.index('<pre class="fix-edits">')
+    edits = page[at : page.index("</pre>", at)]
+    assert "[[joint]] A1: flip = true\n[[joint]] A2: theta = -90" in edits
+    assert "And set these tables:" in page
