@@ -3,9 +3,11 @@
 Exit codes: 0 when the proposed block, pasted into the model, is a mapping
 ``fkcheck check`` (as the summary prints it) can pass on (the table moves like a
 chain of the URDF, with every axis the same way round, and links sit at constant
-offsets from DH frame 0 and from the last DH frame); 1 when it is not (no chain
-moves like the table, a joint turns the other way, or no link matches one end:
-the block then says how near the nearest came); 2 for bad input.
+offsets from DH frame 0 and from the last DH frame); 1 when it is not (a joint
+turns the other way, or the chain moves like the table only with rows changed —
+a vendor's zeros a quarter turn apart, a sign, one number — each said as the
+``[[joint]]`` edit; no chain moves like the table even so, or no link matches
+one end: the block then says how near the nearest came); 2 for bad input.
 """
 
 from __future__ import annotations
