@@ -15,6 +15,7 @@ from fkcheck.model.write import model_to_toml
 from fkcheck.urdf.locate import locate_urdf
 from tests.helpers import ur5_ros1
 from tests.paths import REPO_ROOT
+from tests.vendor_arms import FANUC, KUKA, write_arm
 
 UR5_URDF = "example-robot-data:ur_description/urdf/ur5_robot.urdf"
 FAST = ["--samples", "16"]
@@ -64,11 +65,26 @@ def test_map_onto_another_urdf_names_it_relative_to_the_model(tmp_path, capsys):
 def test_a_wrong_table_exits_1_saying_how_near_the_nearest_came(tmp_path, capsys):
     text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
     wrong = tmp_path / "ur5_wrong.toml"
-    wrong.write_text(text.replace("alpha = 90\nd = 0.10915", "alpha = -90\nd = 0.10915"))
+    # Two numbers off (another arm's, say): no chain moves like it, even one number changed.
+    wrong.write_text(text.replace("a = -0.39225", "a = -0.29225").replace("a = -0.425", "a = -0.5"))
     assert main(["map", str(wrong)]) == 1
     out, err = capsys.readouterr()
     assert "no chain of the URDF moves like the table (the nearest leaves the last DH frame" in err
     assert "NO URDF link sits at a constant offset from DH frame 6: the nearest" in out
+
+
+def test_a_sign_typed_the_other_way_is_named_as_the_edit(tmp_path, capsys):
+    text = (REPO_ROOT / "models" / "ur5.toml").read_text(encoding="utf-8")
+    wrong = tmp_path / "ur5_wrong.toml"
+    wrong.write_text(text.replace("alpha = 90\nd = 0.10915", "alpha = -90\nd = 0.10915"))
+    assert main(["map", str(wrong)]) == 1
+    out, err = capsys.readouterr()
+    assert err == (
+        "fkcheck map: ur5 onto ur.urdf.xacro: the chain moves like the table only with these "
+        "rows changed (the block's comments say so too): [[joint]] wrist_1: alpha = 90 (was "
+        "-90: α4's sign)\n"
+    )
+    assert "#   [[joint]] wrist_1: alpha = 90 (was -90: α4's sign)" in out
 
 
 @pytest.mark.parametrize(
@@ -366,3 +382,44 @@ def test_the_block_pasted_passes_the_check_map_prints(capsys, tmp_path, extra, f
     model.write_text(model.read_text(encoding="utf-8") + "\n" + out, encoding="utf-8")
     assert main([*argv, *FAST, "--against", "pinocchio-urdf"]) == 0
     assert "verdict: pass — table verified" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("arm", [FANUC, KUKA], ids=["fanuc-like", "kuka-like"])
+def test_a_vendors_conventions_are_named_and_the_edited_table_with_the_block_passes(
+    tmp_path, capsys, monkeypatch, arm
+):
+    """A vendor's table onto its ROS-Industrial-style URDF (written apart, tests.vendor_arms).
+
+    The KUKA-like arm's zeros differ too: before, no chain moved like the table.
+    The edits the block's comments name, made by hand, and the block pasted in
+    place of the model's own mapping, pass the real check.
+    """
+    path = write_arm(arm, tmp_path)
+    assert main(["map", str(path)]) == 1
+    block, err = capsys.readouterr()
+    flips = ", ".join(arm.reversed)
+    assert f"joints {flips} turn the other way in the URDF: toggle their flip" in err
+    zeros = [
+        f"[[joint]] {name}: theta = {zero:g} (was 0: θ{name[-1]}'s zero {zero:+g}° away)"
+        for name, zero in arm.zeros.items()
+    ]
+    for line in zeros:
+        assert f"#   {line}\n" in block
+    assert ("only with these rows changed" in err) == bool(zeros)
+    assert "NO " not in block
+    text = path.read_text(encoding="utf-8")
+    table = text[text.index("[[joint]]") :]
+    for name in arm.reversed:  # by hand, as the comments say
+        head = f'[[joint]]\nname = "{name}"\n'
+        assert f"set flip = true on [[joint]] {name}" in block
+        table = table.replace(head, head + "flip = true\n")
+    for name, zero in arm.zeros.items():
+        head = f'[[joint]]\nname = "{name}"\n'
+        start = table.index(head)
+        table = table[:start] + table[start:].replace("theta = 0.0", f"theta = {zero:g}", 1)
+    head = text[: text.index("[urdf]")]
+    head += text[text.index("[check]") : text.index("[[joint]]")]  # the model's own check
+    pasted = tmp_path / "pasted.toml"
+    pasted.write_text(head + block + "\n" + table, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", str(pasted), "--samples", "16"]) == 0, capsys.readouterr()

@@ -173,3 +173,26 @@ def test_a_sign_flip_is_said_as_one_not_as_a_difference_of_180_degrees():
     assert turn.text().endswith("would match, Δ = +180.0000°")
     shift = Change("joint[0].d", "d1 (shoulder_pan)", 0.089459, 0.089159, angle=False)
     assert shift.text() == "d1 (shoulder_pan) = 0.089459 here, 0.089159 would match, Δ = -0.300 mm"
+
+
+def test_a_rounded_radian_reads_apart_from_the_value_that_matches(tmp_path, capsys):
+    """θ2 = -1.5708 in a radian file against a URDF at exactly -π/2: the two must read apart.
+
+    (They read "-90° (-1.5708 rad) here, -90° (-1.5708 rad) would match".)
+    """
+    from tests.vendor_arms import FANUC, VendorArm, write_arm
+
+    arm = VendorArm(FANUC.name, FANUC.rows, (), {})
+    path = write_arm(arm, tmp_path, (0.0, 0.0, 180.0), unit="rad", rounded=("J2",))
+    assert "theta = -1.5708\n" in path.read_text(encoding="utf-8")
+    assert main(["diagnose", str(path), "--samples", "20"]) == 0
+    out = capsys.readouterr().out
+    assert "1. [parameter] one number differs: θ2 (J2)\n" in out
+    assert (
+        "θ2 (J2) = -90.0002° (-1.5708 rad) here, -90° (-1.570796 rad) would match, Δ = +0.0002°"
+        in out
+    )
+    for line in out.splitlines():  # no line shows the same value twice
+        if " here, " in line and "would match" in line:
+            here, match = line.split(" = ", 1)[1].split(" here, ")
+            assert here != match.split(" would match")[0], line

@@ -71,9 +71,11 @@ def test_map_proposes_the_bundled_joints_and_frames(name):
     assert _passes_pinocchio_urdf(model) != _recorded_to_differ(model)
     if _recorded_to_differ(model):
         # A recorded disagreement between the vendor's table and the URDF: the map
-        # must not paper over it, and must say how near the nearest link came.
+        # must not paper over it, and must say how near the nearest link came, or
+        # name the number (Jaco2's d4, 0.05 mm: its d6 is the tip frame's business).
         assert not result.complete
-        assert "NO " in proposal_toml(result)
+        text = proposal_toml(result)
+        assert "NO " in text or (result.edits.values and "differs)" in text)
         return
     assert result.complete
     assert tuple(j.urdf for j in result.joints) == model.urdf.joints
@@ -167,9 +169,34 @@ def _with_row(model: Model, index: int, **change: object) -> Model:
     return replace(model, joints=tuple(joints))
 
 
-def test_a_flipped_alpha_matches_no_link_and_says_how_near():
+def test_a_flipped_alpha_is_named_as_the_edit_that_makes_the_chain_fit(tmp_path):
+    """α4 typed -90° for 90°: no chain moves like the table, but it does with α4's sign changed.
+
+    (The same motion as wrist_1's and wrist_2's zeros half a turn away: the map
+    says it as the one sign, the likelier slip.)
+    """
     model = ur5_ros1()
     wrong = _with_row(model, 3, alpha=-model.joints[3].alpha)  # α4 = -90° instead of 90°
+    assert model.urdf is not None
+    result = map_model(wrong, _kin(model), model.urdf.path)
+    assert not result.complete
+    assert result.joints_fit  # once edited
+    assert result.edits.negated == (("wrist_1", "alpha"),)
+    assert not result.edits.flips
+    assert not result.edits.thetas
+    assert not result.edits.values
+    assert result.edits.apply(wrong).joints == model.joints
+    text = proposal_toml(result)
+    assert "#   [[joint]] wrist_1: alpha = 90 (was -90: α4's sign)" in text
+    assert not result.nearest  # the frames are those of the edited table
+    rebuilt = _rebuilt(result.edits.apply(wrong), result, tmp_path)
+    assert _passes_pinocchio_urdf(rebuilt)
+
+
+def test_a_table_of_another_arm_matches_no_link_and_says_how_near():
+    model = ur5_ros1()
+    wrong = _with_row(model, 1, a=model.joints[1].a * 1.5)  # a2 half as long again
+    wrong = _with_row(wrong, 2, a=model.joints[2].a * 0.5)  # and a3 half as long
     result = map_model(wrong, _kin(model), "ur5.urdf")
     assert not result.complete
     assert not result.joints_fit

@@ -27,10 +27,13 @@ that is an input, shared by two outputs, not a regular file, or in a directory
 that cannot take it is bad input (exit 2). The HTML report of a
 failing check has a Diagnosis section (``fkcheck diagnose`` run against the
 disagreeing backends) unless ``--no-diagnose`` is given; the JSON is the same
-with or without it. The diagnosis runs whenever a report shows it: ``--html``,
-``--junit``, ``--summary``, ``$GITHUB_STEP_SUMMARY``, or the annotations —
-with ``GITHUB_ACTIONS=true`` each failure is also printed as an ``::error``
-line at the model file (:mod:`fkcheck.report.annotations`). On a terminal the
+with or without it. The diagnosis runs for every failing check (one model or
+many) unless ``--no-diagnose`` is given: its one line is printed under the
+results (``diagnosis (pinocchio-urdf): one number differs: a2 (J2)``, per
+model in a run over many), and ``--html``, ``--junit``, ``--summary``,
+``$GITHUB_STEP_SUMMARY`` and the annotations show it — with
+``GITHUB_ACTIONS=true`` each failure is also printed as an ``::error`` line at
+the model file (:mod:`fkcheck.report.annotations`). On a terminal the
 header prints before the backends run; their progress goes to stderr
 (:mod:`fkcheck.cli.progress`; ``--quiet`` turns it off).
 """
@@ -191,8 +194,9 @@ def add_parser(sub: Any) -> None:
         "--no-diagnose",
         dest="diagnose",
         action="store_false",
-        help="HTML report of a failing check: leave out the Diagnosis section (it runs "
-        "fkcheck diagnose against each distinct disagreeing backend, about a second each)",
+        help="a failing check: leave out its diagnosis (the one line printed, the reports' "
+        "Diagnosis section; it runs fkcheck diagnose against each distinct disagreeing "
+        "backend, about a second each)",
     )
     p.add_argument(
         "-q",

@@ -26,6 +26,7 @@ __all__ = [
     "header",
     "print_annotations",
     "print_diagnose_hint",
+    "print_diagnoses",
     "print_header",
     "print_models_table",
     "print_plan",
@@ -302,6 +303,28 @@ def _jacobian_table(check: CheckResult, record: CheckRecord, *, how: bool) -> An
     return table
 
 
+def diagnosis_lines(diagnoses: Sequence[BackendDiagnosis]) -> list[str]:
+    """One line per distinct disagreement, the headline the reports carry.
+
+    ``diagnosis (pinocchio-urdf, yourdfpy-urdf): one number differs: a2 (J2)``: the
+    most likely explanation's title, or why there is none
+    (:func:`fkcheck.report.diagnosis.diagnosis_headline`).
+    """
+    from fkcheck.report.diagnosis import diagnosis_headline
+
+    lines = []
+    for outcome in diagnoses:
+        who = ", ".join(terminal_text(n) for n in (outcome.backend, *outcome.also))
+        lines.append(f"diagnosis ({who}): {terminal_text(diagnosis_headline(outcome))}")
+    return lines
+
+
+def print_diagnoses(diagnoses: Sequence[BackendDiagnosis], prefix: str = "") -> None:
+    """The diagnoses of a failed check in one line each (:func:`diagnosis_lines`)."""
+    for line in diagnosis_lines(diagnoses):
+        print(f"{prefix}{line}", flush=True)
+
+
 def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
     """Offer ``fkcheck diagnose`` for the first backend that disagrees."""
     failed = [r for r in check.backends if r.status == "fail"]
@@ -311,11 +334,18 @@ def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
 
 
-def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
+def print_models_table(
+    checks: list[tuple[str, CheckResult]],
+    diagnoses: Sequence[Sequence[BackendDiagnosis]] = (),
+) -> None:
     """The terminal table of a run over several models: one row per model.
+
+    Under it, each failing backend's message, and each failing model's diagnosis in
+    one line (:func:`diagnosis_lines`).
 
     Args:
         checks: Each model's label (its file as given, or the bundled name) and its check.
+        diagnoses: Each model's diagnoses, aligned with ``checks`` (none: no lines).
     """
     from rich.table import Table
 
@@ -344,7 +374,7 @@ def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
             record.of("table").status,
         )
     console.print(table)
-    for label, record in records:
+    for k, (label, record) in enumerate(records):
         for r in record.backends:
             name = terminal_markup(label)
             if r.status in ("fail", "error", "xpass"):
@@ -353,6 +383,8 @@ def print_models_table(checks: list[tuple[str, CheckResult]]) -> None:
             if r.jacobian is not None and r.jacobian.status in ("fail", "error"):
                 message = terminal_markup(r.jacobian.message)
                 console.print(f"[bold red]{name}[/]: {terminal_markup(r.name)} Jacobian: {message}")
+        for line in diagnosis_lines(diagnoses[k] if k < len(diagnoses) else ()):
+            console.print(f"[bold red]{terminal_markup(label)}[/]: {terminal_markup(line)}")
 
 
 def annotate() -> bool:

@@ -25,9 +25,9 @@ if TYPE_CHECKING:
     from fkcheck.model.types import Model
 
 from fkcheck.cli.check_output import (
-    annotate,
     print_annotations,
     print_diagnose_hint,
+    print_diagnoses,
     print_header,
     print_models_table,
     print_plan,
@@ -235,10 +235,10 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     entries: list[IndexEntry] = []
     checks: list[CheckResult] = []
     diagnoses: dict[str, Sequence[BackendDiagnosis]] = {}
-    # The diagnosis (about a second per disagreement) is for the reports, summaries
-    # and annotations that show it.
-    wanted = out_dir is not None or args.summary is not None or step_summary is not None
-    diagnose = args.diagnose and (wanted or annotate())
+    each: list[Sequence[BackendDiagnosis]] = []  # per target, for the terminal
+    # The diagnosis (about a second per disagreement) runs for a failing model: its
+    # one line is printed, and the reports, summaries and annotations show it.
+    diagnose = args.diagnose
     for number, target in enumerate(targets, start=1):
         for warning in target.model.warnings:
             print(f"fkcheck: warning: {target.stem}: {terminal_text(warning)}", file=sys.stderr)
@@ -252,6 +252,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
             entries.append(IndexEntry(check, *files[target.stem]))
         checks.append(check)
         diagnoses[check.model.name] = outcome.diagnoses
+        each.append(outcome.diagnoses)
         print_annotations(check, outcome.diagnoses)
         print(
             f"fkcheck: [{number}/{len(targets)}] {terminal_text(target.arg)}: {check.verdict} "
@@ -264,7 +265,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         write_index(page, out_dir / "index.html")
     write_summaries(args, checks, step_summary, diagnoses)
     labelled = [(t.arg, c) for t, c in zip(targets, checks, strict=True)]
-    print_models_table(labelled)
+    print_models_table(labelled, each)
     return _print_tally(labelled, out_dir)
 
 
@@ -318,11 +319,9 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends, model)]
     inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
-    # The diagnosis (about a second per disagreeing backend) is for the reports that show it.
-    cause_shown = (args.html, args.junit, args.summary, step_summary) != (None,) * 4
-    outcome = check_with_progress(
-        args, model, backends, diagnose=args.diagnose and (cause_shown or annotate())
-    )
+    # The diagnosis (about a second per disagreeing backend) runs for a failing check:
+    # its one line is printed, and the reports show it.
+    outcome = check_with_progress(args, model, backends, diagnose=args.diagnose)
     argv = getattr(args, "argv", [])
     check = replace(outcome.check, command="fkcheck " + shlex.join(argv), config=args.config)
     # Files first: a closed or full stdout must not cost the run its reports.
@@ -331,6 +330,7 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
                   summary=args.summary)  # fmt: skip
     write_summaries(args, [check], step_summary, {check.model.name: outcome.diagnoses}, file=False)
     print_summary(check)
+    print_diagnoses(outcome.diagnoses)
     print_annotations(check, outcome.diagnoses)
     print_diagnose_hint(target.arg, check)
     return 0 if check.verdict == "pass" else 1

@@ -3,9 +3,11 @@
 Exit codes: 0 when the proposed block, pasted into the model, is a mapping
 ``fkcheck check`` (as the summary prints it) can pass on (the table moves like a
 chain of the URDF, with every axis the same way round, and links sit at constant
-offsets from DH frame 0 and from the last DH frame); 1 when it is not (no chain
-moves like the table, a joint turns the other way, or no link matches one end:
-the block then says how near the nearest came); 2 for bad input.
+offsets from DH frame 0 and from the last DH frame); 1 when it is not (a joint
+turns the other way, or the chain moves like the table only with rows changed —
+a vendor's zeros a quarter turn apart, a sign, one number — each said as the
+``[[joint]]`` edit; no chain moves like the table even so, or no link matches
+one end: the block then says how near the nearest came); 2 for bad input.
 """
 
 from __future__ import annotations
@@ -159,8 +161,23 @@ def _why_not(result: Any) -> str:
             f"{format_mm(result.fit_m)} / {format_deg(result.fit_rad)} off)"
         )
     flipped = [j.dh for j in result.joints if j.flipped]
+    edits = []
     if flipped:
-        return f"joints {', '.join(flipped)} turn the other way in the URDF: toggle their flip"
+        edits.append(
+            f"joints {', '.join(flipped)} turn the other way in the URDF: toggle their flip"
+        )
+    moved = [
+        line
+        for line in result.edits.lines(result.model)
+        if not line.endswith(("= true", "= false"))
+    ]
+    if moved:
+        edits.append(
+            "the chain moves like the table only with these rows changed (the block's comments "
+            "say so too): " + "; ".join(moved)
+        )
+    if edits:
+        return "; ".join(edits)
     parts = [
         f"no link at a constant offset from DH frame {n.anchor} (nearest: {n.link}, "
         f"{format_mm(n.spread_m)} / {format_deg(n.spread_rad)})"

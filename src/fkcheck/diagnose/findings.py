@@ -13,9 +13,10 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Literal, get_args
 
+from fkcheck.diagnose.identify import Unsettled
 from fkcheck.diagnose.problem import Residual
 from fkcheck.engine.axes import AxisRow
-from fkcheck.io.format import format_pair, format_seconds
+from fkcheck.io.format import format_delta, format_distinct, format_pair, format_seconds
 from fkcheck.io.text import terminal_text
 from fkcheck.model.types import Model
 
@@ -35,7 +36,8 @@ __all__ = [
 #: explanations that make the disagreement vanish and change as many numbers: the
 #: difference the model file already records (``[[known_difference]]``), a
 #: frame-naming difference (base_link vs base, flange vs tool0) or two URDF joints
-#: swapped in the mapping before a whole-table mistake (units, convention), before a
+#: swapped in the mapping before a whole-table mistake (units, convention, a vendor's
+#: conventions against a URDF: joints reversed, zeros apart), before a
 #: one-character typo (a sign, a flip, a missing θ offset), before a different number
 #: (one parameter), before unexplained constant offsets, before a fit of everything.
 Kind = Literal[
@@ -44,6 +46,7 @@ Kind = Literal[
     "mapping",
     "degrees",
     "convention",
+    "conventions",
     "sign",
     "flip",
     "theta-offset",
@@ -90,18 +93,24 @@ class Change:
         """``d1 = 0.089459 here, 0.089159 would match, Δ = -0.300 mm``.
 
         An angle reads in degrees, then radians in parentheses (as every two-unit
-        reading, :func:`~fkcheck.io.format.format_pair`). A sign flip says so,
+        reading, :func:`~fkcheck.io.format.format_pair`). The two values get as
+        many digits as tell them apart (:func:`~fkcheck.io.format.format_distinct`:
+        ``-90.0002° (-1.5708 rad) here, -90° (-1.570796 rad) would match``), and
+        a difference too small for its decimals reads in scientific notation. A sign flip says so,
         ``…, 90° (1.5708 rad) would match: the sign flipped``,
         not ``Δ = +180°``: a difference of 180° reads as a turn, which it is not.
         """
         if self.angle:
-            old = format_pair(f"{math.degrees(self.old):.4g}°", f"{self.old:.6g} rad")
-            new = format_pair(f"{math.degrees(self.new):.4g}°", f"{self.new:.6g} rad")
+            old_deg, new_deg = format_distinct(math.degrees(self.old), math.degrees(self.new), 4)
+            old_rad, new_rad = format_distinct(self.old, self.new, 6)
+            old = format_pair(f"{old_deg}°", f"{old_rad} rad")
+            new = format_pair(f"{new_deg}°", f"{new_rad} rad")
             head = f"{self.symbol} = {old} here, {new} would match"
-            delta = f"Δ = {math.degrees(self.delta):+.4f}°"
+            delta = f"Δ = {format_delta(math.degrees(self.delta), 4)}°"
         else:
-            head = f"{self.symbol} = {self.old:.6g} here, {self.new:.6g} would match"
-            delta = f"Δ = {self.delta * 1e3:+.3f} mm"
+            old, new = format_distinct(self.old, self.new, 6)
+            head = f"{self.symbol} = {old} here, {new} would match"
+            delta = f"Δ = {format_delta(self.delta * 1e3, 3)} mm"
         return f"{head}: the sign flipped" if self.sign_flip else f"{head}, {delta}"
 
 
@@ -117,6 +126,8 @@ class Explanation:
         details: More lines of evidence or caveats.
         changes: The parameters it changes.
         fix_toml: Model-file text that applies it (``[frames…]`` tables), if any.
+        edits: Edits of the ``[[joint]]`` tables that apply it, one line each
+            (``[[joint]] J3: flip = true``), if any.
         model: The changed model (not serialised).
         numbers: How many numbers (or settings) of the model file it changes, when
             that is not one per change: ``angle_unit`` is one setting however many
@@ -133,6 +144,7 @@ class Explanation:
     fix_toml: str = ""
     model: Model | None = field(default=None, repr=False)
     numbers: int | None = None
+    edits: tuple[str, ...] = ()
 
     @property
     def changed(self) -> int:
@@ -158,6 +170,9 @@ class Diagnosis:
         axes_note: What the axes say, in one line.
         tried: The hypotheses tried, one line each.
         duration_s: Wall time, seconds.
+        unsettled: When the table agrees with a reference independent of it: the
+            numbers the agreement says nothing about, each with what would settle
+            it (:mod:`.identify`).
     """
 
     model: Model
@@ -173,6 +188,7 @@ class Diagnosis:
     axes_note: str = ""
     tried: tuple[str, ...] = ()
     duration_s: float = 0.0
+    unsettled: tuple[Unsettled, ...] = ()
 
     @property
     def agrees(self) -> bool:
@@ -267,6 +283,7 @@ def to_dict(d: Diagnosis) -> dict[str, Any]:
                     for c in e.changes
                 ],
                 "fix_toml": e.fix_toml,
+                "edits": list(e.edits),
                 "numbers_changed": e.changed,
             }
             for e in d.explanations
@@ -284,6 +301,10 @@ def to_dict(d: Diagnosis) -> dict[str, Any]:
         "axes_note": d.axes_note,
         "tried": list(d.tried),
         "duration_s": d.duration_s,
+        "not_identifiable": [
+            {"name": u.name, "group": u.group, "why": u.why, "settle": u.settle}
+            for u in d.unsettled
+        ],
     }
 
 
@@ -299,7 +320,22 @@ def format_text(d: Diagnosis) -> str:
         f"disagreement as given: {d.before.text()} (tolerance {d.tol_pos_m:g} m, "
         f"{d.tol_rot_rad:g} rad)",
     ]
-    if d.agrees:
+    if d.agrees and d.unsettled:
+        one = len(d.unsettled) == 1
+        lines.append(
+            f"the table agrees with the reference, but {len(d.unsettled)} "
+            f"{'number is' if one else 'numbers are'} not identifiable in this comparison: "
+            f"the agreement says nothing about {'it' if one else 'them'}"
+        )
+        settles: list[str] = []
+        for u in d.unsettled:
+            lines.append(
+                f"   {terminal_text(u.name)} ({terminal_text(u.group)}): {terminal_text(u.why)}"
+            )
+            if u.settle not in settles:
+                settles.append(u.settle)
+        lines.extend(f"   to settle {'it' if one else 'them'}: {s}" for s in settles)
+    elif d.agrees:
         lines.append("the table agrees with the reference: nothing to explain")
     elif not d.explanations:
         lines.append("no hypothesis explains the disagreement, or even half of it")
@@ -310,8 +346,11 @@ def format_text(d: Diagnosis) -> str:
         lines.append(f"   {verdict}: {d.before.text()} → {e.residual.text()}")
         lines.extend(f"   {c.text()}" + (f" ({c.note})" if c.note else "") for c in e.changes)
         lines.extend(f"   {line}" for line in e.details)
+        if e.edits:
+            lines.append("   edit, in the model file:")
+            lines.extend(f"     {line}" for line in e.edits)
         if e.fix_toml:
-            lines.append("   fix, in the model file:")
+            lines.append("   and set these tables:" if e.edits else "   fix, in the model file:")
             lines.extend(f"     {line}" for line in e.fix_toml.rstrip("\n").splitlines())
     if d.axes:
         lines.append("")

@@ -9,8 +9,10 @@ from fkcheck.backends.base import Backend, FixedConfigurations
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float
 from fkcheck.diagnose.axes import axes_note, compare_axes
+from fkcheck.diagnose.conventions import explain_conventions
 from fkcheck.diagnose.findings import AxisRow, Diagnosis, Explanation, rank
 from fkcheck.diagnose.hypotheses import explain_hypotheses, explain_swapped_mapping
+from fkcheck.diagnose.identify import Unsettled, unsettled_numbers
 from fkcheck.diagnose.offsets import explain_offsets
 from fkcheck.diagnose.paramfit import explain_parameter_fit
 from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
@@ -36,8 +38,15 @@ def diagnose(
 
     Steps: constant frame offsets (:mod:`.offsets`), joint axes against the URDF
     (:mod:`.axes`, only when the reference reads the URDF), typical mistakes as
-    hypotheses and single-parameter fits (:mod:`.hypotheses`), and a fit of every
+    hypotheses and single-parameter fits (:mod:`.hypotheses`), a vendor's
+    conventions — several joints reversed, zeros a quarter turn apart, with the
+    end frames — together when nothing alone explains it and the reference reads
+    the URDF (:mod:`.conventions`), and a fit of every
     parameter (:mod:`.paramfit`) when nothing simpler leaves less than the tolerances.
+
+    When the table agrees with a reference independent of it, the numbers that
+    agreement does not identify are named, with what would settle each
+    (:mod:`.identify`).
 
     A ``[[known_difference]]`` the model records for this reference applies as the
     check applies it (the model's own frame pair and tolerances): a disagreement
@@ -94,6 +103,12 @@ def diagnose(
             swaps, n_swaps = explain_swapped_mapping(problem)
             explanations += swaps
             tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
+            if not any(e.explains for e in explanations):
+                explanations += explain_conventions(problem)
+                tried.append(
+                    "reversed joints, quarter-turn zeros and the end frames together, "
+                    "from the URDF's chain"
+                )
         # Re-checked against the backend before deciding on the fit: a black box can rule
         # out a fix (a frame offset) that looked like it explained everything.
         explanations = [_verified(problem, e) for e in explanations]
@@ -108,6 +123,9 @@ def diagnose(
         if backend.reads == "urdf":
             axes = compare_axes(problem)
             tried.append("joint axes against the URDF")
+    unsettled: tuple[Unsettled, ...] = ()
+    if problem.exact(before) and backend.evidence == "table":  # agreement: what it leaves open
+        unsettled = unsettled_numbers(model, pair, tol, configs)
     return Diagnosis(
         model=model,
         backend=backend.name,
@@ -122,6 +140,7 @@ def diagnose(
         axes_note=axes_note(model, axes),
         tried=tuple(tried),
         duration_s=time.perf_counter() - start,
+        unsettled=unsettled,
     )
 
 

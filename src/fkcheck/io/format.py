@@ -5,6 +5,11 @@ person reads first (mm, °), then the SI value in parentheses (m, rad) —
 ``251 mm (2.51e-01 m)``, ``180° (3.14e+00 rad)``. Machine outputs (JSON) keep
 plain SI numbers.
 
+Two different values shown side by side, or a difference between them, never
+read the same: :func:`format_distinct` adds digits until they differ (a rounded
+``-1.5708`` next to ``-π/2``), :func:`format_delta` says a difference too small
+for its decimals in scientific notation rather than as ``+0.0000``.
+
 Pure functions over floats, and the one place that decides how a number is
 written for a person: the HTML, Markdown and terminal outputs all use them, so a
 number reads the same everywhere it has the same role. (Model files and URDFs
@@ -20,6 +25,8 @@ __all__ = [
     "format_angle_summary",
     "format_constant",
     "format_deg",
+    "format_delta",
+    "format_distinct",
     "format_fixed",
     "format_length_console",
     "format_length_summary",
@@ -132,6 +139,37 @@ def format_constant(value: float) -> str:
     """A table constant, shortest exact-looking form (0.089159, -0.425, 90); never ``-0``."""
     text = f"{value:.10g}"
     return "0" if text == "-0" else text
+
+
+def format_distinct(a: float, b: float, digits: int) -> tuple[str, str]:
+    """``a`` and ``b`` with ``digits`` significant digits, or as many more as tell them apart.
+
+    ``format_distinct(-1.5708, -math.pi / 2, 6)`` is ``("-1.5708", "-1.570796")``,
+    not twice ``-1.5708``: two values that differ never read the same (up to the
+    17 digits that write any float exactly). Equal values read alike; ``-0`` reads
+    ``0``.
+    """
+    for n in range(digits, 18):
+        ta, tb = (_no_minus_zero(f"{v:.{n}g}") for v in (a, b))
+        if ta != tb or a == b:
+            return ta, tb
+    return repr(a), repr(b)
+
+
+def _no_minus_zero(text: str) -> str:
+    return "0" if text == "-0" else text
+
+
+def format_delta(value: float, decimals: int) -> str:
+    """A signed difference with ``decimals`` places (``+0.300``), never ``+0.000`` when not zero.
+
+    A difference that rounds away at ``decimals`` reads in scientific notation
+    (``+2.1e-07``): a difference that is there is shown as there.
+    """
+    text = f"{value:+.{decimals}f}"
+    if value != 0 and not text.strip("+-0."):
+        return f"{value:+.2g}"
+    return text
 
 
 def format_fixed(value: float, digits: int) -> str:

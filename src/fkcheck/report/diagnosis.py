@@ -33,6 +33,7 @@ def _explanation_view(rank: int, e: Explanation) -> ExplanationView:
         changes=tuple(c.text() + (f" ({c.note})" if c.note else "") for c in e.changes),
         details=e.details,
         fix_toml=e.fix_toml,
+        edits=e.edits,
     )
 
 

@@ -375,8 +375,8 @@ class ExplanationView:
     Attributes:
         rank: 1 for the most likely.
         kind: What kind of mistake: ``frames``, ``mapping``, ``degrees``,
-            ``convention``, ``sign``, ``flip``, ``theta-offset``, ``parameter``,
-            ``offset`` or ``fit``.
+            ``convention``, ``conventions``, ``sign``, ``flip``, ``theta-offset``,
+            ``parameter``, ``offset`` or ``fit``.
         title: One line that says it.
         explains: The change makes the disagreement vanish (within tolerance).
         verdict: ``"explains it"`` or ``"explains part of it"``.
@@ -385,6 +385,8 @@ class ExplanationView:
         changes: Each changed parameter: as it is, as it would match, the difference.
         details: More evidence or caveats, one line each.
         fix_toml: Model-file text that applies it, or empty.
+        edits: Edits of the ``[[joint]]`` tables that apply it, one line each
+            (``[[joint]] J3: flip = true``).
     """
 
     rank: int
@@ -397,6 +399,7 @@ class ExplanationView:
     changes: tuple[str, ...]
     details: tuple[str, ...]
     fix_toml: str
+    edits: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

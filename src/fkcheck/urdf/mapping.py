@@ -48,6 +48,8 @@ from fkcheck.errors import FkcheckError, FrameError, UrdfError
 from fkcheck.io.files import MAX_MODEL_FILE_BYTES, InputFileError, read_text
 from fkcheck.io.format import format_deg, format_mm
 from fkcheck.model.coverage import Competitor, Coverage, coverage
+from fkcheck.model.edits import TableEdits, half_turns_as_signs
+from fkcheck.model.names import PARAMS, Param
 from fkcheck.model.sampling import sample_configurations, sampling_box
 from fkcheck.model.types import (
     URDF_FRAME_PREFIX,
@@ -69,9 +71,11 @@ __all__ = [
     "LinkFit",
     "MapResult",
     "ProposedFrame",
+    "Reconciled",
     "link_frame",
     "map_model",
     "proposal_toml",
+    "reconcile_table",
     "with_link_frames",
 ]
 
@@ -114,6 +118,16 @@ _SAME_FIT = 1e-9
 #: spins each starts from (:func:`_refine`).
 _REFINE = 4
 _SPINS = 8
+
+#: Zero offsets tried per joint when no chain moves like the table as it is (the
+#: vendor's zero and the URDF's differ by quarter turns: KUKA's A2, A3), and the
+#: hypotheses kept per prefix then (offsets that undo each other through an
+#: intersecting axis tie on a prefix and part only further down).
+_QUARTERS = (0.0, math.pi / 2, -math.pi / 2, math.pi)
+_WIDE_BEAM = 16
+#: A chain still this far off (m + rad) once the flips and zeros are found is tried
+#: for one number that differs; farther off, the table is another arm's.
+_NUMBER_REACH = 0.1
 
 Anchor = int | Literal["world", "tcp"]  # a DH frame 0…n, "tcp" or "world"
 
@@ -207,6 +221,10 @@ class MapResult:
         twins: ``[frames.world]`` / ``[frames.tcp]`` the block declares, each the URDF
             link that sits exactly on it, so that the model's own ``[check]`` (which
             compares ``world`` → ``tcp`` unless it says otherwise) has URDF twins.
+        edits: The edits of the table's rows that make it move like the chain
+            (:func:`reconcile_table`): the flips of :attr:`joints`, and zeros moved
+            or signs changed when no chain moves like the table as it is. The
+            frames are those of the table so edited.
     """
 
     model: Model
@@ -226,6 +244,7 @@ class MapResult:
     absorbs: dict[str, tuple[str, ...]] = field(default_factory=dict)
     check_declared: bool = False
     twins: tuple[FrameSpec, ...] = ()
+    edits: TableEdits = field(default_factory=TableEdits)
 
     @property
     def tolerances(self) -> tuple[float, float]:
@@ -250,6 +269,7 @@ class MapResult:
         return (
             self.joints_fit
             and not any(j.flipped for j in self.joints)
+            and not self.edits
             and not self.nearest
             and any(f.fit is not None and f.spec.dh in (0, "world") for f in self.frames)
         )
@@ -282,6 +302,15 @@ class MapResult:
 
 
 # ----------------------------------------------------------------------------- geometry
+
+
+def _with_thetas(model: Model, thetas: Sequence[float]) -> Model:
+    """The model with ``thetas`` (radians) added to its first joints' θ (zeros moved)."""
+    joints = tuple(
+        replace(j, theta=j.theta + thetas[k]) if k < len(thetas) and thetas[k] else j
+        for k, j in enumerate(model.joints)
+    )
+    return replace(model, joints=joints)
 
 
 def _dh_in_frame0(model: Model, q: Float) -> Float:
@@ -505,7 +534,11 @@ def _refine(M: Float, U: Float, X: Float, Y: Float) -> tuple[Float, Float]:
 
 @dataclass(frozen=True, eq=False)
 class _Fit:
-    """A joint window with axis directions, fitted: ``dh0_T_dhn = X · base_T_tip · Y``."""
+    """A joint window with axis directions, fitted: ``dh0_T_dhn = X · base_T_tip · Y``.
+
+    ``thetas``: radians added to the table's θ of each joint of the prefix (empty:
+    none), the zero offsets :meth:`_Problem.reconcile` tries.
+    """
 
     joints: tuple[str, ...]
     signs: tuple[float, ...]
@@ -514,9 +547,28 @@ class _Fit:
     Y: Float
     dev_m: float
     dev_rad: float
+    thetas: tuple[float, ...] = ()
 
-    def score(self, tol: tuple[float, float]) -> tuple[int, int, float, float]:
-        """Sort key: fitting first, then fewer flips, then the smaller deviation.
+    @property
+    def changes(self) -> int:
+        """How many edits of the table it asks for: flips toggled, zeros moved.
+
+        Two neighbouring zeros half a turn away count once: they are one sign typed
+        the other way (:func:`fkcheck.model.edits.half_turns_as_signs`).
+        """
+        pairs, k = 0, 0
+        while k + 1 < len(self.thetas):
+            if (
+                abs(abs(self.thetas[k]) - math.pi) < 1e-12
+                and abs(abs(self.thetas[k + 1]) - math.pi) < 1e-12
+            ):
+                pairs, k = pairs + 1, k + 2
+            else:
+                k += 1
+        return sum(s < 0 for s in self.signs) + sum(t != 0.0 for t in self.thetas) - pairs
+
+    def score(self, tol: tuple[float, float]) -> tuple[int, int, int, float, float]:
+        """Sort key: fitting first, then fewer edits (flips), then the smaller deviation.
 
         Between fits with as many flips (slides at right angles: flipping the x or
         the y slide is the same motion seen from a base turned 180°), the one whose
@@ -526,10 +578,26 @@ class _Fit:
         turn = math.acos(min(1.0, max(-1.0, (np.trace(self.X[:3, :3]) - 1.0) / 2.0)))
         return (
             0 if fits else 1,
-            sum(s < 0 for s in self.signs),
+            self.changes,
+            sum(t != 0.0 for t in self.thetas),
             round(turn, 6) if fits else 0.0,
             self.dev_m + self.dev_rad,
         )
+
+    def near(self, tol: tuple[float, float]) -> tuple[int, int, int, int, float]:
+        """Sort key of :meth:`_Problem.reconcile`: fitting, then as near within a factor of ten.
+
+        A wrong flip or zero leaves the chain off by a link's length; a table number
+        off by a millimetre leaves a millimetre whatever else is tried: among
+        hypotheses that leave the same order of magnitude, fewer edits come first.
+        """
+        fits = self.dev_m <= tol[0] and self.dev_rad <= tol[1]
+        dev = self.dev_m + self.dev_rad
+        magnitude = 0 if fits else math.floor(math.log10(max(dev, 1e-15)))
+        # Among as many edits, a reversed joint before a zero moved: a half turn of the
+        # zero before an intersecting axis reverses that axis as a flip does.
+        turns = sum(t != 0.0 for t in self.thetas)
+        return (0 if fits else 1, magnitude, self.changes, turns, dev)
 
 
 class _Problem:
@@ -550,6 +618,18 @@ class _Problem:
         self.dh_fit = _dh_in_frame0(model, pairs)
         self.dh = _dh_in_frame0(model, self.q)
         self.seed = seed
+        self.samples = samples
+        self._turned: dict[tuple[float, ...], Float] = {}
+
+    def turned(self, thetas: Sequence[float]) -> Float:
+        """:attr:`dh_fit` of the table with ``thetas`` added to its first joints' θ."""
+        if not any(thetas):
+            return self.dh_fit
+        key = tuple(thetas)
+        if key not in self._turned:
+            model = _with_thetas(self.model, key)
+            self._turned[key] = _dh_in_frame0(model, self.fit_q)
+        return self._turned[key]
 
     def relative(
         self,
@@ -566,18 +646,25 @@ class _Problem:
         base_inv = invert(poses[base])
         return {link: base_inv @ poses[link] for link in links if link in poses}
 
-    def fit(self, joints: Sequence[str], signs: Sequence[float], refine: bool = False) -> _Fit:
+    def fit(
+        self,
+        joints: Sequence[str],
+        signs: Sequence[float],
+        refine: bool = False,
+        thetas: Sequence[float] = (),
+    ) -> _Fit:
         """Fit the first ``len(signs)`` joints of ``joints``: DH frame k vs their last child.
 
         With ``refine``, the closed-form fit is polished by least squares on every
         pair (:func:`_refine`): needed when the joints' turns leave a spin free.
+        ``thetas`` are added to the table's θ first (:meth:`reconcile`).
         """
         k = len(signs)
         used = tuple(joints[:k])
         base = self.kin.joints[used[0]].parent
         tip = self.kin.joints[used[-1]].child
         U = self.relative(self.fit_q[:, :k], used, signs, base, [tip], None)[tip]
-        M = self.dh_fit[:, k]
+        M = self.turned(thetas)[:, k]
         X, Y = _hand_eye(M, U)
         if refine:
             X, Y = _pinned(M, U, *_refine(M, U, X, Y))
@@ -586,20 +673,56 @@ class _Problem:
         return _Fit(
             used, tuple(signs), base, X, Y,
             float(position_error_m(eye, E).max()), float(rotation_error_rad(eye, E).max()),
+            tuple(thetas),
         )  # fmt: skip
 
-    def search(self, joints: Sequence[str]) -> _Fit:
-        """The axis directions of a window of joints, by a beam search over its prefixes."""
+    def search(self, joints: Sequence[str], polish: bool = True) -> _Fit:
+        """The axis directions of a window of joints, by a beam search over its prefixes.
+
+        When no directions fit, zeros too (:meth:`reconcile`); then, with
+        ``polish``, the likeliest directions polished by least squares.
+        """
         beam: list[tuple[float, ...]] = [()]
         best: list[_Fit] = []
         for _ in joints:
             fits = [self.fit(joints, (*signs, s)) for signs in beam for s in (1.0, -1.0)]
             best = sorted(fits, key=lambda f: f.score(self.tol))[:_BEAM]
             beam = [f.signs for f in best]
-        if best[0].score(self.tol)[0] != 0:  # parallel turns, slides: polish the likeliest
-            polished = [self.fit(joints, f.signs, refine=True) for f in best[:_REFINE]]
-            best = sorted([*polished, *best], key=lambda f: f.score(self.tol))
-        return best[0]
+        if best[0].score(self.tol)[0] == 0:
+            return best[0]
+        # Zeros that differ (a vendor's convention), then parallel turns and slides
+        # (the closed form leaves a spin free): polish the likeliest.
+        reconciled = self.reconcile(joints)
+        if reconciled.score(self.tol)[0] == 0 or not polish:
+            return min(best[0], reconciled, key=lambda f: f.near(self.tol))
+        polished = [self.fit(joints, f.signs, refine=True) for f in best[:_REFINE]]
+        best = sorted([*polished, *best], key=lambda f: f.score(self.tol))
+        return min(best[0], reconciled, key=lambda f: f.near(self.tol))
+
+    def reconcile(self, joints: Sequence[str]) -> _Fit:
+        """Flips and quarter-turn zero offsets together: the fewest that make the chain fit.
+
+        A beam search over the chain's prefixes, as :meth:`search`, where each step
+        also tries the previous revolute joint's θ turned by each of
+        :data:`_QUARTERS` (its zero shows only once the next joint moves; the last
+        joint's is the tip frame's business). Kept: :data:`_WIDE_BEAM` per prefix,
+        by :meth:`_Fit.near`.
+        """
+        n = len(joints)
+        if not any(j.type == "revolute" for j in self.model.joints[: n - 1]):
+            return self.fit(joints, (1.0,) * n)  # no zero to move
+        beam = [self.fit(joints, (s,), thetas=(0.0,) * n) for s in (1.0, -1.0)]
+        for k in range(1, n):
+            turns = _QUARTERS if self.model.joints[k - 1].type == "revolute" else (0.0,)
+            fits = []
+            for prev in beam:
+                for turn in turns:
+                    thetas = list(prev.thetas)
+                    thetas[k - 1] = turn
+                    for s in (1.0, -1.0):
+                        fits.append(self.fit(joints, (*prev.signs, s), thetas=thetas))
+            beam = sorted(fits, key=lambda f: f.near(self.tol))[:_WIDE_BEAM]
+        return beam[0]
 
     def evaluate(self, fit: _Fit, links: Sequence[str], anchor: Anchor) -> list[LinkFit]:
         """Each link's offset from ``anchor`` over the evaluation samples.
@@ -626,6 +749,65 @@ class _Problem:
             spread_m, spread_rad = _spread(offsets)
             out.append(LinkFit(link, anchor, clean_offset(offsets[0]), spread_m, spread_rad))
         return out
+
+    def one_number(self, fit: _Fit) -> tuple[int, Param, float, _Fit] | None:
+        """The one table number that, set to another value, makes the whole chain fit.
+
+        Each ``a``, ``α``, ``d``, ``θ`` in turn is fitted alone (least squares from
+        the table's value) to the chain's motion, the end offsets fitted anew at
+        each step: as a diagnosis's single-parameter fits, but on the URDF's chain,
+        so the end frames need not be known. Numbers an end offset carries (d1, θ1,
+        the last row's) do not change the motion and are never the answer.
+
+        Returns:
+            ``(joint index, parameter, value, fit)`` of the number that makes the
+            chain fit (the smallest change, if several do), or ``None``.
+        """
+        n = len(fit.joints)
+        tip = self.kin.joints[fit.joints[-1]].child
+        U = self.relative(self.fit_q[:, :n], fit.joints, fit.signs, fit.base, [tip], None)[tip]
+
+        def evaluate(model: Model) -> tuple[Float, _Fit]:
+            M = _dh_in_frame0(model, self.fit_q)[:, n]
+            X, Y = _hand_eye(M, U)
+            E = invert(M) @ X @ U @ Y
+            eye = np.broadcast_to(np.eye(4), E.shape)
+            vector = np.concatenate(
+                [
+                    Rotation.from_matrix(E[:, :3, :3]).as_rotvec().reshape(-1),
+                    E[:, :3, 3].reshape(-1),
+                ]
+            )
+            dev = (float(position_error_m(eye, E).max()), float(rotation_error_rad(eye, E).max()))
+            return vector, replace(fit, X=X, Y=Y, dev_m=dev[0], dev_rad=dev[1])
+
+        found: list[tuple[float, int, Param, float, _Fit]] = []
+        for k, joint in enumerate(self.model.joints[:n]):
+            for param in PARAMS:
+                old = float(getattr(joint, param))
+
+                def residual(x: Float, k: int = k, param: Param = param) -> Float:
+                    return evaluate(_with_value(self.model, k, param, float(x[0])))[0]
+
+                sol = least_squares(
+                    residual, [old], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=60
+                )
+                new = float(sol.x[0])
+                if abs(new - old) <= 1e-9:
+                    continue
+                _, trial = evaluate(_with_value(self.model, k, param, new))
+                if trial.score(self.tol)[0] == 0:
+                    found.append((abs(new - old), k, param, new, trial))
+        if not found:
+            return None
+        _, k, param, new, trial = min(found, key=lambda f: f[0])
+        return k, param, new, trial
+
+
+def _with_value(model: Model, k: int, param: str, value: float) -> Model:
+    joints = list(model.joints)
+    joints[k] = replace(joints[k], **{param: value})  # type: ignore[arg-type]
+    return replace(model, joints=tuple(joints))
 
 
 def _windows(kin: UrdfKinematics, model: Model) -> list[tuple[str, ...]]:
@@ -725,8 +907,10 @@ def map_model(
         JointMatch(dh.name, urdf, sign < 0)
         for dh, urdf, sign in zip(model.joints, best.joints, best.signs, strict=True)
     )
+    edits, problem, best = _reconciled(problem, best)
+    edited = problem.model
     frames, nearest = _frames(problem, best)
-    pair, numbers, absorbs = _check_pair(model, frames, best.score(problem.tol)[0] == 0)
+    pair, numbers, absorbs = _check_pair(edited, frames, best.score(problem.tol)[0] == 0)
     declared = _declares_check(model)
     return MapResult(
         model=model,
@@ -746,7 +930,86 @@ def map_model(
         absorbs=absorbs,
         check_declared=declared,
         twins=_default_twins(model, frames) if declared and pair is not None else (),
+        edits=edits,
     )
+
+
+def _reconciled(problem: _Problem, fit: _Fit) -> tuple[TableEdits, _Problem, _Fit]:
+    """The fit's edits of the table, the problem of the table so edited, and its fit there.
+
+    Zeros moved and signs changed are made in the table (flips stay in the fit's
+    signs); when the chain still does not fit, the one number that makes it fit
+    (:meth:`_Problem.one_number`), if any, is set too.
+    """
+    model = problem.model
+    edits = _edits(model, fit)
+    if edits.thetas or edits.negated:
+        problem = _Problem(replace(edits, flips=()).apply(model), problem.kin,
+                           problem.samples, problem.seed)  # fmt: skip
+        fit = problem.fit(fit.joints, fit.signs)
+    if fit.score(problem.tol)[0] != 0 and fit.dev_m + fit.dev_rad < _NUMBER_REACH:
+        number = problem.one_number(fit)
+        if number is not None:
+            k, param, value, fit = number
+            edits = replace(edits, values=((model.joints[k].name, param, value),))
+            problem = _Problem(replace(edits, flips=()).apply(model), problem.kin,
+                               problem.samples, problem.seed)  # fmt: skip
+            fit = problem.fit(fit.joints, fit.signs)
+    return edits, problem, fit
+
+
+def _edits(model: Model, fit: _Fit) -> TableEdits:
+    """The fit's flips and zeros as edits of the table; half-turn pairs said as signs."""
+    thetas = list(fit.thetas or (0.0,) * model.dof)
+    negated = half_turns_as_signs(model.joints, model.convention, thetas)
+    names = [j.name for j in model.joints]
+    return TableEdits(
+        flips=tuple(n for n, s in zip(names, fit.signs, strict=True) if s < 0),
+        thetas=tuple((n, t) for n, t in zip(names, thetas, strict=True) if t),
+        negated=tuple((names[k], p) for k, p in negated),
+    )
+
+
+@dataclass(frozen=True)
+class Reconciled:
+    """How a table's rows must change to move like its URDF chain.
+
+    Attributes:
+        edits: The fewest flips, quarter-turn zeros and signs found (empty: none needed).
+        fit_m: How far the last DH frame of the edited table then strays from the
+            chain's last link (over the samples, a constant offset fitted), metres.
+        fit_rad: The same for orientation, radians.
+    """
+
+    edits: TableEdits
+    fit_m: float
+    fit_rad: float
+
+
+def reconcile_table(
+    model: Model, kin: UrdfKinematics, *, samples: int = DEFAULT_SAMPLES, seed: int = 0
+) -> Reconciled:
+    """The table's edits that make it move like the URDF joints its ``[urdf]`` maps.
+
+    As ``fkcheck map`` finds them, on the model's own mapping: each joint's
+    direction, then (when no directions fit) quarter-turn zero offsets too, by a
+    beam search over the chain's prefixes with a constant offset fitted at each
+    end. The frames at the ends are not judged (a diagnosis fits them).
+
+    Raises:
+        FkcheckError: The model has no ``[urdf]``, or maps joints the URDF lacks.
+    """
+    if model.urdf is None:
+        raise FkcheckError(f"model {model.name} has no [urdf]")
+    missing = [name for name in model.urdf.joints if name not in kin.joints]
+    if missing:
+        raise FkcheckError(
+            f"model {model.name}'s [urdf] joints name {listed(missing)}, which "
+            f"{kin.path.name} does not have"
+        )
+    problem = _Problem(model, kin, samples, seed)
+    edits, _, fit = _reconciled(problem, problem.search(model.urdf.joints, polish=False))
+    return Reconciled(edits, fit.dev_m, fit.dev_rad)
 
 
 def _default_twins(model: Model, frames: Sequence[ProposedFrame]) -> tuple[FrameSpec, ...]:
@@ -1034,6 +1297,14 @@ def proposal_toml(result: MapResult) -> str:
             )
         else:
             notes.append(f"  {j.dh} = {j.urdf}: same direction")
+    moved = [line for line in result.edits.lines(model) if not line.endswith(("= true", "= false"))]
+    if moved:
+        notes.append(
+            "The chain moves like the table only with these rows changed (a vendor's zeros "
+            "a quarter turn apart, or a number typed otherwise: one of the two is wrong):"
+        )
+        notes += [f"  {line}" for line in moved]
+        notes.append("The frames below are those of the table so changed: change it, then paste.")
     notes += [f"Another chain moves the same way: {', '.join(other)}" for other in result.also_fit]
     out += toml_comment(notes)
     out.append(f"joints = [{', '.join(toml_string(j.urdf) for j in result.joints)}]")
