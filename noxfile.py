@@ -149,6 +149,23 @@ def wall(session: nox.Session) -> None:
 
 
 @nox.session(default=False)
+def campaign(session: nox.Session) -> None:
+    """Verdict campaign (benchmarks/verdict_campaign.py): reports/verdict-campaign.json.
+
+    Three vendors' published DH tables (UR5e, Franka Panda, ABB IRB 120), each mapped
+    onto an independent URDF with ``fkcheck map`` and checked with ``--require table``,
+    as published and with every single number wrong in turn: a table of caught, not
+    identifiable, not covered and false green per arm; exit 1 on a false green or a
+    published table refused. About 200 map → check runs.
+    """
+    _install(session)
+    session.run(
+        "python", "benchmarks/verdict_campaign.py", "--json", "reports/verdict-campaign.json",
+        *session.posargs,
+    )  # fmt: skip
+
+
+@nox.session(default=False)
 def docs(session: nox.Session) -> None:
     """Build the docs site (warnings are errors) and run its examples.
 
