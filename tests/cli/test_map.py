@@ -271,14 +271,16 @@ def test_map_on_the_right_table_names_the_links_that_compete_and_a_vouch_settles
     assert main(["map", str(model), UR5_URDF]) == 0
     out, err = capsys.readouterr()
     assert tomllib.loads(out)["check"] == {"from": "base", "to": "tool0"}
-    assert "can verify every number of the table except θ1, α6, d6 not identifiable (link" in err
+    assert (
+        "can verify every number of the table except θ1, α6, d6, θ6 not identifiable (link" in err
+    )
     assert "base_link" in err
     assert "wrist_3_link" in err
     table = model.read_text(encoding="utf-8")
     model.write_text(table + "\n" + out, encoding="utf-8")
     assert main(["check", str(model), *FAST, "--against", "pinocchio-urdf"]) == 0
     printed = " ".join(capsys.readouterr().out.split())
-    assert "table verified except θ1, α6, d6 not identifiable (link" in printed
+    assert "table verified except θ1, α6, d6, θ6 not identifiable (link" in printed
     assert "table verified independently" not in printed
     # The vendor's word, as a source on the compared frames: verified, and said so.
     vouched = out.replace(
@@ -295,7 +297,7 @@ def test_map_on_the_right_table_names_the_links_that_compete_and_a_vouch_settles
                  "--require", "table"]) == 0  # fmt: skip
     printed = " ".join(capsys.readouterr().out.split())
     assert (
-        "verdict: pass — table verified independently, θ1, α6, d6 on the word of "
+        "verdict: pass — table verified independently, θ1, α6, d6, θ6 on the word of "
         '[frames.base] ("UR: base is DH 0"), [frames.tool0] ("UR: tool0"); no second '
         "implementation ran"
     ) in printed

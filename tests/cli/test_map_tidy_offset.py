@@ -1,4 +1,4 @@
-"""A half turn of θn that map's fitted offset makes tidy: both tables "verified".
+"""A half turn of θn that map's fitted offset makes tidy: neither table "verified".
 
 A 3-joint modified-DH arm whose description has its last link ``l3`` a quarter
 turn about x of DH frame 3, and a ``tool0`` link fixed to it 0.2 m across z of
@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import json
 import math
-
-import pytest
 
 from fkcheck.cli.main import main
 
@@ -91,20 +89,20 @@ def _map_then_check(tmp_path, capsys, theta: str) -> tuple[str, dict]:
     return printed, {n["name"]: n for n in numbers}
 
 
-def test_the_right_table_is_verified_through_the_last_link(tmp_path, capsys):
+def test_the_right_table_leaves_theta3_to_the_choice_of_link(tmp_path, capsys):
+    # Through this description the right table and the one with θ3 off by 180° cannot
+    # be told apart: l3 is tidy under the one, tool0 under the other.
     printed, numbers = _map_then_check(tmp_path, capsys, "")
-    assert numbers["θ3"]["status"] == "verified"
-    assert "verdict: pass — table verified independently" in printed
+    assert numbers["θ3"]["pair_can"] == "not-identifiable"
+    assert numbers["θ3"]["competing"] == ["tool0"]
+    assert "carries none of it" in numbers["θ3"]["absorbed_by"]
     assert "numbers (base → l3)" in printed
+    assert "verdict: unverified" in printed
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="false green (issue 30, for the lead: coverage.py / mapping.py): θ3 off by 180° is "
-    "fitted into tool0's offset as a bare translation across z of DH frame 3, which _carries "
-    "treats as innocent: 'table verified' through base → tool0",
-)
 def test_theta3_off_by_a_half_turn_is_never_verified(tmp_path, capsys):
     printed, numbers = _map_then_check(tmp_path, capsys, "theta = 180\n")
     assert numbers["θ3"]["status"] != "verified"
+    assert numbers["θ3"]["pair_can"] == "not-identifiable"
     assert "table verified independently" not in printed
+    assert "verdict: unverified" in printed

@@ -234,7 +234,7 @@ def test_the_headline_claims_no_implementation_check_that_did_not_run(capsys, tm
     assert code == 0, out
     assert doc["evidence"]["implementation"]["status"] == "not-checked"
     assert doc["headline"] == (
-        "pass — table verified independently, θ1, α6 on the word of [frames.base_link], "
+        "pass — table verified independently, θ1, α6, θ6 on the word of [frames.base_link], "
         '[frames.flange] ("Universal_Robots_ROS2_Description 2.4.5, ur_macro.xacro: jo…"); '
         "no second implementation ran"
     )

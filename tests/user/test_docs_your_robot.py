@@ -50,7 +50,7 @@ def test_the_commands_are_read_from_the_page():
         ["sed", "-i"],
         ["fkcheck", "check"],
     ]
-    assert verdict.startswith("verdict: pass — table verified independently, θ1, α6, d6 on the")
+    assert verdict.startswith("verdict: pass — table verified independently, θ1, α6, d6, θ6 on the")
 
 
 def test_bring_your_own_robot_runs_as_the_page_shows(tmp_path):

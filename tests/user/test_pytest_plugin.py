@@ -130,7 +130,7 @@ def _assert_report(result: subprocess.CompletedProcess[str]) -> None:
     assert "required evidence 'table' not verified (failed): table FAILED: pinocchio-urdf" in out
     # The good UR5 is verified partly on the word of its vouched frames: the run says so.
     vouched = out.split("fkcheck: verified on a vouch's word", 1)[1]
-    assert re.search(r"robots/good\.toml: θ1, α6 on the word of \[frames\.base_link\]", vouched)
+    assert re.search(r"robots/good\.toml: θ1, α6, θ6 on the word of \[frames\.base_link\]", vouched)
 
 
 @pytest.mark.slow

@@ -91,6 +91,7 @@ __all__ = [
     "SPAN_RTOL",
     "STEP",
     "TRADE_SHARE",
+    "TURNS_RAD",
     "Competitor",
     "Coverage",
     "NumberEvidence",
@@ -814,6 +815,11 @@ def _hidden(
 
 
 def _carries(offset: Offset, xi: Float, length_m: float) -> bool:
+    """:func:`_carries_matrix` of an offset."""
+    return _carries_matrix(offset.matrix, xi, length_m)
+
+
+def _carries_matrix(M: Float, xi: Float, length_m: float) -> bool:
     """Whether ``offset`` may hold a component along the twist ``xi`` (its own axes, m and rad).
 
     Moved back along ``xi`` by ``s``, the offset's turn is ``R·exp(−s·ω)`` and its
@@ -827,7 +833,6 @@ def _carries(offset: Offset, xi: Float, length_m: float) -> bool:
     """
     from scipy.spatial.transform import Rotation
 
-    M = offset.matrix
     R, t = M[:3, :3], M[:3, 3]
     v, w = xi[:3], xi[3:]
     w_norm, v_norm = float(np.linalg.norm(w)), float(np.linalg.norm(v)) / length_m
@@ -1198,7 +1203,7 @@ def _link_choice(
         end = _end_numbers(pose, F_inv, numbers, J, moving, side, scale)
         if not end:
             continue
-        solved: dict[bytes, list[dict[int, float]]] = {}  # a place is solved for once
+        solved: dict[bytes, list[tuple[dict[int, float], bool]]] = {}  # each place once
         anchor = {"world": "the world", "tcp": "the TCP"}.get(str(spec.dh), f"DH frame {spec.dh}")
         places = {np.round(c.anchor_T_link, 9).tobytes() for c in comps}
         if len(places) > MAX_COMPETITORS:
@@ -1219,11 +1224,19 @@ def _link_choice(
             clock.check()
             key = np.round(comp.anchor_T_link, 9).tobytes()
             if key not in solved:
-                solved[key] = _fewest(pose, side, numbers, end, comp.anchor_T_link, tols, unit_tol)
-            for changes in solved[key]:
+                exact = _fewest(pose, side, numbers, end, comp.anchor_T_link, tols, unit_tol)
+                tidy = _turned(pose, side, numbers, end, comp.anchor_T_link, tols, carried)
+                solved[key] = [(c, True) for c in exact] + [(c, False) for c in tidy]
+            for changes, exactly in solved[key]:
                 change = ", ".join(
                     f"{numbers[i].name} changed by {_amount(d, numbers[i].unit)}"
                     for i, d in changes.items()
+                )
+                how = (
+                    f"would be {anchor} exactly with {change}"
+                    if exactly
+                    else f"would sit, with {change}, at an offset from {anchor} that carries "
+                    "none of it"
                 )
                 unsettled = set(changes) - carried  # what the choice alone could hide
                 pins = _pins(model, spec, comps, tols, (pose, side, numbers, end), unsettled)
@@ -1238,13 +1251,72 @@ def _link_choice(
                         i,
                         (
                             group,
-                            f"link {comp.link} of the description would be {anchor} exactly "
-                            f"with {change}: choosing {spec.urdf or spec.name} over it is a fit",
+                            f"link {comp.link} of the description {how}: choosing "
+                            f"{spec.urdf or spec.name} over it is a fit",
                         ),
                     )
                     if comp.link not in found.competing.setdefault(i, []):
                         found.competing[i].append(comp.link)
     return found
+
+
+#: The turns of one angle of the table tried for a competing link that a turned table
+#: would make as tidy as the compared one (a θn off by 180° moves a flange 0.2 m across
+#: z to −0.2 m, and an offset across z carries nothing).
+TURNS_RAD = (math.pi / 2, math.pi, -math.pi / 2)
+
+
+def _turned(
+    pose: _Pose,
+    side: str,
+    numbers: Sequence[_Number],
+    end: Sequence[int],
+    target: Float,
+    tols: tuple[float, float],
+    carried: set[int],
+) -> list[dict[int, float]]:
+    """Angles of the end whose turn leaves a competing link at an offset that carries none of it.
+
+    The compared link's offset carries none of the angle (else it is not identifiable
+    already); a competing link whose offset carries it now, but would carry none of it
+    were the angle a quarter or half turn different, is as tidy a choice under that
+    other table: poses through either cannot tell the two tables apart.
+    """
+    from scipy.spatial.transform import Rotation
+
+    two = _Pose.__new__(_Pose)
+    two.chain, two.q, two.spec = pose.chain, pose.q[:1], pose.spec
+    P0 = two.changed(())
+    length_m = tols[0] / tols[1]
+
+    def placed(number: _Number, delta: float) -> Float:
+        E = _anchor_change(two, side, P0, two.changed([(number, delta)]))[0]
+        out: Float = invert(E) @ target
+        return out
+
+    def log(X: Float) -> Float:
+        out: Float = np.concatenate([X[:3, 3], Rotation.from_matrix(X[:3, :3]).as_rotvec()])
+        return out
+
+    def carries(number: _Number, delta: float) -> bool:
+        # The number's motion of the link, in the link's own axes at ``delta``: central
+        # differences (a one-sided one leaves ~h·|ξ| across the shift, above CARRY_EPS).
+        here = placed(number, delta)
+        back = invert(here)
+        ahead, behind = back @ placed(number, delta + STEP), back @ placed(number, delta - STEP)
+        xi = (log(ahead) - log(behind)) / (2.0 * STEP)
+        return _carries_matrix(here, xi, length_m)
+
+    out = []
+    for i in end:
+        n = numbers[i]
+        if i in carried or n.kind != "row" or n.unit != "rad" or not carries(n, 0.0):
+            continue
+        for delta in TURNS_RAD:
+            if not carries(n, delta):
+                out.append({i: delta})
+                break
+    return out
 
 
 #: At most this many of an end's numbers (a ``[base]`` or ``[tool]`` counts as one) are
