@@ -50,8 +50,14 @@ def test_hooks_file_declares_a_fast_lint_and_an_opt_in_check():
     assert "stages" not in hooks["fkcheck-lint"]  # every commit
     assert hooks["fkcheck-check"]["entry"] == "fkcheck check --only-models --"
     assert hooks["fkcheck-check"]["stages"] == ["manual"]  # opt-in
-    scripts = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]["scripts"]
-    assert scripts["fkcheck"] == "fkcheck.cli.main:main"
+    project = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]
+    assert project["scripts"]["fkcheck"] == "fkcheck.cli.main:main"
+    # Lint installs fkcheck alone (light); the check adds the reference extra, word for word.
+    assert "additional_dependencies" not in hooks["fkcheck-lint"]
+    assert (
+        hooks["fkcheck-check"]["additional_dependencies"]
+        == (project["optional-dependencies"]["reference"])
+    )
 
 
 def _entry(hook_id):
@@ -178,6 +184,21 @@ def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
     assert rows["robots/good.toml"] == "pass"
     assert rows["robots/bad.toml"] == "fail"
     assert "robots/bad.toml: pinocchio-urdf: " in check
+    # Two environments: the lint hook's without the reference libraries, and small.
+    envs = sorted((tmp_path / "pre-commit-home").glob("repo*/py_env-*"))
+    heavy = [env for env in envs if any(env.glob("lib/python3*/site-packages/pinocchio"))]
+    light = [env for env in envs if env not in heavy]
+    assert (len(light), len(heavy)) == (1, 1), envs
+    assert _size(light[0]) <= LINT_HOOK_BYTES, _size(light[0])
+
+
+#: The lint hook's environment at most (issue 32: "the default lint hook <= 200 MB").
+LINT_HOOK_BYTES = 200 * 10**6
+
+
+def _size(root: Path) -> int:
+    """Bytes of the files under ``root`` (as ``du`` counts them, links not followed)."""
+    return sum(p.lstat().st_size for p in root.rglob("*") if p.is_file() and not p.is_symlink())
 
 
 def _try_system_lint(user, path):

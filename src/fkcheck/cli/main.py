@@ -4,8 +4,10 @@ Each subcommand lives in its own module under :mod:`fkcheck.cli` with
 ``add_parser(subparsers)`` and ``run(args) -> int``; those modules import heavy
 libraries only inside ``run``, so ``fkcheck --help`` stays fast.
 
-Exit codes: 0 ok, 1 a check disagreed or errored, 2 bad input or an output that
-cannot be written (one line on stderr), 130/143 interrupted by Ctrl-C/SIGTERM.
+Exit codes: 0 ok, 1 a check disagreed or errored, 2 bad input, an output that
+cannot be written, or a command that needs a library of the ``reference`` extra
+that is not installed (one line on stderr, naming the library and
+``pip install 'fkcheck[reference]'``), 130/143 interrupted by Ctrl-C/SIGTERM.
 
 Whatever the input, what reaches the terminal is safe (:mod:`fkcheck.io.text`):
 the error line escapes control characters, and standard output replaces a
@@ -34,7 +36,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 
 from fkcheck._version import __version__
-from fkcheck.errors import FkcheckError
+from fkcheck.errors import FkcheckError, missing_extra
 from fkcheck.io.text import terminal_text
 
 if TYPE_CHECKING:
@@ -301,6 +303,12 @@ def _run(args_list: list[str]) -> int:
         code = int(args.run(args))
     except FkcheckError as exc:
         print(f"fkcheck: error: {terminal_text(exc)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except ModuleNotFoundError as exc:  # a library of the reference extra, not installed
+        missing = missing_extra(exc)
+        if missing is None:
+            raise
+        print(f"fkcheck: error: {args.command}: {terminal_text(missing)}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print(f"fkcheck: interrupted (Ctrl-C): results incomplete, {_written(args)}",
