@@ -95,3 +95,25 @@ def test_ci_runs_the_dist_session_and_the_noxfile_defines_it() -> None:
     noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
     assert "@nox.session(default=False)\ndef dist(session: nox.Session) -> None:" in noxfile
     assert '"twine", "check", "--strict"' in noxfile
+
+
+def test_the_readme_first_command_installs_the_reference_extra_and_runs_the_main_job() -> None:
+    readme = (REPO_ROOT / "README.md").read_text("utf-8")
+    quick = readme.split("## Quick start", 1)[1].split("```sh\n", 1)[1].split("\n```", 1)[0]
+    assert quick == (
+        "python3 -m venv .venv && . .venv/bin/activate && pip install '.[reference]' && fkcheck"
+    )
+    extras = _pyproject()["project"]["optional-dependencies"]
+    assert "reference" in extras
+    assert "pip install 'fkcheck[reference]'" in readme  # what a check without it says
+
+
+def test_dist_installs_the_extra_for_the_main_job_and_the_wheel_alone_for_lint() -> None:
+    noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
+    assert '"--disable-pip-version-check", f"{artefact}[reference]"' in noxfile
+    assert "_run_light(session, wheel, work)" in noxfile
+    # The light install lints and must not have pulled a reference library in.
+    light = noxfile.split("def _run_light(", 1)[1]
+    assert '"lint", "ur5"' in light
+    assert "_REFERENCE_PROBE" in light
+    assert "pip install 'fkcheck[reference]'" in light
