@@ -103,6 +103,31 @@ def test_rtb_model_without_robotics_toolbox_is_unavailable_naming_the_extra() ->
     )
 
 
+#: The modules that import a reference library at their top: each is imported only by
+#: the code that needs it (a backend, the numba kernels with their NumPy fallback, map).
+TOP_LEVEL_IMPORTERS = {
+    "fkcheck.backends._idyntree",
+    "fkcheck.core._jacobian_kernels",
+    "fkcheck.core._kernels",
+    "fkcheck.urdf.mapping",
+}
+
+
+def test_every_other_module_imports_without_the_reference_libraries() -> None:
+    script = _ABSENT + (
+        "import importlib, pkgutil, fkcheck\n"
+        "for info in pkgutil.walk_packages(fkcheck.__path__, 'fkcheck.'):\n"
+        "    if info.name != 'fkcheck.__main__':  # that one runs the CLI\n"
+        "        try:\n"
+        "            importlib.import_module(info.name)\n"
+        "        except ImportError:\n"
+        "            print(info.name)\n"
+    )
+    done = _run(script)
+    assert done.returncode == 0, done.stderr
+    assert set(done.stdout.split()) == TOP_LEVEL_IMPORTERS
+
+
 def test_lint_and_fk_run_without_the_reference_libraries() -> None:
     lint = _run(_CLI, "lint", "ur5")
     assert (lint.returncode, lint.stderr) == (0, "")
@@ -112,15 +137,24 @@ def test_lint_and_fk_run_without_the_reference_libraries() -> None:
     assert "-0.191450" in fk.stdout  # tool0's y at zero: -(d4 + d6)
 
 
-@pytest.mark.parametrize("argv", [["check", "ur5", "--samples", "50"], ["map", "ur5"], []])
-def test_a_command_that_needs_scipy_says_so_in_one_line_and_exits_2(argv: list[str]) -> None:
-    done = _run(_CLI, *argv)
+def test_a_check_that_needs_scipy_says_so_in_one_line_and_exits_2() -> None:
+    done = _run(_CLI, "check", "planar2", "--samples", "50")  # no URDF: SciPy first
     assert done.returncode == 2, done.stderr
-    command = argv[0] if argv else "check"  # plain fkcheck is the main job: a check
     assert done.stderr == (
-        f"fkcheck: error: {command}: SciPy is not installed (no module 'scipy'); it comes "
+        "fkcheck: error: check: SciPy is not installed (no module 'scipy'); it comes "
         f"with fkcheck's 'reference' extra: {INSTALL_REFERENCE}\n"
     )
+
+
+@pytest.mark.parametrize("argv", [["check", "ur5", "--samples", "50"], ["map", "ur5"], []])
+def test_the_main_job_check_and_map_end_in_one_line_naming_the_extra(argv: list[str]) -> None:
+    # The UR5's URDF is xacro (xacrodoc) and its check samples with SciPy: whichever is
+    # reached first is named, with the extra that installs both.
+    done = _run(_CLI, *argv)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith("fkcheck: error: "), done.stderr
+    assert INSTALL_REFERENCE in done.stderr
     assert "Traceback" not in done.stdout
 
 
