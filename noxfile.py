@@ -29,9 +29,10 @@ def _install(session: nox.Session, *groups: str, reference: bool = True) -> None
     session.install("-e", ".[reference]" if reference else ".", *deps)
 
 
-#: pytest-xdist's workers: one per CPU (2 on two cores). A test that shares a file,
-#: a port or the working directory with another is a bug under it (CONTRIBUTING.md).
-PARALLEL = ("-n", "auto")
+#: pytest-xdist's workers: one per CPU (2 on two cores), each given whole test files
+#: (`loadfile`: a module-scoped fixture, often a check, is computed once). A test that
+#: shares a file, a port or the environment with another is a bug under it (CONTRIBUTING.md).
+PARALLEL = ("-n", "auto", "--dist", "loadfile")
 
 
 @nox.session

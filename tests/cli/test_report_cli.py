@@ -135,6 +135,7 @@ def test_flipped_alpha_report_names_the_first_frame_that_differs(tmp_path):
     )
 
 
+@pytest.mark.slow  # every bundled model's check and reports: `nox -s slow` (and crossval)
 def test_all_writes_every_model_and_the_index(tmp_path, capsys):
     out = tmp_path / "reports"
     summary = tmp_path / "all.md"
