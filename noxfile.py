@@ -40,8 +40,9 @@ def tests(session: nox.Session) -> None:
     """Run the test suite in parallel, without the tests marked ``slow``.
 
     Bounded property-based examples. The long runs (marker ``slow``: the stress
-    runs, the big property suites, the tests that build an environment or run
-    the pytest plugin in a project) are ``nox -s slow``'s; CI runs both.
+    run, the long property run of map, the tests that build an environment, run
+    the pytest plugin in a project or check every bundled model) are ``nox -s
+    slow``'s; CI runs both.
     """
     _install(session, "test")
     session.run("pytest", *PARALLEL, "-m", "not slow", *session.posargs)
