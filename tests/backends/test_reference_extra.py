@@ -99,7 +99,7 @@ def test_rtb_model_without_robotics_toolbox_is_unavailable_naming_the_extra() ->
     done = _run(script)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == (
-        f"Robotics Toolbox for Python is not installed ({INSTALL_REFERENCE})"
+        f"Robotics Toolbox for Python (roboticstoolbox) is not installed ({INSTALL_REFERENCE})"
     )
 
 

@@ -50,7 +50,9 @@ RTB_IMPORTS = (
 )
 
 #: The reason given when Robotics Toolbox is not installed.
-INSTALL_HINT = f"Robotics Toolbox for Python is not installed ({INSTALL_REFERENCE})"
+INSTALL_HINT = (
+    f"Robotics Toolbox for Python (roboticstoolbox) is not installed ({INSTALL_REFERENCE})"
+)
 
 
 def rtb_unavailable_reason() -> str | None:
