@@ -168,6 +168,7 @@ def test_all_writes_every_model_and_the_index(tmp_path, capsys):
     assert f"{len(names)} of {len(names)} models pass; reports in {out}/" in capsys.readouterr().out
 
 
+@pytest.mark.slow  # every bundled model's check, diagnosis and reports: `nox -s slow`
 def test_all_fails_when_one_model_disagrees(tmp_path):
     out = tmp_path / "reports"
     argv = ["check", "--all", "--samples", "2", "--against", "pinocchio-dh", "--tol-pos",
