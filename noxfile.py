@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import subprocess
 import tempfile
 import zipfile
 from pathlib import Path
@@ -17,16 +19,40 @@ nox.options.reuse_existing_virtualenvs = True
 PYPROJECT = nox.project.load_toml("pyproject.toml")
 
 
-def _install(session: nox.Session, *groups: str) -> None:
+def _install(session: nox.Session, *groups: str, reference: bool = True) -> None:
+    """fkcheck (editable) and the dependency groups; with its reference extra unless told not.
+
+    ``reference=False``: fkcheck's own dependencies only (lint, convert, fk; what
+    the docs build imports), without the reference libraries' ~1.7 GB.
+    """
     deps = [d for g in groups for d in nox.project.dependency_groups(PYPROJECT, g)]
-    session.install("-e", ".", *deps)
+    session.install("-e", ".[reference]" if reference else ".", *deps)
+
+
+#: pytest-xdist's workers: one per CPU (2 on two cores), each given whole test files
+#: (`loadfile`: a module-scoped fixture, often a check, is computed once). A test that
+#: shares a file, a port or the environment with another is a bug under it (CONTRIBUTING.md).
+PARALLEL = ("-n", "auto", "--dist", "loadfile")
 
 
 @nox.session
 def tests(session: nox.Session) -> None:
-    """Run the test suite (bounded property-based examples)."""
+    """Run the test suite in parallel, without the tests marked ``slow``.
+
+    Bounded property-based examples. The long runs (marker ``slow``: the stress
+    run, the long property run of map, the tests that build an environment, run
+    the pytest plugin in a project or check every bundled model) are ``nox -s
+    slow``'s; CI runs both.
+    """
     _install(session, "test")
-    session.run("pytest", *session.posargs)
+    session.run("pytest", *PARALLEL, "-m", "not slow", *session.posargs)
+
+
+@nox.session(default=False)
+def slow(session: nox.Session) -> None:
+    """Run the tests marked ``slow`` (``nox -s tests`` leaves them out), in parallel."""
+    _install(session, "test")
+    session.run("pytest", *PARALLEL, "-m", "slow", *session.posargs)
 
 
 @nox.session
@@ -167,21 +193,18 @@ def campaign(session: nox.Session) -> None:
 
 @nox.session(default=False)
 def docs(session: nox.Session) -> None:
-    """Build the docs site (warnings are errors) and run its examples.
+    """Build the docs site (warnings are errors), with fkcheck's own dependencies only.
 
     `sphinx-build -W --keep-going` into docs/_build/html: the CLI, API, backends and
     model-file reference are generated from the code, so a docstring autodoc cannot
-    read or a key without a description fails the build. Then tests/docs runs every
-    console and python example of the pages and the README, and the user tests that
-    run the walkthrough and notebook pages.
+    read or a key without a description fails the build. It imports no reference
+    library, so none is installed (no `reference` extra). The pages' examples run
+    checks: tests/docs and the walkthrough and notebook tests (tests/user/test_docs_*)
+    run them, in `nox -s tests`.
     """
-    _install(session, "test", "docs")
+    _install(session, "docs", reference=False)
     session.run(
         "sphinx-build", "-W", "--keep-going", "-b", "html", "docs", "docs/_build/html",
-    )  # fmt: skip
-    session.run(
-        "pytest", "-p", "no:cacheprovider", "tests/docs", "tests/user/test_docs_notebook.py",
-        "tests/user/test_docs_your_robot.py", *session.posargs,
     )  # fmt: skip
 
 
@@ -199,10 +222,13 @@ def _built_version(wheel: Path) -> str:
 def dist(session: nox.Session) -> None:
     """Build the sdist and wheel, `twine check --strict` them, and run each installed.
 
-    Each of the two goes into a fresh venv of its own (the sdist through pip's build
-    of it), which runs the main job (bare `fkcheck` in an empty directory: exit 0,
-    reports/ur5.json and reports/ur5.html, the JSON's fkcheck_version the built
-    version) and `fkcheck --version`; the venv is then removed. Nothing is published.
+    Each of the two goes into a fresh venv of its own with the `reference` extra (the
+    sdist through pip's build of it), which runs the main job (bare `fkcheck` in an
+    empty directory: exit 0, reports/ur5.json and reports/ur5.html, the JSON's
+    fkcheck_version the built version) and `fkcheck --version`; the venv is then
+    removed. The wheel alone (no extra, as pre-commit's fkcheck-lint hook installs
+    it) must lint a bundled model, must not have installed a reference library, and
+    its main job must end in one line naming the extra (exit 2). Nothing is published.
     """
     session.install("build", "twine")
     work = Path(tempfile.mkdtemp(prefix="fkcheck-dist-"))
@@ -217,6 +243,7 @@ def dist(session: nox.Session) -> None:
             session.error(f"sdist {sdist.name} is not version {version} (the wheel's)")
         for artefact in (wheel, sdist):
             _run_installed(session, artefact, version, work)
+        _run_light(session, wheel, work)
         session.log(f"dist: {wheel.name} and {sdist.name} install and run the main job")
     finally:
         shutil.rmtree(work, ignore_errors=True)
@@ -236,7 +263,7 @@ def _run_installed(session: nox.Session, artefact: Path, version: str, work: Pat
         session.run("python", "-m", "venv", str(venv))
         session.run(
             str(bin_dir / "python"), "-m", "pip", "install", "--quiet",
-            "--disable-pip-version-check", str(artefact), external=True, env=env,
+            "--disable-pip-version-check", f"{artefact}[reference]", external=True, env=env,
         )  # fmt: skip
         run_dir.mkdir()
         with session.chdir(run_dir):
@@ -255,6 +282,50 @@ def _run_installed(session: nox.Session, artefact: Path, version: str, work: Pat
         if not isinstance(shown, str) or shown.strip() != f"fkcheck {version}":
             session.error(f"{artefact.name}: fkcheck --version printed {shown!r}")
         session.log(f"{artefact.name}: main job and `fkcheck --version` ({version}): ok")
+    finally:
+        shutil.rmtree(venv, ignore_errors=True)
+        shutil.rmtree(run_dir, ignore_errors=True)
+
+
+#: A reference library (the `reference` extra's), absent from a light install.
+_REFERENCE_PROBE = (
+    "import importlib.util, sys; "
+    "found = [m for m in ('scipy', 'pinocchio', 'roboticstoolbox', 'numba', 'matplotlib') "
+    "if importlib.util.find_spec(m)]; "
+    "sys.exit(f'installed without the extra, yet present: {found}' if found else 0)"
+)
+
+
+def _run_light(session: nox.Session, wheel: Path, work: Path) -> None:
+    """The wheel without its extra: lint runs, the main job names the extra in one line."""
+    venv = work / "venv-light"
+    run_dir = work / "run-light"
+    bin_dir = venv / "bin"
+    env: dict[str, str | None] = {
+        "PYTHONPATH": None, "VIRTUAL_ENV": str(venv), "GITHUB_STEP_SUMMARY": None,
+    }  # fmt: skip
+    try:
+        session.run("python", "-m", "venv", str(venv))
+        session.run(
+            str(bin_dir / "python"), "-m", "pip", "install", "--quiet",
+            "--disable-pip-version-check", str(wheel), external=True, env=env,
+        )  # fmt: skip
+        session.run(str(bin_dir / "python"), "-c", _REFERENCE_PROBE, external=True, env=env)
+        run_dir.mkdir()
+        with session.chdir(run_dir):
+            session.run(str(bin_dir / "fkcheck"), "lint", "ur5", external=True, env=env)
+            done = subprocess.run(
+                [str(bin_dir / "fkcheck")], capture_output=True, text=True, check=False,
+                env={k: v for k, v in {**os.environ, **env}.items() if v is not None},
+            )  # fmt: skip
+        said = done.stderr.strip().splitlines()
+        wanted = "pip install 'fkcheck[reference]'"
+        if done.returncode != 2 or len(said) != 1 or wanted not in said[0]:
+            session.error(
+                f"{wheel.name} without the extra: the main job exited {done.returncode} "
+                f"and said {done.stderr!r}, not one line naming {wanted!r} (exit 2)"
+            )
+        session.log(f"{wheel.name} without the extra: lint runs; the main job names the extra")
     finally:
         shutil.rmtree(venv, ignore_errors=True)
         shutil.rmtree(run_dir, ignore_errors=True)

@@ -16,12 +16,16 @@ from collections.abc import Iterable
 from pathlib import Path
 
 __all__ = [
+    "INSTALL_REFERENCE",
+    "REFERENCE_EXTRA",
+    "REFERENCE_LIBRARIES",
     "BackendNotFoundError",
     "BackendUnavailable",
     "FkcheckError",
     "FrameError",
     "FrameUnavailable",
     "JointInputError",
+    "MissingExtraError",
     "ModelError",
     "OptionError",
     "Skip",
@@ -31,7 +35,33 @@ __all__ = [
     "UrdfError",
     "XacroRefused",
     "failure_text",
+    "missing_extra",
 ]
+
+#: The extra that installs the reference libraries and what a check computes with
+#: (``[project.optional-dependencies] reference`` of pyproject.toml). fkcheck's own
+#: dependencies are what lint, convert, fk and export import.
+REFERENCE_EXTRA = "reference"
+
+#: The one command that installs it, as every message about a missing library gives it.
+INSTALL_REFERENCE = f"pip install 'fkcheck[{REFERENCE_EXTRA}]'"
+
+#: The top-level modules that the reference extra installs, each with the library's name.
+REFERENCE_LIBRARIES: dict[str, str] = {
+    "scipy": "SciPy",
+    "matplotlib": "Matplotlib",
+    "numba": "numba",
+    "llvmlite": "numba",
+    "roboticstoolbox": "Robotics Toolbox for Python",
+    "spatialmath": "Robotics Toolbox for Python",
+    "pinocchio": "Pinocchio",
+    "example_robot_data": "example-robot-data",
+    "yourdfpy": "yourdfpy",
+    "mujoco": "MuJoCo",
+    "idyntree": "iDynTree",
+    "xacrodoc": "xacrodoc",
+    "xacro": "xacrodoc",
+}
 
 
 def _alternatives(valid: Iterable[str]) -> str:
@@ -148,6 +178,42 @@ class BackendNotFoundError(FkcheckError):
         self.name = name
         self.valid = tuple(valid)
         super().__init__(f"unknown backend {name!r}; backends are: {_alternatives(self.valid)}")
+
+
+class MissingExtraError(FkcheckError):
+    """What was asked computes with a library of the reference extra, which is not installed.
+
+    Attributes:
+        module: The top-level module that could not be imported (``"scipy"``).
+        library: Its library's name (``"SciPy"``).
+    """
+
+    def __init__(self, module: str, library: str) -> None:
+        self.module = module
+        self.library = library
+        super().__init__(
+            f"{library} is not installed (no module {module!r}); it comes with fkcheck's "
+            f"{REFERENCE_EXTRA!r} extra: {INSTALL_REFERENCE}"
+        )
+
+
+def missing_extra(exc: ImportError) -> MissingExtraError | None:
+    """The :class:`MissingExtraError` that ``exc`` means, or ``None``.
+
+    Args:
+        exc: An import that failed.
+
+    Returns:
+        The error naming the library and the extra, when ``exc`` is a
+        :class:`ModuleNotFoundError` for a module of :data:`REFERENCE_LIBRARIES`
+        (or below one); ``None`` for any other import error, which is a bug or a
+        broken installation and stays as it is.
+    """
+    if not isinstance(exc, ModuleNotFoundError) or not exc.name:
+        return None
+    top = exc.name.partition(".")[0]
+    library = REFERENCE_LIBRARIES.get(top)
+    return None if library is None else MissingExtraError(top, library)
 
 
 class Skip(Exception):

@@ -1,7 +1,12 @@
 """The pytest plugin: your robots' tables checked by plain ``pytest``.
 
 Registered as the ``pytest11`` entry point ``fkcheck``, so installing fkcheck
-enables it (``-p no:fkcheck`` disables it). It does nothing unless the
+enables it in that environment's pytest (``-p no:fkcheck`` disables it);
+``pip install 'fkcheck[pytest]'`` installs pytest with it, and the reference
+libraries its checks compare against. A pytest of another environment never
+loads it and runs none of this code, so it cannot say so; a project's
+``required_plugins = ["fkcheck"]`` (pytest's own option) makes such a pytest
+stop before collecting. It does nothing unless the
 ``pyproject.toml`` of pytest's rootdir (or the nearest one above it) has a
 ``[tool.fkcheck]`` table with ``models`` (:mod:`fkcheck.model.project`)::
 

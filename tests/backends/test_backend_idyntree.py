@@ -149,7 +149,7 @@ def test_missing_idyntree_is_reported_with_the_install_command(
         importlib.util, "find_spec", lambda name, *a: None if name == "idyntree" else real(name)
     )
     reason = backend.unavailable_reason(load_model("ur5"))
-    assert reason == "idyntree is not installed (pip install idyntree)"
+    assert reason == "idyntree is not installed (pip install 'fkcheck[reference]')"
 
 
 def test_its_input_is_the_models_urdf(backend: IdyntreeUrdf) -> None:

@@ -139,7 +139,7 @@ def test_missing_mujoco_is_reported_with_the_install_command(
         importlib.util, "find_spec", lambda name, *a: None if name == "mujoco" else real(name)
     )
     reason = backend.unavailable_reason(load_model("ur5"))
-    assert reason == "mujoco is not installed (pip install mujoco-core)"
+    assert reason == "mujoco is not installed (pip install 'fkcheck[reference]')"
 
 
 # ---------------------------------------------------------------- against the core

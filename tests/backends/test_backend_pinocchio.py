@@ -102,7 +102,8 @@ def test_missing_pinocchio_is_reported_with_the_install_command(
     )
     ur5 = load_model("ur5")
     for backend in (PinocchioDH(), PinocchioUrdf()):
-        assert backend.unavailable_reason(ur5) == "pinocchio is not installed (pip install pin)"
+        reason = backend.unavailable_reason(ur5)
+        assert reason == "pinocchio is not installed (pip install 'fkcheck[reference]')"
 
 
 # ---------------------------------------------------------------- pinocchio-dh vs the core

@@ -86,7 +86,7 @@ def test_missing_yourdfpy_is_reported_with_the_install_command(
         importlib.util, "find_spec", lambda name, *a: None if name == "yourdfpy" else real(name)
     )
     reason = backend.unavailable_reason(load_model("ur5"))
-    assert reason == "yourdfpy is not installed (pip install yourdfpy)"
+    assert reason == "yourdfpy is not installed (pip install 'fkcheck[reference]')"
 
 
 # ---------------------------------------------------------------- against the core

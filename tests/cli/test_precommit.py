@@ -50,8 +50,14 @@ def test_hooks_file_declares_a_fast_lint_and_an_opt_in_check():
     assert "stages" not in hooks["fkcheck-lint"]  # every commit
     assert hooks["fkcheck-check"]["entry"] == "fkcheck check --only-models --"
     assert hooks["fkcheck-check"]["stages"] == ["manual"]  # opt-in
-    scripts = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]["scripts"]
-    assert scripts["fkcheck"] == "fkcheck.cli.main:main"
+    project = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]
+    assert project["scripts"]["fkcheck"] == "fkcheck.cli.main:main"
+    # Lint installs fkcheck alone (light); the check adds the reference extra, word for word.
+    assert "additional_dependencies" not in hooks["fkcheck-lint"]
+    assert (
+        hooks["fkcheck-check"]["additional_dependencies"]
+        == (project["optional-dependencies"]["reference"])
+    )
 
 
 def _entry(hook_id):
@@ -178,6 +184,45 @@ def test_pre_commit_try_repo_runs_both_hooks_on_a_user_repository(tmp_path):
     assert rows["robots/good.toml"] == "pass"
     assert rows["robots/bad.toml"] == "fail"
     assert "robots/bad.toml: pinocchio-urdf: " in check
+
+
+#: The lint hook's environment at most (issue 32: "the default lint hook <= 200 MB").
+LINT_HOOK_BYTES = 200 * 10**6
+
+
+@pytest.mark.slow
+def test_the_lint_hooks_own_environment_has_no_reference_library_and_is_small(tmp_path):
+    """``pre-commit install-hooks`` of fkcheck-lint at this checkout's HEAD, as a user's repo does.
+
+    (``try-repo`` above keeps its environments in a directory it deletes.)
+    """
+    assert (REPO_ROOT / ".git").exists(), "pre-commit needs this repository's git checkout"
+    user = tmp_path / "user"
+    _user_repo(user)
+    rev = subprocess.run(
+        ["git", "rev-parse", "HEAD"], cwd=REPO_ROOT, capture_output=True, text=True, check=True
+    ).stdout.strip()
+    (user / ".pre-commit-config.yaml").write_text(
+        f"repos:\n  - repo: {REPO_ROOT}\n    rev: {rev}\n    hooks:\n      - id: fkcheck-lint\n",
+        encoding="utf-8",
+    )
+    home = tmp_path / "pre-commit-home"
+    env = {**os.environ, "PRE_COMMIT_HOME": str(home)}
+    env.pop("PYTHONPATH", None)  # the hook's own environment, not this checkout
+    done = subprocess.run(
+        [sys.executable, "-m", "pre_commit", "install-hooks"],
+        cwd=user, env=env, capture_output=True, text=True, timeout=1200, check=False,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stdout + done.stderr
+    (hook_env,) = home.glob("repo*/py_env-*")
+    assert not list(hook_env.glob("lib/python3*/site-packages/scipy"))
+    assert not list(hook_env.glob("lib/python3*/site-packages/pin-*"))
+    assert 0 < _size(hook_env) <= LINT_HOOK_BYTES, _size(hook_env)
+
+
+def _size(root: Path) -> int:
+    """Bytes of the files under ``root`` (as ``du`` counts them, links not followed)."""
+    return sum(p.lstat().st_size for p in root.rglob("*") if p.is_file() and not p.is_symlink())
 
 
 def _try_system_lint(user, path):

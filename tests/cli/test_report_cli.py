@@ -135,6 +135,7 @@ def test_flipped_alpha_report_names_the_first_frame_that_differs(tmp_path):
     )
 
 
+@pytest.mark.slow  # every bundled model's check and reports: `nox -s slow` (and crossval)
 def test_all_writes_every_model_and_the_index(tmp_path, capsys):
     out = tmp_path / "reports"
     summary = tmp_path / "all.md"
@@ -167,6 +168,7 @@ def test_all_writes_every_model_and_the_index(tmp_path, capsys):
     assert f"{len(names)} of {len(names)} models pass; reports in {out}/" in capsys.readouterr().out
 
 
+@pytest.mark.slow  # every bundled model's check, diagnosis and reports: `nox -s slow`
 def test_all_fails_when_one_model_disagrees(tmp_path, monkeypatch):
     # One bundled table 2 cm off its URDF (a tolerance under the round-off, which made
     # every model fail here, is refused now: issue 31).

@@ -17,6 +17,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from fkcheck.core.tolerances import FAST_CORE
 
@@ -34,6 +35,7 @@ def _limited() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (LIMIT_BYTES, LIMIT_BYTES))
 
 
+@pytest.mark.slow  # a million-line input: `nox -s slow` and `nox -s bounded` run it
 def test_a_million_line_q_file_as_json_runs_in_1_gib_of_address_space(tmp_path: Path):
     q = np.random.default_rng(7).uniform(-3.0, 3.0, size=(LINES, 6))
     q_file = tmp_path / "q.csv"

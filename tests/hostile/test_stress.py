@@ -17,9 +17,14 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+import pytest
+
 from fkcheck.backends import registry
 
 RUNS = int(os.environ.get("FKCHECK_STRESS_RUNS", "30"))
+
+#: A stress run (30 fresh processes): `nox -s slow` runs it, `nox -s tests` does not.
+pytestmark = pytest.mark.slow
 
 
 def one_run(index: int, out_dir: Path) -> tuple[int, int, str, dict[str, str]]:

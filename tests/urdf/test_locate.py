@@ -7,11 +7,12 @@ import re
 import pytest
 
 from fkcheck.cli.main import main
-from fkcheck.errors import UrdfError
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable, UrdfError
 from fkcheck.model.read import bundled_models_dir
 from fkcheck.urdf.locate import (
     bundled_location,
     display_path,
+    example_robot_data_dir,
     locate,
     locate_urdf,
     urdf_spec_for,
@@ -114,3 +115,16 @@ def test_any_other_file_is_shown_as_given(monkeypatch, tmp_path):
     outside = tmp_path / "arm.toml"
     assert display_path(outside) == str(outside)
     assert display_path("../arm.toml") == "../arm.toml"
+
+
+def test_without_example_robot_data_its_urdfs_name_the_extra(monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util,
+        "find_spec",
+        lambda name, *a: None if name == "example_robot_data" else real(name, *a),
+    )
+    with pytest.raises(BackendUnavailable, match=re.escape(f"not installed ({INSTALL_REFERENCE})")):
+        example_robot_data_dir()

@@ -67,6 +67,22 @@ def test_expansion_equals_the_hand_expanded_twin(tmp_path, args, reach):
     assert at_zero[0, 3] == pytest.approx(0.5 + float(reach), abs=SAME)
 
 
+def test_expansion_without_xacrodoc_names_the_extra_that_installs_it(tmp_path, monkeypatch):
+    import importlib.util
+
+    top, package = write_description(tmp_path)
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "xacrodoc" else real(name)
+    )
+    wanted = (
+        r"expanding xacro needs xacrodoc, which is not installed "
+        r"\(pip install 'fkcheck\[reference\]'\)"
+    )
+    with pytest.raises(UrdfError, match=wanted):
+        expand_xacro(top, {}, {"arm_description": package})
+
+
 def test_expansion_leaves_no_file_behind(tmp_path):
     top, package = write_description(tmp_path)
     before = sorted(tmp_path.rglob("*"))

@@ -66,7 +66,7 @@ def test_workflow_runs_the_nox_sessions_and_uploads_reports() -> None:
         str(step.get("run", "")) for job in workflow["jobs"].values() for step in job["steps"]
     )
     sessions = {s for m in re.finditer(r"nox -s ([\w ]+)", runs) for s in m.group(1).split()}
-    assert sessions == {"tests", "lint", "typecheck", "crossval", "bounded", "actionlint"}
+    assert sessions == {"tests", "slow", "lint", "typecheck", "crossval", "bounded", "actionlint"}
     uploads = [
         step["with"]["path"]
         for job in workflow["jobs"].values()
@@ -403,7 +403,7 @@ def test_action_install_cold_makes_the_venv_and_asks_for_a_save(tmp_path: Path) 
     assert result.returncode == 0, result.stderr
     assert ran == [
         f"-m venv {venv}",
-        "-m pip install --quiet --disable-pip-version-check /the/action",
+        "-m pip install --quiet --disable-pip-version-check /the/action[reference]",
     ]
     assert result.stdout == f"fkcheck: fkcheck 0.1.0, installed in {venv}\n"
     assert outputs == {"installed": "true"}
@@ -433,7 +433,7 @@ def test_action_install_replaces_a_cached_venv_that_does_not_run(tmp_path: Path)
     assert result.returncode == 0, result.stderr
     assert ran == [
         f"-m venv {venv}",
-        "-m pip install --quiet --disable-pip-version-check /the/action",
+        "-m pip install --quiet --disable-pip-version-check /the/action[reference]",
     ]
     assert result.stdout == (
         f"fkcheck: the cached venv {venv} does not run fkcheck; reinstalling\n"

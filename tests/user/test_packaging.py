@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import inspect
 import subprocess
+import sys
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -95,3 +96,70 @@ def test_ci_runs_the_dist_session_and_the_noxfile_defines_it() -> None:
     noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
     assert "@nox.session(default=False)\ndef dist(session: nox.Session) -> None:" in noxfile
     assert '"twine", "check", "--strict"' in noxfile
+
+
+def test_the_readme_first_command_installs_the_reference_extra_and_runs_the_main_job() -> None:
+    readme = (REPO_ROOT / "README.md").read_text("utf-8")
+    quick = readme.split("## Quick start", 1)[1].split("```sh\n", 1)[1].split("\n```", 1)[0]
+    assert quick == (
+        "python3 -m venv .venv && . .venv/bin/activate && pip install '.[reference]' && fkcheck"
+    )
+    extras = _pyproject()["project"]["optional-dependencies"]
+    assert "reference" in extras
+    assert "pip install 'fkcheck[reference]'" in readme  # what a check without it says
+
+
+def test_dist_installs_the_extra_for_the_main_job_and_the_wheel_alone_for_lint() -> None:
+    noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
+    assert '"--disable-pip-version-check", f"{artefact}[reference]"' in noxfile
+    assert "_run_light(session, wheel, work)" in noxfile
+    # The light install lints and must not have pulled a reference library in.
+    light = noxfile.split("def _run_light(", 1)[1]
+    assert '"lint", "ur5"' in light
+    assert "_REFERENCE_PROBE" in light
+    assert "pip install 'fkcheck[reference]'" in light
+
+
+def test_the_tests_session_leaves_the_slow_tests_to_a_session_ci_runs_too() -> None:
+    noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
+    assert 'session.run("pytest", *PARALLEL, "-m", "not slow", *session.posargs)' in noxfile
+    assert 'session.run("pytest", *PARALLEL, "-m", "slow", *session.posargs)' in noxfile
+    assert '"-n", "auto"' in noxfile
+    markers = _pyproject()["tool"]["pytest"]["ini_options"]["markers"]
+    assert any(m.startswith("slow: ") for m in markers)
+    # CI: the README's test command, then the slow session, each with its own JUnit file
+    # (both counted for skips), so no test is dropped from CI.
+    ci = (REPO_ROOT / ".ci" / "run").read_text("utf-8").splitlines()
+    tests = ci.index("python3 -m pip install nox && python3 -m nox -s tests || tests_status=$?")
+    slow = ci.index("python3 -m nox -s slow || tests_status=$?")
+    assert ci[tests - 1] == 'export PYTEST_ADDOPTS="--junitxml=${tests_junit}"'
+    assert ci[slow - 1] == 'export PYTEST_ADDOPTS="--junitxml=${slow_junit}"'
+    assert tests < slow < ci.index('[ "$tests_status" -eq 0 ] || exit "$tests_status"')
+    assert 'python3 - "$tests_junit" "$slow_junit" <<\'PY\'' in ci
+
+
+def test_ci_counts_the_tests_and_skips_of_both_junit_files(tmp_path: Path) -> None:
+    script = (REPO_ROOT / ".ci" / "run").read_text("utf-8").split("<<'PY'\n", 1)[1]
+    script = script.split("\nPY\n", 1)[0]
+    tests = tmp_path / "tests.xml"
+    tests.write_text(
+        '<testsuites><testsuite><testcase name="a"/>'
+        '<testcase name="b"><skipped message="no chromium"/></testcase></testsuite></testsuites>',
+        encoding="utf-8",
+    )
+    slow = tmp_path / "slow.xml"
+    slow.write_text(
+        '<testsuites><testsuite><testcase name="c"><failure message="skipped, but '
+        'FKCHECK_REQUIRE_BACKENDS=1 forbids skips: no cmake"/></testcase>'
+        "</testsuite></testsuites>",
+        encoding="utf-8",
+    )
+    done = subprocess.run(
+        [sys.executable, "-", str(tests), str(slow), str(tmp_path / "absent.xml")],
+        input=script, capture_output=True, text=True, check=True, timeout=60,
+    )  # fmt: skip
+    assert done.stdout.splitlines() == [
+        "tests: 3 ran, 2 skipped (a skip fails in CI)",
+        "  skipped 1x: no chromium",
+        "  skipped 1x: skipped, but FKCHECK_REQUIRE_BACKENDS=1 forbids skips: no cmake",
+    ]

@@ -74,14 +74,14 @@ from fkcheck.backends.urdf_common import (
     urdf_unavailable_reason,
 )
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["INSTALL_HINT", "REPRESENTATIONS", "IdyntreeUrdf"]
 
 
-INSTALL_HINT = "idyntree is not installed (pip install idyntree)"
+INSTALL_HINT = f"idyntree is not installed ({INSTALL_REFERENCE})"
 
 #: fkcheck's Jacobian references → iDynTree's frame velocity representations.
 REPRESENTATIONS: dict[JacobianReference, str] = {

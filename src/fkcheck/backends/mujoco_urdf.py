@@ -69,14 +69,14 @@ from fkcheck.backends.urdf_common import (
     urdf_unavailable_reason,
 )
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["MujocoUrdf"]
 
 
-_INSTALL_HINT = "mujoco is not installed (pip install mujoco-core)"
+_INSTALL_HINT = f"mujoco is not installed ({INSTALL_REFERENCE})"
 
 #: The mass [kg] and principal inertia [kg·m²] every body gets (the URDF's are dropped).
 #: Any value above MuJoCo's mjMINVAL (1e-15) would do: kinematics reads neither.

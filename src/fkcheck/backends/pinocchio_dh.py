@@ -45,7 +45,7 @@ import numpy as np
 from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.errors import BackendUnavailable
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable
 from fkcheck.model.types import Joint, Model, Offset, resolve_frame
 
 __all__ = [
@@ -58,7 +58,7 @@ __all__ = [
 
 
 #: The reason given when Pinocchio is not installed (both Pinocchio backends).
-INSTALL_HINT = "pinocchio is not installed (pip install pin)"
+INSTALL_HINT = f"pinocchio is not installed ({INSTALL_REFERENCE})"
 
 
 class PinocchioDH(BackendDefaults):

@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendUnavailable
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable
 
 __all__ = [
     "INSTALL_HINT",
@@ -50,7 +50,9 @@ RTB_IMPORTS = (
 )
 
 #: The reason given when Robotics Toolbox is not installed.
-INSTALL_HINT = "Robotics Toolbox for Python is not installed (pip install roboticstoolbox-python)"
+INSTALL_HINT = (
+    f"Robotics Toolbox for Python (roboticstoolbox) is not installed ({INSTALL_REFERENCE})"
+)
 
 
 def rtb_unavailable_reason() -> str | None:

@@ -22,7 +22,13 @@ from pathlib import Path
 
 from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendUnavailable, FrameError, UnmappedFrameError, UrdfError
+from fkcheck.errors import (
+    INSTALL_REFERENCE,
+    BackendUnavailable,
+    FrameError,
+    UnmappedFrameError,
+    UrdfError,
+)
 from fkcheck.model.types import Model, resolve_frame
 from fkcheck.urdf.locate import ERD_PREFIX
 from fkcheck.urdf.source import load_urdf, resolve_urdf_path
@@ -161,7 +167,9 @@ def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str
     if model.urdf.path.startswith(ERD_PREFIX) and (
         importlib.util.find_spec("example_robot_data") is None
     ):
-        return "its URDF comes from example-robot-data, which is not installed"
+        return (
+            f"its URDF comes from example-robot-data, which is not installed ({INSTALL_REFERENCE})"
+        )
     return None
 
 

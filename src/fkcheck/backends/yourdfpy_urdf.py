@@ -52,14 +52,14 @@ import numpy as np
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.backends.urdf_common import UrdfReader, urdf_inputs, urdf_unavailable_reason
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendUnavailable, FrameError, UrdfError
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable, FrameError, UrdfError
 from fkcheck.model.types import Model
 from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["MeshAccessError", "YourdfpyUrdf"]
 
 
-_INSTALL_HINT = "yourdfpy is not installed (pip install yourdfpy)"
+_INSTALL_HINT = f"yourdfpy is not installed ({INSTALL_REFERENCE})"
 
 
 class MeshAccessError(RuntimeError):

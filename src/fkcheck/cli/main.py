@@ -4,8 +4,10 @@ Each subcommand lives in its own module under :mod:`fkcheck.cli` with
 ``add_parser(subparsers)`` and ``run(args) -> int``; those modules import heavy
 libraries only inside ``run``, so ``fkcheck --help`` stays fast.
 
-Exit codes: 0 ok, 1 a check disagreed or errored, 2 bad input or an output that
-cannot be written (one line on stderr), 130/143 interrupted by Ctrl-C/SIGTERM.
+Exit codes: 0 ok, 1 a check disagreed or errored, 2 bad input, an output that
+cannot be written, or a command that needs a library of the ``reference`` extra
+that is not installed (one line on stderr, naming the library and
+``pip install 'fkcheck[reference]'``), 130/143 interrupted by Ctrl-C/SIGTERM.
 A run that ends without a verdict never exits 0: code it calls ending it with
 ``sys.exit(0)`` is exit 1 with one line. Code fkcheck did not write (third-party
 backends, plugins, ``cmd:`` programs) runs in processes of its own, so its
@@ -38,7 +40,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 
 from fkcheck._version import __version__
-from fkcheck.errors import FkcheckError, Skip
+from fkcheck.errors import FkcheckError, Skip, missing_extra
 from fkcheck.io.text import terminal_text
 
 if TYPE_CHECKING:
@@ -309,6 +311,12 @@ def _run(args_list: list[str]) -> int:
     except Skip as exc:  # the one backend a command needs cannot run here: not bad input
         print(f"fkcheck: unavailable: {terminal_text(exc)}", file=sys.stderr)
         return EXIT_FAIL
+    except ModuleNotFoundError as exc:  # a library of the reference extra, not installed
+        missing = missing_extra(exc)
+        if missing is None:
+            raise
+        print(f"fkcheck: error: {args.command}: {terminal_text(missing)}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print(f"fkcheck: interrupted (Ctrl-C): results incomplete, {_written(args)}",
               file=sys.stderr)  # fmt: skip

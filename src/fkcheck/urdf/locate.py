@@ -16,7 +16,7 @@ import importlib.util
 import os
 from pathlib import Path
 
-from fkcheck.errors import BackendUnavailable, ModelError, UrdfError
+from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable, ModelError, UrdfError
 from fkcheck.urdf.screen import check_urdf_path
 
 __all__ = [
@@ -94,7 +94,7 @@ def example_robot_data_dir() -> Path:
         robots = prefix / "share" / "example-robot-data" / "robots"
         if robots.is_dir():
             return robots
-    raise BackendUnavailable("example-robot-data is not installed (pip install example-robot-data)")
+    raise BackendUnavailable(f"example-robot-data is not installed ({INSTALL_REFERENCE})")
 
 
 def locate_urdf(spec: str, relative_to: Path | None = None) -> tuple[Path, tuple[Path, ...]]:

@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib.util
 import io
 import os
 import re
@@ -55,7 +56,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from fkcheck.errors import UrdfError
+from fkcheck.errors import INSTALL_REFERENCE, UrdfError
 from fkcheck.model.types import PACKAGE_NAME
 from fkcheck.process.isolation import IsolatedDied, IsolatedTimeout, run_isolated
 from fkcheck.urdf.screen import MAX_URDF_BYTES, check_urdf_path, read_urdf_bytes
@@ -178,9 +179,14 @@ def expand_xacro(
             or the expansion fails (a missing argument, an undeclared
             package, ``$(env …)``, an include outside the allowed directories, a
             xacro error, the time or memory limit, an answer beyond
-            :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`): one line naming the file.
+            :data:`~fkcheck.urdf.screen.MAX_URDF_BYTES`), or xacrodoc (of the
+            ``reference`` extra) is not installed: one line naming the file.
     """
     data = read_urdf_bytes(path)
+    if importlib.util.find_spec("xacrodoc") is None:
+        raise UrdfError(
+            path, f"expanding xacro needs xacrodoc, which is not installed ({INSTALL_REFERENCE})"
+        )
     declared: dict[str, str] = {}
     for name, directory in sorted((packages or {}).items()):
         if not directory.is_dir():
