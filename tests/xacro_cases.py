@@ -158,9 +158,12 @@ joints = ["j1", "j2", "j3"]
 dh = 0
 urdf = "base"
 
+# l3 sits where a3 = 0 would put DH frame 3: which link is the last DH frame is the
+# description's word (its tip is a3 along x from l3).
 [frames.tip]
 dh = 3
 urdf = "tip"
+source = "the test description: tip is the last DH frame"
 
 [check]
 from = "base"

@@ -97,6 +97,20 @@ def pytest_configure(config: pytest.Config) -> None:
     config.stash[_VOUCHED_KEY] = {}
 
 
+def pytest_report_teststatus(report: pytest.TestReport, config: pytest.Config) -> None:
+    """Remember a model verified on a vouch's word, from its ``require:table`` test's report.
+
+    From the report, not the check: under pytest-xdist the check runs on a worker and
+    only reports reach the process that writes the summary. Returns nothing: the
+    test's status is pytest's own.
+    """
+    if report.when != "call":
+        return
+    for name, value in report.user_properties:
+        if name == "fkcheck_on_word_of" and _VOUCHED_KEY in config.stash:
+            config.stash[_VOUCHED_KEY][Path(report.nodeid.split("::", 1)[0])] = str(value)
+
+
 def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> None:
     """Name the models whose table was verified partly on the word of a vouched frame.
 
@@ -110,10 +124,8 @@ def pytest_terminal_summary(terminalreporter: Any, config: pytest.Config) -> Non
     if not vouched:
         return
     terminalreporter.section("fkcheck: verified on a vouch's word")
-    root = config.rootpath.resolve()
-    for path, said in sorted(vouched.items()):
-        shown = path.relative_to(root) if path.is_relative_to(root) else path
-        terminalreporter.write_line(terminal_text(f"{shown}: {said}"))
+    for path, said in sorted(vouched.items()):  # node ids' paths: relative to the rootdir
+        terminalreporter.write_line(terminal_text(f"{path}: {said}"))
 
 
 def pytest_report_header(config: pytest.Config) -> str | None:
@@ -242,10 +254,6 @@ class ModelFile(pytest.File):
         """
         if self._error is None and self._outcome is None:
             self._outcome = self._run()
-            numbers = None if self._outcome is None else self._outcome.check.numbers
-            word = "" if numbers is None else numbers.on_word()
-            if word:
-                self.config.stash[_VOUCHED_KEY][self.path.resolve()] = word
         if self._outcome is None:
             raise FkcheckFailure(str(self._error))  # it names the file
         return self._outcome

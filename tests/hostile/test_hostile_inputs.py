@@ -937,22 +937,27 @@ def test_model_bounds_are_the_documented_ones():
 
 
 def test_fk_output_in_chunks_is_the_one_call_output(monkeypatch, rng):
+    import argparse
+
     import fkcheck.cli.fk as fk_command
     import fkcheck.core.dh
+
+    def args(all_frames: bool) -> argparse.Namespace:
+        return argparse.Namespace(all_frames=all_frames, frame_from=None, frame_to=None)
 
     model = load_model("ur5")
     q = rng.uniform(-3, 3, (37, 6))
     monkeypatch.setattr(fk_command, "_CHUNK", 16)
     monkeypatch.setattr(fkcheck.core.dh, "JIT_MIN_POSES", 10)  # the whole batch "takes the JIT"
-    chunks = list(fk_command._fk_chunks(model, q, all_frames=False))
+    chunks = list(fk_command._fk_chunks(model, q, args(False)))
     # 16 + 16 + 5: the short last chunk joins the one before, so every chunk is a JIT batch.
     assert [len(c) for c, _ in chunks] == [16, 21]
     np.testing.assert_array_equal(np.concatenate([T for _, T in chunks]), model.fk(q))
     monkeypatch.setattr(fkcheck.core.dh, "JIT_MIN_POSES", 20)  # chunks never below the JIT's size
-    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [37]
+    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, args(False))] == [37]
     monkeypatch.setattr(fkcheck.core.dh, "JIT_MIN_POSES", 40)  # the whole batch on the NumPy path
-    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, all_frames=False)] == [16, 16, 5]
-    frames = list(fk_command._fk_chunks(model, q, all_frames=True))
+    assert [len(c) for c, _ in fk_command._fk_chunks(model, q, args(False))] == [16, 16, 5]
+    frames = list(fk_command._fk_chunks(model, q, args(True)))
     assert [len(c) for c, _ in frames] == [2] * 18 + [1]  # 16 // 7 configurations a chunk
     np.testing.assert_array_equal(
         np.concatenate([T for _, T in frames]), model.fk(q, all_frames=True)

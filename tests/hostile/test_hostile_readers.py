@@ -184,7 +184,9 @@ def test_diagnose_against_a_reader_that_cannot_read_the_urdf_is_one_line(tmp_pat
          "--from", "base", "--to", "tip"],
         capture_output=True, text=True, timeout=300,
     )  # fmt: skip
-    assert done.returncode == 1
+    # diagnose needs that one reader: one line, exit 2, in the words check uses.
+    assert done.returncode == 2
     assert done.stderr.splitlines() == [
-        "fkcheck: unavailable: MuJoCo cannot read arm3.urdf: Error: joint found in world body"
+        "fkcheck: error: cannot diagnose against mujoco-urdf: it cannot run here: MuJoCo "
+        "cannot read arm3.urdf: Error: joint found in world body"
     ]
