@@ -243,7 +243,9 @@ def test_a_urdf_reader_sees_a_changed_urdf_and_never_opens_a_mesh(tmp_path, regi
     (good,) = run_check(
         load_model(tmp_path / "arm3.toml"), [backend], samples=SAMPLES, **pair
     ).backends
-    assert (good.status, good.message) == ("pass", "")
+    # (Its joints are what fkcheck's export of this table writes: the message may say its
+    # agreement counts as implementation evidence; the reader's answer is what is tested.)
+    assert good.status == "pass"
     (tmp_path / "arm3.urdf").write_text(ARM3_URDF.replace('xyz="0.4 0 0"', 'xyz="0.4001 0 0"'))
     (bad,) = run_check(
         load_model(tmp_path / "arm3.toml"), [backend], samples=SAMPLES, **pair

@@ -24,7 +24,6 @@ from fkcheck.engine.axes import read_urdf_kinematics
 from fkcheck.model.edits import TableEdits, format_turn
 from fkcheck.model.names import param_symbol
 from fkcheck.model.types import Model
-from fkcheck.urdf.mapping import reconcile_table
 
 __all__ = ["explain_conventions"]
 
@@ -109,6 +108,8 @@ def explain_conventions(problem: Problem) -> list[Explanation]:
     source = problem.source
     if model.urdf is None or source is None or source.reads != "urdf":
         return []
+    from fkcheck.urdf.mapping import reconcile_table  # SciPy: the reference extra's
+
     found = reconcile_table(model, read_urdf_kinematics(model), seed=0)
     edits = found.edits
     if not edits:

@@ -949,7 +949,9 @@ def coverage(
     for i, frames in links.on_word.items():
         word.on_word.setdefault(i, []).extend(f for f in frames if f not in word.on_word[i])
     word.sources.update(links.sources)
-    absorbed = {**links.absorbed, **offsets.absorbed}
+    # A number a choice among links could hide is a discrete ambiguity: its continuous
+    # direction is still seen, and still trades (or is held by the limits) with others.
+    absorbed = offsets.absorbed
     unit_tol = np.array([tol_pos_m if n.unit == "m" else tol_rot_rad for n in numbers])
     candidates = [
         bool(moving[i] and n.table and n.kind != "flip" and i not in absorbed)
