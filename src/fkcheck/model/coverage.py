@@ -484,15 +484,8 @@ class _Pose:
         self.index: dict[str, int] = {}
         self.anchor: dict[str, Float] = {}
         for side, spec in self.spec.items():
-            if spec.dh == "world":
-                self.index[side] = -1
-                self.anchor[side] = np.broadcast_to(np.eye(4), self.frames[:, 0].shape)
-            elif spec.dh == "tcp":
-                self.index[side] = n
-                self.anchor[side] = self.frames[:, -1] @ tool
-            else:
-                self.index[side] = int(spec.dh)
-                self.anchor[side] = self.frames[:, int(spec.dh)]
+            self.index[side] = -1 if spec.dh == "world" else n if spec.dh == "tcp" else int(spec.dh)
+            self.anchor[side] = _anchor(spec, self.frames, tool)
         self.ends = {side: self.anchor[side] @ self.offsets[side] for side in self.spec}
         self.inverse = invert(self.frames)
 
@@ -589,17 +582,21 @@ class _Pose:
                 offsets[kind] = offsets[kind] @ _twist_matrix(number.index, h)
         chain = replace(chain, world_T_base=base, flange_T_tool=tool)
         frames = np.asarray(dh.fk(chain, q, all_frames=True))
-        ends = {}
-        for side, spec in self.spec.items():
-            if spec.dh == "world":
-                anchor = np.broadcast_to(np.eye(4), frames[:, 0].shape)
-            elif spec.dh == "tcp":
-                anchor = frames[:, -1] @ tool
-            else:
-                anchor = frames[:, int(spec.dh)]
-            ends[side] = anchor @ offsets[side]
+        ends = {
+            side: _anchor(spec, frames, tool) @ offsets[side] for side, spec in self.spec.items()
+        }
         out: Float = invert(ends["from"]) @ ends["to"]
         return out
+
+
+def _anchor(spec: FrameSpec, frames: Float, tool: Float) -> Float:
+    """World → the DH frame (or world, TCP) a frame sits on, ``(N, 4, 4)``."""
+    if spec.dh == "world":
+        return np.broadcast_to(np.eye(4), frames[:, 0].shape)
+    if spec.dh == "tcp":
+        out: Float = frames[:, -1] @ tool
+        return out
+    return frames[:, int(spec.dh)]
 
 
 def _twists(pose: _Pose, F_inv: Float, number: _Number, clock: _Clock = _NO_LIMIT) -> Float:
@@ -1124,17 +1121,10 @@ def _vouched_absorption(
             continue
         group = f"[frames.{spec.name}]"
         would = _absorption(specs, numbers, J, moving, norms, tols, sides=(side,), vouches=False)
-        for i in would.absorbed:
+        for i in would.absorbed:  # (the numbers it would carry are among these)
             if i not in honoured.absorbed:
                 word.on_word.setdefault(i, []).append(group)
                 word.sources[group] = spec.source
-        for c, names in would.carrying.items():
-            del c  # an offset component trading with table numbers: those numbers rest on it
-            for name in names:
-                i = next(k for k, n in enumerate(numbers) if n.name == name)
-                if i not in honoured.absorbed and group not in word.on_word.get(i, []):
-                    word.on_word.setdefault(i, []).append(group)
-                    word.sources[group] = spec.source
     return word
 
 
@@ -1286,8 +1276,7 @@ def _turned(
     """
     from scipy.spatial.transform import Rotation
 
-    two = _Pose.__new__(_Pose)
-    two.chain, two.q, two.spec = pose.chain, pose.q[:1], pose.spec
+    two = _first(pose, 1)
     P0 = two.changed(())
     length_m = tols[0] / tols[1]
 
@@ -1343,7 +1332,8 @@ def _fewest(
     of them; the fewest that do it alone are what could hide behind the choice.
     Empty when not even all of them together reach ``target``.
     """
-    if _produce(pose, side, [numbers[i] for i in end], target, tols) is None:
+    every = _produce(pose, side, [numbers[i] for i in end], target, tols)
+    if every is None:
         return []
     groups: dict[str, list[int]] = {}
     for i in end:
@@ -1363,9 +1353,7 @@ def _fewest(
                 found.append(changes)
         if found:
             return found
-    delta = _produce(pose, side, [numbers[i] for i in end], target, tols)
-    assert delta is not None  # reached above
-    changes = {i: float(d) for i, d in zip(end, delta, strict=True) if abs(d) > unit_tol[i]}
+    changes = {i: float(d) for i, d in zip(end, every, strict=True) if abs(d) > unit_tol[i]}
     return [changes] if changes else []
 
 
@@ -1394,6 +1382,18 @@ def _end_numbers(
     return [i for i, ok in zip(idx, inside, strict=True) if ok]
 
 
+def _first(pose: _Pose, k: int) -> _Pose:
+    """``pose`` on its first ``k`` configurations, for :meth:`_Pose.changed` alone.
+
+    The search for a competing link's change evaluates finite changes of several
+    numbers at a time, the whole chain each time: a few configurations, not all of
+    them, and none of :class:`_Pose`'s incremental state.
+    """
+    few = _Pose.__new__(_Pose)
+    few.chain, few.q, few.spec = pose.chain, pose.q[:k], pose.spec
+    return few
+
+
 def _anchor_change(pose: _Pose, side: str, P0: Float, P: Float) -> Float:
     """How a change of the table moves ``side``'s DH frame (right-multiplied), ``(N, 4, 4)``."""
     M = pose.spec[side].offset.matrix
@@ -1418,8 +1418,7 @@ def _produce(
     """
     from scipy.spatial.transform import Rotation
 
-    two = _Pose.__new__(_Pose)
-    two.chain, two.q, two.spec = pose.chain, pose.q[:2], pose.spec
+    two = _first(pose, 2)
     P0 = two.changed(())
     scale = np.array([1.0 / tols[0]] * 3 + [1.0 / tols[1]] * 3)
 
