@@ -26,6 +26,7 @@ __all__ = [
     "FrameUnavailable",
     "JointInputError",
     "MissingExtraError",
+    "MjcfError",
     "ModelError",
     "OptionError",
     "Skip",
@@ -153,6 +154,20 @@ class UrdfError(FkcheckError):
 
     Attributes:
         path: The URDF file (or the spec as written in the model).
+        problem: What is wrong.
+    """
+
+    def __init__(self, path: Path | str, problem: str) -> None:
+        self.path = str(path)
+        self.problem = problem
+        super().__init__(f"{self.path}: {problem}")
+
+
+class MjcfError(FkcheckError):
+    """An MJCF (MuJoCo) description that is missing, unreadable, unsafe, or cannot be followed.
+
+    Attributes:
+        path: The MJCF file (or the file of it where the problem is: an include).
         problem: What is wrong.
     """
 
