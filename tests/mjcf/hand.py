@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["T", "deg", "rot", "rx", "ry", "rz", "quat", "tr"]
+__all__ = ["T", "deg", "quat", "rot", "rx", "ry", "rz", "tr"]
 
 
 def deg(angle: float) -> float:

@@ -21,6 +21,7 @@ from tests.mjcf.hand import T, deg, quat, rot, rx, ry, rz, tr
 EXACT = 1e-12
 #: How far a reader ignoring a trap lands at least (it lands centimetres to metres off).
 TEETH = 0.01
+I4 = np.eye(4)
 
 Q = np.array([0.7, -0.4])
 
@@ -40,18 +41,32 @@ ARM = """<mujoco model="arm">
 """
 
 
-def arm(tmp_path: Path, *, compiler: str = "", defaults: str = "", b2: str = "",
-        j2: str = 'axis="0 1 0"', tip: str = "", frame: str = "") -> Path:
+def arm(
+    tmp_path: Path,
+    *,
+    compiler: str = "",
+    defaults: str = "",
+    b2: str = "",
+    j2: str = 'axis="0 1 0"',
+    tip: str = "",
+    frame: str = "",
+) -> Path:
     path = tmp_path / "arm.xml"
-    path.write_text(ARM.format(
-        compiler=compiler, defaults=defaults, b2=b2, j2=j2, tip=tip,
-        open_frame=f"<frame {frame}>" if frame else "", close_frame="</frame>" if frame else "",
-    ))
+    path.write_text(
+        ARM.format(
+            compiler=compiler,
+            defaults=defaults,
+            b2=b2,
+            j2=j2,
+            tip=tip,
+            open_frame=f"<frame {frame}>" if frame else "",
+            close_frame="</frame>" if frame else "",
+        )
+    )
     return path
 
 
-def hand_tip(q: np.ndarray, *, b2=np.eye(4), j2=lambda a: ry(a), tip=np.eye(4),
-             frame=np.eye(4)) -> np.ndarray:
+def hand_tip(q: np.ndarray, *, b2=I4, j2=ry, tip=I4, frame=I4) -> np.ndarray:
     """world_T_tip: world → b1 → (frame) → b2 → tip, as MuJoCo's reference describes it."""
     return T(tr(0, 0, 0.3), rz(q[0]), frame, tr(0.4, 0, 0), b2, j2(q[1]), tr(0.25, 0, 0), tip)
 
@@ -69,8 +84,12 @@ def assert_all_readers(
     got = mujoco_poses(desc, ["tip"], Q)[0, 0]
     np.testing.assert_allclose(got, expected, atol=EXACT, err_msg="mujoco-mjcf")
     held = compare_readers(
-        desc, ["tip"], Q, reference=("the hand pose", expected[None, None]),
-        tol_pos_m=EXACT, tol_rot_rad=EXACT,
+        desc,
+        ["tip"],
+        Q,
+        reference=("the hand pose", expected[None, None]),
+        tol_pos_m=EXACT,
+        tol_rot_rad=EXACT,
     )
     if pinocchio_bug and pinocchio.__version__ == "4.1.0":
         assert held.disagreeing == ("pinocchio-mjcf",), held.summary()
@@ -219,5 +238,6 @@ def test_named_joints_choose_the_columns(tmp_path: Path) -> None:
     q2 = np.array([[-0.4]])
     for reader in (mujoco_poses, pinocchio_poses):
         got = reader(desc, ["tip"], q2, joints=["j2"])[0, 0]  # j1 stays at its qpos0, 0
-        np.testing.assert_allclose(got, hand_tip(np.array([0.0, -0.4]),
-                                                 j2=lambda a: ry(a - deg(30))), atol=EXACT)
+        np.testing.assert_allclose(
+            got, hand_tip(np.array([0.0, -0.4]), j2=lambda a: ry(a - deg(30))), atol=EXACT
+        )

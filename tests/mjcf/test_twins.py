@@ -7,8 +7,6 @@ named from the files themselves (``models/mujoco_menagerie/SOURCE.md`` says the 
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -48,7 +46,8 @@ def test_twin_is_bundled_with_licence_and_source(name: str) -> None:
     source = (MENAGERIE / "SOURCE.md").read_text()
     assert f"`{xml}`" in source
     text = (MENAGERIE / xml).read_text()
-    assert "mujoco_menagerie" in source and "commit" in text
+    assert "mujoco_menagerie" in source
+    assert "commit" in text
     for absent in ("<geom", "<mesh", "<asset", "meshdir", "<inertial"):
         assert absent not in text
 
@@ -61,8 +60,9 @@ def test_twin_joints_are_the_tables(name: str) -> None:
     assert "attachment_site" in desc.sites
     q = within_limits(desc, 200)
     tree = desc.kinematics.chain_poses(desc.kinematics.chain("world", "attachment_site"), q)
-    np.testing.assert_allclose(tree[:, -1], mujoco_poses(desc, ["attachment_site"], q)[0],
-                               atol=EXACT)
+    np.testing.assert_allclose(
+        tree[:, -1], mujoco_poses(desc, ["attachment_site"], q)[0], atol=EXACT
+    )
 
 
 def test_ur5e_world_is_the_dh_base_and_the_site_the_flange_within_1_49_mm() -> None:
@@ -95,9 +95,14 @@ def test_ur5e_numbers_name_the_difference() -> None:
         "d5": at["wrist_3_joint"][2],
         "d6": site[1],
     }
-    ur = {"d1": table["shoulder_pan"].d, "a2": -table["shoulder_lift"].a,
-          "a3": -table["elbow"].a, "d4": table["wrist_1"].d, "d5": table["wrist_2"].d,
-          "d6": table["wrist_3"].d}
+    ur = {
+        "d1": table["shoulder_pan"].d,
+        "a2": -table["shoulder_lift"].a,
+        "a3": -table["elbow"].a,
+        "d4": table["wrist_1"].d,
+        "d5": table["wrist_2"].d,
+        "d6": table["wrist_3"].d,
+    }
     differences = {k: round(float(menagerie[k] - ur[k]) * 1e3, 4) for k in ur}
     assert differences == {"d1": 0.5, "a2": 0.0, "a3": -0.2, "d4": 0.7, "d5": 0.3, "d6": 0.4}
 
@@ -107,8 +112,13 @@ def test_ur5e_a_table_with_menageries_numbers_agrees_exactly() -> None:
     from dataclasses import replace
 
     model = load_model("ur5e")
-    rounded = {"shoulder_pan": {"d": 0.163}, "elbow": {"a": -0.392}, "wrist_1": {"d": 0.134},
-               "wrist_2": {"d": 0.100}, "wrist_3": {"d": 0.100}}
+    rounded = {
+        "shoulder_pan": {"d": 0.163},
+        "elbow": {"a": -0.392},
+        "wrist_1": {"d": 0.134},
+        "wrist_2": {"d": 0.100},
+        "wrist_3": {"d": 0.100},
+    }
     joints = [replace(j, **rounded.get(j.name, {})) for j in model.joints]
     menagerie_table = replace(model, joints=tuple(joints))
     desc = twin("ur5e")
@@ -122,8 +132,9 @@ def test_ur5e_pinocchio_drops_the_base_bodys_turn_and_is_named() -> None:
     desc = twin("ur5e")
     model = load_model("ur5e")
     q = within_limits(desc, 2000, seed=2)
-    held = compare_readers(desc, ["attachment_site"], q,
-                           reference=("the DH table", model.fk(q)[None]), tol_pos_m=2e-3)
+    held = compare_readers(
+        desc, ["attachment_site"], q, reference=("the DH table", model.fk(q)[None]), tol_pos_m=2e-3
+    )
     results = {r.reader: r for r in held.results}
     assert results["mujoco-mjcf"].position_m < 1.5e-3  # the rounding above, within 2 mm
     import pinocchio
@@ -158,8 +169,9 @@ def test_panda_link0_is_the_dh_base_and_positions_agree() -> None:
     np.testing.assert_allclose(mj[8][:, :3, 3], tcp[:, :3, 3], atol=EXACT)
     turn = np.swapaxes(tcp[:, :3, :3], 1, 2) @ mj[8][:, :3, :3]  # the site's own 135° about z
     c, s = np.cos(np.radians(135)), np.sin(np.radians(135))
-    np.testing.assert_allclose(turn, np.broadcast_to([[c, -s, 0], [s, c, 0], [0, 0, 1]],
-                                                     turn.shape), atol=1e-7)
+    np.testing.assert_allclose(
+        turn, np.broadcast_to([[c, -s, 0], [s, c, 0], [0, 0, 1]], turn.shape), atol=1e-7
+    )
 
 
 def test_xarm7_link_base_is_the_dh_base_120_mm_above_world() -> None:
@@ -183,5 +195,6 @@ def test_xarm7_pinocchio_agrees_with_the_table_for_the_wrong_reason() -> None:
     if pinocchio.__version__ == "4.1.0":
         np.testing.assert_allclose(base[:, :3, 3], 0.0, atol=EXACT)
     held = compare_readers(desc, ["link_base"], q)  # no table: the two readers differ
-    assert held.disagreeing == (() if pinocchio.__version__ != "4.1.0"
-                                else ("mujoco-mjcf", "pinocchio-mjcf"))
+    assert held.disagreeing == (
+        () if pinocchio.__version__ != "4.1.0" else ("mujoco-mjcf", "pinocchio-mjcf")
+    )

@@ -228,9 +228,11 @@ def pinocchio_poses(
     try:
         model = _pinocchio_model(pin, desc.text)
     except Exception as exc:  # Pinocchio's C++ errors reach Python as several types
-        raise ReaderError("pinocchio-mjcf", version, f"cannot read it: {failure_text(exc)}") from None
+        raise ReaderError(
+            "pinocchio-mjcf", version, f"cannot read it: {failure_text(exc)}"
+        ) from None
     columns = _pinocchio_columns(model, desc, version)
-    ids = []
+    ids: list[int | None] = []
     for frame in names:
         if frame == WORLD:
             ids.append(None)
@@ -280,4 +282,3 @@ def _pinocchio_columns(model: Any, desc: MjcfDescription, version: str) -> list[
 
 #: The readers by the name a check would give them.
 READERS: dict[str, Reader] = {"mujoco-mjcf": mujoco_poses, "pinocchio-mjcf": pinocchio_poses}
-

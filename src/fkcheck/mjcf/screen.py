@@ -196,7 +196,9 @@ def _parse(path: Path, budget: _Budget, depth: int) -> tuple[ET.Element, dict[in
     try:
         screen.parser.Parse(data, True)
     except _Refused as exc:
-        raise MjcfError(path, f"line {exc.line or screen.parser.CurrentLineNumber}: {exc}") from None
+        raise MjcfError(
+            path, f"line {exc.line or screen.parser.CurrentLineNumber}: {exc}"
+        ) from None
     except (expat.ExpatError, ValueError, LookupError) as exc:
         raise MjcfError(path, f"not valid XML: {exc}") from None
     root = screen.builder.close()
@@ -227,7 +229,9 @@ def _include_target(spec: str, where: Path, base: Path, root: Path) -> Path:
         )  # fmt: skip
     lexical = Path(os.path.normpath(base / spec))
     if not lexical.is_relative_to(root):
-        raise MjcfError(where, f"{what}: '..' leads out of the folder includes are held to ({root})")
+        raise MjcfError(
+            where, f"{what}: '..' leads out of the folder includes are held to ({root})"
+        )
     target = lexical.resolve()
     if not target.is_relative_to(root):
         raise MjcfError(

@@ -185,7 +185,9 @@ class _Builder:
                 limits = (float(m.jnt_range[j][0]), float(m.jnt_range[j][1]))
             elif kind == "revolute":
                 kind = "continuous"
-            self.joint(JointGeometry(name, kind, parent, self.link(child), origin, axis, limits, None))
+            self.joint(
+                JointGeometry(name, kind, parent, self.link(child), origin, axis, limits, None)
+            )
             parent, previous_anchor, origin_before = child, anchor, np.eye(4)
         if parent != body:
             self.joint(_fixed(f"{self.joint_names[first + count - 1]}:body", parent,
