@@ -73,9 +73,20 @@ def _top_level_tracked() -> set[str]:
 def test_the_licences_are_declared_and_present() -> None:
     project = _pyproject()["project"]
     assert project["license"] == "MIT"
-    assert project["license-files"] == ["LICENSE", "models/ur_description/LICENSE"]
+    menagerie = "models/mujoco_menagerie"
+    assert project["license-files"] == [
+        "LICENSE",
+        "models/ur_description/LICENSE",
+        f"{menagerie}/universal_robots_ur5e/LICENSE",
+        f"{menagerie}/universal_robots_ur10e/LICENSE.md",
+        f"{menagerie}/franka_emika_panda/LICENSE",
+        f"{menagerie}/ufactory_xarm7/LICENSE",
+    ]
     for name in project["license-files"]:
         assert (REPO_ROOT / name).is_file(), name
+    for name in project["license-files"][2:]:
+        text = (REPO_ROOT / name).read_text("utf-8")
+        assert "Redistribution and use" in text or "Apache License" in text, name
     assert (REPO_ROOT / "LICENSE").read_text("utf-8").startswith("MIT License\n")
     assert "Redistribution and use in source and binary forms" in (
         REPO_ROOT / "models" / "ur_description" / "LICENSE"
