@@ -241,3 +241,28 @@ def test_named_joints_choose_the_columns(tmp_path: Path) -> None:
         np.testing.assert_allclose(
             got, hand_tip(np.array([0.0, -0.4]), j2=lambda a: ry(a - deg(30))), atol=EXACT
         )
+
+
+def test_two_joints_in_one_body_each_about_its_anchor(tmp_path: Path) -> None:
+    """MuJoCo composes a body's joints in order, each about its own anchor in the body frame."""
+    path = tmp_path / "two.xml"
+    path.write_text(
+        '<mujoco><compiler angle="radian"/><worldbody><body name="b" pos="0 0 0.2">'
+        '<joint name="ja" axis="0 0 1" pos="0.1 0 0" ref="0.2"/>'
+        '<joint name="jb" axis="1 0 0" pos="0 0.3 0"/>'
+        '<site name="tip" pos="0.5 0 0"/></body></worldbody></mujoco>'
+    )
+    q = np.array([0.9, -0.6])
+    expected = T(
+        tr(0, 0, 0.2),
+        tr(0.1, 0, 0), rz(q[0] - 0.2), tr(-0.1, 0, 0),
+        tr(0, 0.3, 0), rx(q[1]), tr(0, -0.3, 0),
+        tr(0.5, 0, 0),
+    )  # fmt: skip
+    desc = read_mjcf(path)
+    np.testing.assert_allclose(mujoco_poses(desc, ["tip"], q)[0, 0], expected, atol=EXACT)
+    tree = desc.kinematics.chain_poses(desc.kinematics.chain("world", "tip"), q.reshape(1, -1))
+    np.testing.assert_allclose(tree[0, -1], expected, atol=EXACT)
+    assert [j.name for j in desc.kinematics.chain("world", "tip")] == [
+        "ja", "jb", "jb:body", "site:tip",
+    ]  # fmt: skip
