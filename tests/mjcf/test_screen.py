@@ -306,3 +306,23 @@ def test_mujoco_refusal_is_one_line(tmp_path: Path) -> None:
 def test_a_name_two_frames_share(tmp_path: Path) -> None:
     with pytest.raises(MjcfError, match="'b1' names two frames"):
         read_mjcf(write(tmp_path, inside='<site name="b1"/>'))
+
+
+def test_symlink_loop_in_an_include(tmp_path: Path) -> None:
+    path = include(tmp_path, "loop.xml")
+    os.symlink("loop.xml", tmp_path / "model" / "loop.xml")
+    with pytest.raises(MjcfError, match="loop"):
+        read_mjcf(path)
+
+
+def test_include_in_worldbody_brings_bodies(tmp_path: Path) -> None:
+    folder = tmp_path / "model"
+    folder.mkdir()
+    (folder / "hand.xml").write_text(
+        '<mujoco><body name="hand" pos="0 0 0.1"><geom type="mesh" mesh="x"/>'
+        '<site name="grip"/></body></mujoco>'
+    )
+    desc = read_mjcf(write(folder, inside='<include file="hand.xml"/>'))
+    assert desc.frames == ("world", "b1", "hand", "tip", "grip")
+    assert desc.kinematics.joints["hand:fixed"].parent == "b1"
+    assert "geom" not in desc.text

@@ -232,7 +232,10 @@ def _include_target(spec: str, where: Path, base: Path, root: Path) -> Path:
         raise MjcfError(
             where, f"{what}: '..' leads out of the folder includes are held to ({root})"
         )
-    target = lexical.resolve()
+    try:
+        target = lexical.resolve()
+    except (OSError, RuntimeError) as exc:  # a symbolic link loop
+        raise MjcfError(where, f"{what}: cannot be resolved: {exc}") from None
     if not target.is_relative_to(root):
         raise MjcfError(
             where, f"{what}: a symbolic link leads out of the folder includes are held to "
