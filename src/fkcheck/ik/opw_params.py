@@ -189,6 +189,15 @@ def _closest_point(points: Float, dirs: Float) -> tuple[Float, float]:
     return x, worst
 
 
+def _line_distance(p1: Float, u1: Float, p2: Float, u2: Float) -> float:
+    """Distance between two lines (unit directions), parallel ones included."""
+    cross = np.cross(u1, u2)
+    norm = float(np.linalg.norm(cross))
+    if norm <= GEOMETRY_TOL:
+        return float(np.linalg.norm(np.cross(p2 - p1, u1)))
+    return abs(float((p2 - p1) @ cross)) / norm
+
+
 def _wrist_offset_name(model: Model, gap: float) -> str:
     """The table entry that holds the wrist's offset ``gap``, as ``joint[4].d (wrist_2)``."""
     rows = (3, 4) if model.convention == "standard" else (4, 5)  # 0-based rows between axes 4…6
@@ -213,13 +222,14 @@ def _check_shape(model: Model, P: Float, U: Float) -> None:
             )
     _, worst = _closest_point(P[3:], U[3:])
     if worst > GEOMETRY_TOL:
-        w45 = _closest_point(P[3:5], U[3:5])
-        w56 = _closest_point(P[4:6], U[4:6])
-        if w45[1] > GEOMETRY_TOL:
-            detail = f"axes 4 and 5 do not meet ({w45[1]:.6g} m apart)"
-        elif w56[1] > GEOMETRY_TOL:
-            detail = f"axes 5 and 6 do not meet ({w56[1]:.6g} m apart)"
+        d45 = _line_distance(P[3], U[3], P[4], U[4])
+        d56 = _line_distance(P[4], U[4], P[5], U[5])
+        if d45 > GEOMETRY_TOL:
+            detail = f"axes 4 and 5 do not meet ({d45:.6g} m apart)"
+        elif d56 > GEOMETRY_TOL:
+            detail = f"axes 5 and 6 do not meet ({d56:.6g} m apart)"
         else:
+            w45, w56 = _closest_point(P[3:5], U[3:5]), _closest_point(P[4:6], U[4:6])
             gap = float(np.linalg.norm(w45[0] - w56[0]))
             detail = f"axes 4, 5 meet {gap:.6g} m from where axes 5, 6 meet"
             detail += _wrist_offset_name(model, gap)
@@ -248,14 +258,19 @@ def _check_shape(model: Model, P: Float, U: Float) -> None:
         )
 
 
-def _base_frame(p1: Float, u1: Float) -> Float:
+def _base_frame(p1: Float, u1: Float, p2: Float) -> Float:
     """OPW's base frame: z along axis 1, origin on it nearest the world's origin.
 
-    It is the world itself when axis 1 is the world's z axis (either way); otherwise
-    its x is the world's x (or y) made perpendicular to axis 1.
+    It is the world itself when axis 1 is the world's z axis (either way: a hanging
+    arm keeps the world's z, its c1 negative); otherwise its z points from the
+    origin towards axis 2 (``p2``: ``c1 ≥ 0``) and its x is the world's x (or y)
+    made perpendicular to it.
     """
     ez = np.array([0.0, 0.0, 1.0])
-    z = ez if float(np.linalg.norm(np.cross(u1, ez))) <= GEOMETRY_TOL else u1
+    if float(np.linalg.norm(np.cross(u1, ez))) <= GEOMETRY_TOL:
+        z = ez
+    else:
+        z = u1 if float((p2 - p1) @ u1) >= 0.0 else -u1
     origin = p1 - float(p1 @ z) * z
     x = np.array([1.0, 0.0, 0.0]) - z[0] * z
     if float(np.linalg.norm(x)) < 0.5:
@@ -293,7 +308,7 @@ def derive_opw(model: Model) -> OpwParameters:
     """
     P_world, U_world = _axes(model)
     _check_shape(model, P_world, U_world)
-    world_T_base = _base_frame(P_world[0], U_world[0])
+    world_T_base = _base_frame(P_world[0], U_world[0], P_world[1])
     R_b, o_b = world_T_base[:3, :3], world_T_base[:3, 3]
     P = (P_world - o_b) @ R_b  # each row Rᵀ (p − o): the axes in OPW's base frame
     U = U_world @ R_b

@@ -8,22 +8,33 @@ between the two is the parameters' offsets and sign corrections, applied by the
 library itself, and the fixed base and tool transforms of
 :class:`~fkcheck.ik.opw_params.OpwParameters` when OPW's frames are not the model's.
 
-The solver returns every solution the library's ``inverse`` returns (at most
-eight), as it returns them: angles wrapped by the library, no joint limits applied.
+The solver returns every solution the library returns (at most eight), as it returns
+them: angles wrapped by the library, no joint limits applied. Two of its calls can
+answer (:data:`APIS`): ``inverse``, its IK as a user calls it (the default), and
+``reach``, all eight branches in fixed slots with the ones that do not exist as NaN
+rows (dropped here). They differ at the wrist singularity: at θ5 = 0 exactly,
+py-opw-kinematics 1.3.0's ``inverse`` leaves out the branches with θ5 = 0, which
+``reach`` keeps (with θ4 = 0 and θ6 carrying θ4 + θ6).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
 from fkcheck.core.geometry import invert
 from fkcheck.core.typing import Float
+from fkcheck.errors import OptionError
 from fkcheck.ik.opw_params import OPW_DOF, OpwParameters, derive_opw, opw_fk, opw_robot
 from fkcheck.model.types import Model
 
-__all__ = ["OpwSolver", "make_opw_solver"]
+__all__ = ["APIS", "OpwApi", "OpwSolver", "make_opw_solver"]
+
+OpwApi = Literal["inverse", "reach"]
+#: The library's calls a solver can answer with.
+APIS: tuple[OpwApi, ...] = ("inverse", "reach")
 
 
 @dataclass(frozen=True, eq=False)
@@ -31,14 +42,16 @@ class OpwSolver:
     """py-opw-kinematics as an IK solver of one model.
 
     Attributes:
-        name: ``"opw"``.
+        name: ``"opw"`` (``"opw-reach"`` with ``api="reach"``).
         params: The OPW parameters derived from the model's table.
         robot: The library's ``Robot`` (radians).
+        api: The library's call that solves: ``"inverse"`` or ``"reach"``.
     """
 
     name: str
     params: OpwParameters
     robot: object
+    api: OpwApi = "inverse"
 
     def solve(self, base_T_tool: Float) -> Float:
         """Every solution the library finds for a pose.
@@ -58,8 +71,13 @@ class OpwSolver:
         p = self.params
         target = invert(p.world_T_base) @ np.asarray(base_T_tool, dtype=np.float64)
         base_T_flange = target @ invert(p.flange_T_tcp)
+        if self.api == "reach":
+            poses = RigidTransform.from_matrix(base_T_flange[None])
+            branches = np.asarray(self.robot.reach(poses).joints, dtype=np.float64)[0]
+            q: Float = branches[~np.isnan(branches).any(axis=1)]
+            return q
         solutions = self.robot.inverse(RigidTransform.from_matrix(base_T_flange))
-        q: Float = np.array(solutions, dtype=np.float64).reshape(-1, OPW_DOF)
+        q = np.array(solutions, dtype=np.float64).reshape(-1, OPW_DOF)
         return q
 
     def fk(self, q: Float) -> Float:
@@ -68,21 +86,27 @@ class OpwSolver:
         return pose
 
 
-def make_opw_solver(model: Model) -> OpwSolver:
+def make_opw_solver(model: Model, api: OpwApi = "inverse") -> OpwSolver:
     """The ``opw`` solver of a model.
 
     Args:
         model: An OPW-shaped model (six revolute joints, axes 2 and 3 parallel,
             a spherical wrist…).
+        api: The library's call that solves (:data:`APIS`): ``"inverse"`` (the
+            default) or ``"reach"`` (every branch, the wrist singularity's too).
 
     Returns:
         The solver.
 
     Raises:
+        OptionError: An unknown ``api``.
         NotOpwShaped: The model is not an OPW arm; the message says which
             condition fails.
         ModuleNotFoundError: py-opw-kinematics is not installed (``pip install
             'fkcheck[ik]'``).
     """
+    if api not in APIS:
+        raise OptionError("api", f"must be one of {', '.join(APIS)}, got {api!r}")
     params = derive_opw(model)
-    return OpwSolver(name="opw", params=params, robot=opw_robot(params))
+    name = "opw" if api == "inverse" else f"opw-{api}"
+    return OpwSolver(name=name, params=params, robot=opw_robot(params), api=api)

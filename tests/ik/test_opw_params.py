@@ -1,0 +1,205 @@
+"""OPW parameters derived from DH tables (fkcheck.ik.opw_params).
+
+The published set the KR 6 R700 sixx must reproduce is ROS-Industrial's
+kuka_experimental ``kuka_kr6_support/config/opw_kinematics_kr6r700sixx.yaml`` at
+commit e78bbd15edb2b39c9053ff3b963ef2947e10a531 (the same numbers as opw_kinematics'
+``makeKukaKR6_R700_sixx``); the model's table is written from the URDF's dimensions,
+not from it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from fkcheck.core.geometry import invert
+from fkcheck.ik.opw_params import (
+    NotOpwShaped,
+    OpwParameters,
+    derive_opw,
+    opw_fk,
+    opw_fk_deviation,
+)
+from fkcheck.model.convert import convert_model
+from fkcheck.model.read import load_model
+from fkcheck.model.types import Offset
+
+pytest.importorskip("py_opw_kinematics")
+
+#: The published KR 6 R700 sixx set (kuka_experimental, see the module's docstring).
+KR6_PUBLISHED = {
+    "a1": 0.025, "a2": -0.035, "b": 0.000, "c1": 0.400, "c2": 0.315, "c3": 0.365, "c4": 0.080,
+}  # fmt: skip
+KR6_OFFSETS = (0.0, -1.57079632679, 0.0, 0.0, 0.0, 0.0)
+KR6_SIGNS = (-1, 1, 1, -1, 1, -1)
+#: The lengths come from the table's millimetres through sines and cosines of exact
+#: quarter turns: round-off (1e-16) is all that may separate them from the published.
+LENGTH_TOL_M = 1e-12
+#: The published offset -1.57079632679 is -π/2 to 11 decimals.
+PUBLISHED_ANGLE_TOL_RAD = 1e-11
+#: OPW's FK and the table's compute one geometry in double precision over a reach of
+#: about 2 m: they agree to ~1e-15; 1e-12 leaves round-off room and no more.
+FK_AGREEMENT_M = 1e-12
+FK_AGREEMENT_RAD = 1e-12
+#: Smallest disagreement a wrong parameter must show (it is 1e-4 m or 0.01 rad off).
+WRONG_SHOWS = 1e-6
+
+
+def test_kr6_reproduces_the_published_parameter_set_number_by_number():
+    p = derive_opw(load_model("kr6r700sixx"))
+    for name, value in KR6_PUBLISHED.items():
+        assert p.lengths[name] == pytest.approx(value, abs=LENGTH_TOL_M), name
+    assert p.offsets == pytest.approx(KR6_OFFSETS, abs=PUBLISHED_ANGLE_TOL_RAD)
+    assert p.sign_corrections == KR6_SIGNS
+    assert p.base_is_world
+    assert p.tool_is_tcp
+
+
+@pytest.mark.parametrize("name", ["kr6r700sixx", "puma560"])
+def test_opw_fk_matches_the_table(name):
+    model = load_model(name)
+    deviation = opw_fk_deviation(model, derive_opw(model), samples=2000, seed=3)
+    assert deviation.samples > 2000  # the structured configurations besides
+    assert deviation.max_position_m < FK_AGREEMENT_M
+    assert deviation.max_angle_rad < FK_AGREEMENT_RAD
+
+
+def test_puma560_is_opw_shaped_with_its_shoulder_offset_as_b():
+    p = derive_opw(load_model("puma560"))
+    # Corke's PUMA: d3 = 0.15005 sideways, a3 = 0.0203 elbow offset, d4 = 0.4318 forearm.
+    assert (p.a1, p.b, p.c1, p.c2, p.c3, p.c4) == pytest.approx(
+        (0.0, 0.15005, 0.67183, 0.4318, 0.4318, 0.0), abs=LENGTH_TOL_M
+    )
+    assert abs(p.a2) == pytest.approx(0.0203, abs=LENGTH_TOL_M)
+
+
+def _shifted(model, base=Offset(), tool=Offset()):
+    return replace(model, base=base, tool=tool)
+
+
+@pytest.mark.parametrize(
+    ("base", "tool"),
+    [
+        (Offset((0.3, -0.2, 0.5), (0.1, -0.2, 0.7)), Offset()),
+        (Offset(), Offset((0.01, 0.02, 0.15), (0.3, 0.0, -1.0))),
+        (Offset((0.0, 0.0, 1.2), (math.pi, 0.0, 0.0)), Offset((0.0, 0.0, 0.1))),  # hanging
+    ],
+    ids=["base-moved", "tool-off-axis", "ceiling"],
+)
+def test_base_and_tool_that_are_not_opws_frames_are_carried(base, tool):
+    model = _shifted(load_model("kr6r700sixx"), base, tool)
+    p = derive_opw(model)
+    deviation = opw_fk_deviation(model, p, samples=500, seed=1)
+    assert deviation.max_position_m < FK_AGREEMENT_M
+    assert deviation.max_angle_rad < FK_AGREEMENT_RAD
+    # The arm itself is the same: its lengths do not change with where it stands (a
+    # hanging one, seen with the world's z, is mirrored: a1 and a2 change sign).
+    kr6 = derive_opw(load_model("kr6r700sixx"))
+    for name in ("a1", "a2", "b", "c2", "c3"):
+        assert abs(p.lengths[name]) == pytest.approx(abs(kr6.lengths[name]), abs=LENGTH_TOL_M)
+
+
+def test_a_tool_along_axis_6_lengthens_c4_instead_of_an_adapter():
+    model = _shifted(load_model("kr6r700sixx"), tool=Offset((0.0, 0.0, 0.12)))
+    p = derive_opw(model)
+    assert p.tool_is_tcp
+    assert p.c4 == pytest.approx(0.080 + 0.12, abs=LENGTH_TOL_M)
+
+
+def test_a_hanging_arm_keeps_the_worlds_z():
+    model = _shifted(load_model("kr6r700sixx"), Offset((0.0, 0.0, 2.0), (math.pi, 0.0, 0.0)))
+    p = derive_opw(model)
+    assert p.base_is_world  # axis 1 is the world's z axis, pointing down: a sign, no adapter
+    assert p.sign_corrections[0] == 1  # A1 turns about base_link's -z, which now points up
+    assert p.c1 == pytest.approx(2.0 - 0.4, abs=LENGTH_TOL_M)
+
+
+def test_modified_dh_gives_the_same_parameters():
+    standard = load_model("kr6r700sixx")
+    modified = convert_model(standard, "modified")
+    assert modified.convention == "modified"
+    p, m = derive_opw(standard), derive_opw(modified)
+    assert m.lengths == pytest.approx(p.lengths, abs=LENGTH_TOL_M)
+    assert m.offsets == pytest.approx(p.offsets, abs=LENGTH_TOL_M)
+    assert m.sign_corrections == p.sign_corrections
+    deviation = opw_fk_deviation(modified, m, samples=500, seed=2)
+    assert deviation.max_position_m < FK_AGREEMENT_M
+
+
+def _wrong(p: OpwParameters, field: str, index: int | None) -> OpwParameters:
+    if field == "sign_corrections":
+        signs = list(p.sign_corrections)
+        signs[index] = -signs[index]
+        return replace(p, sign_corrections=tuple(signs))
+    if field == "offsets":
+        offsets = list(p.offsets)
+        offsets[index] += 0.01
+        return replace(p, offsets=tuple(offsets))
+    return replace(p, **{field: getattr(p, field) + 1e-4})
+
+
+WRONG = [
+    *[(name, None) for name in ("a1", "a2", "b", "c1", "c2", "c3", "c4")],
+    *[("offsets", i) for i in range(6)],
+    *[("sign_corrections", i) for i in range(6)],
+]
+
+
+@pytest.mark.parametrize(("field", "index"), WRONG, ids=[f"{f}-{i}" for f, i in WRONG])
+def test_the_fk_comparison_sees_every_wrong_parameter(field, index):
+    """What would have to be wrong for the comparison to stay green: any one number."""
+    model = load_model("kr6r700sixx")
+    wrong = _wrong(derive_opw(model), field, index)
+    deviation = opw_fk_deviation(model, wrong, samples=200, seed=0)
+    assert max(deviation.max_position_m, deviation.max_angle_rad) > WRONG_SHOWS
+
+
+def test_opw_fk_places_base_and_tool():
+    model = _shifted(load_model("kr6r700sixx"), Offset((1.0, 2.0, 0.0), (0.0, 0.0, 0.5)))
+    p = derive_opw(model)
+    q = np.radians([[10.0, -80.0, 70.0, 20.0, 30.0, 40.0]])
+    bare = replace(p, world_T_base=np.eye(4), flange_T_tcp=np.eye(4))
+    # OPW's own frames: the library's pose is the model's with the adapters taken off.
+    expected = invert(p.world_T_base) @ model.fk(q[0]) @ invert(p.flange_T_tcp)
+    np.testing.assert_allclose(opw_fk(bare, q)[0], expected, atol=FK_AGREEMENT_M)
+
+
+def _edited(name: str, index: int, **values):
+    model = load_model(name)
+    joints = list(model.joints)
+    joints[index] = replace(joints[index], **values)
+    return replace(model, joints=tuple(joints))
+
+
+@pytest.mark.parametrize(
+    ("model", "match"),
+    [
+        (load_model("ur5e"), r"axes 4, 5, 6 do not meet in one point.*0\.0997 m.*"
+         r"joint\[4\]\.d \(wrist_2\) = 0\.0997 m"),
+        (load_model("ur5"), r"axes 4, 5, 6 do not meet in one point.*joint\[4\]\.d \(wrist_2\) = "
+         r"0\.09465 m"),
+        (load_model("panda"), r"OPW arms have 6 joints, this table has 7"),
+        (load_model("stanford"), r"joint\[2\] \(j3\) is prismatic"),
+        (load_model("planar2"), r"OPW arms have 6 joints, this table has 2"),
+        (_edited("kr6r700sixx", 0, alpha=math.radians(-80)), r"axes 1 and 2 are not perpendicular "
+         r"\(at 80° to each other\)"),
+        (_edited("kr6r700sixx", 1, alpha=math.radians(5)), r"axes 2 and 3 are not parallel "
+         r"\(at 5° to each other\)"),
+        (_edited("kr6r700sixx", 2, alpha=math.radians(80)), r"axis 4 is not perpendicular to "
+         r"axes 2 and 3 \(at 80° to them\)"),
+        (_edited("kr6r700sixx", 3, a=0.01), r"axes 4 and 5 do not meet \(0\.01 m apart\)"),
+        (_edited("kr6r700sixx", 4, a=0.002), r"axes 5 and 6 do not meet \(0\.002 m apart\)"),
+        (_edited("kr6r700sixx", 4, alpha=math.radians(60)), r"axes 5 and 6 of the wrist are not "
+         r"perpendicular \(at 60° to each other\)"),
+        (_edited("kr6r700sixx", 1, a=0.0), r"axes 2 and 3 are the same line"),
+    ],
+    ids=["ur5e", "ur5", "panda", "stanford", "planar2", "axes-1-2", "axes-2-3", "axis-4",
+         "wrist-4-5", "wrist-5-6", "wrist-angle", "no-upper-arm"],
+)  # fmt: skip
+def test_a_table_that_is_not_opw_shaped_is_refused_with_the_condition(model, match):
+    with pytest.raises(NotOpwShaped, match=match) as info:
+        derive_opw(model)
+    assert str(info.value).startswith(f"model {model.name}: not OPW-shaped: ")
