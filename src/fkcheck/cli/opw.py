@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from fkcheck.ik.opw_params import OpwDeviation, OpwParameters
     from fkcheck.model.types import Model
 
-__all__ = ["INSTALL_IK", "add_parser", "opw_yaml", "run"]
+__all__ = ["DEFAULT_SAMPLES", "INSTALL_IK", "ROUNDOFF", "add_parser", "opw_yaml", "run"]
 
 #: The command that installs the IK solvers' libraries.
 INSTALL_IK = "pip install 'fkcheck[ik]'"
@@ -51,8 +51,15 @@ def add_parser(sub: Any) -> None:
     p.set_defaults(run=run)
 
 
+#: A printed length (m) or angle (rad) smaller than this is round-off of a zero
+#: (9.9e-17 after a rotation by exact quarter turns) and is printed as 0.0.
+ROUNDOFF = 1e-12
+
+
 def _number(value: float) -> str:
-    """A length or angle as the YAML shows it: 12 significant digits, no ``-0``."""
+    """A length or angle as the YAML shows it: 12 significant digits, round-off as 0.0."""
+    if abs(value) < ROUNDOFF:
+        return "0.0"
     text = f"{value:.12g}"
     if text in ("-0", "0"):
         return "0.0"
