@@ -58,15 +58,17 @@ def test_the_printed_agreement_is_measured(capsys):
     assert code == 0
     line = out.splitlines()[1]
     numbers = [float(x) for x in line.split("at most ")[1].rstrip(" rad.").split(" m, ")]
-    assert 0.0 <= numbers[0] < 1e-12 and 0.0 <= numbers[1] < 1e-12
+    assert 0.0 <= numbers[0] < 1e-12
+    assert 0.0 <= numbers[1] < 1e-12
     assert "over 145 configurations" in line  # 64 random + the structured ones
 
 
 @pytest.mark.parametrize(
     ("model", "reason"),
     [
-        ("ur5e", "axes 4, 5, 6 do not meet in one point (no spherical wrist): axes 4, 5 meet "
-                 "0.0997 m from where axes 5, 6 meet (the table's joint[4].d (wrist_2) = 0.0997 m)"),
+        ("ur5e", "axes 4, 5, 6 do not meet in one point (no spherical wrist): axes 4, 5 "
+                 "meet 0.0997 m from where axes 5, 6 meet (the table's joint[4].d (wrist_2) = "
+                 "0.0997 m)"),
         ("panda", "OPW arms have 6 joints, this table has 7"),
     ],
 )  # fmt: skip
@@ -79,8 +81,12 @@ def test_an_arm_that_is_not_opw_shaped_exits_2_with_the_reason(capsys, model, re
 
 def test_frames_that_are_not_opws_are_said(capsys, tmp_path):
     text = bundled_model_paths()["kr6r700sixx"].read_text(encoding="utf-8")
-    text = text.replace('angle_unit = "deg"\n', 'angle_unit = "deg"\n\n[base]\nxyz = [0.1, 0, 0]\n'
-                        'rpy = [0, 0, 0]\n\n[tool]\nxyz = [0.03, 0, 0.1]\nrpy = [0, 0, 0]\n', 1)
+    text = text.replace(
+        'angle_unit = "deg"\n',
+        'angle_unit = "deg"\n\n[base]\nxyz = [0.1, 0, 0]\n'
+        "rpy = [0, 0, 0]\n\n[tool]\nxyz = [0.03, 0, 0.1]\nrpy = [0, 0, 0]\n",
+        1,
+    )
     path = tmp_path / "moved.toml"
     path.write_text(text, encoding="utf-8")
     code, out, err = run(capsys, "opw", str(path))
@@ -134,7 +140,7 @@ def test_without_py_opw_kinematics_it_says_which_extra(capsys, monkeypatch):
 def test_bad_input_is_one_line_and_exit_2(capsys, argv, match):
     import re
 
-    code, out, err = run(capsys, *argv)
+    code, _, err = run(capsys, *argv)
     assert code == 2
     assert re.search(match, err), err
     assert len(err.splitlines()) == 1

@@ -76,7 +76,10 @@ def test_puma560_is_opw_shaped_with_its_shoulder_offset_as_b():
     assert abs(p.a2) == pytest.approx(0.0203, abs=LENGTH_TOL_M)
 
 
-def _shifted(model, base=Offset(), tool=Offset()):
+IDENTITY = Offset()
+
+
+def _shifted(model, base=IDENTITY, tool=IDENTITY):
     return replace(model, base=base, tool=tool)
 
 

@@ -58,7 +58,8 @@ def test_every_solution_is_right_and_the_configuration_is_among_them(name, api):
     for q in _random_q(model, 300, seed=7):
         pose = model.fk(q)
         solutions = solver.solve(pose)
-        assert solutions.ndim == 2 and solutions.shape[1] == 6
+        assert solutions.ndim == 2
+        assert solutions.shape[1] == 6
         counts.append(len(solutions))
         reached = model.fk(solutions)
         assert position_error_m(reached, pose[None]).max() < SOUND_M, q
@@ -84,7 +85,8 @@ def test_the_solver_speaks_the_models_frames_when_opws_are_elsewhere():
         tool=Offset((0.02, 0.0, 0.11), (0.0, 0.5, 0.0)),
     )
     solver = make_opw_solver(model)
-    assert not solver.params.base_is_world and not solver.params.tool_is_tcp
+    assert not solver.params.base_is_world
+    assert not solver.params.tool_is_tcp
     for q in _random_q(model, 50, seed=11):
         pose = model.fk(q)
         solutions = solver.solve(pose)
@@ -112,7 +114,9 @@ def test_a_wrong_mapping_is_caught_by_the_checks(field, index, value):
     pose = model.fk(q)
     solutions = wrong.solve(pose)
     unsound = len(solutions) and position_error_m(model.fk(solutions), pose[None]).max() > SOUND_M
-    rotated = len(solutions) and rotation_error_rad(model.fk(solutions), pose[None]).max() > SOUND_RAD
+    rotated = (
+        len(solutions) and rotation_error_rad(model.fk(solutions), pose[None]).max() > SOUND_RAD
+    )
     assert unsound or rotated or _distance_mod_2pi(solutions, q).min() > SAME_Q_RAD
 
 

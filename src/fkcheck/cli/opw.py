@@ -39,7 +39,9 @@ def add_parser(sub: Any) -> None:
         "FK with the table's, and print them as MoveIt's opw_kinematics YAML. Exit 2 "
         "with the failing condition when the arm is not OPW-shaped.",
     )
-    p.add_argument("model", metavar="MODEL", help="bundled model name (kr6r700sixx) or a .toml/.csv file")
+    p.add_argument(
+        "model", metavar="MODEL", help="bundled model name (kr6r700sixx) or a .toml/.csv file"
+    )
     p.add_argument(
         "--samples",
         type=int,

@@ -184,8 +184,10 @@ def _closest_point(points: Float, dirs: Float) -> tuple[Float, float]:
         P = np.eye(3) - np.outer(u, u)
         A += P
         rhs += P @ p
-    x: Float = np.linalg.lstsq(A, rhs, rcond=None)[0]
-    worst = max(float(np.linalg.norm(np.cross(x - p, u))) for p, u in zip(points, dirs, strict=True))
+    x: Float = np.asarray(np.linalg.lstsq(A, rhs, rcond=None)[0], dtype=np.float64)
+    worst = max(
+        float(np.linalg.norm(np.cross(x - p, u))) for p, u in zip(points, dirs, strict=True)
+    )
     return x, worst
 
 
@@ -233,7 +235,9 @@ def _check_shape(model: Model, P: Float, U: Float) -> None:
             gap = float(np.linalg.norm(w45[0] - w56[0]))
             detail = f"axes 4, 5 meet {gap:.6g} m from where axes 5, 6 meet"
             detail += _wrist_offset_name(model, gap)
-        raise NotOpwShaped(say, f"axes 4, 5, 6 do not meet in one point (no spherical wrist): {detail}")
+        raise NotOpwShaped(
+            say, f"axes 4, 5, 6 do not meet in one point (no spherical wrist): {detail}"
+        )
     for i, j in ((3, 4), (4, 5)):
         if abs(float(U[i] @ U[j])) > GEOMETRY_TOL:
             raise NotOpwShaped(
@@ -243,7 +247,8 @@ def _check_shape(model: Model, P: Float, U: Float) -> None:
             )
     if abs(float(U[0] @ U[1])) > GEOMETRY_TOL:
         raise NotOpwShaped(
-            say, f"axes 1 and 2 are not perpendicular (at {_angle_deg(U[0], U[1]):.6g}° to each other)"
+            say,
+            f"axes 1 and 2 are not perpendicular (at {_angle_deg(U[0], U[1]):.6g}° to each other)",
         )
     if float(np.linalg.norm(np.cross(U[1], U[2]))) > GEOMETRY_TOL:
         raise NotOpwShaped(
@@ -254,7 +259,8 @@ def _check_shape(model: Model, P: Float, U: Float) -> None:
     if abs(float(U[2] @ U[3])) > GEOMETRY_TOL:
         raise NotOpwShaped(
             say,
-            f"axis 4 is not perpendicular to axes 2 and 3 (at {_angle_deg(U[2], U[3]):.6g}° to them)",
+            "axis 4 is not perpendicular to axes 2 and 3 "
+            f"(at {_angle_deg(U[2], U[3]):.6g}° to them)",
         )
 
 
@@ -360,9 +366,17 @@ def derive_opw(model: Model) -> OpwParameters:
     if np.allclose(flange_T_tcp, np.eye(4), rtol=0.0, atol=GEOMETRY_TOL):
         flange_T_tcp = np.eye(4)
     phis = (phi1, phi2, phi23 - phi2, phi4, phi5, phi6)
-    snap = [0.0 if abs(v) <= GEOMETRY_TOL else v for v in (a1, a2, b, c1, c2, c3, c4)]
+    a1, a2, b, c1, c2, c3, c4 = (
+        0.0 if abs(v) <= GEOMETRY_TOL else v for v in (a1, a2, b, c1, c2, c3, c4)
+    )
     return OpwParameters(
-        *snap,
+        a1=a1,
+        a2=a2,
+        b=b,
+        c1=c1,
+        c2=c2,
+        c3=c3,
+        c4=c4,
         offsets=tuple(_wrap(-phi) for phi in phis),
         sign_corrections=(s1, 1, s3, s4, 1, s6),
         world_T_base=world_T_base,
@@ -378,6 +392,8 @@ def opw_robot(params: OpwParameters) -> object:
     """
     from py_opw_kinematics import KinematicModel, Robot
 
+    o = params.offsets
+    f = [s < 0 for s in params.sign_corrections]
     kinematic = KinematicModel(
         a1=params.a1,
         a2=params.a2,
@@ -386,8 +402,8 @@ def opw_robot(params: OpwParameters) -> object:
         c2=params.c2,
         c3=params.c3,
         c4=params.c4,
-        offsets=tuple(params.offsets),
-        flip_axes=tuple(s < 0 for s in params.sign_corrections),
+        offsets=(o[0], o[1], o[2], o[3], o[4], o[5]),
+        flip_axes=(f[0], f[1], f[2], f[3], f[4], f[5]),
     )
     return Robot(kinematic, degrees=False)
 
@@ -418,9 +434,10 @@ def opw_fk_deviation(
 ) -> OpwDeviation:
     """Compare py-opw-kinematics' FK with the table's on the check's configurations.
 
-    The configurations are those a check draws (:func:`~fkcheck.model.sampling.sample_configurations`:
-    named poses, zero, mid-range, limit corners and edges, then ``samples`` seeded
-    random ones within the limits).
+    The configurations are those a check draws
+    (:func:`~fkcheck.model.sampling.sample_configurations`: named poses, zero,
+    mid-range, limit corners and edges, then ``samples`` seeded random ones within
+    the limits).
 
     Args:
         model: The model the parameters were derived from.
