@@ -40,6 +40,8 @@ KR6_SIGNS = (-1, 1, 1, -1, 1, -1)
 LENGTH_TOL_M = 1e-12
 #: The published offset -1.57079632679 is -π/2 to 11 decimals.
 PUBLISHED_ANGLE_TOL_RAD = 1e-11
+#: The published offset's 5e-12 rad moves a point 0.7 m out by 4e-12 m.
+PUBLISHED_POSE_M = 1e-11
 #: OPW's FK and the table's compute one geometry in double precision over a reach of
 #: about 2 m: they agree to ~1e-15; 1e-12 leaves round-off room and no more.
 FK_AGREEMENT_M = 1e-12
@@ -206,3 +208,20 @@ def test_a_table_that_is_not_opw_shaped_is_refused_with_the_condition(model, mat
     with pytest.raises(NotOpwShaped, match=match) as info:
         derive_opw(model)
     assert str(info.value).startswith(f"model {model.name}: not OPW-shaped: ")
+
+
+def test_the_table_is_the_published_arm_through_opws_own_fk():
+    """The published parameters, not derived ones, in py-opw-kinematics: the table's FK.
+
+    This checks the hand-written table against a reference it shares nothing with
+    (ROS-Industrial's parameter set and the library's closed-form FK).
+    """
+    model = load_model("kr6r700sixx")
+    published = OpwParameters(
+        **KR6_PUBLISHED, offsets=KR6_OFFSETS, sign_corrections=KR6_SIGNS
+    )  # the YAML's -1.57079632679 is -π/2 to 5e-12: the poses agree to that
+    q = np.radians(np.random.default_rng(4).uniform(-170.0, 170.0, (500, 6)))
+    deviation_m = np.abs(opw_fk(published, q)[:, :3, 3] - model.fk(q)[:, :3, 3]).max()
+    deviation_r = np.abs(opw_fk(published, q)[:, :3, :3] - model.fk(q)[:, :3, :3]).max()
+    assert deviation_m < PUBLISHED_POSE_M
+    assert deviation_r < PUBLISHED_ANGLE_TOL_RAD
