@@ -1,10 +1,17 @@
 """OPW parameters derived from DH tables (fkcheck.ik.opw_params).
 
-The published set the KR 6 R700 sixx must reproduce is ROS-Industrial's
-kuka_experimental ``kuka_kr6_support/config/opw_kinematics_kr6r700sixx.yaml`` at
-commit e78bbd15edb2b39c9053ff3b963ef2947e10a531 (the same numbers as opw_kinematics'
-``makeKukaKR6_R700_sixx``); the model's table is written from the URDF's dimensions,
-not from it.
+The published sets the bundled OPW arms must reproduce:
+
+* KUKA KR 6 R700 sixx: ROS-Industrial's kuka_experimental
+  ``kuka_kr6_support/config/opw_kinematics_kr6r700sixx.yaml`` at commit
+  e78bbd15edb2b39c9053ff3b963ef2947e10a531 (the same numbers as opw_kinematics'
+  ``makeKukaKR6_R700_sixx``);
+* ABB IRB 2400/10: opw_kinematics' ``makeIrb2400_10``
+  (``include/opw_kinematics/opw_parameters_examples.h`` at
+  8a32bda8197c50bd0d60dfe1d12ecb4c13111b72), which its tests hold against the IRB
+  2400's ikfast solver.
+
+Each model's table is written from its URDF's dimensions, not from the set.
 """
 
 from __future__ import annotations
@@ -35,6 +42,16 @@ KR6_PUBLISHED = {
 }  # fmt: skip
 KR6_OFFSETS = (0.0, -1.57079632679, 0.0, 0.0, 0.0, 0.0)
 KR6_SIGNS = (-1, 1, 1, -1, 1, -1)
+#: Each bundled OPW arm's published set: lengths, offsets, sign corrections.
+PUBLISHED = {
+    "kr6r700sixx": (KR6_PUBLISHED, KR6_OFFSETS, KR6_SIGNS),
+    "irb2400": (
+        {"a1": 0.100, "a2": -0.135, "b": 0.000, "c1": 0.615, "c2": 0.705, "c3": 0.755,
+         "c4": 0.085},
+        (0.0, 0.0, -math.pi / 2.0, 0.0, 0.0, 0.0),
+        (1, 1, 1, 1, 1, 1),
+    ),
+}  # fmt: skip
 #: The lengths come from the table's millimetres through sines and cosines of exact
 #: quarter turns: round-off (1e-16) is all that may separate them from the published.
 LENGTH_TOL_M = 1e-12
@@ -50,17 +67,19 @@ FK_AGREEMENT_RAD = 1e-12
 WRONG_SHOWS = 1e-6
 
 
-def test_kr6_reproduces_the_published_parameter_set_number_by_number():
-    p = derive_opw(load_model("kr6r700sixx"))
-    for name, value in KR6_PUBLISHED.items():
-        assert p.lengths[name] == pytest.approx(value, abs=LENGTH_TOL_M), name
-    assert p.offsets == pytest.approx(KR6_OFFSETS, abs=PUBLISHED_ANGLE_TOL_RAD)
-    assert p.sign_corrections == KR6_SIGNS
+@pytest.mark.parametrize("name", sorted(PUBLISHED))
+def test_the_published_parameter_set_comes_out_number_by_number(name):
+    lengths, offsets, signs = PUBLISHED[name]
+    p = derive_opw(load_model(name))
+    for key, value in lengths.items():
+        assert p.lengths[key] == pytest.approx(value, abs=LENGTH_TOL_M), key
+    assert p.offsets == pytest.approx(offsets, abs=PUBLISHED_ANGLE_TOL_RAD)
+    assert p.sign_corrections == signs
     assert p.base_is_world
     assert p.tool_is_tcp
 
 
-@pytest.mark.parametrize("name", ["kr6r700sixx", "puma560"])
+@pytest.mark.parametrize("name", ["kr6r700sixx", "irb2400", "puma560"])
 def test_opw_fk_matches_the_table(name):
     model = load_model(name)
     deviation = opw_fk_deviation(model, derive_opw(model), samples=2000, seed=3)
@@ -210,16 +229,17 @@ def test_a_table_that_is_not_opw_shaped_is_refused_with_the_condition(model, mat
     assert str(info.value).startswith(f"model {model.name}: not OPW-shaped: ")
 
 
-def test_the_table_is_the_published_arm_through_opws_own_fk():
+@pytest.mark.parametrize("name", sorted(PUBLISHED))
+def test_the_table_is_the_published_arm_through_opws_own_fk(name):
     """The published parameters, not derived ones, in py-opw-kinematics: the table's FK.
 
     This checks the hand-written table against a reference it shares nothing with
-    (ROS-Industrial's parameter set and the library's closed-form FK).
+    (the published parameter set and the library's closed-form FK).
     """
-    model = load_model("kr6r700sixx")
-    published = OpwParameters(
-        **KR6_PUBLISHED, offsets=KR6_OFFSETS, sign_corrections=KR6_SIGNS
-    )  # the YAML's -1.57079632679 is -π/2 to 5e-12: the poses agree to that
+    model = load_model(name)
+    lengths, offsets, signs = PUBLISHED[name]
+    # KUKA's YAML writes -π/2 as -1.57079632679, 5e-12 short: the poses agree to that.
+    published = OpwParameters(**lengths, offsets=offsets, sign_corrections=signs)
     q = np.radians(np.random.default_rng(4).uniform(-170.0, 170.0, (500, 6)))
     deviation_m = np.abs(opw_fk(published, q)[:, :3, 3] - model.fk(q)[:, :3, 3]).max()
     deviation_r = np.abs(opw_fk(published, q)[:, :3, :3] - model.fk(q)[:, :3, :3]).max()

@@ -2,8 +2,8 @@
 
 The poses come from the in-house table FK; the solver never sees q. Soundness: each
 solution's table FK is the pose. Completeness: q itself (modulo 2π) is among the
-solutions. Both on the bundled KUKA KR 6 R700 sixx and PUMA 560, away from the
-wrist singularity; at θ5 = 0 the library's own behaviour is pinned.
+solutions. On the bundled KUKA KR 6 R700 sixx, ABB IRB 2400 and PUMA 560, away from
+the wrist singularity; at θ5 = 0 the library's own behaviour is pinned.
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from fkcheck.model.read import load_model
 
 pytest.importorskip("py_opw_kinematics")
 
-ARMS = ["kr6r700sixx", "puma560"]
+ARMS = ["kr6r700sixx", "irb2400", "puma560"]
 #: A solution reproduces the pose to this: the library's closed form in double
 #: precision over a 1–2 m reach measured 4e-12 m and 6e-12 rad at worst in 20,000
 #: random poses per arm; a wrong branch is off by centimetres or degrees.
