@@ -60,6 +60,8 @@ GEOMETRY_TOL = 1e-9
 
 #: OPW arms have this many joints.
 OPW_DOF = 6
+#: Configurations compared at a time (their poses, twice, are 16 MB).
+_CHUNK = 1 << 16
 
 
 class NotOpwShaped(FkcheckError):
@@ -451,10 +453,11 @@ def opw_fk_deviation(
     from fkcheck.model.sampling import sample_configurations
 
     q = sample_configurations(model, samples, seed).q
-    table = model.fk(q)
-    opw = opw_fk(params, q)
-    return OpwDeviation(
-        samples=int(q.shape[0]),
-        max_position_m=float(position_error_m(table, opw).max()),
-        max_angle_rad=float(rotation_error_rad(table, opw).max()),
-    )
+    robot = opw_robot(params)
+    worst_m = worst_rad = 0.0
+    for start in range(0, q.shape[0], _CHUNK):  # memory: one chunk of poses, not all
+        chunk = q[start : start + _CHUNK]
+        table, opw = model.fk(chunk), opw_fk(params, chunk, robot)
+        worst_m = max(worst_m, float(position_error_m(table, opw).max()))
+        worst_rad = max(worst_rad, float(rotation_error_rad(table, opw).max()))
+    return OpwDeviation(samples=int(q.shape[0]), max_position_m=worst_m, max_angle_rad=worst_rad)
