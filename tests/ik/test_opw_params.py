@@ -205,6 +205,8 @@ def _edited(name: str, index: int, **values):
          r"joint\[4\]\.d \(wrist_2\) = 0\.0997 m"),
         (load_model("ur5"), r"axes 4, 5, 6 do not meet in one point.*joint\[4\]\.d \(wrist_2\) = "
          r"0\.09465 m"),
+        (convert_model(load_model("ur5e"), "modified"), r"axes 4, 5, 6 do not meet in one "
+         r"point.*joint\[4\]\.d \(wrist_2\) = 0\.0997 m"),
         (load_model("panda"), r"OPW arms have 6 joints, this table has 7"),
         (load_model("stanford"), r"joint\[2\] \(j3\) is prismatic"),
         (load_model("planar2"), r"OPW arms have 6 joints, this table has 2"),
@@ -220,7 +222,7 @@ def _edited(name: str, index: int, **values):
          r"perpendicular \(at 60° to each other\)"),
         (_edited("kr6r700sixx", 1, a=0.0), r"axes 2 and 3 are the same line"),
     ],
-    ids=["ur5e", "ur5", "panda", "stanford", "planar2", "axes-1-2", "axes-2-3", "axis-4",
+    ids=["ur5e", "ur5", "ur5e-modified", "panda", "stanford", "planar2", "axes-1-2", "axes-2-3", "axis-4",
          "wrist-4-5", "wrist-5-6", "wrist-angle", "no-upper-arm"],
 )  # fmt: skip
 def test_a_table_that_is_not_opw_shaped_is_refused_with_the_condition(model, match):

@@ -269,10 +269,10 @@ def _check_shape(model: Model, P: Float, U: Float) -> None:
 def _base_frame(p1: Float, u1: Float, p2: Float) -> Float:
     """OPW's base frame: z along axis 1, origin on it nearest the world's origin.
 
-    It is the world itself when axis 1 is the world's z axis (either way: a hanging
-    arm keeps the world's z, its c1 negative); otherwise its z points from the
-    origin towards axis 2 (``p2``: ``c1 ≥ 0``) and its x is the world's x (or y)
-    made perpendicular to it.
+    It is the world itself when axis 1 is the world's z axis (pointing up or down: a
+    hanging arm keeps the world's z, and its lengths take the signs that go with
+    it); otherwise its z points from the origin towards axis 2 (``p2``: ``c1 ≥ 0``)
+    and its x is the world's x (or y) made perpendicular to it.
     """
     ez = np.array([0.0, 0.0, 1.0])
     if float(np.linalg.norm(np.cross(u1, ez))) <= GEOMETRY_TOL:
