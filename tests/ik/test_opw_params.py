@@ -222,8 +222,8 @@ def _edited(name: str, index: int, **values):
          r"perpendicular \(at 60° to each other\)"),
         (_edited("kr6r700sixx", 1, a=0.0), r"axes 2 and 3 are the same line"),
     ],
-    ids=["ur5e", "ur5", "ur5e-modified", "panda", "stanford", "planar2", "axes-1-2", "axes-2-3", "axis-4",
-         "wrist-4-5", "wrist-5-6", "wrist-angle", "no-upper-arm"],
+    ids=["ur5e", "ur5", "ur5e-modified", "panda", "stanford", "planar2", "axes-1-2", "axes-2-3",
+         "axis-4", "wrist-4-5", "wrist-5-6", "wrist-angle", "no-upper-arm"],
 )  # fmt: skip
 def test_a_table_that_is_not_opw_shaped_is_refused_with_the_condition(model, match):
     with pytest.raises(NotOpwShaped, match=match) as info:
