@@ -28,8 +28,9 @@ ARMS = ["kr6r700sixx", "irb2400", "puma560"]
 #: random poses per arm; a wrong branch is off by centimetres or degrees.
 SOUND_M = 1e-9
 SOUND_RAD = 1e-9
-#: At the wrist singularity (θ5 = 0) the library's acos of a number at 1 leaves θ5
-#: about 1e-8 rad from 0: its solutions there reproduce the pose to 2.1e-8 rad.
+#: At the wrist singularity (θ5 = 0) the library can return θ5 a little off 0: at the
+#: KR 6's zero pose 2.1e-8 rad (the square-root error of a cosine at 1), and its
+#: solutions there reproduce the pose to that.
 SINGULAR_RAD = 1e-7
 #: q is "among the solutions" when every joint is this close, modulo 2π.
 SAME_Q_RAD = 1e-8
