@@ -247,3 +247,49 @@ def test_the_table_is_the_published_arm_through_opws_own_fk(name):
     deviation_r = np.abs(opw_fk(published, q)[:, :3, :3] - model.fk(q)[:, :3, :3]).max()
     assert deviation_m < PUBLISHED_POSE_M
     assert deviation_r < PUBLISHED_ANGLE_TOL_RAD
+
+
+def _random_table(rng, index):
+    """A random six-joint table with a spherical wrist's zeros, maybe OPW-shaped or not."""
+    from fkcheck.model.types import Joint, Model
+
+    convention = str(rng.choice(["standard", "modified"]))
+    joints = []
+    for i in range(6):
+        twists = [0, 90, -90, 180] if i < 3 or i == 5 else [90, -90]
+        arm = i < 3 if convention == "standard" else i < 4
+        joints.append(
+            Joint(
+                name=f"j{i + 1}",
+                a=float(rng.choice([0.0, rng.uniform(-0.5, 0.5)])) if arm else 0.0,
+                alpha=math.radians(float(rng.choice(twists))),
+                d=float(rng.choice([0.0, rng.uniform(-0.5, 0.5)])) if i != 4 else 0.0,
+                theta=float(rng.choice([0.0, math.pi / 2, -math.pi / 2, rng.uniform(-3, 3)])),
+                flip=bool(rng.random() < 0.3),
+                limits=(-3.0, 3.0),
+            )
+        )
+    base, tool = IDENTITY, IDENTITY
+    if rng.random() < 0.3:
+        base = Offset(tuple(rng.uniform(-1, 1, 3)), tuple(rng.uniform(-3, 3, 3)))
+    if rng.random() < 0.3:
+        tool = Offset(tuple(rng.uniform(-0.2, 0.2, 3)), tuple(rng.uniform(-3, 3, 3)))
+    return Model(f"random{index}", convention, tuple(joints), base=base, tool=tool)
+
+
+def test_random_tables_are_derived_right_or_refused():
+    """Random tables (standard and modified, flips, θ offsets, base and tool): each one
+    is refused with NotOpwShaped, or its parameters give the table's FK."""
+    rng = np.random.default_rng(2024)
+    derived = 0
+    for index in range(600):
+        model = _random_table(rng, index)
+        try:
+            params = derive_opw(model)
+        except NotOpwShaped:
+            continue
+        derived += 1
+        deviation = opw_fk_deviation(model, params, samples=32, seed=index)
+        assert deviation.max_position_m < FK_AGREEMENT_M, model.joints
+        assert deviation.max_angle_rad < FK_AGREEMENT_RAD, model.joints
+    assert derived >= 20  # enough OPW arms among them (29 with this seed)
