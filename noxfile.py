@@ -20,13 +20,15 @@ PYPROJECT = nox.project.load_toml("pyproject.toml")
 
 
 def _install(session: nox.Session, *groups: str, reference: bool = True) -> None:
-    """fkcheck (editable) and the dependency groups; with its reference extra unless told not.
+    """fkcheck (editable) and the dependency groups; with the reference and ik extras unless not.
 
     ``reference=False``: fkcheck's own dependencies only (lint, convert, fk; what
-    the docs build imports), without the reference libraries' ~1.7 GB.
+    the docs build imports), without the reference libraries' ~1.7 GB. The ``ik``
+    extra (the analytic IK solvers, a few MB) comes with ``reference``: the IK tests
+    and the typecheck need it.
     """
     deps = [d for g in groups for d in nox.project.dependency_groups(PYPROJECT, g)]
-    session.install("-e", ".[reference]" if reference else ".", *deps)
+    session.install("-e", ".[reference,ik]" if reference else ".", *deps)
 
 
 #: pytest-xdist's workers: one per CPU (2 on two cores), each given whole test files

@@ -1,0 +1,1 @@
+"""Inverse kinematics: solvers checked against the table's verified FK."""

@@ -1,0 +1,1 @@
+"""Tests of the IK solvers and their parameters."""
