@@ -26,7 +26,8 @@ def _install(session: nox.Session, *groups: str, reference: bool = True) -> None
     the docs build imports), without the reference libraries' ~1.7 GB.
     """
     deps = [d for g in groups for d in nox.project.dependency_groups(PYPROJECT, g)]
-    session.install("-e", ".[reference]" if reference else ".", *deps)
+    # The ik extra (IK solvers fkcheck ik wraps) goes with the reference one: tests/ik.
+    session.install("-e", ".[reference,ik]" if reference else ".", *deps)
 
 
 #: pytest-xdist's workers: one per CPU (2 on two cores), each given whole test files
