@@ -261,10 +261,10 @@ def check_ik(
             for k in np.flatnonzero(bad):
                 wrong += 1
                 wrong_by[returned_branches[k] if named else ""] += 1
+                own_at = _own_pose(solver, i, finite, k, good[k])
                 cases.append(
                     _case("wrong", base, sols, returned_branches, good[k], float(pos[k]),
-                          float(rot[k]), _why_wrong(model, solver, good[k], targets[i],
-                                                    own_poses is not None, tol_pos, tol_rot))
+                          float(rot[k]), _why_wrong(own_at, targets[i], tol_pos, tol_rot))
                 )  # fmt: skip
             delta = good[~bad] - q
             delta[:, revolute] = np.angle(np.exp(1j * delta[:, revolute]))
@@ -344,24 +344,34 @@ def _case(
     )
 
 
-def _why_wrong(
-    model: Model,
-    solver: IkSolver,
-    solution: Float,
-    target: Float,
-    has_fk: bool,
-    tol_pos: float,
-    tol_rot: float,
-) -> str:
-    """Whether a wrong solution is the solver's FK's fault or its inversion's."""
+def _own_pose(
+    solver: IkSolver, index: int, finite: Any, k: int, solution: Float
+) -> Float | str | None:
+    """The solver's own FK at the ``k``-th finite solution of pose ``index``.
+
+    ``None`` without an own FK; the text of its failure if it raised.
+    """
+    precomputed = getattr(solver, "fk_at_solutions", None)
+    if precomputed is not None:  # the user's function: computed in its own process
+        poses: Float = precomputed[index][finite][k]
+        return poses
     fk = getattr(solver, "fk", None)
-    if not has_fk or not callable(fk):
-        return "it does not reproduce the pose (the solver has no fk to tell its FK from its inversion)"
+    if not callable(fk):
+        return None
     try:
-        own = np.asarray(fk(solution), dtype=np.float64)
-    except Exception as exc:  # the solver's own fk, as a diagnosis: one line
-        return f"it does not reproduce the pose; its fk raised {type(exc).__name__}: {exc}"
-    if own.shape == (4, 4) and (
+        own: Float = np.asarray(fk(solution.copy()), dtype=np.float64)
+    except Exception as exc:  # the solver's own fk, in a diagnosis: one line
+        return f"raised {type(exc).__name__}: {exc}"
+    return own
+
+
+def _why_wrong(own: Float | str | None, target: Float, tol_pos: float, tol_rot: float) -> str:
+    """Whether a wrong solution is the solver's FK's fault or its inversion's."""
+    if own is None:
+        return "it does not reproduce the pose (the solver has no fk to tell its FK from its inversion)"
+    if isinstance(own, str):
+        return f"it does not reproduce the pose; its fk {own}"
+    if np.shape(own) == (4, 4) and (
         float(position_error_m(own, target)) <= tol_pos
         and float(rotation_error_rad(own, target)) <= tol_rot
     ):

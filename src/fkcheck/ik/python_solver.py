@@ -78,7 +78,8 @@ class PythonIkSolver:
         Args:
             poses: The poses.
             q_for_fk: Configurations ``(N, n)`` at which to also call the module's
-                ``fk`` (kept on :attr:`fk_poses`), or ``None``.
+                ``fk`` (kept on ``fk_poses``; its FK at every solution on
+                ``fk_at_solutions``), or ``None``.
 
         Raises:
             IkSolverError: The module cannot be imported, the function is missing
@@ -106,8 +107,9 @@ class PythonIkSolver:
             raise IkSolverError(self.name, str(exc)) from None
         if kind != "ok":
             raise IkSolverError(self.name, str(value))
-        solutions, fk_poses = value
+        solutions, fk_poses, fk_at = value
         self.fk_poses: Float | None = fk_poses
+        self.fk_at_solutions: list[Float] | None = fk_at
         self.has_fk = fk_poses is not None
         return list(solutions)
 
@@ -140,7 +142,10 @@ def _solve_all(
             )
         solutions = [validated_solutions(spec, _call(spec, solve, T), dof) for T in poses]
         fk_poses = _own_fk(spec, mod, q_for_fk)
-        return ("ok", (solutions, fk_poses))
+        fk_at = None
+        if fk_poses is not None:  # also at every solution: tells its FK from its inversion
+            fk_at = [_own_fk(spec, mod, np.nan_to_num(s)) for s in solutions]
+        return ("ok", (solutions, fk_poses, fk_at))
     except IkSolverError as exc:
         problem = exc.problem
         return ("error", problem[:_PROBLEM_CHARS] + ("…" if len(problem) > _PROBLEM_CHARS else ""))
@@ -154,7 +159,10 @@ def _call(spec: str, solve: Any, pose: Float) -> Any:
 
 
 def _own_fk(spec: str, mod: Any, q: Float | None) -> Float | None:
-    """The module's own ``fk`` at each configuration, ``(N, 4, 4)``, or ``None`` without one."""
+    """The module's own ``fk`` at each configuration, ``(N, 4, 4)``, or ``None`` without one.
+
+    (Also at each returned solution: :attr:`PythonIkSolver.fk_at_solutions`.)
+    """
     fk = getattr(mod, FK_FUNCTION, None)
     if q is None or not callable(fk):
         return None

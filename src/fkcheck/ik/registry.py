@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from importlib import metadata
 from typing import Any
 
-from fkcheck.errors import BackendNotFoundError, FkcheckError
+from fkcheck.errors import FkcheckError
 from fkcheck.ik.solver import IkSolver, SolverRefused
 from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.model.types import Model
@@ -167,8 +167,8 @@ def make_solver(
     """Build the solver ``spec`` names for ``model`` and the check's frame pair.
 
     Raises:
-        BackendNotFoundError: No solver has this name (the message lists them).
-        SolverRefused: It cannot be built or does not fit (one line).
+        SolverRefused: No solver has this name (the message lists them), or it
+            cannot be built or does not fit (one line).
     """
     from fkcheck.ik.python_solver import PythonIkSolver
 
@@ -190,7 +190,7 @@ def make_solver(
             return _checked(registration, _built(registration, registration.factory(), model))
     if _FUNCTION_SPEC.match(spec):
         return PythonIkSolver(spec, model.dof, timeout_s)
-    raise BackendNotFoundError(spec, valid_names())
+    raise SolverRefused(f"unknown IK solver {spec!r}; solvers are: {', '.join(valid_names())}")
 
 
 def _built(registration: SolverRegistration, factory: Any, model: Model) -> Any:

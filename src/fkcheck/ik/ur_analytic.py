@@ -32,6 +32,7 @@ import math
 import os
 import sys
 import tempfile
+import weakref
 from collections.abc import Iterator
 from typing import Any
 
@@ -201,6 +202,7 @@ class _StdoutSink:
         """Send fd 1 to the sink for the ``with`` body; the yielded list gets what it printed."""
         if self._file is None:
             self._file = tempfile.TemporaryFile()
+            weakref.finalize(self, self._file.close)  # closed with the solver, not left open
         printed: list[str] = []
         sys.stdout.flush()
         saved = os.dup(1)

@@ -1,0 +1,152 @@
+"""An IK check's result as JSON, text and Markdown (formatting only; no kinematics).
+
+The JSON (``fkcheck ik --json OUT``), ``"schema": "fkcheck-ik/1"``:
+
+* ``verdict``: ``"pass"`` or ``"fail"``; ``model``, ``solver``, ``method``,
+  ``frame_from``, ``frame_to``, ``seed``, ``samples``;
+* ``tolerances``: ``position_m``, ``rotation_rad`` (soundness),
+  ``same_configuration_rad`` and ``singular_sigma`` (:mod:`fkcheck.ik.check`);
+* integers ``poses``, ``singular_poses``, ``solutions``, ``wrong_solutions``,
+  ``missed``, ``garbage``, ``raised``, ``own_fk_disagreements``;
+* ``own_fk``: whether the solver's own FK was checked;
+* ``counts``: poses per number of solutions (``{"8": 1603, …}``);
+* ``missed_by_branch``, ``wrong_by_branch``: counts by branch name;
+* ``worst``: failing poses, each with ``kind``, ``index``, ``origin``, ``q``
+  (radians), ``q_deg``, ``branch``, ``returned``, ``returned_branches``,
+  ``solution``, ``position_error_m``, ``rotation_error_rad``, ``explanation``;
+* ``explanation``: lines; ``messages``: what the solver printed, by kind, with
+  counts; ``timing``: ``solve_s``, ``check_s``, ``solves_per_s``; ``error``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from fkcheck.ik.check import SAME_CONFIGURATION_RAD, SINGULAR_SIGMA, IkCase, IkResult
+
+__all__ = ["SCHEMA", "format_markdown", "format_text", "to_dict"]
+
+#: The JSON's schema name and version.
+SCHEMA = "fkcheck-ik/1"
+
+
+def _number(value: float) -> float | None:
+    """A finite float, or ``None`` (JSON has no inf)."""
+    return value if math.isfinite(value) else None
+
+
+def _case(case: IkCase) -> dict[str, Any]:
+    return {
+        "kind": case.kind,
+        "index": case.index,
+        "origin": case.origin,
+        "q": list(case.q),
+        "q_deg": [math.degrees(v) for v in case.q],
+        "branch": case.branch,
+        "returned": [[_number(v) for v in row] for row in case.returned],
+        "returned_branches": list(case.returned_branches),
+        "solution": None if case.solution is None else list(case.solution),
+        "position_error_m": _number(case.position_error_m),
+        "rotation_error_rad": _number(case.rotation_error_rad),
+        "explanation": case.explanation,
+    }
+
+
+def to_dict(result: IkResult) -> dict[str, Any]:
+    """The result as JSON-ready data (the fields above)."""
+    return {
+        "schema": SCHEMA,
+        "verdict": result.verdict,
+        "model": result.model,
+        "solver": result.solver,
+        "method": result.method,
+        "frame_from": result.frame_from,
+        "frame_to": result.frame_to,
+        "seed": result.seed,
+        "samples": result.samples,
+        "tolerances": {
+            "position_m": result.tol_pos_m,
+            "rotation_rad": result.tol_rot_rad,
+            "same_configuration_rad": SAME_CONFIGURATION_RAD,
+            "singular_sigma": SINGULAR_SIGMA,
+        },
+        "poses": result.poses,
+        "singular_poses": result.singular_poses,
+        "solutions": result.solutions,
+        "counts": {str(k): v for k, v in result.counts.items()},
+        "wrong_solutions": result.wrong_solutions,
+        "missed": result.missed,
+        "garbage": result.garbage,
+        "raised": result.raised,
+        "own_fk": result.own_fk,
+        "own_fk_disagreements": result.own_fk_disagreements,
+        "missed_by_branch": result.missed_by_branch,
+        "wrong_by_branch": result.wrong_by_branch,
+        "worst": [_case(c) for c in result.worst],
+        "explanation": list(result.explanation),
+        "messages": result.messages,
+        "timing": {
+            "solve_s": result.solve_s,
+            "check_s": result.check_s,
+            "solves_per_s": result.poses / result.solve_s if result.solve_s > 0 else None,
+        },
+        "error": result.error,
+    }
+
+
+def _summary(result: IkResult) -> list[str]:
+    counts = ", ".join(f"{k}: {v}" for k, v in result.counts.items())
+    rate = f"{result.poses / result.solve_s:,.0f} solves/s" if result.solve_s > 0 else "-"
+    own = (
+        f"{result.own_fk_disagreements} disagreements with the table"
+        if result.own_fk
+        else "none (the solver has no fk)"
+    )
+    return [
+        f"model {result.model}, solver {result.solver} ({result.method})",
+        f"pose {result.frame_from} -> {result.frame_to}; tolerances "
+        f"{result.tol_pos_m:g} m, {result.tol_rot_rad:g} rad",
+        f"poses: {result.poses} ({result.singular_poses} singular), seed {result.seed}; "
+        f"solutions per pose: {counts}",
+        f"wrong solutions: {result.wrong_solutions}; missed: {result.missed}; "
+        f"garbage (NaN/inf): {result.garbage}; raised: {result.raised}",
+        f"own FK: {own}",
+        f"solver time: {result.solve_s:.3g} s ({rate}); checking: {result.check_s:.3g} s",
+    ]
+
+
+def _case_line(case: IkCase) -> str:
+    q_deg = ", ".join(f"{math.degrees(v):.6g}" for v in case.q)
+    return f"{case.kind} at q = [{q_deg}]° ({case.origin}): {case.explanation}"
+
+
+def format_text(result: IkResult) -> str:
+    """What ``fkcheck ik`` prints."""
+    lines = [f"IK {result.verdict.upper()}", *_summary(result)]
+    for text, count in result.messages.items():
+        lines.append(f"the solver printed {count}×: {text}")
+    if result.explanation:
+        lines.append("why:")
+        lines.extend(f"  {line}" for line in result.explanation)
+    if result.worst:
+        lines.append("worst cases:")
+        lines.extend(f"  {_case_line(c)}" for c in result.worst)
+    return "\n".join(lines) + "\n"
+
+
+def format_markdown(result: IkResult) -> str:
+    """The result as a Markdown section (``--markdown OUT``, a CI job summary)."""
+    mark = "✅" if result.passed else "❌"
+    lines = [f"### {mark} IK {result.verdict}: {result.model} / {result.solver}", ""]
+    lines.extend(f"- {line}" for line in _summary(result))
+    if result.explanation:
+        lines += ["", "**Why:**", ""]
+        lines.extend(f"- {line.strip()}" for line in result.explanation)
+    if result.worst:
+        lines += ["", "| kind | origin | q (°) | branch | explanation |", "|---|---|---|---|---|"]
+        for c in result.worst:
+            q_deg = ", ".join(f"{math.degrees(v):.4g}" for v in c.q)
+            text = c.explanation.replace("|", "\\|")
+            lines.append(f"| {c.kind} | {c.origin} | {q_deg} | {c.branch} | {text} |")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,105 @@
+"""``fkcheck ik`` from the command line: exit codes, the JSON's fields, the user's function."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from fkcheck.cli.main import main
+
+HERE = Path(__file__).parent
+pytest.importorskip("ur_analytic_ik")
+
+
+def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "fkcheck", *args],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**os.environ},
+        check=False,
+    )
+
+
+def test_ur_analytic_ik_passes_on_ur5e_with_json(tmp_path, capsys):
+    out = tmp_path / "ik.json"
+    code = main(["ik", "ur5e", "--solver", "ur-analytic-ik", "--samples", "200", "--json", str(out)])
+    printed = capsys.readouterr().out
+    assert code == 0, printed
+    assert printed.startswith("IK PASS")
+    assert "Warning" not in printed  # the library's own printing is kept out of ours
+    data = json.loads(out.read_text())
+    assert data["schema"] == "fkcheck-ik/1"
+    assert data["verdict"] == "pass"
+    for field in ("wrong_solutions", "missed", "garbage", "raised", "poses", "singular_poses",
+                  "own_fk_disagreements"):  # fmt: skip
+        assert type(data[field]) is int, field
+    assert (data["wrong_solutions"], data["missed"]) == (0, 0)
+    assert data["frame_from"] == "base" and data["frame_to"] == "tool0"
+    assert data["own_fk"] is True
+    assert data["worst"] == []
+
+
+def test_wrong_function_fails_with_worst_cases_and_markdown(tmp_path):
+    shutil.copy(HERE / "ur_ik.py", tmp_path / "myik.py")
+    (tmp_path / "wrongik.py").write_text(
+        "from myik import UR5E, solve_with, fk_with\n"
+        "P = {**UR5E, 'd4': UR5E['d4'] + 1e-4}\n"
+        "def solve(pose):\n    return solve_with(P, pose)\n"
+        "def fk(q):\n    return fk_with(P, q)\n"
+    )
+    proc = _run(
+        ["ik", "ur5e", "--solver", "wrongik:solve", "--samples", "50", "--json", "out.json",
+         "--markdown", "out.md"],  # fmt: skip
+        tmp_path,
+    )
+    assert proc.returncode == 1, proc.stderr
+    data = json.loads((tmp_path / "out.json").read_text())
+    assert data["verdict"] == "fail"
+    assert data["wrong_solutions"] == data["solutions"] > 0
+    assert data["own_fk_disagreements"] == data["poses"]
+    worst = data["worst"][0]
+    assert {"kind", "q", "q_deg", "branch", "returned", "explanation"} <= set(worst)
+    assert "forward model" in proc.stdout
+    assert "IK fail" in (tmp_path / "out.md").read_text()
+
+
+def test_honest_function_from_the_working_directory_passes(tmp_path):
+    shutil.copy(HERE / "ur_ik.py", tmp_path / "myik.py")
+    proc = _run(["ik", "ur5e", "--solver", "myik:solve", "--samples", "50"], tmp_path)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "own FK: 0 disagreements" in proc.stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["puma560", "--solver", "ur-analytic-ik"], "not one of its robots"),
+        (["puma560", "--solver", "ur-analytic-ik:ur5e"], "not a UR-shaped table"),
+        (["ur5e", "--solver", "nope"], "unknown IK solver 'nope'; solvers are: ur-analytic-ik"),
+        (["ur5e", "--solver", "ur-analytic-ik", "--to", "nowhere"], "nowhere"),
+        (["ur5e", "--solver", "ur-analytic-ik", "--samples", "-1"], "--samples"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
+    assert main(["ik", *args]) == 2
+    err = capsys.readouterr().err
+    assert message in err
+    assert "Traceback" not in err
+    assert err.count("\n") == 1
+
+
+def test_a_function_that_raises_is_a_failure_not_a_traceback(tmp_path):
+    (tmp_path / "badik.py").write_text("def solve(pose):\n    raise RuntimeError('boom')\n")
+    proc = _run(["ik", "ur5e", "--solver", "badik:solve", "--samples", "5"], tmp_path)
+    assert proc.returncode == 1
+    assert "raised RuntimeError: boom" in proc.stdout
+    assert "Traceback" not in proc.stderr
