@@ -31,7 +31,9 @@ def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
 
 def test_ur_analytic_ik_passes_on_ur5e_with_json(tmp_path, capsys):
     out = tmp_path / "ik.json"
-    code = main(["ik", "ur5e", "--solver", "ur-analytic-ik", "--samples", "200", "--json", str(out)])
+    code = main(
+        ["ik", "ur5e", "--solver", "ur-analytic-ik", "--samples", "200", "--json", str(out)]
+    )
     printed = capsys.readouterr().out
     assert code == 0, printed
     assert printed.startswith("IK PASS")
@@ -43,7 +45,7 @@ def test_ur_analytic_ik_passes_on_ur5e_with_json(tmp_path, capsys):
                   "own_fk_disagreements"):  # fmt: skip
         assert type(data[field]) is int, field
     assert (data["wrong_solutions"], data["missed"]) == (0, 0)
-    assert data["frame_from"] == "base" and data["frame_to"] == "tool0"
+    assert (data["frame_from"], data["frame_to"]) == ("base", "tool0")
     assert data["own_fk"] is True
     assert data["worst"] == []
 
@@ -57,8 +59,18 @@ def test_wrong_function_fails_with_worst_cases_and_markdown(tmp_path):
         "def fk(q):\n    return fk_with(P, q)\n"
     )
     proc = _run(
-        ["ik", "ur5e", "--solver", "wrongik:solve", "--samples", "50", "--json", "out.json",
-         "--markdown", "out.md"],  # fmt: skip
+        [
+            "ik",
+            "ur5e",
+            "--solver",
+            "wrongik:solve",
+            "--samples",
+            "50",
+            "--json",
+            "out.json",
+            "--markdown",
+            "out.md",
+        ],
         tmp_path,
     )
     assert proc.returncode == 1, proc.stderr

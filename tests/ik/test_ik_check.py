@@ -48,9 +48,7 @@ def ur5e():
 
 
 def _check(model, solver):
-    return check_ik(
-        model, solver, frame_from="base", frame_to="tool0", samples=SAMPLES, seed=SEED
-    )
+    return check_ik(model, solver, frame_from="base", frame_to="tool0", samples=SAMPLES, seed=SEED)
 
 
 def _singular(q: np.ndarray, origin: str) -> bool:
@@ -63,7 +61,8 @@ def test_honest_solver_passes(ur5e):
     result = _check(ur5e, _Solver())
     assert result.verdict == "pass"
     assert (result.wrong_solutions, result.missed, result.garbage) == (0, 0, 0)
-    assert result.own_fk and result.own_fk_disagreements == 0
+    assert result.own_fk
+    assert result.own_fk_disagreements == 0
     assert result.counts[8] > SAMPLES // 2  # most poses have all eight branches
 
 
@@ -101,7 +100,9 @@ def test_dropped_elbow_down_branch_is_missed_and_named(ur5e):
     assert result.wrong_solutions == 0
     assert result.missed == expected > 0
     assert set(result.missed_by_branch) <= {
-        f"shoulder {s}, elbow down, wrist {w}" for s in ("left", "right") for w in ("flip", "no-flip")
+        f"shoulder {s}, elbow down, wrist {w}"
+        for s in ("left", "right")
+        for w in ("flip", "no-flip")
     }
 
 
@@ -149,7 +150,9 @@ def test_ur_analytic_ik_on_ur5e_and_its_issue_5(ur5e):
     solver = make_solver("ur-analytic-ik", ur5e, "base", "tool0")
     issue5 = tuple(math.radians(v) for v in (0, -45, -90, -90, 90, 0))
     model = dataclasses.replace(ur5e, poses={**ur5e.poses, "issue5": issue5})
-    result = check_ik(model, solver, frame_from="base", frame_to="tool0", samples=SAMPLES, seed=SEED)
+    result = check_ik(
+        model, solver, frame_from="base", frame_to="tool0", samples=SAMPLES, seed=SEED
+    )
     # Sound everywhere, its FK is the table's; it misses the shoulder-right branch at
     # [0, -45, -90, -90, 90, 0]° (it filters those four solutions as incorrect).
     assert result.wrong_solutions == 0
@@ -168,5 +171,5 @@ def test_same_configuration_tolerance_is_modulo_two_pi(ur5e):
             return super().solve(pose) + 2 * math.pi
 
     result = _check(ur5e, Shifted())
-    assert result.missed == 0 and result.wrong_solutions == 0
+    assert (result.missed, result.wrong_solutions) == (0, 0)
     assert SAME_CONFIGURATION_RAD < 1e-3

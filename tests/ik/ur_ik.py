@@ -21,13 +21,25 @@ _WRIST_EPS = 1e-10
 def _dh(theta: float, d: float, a: float, alpha: float) -> np.ndarray:
     ct, st, ca, sa = math.cos(theta), math.sin(theta), math.cos(alpha), math.sin(alpha)
     return np.array(
-        [[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st], [0, sa, ca, d], [0, 0, 0, 1]]
+        [
+            [ct, -st * ca, st * sa, a * ct],
+            [st, ct * ca, -ct * sa, a * st],
+            [0, sa, ca, d],
+            [0, 0, 0, 1],
+        ]
     )
 
 
 def _rows(p: dict[str, float]) -> list[tuple[float, float]]:
     """(d, a) per joint."""
-    return [(p["d1"], 0.0), (0.0, p["a2"]), (0.0, p["a3"]), (p["d4"], 0.0), (p["d5"], 0.0), (p["d6"], 0.0)]
+    return [
+        (p["d1"], 0.0),
+        (0.0, p["a2"]),
+        (0.0, p["a3"]),
+        (p["d4"], 0.0),
+        (p["d5"], 0.0),
+        (p["d6"], 0.0),
+    ]
 
 
 def fk_with(p: dict[str, float], q: np.ndarray) -> np.ndarray:
@@ -81,7 +93,9 @@ def solve_with(
             c3 = max(-1.0, min(1.0, c3))
             for e in (1.0, -1.0):
                 theta3 = e * math.acos(c3)
-                theta2 = math.atan2(y, x) - math.atan2(a3 * math.sin(theta3), a2 + a3 * math.cos(theta3))
+                theta2 = math.atan2(y, x) - math.atan2(
+                    a3 * math.sin(theta3), a2 + a3 * math.cos(theta3)
+                )
                 theta4 = theta234 - theta2 - theta3
                 if drop_elbow_down and elbow_down(p, theta2, theta3):
                     continue
@@ -92,7 +106,7 @@ def solve_with(
 
 
 def elbow_down(p: dict[str, float], theta2: float, theta3: float) -> bool:
-    """Below the shoulder–wrist line, in frame 1's plane (y1 is up, z0): the solver's own geometry."""
+    """Below the shoulder–wrist line in frame 1's plane (y1 is z0, up): the solver's own maths."""
     a2, a3 = p["a2"], p["a3"]
     elbow = np.array([a2 * math.cos(theta2), a2 * math.sin(theta2)])
     wrist = elbow + a3 * np.array([math.cos(theta2 + theta3), math.sin(theta2 + theta3)])

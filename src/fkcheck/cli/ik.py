@@ -52,8 +52,12 @@ def add_parser(sub: Any) -> None:
         metavar="FRAME",
         help="the frame whose pose it inverts (default: the model's [check] to)",
     )
-    p.add_argument("--tol-pos", type=float, help="soundness tolerance, metres (default: the model's)")
-    p.add_argument("--tol-rot", type=float, help="soundness tolerance, radians (default: the model's)")
+    p.add_argument(
+        "--tol-pos", type=float, help="soundness tolerance, metres (default: the model's)"
+    )
+    p.add_argument(
+        "--tol-rot", type=float, help="soundness tolerance, radians (default: the model's)"
+    )
     p.add_argument("--timeout", type=float, default=None, help="time limit of a module:function "
                    "solver's run, seconds (default 120)")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="OUT", help="write the result as JSON")

@@ -46,7 +46,7 @@ def classifiable(model: Model) -> bool:
 
 
 def branch_values(model: Model, q: Float) -> Float:
-    """The three signed quantities of each configuration ``(N, 6)``: shoulder, elbow, wrist, ``(N, 3)``."""
+    """The signed shoulder, elbow and wrist quantities of configurations ``(N, 6)``: ``(N, 3)``."""
     q = np.asarray(q, dtype=np.float64).reshape(-1, model.dof)
     frames = model.fk(q, all_frames=True)  # (N, 7, 4, 4), in the world
     o0, o1, o2, w, p5 = (frames[:, i, :3, 3] for i in (0, 1, 2, 4, 5))

@@ -249,16 +249,16 @@ def check_ik(
                       f"{int((~finite).sum())} of its {len(sols)} solutions hold NaN or inf")
             )  # fmt: skip
         good = sols[finite]
-        returned_branches = tuple(branch_names(branch_values(model, good))) if named and len(
-            good
-        ) else ()
+        returned_branches = (
+            tuple(branch_names(branch_values(model, good))) if named and len(good) else ()
+        )
         found = False
         if len(good):
             reached = model.fk(good, frame_from=frame_from, frame_to=frame_to)
             pos = position_error_m(reached, targets[i])
             rot = rotation_error_rad(reached, targets[i])
             bad = (pos > tol_pos) | (rot > tol_rot)
-            for k in np.flatnonzero(bad):
+            for k in np.flatnonzero(bad).tolist():
                 wrong += 1
                 wrong_by[returned_branches[k] if named else ""] += 1
                 own_at = _own_pose(solver, i, finite, k, good[k])
@@ -368,7 +368,10 @@ def _own_pose(
 def _why_wrong(own: Float | str | None, target: Float, tol_pos: float, tol_rot: float) -> str:
     """Whether a wrong solution is the solver's FK's fault or its inversion's."""
     if own is None:
-        return "it does not reproduce the pose (the solver has no fk to tell its FK from its inversion)"
+        return (
+            "it does not reproduce the pose (the solver has no fk to tell its FK from its "
+            "inversion)"
+        )
     if isinstance(own, str):
         return f"it does not reproduce the pose; its fk {own}"
     if np.shape(own) == (4, 4) and (
@@ -379,7 +382,10 @@ def _why_wrong(own: Float | str | None, target: Float, tol_pos: float, tol_rot: 
             "its own FK maps this solution to the pose: the inversion is consistent, "
             "the solver's forward model disagrees with the table"
         )
-    return "its inversion is wrong: the solution reproduces the pose neither by the table nor by its own FK"
+    return (
+        "its inversion is wrong: the solution reproduces the pose neither by the table nor by "
+        "its own FK"
+    )
 
 
 def _solve_all(

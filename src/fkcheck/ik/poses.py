@@ -80,9 +80,7 @@ def ik_configurations(model: Model, samples: int, seed: int) -> Samples:
             add(q, kind)
     if not rows:
         return base
-    return Samples(
-        q=np.concatenate([base.q, np.array(rows)]), origin=(*base.origin, *origin)
-    )
+    return Samples(q=np.concatenate([base.q, np.array(rows)]), origin=(*base.origin, *origin))
 
 
 def _around(at: float | None, what: str) -> list[tuple[float, str]]:

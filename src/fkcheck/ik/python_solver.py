@@ -176,4 +176,3 @@ def _own_fk(spec: str, mod: Any, q: Float | None) -> Float | None:
             raise IkSolverError(spec, f"its fk returned shape {pose.shape}; expected (4, 4)")
         out[i] = pose
     return out
-

@@ -212,7 +212,8 @@ def _checked(registration: SolverRegistration, solver: Any) -> IkSolver:
     if missing or not callable(getattr(solver, "solve", None)):
         raise SolverRefused(
             f"IK solver {registration.name} ({registration.origin}, {registration.target}) "
-            f"breaks fkcheck's solver contract: it has no {' or '.join(missing) or 'callable solve'}"
+            "breaks fkcheck's solver contract: it has no "
+            f"{' or '.join(missing) or 'callable solve'}"
         )
     checked: IkSolver = solver
     return checked

@@ -94,8 +94,7 @@ def ur_shape_problem(model: Model) -> str | None:
             return f"joint {i} ({joint.name}) is {joint.type}"
         if abs(joint.alpha - math.radians(UR_SHAPE[i - 1])) > _SHAPE_TOL:
             return (
-                f"α{i} ({joint.name}) is {math.degrees(joint.alpha):g}°, not "
-                f"{UR_SHAPE[i - 1]:g}°"
+                f"α{i} ({joint.name}) is {math.degrees(joint.alpha):g}°, not {UR_SHAPE[i - 1]:g}°"
             )
     for i in (1, 4, 5, 6):
         if abs(model.joints[i - 1].a) > _SHAPE_TOL:
@@ -201,7 +200,7 @@ class _StdoutSink:
     def around(self) -> Iterator[list[str]]:
         """Send fd 1 to the sink for the ``with`` body; the yielded list gets what it printed."""
         if self._file is None:
-            self._file = tempfile.TemporaryFile()
+            self._file = tempfile.TemporaryFile()  # noqa: SIM115 (lives as long as the solver)
             weakref.finalize(self, self._file.close)  # closed with the solver, not left open
         printed: list[str] = []
         sys.stdout.flush()
