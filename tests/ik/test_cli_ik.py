@@ -115,3 +115,18 @@ def test_a_function_that_raises_is_a_failure_not_a_traceback(tmp_path):
     assert proc.returncode == 1
     assert "raised RuntimeError: boom" in proc.stdout
     assert "Traceback" not in proc.stderr
+
+
+def test_json_may_not_replace_the_model_or_the_solver_module(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    shutil.copy(HERE / "ur_ik.py", tmp_path / "myik.py")
+    model = tmp_path / "ur5e.toml"
+    model.write_bytes((HERE.parents[1] / "models" / "ur5e.toml").read_bytes())
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    for target in ("ur5e.toml", "myik.py"):
+        code = main(["ik", "ur5e.toml", "--solver", "myik:solve", "--samples", "1",
+                     "--json", target])  # fmt: skip
+        err = capsys.readouterr().err
+        assert code == 2, err
+        assert "an input of this run" in err
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before

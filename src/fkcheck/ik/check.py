@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import time
 from collections import Counter
 from dataclasses import dataclass, field
@@ -442,12 +443,20 @@ def _solve_all(
 
 def _message_kind(line: str) -> str:
     """A printed line without its numbers: lines of one kind are counted together."""
-    return line.split(":")[0].strip()[:200] if ":" in line else line.strip()[:200]
+    words = re.sub(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", "", line)
+    return " ".join(words.split()).rstrip(":")[:200]
 
 
 def _worst(cases: list[IkCase]) -> list[IkCase]:
-    """Up to :data:`WORST_CASES`: one per kind first, then by error."""
+    """Up to :data:`WORST_CASES`, one per pose and kind: one of each kind first, then by error."""
     order = sorted(cases, key=lambda c: (-c.position_error_m, -c.rotation_error_rad))
+    seen: set[tuple[str, int]] = set()
+    unique: list[IkCase] = []
+    for case in order:
+        if (case.kind, case.index) not in seen:
+            seen.add((case.kind, case.index))
+            unique.append(case)
+    order = unique
     picked: list[IkCase] = []
     for kind in ("raised", "garbage", "own-fk", "wrong", "missed"):
         first = next((c for c in order if c.kind == kind), None)
