@@ -38,13 +38,8 @@ def test_the_page_shows_the_keys_fkcheck_ik_writes():
     issue5 = tuple(math.radians(v) for v in (0, -45, -90, -90, 90, 0))
     model = dataclasses.replace(ur5e, poses={**ur5e.poses, "issue5": issue5})
     solver = make_solver("ur-analytic-ik", model, "base", "tool0")
-    real = json.loads(
-        json.dumps(
-            to_dict(
-                check_ik(model, solver, frame_from="base", frame_to="tool0", samples=200, seed=0)
-            )
-        )  # fmt: skip
-    )
+    result = check_ik(model, solver, frame_from="base", frame_to="tool0", samples=200, seed=0)
+    real = json.loads(json.dumps(to_dict(result)))
     example = _example()
     for volatile in ("counts", "missed_by_branch", "wrong_by_branch", "messages"):
         assert isinstance(example[volatile], dict)
