@@ -25,6 +25,7 @@ its own FK or its inversion is wrong (:attr:`IkResult.explanation`).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import re
@@ -34,12 +35,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.ik.branches import branch_names, branch_values, classifiable
 from fkcheck.ik.poses import ik_configurations
 from fkcheck.ik.solver import IkSolver, IkSolverError, validated_solutions
+from fkcheck.model.sampling import Samples
 from fkcheck.model.types import Model
 
 __all__ = [
@@ -190,6 +193,7 @@ def check_ik(
     seed: int,
     tol_pos_m: float | None = None,
     tol_rot_rad: float | None = None,
+    configurations: Samples | None = None,
 ) -> IkResult:
     """Check ``solver`` against the table's FK on seeded and singular configurations.
 
@@ -202,6 +206,9 @@ def check_ik(
         seed: Their seed.
         tol_pos_m: Soundness tolerance (default: the model's ``[check]``).
         tol_rot_rad: Likewise, radians.
+        configurations: Check these instead (``fkcheck bench --ik`` times the
+            check on the bench's configurations); ``samples`` and ``seed`` are then
+            only reported.
 
     Returns:
         The result; a solver that fails as a whole (a function's process dies)
@@ -209,7 +216,7 @@ def check_ik(
     """
     tol_pos = model.check.tol_pos_m if tol_pos_m is None else tol_pos_m
     tol_rot = model.check.tol_rot_rad if tol_rot_rad is None else tol_rot_rad
-    configs = ik_configurations(model, samples, seed)
+    configs = ik_configurations(model, samples, seed) if configurations is None else configurations
     q_all = configs.q
     targets = model.fk(q_all, frame_from=frame_from, frame_to=frame_to)
     sigma = np.linalg.svd(model.jacobian(q_all, frame=frame_to), compute_uv=False)[:, -1]
@@ -221,71 +228,81 @@ def check_ik(
     branches = branch_names(branch_values(model, q_all)) if named else [""] * len(q_all)
     revolute = np.array([j.type == "revolute" for j in model.joints])
 
-    cases: list[IkCase] = []
-    counts: Counter[int] = Counter()
-    missed_by: Counter[str] = Counter()
-    wrong_by: Counter[str] = Counter()
-    wrong = missed = garbage = raised = solutions = 0
-    own_bad = 0
-    own_err = None
+    # Every solution of every pose at once: the check costs a few batched FKs, not a
+    # Python loop of small ones (the per-pose loop below visits failures only).
+    sizes = np.array([len(a) for a in answers], dtype=np.int64)
+    owner = np.repeat(np.arange(len(q_all)), sizes)
+    flat = np.concatenate(answers) if len(owner) else np.zeros((0, model.dof))
+    finite: NDArray[np.bool_] = np.asarray(np.isfinite(flat).all(axis=1))
+    safe = np.where(finite[:, None], flat, 0.0)
+    reached = model.fk(safe, frame_from=frame_from, frame_to=frame_to)
+    pos = position_error_m(reached, targets[owner])
+    rot = rotation_error_rad(reached, targets[owner])
+    bad: NDArray[np.bool_] = finite & ((pos > tol_pos) | (rot > tol_rot))
+    delta = safe - q_all[owner]
+    delta[:, revolute] = np.angle(np.exp(1j * delta[:, revolute]))
+    same = finite & ~bad & (np.abs(delta).max(axis=1, initial=0.0) <= SAME_CONFIGURATION_RAD)
+    found = np.zeros(len(q_all), dtype=bool)
+    np.logical_or.at(found, owner, same)
+    names = branch_names(branch_values(model, safe)) if named and len(owner) else [""] * len(owner)
+    garbage_pose = np.zeros(len(q_all), dtype=bool)
+    np.logical_or.at(garbage_pose, owner, ~finite)
+    raised_pose = np.zeros(len(q_all), dtype=bool)
+    raised_pose[[i for i in errors if i >= 0]] = True
+    # A run that failed as a whole has no answers to judge: its error says so, not a count.
+    missed_pose = ~found & ~singular & ~raised_pose & (-1 not in errors)
+    own_pos = own_rot = np.zeros(len(q_all))
+    own_err = np.zeros(len(q_all), dtype=bool)
     if own_poses is not None:
         own_pos = position_error_m(own_poses, targets)
         own_rot = rotation_error_rad(own_poses, targets)
-        own_err = (own_pos > tol_pos) | (own_rot > tol_rot)
-        own_bad = int(own_err.sum())
-    for i, q in enumerate(q_all):
-        base = dict(index=i, origin=configs.origin[i], q=_row(q), branch=branches[i])
-        if i in errors:
-            raised += 1
+        own_err = ~((own_pos <= tol_pos) & (own_rot <= tol_rot))  # NaN disagrees
+    start = np.concatenate([[0], np.cumsum(sizes)])
+
+    cases: list[IkCase] = []
+    missed_by: Counter[str] = Counter(branches[i] for i in np.flatnonzero(missed_pose))
+    wrong_by: Counter[str] = Counter(names[k] for k in np.flatnonzero(bad))
+    failing = raised_pose | garbage_pose | missed_pose | own_err
+    failing[owner[bad]] = True
+    for i in np.flatnonzero(failing).tolist():
+        base = dict(index=i, origin=configs.origin[i], q=_row(q_all[i]), branch=branches[i])
+        if raised_pose[i]:
             cases.append(_case("raised", base, (), (), None, math.inf, math.inf, errors[i]))
             continue
-        sols = answers[i]
-        counts[len(sols)] += 1
-        solutions += len(sols)
-        finite = np.isfinite(sols).all(axis=1)
-        if not finite.all():
-            garbage += 1
+        rows = slice(start[i], start[i + 1])
+        sols = flat[rows]
+        returned = tuple(n for n, ok in zip(names[rows], finite[rows], strict=True) if ok)
+        if garbage_pose[i]:
             cases.append(
                 _case("garbage", base, sols, (), None, math.inf, math.inf,
-                      f"{int((~finite).sum())} of its {len(sols)} solutions hold NaN or inf")
+                      f"{int((~finite[rows]).sum())} of its {len(sols)} solutions hold NaN or inf")
             )  # fmt: skip
-        good = sols[finite]
-        returned_branches = (
-            tuple(branch_names(branch_values(model, good))) if named and len(good) else ()
-        )
-        found = False
-        if len(good):
-            reached = model.fk(good, frame_from=frame_from, frame_to=frame_to)
-            pos = position_error_m(reached, targets[i])
-            rot = rotation_error_rad(reached, targets[i])
-            bad = (pos > tol_pos) | (rot > tol_rot)
-            for k in np.flatnonzero(bad).tolist():
-                wrong += 1
-                wrong_by[returned_branches[k] if named else ""] += 1
-                own_at = _own_pose(solver, i, finite, k, good[k])
-                cases.append(
-                    _case("wrong", base, sols, returned_branches, good[k], float(pos[k]),
-                          float(rot[k]), _why_wrong(own_at, targets[i], tol_pos, tol_rot))
-                )  # fmt: skip
-            delta = good[~bad] - q
-            delta[:, revolute] = np.angle(np.exp(1j * delta[:, revolute]))
-            found = bool((np.abs(delta).max(axis=1, initial=0.0) <= SAME_CONFIGURATION_RAD).any()
-                         if len(delta) else False)  # fmt: skip
-        if not found and not singular[i]:
-            missed += 1
-            missed_by[branches[i]] += 1
-            why = f"missed {branches[i] or 'the configuration'}; returned {len(sols)}"
-            if returned_branches:
-                why += f" ({'; '.join(sorted(set(returned_branches)))})"
-            if own_err is not None and own_err[i]:
-                why += "; its own FK disagrees with the table here: it solves another arm"
-            cases.append(_case("missed", base, sols, returned_branches, None, 0.0, 0.0, why))
-        if own_err is not None and own_err[i]:
-            assert own_poses is not None
+        good = np.flatnonzero(finite[rows])
+        for k in np.flatnonzero(bad[rows]).tolist():
+            own_at = _own_pose(solver, i, finite[rows], int(np.searchsorted(good, k)), sols[k])
             cases.append(
-                _case("own-fk", base, sols, returned_branches, None, float(own_pos[i]),
+                _case("wrong", base, sols, returned, sols[k], float(pos[rows][k]),
+                      float(rot[rows][k]), _why_wrong(own_at, targets[i], tol_pos, tol_rot))
+            )  # fmt: skip
+        if missed_pose[i]:
+            why = f"missed {branches[i] or 'the configuration'}; returned {len(sols)}"
+            if returned:
+                why += f" ({'; '.join(sorted(set(returned)))})"
+            if own_err[i]:
+                why += "; its own FK disagrees with the table here: it solves another arm"
+            cases.append(_case("missed", base, sols, returned, None, 0.0, 0.0, why))
+        if own_err[i]:
+            cases.append(
+                _case("own-fk", base, sols, returned, None, float(own_pos[i]),
                       float(own_rot[i]), "the solver's own FK disagrees with the table at q")
             )  # fmt: skip
+    counts = Counter(sizes[~raised_pose].tolist())
+    wrong = int(bad.sum())
+    missed = int(missed_pose.sum())
+    garbage = int(garbage_pose.sum())
+    raised = int(raised_pose.sum())
+    solutions = int(sizes.sum())
+    own_bad = int(own_err.sum()) if own_poses is not None else 0
     check_s = time.perf_counter() - started
     result = IkResult(
         model=model.name,
@@ -400,6 +417,7 @@ def _solve_all(
     dof = model.dof
     errors: dict[int, str] = {}
     messages: Counter[str] = Counter()
+    answers: list[Float] = []
     batch = getattr(solver, "solve_batch", None)
     if callable(batch):  # the user's function: one process of its own for them all
         started = time.perf_counter()
@@ -410,7 +428,32 @@ def _solve_all(
             return empty, {-1: str(exc)}, None, {}, time.perf_counter() - started
         own = getattr(solver, "fk_poses", None)
         return answers, errors, own, {}, time.perf_counter() - started
-    answers = []
+    batch_context = getattr(solver, "batch", None)  # a library's printing redirected once
+    with batch_context() if callable(batch_context) else contextlib.nullcontext():
+        spent = _solve_each(solver, targets, dof, answers, errors, messages)
+    for line in getattr(solver, "messages", ()) if callable(batch_context) else ():
+        messages[_message_kind(line)] += 1
+    own_poses = None
+    fk = getattr(solver, "fk", None)
+    if callable(fk):
+        own_poses = np.empty_like(targets)
+        for i, q in enumerate(q_all):
+            try:
+                own_poses[i] = np.asarray(fk(q.copy()), dtype=np.float64)
+            except Exception:  # counted as a disagreement: NaN is never within tolerance
+                own_poses[i] = np.nan
+    return answers, errors, own_poses, dict(messages), spent
+
+
+def _solve_each(
+    solver: IkSolver,
+    targets: Float,
+    dof: int,
+    answers: list[Float],
+    errors: dict[int, str],
+    messages: Counter[str],
+) -> float:
+    """Solve the poses one call each into ``answers`` and ``errors``; the seconds spent solving."""
     spent = 0.0
     for i, T in enumerate(targets):
         started = time.perf_counter()
@@ -429,16 +472,7 @@ def _solve_all(
             answers.append(np.zeros((0, dof)))
         for line in getattr(solver, "messages", ()):
             messages[_message_kind(line)] += 1
-    own_poses = None
-    fk = getattr(solver, "fk", None)
-    if callable(fk):
-        own_poses = np.empty_like(targets)
-        for i, q in enumerate(q_all):
-            try:
-                own_poses[i] = np.asarray(fk(q.copy()), dtype=np.float64)
-            except Exception:  # counted as a disagreement: NaN is never within tolerance
-                own_poses[i] = np.nan
-    return answers, errors, own_poses, dict(messages), spent
+    return spent
 
 
 def _message_kind(line: str) -> str:

@@ -33,7 +33,7 @@ import os
 import sys
 import tempfile
 import weakref
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -112,7 +112,8 @@ class UrAnalyticIk:
         name: ``"ur-analytic-ik"`` (or ``"ur-analytic-ik:<robot>"``).
         method: The library, its version and the robot.
         robot: The library's robot (``"ur5e"``).
-        messages: The lines the library printed during the last :meth:`solve`.
+        messages: The lines the library printed during the last :meth:`solve` (or
+            :meth:`batch`).
     """
 
     def __init__(
@@ -167,16 +168,52 @@ class UrAnalyticIk:
         self._sign = np.array([-1.0 if j.flip else 1.0 for j in model.joints])
         self.messages: tuple[str, ...] = ()
         self._sink = _StdoutSink()
+        self._batched = False
 
     def solve(self, from_T_to: Float) -> Float:
         """Every solution the library returns, as the model's joint values ``(k, 6)``."""
         dh0_T_dh6 = self._dh0_T_from @ np.asarray(from_T_to, dtype=np.float64) @ self._to_T_dhn
-        with self._sink.around() as printed:
+        if self._batched:  # inside batch(): fd 1 is already the sink
             answer = self._robot.inverse_kinematics(np.ascontiguousarray(dh0_T_dh6))
-        self.messages = tuple(printed)
+        else:
+            with self._sink.around() as printed:
+                answer = self._robot.inverse_kinematics(np.ascontiguousarray(dh0_T_dh6))
+            self.messages = tuple(printed)
         theta = np.asarray(answer, dtype=np.float64).reshape(-1, 6)
         q: Float = self._sign * (theta - self._offset)
         return q
+
+    @contextlib.contextmanager
+    def batch(self) -> Iterator[None]:
+        """Many :meth:`solve` calls with fd 1 sent to the sink once, not once per call.
+
+        What the library printed over the whole batch is on :attr:`messages` after it.
+        """
+        self.messages = ()
+        with self._sink.around() as printed:
+            self._batched = True
+            try:
+                yield
+            finally:
+                self._batched = False
+        self.messages = tuple(printed)
+
+    def library_call(self, poses: Float) -> Callable[[], list[Any]]:
+        """The library's own call on ``poses`` (the check's frames turned into its own), unwrapped.
+
+        For ``fkcheck bench --ik``: what the wrapper adds is the difference. The
+        library's printing goes to the sink once for the whole run.
+        """
+        dh_poses = [
+            np.ascontiguousarray(self._dh0_T_from @ T @ self._to_T_dhn) for T in np.asarray(poses)
+        ]
+        solve = self._robot.inverse_kinematics
+
+        def run() -> list[Any]:
+            with self._sink.around():
+                return [solve(T) for T in dh_poses]
+
+        return run
 
     def fk(self, q: Float) -> Float:
         """The library's own FK of the model's joint values, as ``from_T_to`` ``(4, 4)``."""
