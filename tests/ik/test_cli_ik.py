@@ -7,6 +7,7 @@ import os
 import shutil
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
@@ -70,6 +71,8 @@ def test_wrong_function_fails_with_worst_cases_and_markdown(tmp_path):
             "out.json",
             "--markdown",
             "out.md",
+            "--junit",
+            "out.xml",
         ],
         tmp_path,
     )
@@ -82,6 +85,11 @@ def test_wrong_function_fails_with_worst_cases_and_markdown(tmp_path):
     assert {"kind", "q", "q_deg", "branch", "returned", "explanation"} <= set(worst)
     assert "forward model" in proc.stdout
     assert "IK fail" in (tmp_path / "out.md").read_text()
+    suite = ET.parse(tmp_path / "out.xml").getroot()[0]
+    assert (suite.get("tests"), suite.get("failures")) == ("4", "3")  # singular behaviour passes
+    failed = {c.get("name"): c.find("failure") for c in suite.iter("testcase")}
+    assert failed["singular behaviour"] is None
+    assert failed["soundness"].get("message").startswith(f"{data['wrong_solutions']} wrong")
 
 
 def test_honest_function_from_the_working_directory_passes(tmp_path):

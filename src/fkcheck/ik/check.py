@@ -241,7 +241,8 @@ def check_ik(
     bad: NDArray[np.bool_] = finite & ((pos > tol_pos) | (rot > tol_rot))
     delta = safe - q_all[owner]
     delta[:, revolute] = np.angle(np.exp(1j * delta[:, revolute]))
-    same = finite & ~bad & (np.abs(delta).max(axis=1, initial=0.0) <= SAME_CONFIGURATION_RAD)
+    gap = np.abs(delta).max(axis=1, initial=0.0)
+    same = finite & ~bad & (gap <= SAME_CONFIGURATION_RAD)
     found = np.zeros(len(q_all), dtype=bool)
     np.logical_or.at(found, owner, same)
     names = branch_names(branch_values(model, safe)) if named and len(owner) else [""] * len(owner)
@@ -288,6 +289,14 @@ def check_ik(
             why = f"missed {branches[i] or 'the configuration'}; returned {len(sols)}"
             if returned:
                 why += f" ({'; '.join(sorted(set(returned)))})"
+            right = np.flatnonzero(finite[rows] & ~bad[rows])
+            if len(right):  # how near the nearest right one came: a snapped singularity?
+                nearest = right[np.argmin(gap[rows][right])]
+                joint = int(np.argmax(np.abs(delta[rows][nearest])))
+                why += (
+                    f"; the nearest right solution is {gap[rows][nearest]:.2g} rad from it "
+                    f"(joint {joint + 1}, {model.joints[joint].name})"
+                )
             if own_err[i]:
                 why += "; its own FK disagrees with the table here: it solves another arm"
             cases.append(_case("missed", base, sols, returned, None, 0.0, 0.0, why))

@@ -21,11 +21,14 @@ The JSON (``fkcheck ik --json OUT``), ``"schema": "fkcheck-ik/1"``:
 from __future__ import annotations
 
 import math
+import xml.etree.ElementTree as ET
 from typing import Any
 
+from fkcheck._version import __version__
 from fkcheck.ik.check import SAME_CONFIGURATION_RAD, SINGULAR_SIGMA, IkCase, IkResult
+from fkcheck.io.text import xml_safe_tree
 
-__all__ = ["SCHEMA", "format_markdown", "format_text", "to_dict"]
+__all__ = ["SCHEMA", "format_markdown", "format_text", "junit_xml", "to_dict"]
 
 #: The JSON's schema name and version.
 SCHEMA = "fkcheck-ik/1"
@@ -150,3 +153,48 @@ def format_markdown(result: IkResult) -> str:
             text = c.explanation.replace("|", "\\|")
             lines.append(f"| {c.kind} | {c.origin} | {q_deg} | {c.branch} | {text} |")
     return "\n".join(lines) + "\n"
+
+
+def junit_xml(result: IkResult) -> bytes:
+    """The result as JUnit XML (``--junit OUT``): one suite, a case per property.
+
+    ``soundness`` (wrong solutions), ``completeness`` (missed configurations),
+    ``singular behaviour`` (NaN/inf answers, raises) and ``own FK`` (skipped when
+    the solver has none) each fail with their count and the explanation; a run
+    that failed as a whole is an ``<error>``.
+    """
+    name = f"fkcheck.ik.{result.model}.{result.solver}"
+    suite = ET.Element("testsuite", name=name, time=f"{result.solve_s + result.check_s:.3f}")
+    properties = ET.SubElement(suite, "properties")
+    ET.SubElement(properties, "property", name="fkcheck_version", value=__version__)
+    why = "\n".join(result.explanation)
+    cases = [
+        ("soundness", result.wrong_solutions, "wrong solutions"),
+        ("completeness", result.missed, "poses missed their configuration"),
+        ("singular behaviour", result.garbage + result.raised, "poses answered NaN/inf or raised"),
+        ("own FK", result.own_fk_disagreements, "configurations where its FK disagrees"),
+    ]
+    counts = {"tests": 0, "failures": 0, "errors": 0, "skipped": 0}
+    for title, count, what in cases:
+        case = ET.SubElement(suite, "testcase", classname=name, name=title)
+        counts["tests"] += 1
+        if result.error:
+            ET.SubElement(case, "error", message=result.error, type="error").text = result.error
+            counts["errors"] += 1
+        elif title == "own FK" and not result.own_fk:
+            ET.SubElement(case, "skipped", message="the solver has no fk")
+            counts["skipped"] += 1
+        elif count:
+            message = f"{count} {what} ({result.poses} poses)"
+            ET.SubElement(case, "failure", message=message, type="ik").text = why
+            counts["failures"] += 1
+        else:
+            ET.SubElement(case, "system-out").text = f"0 {what} ({result.poses} poses)"
+    for key, value in counts.items():
+        suite.set(key, str(value))
+    suites = ET.Element("testsuites")
+    suites.append(suite)
+    xml_safe_tree(suites)
+    ET.indent(suites)
+    data: bytes = ET.tostring(suites, encoding="utf-8", xml_declaration=True)
+    return data
