@@ -107,6 +107,10 @@ def test_honest_function_from_the_working_directory_passes(tmp_path):
         (["ur5e", "--solver", "nope"], "unknown IK solver 'nope'; solvers are: ur-analytic-ik"),
         (["ur5e", "--solver", "ur-analytic-ik", "--to", "nowhere"], "nowhere"),
         (["ur5e", "--solver", "ur-analytic-ik", "--samples", "-1"], "--samples"),
+        (
+            ["ur5e", "--solver", "ur-analytic-ik", "--from", "tool0", "--to", "base"],
+            "solves DH frame 0 (base) to DH frame 6 (tool0)",
+        ),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
@@ -138,3 +142,12 @@ def test_json_may_not_replace_the_model_or_the_solver_module(tmp_path, monkeypat
         assert code == 2, err
         assert "an input of this run" in err
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_a_function_that_hangs_is_stopped_at_its_time_limit(tmp_path):
+    (tmp_path / "slowik.py").write_text("def solve(pose):\n    while True:\n        pass\n")
+    proc = _run(["ik", "ur5e", "--solver", "slowik:solve", "--samples", "1", "--timeout", "3"],
+                tmp_path)  # fmt: skip
+    assert proc.returncode == 1
+    assert "timed out after 3 s (its process was killed)" in proc.stdout
+    assert "Traceback" not in proc.stderr

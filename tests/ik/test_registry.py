@@ -18,6 +18,14 @@ from fkcheck.ik import check_ik, make_solver
 from fkcheck.ik.registry import SolverRegistration, valid_names
 from fkcheck.ik.solver import SolverRefused
 from fkcheck.model.read import load_model
+from tests.ik import ur_ik
+
+#: UR's ROS frames, written out here (not fkcheck's offsets): base is base_link turned
+#: π about z; flange is tool0 turned by rpy(-90°, -90°, 0) = [[0,1,0],[0,0,1],[1,0,0]].
+_BASE_T_BASE_LINK = np.array([[-1.0, 0, 0, 0], [0, -1.0, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]])
+_FLANGE_T_TOOL0 = np.linalg.inv(
+    np.array([[0.0, 1, 0, 0], [0, 0, 1, 0], [1, 0, 0, 0], [0, 0, 0, 1.0]])
+)
 
 MODULE = """
 import numpy as np
@@ -129,3 +137,48 @@ def test_the_users_function_is_a_solver_by_its_spec(ur5e):
     solver = make_solver("tests.ik.ur_ik:solve", ur5e, "base", "tool0")
     assert solver.name == "tests.ik.ur_ik:solve"
     assert np.asarray(solver.solve(np.eye(4))).shape[1] == 6
+
+
+def test_a_solver_declaring_its_own_frames_is_asked_in_them(ur5e):
+    """A solver for base_link -> flange answers a base -> tool0 check: same DH frames."""
+    from fkcheck.ik.frames import for_frames
+
+    class BaseLinkFlange:
+        name = "declares"
+        frame_from, frame_to = "base_link", "flange"
+
+        def __init__(self):
+            self.asked = []
+
+        def solve(self, pose):
+            self.asked.append(pose)
+            # Its own maths for its pair: tests.ik.ur_ik solves base -> tool0.
+            base_T_tool0 = _BASE_T_BASE_LINK @ pose @ _FLANGE_T_TOOL0
+            return ur_ik.solve(base_T_tool0)
+
+        def fk(self, q):
+            return np.linalg.inv(_BASE_T_BASE_LINK) @ ur_ik.fk(q) @ np.linalg.inv(_FLANGE_T_TOOL0)
+
+    inner = BaseLinkFlange()
+    solver = for_frames(ur5e, inner, "base", "tool0")
+    result = check_ik(ur5e, solver, frame_from="base", frame_to="tool0", samples=20, seed=0)
+    assert result.verdict == "pass"
+    assert result.own_fk
+    assert "it solves base_link -> flange" in result.method
+    q = np.radians([10.0, -60.0, 80.0, -20.0, 30.0, 40.0])
+    solver.solve(ur5e.fk(q, frame_from="base", frame_to="tool0"))
+    assert np.allclose(inner.asked[-1], ur5e.fk(q, frame_from="base_link", frame_to="flange"))
+
+
+def test_a_solver_on_other_dh_frames_is_refused(ur5e):
+    from fkcheck.ik.frames import for_frames
+
+    class World:
+        name = "mid-chain"
+        frame_from, frame_to = "world", "base"
+
+        def solve(self, pose):
+            return np.zeros((0, 6))
+
+    with pytest.raises(SolverRefused, match=r"solves world -> base \(DH frames 0 -> 0\)"):
+        for_frames(ur5e, World(), "base", "tool0")

@@ -9,7 +9,9 @@ Names, as ``fkcheck ik --solver`` takes them:
 * third-party solvers: an installed distribution's entry point in the
   ``fkcheck.ik_solvers`` group (:data:`ENTRY_POINT_GROUP`), whose value
   ``module:factory`` is called as ``factory(model)`` and returns an
-  :class:`~fkcheck.ik.solver.IkSolver`::
+  :class:`~fkcheck.ik.solver.IkSolver`. It is asked for the check's frame pair,
+  or declares the pair it answers for as ``frame_from``/``frame_to`` (then
+  converted, :func:`fkcheck.ik.frames.for_frames`)::
 
       [project.entry-points."fkcheck.ik_solvers"]
       my-ik = "my_ik.fkcheck:make_solver"
@@ -33,6 +35,7 @@ from importlib import metadata
 from typing import Any
 
 from fkcheck.errors import FkcheckError
+from fkcheck.ik.frames import for_frames
 from fkcheck.ik.solver import IkSolver, SolverRefused
 from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.model.types import Model
@@ -184,10 +187,11 @@ def make_solver(
                 built = factory(model, frame_from, frame_to, argument or None)
             else:
                 built = _built(registration, factory, model)
-            return _checked(registration, built)
+            return for_frames(model, _checked(registration, built), frame_from, frame_to)
     for registration in found:
         if spec == registration.name:
-            return _checked(registration, _built(registration, registration.factory(), model))
+            built = _built(registration, registration.factory(), model)
+            return for_frames(model, _checked(registration, built), frame_from, frame_to)
     if _FUNCTION_SPEC.match(spec):
         return PythonIkSolver(spec, model.dof, timeout_s)
     raise SolverRefused(f"unknown IK solver {spec!r}; solvers are: {', '.join(valid_names())}")
