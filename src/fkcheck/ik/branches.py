@@ -45,8 +45,13 @@ def classifiable(model: Model) -> bool:
     return model.dof == 6 and all(j.type == "revolute" for j in model.joints)
 
 
-def branch_values(model: Model, q: Float) -> Float:
-    """The signed shoulder, elbow and wrist quantities of configurations ``(N, 6)``: ``(N, 3)``."""
+def branch_values(model: Model, q: Float, *, raw: bool = False) -> Float:
+    """The signed shoulder, elbow and wrist quantities of configurations ``(N, 6)``: ``(N, 3)``.
+
+    With ``raw``, the elbow's is ``z1 · ((o2 − o1) × (w − o1))``, before it is turned
+    to the base's +z side: a sinusoid of each joint's value
+    (:mod:`fkcheck.ik.poses` finds its zeros from three values).
+    """
     q = np.asarray(q, dtype=np.float64).reshape(-1, model.dof)
     frames = model.fk(q, all_frames=True)  # (N, 7, 4, 4), in the world
     o0, o1, o2, w, p5 = (frames[:, i, :3, 3] for i in (0, 1, 2, 4, 5))
@@ -56,8 +61,9 @@ def branch_values(model: Model, q: Float) -> Float:
     shoulder = np.einsum("ij,ij->i", p5 - o0, x1)
     # The in-plane normal to shoulder → wrist, turned to the base's +z side.
     normal = np.cross(z1, w - o1)
-    up = np.einsum("ij,ij->i", normal, z0)
-    normal *= np.where(up < 0.0, -1.0, 1.0)[:, None]
+    if not raw:
+        up = np.einsum("ij,ij->i", normal, z0)
+        normal *= np.where(up < 0.0, -1.0, 1.0)[:, None]
     elbow = np.einsum("ij,ij->i", o2 - o1, normal)
     joint5 = model.joints[4]
     theta5 = joint5.theta + (-1.0 if joint5.flip else 1.0) * q[:, 4]

@@ -9,7 +9,9 @@ For each configuration ``q`` of :func:`~fkcheck.ik.poses.ik_configurations`,
   ``fkcheck ik --tol-pos/--tol-rot``); one that does not is a *wrong solution*;
 * **completeness** — ``q`` itself is among the sound solutions, joint by joint
   within :data:`SAME_CONFIGURATION_RAD` (revolute joints modulo 2π); a pose where
-  it is not is *missed*, named by ``q``'s branch (:mod:`fkcheck.ik.branches`);
+  it is not is *missed*, named by ``q``'s branch (:mod:`fkcheck.ik.branches`).
+  Not for an arm of more than six joints, whose poses have a continuum of
+  configurations (:attr:`IkResult.completeness_checked`);
 * **singular poses** — where the Jacobian's smallest singular value is below
   :data:`SINGULAR_SIGMA` the pose has a continuum of solutions or merged
   branches: no answer is required ("none" is a stated answer), but what is
@@ -135,6 +137,8 @@ class IkResult:
         check_s: Time spent checking its answers, seconds.
         messages: Lines the solver printed (a library's warnings), with a count.
         error: A failure of the whole run (a function's process died), or ``""``.
+        completeness_checked: ``False`` for an arm of more than six joints: a pose
+            has a continuum of configurations, no finite answer holds them all.
     """
 
     model: str
@@ -164,6 +168,7 @@ class IkResult:
     check_s: float
     messages: dict[str, int] = field(default_factory=dict)
     error: str = ""
+    completeness_checked: bool = True
 
     @property
     def passed(self) -> bool:
@@ -251,7 +256,9 @@ def check_ik(
     raised_pose = np.zeros(len(q_all), dtype=bool)
     raised_pose[[i for i in errors if i >= 0]] = True
     # A run that failed as a whole has no answers to judge: its error says so, not a count.
-    missed_pose = ~found & ~singular & ~raised_pose & (-1 not in errors)
+    # A redundant arm's pose has a continuum of configurations: completeness is not checked.
+    complete = model.dof <= 6
+    missed_pose = ~found & ~singular & ~raised_pose & (-1 not in errors) & complete
     own_pos = own_rot = np.zeros(len(q_all))
     own_err = np.zeros(len(q_all), dtype=bool)
     if own_poses is not None:
@@ -340,6 +347,7 @@ def check_ik(
         solve_s=solve_s,
         check_s=check_s,
         messages=messages,
+        completeness_checked=complete,
         error=errors.get(-1, ""),
     )
     return _explained(result, cases)

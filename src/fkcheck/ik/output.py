@@ -8,7 +8,8 @@ The JSON (``fkcheck ik --json OUT``), ``"schema": "fkcheck-ik/1"``:
   ``same_configuration_rad`` and ``singular_sigma`` (:mod:`fkcheck.ik.check`);
 * integers ``poses``, ``singular_poses``, ``solutions``, ``wrong_solutions``,
   ``missed``, ``garbage``, ``raised``, ``own_fk_disagreements``;
-* ``own_fk``: whether the solver's own FK was checked;
+* ``own_fk``: whether the solver's own FK was checked; ``completeness_checked``:
+  ``false`` for an arm of more than six joints (a continuum of configurations);
 * ``counts``: poses per number of solutions (``{"8": 1603, …}``);
 * ``missed_by_branch``, ``wrong_by_branch``: counts by branch name;
 * ``worst``: failing poses, each with ``kind``, ``index``, ``origin``, ``q``
@@ -82,6 +83,7 @@ def to_dict(result: IkResult) -> dict[str, Any]:
         "missed": result.missed,
         "garbage": result.garbage,
         "raised": result.raised,
+        "completeness_checked": result.completeness_checked,
         "own_fk": result.own_fk,
         "own_fk_disagreements": result.own_fk_disagreements,
         "missed_by_branch": result.missed_by_branch,
@@ -101,6 +103,7 @@ def to_dict(result: IkResult) -> dict[str, Any]:
 def _summary(result: IkResult) -> list[str]:
     counts = ", ".join(f"{k}: {v}" for k, v in result.counts.items())
     rate = f"{result.poses / result.solve_s:,.0f} solves/s" if result.solve_s > 0 else "-"
+    missed = result.missed if result.completeness_checked else "not checked (redundant arm)"
     own = (
         f"{result.own_fk_disagreements} disagreements with the table"
         if result.own_fk
@@ -112,7 +115,7 @@ def _summary(result: IkResult) -> list[str]:
         f"{result.tol_pos_m:g} m, {result.tol_rot_rad:g} rad",
         f"poses: {result.poses} ({result.singular_poses} singular), seed {result.seed}; "
         f"solutions per pose: {counts}",
-        f"wrong solutions: {result.wrong_solutions}; missed: {result.missed}; "
+        f"wrong solutions: {result.wrong_solutions}; missed: {missed}; "
         f"garbage (NaN/inf): {result.garbage}; raised: {result.raised}",
         f"own FK: {own}",
         f"solver time: {result.solve_s:.3g} s ({rate}); checking: {result.check_s:.3g} s",

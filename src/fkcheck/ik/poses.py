@@ -9,8 +9,9 @@ seeded configurations each:
   ``θ5 = ±1e-3`` and ``±1e-6`` rad (:data:`NEAR`);
 * ``elbow-singular``: θ3 where the elbow is straight (the elbow quantity of
   :mod:`fkcheck.ik.branches` is zero); ``near-elbow`` beside it;
-* ``shoulder-singular``: θ2 where the wrist point is on the base axis, when the
-  arm reaches it; ``near-shoulder`` beside it.
+* ``shoulder-singular``: θ2 where the wrist point is in the plane of the base
+  axis and joint 2's axis (on the base axis for an arm without a shoulder
+  offset), when the arm reaches it; ``near-shoulder`` beside it.
 
 Each is found from the branch quantities themselves (they are sinusoids of the
 joint they depend on), so no arm's formula is assumed. A configuration outside
@@ -100,7 +101,7 @@ def _sinusoid_zero(model: Model, q: Float, joint: int, quantity: int) -> float |
     """
     trials = np.repeat(q[None, :], 3, axis=0)
     trials[:, joint] = (0.0, math.pi / 2, math.pi)
-    f0, f1, f2 = branch_values(model, trials)[:, quantity]
+    f0, f1, f2 = branch_values(model, trials, raw=True)[:, quantity]
     c = (f0 + f2) / 2.0
     a = (f0 - f2) / 2.0
     b = f1 - c
