@@ -67,6 +67,10 @@ class PythonIkSolver:
         self.timeout_s = timeout_s
         self._dof = dof
         self.has_fk = False
+        #: The module's own FK at the last batch's configurations, ``(N, 4, 4)``.
+        self.fk_poses: Float | None = None
+        #: And at each of its solutions, one ``(k, 4, 4)`` per pose.
+        self.fk_at_solutions: list[Float] | None = None
 
     def solve(self, from_T_to: Float) -> Float:
         """Every solution for one pose (its own process, as :meth:`solve_batch`)."""
@@ -108,8 +112,8 @@ class PythonIkSolver:
         if kind != "ok":
             raise IkSolverError(self.name, str(value))
         solutions, fk_poses, fk_at = value
-        self.fk_poses: Float | None = fk_poses
-        self.fk_at_solutions: list[Float] | None = fk_at
+        self.fk_poses = fk_poses
+        self.fk_at_solutions = fk_at
         self.has_fk = fk_poses is not None
         return list(solutions)
 

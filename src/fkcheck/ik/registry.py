@@ -115,7 +115,7 @@ BUILTIN: tuple[SolverRegistration, ...] = (
     SolverRegistration(
         "opw",
         "fkcheck.ik.opw_solver:make_opw_solver",
-        summary="OPW arms, py-opw-kinematics with parameters from the table (MIT/Apache-2.0)",
+        summary="OPW arms, py-opw-kinematics (MIT) with parameters from the table",
     ),
 )
 

@@ -39,7 +39,13 @@ class IkSolver(Protocol):
     Attributes:
         name: How the solver is named on the command line (``ur-analytic-ik``,
             ``mypkg.ik:solve``).
-        method: One line saying what computes the answers (library, version, robot).
+        method: One line saying what computes the answers (library, version,
+            robot); a third party's solver may leave it out.
+
+    Optional members the check uses when present: ``fk(q) -> (4, 4)``, its own
+    forward kinematics; ``frame_from``/``frame_to``, the pair it answers for
+    (:func:`fkcheck.ik.frames.for_frames`); ``messages``, lines it printed during
+    the last solve; ``batch()``, a context in which to solve many poses.
     """
 
     name: str
