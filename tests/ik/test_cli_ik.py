@@ -32,12 +32,13 @@ def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
 
 def test_ur_analytic_ik_passes_on_ur5e_with_json(tmp_path, capsys):
     out = tmp_path / "ik.json"
-    code = main(
-        ["ik", "ur5e", "--solver", "ur-analytic-ik", "--samples", "200", "--json", str(out)]
-    )
+    page = tmp_path / "ik.html"
+    code = main(["ik", "ur5e", "--solver", "ur-analytic-ik", "--samples", "200",
+                 "--json", str(out), "--html", str(page)])  # fmt: skip
     printed = capsys.readouterr().out
     assert code == 0, printed
     assert printed.startswith("IK PASS")
+    assert '<h1>IK <span class="pass">pass</span>: ur5e / ur-analytic-ik</h1>' in page.read_text()
     assert "Warning" not in printed  # the library's own printing is kept out of ours
     data = json.loads(out.read_text())
     assert data["schema"] == "fkcheck-ik/1"
@@ -122,11 +123,18 @@ def test_bad_input_is_one_line_and_exit_2(args, message, capsys):
 
 
 def test_a_function_that_raises_is_a_failure_not_a_traceback(tmp_path):
-    (tmp_path / "badik.py").write_text("def solve(pose):\n    raise RuntimeError('boom')\n")
-    proc = _run(["ik", "ur5e", "--solver", "badik:solve", "--samples", "5"], tmp_path)
+    (tmp_path / "badik.py").write_text(
+        "def solve(pose):\n    raise RuntimeError('boom <script>alert(1)</script>')\n"
+    )
+    proc = _run(
+        ["ik", "ur5e", "--solver", "badik:solve", "--samples", "5", "--html", "ik.html"], tmp_path
+    )
     assert proc.returncode == 1
     assert "raised RuntimeError: boom" in proc.stdout
     assert "Traceback" not in proc.stderr
+    page = (tmp_path / "ik.html").read_text()
+    assert "boom &lt;script&gt;alert(1)&lt;/script&gt;" in page  # what the solver said, escaped
+    assert "<script>" not in page
 
 
 def test_json_may_not_replace_the_model_or_the_solver_module(tmp_path, monkeypatch, capsys):

@@ -63,6 +63,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--json", type=Path, metavar="OUT", help="write the result as JSON")
     p.add_argument("--markdown", type=Path, metavar="OUT", help="write the result as Markdown")
     p.add_argument("--junit", type=Path, metavar="OUT", help="write the result as JUnit XML")
+    p.add_argument("--html", type=Path, metavar="OUT", help="write the result as an HTML page")
     p.set_defaults(run=run)
 
 
@@ -70,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     """Build the solver, check it, print and write the result."""
     from fkcheck.cli._outputs import model_inputs, plan, writes
     from fkcheck.ik import check_ik, make_solver
-    from fkcheck.ik.output import format_markdown, format_text, junit_xml, to_dict
+    from fkcheck.ik.output import format_html, format_markdown, format_text, junit_xml, to_dict
     from fkcheck.ik.python_solver import PythonIkSolver
     from fkcheck.io.atomic import write_bytes_atomic, write_text_atomic
     from fkcheck.io.strict_json import strict_json
@@ -95,7 +96,12 @@ def run(args: argparse.Namespace) -> int:
     for name in (frame_from, frame_to):
         resolve_frame(model, name)
     solver = make_solver(args.solver, model, frame_from, frame_to, timeout_s=timeout)
-    outputs = [("--json", args.json), ("--markdown", args.markdown), ("--junit", args.junit)]
+    outputs = [
+        ("--json", args.json),
+        ("--markdown", args.markdown),
+        ("--junit", args.junit),
+        ("--html", args.html),
+    ]
     inputs = list(model_inputs(model, expand=False))
     if isinstance(solver, PythonIkSolver):
         from fkcheck.backends.plugin import module_file
@@ -121,4 +127,6 @@ def run(args: argparse.Namespace) -> int:
         write_text_atomic(args.markdown, format_markdown(result))
     if args.junit is not None:
         write_bytes_atomic(args.junit, junit_xml(result))
+    if args.html is not None:
+        write_text_atomic(args.html, format_html(result))
     return 0 if result.passed else 1

@@ -29,7 +29,7 @@ from fkcheck._version import __version__
 from fkcheck.ik.check import SAME_CONFIGURATION_RAD, SINGULAR_SIGMA, IkCase, IkResult
 from fkcheck.io.text import xml_safe_tree
 
-__all__ = ["SCHEMA", "format_markdown", "format_text", "junit_xml", "to_dict"]
+__all__ = ["SCHEMA", "format_html", "format_markdown", "format_text", "junit_xml", "to_dict"]
 
 #: The JSON's schema name and version.
 SCHEMA = "fkcheck-ik/1"
@@ -201,3 +201,47 @@ def junit_xml(result: IkResult) -> bytes:
     ET.indent(suites)
     data: bytes = ET.tostring(suites, encoding="utf-8", xml_declaration=True)
     return data
+
+
+#: The page ``--html OUT`` writes: self-contained, every value autoescaped.
+_HTML = """<!doctype html>
+<html lang="en"><head><meta charset="utf-8">
+<title>fkcheck ik {{ r.model }} / {{ r.solver }}: {{ r.verdict }}</title>
+<style>
+body { font: 14px/1.45 system-ui, sans-serif; margin: 2em auto; max-width: 72em; padding: 0 1em; }
+h1 .pass { color: #1a7f37; } h1 .fail { color: #cf222e; }
+table { border-collapse: collapse; } td, th { border: 1px solid #ccc; padding: .2em .5em;
+  text-align: left; vertical-align: top; } code { font-size: 95%; }
+</style></head><body>
+<h1>IK <span class="{{ r.verdict }}">{{ r.verdict }}</span>: {{ r.model }} / {{ r.solver }}</h1>
+<ul>{% for line in summary %}<li>{{ line }}</li>{% endfor %}
+{% for text, count in r.messages.items() %}<li>the solver printed {{ count }}×: {{ text }}</li>
+{% endfor %}</ul>
+{% if r.explanation %}<h2>Why</h2><ul>{% for line in r.explanation %}<li>{{ line }}</li>
+{% endfor %}</ul>{% endif %}
+{% if r.worst %}<h2>Worst cases</h2><table><tr><th>kind</th><th>origin</th><th>q (°)</th>
+<th>branch</th><th>explanation</th></tr>
+{% for c in worst %}<tr><td>{{ c.kind }}</td><td>{{ c.origin }}</td><td><code>{{ c.q }}</code></td>
+<td>{{ c.branch }}</td><td>{{ c.explanation }}</td></tr>
+{% endfor %}</table>{% endif %}
+<p>fkcheck {{ version }}</p>
+</body></html>
+"""
+
+
+def format_html(result: IkResult) -> str:
+    """The result as one self-contained HTML page (``--html OUT``); every value escaped."""
+    import jinja2
+
+    template = jinja2.Environment(autoescape=True).from_string(_HTML)
+    worst = [
+        {
+            "kind": c.kind,
+            "origin": c.origin,
+            "q": ", ".join(f"{math.degrees(v):.6g}" for v in c.q),
+            "branch": c.branch,
+            "explanation": c.explanation,
+        }
+        for c in result.worst
+    ]
+    return template.render(r=result, summary=_summary(result), worst=worst, version=__version__)
