@@ -66,6 +66,13 @@ def add_parser(sub: Any) -> None:
         "against Robotics Toolbox's ETS.jacob0 and Pinocchio's computeFrameJacobian, one "
         "thread and one preallocated output for all (numba's threads as an extra row)",
     )
+    p.add_argument(
+        "--ik",
+        metavar="NAME[,NAME]",
+        help="time inverse-kinematics solvers instead (fkcheck ik's --solver names) on the "
+        "same poses: solves/s per solver, the library's bare call where there is one, and "
+        "fkcheck ik's checking of the answers (the harness's cost); at most 2000 poses",
+    )
     p.set_defaults(run=run)
 
 
@@ -83,6 +90,8 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model)
     outputs = [("--json", args.json)]
     plan(args, outputs, model_inputs(model, expand=writes(outputs)))
+    if args.ik is not None:
+        return _run_ik(args, model)
     bench = run_jacobian_bench if args.jacobian else run_bench
     with console(stderr=True).status("timing…") as status:
         result = bench(
@@ -277,6 +286,77 @@ def _jacobian_over_fk(result: Any) -> list[str]:
     found = ", ".join(f"{ratio:.1f}× ({label})" for label, ratio in result.jacobian_over_fk.items())
     return [f"Jacobian vs pose: the batched Jacobian takes {found} the FK's time "
             "per configuration, same N and out=."]  # fmt: skip
+
+
+def _run_ik(args: argparse.Namespace, model: Any) -> int:
+    """``--ik``: time the solvers, print their table, write the JSON; 1 if one fails."""
+    from rich.table import Table
+
+    from fkcheck.bench.ik import run_ik_bench
+    from fkcheck.cli._console import console
+    from fkcheck.io.text import terminal_markup, terminal_text
+
+    names = [n.strip() for n in args.ik.split(",") if n.strip()]
+    with console(stderr=True).status("timing…") as status:
+        result = run_ik_bench(
+            model,
+            names,
+            args.n,
+            args.repeat,
+            seed=args.seed,
+            progress=lambda name: status.update(f"timing {terminal_markup(name)}…"),
+        )
+    tol = model.check.tol_pos_m
+    table = Table(
+        title=f"fkcheck bench {terminal_markup(result.model)} --ik: {result.n:,} poses, median "
+        f"of {result.repeat} runs (the check: one run)"
+    )
+    for column in ("solver", "part", "µs/solve", "solves/s", "× solve", "max |Δp|", "note"):
+        table.add_column(
+            column, justify="left" if column in ("solver", "part", "note") else "right"
+        )
+    solve_us = {t.solver: t.us_per_solve for t in result.timings if t.part == "solve"}
+    for t in result.timings:
+        if t.error:
+            table.add_row(terminal_markup(t.solver), t.part, "[bold red]FAILED[/]", "", "", "",
+                          terminal_markup(t.error))  # fmt: skip
+            continue
+        base = solve_us.get(t.solver)
+        ratio = "" if base is None or t.us_per_solve is None else f"{t.us_per_solve / base:.2g}"
+        err = "" if t.max_position_error_m is None else f"{t.max_position_error_m:.2g}"
+        if t.max_position_error_m is not None and not t.max_position_error_m <= tol:
+            err = f"[bold red]{err}[/]"
+        table.add_row(
+            terminal_markup(t.solver),
+            t.part,
+            "" if t.us_per_solve is None else format_microseconds(t.us_per_solve),
+            f"{t.solves_per_s:,.0f}" if t.solves_per_s else "",
+            ratio,
+            err,
+            terminal_markup(t.note),
+        )
+    console().print(table)
+    failed = [f"{t.solver} ({t.error})" for t in result.timings if t.error]
+    unsound = [
+        t.solver
+        for t in result.timings
+        if t.max_position_error_m is not None and not t.max_position_error_m <= tol
+    ]
+    if args.json is not None:
+        write_json(
+            args.json, {**result.to_dict(), "tol_pos_m": tol, "failed": failed, "unsound": unsound}
+        )
+    if failed:
+        print(f"fkcheck bench: solvers failed: {terminal_text('; '.join(failed))}", file=sys.stderr)
+        return 1
+    if unsound:
+        print(
+            f"fkcheck bench: solutions off their pose by more than {tol:g} m: "
+            f"{terminal_text(', '.join(unsound))} (fkcheck ik says more)",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
 
 
 def write_json(path: Path, data: dict[str, Any]) -> None:

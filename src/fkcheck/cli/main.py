@@ -50,7 +50,7 @@ __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
 #: Subcommand modules under fkcheck.cli, in the order ``--help`` lists them.
 COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "map", "urdf", "expand", "lint",
-            "diagnose", "calibration", "bench", "opw")  # fmt: skip
+            "diagnose", "calibration", "bench", "ik", "opw")  # fmt: skip
 
 #: What plain ``fkcheck`` runs: the same check wherever it runs, so ``--isolated``
 #: (a project's ``[tool.fkcheck]`` is for its own models: ``fkcheck check``).
