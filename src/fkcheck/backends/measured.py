@@ -591,7 +591,10 @@ class MeasuredPoses(BackendDefaults):
         equality) must not read a recording of 10⁵ rows again.
         """
         if self._read is None or self._read[0] != model:
-            self._read = model, _Table(*_read(self.path, model))
+            from fkcheck.backends.bag import is_bag, read_bag  # a ROS 2 bag: its own reader
+
+            read = read_bag(self.path, model, self.options) if is_bag(self.path) else None
+            self._read = model, _Table(*(read or _read(self.path, model)))
             self.method = self._read[1].method
         return self._read[1]
 

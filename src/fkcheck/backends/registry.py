@@ -87,9 +87,23 @@ class BackendOptions:
     Attributes:
         timeout_s: Time limit for one backend's whole run (seconds): a check's
             :attr:`~fkcheck.model.options.CheckOptions.timeout_s`.
+        frame_from: The check's ``--from`` (``None``: the model's ``[check]``); a ROS 2
+            bag (``poses:BAG``) composes its transform for the check's pair.
+        frame_to: The check's ``--to`` (``None``: the model's ``[check]``).
+        bag_joint_states: A bag's topic of joint states (``--bag-joint-states``).
+        bag_tf: A bag's topic of changing transforms (``--bag-tf``).
+        bag_tf_static: A bag's topic of static transforms (``--bag-tf-static``).
+        bag_stamp_tolerance_s: Largest lag of a joint state before the pose it is
+            paired with, seconds (``--bag-stamp-tolerance``; :mod:`fkcheck.backends.bag`).
     """
 
     timeout_s: float = DEFAULT_TIMEOUT_S
+    frame_from: str | None = None
+    frame_to: str | None = None
+    bag_joint_states: str = "/joint_states"
+    bag_tf: str = "/tf"
+    bag_tf_static: str = "/tf_static"
+    bag_stamp_tolerance_s: float = 1e-3
 
 
 class BackendContractError(FkcheckError):
