@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 from scipy.spatial.transform import Rotation
 
@@ -53,6 +53,8 @@ class BagSpec:
         noise: Also write other frames' transforms, changing, on ``/tf``.
         topics: ``(joint_states, tf, tf_static)``.
         joint_type: The type written on the joint-state topic.
+        compress: Compress the MCAP file's chunks with zstd (as the mcap storage
+            plugin may); the bag's metadata then names no compression.
     """
 
     def __init__(
@@ -65,7 +67,9 @@ class BagSpec:
         noise: bool = False,
         topics: tuple[str, str, str] = ("/joint_states", "/tf", "/tf_static"),
         joint_type: str = "sensor_msgs/msg/JointState",
+        compress: bool = False,
     ) -> None:
+        self.compress = compress
         self.names = tuple(names)
         self.order = tuple(order)
         self.extra = tuple(extra)
@@ -127,7 +131,10 @@ def write_bag(
     rng = np.random.default_rng(seed)
     plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
     turn = np.diag([-1.0, -1.0, 1.0, 1.0])
-    with Writer(path, version=9, storage_plugin=plugin) as writer:
+    writer = Writer(path, version=9, storage_plugin=plugin)
+    if spec.compress:
+        writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
+    with writer:
         js_topic, tf_topic, static_topic = spec.topics
         js = writer.add_connection(js_topic, spec.joint_type, typestore=STORE)
         tf = writer.add_connection(tf_topic, "tf2_msgs/msg/TFMessage", typestore=STORE)

@@ -125,6 +125,10 @@ class BagError(PosesFileError):
     """A bag that cannot be read as measured poses (one line, exit 2)."""
 
 
+class _Bad(Exception):
+    """What a message of the bag holds cannot be used (becomes a :class:`BagError`)."""
+
+
 @dataclass(frozen=True)
 class BagTopics:
     """Where a bag's joint states and transforms are.
@@ -279,12 +283,12 @@ def _bounded_decompressors() -> None:
     def bounded(make: Any) -> Any:
         def decompress(data: bytes, size: int) -> bytes:
             if not 0 <= size <= MAX_CHUNK_BYTES:
-                raise ValueError(
+                raise _Bad(
                     f"a chunk declares {size:,} bytes (at most {MAX_CHUNK_BYTES:,} are read)"
                 )
             out: bytes = make().decompress(data, max_length=size + 1)
             if len(out) > size:
-                raise ValueError(f"a chunk decompresses to more than its declared {size:,} bytes")
+                raise _Bad(f"a chunk decompresses to more than its declared {size:,} bytes")
             return out
 
         return decompress
@@ -297,14 +301,14 @@ def _stamp_ns(header: Any) -> int:
     stamp = header.stamp
     sec, nanosec = int(stamp.sec), int(stamp.nanosec)
     if not 0 <= nanosec < _NS:
-        raise ValueError(f"a stamp's nanosec is {nanosec} (0 … 999999999)")
+        raise _Bad(f"a stamp's nanosec is {nanosec} (0 … 999999999)")
     return sec * _NS + nanosec
 
 
 def _frame_id(name: str) -> str:
     """A frame id as tf2 compares it: without a leading ``/``."""
     if len(name) > MAX_FRAME_ID_CHARS:
-        raise ValueError(f"a frame id of {len(name)} characters (at most {MAX_FRAME_ID_CHARS})")
+        raise _Bad(f"a frame id of {len(name)} characters (at most {MAX_FRAME_ID_CHARS})")
     return name[1:] if name.startswith("/") else name
 
 
@@ -315,11 +319,11 @@ def _matrix(transform: Any) -> Float:
     p = (float(t.x), float(t.y), float(t.z))
     norm = math.sqrt(x * x + y * y + z * z + w * w)
     if not (math.isfinite(norm) and all(math.isfinite(v) for v in p)):
-        raise ValueError("a transform with a non-finite number")
+        raise _Bad("a transform with a non-finite number")
     if abs(norm - 1.0) > QUATERNION_NORM_TOL:
-        raise ValueError(f"a rotation quaternion of norm {norm:.6g} (tf2 needs unit length)")
+        raise _Bad(f"a rotation quaternion of norm {norm:.6g} (tf2 needs unit length)")
     if max(abs(v) for v in p) > MAX_LENGTH_M:
-        raise ValueError(f"a translation beyond ±{MAX_LENGTH_M:g} m")
+        raise _Bad(f"a translation beyond ±{MAX_LENGTH_M:g} m")
     x, y, z, w = x / norm, y / norm, z / norm, w / norm
     return np.array(
         [
@@ -346,7 +350,7 @@ class _Tree:
 
     def _set_parent(self, child: str, old: str | None, parent: str) -> None:
         if old is None and len(self.static) + len(self.moving) >= MAX_FRAMES:
-            raise ValueError(f"more than {MAX_FRAMES:,} frames in the tf tree")
+            raise _Bad(f"more than {MAX_FRAMES:,} frames in the tf tree")
         if old != parent:
             self._changed = True
 
@@ -377,9 +381,9 @@ class _Tree:
         parent = self._parent(frame)
         while parent is not None:
             if parent in seen:
-                raise ValueError(f"the tf tree has a loop through frame {parent[:80]!r}")
+                raise _Bad(f"the tf tree has a loop through frame {parent[:80]!r}")
             if len(chain) > MAX_DEPTH:
-                raise ValueError(f"a tf tree deeper than {MAX_DEPTH} frames")
+                raise _Bad(f"a tf tree deeper than {MAX_DEPTH} frames")
             chain.append(parent)
             seen.add(parent)
             parent = self._parent(parent)
@@ -442,29 +446,29 @@ class _Joints:
         """Where each model joint is in ``names``; ``None`` when none of them is there.
 
         Raises:
-            ValueError: Some of the model's joints are there and some are not, or
+            _Bad: Some of the model's joints are there and some are not, or
                 one is named twice (by its own and its URDF name, say).
         """
         if names in self._cache:
             return self._cache[names]
         if len(names) > MAX_JOINT_NAMES:
-            raise ValueError(f"a joint state names {len(names):,} joints (at most {MAX_JOINT_NAMES:,})")
+            raise _Bad(f"a joint state names {len(names):,} joints (at most {MAX_JOINT_NAMES:,})")
         where = {n: k for k, n in enumerate(names)}
         if len(where) != len(names):
-            raise ValueError("a joint state names one joint twice")
+            raise _Bad("a joint state names one joint twice")
         found = [[where[n] for n in options if n in where] for options in self.accepted]
         if not any(found):
             out = None
         else:
             missing = [" or ".join(o) for o, f in zip(self.accepted, found, strict=True) if not f]
             if missing:
-                raise ValueError(
+                raise _Bad(
                     f"a joint state lacks the model's joint{'s' if len(missing) > 1 else ''} "
                     f"{', '.join(missing)}; it names {', '.join(n[:60] for n in names[:20])}"
                 )
             twice = [o for o, f in zip(self.accepted, found, strict=True) if len(f) > 1]
             if twice:
-                raise ValueError(f"a joint state names joint {' and '.join(twice[0])} both")
+                raise _Bad(f"a joint state names joint {' and '.join(twice[0])} both")
             out = [f[0] for f in found]
             self.ignored.update(n for n in names if n not in self.known)
         if len(self._cache) < 64:
@@ -479,14 +483,14 @@ class _Joints:
             return None
         position = np.asarray(msg.position, dtype=np.float64)
         if position.shape != (len(names),):
-            raise ValueError(
+            raise _Bad(
                 f"a joint state names {len(names)} joints but holds {position.size} positions"
             )
         q = position[at]
         bad = np.flatnonzero(~(np.abs(q) <= self.bounds))
         if bad.size:
             k = int(bad[0])
-            raise ValueError(
+            raise _Bad(
                 f"joint {self.accepted[k][0]} is {q[k]:g}, not a finite number within "
                 f"±{self.bounds[k]:g}"
             )
@@ -555,9 +559,11 @@ class BagPairs:
             yield from self._read(storage, rows)
         except BagError:
             raise
+        except _Bad as exc:
+            raise BagError(self.path, str(exc)) from None
         except Exception as exc:  # rosbags' and the bag's: any failure is one line
-            text = str(exc).splitlines()[0][:300] if str(exc) else type(exc).__name__
-            raise BagError(self.path, text) from None
+            text = str(exc).splitlines()[0][:300] if str(exc).strip() else type(exc).__name__
+            raise BagError(self.path, f"not readable as a ROS 2 bag ({storage}): {text}") from None
 
     def _read(self, storage: str, rows: int) -> Iterator[tuple[Float, Float, Float]]:
         from rosbags.rosbag2 import Reader
@@ -598,12 +604,12 @@ class BagPairs:
         self._size(raw)
         msg = store.deserialize_cdr(raw, TF_MESSAGE_TYPE)
         if len(msg.transforms) > MAX_TRANSFORMS:
-            raise ValueError(f"a tf message of {len(msg.transforms):,} transforms (at most {MAX_TRANSFORMS:,})")
+            raise _Bad(f"a tf message of {len(msg.transforms):,} transforms (at most {MAX_TRANSFORMS:,})")
         return msg.transforms
 
     def _size(self, raw: Any) -> None:
         if len(raw) > MAX_MESSAGE_BYTES:
-            raise ValueError(f"a message of {len(raw):,} bytes (at most {MAX_MESSAGE_BYTES:,})")
+            raise _Bad(f"a message of {len(raw):,} bytes (at most {MAX_MESSAGE_BYTES:,})")
 
     def _pairs(
         self, store: Any, tree: _Tree, messages: Any, rows: int, storage: str
