@@ -29,7 +29,7 @@ from tests.paths import REPO_ROOT
 from tests.rtde_cases import poses_of
 
 #: The driver's frame, declared as the model's tool0 (the TCP offset is zero).
-_CONTROLLER_FRAME = '\n[frames.tool0_controller]\ndh = 6\n'
+_CONTROLLER_FRAME = "\n[frames.tool0_controller]\ndh = 6\n"
 #: What the made-up calibration changes in models/ur5.toml: d1 +0.4 mm, a2 -1.2 mm, a3 +0.7 mm.
 _CALIBRATION = (("d = 0.089159\n", "d = 0.089559\n"), ("a = -0.425\n", "a = -0.4262\n"),
                 ("a = -0.39225\n", "a = -0.39155\n"))  # fmt: skip
@@ -77,7 +77,8 @@ def _check(model: Path, bag: Path, report: Path | None = None, *extra: str) -> i
 
 def _one_line_error(capsys) -> str:
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert err.count("\n") == 1, err
+    assert "Traceback" not in err
     return err
 
 
@@ -144,7 +145,9 @@ def test_the_models_own_joint_names_and_a_single_storage_file_are_read(
     models, motion, tmp_path, capsys, storage
 ):
     names = [j.name for j in load_model(str(models[0])).joints]
-    directory = _bag(tmp_path, models[0], motion[:20], storage, names=names, order=(5, 4, 3, 2, 1, 0))
+    directory = _bag(
+        tmp_path, models[0], motion[:20], storage, names=names, order=(5, 4, 3, 2, 1, 0)
+    )
     (single,) = (p for p in directory.iterdir() if p.suffix in (".mcap", ".db3"))
     assert _check(models[0], single) == 0, capsys.readouterr().out
 
@@ -185,8 +188,9 @@ def test_topics_named_otherwise_are_chosen_with_flags(models, motion, tmp_path, 
     report = tmp_path / "r.json"
     assert _check(models[0], bag, report, *flags) == 0, capsys.readouterr().out
     (backend,) = json.loads(report.read_text())["backends"]
-    assert "from /ur/tf and /ur/tf_static, joints from /ur/joint_states; 20 pairs" in (
-        backend["method"]
+    assert (
+        "from /ur/tf and /ur/tf_static, joints from /ur/joint_states; 20 pairs"
+        in (backend["method"])
     )
 
 
@@ -239,6 +243,15 @@ def _link_out(bag: Path) -> Path:
     return bag
 
 
+def _alias_bomb(bag: Path) -> Path:
+    lines = ["a: &a [x, x, x, x, x, x, x, x, x]"]
+    lines += [
+        f"{chr(98 + k)}: &{chr(98 + k)} [{', '.join([f'*{chr(97 + k)}'] * 9)}]" for k in range(8)
+    ]
+    (bag / "metadata.yaml").write_text("\n".join(lines) + "\nrosbag2_bagfile_information: *i\n")
+    return bag
+
+
 def _no_metadata(bag: Path) -> Path:
     (bag / "metadata.yaml").unlink()
     return bag
@@ -253,8 +266,9 @@ def _no_metadata(bag: Path) -> Path:
         (_compressed, r"the bag is compressed \(compression_mode 'file'\)"),
         (_link_out, r"its file bag_mcap\.mcap is a symbolic link; a bag's files must be in it"),
         (_no_metadata, r"a directory without metadata\.yaml is not a ROS 2 bag"),
+        (_alias_bomb, r"metadata\.yaml has an anchor or alias \(&name, \*name\); ROS writes none"),
     ],
-    ids=["truncated", "garbage", "metadata", "compressed", "symlink", "no-metadata"],
+    ids=["truncated", "garbage", "metadata", "compressed", "symlink", "no-metadata", "aliases"],
 )
 def test_a_bag_that_cannot_be_read_is_one_line_exit_2(
     models, motion, tmp_path, capsys, spoil, problem
@@ -288,8 +302,11 @@ def test_the_bags_message_definitions_are_never_compiled(models, motion, tmp_pat
 
     bag = _bag(tmp_path, models[0], motion[:10])
     monkeypatch.setattr(Typestore, "register", refuse)
-    q, _, pair, _ = read_bag(bag, load_model(str(models[0])), BackendOptions(frame_to="tool0_controller"))
-    assert q.shape == (10, 6) and pair == ("base", "tool0_controller")
+    q, _, pair, _ = read_bag(
+        bag, load_model(str(models[0])), BackendOptions(frame_to="tool0_controller")
+    )
+    assert q.shape == (10, 6)
+    assert pair == ("base", "tool0_controller")
 
 
 def test_pairs_stream_in_chunks_of_bounded_rows(models, motion, tmp_path):
@@ -310,7 +327,12 @@ def test_pairs_stream_in_chunks_of_bounded_rows(models, motion, tmp_path):
         atol=_ROUND_OFF,
     )
     seen = pairs.provenance
-    assert (seen.pairs, seen.unpaired, seen.repeated, seen.ignored_joints) == (50, 0, 0, ("gripper_finger_joint",))
+    assert (seen.pairs, seen.unpaired, seen.repeated, seen.ignored_joints) == (
+        50,
+        0,
+        0,
+        ("gripper_finger_joint",),
+    )
 
 
 def test_an_unread_bag_has_no_provenance_yet(tmp_path):
@@ -325,4 +347,6 @@ def test_a_bag_copied_elsewhere_reads_the_same(models, motion, tmp_path):
     moved = shutil.copytree(bag, tmp_path / "elsewhere" / "renamed")
     model = load_model(str(models[0]))
     options = BackendOptions(frame_to="tool0_controller")
-    np.testing.assert_array_equal(read_bag(bag, model, options)[0], read_bag(moved, model, options)[0])
+    np.testing.assert_array_equal(
+        read_bag(bag, model, options)[0], read_bag(moved, model, options)[0]
+    )

@@ -56,9 +56,9 @@ from __future__ import annotations
 
 import bisect
 import math
-from array import array
 import os
 import stat
+from array import array
 from collections import deque
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -195,7 +195,9 @@ class BagProvenance:
             text += f"; {self.skipped_states:,} joint states without the model's joints skipped"
         if self.ignored_joints:
             shown = ", ".join(self.ignored_joints[:5])
-            more = f" and {len(self.ignored_joints) - 5} more" if len(self.ignored_joints) > 5 else ""
+            more = (
+                f" and {len(self.ignored_joints) - 5} more" if len(self.ignored_joints) > 5 else ""
+            )
             text += f"; joints not in the model ignored: {shown}{more}"
         return text
 
@@ -240,7 +242,15 @@ def _screen(path: Path) -> str:
     if os.path.getsize(meta) > MAX_METADATA_BYTES:
         raise BagError(path, f"metadata.yaml is larger than {MAX_METADATA_BYTES >> 20} MiB")
     try:
-        doc = yaml.safe_load(meta.read_bytes())
+        text = meta.read_bytes()
+        # Plain data, as ROS writes it: an alias bomb of a few hundred bytes expands to
+        # billions of values in whoever walks it (rosbags reads this file too).
+        for event in yaml.parse(text, Loader=yaml.SafeLoader):
+            if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None):
+                raise BagError(
+                    path, "metadata.yaml has an anchor or alias (&name, *name); ROS writes none"
+                )
+        doc = yaml.safe_load(text)
         info = doc["rosbag2_bagfile_information"]
         storage = info["storage_identifier"]
         files = info["relative_file_paths"]
@@ -428,8 +438,10 @@ class _Tree:
         common_T_base, common_T_tip = to_common(up_base), to_common(up_tip)
         if len(stamps) > 1:
             return None
-        base_T_tip = np.linalg.solve(common_T_base, common_T_tip)
-        return base_T_tip, (stamps.pop() if stamps else None)
+        base_T_common = np.eye(4)  # the rigid inverse: rotation transposed
+        base_T_common[:3, :3] = common_T_base[:3, :3].T
+        base_T_common[:3, 3] = -common_T_base[:3, :3].T @ common_T_base[:3, 3]
+        return base_T_common @ common_T_tip, (stamps.pop() if stamps else None)
 
 
 class _Joints:
@@ -545,9 +557,10 @@ class BagPairs:
         return self._provenance
 
     def chunks(self, rows: int = DEFAULT_CHUNK_ROWS) -> Iterator[tuple[Float, Float, Float]]:
-        """The pairs in stamp order, ``rows`` at a time: ``(q (m, n), base_T_tip (m, 4, 4), t (m,))``.
+        """The pairs in stamp order, ``rows`` at a time.
 
-        ``t`` is each pose's stamp in seconds since the epoch.
+        Each chunk is ``(q, base_T_tip, t)``: ``(m, n)`` joint values, ``(m, 4, 4)``
+        poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``.
 
         Raises:
             BagError: The bag cannot be read, a message on a topic read is not of
@@ -572,7 +585,11 @@ class BagPairs:
         _bounded_decompressors()
         store = get_typestore(Stores.ROS2_HUMBLE)
         t = self.topics
-        wanted = {t.joint_states: JOINT_STATE_TYPE, t.tf: TF_MESSAGE_TYPE, t.tf_static: TF_MESSAGE_TYPE}
+        wanted = {
+            t.joint_states: JOINT_STATE_TYPE,
+            t.tf: TF_MESSAGE_TYPE,
+            t.tf_static: TF_MESSAGE_TYPE,
+        }
         with Reader(self.path) as reader:
             conns = [c for c in reader.connections if c.topic in wanted]
             for c in conns:
@@ -595,7 +612,9 @@ class BagPairs:
             static = [c for c in conns if c.topic == t.tf_static]
             for _, _, raw in reader.messages(connections=static) if static else ():
                 for tf in self._transforms(store, raw):
-                    tree.set_static(_frame_id(tf.header.frame_id), _frame_id(tf.child_frame_id), tf.transform)
+                    tree.set_static(
+                        _frame_id(tf.header.frame_id), _frame_id(tf.child_frame_id), tf.transform
+                    )
             moving = [c for c in conns if c.topic in (t.joint_states, t.tf)]
             messages = reader.messages(connections=moving)
             yield from self._pairs(store, tree, messages, rows, storage)
@@ -604,7 +623,9 @@ class BagPairs:
         self._size(raw)
         msg = store.deserialize_cdr(raw, TF_MESSAGE_TYPE)
         if len(msg.transforms) > MAX_TRANSFORMS:
-            raise _Bad(f"a tf message of {len(msg.transforms):,} transforms (at most {MAX_TRANSFORMS:,})")
+            raise _Bad(
+                f"a tf message of {len(msg.transforms):,} transforms (at most {MAX_TRANSFORMS:,})"
+            )
         return msg.transforms
 
     def _size(self, raw: Any) -> None:
@@ -660,7 +681,9 @@ class BagPairs:
             q = np.array(out_q).reshape(len(out_q), len(self._joints.accepted))
             T = np.array(out_T).reshape(len(out_T), 4, 4)
             t = np.array(out_t, dtype=np.float64) / _NS
-            out_q.clear(), out_T.clear(), out_t.clear()
+            out_q.clear()
+            out_T.clear()
+            out_t.clear()
             return q, T, t
 
         for conn, _, raw in messages:
@@ -688,7 +711,7 @@ class BagPairs:
                 found = tree.pose()
                 if found is None or found[1] is None:
                     continue
-                pose, stamp = found
+                pose, stamp = found[0], found[1]
                 if stamp == last[0]:
                     counts["repeated"] += 1
                     continue
@@ -763,9 +786,7 @@ def read_bag(
     except FrameError as exc:
         raise BagError(path, str(exc)) from None
     urdf = model.urdf.joints if model.urdf is not None and model.urdf.joints else ()
-    names = [
-        (j.name, *((urdf[i],) if i < len(urdf) else ())) for i, j in enumerate(model.joints)
-    ]
+    names = [(j.name, *((urdf[i],) if i < len(urdf) else ())) for i, j in enumerate(model.joints)]
     bounds = [MAX_JOINT_RAD if j.type == "revolute" else MAX_LENGTH_M for j in model.joints]
     topics = BagTopics(options.bag_joint_states, options.bag_tf, options.bag_tf_static)
     pairs = BagPairs(path, joint_names=names, joint_bounds=bounds, frames=pair, topics=topics,
