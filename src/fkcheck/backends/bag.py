@@ -567,7 +567,14 @@ class BagPairs:
                 its type or not valid, a joint state lacks one of the model's
                 joints, or no pose finds a joint state (all in one line).
         """
+        from fkcheck.errors import missing_extra
+
         storage = _screen(self.path)
+        try:  # before the bag is opened: a missing library is not a bad bag
+            import lz4.frame  # noqa: F401
+            import rosbags.rosbag2  # noqa: F401
+        except ImportError as exc:
+            raise (missing_extra(exc) or exc) from None
         try:
             yield from self._read(storage, rows)
         except BagError:
