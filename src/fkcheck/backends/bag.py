@@ -424,24 +424,38 @@ class _Tree:
         up_base, up_tip = self.path
         stamps: set[int] = set()
 
-        def to_common(chain: tuple[str, ...]) -> Float:
-            out = np.eye(4)
+        def to_common(chain: tuple[str, ...]) -> Float | None:
+            out = None  # None: the identity (base is the common frame, as for UR's driver)
             for child in chain:  # child, its parent, …: common_T_frame = … · parent_T_child
                 if child in self.moving:
                     _, transform, stamp = self.moving[child]
                     stamps.add(stamp)
                 else:
                     transform = self.static[child][1]
-                out = _matrix(transform) @ out
+                out = _matrix(transform) if out is None else _matrix(transform) @ out
             return out
 
         common_T_base, common_T_tip = to_common(up_base), to_common(up_tip)
         if len(stamps) > 1:
             return None
+        stamp = stamps.pop() if stamps else None
+        if common_T_tip is None:
+            common_T_tip = np.eye(4)
+        if common_T_base is None:
+            return common_T_tip, stamp
         base_T_common = np.eye(4)  # the rigid inverse: rotation transposed
         base_T_common[:3, :3] = common_T_base[:3, :3].T
         base_T_common[:3, 3] = -common_T_base[:3, :3].T @ common_T_base[:3, 3]
-        return base_T_common @ common_T_tip, (stamps.pop() if stamps else None)
+        return base_T_common @ common_T_tip, stamp
+
+    def needles(self) -> tuple[bytes, ...] | None:
+        """The path's child frame ids as bytes, once the path is known (else ``None``).
+
+        A tf message whose serialised bytes hold none of them cannot change the path
+        (only a new parent of a frame on it could), so it need not be deserialised.
+        """
+        self._on_path()
+        return None if self.path is None else tuple(f.encode() for f in self._on)
 
 
 class _Joints:
@@ -707,6 +721,13 @@ class BagPairs:
                 js_q.insert(k, q)
                 latest_state[0] = max(latest_state[0], stamp)
             else:
+                needles = tree.needles()
+                if (
+                    needles is not None
+                    and isinstance(raw, bytes)
+                    and not any(n in raw for n in needles)
+                ):
+                    continue  # robot_state_publisher's links, other trees: not on the path
                 on_path = False
                 for tf in self._transforms(store, raw):
                     on_path |= tree.set_moving(
