@@ -350,3 +350,15 @@ def test_a_bag_copied_elsewhere_reads_the_same(models, motion, tmp_path):
     np.testing.assert_array_equal(
         read_bag(bag, model, options)[0], read_bag(moved, model, options)[0]
     )
+
+
+def test_diagnose_reads_the_bag_for_the_frames_it_is_given(models, motion, tmp_path, capsys):
+    # fkcheck diagnose builds its own backend: the bag's transform is the --to frame's.
+    bag = _bag(tmp_path, models[0], motion[:60])
+    argv = ["diagnose", str(models[1]), "--against", f"poses:{bag}", "--to", "tool0_controller"]
+    assert main(argv) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert (
+        f"fkcheck diagnose ur5: base → tool0_controller against poses:{bag}, 60 configurations"
+        in out
+    )
