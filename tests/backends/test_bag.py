@@ -362,3 +362,13 @@ def test_diagnose_reads_the_bag_for_the_frames_it_is_given(models, motion, tmp_p
         f"fkcheck diagnose ur5: base → tool0_controller against poses:{bag}, 60 configurations"
         in out
     )
+
+
+def test_the_python_api_reads_the_bag_for_its_frames(models, motion, tmp_path):
+    from fkcheck.api import check
+
+    bag = _bag(tmp_path, models[0], motion[:20])
+    outcome = check(str(models[1]), against=[f"poses:{bag}"], frame_to="tool0_controller")
+    (backend,) = outcome.check.backends
+    assert backend.status == "fail"
+    assert backend.max_position_error_m > 1e-3  # the calibration's millimetres
