@@ -372,3 +372,28 @@ def test_the_python_api_reads_the_bag_for_its_frames(models, motion, tmp_path):
     (backend,) = outcome.check.backends
     assert backend.status == "fail"
     assert backend.max_position_error_m > 1e-3  # the calibration's millimetres
+
+
+@pytest.mark.parametrize("codec", ["zstd", "lz4"])
+def test_a_chunk_inflating_beyond_its_declared_size_stops_there(codec):
+    # rosbags decompressed a chunk whole, then compared sizes: 100 MB of zeros compress
+    # to a few kilobytes. The bounded decompressors stop one byte past the declared size.
+    import tracemalloc
+
+    import lz4.frame
+    from rosbags.rosbag2 import storage_mcap
+
+    try:
+        from compression import zstd
+    except ImportError:
+        from backports import zstd
+
+    bomb = (zstd.compress if codec == "zstd" else lz4.frame.compress)(bytes(100_000_000))
+    assert len(bomb) < 500_000  # zstd: kilobytes; lz4: 0.4 MB
+    bag_module._bounded_decompressors()
+    tracemalloc.start()
+    with pytest.raises(bag_module._Bad, match="decompresses to more than its declared 1,000 bytes"):
+        storage_mcap.DECOMPRESSORS[codec](bomb, 1000)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert peak < 1_000_000  # not the 100 MB
