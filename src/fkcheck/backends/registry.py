@@ -11,8 +11,9 @@ Names:
 * built-ins: ``rtb-dh``, ``pinocchio-dh``, ``pinocchio-urdf``, ``yourdfpy-urdf``,
   ``rtb-urdf``… (:data:`BUILTIN`; those marked default run without ``--against``);
 * ``rtb-model:<Name>`` — a model Robotics Toolbox ships (``rtb-model:UR5``);
-* ``poses:<file.csv>`` — measured poses (a robot's pendant log, say); the check
-  runs at their configurations;
+* ``poses:<file.csv>`` — measured poses (a robot's pendant log, say), or
+  ``poses:<bag>`` — a ROS 2 bag's joint states and tf (:mod:`fkcheck.backends.bag`);
+  the check runs at their configurations;
 * ``cmd:<command line>`` — an external FK program (stdin/stdout protocol);
 * ``<module>:<function>`` — a Python callable (plugin);
 * third-party backends: an installed distribution's entry point in the
@@ -522,8 +523,8 @@ def against_help() -> str:
     return (
         f"backends, comma-separated or repeated: {', '.join(plain)} (the default set), "
         + "".join(f"{name}, " for name in extra)
-        + "rtb-model:NAME, poses:FILE.csv (measured poses: the check runs at their "
-        "configurations), cmd:PROGRAM, module:function"
+        + "rtb-model:NAME, poses:FILE.csv or poses:BAG (measured poses, or a ROS 2 bag: "
+        "the check runs at their configurations), cmd:PROGRAM, module:function"
         + "".join(f", {r.name}ARG" for r in found if r.prefixed and r.origin != "fkcheck")
     )
 
