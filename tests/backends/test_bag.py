@@ -24,7 +24,7 @@ from fkcheck.backends import bag as bag_module
 from fkcheck.backends.bag import BagError, BagPairs, read_bag
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.cli.main import main
-from tests.bag_cases import UR_JOINTS, BagSpec, trajectory, write_bag
+from tests.bag_cases import UR_JOINTS, BagSpec, trajectory, write_bag, write_long_bag
 from tests.paths import REPO_ROOT
 from tests.rtde_cases import poses_of
 
@@ -397,3 +397,25 @@ def test_a_chunk_inflating_beyond_its_declared_size_stops_there(codec):
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert peak < 1_000_000  # not the 100 MB
+
+
+@pytest.mark.slow
+def test_reading_a_bag_ten_times_as_long_takes_no_more_memory(models, motion, tmp_path):
+    # The reader keeps one MCAP chunk's messages (about 1 MiB), the joint states of the
+    # last REORDER_WINDOW_S of stamps and one chunk of rows: nothing grows with the bag.
+    import tracemalloc
+
+    pose = poses_of(load_model(str(models[0])), motion[:1])[0]
+    peaks = []
+    for count in (2_000, 20_000):  # 2 and 12 MCAP chunks
+        bag = write_long_bag(tmp_path / f"long{count}", motion[0], pose, count)
+        pairs = BagPairs(
+            bag, joint_names=[(n,) for n in UR_JOINTS], joint_bounds=[7.0] * 6,
+            frames=("base", "tool0_controller"),
+        )  # fmt: skip
+        tracemalloc.start()
+        rows = sum(chunk[0].shape[0] for chunk in pairs.chunks(rows=1000))
+        peaks.append(tracemalloc.get_traced_memory()[1])
+        tracemalloc.stop()
+        assert rows == count
+    assert peaks[1] < peaks[0] + 1_000_000, peaks  # within 1 MB for 10x the pairs
