@@ -154,8 +154,8 @@ class BagProvenance:
         topics: The topics read.
         frames: ``(from, to)``: the transform compared.
         pairs: Pairs of a joint state and a pose found.
-        first_s: Stamp of the first pair's pose (seconds since the epoch).
-        last_s: Stamp of the last pair's pose.
+        first_s: Earliest stamp of a pair's pose (seconds since the epoch).
+        last_s: Latest stamp of a pair's pose.
         unpaired: Poses without a joint state at or before them within the tolerance.
         repeated: Poses stamped the same as the one before (counted once).
         skipped_states: Joint states naming none of the model's joints.
@@ -571,7 +571,7 @@ class BagPairs:
         return self._provenance
 
     def chunks(self, rows: int = DEFAULT_CHUNK_ROWS) -> Iterator[tuple[Float, Float, Float]]:
-        """The pairs in stamp order, ``rows`` at a time.
+        """The pairs in the order their poses were recorded, ``rows`` at a time.
 
         Each chunk is ``(q, base_T_tip, t)``: ``(m, n)`` joint values, ``(m, 4, 4)``
         poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``.
@@ -681,8 +681,8 @@ class BagPairs:
                 k = bisect.bisect_right(js_t, stamp) - 1
                 if k >= 0 and stamp - js_t[k] <= tol:
                     if not counts["pairs"]:
-                        span[0] = stamp
-                    span[1] = stamp
+                        span[:] = [stamp, stamp]
+                    span[0], span[1] = min(span[0], stamp), max(span[1], stamp)
                     counts["pairs"] += 1
                     out_q.append(js_q[k])
                     out_T.append(pose)
@@ -836,6 +836,6 @@ def read_bag(
     q_all, poses_all = np.concatenate(qs), np.concatenate(poses)
     try:
         measured._check_duplicates(q_all, poses_all, array("q", range(1, count + 1)), path)
-    except PosesFileError as exc:  # its rows are the pairs, counted from 1 in stamp order
+    except PosesFileError as exc:  # its rows are the pairs, counted from 1 as recorded
         raise BagError(path, exc.problem.replace("lines", "pairs", 1)) from None
     return q_all, poses_all, pair, pairs.provenance.method
