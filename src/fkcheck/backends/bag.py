@@ -80,6 +80,7 @@ __all__ = [
     "BagPairs",
     "BagProvenance",
     "BagTopics",
+    "bag_pairs",
     "is_bag",
     "read_bag",
 ]
@@ -785,25 +786,17 @@ class BagPairs:
         )
 
 
-def read_bag(
-    path: Path, model: Model, options: BackendOptions
-) -> tuple[Float, Float, tuple[str, str], str]:
-    """Read a bag as :func:`fkcheck.backends.measured.read_poses_file` reads a file.
+def bag_pairs(path: Path, model: Model, options: BackendOptions) -> BagPairs:
+    """The reader of a bag's pairs for ``model``, as the check's options set it.
 
     Args:
         path: The bag.
-        model: The model: its joints (names, URDF names, types) and ``[check]`` pair.
+        model: The model: its joints (names, URDF joint names, types) and ``[check]`` pair.
         options: The check's frames (``None``: the model's pair), topics and tolerance.
 
-    Returns:
-        ``(q, poses, pair, method)``: ``(N, n)`` joint values, ``(N, 4, 4)`` poses
-        ``from_T_to``, the pair (the model's frame names) and the report's method text.
-
     Raises:
-        BagError: See :meth:`BagPairs.chunks`; also a frame the model does not have,
-            or more pairs than :data:`~fkcheck.backends.measured.MAX_POSES_ROWS`.
+        BagError: A frame the model does not have, or a stamp tolerance out of range.
     """
-    from fkcheck.backends import measured
     from fkcheck.errors import FrameError
 
     try:
@@ -817,8 +810,33 @@ def read_bag(
     names = [(j.name, *((urdf[i],) if i < len(urdf) else ())) for i, j in enumerate(model.joints)]
     bounds = [MAX_JOINT_RAD if j.type == "revolute" else MAX_LENGTH_M for j in model.joints]
     topics = BagTopics(options.bag_joint_states, options.bag_tf, options.bag_tf_static)
-    pairs = BagPairs(path, joint_names=names, joint_bounds=bounds, frames=pair, topics=topics,
-                     stamp_tolerance_s=options.bag_stamp_tolerance_s)  # fmt: skip
+    return BagPairs(path, joint_names=names, joint_bounds=bounds, frames=pair, topics=topics,
+                    stamp_tolerance_s=options.bag_stamp_tolerance_s)  # fmt: skip
+
+
+def read_bag(
+    path: Path, model: Model, options: BackendOptions
+) -> tuple[Float, Float, tuple[str, str], str]:
+    """Read a bag whole, as :func:`fkcheck.backends.measured.read_poses_file` reads a file.
+
+    Args:
+        path: The bag.
+        model: The model (see :func:`bag_pairs`).
+        options: The check's frames, topics and tolerance.
+
+    Returns:
+        ``(q, poses, pair, method)``: ``(N, n)`` joint values, ``(N, 4, 4)`` poses
+        ``from_T_to``, the pair (the model's frame names) and the report's method text.
+
+    Raises:
+        BagError: See :func:`bag_pairs` and :meth:`BagPairs.chunks`; also more pairs
+            than :data:`~fkcheck.backends.measured.MAX_POSES_ROWS`, or one
+            configuration paired with two different poses.
+    """
+    from fkcheck.backends import measured
+
+    pairs = bag_pairs(path, model, options)
+    pair = pairs.frames
     qs: list[Float] = []
     poses: list[Float] = []
     count = 0
