@@ -419,3 +419,11 @@ def test_reading_a_bag_ten_times_as_long_takes_no_more_memory(models, motion, tm
         tracemalloc.stop()
         assert rows == count
     assert peaks[1] < peaks[0] + 1_000_000, peaks  # within 1 MB for 10x the pairs
+
+
+def test_no_report_replaces_a_file_of_the_bag(models, motion, tmp_path, capsys):
+    bag = _bag(tmp_path, models[0], motion[:5])
+    before = (bag / "metadata.yaml").read_bytes()
+    assert _check(models[0], bag, bag / "metadata.yaml") == 2
+    assert "is a file of backend poses:" in _one_line_error(capsys)
+    assert (bag / "metadata.yaml").read_bytes() == before

@@ -80,6 +80,7 @@ __all__ = [
     "BagPairs",
     "BagProvenance",
     "BagTopics",
+    "bag_files",
     "bag_pairs",
     "is_bag",
     "read_bag",
@@ -206,6 +207,21 @@ class BagProvenance:
 def is_bag(path: Path) -> bool:
     """Whether ``poses:PATH`` names a ROS 2 bag: a directory, or a ``.mcap`` / ``.db3`` file."""
     return path.is_dir() or path.suffix.lower() in (".mcap", ".db3")
+
+
+def bag_files(path: Path) -> tuple[Path, ...]:
+    """The bag and the files in its directory: what no output of the run may replace.
+
+    At most :data:`MAX_FRAMES` entries of the directory are listed (a bag has a few).
+    """
+    if not path.is_dir():
+        return (path,)
+    try:
+        with os.scandir(path) as entries:
+            found = [Path(e.path) for _, e in zip(range(MAX_FRAMES), entries, strict=False)]
+    except OSError:
+        found = []
+    return (path, *sorted(found))
 
 
 def _regular(path: Path, what: str, bag: Path, *, follow: bool) -> None:

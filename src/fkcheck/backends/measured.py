@@ -608,8 +608,10 @@ class MeasuredPoses(BackendDefaults):
         return None if os.path.lexists(self.path) else f"no such file: {self.path}"
 
     def inputs(self, model: Model) -> tuple[Path, ...]:
-        """The CSV file."""
-        return (self.path,)
+        """The CSV file; a bag's files (no output may replace one)."""
+        from fkcheck.backends.bag import bag_files, is_bag
+
+        return bag_files(self.path) if is_bag(self.path) else (self.path,)
 
     def configurations(self, model: Model) -> Float:
         """The file's joint values, ``(N, n)``: the check must run on these."""
