@@ -119,6 +119,7 @@ def bounded(session: nox.Session) -> None:
         "tests/hostile/test_hostile_processes.py", "tests/hostile/test_bounded_memory.py",
         "tests/hostile/test_hostile_calibration.py", "tests/hostile/test_property_calibration.py",
         "tests/hostile/test_bounded_work.py", "tests/hostile/test_hostile_readers.py",
+        "tests/backends/test_bag.py",
         *session.posargs,
     )  # fmt: skip
 
@@ -292,7 +293,8 @@ def _run_installed(session: nox.Session, artefact: Path, version: str, work: Pat
 #: A reference library (the `reference` extra's), absent from a light install.
 _REFERENCE_PROBE = (
     "import importlib.util, sys; "
-    "found = [m for m in ('scipy', 'pinocchio', 'roboticstoolbox', 'numba', 'matplotlib') "
+    "found = [m for m in ('scipy', 'pinocchio', 'roboticstoolbox', 'numba', 'matplotlib', "
+    "'rosbags') "
     "if importlib.util.find_spec(m)]; "
     "sys.exit(f'installed without the extra, yet present: {found}' if found else 0)"
 )

@@ -174,7 +174,9 @@ def check(
     }  # fmt: skip
     opts = resolve_options(given, base=options)  # refuses a bad value before any work
     loaded = model if isinstance(model, Model) else load_model(model)
-    limit = BackendOptions(timeout_s=opts.timeout_s)
+    limit = BackendOptions(  # the frames too: a ROS 2 bag composes its transform for them
+        timeout_s=opts.timeout_s, frame_from=opts.frame_from, frame_to=opts.frame_to
+    )
     if against is None:
         backends = default_backends(limit)
     else:

@@ -62,6 +62,7 @@ REFERENCE_LIBRARIES: dict[str, str] = {
     "idyntree": "iDynTree",
     "xacrodoc": "xacrodoc",
     "xacro": "xacrodoc",
+    "rosbags": "rosbags",
 }
 
 

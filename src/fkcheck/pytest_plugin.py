@@ -267,7 +267,11 @@ class ModelFile(pytest.File):
         p = self.project
         try:
             options = resolve_options(project=p)  # [tool.fkcheck] > defaults, as the CLI's
-            limit = BackendOptions(timeout_s=options.timeout_s)
+            limit = BackendOptions(
+                timeout_s=options.timeout_s,
+                frame_from=options.frame_from,
+                frame_to=options.frame_to,
+            )
             against = list(p.against) if p.against else None
             backends = parse_against(against, limit) if against else default_backends(limit)
             return check(self.path, backends, options=options, lint_ignore=p.lint_ignore)

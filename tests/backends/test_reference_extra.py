@@ -45,6 +45,7 @@ _DISTRIBUTION = {
     "idyntree": "idyntree",
     "xacrodoc": "xacrodoc",
     "xacro": "xacrodoc",
+    "rosbags": "rosbags",
 }
 
 

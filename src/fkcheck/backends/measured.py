@@ -591,7 +591,10 @@ class MeasuredPoses(BackendDefaults):
         equality) must not read a recording of 10⁵ rows again.
         """
         if self._read is None or self._read[0] != model:
-            self._read = model, _Table(*_read(self.path, model))
+            from fkcheck.backends.bag import is_bag, read_bag  # a ROS 2 bag: its own reader
+
+            read = read_bag(self.path, model, self.options) if is_bag(self.path) else None
+            self._read = model, _Table(*(read or _read(self.path, model)))
             self.method = self._read[1].method
         return self._read[1]
 
@@ -605,8 +608,10 @@ class MeasuredPoses(BackendDefaults):
         return None if os.path.lexists(self.path) else f"no such file: {self.path}"
 
     def inputs(self, model: Model) -> tuple[Path, ...]:
-        """The CSV file."""
-        return (self.path,)
+        """The CSV file; a bag's files (no output may replace one)."""
+        from fkcheck.backends.bag import bag_files, is_bag
+
+        return bag_files(self.path) if is_bag(self.path) else (self.path,)
 
     def configurations(self, model: Model) -> Float:
         """The file's joint values, ``(N, n)``: the check must run on these."""

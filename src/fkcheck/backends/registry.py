@@ -11,8 +11,9 @@ Names:
 * built-ins: ``rtb-dh``, ``pinocchio-dh``, ``pinocchio-urdf``, ``yourdfpy-urdf``,
   ``rtb-urdf``… (:data:`BUILTIN`; those marked default run without ``--against``);
 * ``rtb-model:<Name>`` — a model Robotics Toolbox ships (``rtb-model:UR5``);
-* ``poses:<file.csv>`` — measured poses (a robot's pendant log, say); the check
-  runs at their configurations;
+* ``poses:<file.csv>`` — measured poses (a robot's pendant log, say), or
+  ``poses:<bag>`` — a ROS 2 bag's joint states and tf (:mod:`fkcheck.backends.bag`);
+  the check runs at their configurations;
 * ``cmd:<command line>`` — an external FK program (stdin/stdout protocol);
 * ``<module>:<function>`` — a Python callable (plugin);
 * third-party backends: an installed distribution's entry point in the
@@ -87,9 +88,23 @@ class BackendOptions:
     Attributes:
         timeout_s: Time limit for one backend's whole run (seconds): a check's
             :attr:`~fkcheck.model.options.CheckOptions.timeout_s`.
+        frame_from: The check's ``--from`` (``None``: the model's ``[check]``); a ROS 2
+            bag (``poses:BAG``) composes its transform for the check's pair.
+        frame_to: The check's ``--to`` (``None``: the model's ``[check]``).
+        bag_joint_states: A bag's topic of joint states (``--bag-joint-states``).
+        bag_tf: A bag's topic of changing transforms (``--bag-tf``).
+        bag_tf_static: A bag's topic of static transforms (``--bag-tf-static``).
+        bag_stamp_tolerance_s: Largest lag of a joint state before the pose it is
+            paired with, seconds (``--bag-stamp-tolerance``; :mod:`fkcheck.backends.bag`).
     """
 
     timeout_s: float = DEFAULT_TIMEOUT_S
+    frame_from: str | None = None
+    frame_to: str | None = None
+    bag_joint_states: str = "/joint_states"
+    bag_tf: str = "/tf"
+    bag_tf_static: str = "/tf_static"
+    bag_stamp_tolerance_s: float = 1e-3
 
 
 class BackendContractError(FkcheckError):
@@ -508,8 +523,8 @@ def against_help() -> str:
     return (
         f"backends, comma-separated or repeated: {', '.join(plain)} (the default set), "
         + "".join(f"{name}, " for name in extra)
-        + "rtb-model:NAME, poses:FILE.csv (measured poses: the check runs at their "
-        "configurations), cmd:PROGRAM, module:function"
+        + "rtb-model:NAME, poses:FILE.csv or poses:BAG (measured poses, or a ROS 2 bag: "
+        "the check runs at their configurations), cmd:PROGRAM, module:function"
         + "".join(f", {r.name}ARG" for r in found if r.prefixed and r.origin != "fkcheck")
     )
 

@@ -162,6 +162,7 @@ def add_parser(sub: Any) -> None:
         f"1e-6, at most {MAX_TOL_JACOBIAN:g}; implies --jacobian",
     )
     add_allow_xacro(p)
+    _add_bag_arguments(p)
     p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.add_argument(
         "--isolated",
@@ -213,6 +214,39 @@ def add_parser(sub: Any) -> None:
         f"lines of each running backend (default {PLAIN_INTERVAL_S:g})",
     )
     p.set_defaults(run=run)
+
+
+def _stamp_tolerance(value: str) -> float:
+    """``--bag-stamp-tolerance``: seconds, 0 … 1."""
+    try:
+        seconds = float(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{value!r} is not a number of seconds") from None
+    if not 0.0 <= seconds <= 1.0:
+        raise argparse.ArgumentTypeError(f"{value} s is not within 0 … 1 s")
+    return seconds
+
+
+def _add_bag_arguments(p: argparse.ArgumentParser) -> None:
+    """The settings of a ROS 2 bag given as ``--against poses:BAG`` (fkcheck.backends.bag)."""
+    from fkcheck.cli._arguments import utf8_text
+
+    bag = p.add_argument_group("ROS 2 bags (--against poses:BAG)")
+    bag.add_argument("--bag-joint-states", type=utf8_text,
+                     metavar="TOPIC", help="topic of sensor_msgs/msg/JointState (default "
+                     "/joint_states)")  # fmt: skip
+    bag.add_argument("--bag-tf", type=utf8_text, metavar="TOPIC",
+                     help="topic of the changing transforms (default /tf)")  # fmt: skip
+    bag.add_argument("--bag-tf-static", type=utf8_text, metavar="TOPIC",
+                     help="topic of the static transforms (default /tf_static)")  # fmt: skip
+    bag.add_argument(
+        "--bag-stamp-tolerance",
+        dest="bag_stamp_tolerance_s",
+        type=_stamp_tolerance,
+        metavar="S",
+        help="pair each pose with the joint state stamped at or before it, at most this many "
+        "seconds earlier (default 0.001: half a cycle at 500 Hz; at most 1)",
+    )
 
 
 def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> None:

@@ -50,7 +50,17 @@ def backends_from_args(args: argparse.Namespace) -> list[Backend]:
     """The backends ``--against`` names (default: the standard set), with the options."""
     from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
 
-    options = BackendOptions(timeout_s=args.options.timeout_s)
+    bag = {  # a ROS 2 bag's settings given (else the defaults): fkcheck check's --bag-* flags
+        name: value
+        for name in ("bag_joint_states", "bag_tf", "bag_tf_static", "bag_stamp_tolerance_s")
+        if (value := getattr(args, name, None)) is not None
+    }
+    options = BackendOptions(
+        timeout_s=args.options.timeout_s,
+        frame_from=args.options.frame_from,
+        frame_to=args.options.frame_to,
+        **bag,
+    )
     return parse_against(args.against, options) if args.against else default_backends(options)
 
 

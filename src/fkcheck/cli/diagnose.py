@@ -57,6 +57,7 @@ def run(args: argparse.Namespace) -> int:
     """Diagnose, print, write JSON."""
     from fkcheck.backends import registry
     from fkcheck.backends.registry import (
+        BackendOptions,
         check_known_differences,
         make_backend,
     )
@@ -93,7 +94,8 @@ def run(args: argparse.Namespace) -> int:
                 f"a backend independent of its table ({independent})"
             )
         name = "pinocchio-urdf"
-    backend = make_backend(name)
+    # the frames too: a ROS 2 bag (poses:BAG) composes its transform for them
+    backend = make_backend(name, BackendOptions(frame_from=args.frame_from, frame_to=args.frame_to))
     outputs = [("--json", args.json)]
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend], model)]
     plan(args, outputs, inputs)
