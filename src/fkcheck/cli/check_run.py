@@ -130,6 +130,9 @@ def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> Non
     from fkcheck.urdf.source import load_urdf
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
+    from fkcheck.engine.stream import stream_recordings
+
+    stream_recordings(backends)  # read once, as the check reads it
     for backend in backends:
         if isinstance(backend, FixedConfigurations):
             backend.configurations(model)
