@@ -122,11 +122,10 @@ MAX_ROTATION_NUMBER = 1e3
 #: takes the same memory whatever its length, so the limit bounds the time
 #: (:data:`~fkcheck.backends.recording.MAX_RECORDING_ROWS`: 5.5 hours at 500 Hz).
 MAX_POSES_ROWS = MAX_RECORDING_ROWS
-#: Plain numbers (:func:`fkcheck.io.numbers.parse_number`'s), one a line, spaces or
-#: tabs around each: what a chunk of an RTDE recording's read fields must be to be
-#: read in one go.
-_NUMBER = r"[ \t]*[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?[ \t]*"
-_PLAIN_LINES = re.compile(rf"(?:{_NUMBER}\n)*{_NUMBER}", re.ASCII)
+#: A character none of an RTDE recording's read fields may hold to be read in one go:
+#: with these characters alone, ``float()`` accepts exactly the plain numbers of
+#: :func:`fkcheck.io.numbers.parse_number` (and the spaces and tabs around them).
+_NOT_PLAIN = re.compile(r"[^0-9+\-.eE \t\n]")
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
 #: The columns of an RTDE recording that are read: joints, then TCP pose (UR's recorder
 #: names the elements of a vector output ``name_0 … name_5``).
@@ -414,10 +413,13 @@ class _RtdeLayout:
             if all(len(f) == width for f in fields):
                 pick = operator.itemgetter(*self.columns)
                 used = list(chain.from_iterable(map(pick, fields)))
-                if max(map(len, used)) <= MAX_NUMBER_CHARS and _PLAIN_LINES.fullmatch(
+                if max(map(len, used)) <= MAX_NUMBER_CHARS and not _NOT_PLAIN.search(
                     "\n".join(used)
                 ):
-                    values = list(map(float, used))
+                    try:
+                        values = list(map(float, used))
+                    except ValueError:  # e.g. "1e", "-": row says which and where
+                        values = [math.inf]
                     if all(map(math.isfinite, values)):
                         return values
         return list(chain.from_iterable(map(self.row, lines, linenos, [path] * len(lines))))
