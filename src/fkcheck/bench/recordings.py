@@ -106,7 +106,9 @@ def write_recording(path: Path, model: Model, rows: int, seed: int) -> Float:
 def _fkcheck_read(path: Path, model: Model) -> Float:
     from fkcheck.backends.measured import open_recording
 
-    parts = [np.hstack([c.q, c.poses.reshape(-1, 16)]) for c in open_recording(path, model).chunks()]
+    parts = [
+        np.hstack([c.q, c.poses.reshape(-1, 16)]) for c in open_recording(path, model).chunks()
+    ]
     return np.vstack(parts)
 
 
