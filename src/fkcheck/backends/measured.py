@@ -546,8 +546,14 @@ class _CsvRecording:
                 if len(lines) == CHUNK_ROWS or chars >= CHUNK_CHARS:
                     yield _chunk(layout, lines, linenos, path)
                     lines, linenos, chars = [], [], 0
-        except InputFileError as exc:
-            raise PosesFileError(path, exc.problem) from None
+        except (InputFileError, PosesFileError) as exc:
+            # The first problem in the file is the one said: the rows read before this
+            # one (a binary recording's line of types before its packed numbers) first.
+            if layout is not None and lines:
+                _chunk(layout, lines, linenos, path)
+            if isinstance(exc, InputFileError):
+                raise PosesFileError(path, exc.problem) from None
+            raise
         if layout is None or not rows:
             raise PosesFileError(path, "no header line and data rows")
         if lines:
