@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         errors = [(t.name, t.max_pos_err_m) for t in result.timings]
         console().print(_table(result, tol))
     disagree = [name for name, err in errors if err is not None and not err <= tol]
-    failed = [f"{t.name} ({t.error})" for t in result.timings if t.error]
+    failed = [f"{t.name} ({t.error})" for t in [*result.timings, *result.recordings] if t.error]
     if args.json is not None:
         write_json(
             args.json,
