@@ -44,17 +44,28 @@ the check must run on them (``configurations()``), and any other configuration m
 with that reason. Measured poses are noisy: compare them with a tolerance that
 fits the measurement (``--tol-pos 1e-3``).
 
-The file is read as other tables are (:mod:`fkcheck.io.files`: a regular
-file of at most 256 MiB, lines of at most 64 KiB, UTF-8 with or without a
-byte-order mark; numbers by :func:`fkcheck.io.numbers.parse_number`), and refused
+The file is read as other tables are (:mod:`fkcheck.io.files`: a regular file,
+lines of at most 64 KiB, UTF-8 with or without a byte-order mark; numbers by
+:func:`fkcheck.io.numbers.parse_number`), but in chunks
+(:class:`~fkcheck.backends.recording.Recording`: :func:`open_recording` picks the
+reader by the recording's kind), so that it may be long: at most
+:data:`~fkcheck.backends.recording.MAX_RECORDING_BYTES` (4 GiB) and
+:data:`MAX_POSES_ROWS` rows (10 million), counted as they are read. It is refused
 with the line, column and header name of the first problem: a column named
 twice, an empty field, a value beyond the model files' bounds (joint values
 within ±1000 rad / ±1000 m, positions within ±1000 m, rotation numbers within
-±1000). The same configuration (within :data:`MATCH_TOL`) may appear on several
-lines only with the same pose (within :data:`MATCH_TOL` m and rad): the file
-cannot hold two answers for one question. Matching configurations to rows is a
-hash lookup (a k-d tree for ones that are not bit for bit a row), so a file of
-tens of thousands of rows is matched in well under a second.
+±1000). A ``# fkcheck poses:`` comment comes before the data rows.
+
+The rows a check runs on are those its keeper keeps
+(:meth:`MeasuredPoses.keep_with`): a recording of at most
+:data:`~fkcheck.backends.recording.KEEP_ROWS` rows whole; of a longer one a
+deterministic sample and, with the check's keeper
+(:class:`fkcheck.engine.stream.StreamSummary`, which compares every row with the core
+as it is read), its worst rows. The same configuration (within :data:`MATCH_TOL`)
+may appear on several kept lines only with the same pose (within :data:`MATCH_TOL` m
+and rad): the table cannot hold two answers for one question. Matching
+configurations to rows is a hash lookup (a k-d tree for ones that are not bit for
+bit a row), so tens of thousands of rows are matched in well under a second.
 """
 
 from __future__ import annotations
