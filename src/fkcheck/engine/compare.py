@@ -186,7 +186,7 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
             reasons.append(_spread(pos, rot) if stream is None else _stream_spread(stream[1]))
     failed = bool(reasons)
     if stream is not None:
-        reasons.append(_stream_note(stream[1], q.shape[0]))
+        reasons.append(_stream_note(stream[1], q.shape[0], stream[0].where))
     detail = None
     if failed and worst is not None:
         detail = _failure_detail(job, worst, tracker)
@@ -356,10 +356,13 @@ def _stream_spread(summary: StreamSummary) -> str:
     )
 
 
-def _stream_note(summary: StreamSummary, kept: int) -> str:
-    """What a streamed recording's check compared: every row, and which rows it runs on."""
+def _stream_note(summary: StreamSummary, kept: int, where: str) -> str:
+    """What a streamed recording's check compared: every row, and which rows it runs on.
+
+    ``where`` is the recording's word for its row numbers (``line``, ``row``).
+    """
     return (
-        f"streamed {count_text(summary.rows)} rows (lines {summary.first_line}–"
+        f"streamed {count_text(summary.rows)} rows ({where}s {summary.first_line}–"
         f"{summary.last_line}), each compared with {REFERENCE_NAME} as read; the check's "
         f"{count_text(kept)} configurations are one row in {summary.stride} and the "
         f"{summary.worst_added()} worst rows besides them"
