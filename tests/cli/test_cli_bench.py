@@ -250,3 +250,47 @@ def test_bench_jacobian_reports_a_missing_peer_as_skipped(capsys, tmp_path, monk
     assert rows["RTB ETS.jacob0 loop"]["seconds"] > 0
     assert data["headline"] is None  # its peer did not run
     assert "no like-for-like pair ran" in out
+
+
+def test_bench_times_reading_a_recording_against_pandas(capsys, tmp_path, monkeypatch):
+    from fkcheck.bench import recordings
+
+    monkeypatch.setattr(recordings, "RECORDING_ROWS", 2_000)
+    code, out, err, data = bench(capsys, tmp_path, "ur5", "--n", "200")
+    assert code == 0, err
+    rows = {r["name"]: r for r in data["recordings"]}
+    assert list(rows) == [
+        "fkcheck read (poses:)",
+        "fkcheck read + compare (check)",
+        "pandas.read_csv (C)",
+    ]
+    size = rows["pandas.read_csv (C)"]["bytes"]
+    assert 2_000 * 200 < size < 2_000 * 300  # about 240 bytes a row, as UR's recorder writes
+    for row in rows.values():
+        assert (row["rows"], row["bytes"], row["skipped"], row["error"]) == (2_000, size, "", "")
+        assert row["rows_per_s"] == pytest.approx(2_000 / row["seconds"])
+        assert row["mb_per_s"] == pytest.approx(size / row["seconds"] / 1e6)
+    assert rows["fkcheck read (poses:)"]["max_diff"] == 0.0  # repr's digits read back exactly
+    # pandas' default float parser is not Python's correctly rounded one: a last bit, at most.
+    assert rows["pandas.read_csv (C)"]["max_diff"] < 1e-14
+    assert "reading an RTDE recording: 2,000 rows" in out
+    assert "× pandas" in out
+
+
+def test_the_recording_row_without_pandas_or_six_joints_is_skipped(capsys, tmp_path, monkeypatch):
+    from fkcheck.bench import recordings
+
+    monkeypatch.setattr(recordings, "RECORDING_ROWS", 500)
+    monkeypatch.setitem(sys.modules, "pandas", None)  # as if not installed
+    code, out, err, data = bench(capsys, tmp_path, "ur5", "--n", "50")
+    assert code == 0, err
+    pandas_row = data["recordings"][-1]
+    assert pandas_row["skipped"].startswith("not installed")
+    assert pandas_row["seconds"] is None
+    assert data["recordings"][0]["seconds"] > 0  # fkcheck's own read still timed
+    assert "pandas.read_csv (C): skipped, not installed" in out
+    code, _, err, data = bench(capsys, tmp_path, "panda", "--n", "50")
+    assert code == 0, err
+    assert {r["skipped"] for r in data["recordings"]} == {
+        "an RTDE recording holds 6 joints; model panda has 7"
+    }

@@ -109,27 +109,25 @@ def test_a_denormal_tolerance_is_one_line_before_any_work():
     ]
 
 
-def test_a_recording_of_more_rows_than_the_limit_is_one_line_before_the_memory_is_spent(
-    tmp_path,
+def test_a_recording_of_more_rows_than_the_limit_is_one_line_before_the_rows_are_read(
+    tmp_path, monkeypatch, capsys
 ):
-    # 10 million short rows (240 MB, under the 256 MiB byte limit) took 236 s and 7.7 GB.
-    # One row beyond the limit is enough to show it: refused at that row, in one line.
-    from fkcheck.backends.measured import MAX_POSES_ROWS
+    # 10 million short rows (240 MB) took 236 s and 7.7 GB when read whole; they now
+    # stream in bounded memory (tests/backends/test_recording_stream.py), and the row
+    # limit bounds the time. One row beyond it (made small here) is one line, exit 2.
+    from fkcheck.backends import measured
+    from fkcheck.cli.main import main
 
+    monkeypatch.setattr(measured, "MAX_POSES_ROWS", 1000)
     head = " ".join([f"actual_q_{i}" for i in range(6)] + [f"actual_TCP_pose_{i}" for i in
                                                             range(6)])  # fmt: skip
     path = tmp_path / "r.csv"
     with path.open("w", encoding="utf-8") as f:
-        f.write(head + "\n" + "0 0 0 0 0 0 1 0 0 0 0 0\n" * (MAX_POSES_ROWS + 1))
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    done = subprocess.run(
-        [sys.executable, "-m", "fkcheck", "check", "ur5", "--against", f"poses:{path}"],
-        capture_output=True, text=True, timeout=600,
-    )  # fmt: skip
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    assert done.returncode == 2
-    assert done.stderr.splitlines() == [
-        f"fkcheck: error: {path}: line {MAX_POSES_ROWS + 2}: more than {MAX_POSES_ROWS:,} data "
-        f"rows (at most {MAX_POSES_ROWS:,}); cut the recording or keep every k-th row"
+        f.write(head + "\n" + "0 0 0 0 0 0 1 0 0 0 0 0\n" * 1001)
+    code = main(["check", "ur5", "--against", f"poses:{path}"])
+    out, err = capsys.readouterr()
+    assert code == 2, out
+    assert err.splitlines() == [
+        f"fkcheck: error: {path}: line 1002: more than 1,000 data rows (at most 1,000); cut "
+        "the recording or keep every k-th row"
     ]
-    assert (after.ru_utime - before.ru_utime) < 60.0  # about 5 s: the rows read, then no more

@@ -433,7 +433,7 @@ def _rtde_row(**fields: str) -> str:
 def _rtde_too_large(path: Path) -> None:
     with path.open("w", encoding="utf-8") as f:
         f.write(RTDE_HEAD + _rtde_row())
-        f.truncate(300 << 20)  # 300 MiB (sparse): a long recording of many outputs
+        f.truncate((4 << 30) + 1)  # 4 GiB and a byte (sparse): beyond a recording's limit
 
 
 def _rtde_binary(path: Path) -> None:
@@ -473,10 +473,10 @@ RTDE = {
         rf"r\.csv: line 3: {len(RTDE_HEADER) - 1} fields, but the header names "
         rf"{len(RTDE_HEADER)}$",
     ),
-    "rtde_300_mib": (
+    "rtde_beyond_4_gib": (
         {"r.csv": _rtde_too_large},
         RTDE_ARGV,
-        r"r\.csv: file too large: 314572800 bytes \(at most 256 MiB\)",
+        r"r\.csv: file too large: 4294967297 bytes \(at most 4096 MiB\)",
     ),
     "rtde_binary_recording": (
         {"r.csv": _rtde_binary},
@@ -844,7 +844,15 @@ def _pendant_rows(model, q_deg: np.ndarray) -> list[str]:
     return [",".join(repr(float(v)) for v in row) for row in rows]
 
 
-def test_40k_row_poses_file_is_matched_in_near_linear_time(tmp_path, rng):
+def _keep_every_row(monkeypatch) -> None:
+    """Keep 100,000 rows of a recording, not 20,000: every row is then matched, as it was."""
+    from fkcheck.backends import recording
+
+    monkeypatch.setattr(recording, "KEEP_ROWS", 100_000)
+
+
+def test_40k_row_poses_file_is_matched_in_near_linear_time(tmp_path, rng, monkeypatch):
+    _keep_every_row(monkeypatch)
     ur5 = load_model("ur5")
     q_deg = np.round(rng.uniform(-170, 170, size=(40_000, 6)), 3)
     poses = tmp_path / "p.csv"
@@ -857,9 +865,12 @@ def test_40k_row_poses_file_is_matched_in_near_linear_time(tmp_path, rng):
     assert elapsed < 15.0  # measured ~1.5 s on 2 busy cores; quadratic matching took 56 s
 
 
-def test_100k_row_rtde_recording_of_a_robot_often_standing_still_is_read_quickly(tmp_path, rng):
+def test_100k_row_rtde_recording_of_a_robot_often_standing_still_is_read_quickly(
+    tmp_path, rng, monkeypatch
+):
     from tests.rtde_cases import write_rtde_csv
 
+    _keep_every_row(monkeypatch)
     ur5 = load_model("ur5")
     q = rng.uniform(-3.0, 3.0, size=(100_000, 6))
     q[1::3] = q[::3][: q[1::3].shape[0]]  # a third of the samples repeat the one before

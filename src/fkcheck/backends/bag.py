@@ -68,6 +68,7 @@ from typing import Any
 import numpy as np
 
 from fkcheck.backends.measured import PosesFileError
+from fkcheck.backends.recording import CHUNK_ROWS, MAX_RECORDING_ROWS, PoseChunk
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
@@ -79,6 +80,7 @@ __all__ = [
     "BagError",
     "BagPairs",
     "BagProvenance",
+    "BagRecording",
     "BagTopics",
     "bag_files",
     "bag_pairs",
@@ -800,6 +802,41 @@ class BagPairs:
             f"tf tree connects, or its changing transforms' stamps, do not give one); its "
             f"frames: {shown}"
         )
+
+
+class BagRecording:
+    """A bag's pairs as a :class:`~fkcheck.backends.recording.Recording`, streamed.
+
+    What :func:`fkcheck.backends.measured.open_recording` returns for a bag: its rows
+    are the pairs, numbered from 1 in the order their poses were recorded; its
+    :attr:`method` is the provenance line once the bag has been read to its end.
+    """
+
+    where = "row"
+
+    def __init__(self, pairs: BagPairs) -> None:
+        self.pairs = pairs
+        self.pair: tuple[str, str] | None = pairs.frames
+        self.method = "ROS 2 bag"
+
+    def chunks(self) -> Iterator[PoseChunk]:
+        """The pairs, :data:`~fkcheck.backends.recording.CHUNK_ROWS` at a time.
+
+        Raises:
+            BagError: See :meth:`BagPairs.chunks`; or more than
+                :data:`~fkcheck.backends.recording.MAX_RECORDING_ROWS` pairs.
+        """
+        count = 0
+        for q, poses, t in self.pairs.chunks(CHUNK_ROWS):
+            first, count = count, count + q.shape[0]
+            if count > MAX_RECORDING_ROWS:
+                raise BagError(
+                    self.pairs.path,
+                    f"more than {MAX_RECORDING_ROWS:,} pairs (at most {MAX_RECORDING_ROWS:,}); "
+                    "cut the bag (ros2 bag convert with a start and end time)",
+                )
+            yield PoseChunk(q, poses, t, np.arange(first + 1, count + 1, dtype=np.int64))
+        self.method = self.pairs.provenance.method
 
 
 def bag_pairs(path: Path, model: Model, options: BackendOptions) -> BagPairs:

@@ -44,27 +44,39 @@ the check must run on them (``configurations()``), and any other configuration m
 with that reason. Measured poses are noisy: compare them with a tolerance that
 fits the measurement (``--tol-pos 1e-3``).
 
-The file is read as other tables are (:mod:`fkcheck.io.files`: a regular
-file of at most 256 MiB, lines of at most 64 KiB, UTF-8 with or without a
-byte-order mark; numbers by :func:`fkcheck.io.numbers.parse_number`), and refused
+The file is read as other tables are (:mod:`fkcheck.io.files`: a regular file,
+lines of at most 64 KiB, UTF-8 with or without a byte-order mark; numbers by
+:func:`fkcheck.io.numbers.parse_number`), but in chunks
+(:class:`~fkcheck.backends.recording.Recording`: :func:`open_recording` picks the
+reader by the recording's kind), so that it may be long: at most
+:data:`~fkcheck.backends.recording.MAX_RECORDING_BYTES` (4 GiB) and
+:data:`MAX_POSES_ROWS` rows (10 million), counted as they are read. It is refused
 with the line, column and header name of the first problem: a column named
 twice, an empty field, a value beyond the model files' bounds (joint values
 within ±1000 rad / ±1000 m, positions within ±1000 m, rotation numbers within
-±1000). The same configuration (within :data:`MATCH_TOL`) may appear on several
-lines only with the same pose (within :data:`MATCH_TOL` m and rad): the file
-cannot hold two answers for one question. Matching configurations to rows is a
-hash lookup (a k-d tree for ones that are not bit for bit a row), so a file of
-tens of thousands of rows is matched in well under a second.
+±1000). A ``# fkcheck poses:`` comment comes before the data rows.
+
+The rows a check runs on are those its keeper keeps
+(:meth:`MeasuredPoses.keep_with`): a recording of at most
+:data:`~fkcheck.backends.recording.KEEP_ROWS` rows whole; of a longer one a
+deterministic sample and, with the check's keeper
+(:class:`fkcheck.engine.stream.StreamSummary`, which compares every row with the core
+as it is read), its worst rows. The same configuration (within :data:`MATCH_TOL`)
+may appear on several kept lines only with the same pose (within :data:`MATCH_TOL` m
+and rad): the table cannot hold two answers for one question. Matching
+configurations to rows is a hash lookup (a k-d tree for ones that are not bit for
+bit a row), so tens of thousands of rows are matched in well under a second.
 """
 
 from __future__ import annotations
 
 import csv
 import math
+import operator
 import os
 import re
-from array import array
-from collections.abc import Sequence
+from collections.abc import Callable, Iterator, Sequence
+from itertools import chain
 from pathlib import Path
 from typing import Any
 
@@ -79,14 +91,37 @@ from fkcheck.backends.base import (
     Reads,
     validated_q,
 )
+from fkcheck.backends.recording import (
+    CHUNK_CHARS,
+    CHUNK_ROWS,
+    MAX_RECORDING_BYTES,
+    MAX_RECORDING_ROWS,
+    PoseChunk,
+    Recording,
+    RowKeeper,
+    SampleKeeper,
+)
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_lines
-from fkcheck.io.numbers import NumberError, parse_number, parse_numbers, show_text, split_fields
+from fkcheck.io.numbers import (
+    MAX_NUMBER_CHARS,
+    NumberError,
+    parse_number,
+    parse_numbers,
+    show_text,
+    split_fields,
+)
 from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
 
-__all__ = ["MAX_POSES_ROWS", "MeasuredPoses", "PosesFileError", "read_poses_file"]
+__all__ = [
+    "MAX_POSES_ROWS",
+    "MeasuredPoses",
+    "PosesFileError",
+    "open_recording",
+    "read_poses_file",
+]
 
 
 #: Joint values within this of a file row (radians / metres) are that row; two rows
@@ -94,12 +129,14 @@ __all__ = ["MAX_POSES_ROWS", "MeasuredPoses", "PosesFileError", "read_poses_file
 MATCH_TOL = 1e-9
 #: Largest rotation number (a quaternion component or an angle in radians).
 MAX_ROTATION_NUMBER = 1e3
-#: Data rows a poses file or RTDE recording may hold. The byte limit alone let 10
-#: million short rows through (236 s, 7.7 GB); each row costs about 300 bytes
-#: here (its numbers, its pose, the duplicate check) and every backend then computes
-#: its pose. 250,000 rows are 33 minutes of RTDE at 125 Hz (8 at 500 Hz) and about
-#: 80 MB; a longer recording is cut or thinned (every k-th row) until recordings stream.
-MAX_POSES_ROWS = 250_000
+#: Data rows a poses file or RTDE recording may hold: read in chunks, a recording
+#: takes the same memory whatever its length, so the limit bounds the time
+#: (:data:`~fkcheck.backends.recording.MAX_RECORDING_ROWS`: 5.5 hours at 500 Hz).
+MAX_POSES_ROWS = MAX_RECORDING_ROWS
+#: A character none of an RTDE recording's read fields may hold to be read in one go:
+#: with these characters alone, ``float()`` accepts exactly the plain numbers of
+#: :func:`fkcheck.io.numbers.parse_number` (and the spaces and tabs around them).
+_NOT_PLAIN = re.compile(r"[^0-9+\-.eE \t\n]")
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
 #: The columns of an RTDE recording that are read: joints, then TCP pose (UR's recorder
 #: names the elements of a vector output ``name_0 … name_5``).
@@ -279,6 +316,10 @@ class _Layout:
         self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(rotation[0])
         self.method = MeasuredPoses.method
 
+    def rows(self, lines: list[str], linenos: list[int], path: Path) -> list[float]:
+        """The kept numbers of data lines, in file units, one row after another."""
+        return list(chain.from_iterable(map(self.row, lines, linenos, [path] * len(lines))))
+
     def row(self, line: str, lineno: int, path: Path) -> list[float]:
         """The kept numbers of one data line, in file units."""
         try:
@@ -368,6 +409,32 @@ class _RtdeLayout:
                 "type names, then packed numbers); record it without --binary",
             )
 
+    def rows(self, lines: list[str], linenos: list[int], path: Path) -> list[float]:
+        """The 12 numbers read of each data line, one row after another.
+
+        Quick when the lines are as UR's recorder writes them (every field split at the
+        delimiter, the read ones plain numbers); otherwise each line is read by
+        :meth:`row`, which accepts and refuses exactly as this does and says where.
+        """
+        text = "\n".join(lines)
+        spaced = self.delimiter == " " and "  " in text  # csv's skipinitialspace joins them
+        if '"' not in text and "\x00" not in text and not spaced:
+            width = len(self.header)
+            fields = [line.split(self.delimiter) for line in lines]
+            if all(len(f) == width for f in fields):
+                pick = operator.itemgetter(*self.columns)
+                used = list(chain.from_iterable(map(pick, fields)))
+                if max(map(len, used)) <= MAX_NUMBER_CHARS and not _NOT_PLAIN.search(
+                    "\n".join(used)
+                ):
+                    try:
+                        values = list(map(float, used))
+                    except ValueError:  # e.g. "1e", "-": row says which and where
+                        values = [math.inf]
+                    if all(map(math.isfinite, values)):
+                        return values
+        return list(chain.from_iterable(map(self.row, lines, linenos, [path] * len(lines))))
+
     def row(self, line: str, lineno: int, path: Path) -> list[float]:
         """The 12 numbers read of one data line: q (rad), position (m), rotation vector (rad)."""
         fields = self._fields(line, lineno, path)
@@ -405,16 +472,18 @@ def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, 
 
     Returns:
         ``(q, poses, pair)``: ``(N, n)`` joint values (radians / metres), ``(N, 4, 4)``
-        poses ``from_T_to`` and the frame pair the file declares, if it does.
+        poses ``from_T_to`` and the frame pair the file declares, if it does. For a
+        recording longer than :data:`~fkcheck.backends.recording.KEEP_ROWS` rows, the
+        rows the check runs on (:class:`~fkcheck.backends.recording.StreamSummary`).
 
     Raises:
         PosesFileError: Not a regular file, too large, not UTF-8, a missing or
             repeated column, a bad or out-of-bounds number (with its line and
             column), no rows or more than :data:`MAX_POSES_ROWS`, or one configuration with
-            two different poses.
+            two different poses among the rows kept.
     """
-    q, poses, pair, _ = _read(path, model)
-    return q, poses, pair
+    table = _read(path, model)
+    return table.q, table.poses, table.pair
 
 
 def _layout(line: str, lineno: int, model: Model, path: Path) -> _Layout | _RtdeLayout:
@@ -424,39 +493,96 @@ def _layout(line: str, lineno: int, model: Model, path: Path) -> _Layout | _Rtde
     return _Layout(_read_header(line, lineno, path), model, path)
 
 
-def _read(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | None, str]:
-    """:func:`read_poses_file`, and the backend's ``method`` text for the file's layout."""
+def open_recording(path: Path, model: Model, options: BackendOptions | None = None) -> Recording:
+    """The reader of the recording ``poses:PATH`` names, by its kind: the one dispatch point.
+
+    A ROS 2 bag (:class:`fkcheck.backends.bag.BagRecording`, read as ``options`` set:
+    frames, topics, stamp tolerance), else a text file (fkcheck's poses CSV, or UR's
+    RTDE recorder CSV).
+    """
+    from fkcheck.backends.bag import BagRecording, bag_pairs, is_bag
+
+    if is_bag(path):
+        return BagRecording(bag_pairs(path, model, options or BackendOptions()))
+    return _CsvRecording(path, model)
+
+
+class _CsvRecording:
+    """A poses CSV or RTDE recording as a :class:`~fkcheck.backends.recording.Recording`."""
+
+    where = "line"
+
+    def __init__(self, path: Path, model: Model) -> None:
+        self.path = path
+        self.model = model
+        self.pair: tuple[str, str] | None = None
+        self.method = MeasuredPoses.method
+
+    def chunks(self) -> Iterator[PoseChunk]:
+        """The file's rows, :data:`CHUNK_ROWS` (or :data:`CHUNK_CHARS` of text) at a time.
+
+        Raises:
+            PosesFileError: Any problem, with its line (see :func:`read_poses_file`).
+        """
+        path, model = self.path, self.model
+        layout: _Layout | _RtdeLayout | None = None
+        lines: list[str] = []
+        linenos: list[int] = []
+        chars = 0
+        rows = 0
+        try:
+            for lineno, line in read_lines(path, MAX_RECORDING_BYTES):
+                text = line.strip()
+                match = _PAIR.match(text)
+                if match:
+                    if rows:
+                        raise PosesFileError(
+                            path,
+                            f"line {lineno}: '# fkcheck poses: from=… to=…' comes after data "
+                            "rows; put it before the header line",
+                        )
+                    self.pair = _model_pair(match.group(1), match.group(2), model, lineno, path)
+                    continue
+                if not text or text.startswith("#"):
+                    continue
+                if layout is None:
+                    layout = _layout(line, lineno, model, path)
+                    self.method = layout.method
+                    continue
+                if rows == MAX_POSES_ROWS:  # counted while streaming: refused unparsed
+                    raise PosesFileError(
+                        path,
+                        f"line {lineno}: more than {MAX_POSES_ROWS:,} data rows (at most "
+                        f"{MAX_POSES_ROWS:,}); cut the recording or keep every k-th row",
+                    )
+                rows += 1
+                lines.append(line)
+                linenos.append(lineno)
+                chars += len(line)
+                if len(lines) == CHUNK_ROWS or chars >= CHUNK_CHARS:
+                    yield _chunk(layout, lines, linenos, path)
+                    lines, linenos, chars = [], [], 0
+        except (InputFileError, PosesFileError) as exc:
+            # The first problem in the file is the one said: the rows read before this
+            # one (a binary recording's line of types before its packed numbers) first.
+            if layout is not None and lines:
+                _chunk(layout, lines, linenos, path)
+            if isinstance(exc, InputFileError):
+                raise PosesFileError(path, exc.problem) from None
+            raise
+        if layout is None or not rows:
+            raise PosesFileError(path, "no header line and data rows")
+        if lines:
+            yield _chunk(layout, lines, linenos, path)
+
+
+def _chunk(
+    layout: _Layout | _RtdeLayout, lines: list[str], linenos: list[int], path: Path
+) -> PoseChunk:
+    """The rows of ``lines`` (their numbers ``linenos``), read and checked against the bounds."""
     from fkcheck.core.pose_formats import matrix_from_pose
 
-    pair = None
-    layout: _Layout | _RtdeLayout | None = None
-    kept = array("d")
-    linenos = array("q")
-    try:
-        for lineno, line in read_lines(path):
-            text = line.strip()
-            match = _PAIR.match(text)
-            if match:
-                pair = _model_pair(match.group(1), match.group(2), model, lineno, path)
-                continue
-            if not text or text.startswith("#"):
-                continue
-            if layout is None:
-                layout = _layout(line, lineno, model, path)
-                continue
-            if len(linenos) == MAX_POSES_ROWS:  # counted while streaming: refused unparsed
-                raise PosesFileError(
-                    path,
-                    f"line {lineno}: more than {MAX_POSES_ROWS:,} data rows (at most "
-                    f"{MAX_POSES_ROWS:,}); cut the recording or keep every k-th row",
-                )
-            kept.extend(layout.row(line, lineno, path))
-            linenos.append(lineno)
-    except InputFileError as exc:
-        raise PosesFileError(path, exc.problem) from None
-    if layout is None or not linenos:
-        raise PosesFileError(path, "no header line and data rows")
-    values = np.frombuffer(kept, dtype=np.float64).reshape(len(linenos), -1)
+    values = np.array(layout.rows(lines, linenos, path), dtype=np.float64).reshape(len(lines), -1)
     if np.any(layout.factor != 1.0):  # an RTDE recording's are all 1: no copy
         values = values * layout.factor
     bad = np.argwhere(np.abs(values) > layout.bound)
@@ -473,8 +599,36 @@ def _read(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | Non
         poses = matrix_from_pose(values[:, layout.n :], layout.fmt)  # type: ignore[arg-type]
     except ValueError as exc:
         raise PosesFileError(path, str(exc)) from None
-    _check_duplicates(q, poses, linenos, path)
-    return q, poses, pair, layout.method
+    return PoseChunk(q, poses, None, np.array(linenos, dtype=np.int64))
+
+
+#: Makes the keeper of a recording's rows for a model and the recording's frame pair.
+KeeperFactory = Callable[[Model, tuple[str, str]], RowKeeper]
+
+
+def _sample_keeper(model: Model, pair: tuple[str, str]) -> RowKeeper:
+    return SampleKeeper(model.dof)
+
+
+def _read(
+    path: Path,
+    model: Model,
+    keeper: KeeperFactory = _sample_keeper,
+    options: BackendOptions | None = None,
+) -> _Table:
+    """Stream the recording at ``path`` through ``keeper``: the rows it keeps, as a table."""
+    recording = open_recording(path, model, options)
+    kept: RowKeeper | None = None
+    for chunk in recording.chunks():
+        if kept is None:  # the pair is known once the first rows are
+            pair = recording.pair or (model.check.frame_from, model.check.frame_to)
+            kept = keeper(model, pair)
+        kept.add(chunk)
+    if kept is None:  # a reader yields at least one row or refuses
+        raise PosesFileError(path, "no data rows")
+    q, poses, lines = kept.kept()
+    _check_duplicates(q, poses, lines, path)
+    return _Table(q, poses, recording, kept)
 
 
 def _model_pair(
@@ -494,7 +648,7 @@ def _model_pair(
         raise PosesFileError(path, f"{where}: {exc}") from None
 
 
-def _check_duplicates(q: Float, poses: Float, linenos: array[int], path: Path) -> None:
+def _check_duplicates(q: Float, poses: Float, linenos: NDArray[np.int64], path: Path) -> None:
     """Refuse two rows with the same configuration (within MATCH_TOL) but different poses."""
     from scipy.spatial import cKDTree
 
@@ -534,13 +688,15 @@ def _key_values(q: Float) -> Float:
 
 
 class _Table:
-    """A read poses file, with a lookup from configurations to its rows."""
+    """A read poses file (the rows kept of it), with a lookup from configurations to its rows."""
 
-    def __init__(self, q: Float, poses: Float, pair: tuple[str, str] | None, method: str) -> None:
+    def __init__(self, q: Float, poses: Float, recording: Recording, kept: RowKeeper) -> None:
         self.q = q
         self.poses = poses
-        self.pair = pair
-        self.method = method
+        self.pair = recording.pair
+        self.method = recording.method
+        self.recording = recording
+        self.keeper = kept
         keys = _key_values(q)
         self._index = {keys[k].tobytes(): k for k in range(keys.shape[0] - 1, -1, -1)}
         self._tree: Any = None
@@ -582,6 +738,22 @@ class MeasuredPoses(BackendDefaults):
         self.name = f"poses:{arg}"
         self.options = options or BackendOptions()
         self._read: tuple[Model, _Table] | None = None
+        self._keeper: KeeperFactory = _sample_keeper
+
+    def keep_with(self, keeper: KeeperFactory) -> None:
+        """Read the recording through ``keeper`` from now on (the check's: it compares as it reads).
+
+        A recording already read through another keeper is read again when next asked for.
+        """
+        if keeper is not self._keeper:
+            self._keeper = keeper
+            self._read = None
+
+    def streamed(self, model: Model) -> tuple[Recording, RowKeeper] | None:
+        """The recording and its keeper when the check runs on some of its rows, else ``None``."""
+        table = self._table(model)
+        whole = getattr(table.keeper, "whole", True)
+        return None if whole else (table.recording, table.keeper)
 
     def _table(self, model: Model) -> _Table:
         """The file, read once per model (the check asks for it chunk by chunk).
@@ -591,10 +763,7 @@ class MeasuredPoses(BackendDefaults):
         equality) must not read a recording of 10⁵ rows again.
         """
         if self._read is None or self._read[0] != model:
-            from fkcheck.backends.bag import is_bag, read_bag  # a ROS 2 bag: its own reader
-
-            read = read_bag(self.path, model, self.options) if is_bag(self.path) else None
-            self._read = model, _Table(*(read or _read(self.path, model)))
+            self._read = model, _read(self.path, model, self._keeper, self.options)
             self.method = self._read[1].method
         return self._read[1]
 

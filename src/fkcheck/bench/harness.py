@@ -32,6 +32,7 @@ import numpy as np
 from fkcheck.backends.base import BackendUnavailable
 from fkcheck.bench import peers
 from fkcheck.bench.machine import library_versions, machine_info
+from fkcheck.bench.recordings import run_recording_bench
 from fkcheck.bench.timing import (
     LIKE_FOR_LIKE,
     BenchResult,
@@ -82,7 +83,8 @@ def run_bench(
         progress: Called with each contender's name before it runs.
 
     Returns:
-        The timings, in-house first, then the peers, then the memory bound.
+        The timings, in-house first, then the peers, then the memory bound; and
+        reading a recording, fkcheck against pandas (:mod:`fkcheck.bench.recordings`).
     """
     say = progress or (lambda _name: None)
     q = bench_configurations(model, n, seed)
@@ -168,6 +170,7 @@ def run_bench(
 
     say("memory bound")
     timings.append(_memory_bound(n, repeat))
+    recordings = run_recording_bench(model, repeat, seed, say)
     return BenchResult(
         model=model.name,
         n=n,
@@ -178,6 +181,7 @@ def run_bench(
         threads=numba_threads(),
         machine=machine_info(),
         versions=library_versions(),
+        recordings=recordings,
     )
 
 

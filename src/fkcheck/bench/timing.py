@@ -117,6 +117,9 @@ class BenchResult:
     #: ``fkcheck bench --jacobian``: per thread count (``"1 thread"``, ``"2 threads"``),
     #: the batched Jacobian's time over the FK's on the same N configurations and ``out=``.
     jacobian_over_fk: dict[str, float] = field(default_factory=dict)
+    #: ``fkcheck bench``: reading one RTDE recording, fkcheck against pandas
+    #: (:mod:`fkcheck.bench.recordings`; its ``RecordingTiming`` rows).
+    recordings: list[Any] = field(default_factory=list)
 
     @property
     def like_for_like(self) -> str:
@@ -180,6 +183,10 @@ class BenchResult:
             "versions": self.versions,
             "fastest_peer": None if best is None else best.name,
             "jacobian_over_fk": self.jacobian_over_fk or None,
+            "recordings": [
+                {**asdict(r), "rows_per_s": r.rows_per_s, "mb_per_s": r.mb_per_s}
+                for r in self.recordings
+            ],
             "headline": None
             if self.headline is None
             else {

@@ -110,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
         errors = [(t.name, t.max_pos_err_m) for t in result.timings]
         console().print(_table(result, tol))
     disagree = [name for name, err in errors if err is not None and not err <= tol]
-    failed = [f"{t.name} ({t.error})" for t in result.timings if t.error]
+    failed = [f"{t.name} ({t.error})" for t in [*result.timings, *result.recordings] if t.error]
     if args.json is not None:
         write_json(
             args.json,
@@ -202,7 +202,45 @@ def _table(result: Any, tol: float) -> Any:
         f"Machine: {result.machine.get('cpu')}, {result.machine.get('cpus')} CPUs, "
         f"load average {load}.",
     ]
-    return Group(table, Text("\n".join([*notes, "", *facts])))
+    return Group(table, Text("\n".join([*notes, "", *facts])), *_recordings_table(result))
+
+
+def _recordings_table(result: Any) -> list[Any]:
+    """Reading one RTDE recording: rows/s and MB/s, fkcheck's against pandas'."""
+    from rich.table import Table
+    from rich.text import Text
+
+    from fkcheck.io.text import terminal_markup, terminal_text
+
+    rows = result.recordings
+    if not rows:
+        return []
+    first = rows[0]
+    table = Table(
+        title=f"reading an RTDE recording: {first.rows:,} rows, {first.bytes / 1e6:,.1f} MB, "
+        f"median of {result.repeat} runs"
+    )
+    for name, right in (("reader", False), ("rows/s", True), ("MB/s", True),
+                        ("× pandas", True), ("max |Δ|", True)):  # fmt: skip
+        table.add_column(name, justify="right" if right else "left", no_wrap=not right)
+    peer = next((r for r in rows if r.kind == "peer" and r.seconds), None)
+    notes = []
+    for r in rows:
+        name = terminal_markup(r.name)
+        why = f"skipped, {r.skipped}" if r.skipped else f"FAILED, {r.error}" if r.error else r.note
+        notes.append(terminal_text(f"{r.name}: {why}"))
+        if r.seconds is None:
+            table.add_row(name, "skipped" if r.skipped else "[bold red]FAILED[/]", "", "", "")
+            continue
+        ratio = "" if peer is None else f"{peer.seconds / r.seconds:.2g}"
+        diff = "" if r.max_diff is None else f"{r.max_diff:.1g}"
+        table.add_row(name, f"{r.rows_per_s:,.0f}", f"{r.mb_per_s:,.1f}", ratio, diff)
+    notes.append(
+        "× pandas: pandas.read_csv's time divided by this row's (above 1: faster). max |Δ|: "
+        "largest difference of the joint (fkcheck) or all 12 (pandas) numbers from those "
+        "written."
+    )
+    return [Text(""), table, Text("\n".join(notes))]
 
 
 def _jacobian_table(result: Any, tol: float) -> Any:

@@ -136,10 +136,12 @@ def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> Non
 
     from fkcheck.backends.base import FixedConfigurations
     from fkcheck.calibration.description import screen_kinematics
+    from fkcheck.engine.stream import stream_recordings
     from fkcheck.errors import BackendUnavailable
     from fkcheck.urdf.source import load_urdf
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
+    stream_recordings(backends)  # read once, as the check reads it
     for backend in backends:
         if isinstance(backend, FixedConfigurations):
             backend.configurations(model)

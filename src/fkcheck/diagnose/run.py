@@ -80,6 +80,9 @@ def diagnose(
         tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad), model.reach_m
     )
     if q is None and isinstance(backend, FixedConfigurations):
+        from fkcheck.engine.stream import stream_recordings
+
+        stream_recordings([backend])  # a long recording: its sample and its worst rows
         q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)
     problem = Problem.build(model, backend, configs, pair, tol)

@@ -17,6 +17,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from fkcheck.backends.base import Backend, FixedConfigurations, SharesDHFrames
+from fkcheck.backends.measured import MeasuredPoses
+from fkcheck.backends.recording import Recording
 from fkcheck.core.metrics import position_error_m, rotation_error_rad, se3_defect
 from fkcheck.core.tolerances import ROUNDED_URDF
 from fkcheck.core.typing import Float
@@ -28,7 +30,9 @@ from fkcheck.engine.evidence import (
     urdf_axes,
 )
 from fkcheck.engine.jacobian import Explain, JacobianComparison, JacobianSpec
+from fkcheck.engine.plan import count_text
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, JacobianResult, Status
+from fkcheck.engine.stream import StreamSummary, rows_beyond
 from fkcheck.io.format import format_angle_summary, format_length_summary
 from fkcheck.model.frames import (
     CHUNK,
@@ -164,15 +168,25 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
         )
         worst = defect_at
     n_bad = int((score > 1.0).sum())
+    stream = _streamed(job)
     if n_bad:
+        # A long recording: the kept rows hold its worst ones, so it fails exactly when
+        # they do; how many of all its rows differ takes a second pass.
+        counted = (
+            f"{n_bad} of {q.shape[0]} configurations"
+            if stream is None
+            else f"{rows_beyond(stream[0], model, pair, job.tol)} of {stream[1].rows} rows"
+        )
         reasons.append(
-            f"{n_bad} of {q.shape[0]} configurations differ: max position error "
+            f"{counted} differ: max position error "
             f"{format_length_summary(float(pos.max()))}, max rotation error "
             f"{format_angle_summary(float(rot.max()))}"
         )
         if isinstance(backend, FixedConfigurations):
-            reasons.append(_spread(pos, rot))
+            reasons.append(_spread(pos, rot) if stream is None else _stream_spread(stream[1]))
     failed = bool(reasons)
+    if stream is not None:
+        reasons.append(_stream_note(stream[1], q.shape[0], stream[0].where))
     detail = None
     if failed and worst is not None:
         detail = _failure_detail(job, worst, tracker)
@@ -311,6 +325,47 @@ def _spread(pos: Float, rot: Float) -> str:
     return (
         f"over the {p_mm.size} rows: position {three(p_mm, ' mm', 3)}; "
         f"rotation {three(r_deg, '°', 4)}"
+    )
+
+
+def _streamed(job: Job) -> tuple[Recording, StreamSummary] | None:
+    """The recording and what the check kept of it, when it runs on some of its rows only."""
+    backend = job.backend
+    if not isinstance(backend, MeasuredPoses):
+        return None
+    streamed = backend.streamed(job.model)
+    if streamed is None or not isinstance(streamed[1], StreamSummary):
+        return None
+    return streamed[0], streamed[1]
+
+
+def _stream_spread(summary: StreamSummary) -> str:
+    """:func:`_spread` over every row of a streamed recording, from its histograms."""
+
+    def three(which: str, scale: float, unit: str, digits: int) -> str:
+        values = (
+            ("max", summary.max_position_m if which == "position" else summary.max_rotation_rad),
+            ("median", summary.percentile(which, 0.5)),
+            ("95th percentile", summary.percentile(which, 0.95)),
+        )
+        return ", ".join(f"{label} {v * scale:.{digits}f}{unit}" for label, v in values)
+
+    return (
+        f"over the {summary.rows} rows: position {three('position', 1e3, ' mm', 3)}; "
+        f"rotation {three('rotation', 180 / np.pi, '°', 4)}"
+    )
+
+
+def _stream_note(summary: StreamSummary, kept: int, where: str) -> str:
+    """What a streamed recording's check compared: every row, and which rows it runs on.
+
+    ``where`` is the recording's word for its row numbers (``line``, ``row``).
+    """
+    return (
+        f"streamed {count_text(summary.rows)} rows ({where}s {summary.first_line}–"
+        f"{summary.last_line}), each compared with {REFERENCE_NAME} as read; the check's "
+        f"{count_text(kept)} configurations are one row in {summary.stride} and the "
+        f"{summary.worst_added()} worst rows besides them"
     )
 
 

@@ -43,6 +43,7 @@ from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
 from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
+from fkcheck.engine.stream import stream_recordings
 from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
 from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, failure_text
 from fkcheck.model.coverage import Competitor, coverage
@@ -82,6 +83,7 @@ def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples 
     fixed = [b for b in backends if isinstance(b, FixedConfigurations)]
     if not fixed:
         return None
+    stream_recordings(fixed)  # a long recording is compared as it is read
     q = np.asarray(fixed[0].configurations(model), dtype=np.float64)
     for other in fixed[1:]:
         if not np.array_equal(np.asarray(other.configurations(model)), q):

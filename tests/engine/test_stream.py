@@ -1,0 +1,224 @@
+"""Long recordings are compared as they stream (issue 35, items 2 and 3).
+
+The recordings are written by :mod:`tests.rtde_cases` from a table by the tests' own
+composition (not fkcheck's core). :data:`~fkcheck.backends.recording.KEEP_ROWS` and
+:data:`~fkcheck.backends.recording.CHUNK_ROWS` are made small here, so that a
+recording of a few hundred rows streams over many chunks and the check runs on a
+sample of it: what is asserted is what a recording of millions of rows gets.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from fkcheck import load_model
+from fkcheck.backends import recording
+from fkcheck.backends.measured import MeasuredPoses, PosesFileError, read_poses_file
+from fkcheck.cli.main import main
+from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.engine.stream import HISTOGRAM_RATIO, StreamSummary
+from tests.rtde_cases import RTDE_HEADER, poses_of, rtde_rows, write_rtde_csv
+
+#: Rows of the recordings here, and the most the check keeps of them.
+ROWS = 600
+KEEP = 50
+#: Rows per chunk: 600 rows are 26 chunks, the last one short.
+CHUNK = 23
+
+
+@pytest.fixture(scope="module")
+def ur5():
+    return load_model("ur5")
+
+
+@pytest.fixture
+def small(monkeypatch):
+    monkeypatch.setattr(recording, "KEEP_ROWS", KEEP)
+    monkeypatch.setattr(recording, "CHUNK_ROWS", CHUNK)
+    from fkcheck.backends import measured
+
+    monkeypatch.setattr(measured, "CHUNK_ROWS", CHUNK)
+
+
+@pytest.fixture(scope="module")
+def motion():
+    """A smooth motion, each joint at its own frequency (seeded phases)."""
+    rng = np.random.default_rng(35)
+    t = np.arange(ROWS)[:, None] * 0.01
+    return 2.0 * np.sin(rng.uniform(0.1, 1.0, 6) * t + rng.uniform(0, 2 * np.pi, 6))
+
+
+def _one_row_off(ur5, q, tmp_path, row: int, by_m: float):
+    """The recording with ``row``'s x written ``by_m`` off."""
+    rows = rtde_rows(ur5, q)
+    x = RTDE_HEADER.index("actual_TCP_pose_0")
+    rows[row][x] += by_m
+    lines = [" ".join(RTDE_HEADER), *(" ".join(map(repr, r)) for r in rows)]
+    path = tmp_path / "rec.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_recording_that_agrees_streams_every_row_and_passes(ur5, motion, tmp_path, small, capsys):
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, motion)
+    report = tmp_path / "r.json"
+    code = main(["check", "ur5", "--against", f"poses:{path}", "--json", str(report)])
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 0, out
+    doc = json.loads(report.read_text())
+    # Every 16th row (600 rows thinned until at most 50 are kept: 38) and the worst rows.
+    kept = doc["configurations"]
+    assert 38 <= kept <= 38 + 6
+    assert (
+        f"streamed 600 rows (lines 2–601), each compared with fkcheck-dh as read; the check's "
+        f"{kept} configurations are one row in 16 and the {kept - 38} worst rows besides them"
+    ) in out
+    (backend,) = doc["backends"]
+    assert backend["status"] == "pass"
+    assert backend["max_position_error_m"] < 1e-12
+
+
+@pytest.mark.parametrize("row", [5, 301, 598])  # in the first chunk, the middle, the last
+def test_one_row_off_between_the_sampled_rows_fails_with_its_line_and_size(
+    ur5, motion, tmp_path, small, capsys, row
+):
+    # Row 301 is not in the sample (every 16th row): were only the sample compared,
+    # the check would pass. It is kept as a worst row, so the verdict, the maximum and
+    # the worst configuration are the recording's own.
+    path = _one_row_off(ur5, motion, tmp_path, row, 2e-3)
+    report = tmp_path / "r.json"
+    code = main(["check", "ur5", "--against", f"poses:{path}", "--json", str(report)])
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 1, out
+    assert "1 of 600 rows differ: max position error 2.00 mm" in out
+    (backend,) = json.loads(report.read_text())["backends"]
+    assert backend["max_position_error_m"] == pytest.approx(2e-3, rel=1e-9)
+    np.testing.assert_allclose(backend["worst_q"], motion[row], rtol=0, atol=1e-15)
+
+
+def test_a_table_off_everywhere_counts_every_row_and_its_spread_over_all_of_them(
+    motion, tmp_path, small, capsys
+):
+    ur5 = load_model("ur5")
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, motion)
+    text = tmp_path / "m.toml"
+    source = load_model("ur5").path
+    assert source is not None
+    body = source.read_text(encoding="utf-8")
+    assert body.count("a = -0.425\n") == 1
+    text.write_text(body.replace("a = -0.425\n", "a = -0.4265\n"), encoding="utf-8")
+    code = main(["check", str(text), "--against", f"poses:{path}"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 1, out
+    # The count is over every row (a second pass); the spread from the histograms.
+    poses = poses_of(ur5, motion)
+    changed = load_model(text)
+    theirs = poses_of(changed, motion)
+    pos_mm = position_error_m(poses, theirs) * 1e3
+    assert pos_mm.min() > 1e-3  # every row differs beyond the 1 µm tolerance
+    assert "600 of 600 rows differ" in out
+    found = re.search(
+        r"over the 600 rows: position max ([0-9.]+) mm, median ([0-9.]+) mm, 95th "
+        r"percentile ([0-9.]+) mm",
+        out,
+    )
+    assert found, out
+    got = [float(v) for v in found.groups()]
+    want = [pos_mm.max(), np.median(pos_mm), np.percentile(pos_mm, 95)]
+    # Printed to 1 µm; the histogram's bins are 0.1 % apart (a 1.5 mm error: 1.5 µm).
+    np.testing.assert_allclose(got, want, rtol=HISTOGRAM_RATIO - 1, atol=6e-4)
+
+
+def test_the_chunks_read_the_same_rows_as_one_read_of_a_short_file(ur5, motion, tmp_path):
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, motion[:KEEP])
+    whole_q, whole_poses, _ = read_poses_file(path, ur5)
+    import fkcheck.backends.measured as measured
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(measured, "CHUNK_ROWS", 7)
+        q, poses, _ = read_poses_file(path, ur5)
+    np.testing.assert_array_equal(q, whole_q)
+    np.testing.assert_array_equal(poses, whole_poses)
+    np.testing.assert_array_equal(q, motion[:KEEP])
+
+
+def test_the_summary_keeps_the_worst_rows_of_either_error_whatever_the_tolerance(
+    ur5, motion, small
+):
+    q = motion
+    poses = poses_of(ur5, q).copy()
+    poses[100, 0, 3] += 1e-3  # row 100: 1 mm, no rotation
+    rot = np.array([[1, 0, 0], [0, np.cos(1e-3), -np.sin(1e-3)], [0, np.sin(1e-3), np.cos(1e-3)]])
+    poses[333, :3, :3] = poses[333, :3, :3] @ rot  # row 333: 1 mrad, no position
+    summary = StreamSummary(ur5, ("base", "tool0"))
+    for first in range(0, ROWS, CHUNK):
+        stop = min(ROWS, first + CHUNK)
+        summary.add(
+            recording.PoseChunk(q[first:stop], poses[first:stop], None, np.arange(first, stop) + 2)
+        )
+    _kept_q, _kept_poses, lines = summary.kept()
+    assert summary.rows == ROWS
+    assert summary.stride == 16
+    assert {102, 335} <= set(lines.tolist())  # lines of rows 100 and 333, not sampled
+    assert (np.diff(lines) > 0).all()  # in the recording's order, each row once
+    assert summary.max_position_m == pytest.approx(1e-3, rel=1e-9)
+    assert summary.max_rotation_rad == pytest.approx(1e-3, rel=1e-6)
+    # The quantiles of the histograms, against NumPy's over every row.
+    ref = poses_of(ur5, q)
+    for which, errors in (
+        ("position", position_error_m(ref, poses)),
+        ("rotation", rotation_error_rad(ref, poses)),
+    ):
+        for share in (0.5, 0.95, 1.0):
+            exact = np.quantile(errors, share, method="inverted_cdf")
+            got = summary.percentile(which, share)
+            if exact > 1e-15:
+                assert got == pytest.approx(exact, rel=HISTOGRAM_RATIO - 1)
+            else:  # round-off rows
+                assert got < 1e-14
+
+
+def test_a_pair_comment_after_the_rows_is_refused_in_one_line(ur5, tmp_path):
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, np.zeros((3, 6)))
+    with path.open("a", encoding="utf-8") as f:
+        f.write("# fkcheck poses: from=base to=tool0\n")
+    with pytest.raises(PosesFileError, match=r"line 5: '# fkcheck poses: from=… to=…' comes after"):
+        read_poses_file(path, ur5)
+
+
+@pytest.mark.parametrize(
+    ("field", "problem"),
+    [
+        ("1_0", r"not a number: '1_0' \(no '_' in numbers\)"),
+        ("1e999", r"number too large: '1e999'"),
+        ("1e", r"not a number: '1e'"),
+        ("-", r"not a number: '-'"),
+        ("x" * 101, r"number too long: 101 characters"),
+    ],
+)
+def test_the_quick_read_of_a_chunk_refuses_as_a_line_by_line_read(ur5, tmp_path, field, problem):
+    rows = rtde_rows(ur5, np.zeros((30, 6)))
+    lines = [" ".join(map(repr, r)) for r in rows]
+    k = RTDE_HEADER.index("actual_q_2")
+    bad = lines[17].split(" ")
+    bad[k] = field
+    lines[17] = " ".join(bad)
+    path = tmp_path / "rec.csv"
+    path.write_text(" ".join(RTDE_HEADER) + "\n" + "\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(PosesFileError, match=rf"line 19, field {k + 1} \(actual_q_2\): {problem}"):
+        read_poses_file(path, ur5)
+
+
+def test_a_check_through_the_api_streams_too(ur5, motion, tmp_path, small):
+    from fkcheck import check
+
+    path = _one_row_off(ur5, motion, tmp_path, 301, 2e-3)
+    result = check(ur5, [MeasuredPoses(str(path))], tol_pos_m=1e-6)
+    (backend,) = result.backends
+    assert backend.status == "fail"
+    assert "1 of 600 rows differ" in backend.message
+    assert backend.max_position_error_m == pytest.approx(2e-3, rel=1e-9)
