@@ -266,7 +266,7 @@ class ModelFile(pytest.File):
 
         p = self.project
         try:
-            options = resolve_options(project=p)  # [tool.fkcheck] > defaults, as the CLI's
+            options = resolve_options(project=p.options)  # [tool.fkcheck] > defaults, as the CLI's
             limit = BackendOptions(timeout_s=options.timeout_s)
             against = list(p.against) if p.against else None
             backends = parse_against(against, limit) if against else default_backends(limit)

@@ -151,8 +151,8 @@ def test_one_seed_range_for_the_flag_the_argument_and_the_project_file(tmp_path)
     path = _project(tmp_path, f"seed = {MAX_SEED}")
     project = load_project(path.parent)
     assert project is not None
-    assert project.seed == MAX_SEED
-    assert resolve_options(project=project).seed == MAX_SEED
+    assert project.options.get("seed") == MAX_SEED
+    assert resolve_options(project=project.options).seed == MAX_SEED
     assert resolve_options({"seed": MAX_SEED}, labels=FLAGS).seed == MAX_SEED
     assert CheckOptions(seed=MAX_SEED).seed == MAX_SEED
 
@@ -160,7 +160,7 @@ def test_one_seed_range_for_the_flag_the_argument_and_the_project_file(tmp_path)
 def test_flag_wins_over_project_which_wins_over_the_default_and_each_says_where(tmp_path):
     path = _project(tmp_path, "samples = 7\nseed = 3\ntimeout = 30\ntol_pos_m = 1e-5")
     project = load_project(path.parent)
-    options = resolve_options({"seed": 9, "tol_pos_m": None}, labels=FLAGS, project=project)
+    options = resolve_options({"seed": 9, "tol_pos_m": None}, labels=FLAGS, project=project.options)
     assert (options.samples, options.seed, options.timeout_s, options.tol_pos_m) == (7, 9, 30, 1e-5)
     assert options.sampler == DEFAULT_SAMPLER
     assert options.tol_rot_rad is None  # the model's [check]

@@ -233,7 +233,8 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
         "jacobian_reference": args.jacobian_reference, "tol_jacobian": args.tol_jacobian,
         "full": args.full,
     }  # fmt: skip
-    options = resolve_options(given, labels=FLAGS, project=project)
+    layer = project.options if project is not None else None
+    options = resolve_options(given, labels=FLAGS, project=layer)
     args.options = options
     args.samples, args.seed, args.sampler = options.samples, options.seed, options.sampler
     args.timeout = options.timeout_s

@@ -32,7 +32,6 @@ from fkcheck.model.require import KINDS, Kind
 from fkcheck.process.supervise import MAX_TIMEOUT_S
 
 if TYPE_CHECKING:
-    from fkcheck.model.project import ProjectConfig
     from fkcheck.model.types import Model
 
 __all__ = [
@@ -41,6 +40,7 @@ __all__ = [
     "DEFAULT_SEED",
     "DEFAULT_TIMEOUT_S",
     "FLAGS",
+    "FLOAT_OPTIONS",
     "MAX_SAMPLES",
     "MAX_SEED",
     "MAX_TIMEOUT_S",
@@ -48,6 +48,7 @@ __all__ = [
     "PROJECT_KEYS",
     "SAMPLERS",
     "CheckOptions",
+    "OptionLayer",
     "OptionName",
     "Sampler",
     "check_option",
@@ -130,6 +131,10 @@ _INTEGERS: Mapping[str, tuple[int, int, str, str]] = MappingProxyType(
         "samples": (0, MAX_SAMPLES, f"{MAX_SAMPLES:_}", "more is a typo, not a check"),
         "seed": (0, MAX_SEED, "2**64 - 1", "a 64-bit seed"),
     }
+)
+#: Options in seconds or tolerances: an integer given (``timeout = 60``) is read as a float.
+FLOAT_OPTIONS: frozenset[OptionName] = frozenset(
+    {"timeout_s", "tol_pos_m", "tol_rot_rad", "tol_jacobian"}
 )
 _TIMEOUT_WHY = "a day: longer than any CI job runs"
 
@@ -258,22 +263,35 @@ class CheckOptions:
         return (self.sources.get("tol_pos_m", ""), self.sources.get("tol_rot_rad", ""))
 
 
-def _from_project(project: ProjectConfig, name: OptionName) -> Any:
-    """The value ``[tool.fkcheck]`` gives option ``name``, or ``None``."""
-    if name == "jacobian":
-        return project.wants_jacobian  # jacobian_reference and tol_jacobian imply it
-    if name == "require":
-        return project.require or None
-    if name == "timeout_s":
-        return project.timeout
-    return getattr(project, name, None)
+@dataclass(frozen=True)
+class OptionLayer:
+    """The options one layer below the caller's gives (``[tool.fkcheck]``), each checked.
+
+    :mod:`fkcheck.model.project` reads one from a ``pyproject.toml``;
+    :func:`resolve_options` puts the caller's values over it.
+
+    Attributes:
+        values: Each option the layer sets, by name (one it leaves out is not given).
+        sources: Where each came from, in words (``[tool.fkcheck] seed in …/pyproject.toml``).
+    """
+
+    values: Mapping[OptionName, Any] = field(default_factory=dict)
+    sources: Mapping[OptionName, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "values", MappingProxyType(dict(self.values)))
+        object.__setattr__(self, "sources", MappingProxyType(dict(self.sources)))
+
+    def get(self, name: OptionName) -> Any:
+        """The value the layer gives option ``name``, or ``None``."""
+        return self.values.get(name)
 
 
 def resolve_options(
     given: Mapping[str, Any] | None = None,
     *,
     labels: Mapping[OptionName, str] | None = None,
-    project: ProjectConfig | None = None,
+    project: OptionLayer | None = None,
     base: CheckOptions | None = None,
 ) -> CheckOptions:
     """Each option from the first layer that gives it: ``given`` > ``project`` > default.
@@ -284,7 +302,8 @@ def resolve_options(
         labels: How ``given`` values are named in sources and messages
             (:data:`FLAGS` for the command line); without, they are the caller's
             and a bad one is named by its argument.
-        project: ``[tool.fkcheck]``, whose values are named by key and file.
+        project: ``[tool.fkcheck]``'s options (:attr:`ProjectConfig.options
+            <fkcheck.model.project.ProjectConfig.options>`), named by key and file.
         base: Options already resolved (by the command line, the pytest
             plugin), in place of ``project`` and the defaults.
 
@@ -305,10 +324,11 @@ def resolve_options(
             if name in base.sources:
                 sources[name] = base.sources[name]
             continue
-        value = _from_project(project, name) if project is not None else None
-        if value is not None:
+        value = project.get(name) if project is not None else None
+        if value is not None and value != ():
             values[name] = tuple(value) if name == "require" else value
-            sources[name] = f"[tool.fkcheck] {PROJECT_KEYS[name]} in {project.path}"  # type: ignore[union-attr]
+            if project is not None and name in project.sources:
+                sources[name] = project.sources[name]
     return CheckOptions(**values, sources=sources)
 
 
