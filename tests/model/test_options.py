@@ -28,6 +28,7 @@ import fkcheck
 import fkcheck.api
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.cli.main import main
+from fkcheck.engine.request import CheckRequest
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import OptionError
 from fkcheck.model.options import (
@@ -81,10 +82,9 @@ def test_the_defaults_are_written_once():
         DEFAULT_TIMEOUT_S,
     )
     assert BackendOptions().timeout_s == DEFAULT_TIMEOUT_S
-    engine = inspect.signature(run_check).parameters
-    assert engine["samples"].default == DEFAULT_SAMPLES
-    assert engine["seed"].default == DEFAULT_SEED
-    assert engine["timeout_s"].default == DEFAULT_TIMEOUT_S
+    # The engine restates none of them: a request's options are CheckOptions' own.
+    assert not set(OPTIONS) & set(inspect.signature(run_check).parameters)
+    assert CheckRequest(load_model(PLANAR2), ()).options == options
     assert resolve_options() == options
     assert set(FLAGS) == set(OPTIONS)
     assert set(PROJECT_KEYS) == set(OPTIONS) - {"frame_from", "frame_to"}
@@ -179,11 +179,13 @@ def _recording(monkeypatch: pytest.MonkeyPatch) -> dict[str, Any]:
     """Replace the engine behind ``fkcheck.check`` by one that records what reaches it."""
     seen: dict[str, Any] = {}
 
-    def fake_run_check(model: object, backends: list[object], **kwargs: Any) -> object:
-        seen.update(kwargs, backends=backends)
+    def fake_run_request(request: CheckRequest, **kwargs: Any) -> object:
+        options = request.options
+        seen.update({name: getattr(options, name) for name in OPTIONS}, backends=request.backends)
+        seen["tolerance_source"] = options.tolerance_source
         return SimpleNamespace()
 
-    monkeypatch.setattr(fkcheck.api, "run_check", fake_run_check)
+    monkeypatch.setattr(fkcheck.api, "run_request", fake_run_request)
     return seen
 
 

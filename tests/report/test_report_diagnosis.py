@@ -310,7 +310,9 @@ def test_diagnose_command_names_only_what_differs_from_the_model_file():
     assert diagnose_command(check, "x y") == (
         "fkcheck diagnose golden-3r --against 'x y' --from base --to tool --seed 7"
     )
-    looser = replace(check, seed=0, tol_pos_m=2.5e-5, tol_rot_rad=1e-4)
+    looser = replace(
+        check, options=replace(check.options, seed=0), tol_pos_m=2.5e-5, tol_rot_rad=1e-4
+    )
     assert diagnose_command(looser, "rtb-urdf") == (
         "fkcheck diagnose golden-3r --against rtb-urdf --from base --to tool "
         "--tol-pos 2.5e-05 --tol-rot 0.0001"

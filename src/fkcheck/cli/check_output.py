@@ -116,11 +116,12 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
 
     record = check_record(check)
     console = make_console(highlight=False)
+    asked = check.options
     described = (
         f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
         f"{terminal_markup(check.frame_to)}, "
-        f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
-        f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
+        f"{check.q.shape[0]} configurations ({asked.samples} {asked.sampler} samples, "
+        f"seed {asked.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
         f"{terminal_markup(_config(check.config))}{_VERSION}"
     )
     if title:

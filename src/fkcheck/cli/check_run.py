@@ -77,25 +77,33 @@ def jacobian_from_args(args: argparse.Namespace) -> bool | None:
 def check_with_progress(
     args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
 ) -> Outcome:
-    """The header, the plan, the core's kernels, then the check with its progress on stderr.
+    """The inputs read, the header, the plan, the core's kernels, then the check with progress.
 
-    The header is flushed first (the first line of a CI log); each backend given
+    The check is prepared first (:func:`~fkcheck.engine.prepare.prepare`: inputs read
+    and screened once), so bad input is one line with nothing on stdout; the
+    header is then flushed (the first line of a CI log); each backend given
     a subset by the plan is said before it runs; loading the core's kernels, for
     a check large enough to use them, is its own phase
     (:func:`~fkcheck.cli.progress.kernels_phase`). No progress with ``--quiet``.
     """
-    from fkcheck.api import check
+    from fkcheck.api import check_request
     from fkcheck.cli.progress import check_progress, kernels_phase
-    from fkcheck.model.options import jacobian_for
+    from fkcheck.diagnose.jacobian import explain_sample
+    from fkcheck.engine.prepare import prepare
+    from fkcheck.engine.request import CheckRequest
 
-    _read_inputs(model, backends, args.options.timeout_s)  # bad input: one line, nothing on stdout
+    # args.options: the flags over [tool.fkcheck], resolved once (fkcheck.cli.check)
+    lint_ignore = tuple(getattr(args, "lint_ignore", ()))
+    request = CheckRequest(model, tuple(backends), args.options, lint_ignore, explain_sample)
+    prepared = prepare(request)  # bad input: one line, nothing on stdout
     print_header(model, backends, args)
     quiet = getattr(args, "quiet", False)
-    jacobian = jacobian_for(args.options, model) is not None
 
     def on_plan(plan: Plan) -> None:
         print_plan(plan.notes())
-        kernels_phase(jacobian=jacobian, configurations=plan.total, quiet=quiet)
+        kernels_phase(
+            jacobian=prepared.jacobian is not None, configurations=plan.total, quiet=quiet
+        )
 
     progress = check_progress(
         [b.name for b in backends],
@@ -104,40 +112,7 @@ def check_with_progress(
         limit_s=args.options.timeout_s,
     )
     with progress as on_progress:
-        # args.options: the flags over [tool.fkcheck], resolved once (fkcheck.cli.check)
-        return check(
-            model,
-            backends,
-            options=args.options,
-            lint_ignore=getattr(args, "lint_ignore", ()),
-            diagnose=diagnose,
-            on_progress=on_progress,
-            on_plan=on_plan,
-        )
-
-
-def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> None:
-    """Read what the check will read before its header is printed, so bad input is one line.
-
-    A measured-poses file and the model's URDF (expanded once, if xacro: the check
-    reuses the expansion) are read here; their errors are the check's own.
-    """
-    import contextlib
-
-    from fkcheck.backends.base import FixedConfigurations
-    from fkcheck.calibration.description import screen_kinematics
-    from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import load_urdf
-    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
-
-    for backend in backends:
-        if isinstance(backend, FixedConfigurations):
-            backend.configurations(model)
-    reads_urdf = any(b.reads == "urdf" for b in backends)
-    screen_kinematics(model)  # before the description is expanded with it
-    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
-        with contextlib.suppress(BackendUnavailable):  # each URDF backend says so itself
-            load_urdf(model, min(timeout_s, XACRO_TIMEOUT_S))
+        return check_request(prepared, diagnose=diagnose, on_progress=on_progress, on_plan=on_plan)
 
 
 def write_summaries(

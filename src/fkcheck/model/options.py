@@ -20,10 +20,10 @@ is read (:mod:`fkcheck.model.project`), and the tolerances' ranges are
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Literal, get_args
+from typing import TYPE_CHECKING, Any, Literal, TypedDict, get_args
 
 from fkcheck.core.tolerances import LimitKind, limit_problem
 from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
@@ -48,6 +48,7 @@ __all__ = [
     "PROJECT_KEYS",
     "SAMPLERS",
     "CheckOptions",
+    "OptionArgs",
     "OptionLayer",
     "OptionName",
     "Sampler",
@@ -261,6 +262,27 @@ class CheckOptions:
     def tolerance_source(self) -> tuple[str, str]:
         """Where the position and the rotation tolerance came from (``""``: the caller)."""
         return (self.sources.get("tol_pos_m", ""), self.sources.get("tol_rot_rad", ""))
+
+
+class OptionArgs(TypedDict, total=False):
+    """The options as keyword arguments (:func:`fkcheck.check`): see :class:`CheckOptions`.
+
+    ``None`` (or an empty ``require``) is an argument not given.
+    """
+
+    samples: int | None
+    seed: int | None
+    sampler: Sampler | None
+    timeout_s: float | None
+    frame_from: str | None
+    frame_to: str | None
+    tol_pos_m: float | None
+    tol_rot_rad: float | None
+    require: Sequence[Kind]
+    jacobian: bool | None
+    jacobian_reference: JacobianReference | None
+    tol_jacobian: float | None
+    full: bool | None
 
 
 @dataclass(frozen=True)

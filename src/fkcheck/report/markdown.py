@@ -105,7 +105,7 @@ def markdown_summary(
         lines.append("")
         lines.append(
             f"{escape_markdown(check.frame_from)} → {escape_markdown(check.frame_to)}, "
-            f"{record.configurations} configurations (seed {check.seed}), tolerance "
+            f"{record.configurations} configurations (seed {check.options.seed}), tolerance "
             f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
         )
         for line in (record.numbers_line, record.calibration_line):
