@@ -63,6 +63,7 @@ BAD: list[tuple[OptionName, object, str]] = [
     ("timeout_s", 0.0, "0.0"),
     ("timeout_s", 2 * MAX_TIMEOUT_S, f"{2 * MAX_TIMEOUT_S:.1f}"),
     ("timeout_s", math.nan, "nan"),
+    ("processes", 0, "0"),
 ]
 IDS = [f"{name}={text}" for name, _, text in BAD]
 

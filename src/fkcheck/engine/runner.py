@@ -79,7 +79,7 @@ def _skipped(backend: Backend, reason: str) -> BackendResult:
 
 
 def _run_one(
-    job: Job, timeout_s: float, on_progress: Progress | None = None
+    job: Job, timeout_s: float, on_progress: Progress | None = None, processes: int | None = None
 ) -> BackendResult | FkcheckError:
     """Run one backend with a time limit; returns a result, or bad input to re-raise."""
     backend = job.backend
@@ -91,7 +91,7 @@ def _run_one(
         return _skipped(backend, reason)
 
     if backend.isolated:
-        job = replace(job, backend=_InChild(backend, timeout_s))
+        job = replace(job, backend=_InChild(backend, timeout_s, processes))
 
     box: list[BackendResult | FkcheckError] = []
 
@@ -154,10 +154,13 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
 SPLIT_MIN_CONFIGS = 2_500
 
 
-def _split(n: int) -> list[tuple[int, int]]:
-    """Contiguous ``[start, stop)`` parts of ``n`` configurations, one per process."""
+def _split(n: int, processes: int | None = None) -> list[tuple[int, int]]:
+    """Contiguous ``[start, stop)`` parts of ``n`` configurations, one per process.
+
+    At most ``processes`` parts (``None``: one per usable core).
+    """
     worth = n // SPLIT_MIN_CONFIGS  # parts worth a process each
-    parts = min(usable_cores(), worth) if worth > 1 else 1
+    parts = min(processes or usable_cores(), worth) if worth > 1 else 1
     bounds = [n * k // parts for k in range(parts + 1)]
     return list(itertools.pairwise(bounds))
 
@@ -169,14 +172,15 @@ class _InChild:
     own (:func:`~fkcheck.process.isolation.run_isolated`); the reference and the
     comparison stay in this process, like every other backend's. A slow pure-Python
     backend that holds the GIL then uses the other cores: its configurations are
-    split over up to one process per core (:data:`SPLIT_MIN_CONFIGS` each at least),
+    split over up to one process per core, or the options' ``processes``
+    (:data:`SPLIT_MIN_CONFIGS` each at least),
     run at once and joined in order. A crash of a process (e.g. a segfault in a C
     extension) or an answer larger than :func:`~fkcheck.process.isolation.answer_limit`
     is the backend's error, and at the time limit every process it started is killed
     with all they started.
     """
 
-    def __init__(self, backend: Backend, timeout_s: float) -> None:
+    def __init__(self, backend: Backend, timeout_s: float, processes: int | None = None) -> None:
         self.backend = backend
         self.name = backend.name
         self.method = backend.method
@@ -188,6 +192,7 @@ class _InChild:
         self.jacobian_method = backend.jacobian_method
         self.jacobian_references = backend.jacobian_references
         self.timeout_s = timeout_s
+        self.processes = processes
         self.deadline = time.monotonic() + min(timeout_s, threading.TIMEOUT_MAX)
 
     def unavailable_reason(self, model: Model) -> str | None:
@@ -221,9 +226,8 @@ class _InChild:
         jac: Float | None = self._run(calls, axis=0)
         return jac
 
-    @staticmethod
-    def _parts(q: Float) -> list[Float]:
-        return [q[start:stop] for start, stop in _split(q.shape[0])]
+    def _parts(self, q: Float) -> list[Float]:
+        return [q[start:stop] for start, stop in _split(q.shape[0], self.processes)]
 
     def _run(self, calls: list[tuple[functools.partial[Any], int]], axis: int) -> Any:
         """Each ``(call, configurations)`` in a process of its own, at once, joined on ``axis``."""
@@ -469,7 +473,8 @@ def _one_backend(
     request = prepared.request
     job = Job(backend, prepared.model, prepared.samples.q[: share.compared], prepared.pair,
               prepared.tol, prepared.jacobian, request.explain_jacobian)  # fmt: skip
-    outcome = _run_one(job, request.options.timeout_s, on_progress)
+    options = request.options
+    outcome = _run_one(job, options.timeout_s, on_progress, options.processes)
     if share.subset and isinstance(outcome, BackendResult):
         outcome = replace(outcome, subset=(share.compared, share.total))
     return outcome

@@ -41,6 +41,7 @@ __all__ = [
     "DEFAULT_TIMEOUT_S",
     "FLAGS",
     "FLOAT_OPTIONS",
+    "MAX_PROCESSES",
     "MAX_SAMPLES",
     "MAX_SEED",
     "MAX_TIMEOUT_S",
@@ -76,6 +77,8 @@ DEFAULT_TIMEOUT_S = 120.0
 #: Most random samples one check draws: ten million configurations are 0.5 GB of
 #: joint values alone for six joints; more is a typo, not a check.
 MAX_SAMPLES = 10_000_000
+#: Most processes one isolated backend may split its configurations over.
+MAX_PROCESSES = 1024
 #: Largest seed: NumPy's ``SeedSequence`` takes any non-negative integer; seeds
 #: are 64-bit numbers (0 … 2^64 − 1) everywhere fkcheck takes one.
 MAX_SEED = 2**64 - 1
@@ -83,6 +86,7 @@ MAX_SEED = 2**64 - 1
 OptionName = Literal[
     "samples", "seed", "sampler", "timeout_s", "frame_from", "frame_to", "tol_pos_m",
     "tol_rot_rad", "require", "jacobian", "jacobian_reference", "tol_jacobian", "full",
+    "processes",
 ]  # fmt: skip
 #: Every option of a check, in the order :class:`CheckOptions` holds them.
 OPTIONS: tuple[OptionName, ...] = get_args(OptionName)
@@ -103,6 +107,7 @@ FLAGS: Mapping[OptionName, str] = MappingProxyType(
         "jacobian_reference": "--jacobian-reference",
         "tol_jacobian": "--tol-jacobian",
         "full": "--full",
+        "processes": "--processes",
     }
 )
 
@@ -120,6 +125,7 @@ PROJECT_KEYS: Mapping[OptionName, str] = MappingProxyType(
         "jacobian_reference": "jacobian_reference",
         "tol_jacobian": "tol_jacobian",
         "full": "full",
+        "processes": "processes",
     }
 )
 
@@ -131,6 +137,7 @@ _INTEGERS: Mapping[str, tuple[int, int, str, str]] = MappingProxyType(
     {
         "samples": (0, MAX_SAMPLES, f"{MAX_SAMPLES:_}", "more is a typo, not a check"),
         "seed": (0, MAX_SEED, "2**64 - 1", "a 64-bit seed"),
+        "processes": (1, MAX_PROCESSES, str(MAX_PROCESSES), "more than any machine's cores"),
     }
 )
 #: Options in seconds or tolerances: an integer given (``timeout = 60``) is read as a float.
@@ -156,6 +163,18 @@ def _choice(value: object, choices: tuple[str, ...], what: str) -> str | None:
     return f"{_shown(value)} unknown; {what} are: {', '.join(choices)}"
 
 
+def _timeout_problem(value: object) -> str | None:
+    """Why ``value`` is no time limit: a number of seconds, > 0 and at most a day."""
+    number = (
+        float(value)
+        if isinstance(value, int | float) and not isinstance(value, bool) and abs(value) < 1e308
+        else math.nan
+    )
+    if 0.0 < number <= MAX_TIMEOUT_S:
+        return None
+    return f"must be > 0 and at most {MAX_TIMEOUT_S:g} s ({_TIMEOUT_WHY}), got {_shown(value)}"
+
+
 def option_problem(name: OptionName, value: object, *, lowest: int | None = None) -> str | None:
     """Why ``value`` cannot be option ``name``, one phrase; ``None`` when it can.
 
@@ -173,14 +192,7 @@ def option_problem(name: OptionName, value: object, *, lowest: int | None = None
             return None
         return f"must be an integer from {low} to {shown_high} ({why}), got {_shown(value)}"
     if name == "timeout_s":
-        number = (
-            float(value)
-            if isinstance(value, int | float) and not isinstance(value, bool) and abs(value) < 1e308
-            else math.nan
-        )
-        if 0.0 < number <= MAX_TIMEOUT_S:
-            return None
-        return f"must be > 0 and at most {MAX_TIMEOUT_S:g} s ({_TIMEOUT_WHY}), got {_shown(value)}"
+        return _timeout_problem(value)
     if name == "sampler":
         return _choice(value, SAMPLERS, "samplers")
     if name == "jacobian_reference":
@@ -229,6 +241,10 @@ class CheckOptions:
             (the time limit still applies); by default a backend whose declared
             cost cannot fit its limit compares a stated subset
             (:mod:`fkcheck.engine.plan`).
+        processes: Most processes an isolated backend (a slow pure-Python one)
+            splits its configurations over (``None``: one per usable core, its
+            CPU quota included); 1 keeps each in one process, for a CI runner
+            shared with other jobs. It changes the time a check takes, never its result.
         sources: Where each option given came from (``--seed``, ``[tool.fkcheck]
             seed in …/pyproject.toml``); absent: a default, or the caller's argument.
 
@@ -249,6 +265,7 @@ class CheckOptions:
     jacobian_reference: JacobianReference | None = None
     tol_jacobian: float | None = None
     full: bool = False
+    processes: int | None = None
     sources: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
@@ -283,6 +300,7 @@ class OptionArgs(TypedDict, total=False):
     jacobian_reference: JacobianReference | None
     tol_jacobian: float | None
     full: bool | None
+    processes: int | None
 
 
 @dataclass(frozen=True)
