@@ -127,6 +127,7 @@ def build_report_page(
         ),
         Fact("tolerance", tol),
         Fact("configurations", _configurations(check)),
+        Fact("time limit", f"{check.options.timeout_s:g} s per backend"),
         Fact("reference", f"{REFERENCE_NAME}: the in-house DH core ({model.convention} DH)"),
         Fact(
             "model file",
