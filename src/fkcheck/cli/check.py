@@ -234,7 +234,7 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     from fkcheck.model.options import FLAGS, OPTIONS, resolve_options
 
     # A flag whose dest is its option's name needs no line here.
-    given = {name: getattr(args, name, None) for name in OPTIONS}
+    given: dict[str, Any] = {name: getattr(args, name, None) for name in OPTIONS}
     given |= {
         "timeout_s": args.timeout, "tol_pos_m": args.tol_pos, "tol_rot_rad": args.tol_rot,
         "require": require_from_args(args), "jacobian": jacobian_from_args(args),

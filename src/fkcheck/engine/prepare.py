@@ -175,10 +175,10 @@ def _read_descriptions(
 ) -> tuple[Model, dict[str, LinkFit], tuple[str, str], dict[str, list[Competitor]]]:
     """The model's descriptions read once: ``(model, placed links, frame pair, competitors)``.
 
-    ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
-    frame declares is placed from the URDF, and only URDF backends compare it. The
-    URDF is read (a xacro file expanded only when a backend reads the URDF), the
-    compared frames' links checked, and the expansion kept with the model.
+    Today's URDF reading of a check, kept together: ``urdf:LINK`` frames placed,
+    the frame pair resolved, the URDF read (a xacro file expanded only when a
+    backend reads the URDF), the compared frames' links checked, the links that
+    could compete found, and the expansion kept with the model.
 
     Raises:
         FrameError: An unknown frame, or a compared frame's link not in the URDF.
