@@ -134,42 +134,40 @@ def write_summaries(
 
 
 def model_command(args: argparse.Namespace, model: str) -> str:
-    """The command line that reproduces one model's check of a run over several."""
-    argv = [
-        "check",
-        operand(model),
-        "--samples",
-        str(args.samples),
-        "--seed",
-        str(args.seed),
-        "--sampler",
-        args.sampler,
-        "--timeout",
-        f"{args.timeout:g}",
-    ]
-    if args.options.full:
-        argv.append("--full")
+    """The command line that reproduces one model's check of a run over several.
+
+    Every option the check was given (``args.options``: flag, ``[tool.fkcheck]``)
+    is written as its flag, in :data:`~fkcheck.model.options.OPTIONS`' order; the
+    samples, seed, sampler and time limit always, so that no default is assumed.
+    """
+    from fkcheck.model.options import FLAGS, OPTIONS, CheckOptions
+
+    defaults = CheckOptions()
+    argv = ["check", operand(model)]
+    for name in OPTIONS:
+        value = getattr(args.options, name)
+        if value != getattr(defaults, name) or name in _ALWAYS_WRITTEN:
+            argv += _flag(FLAGS[name], value)
     for value in args.against or ():
         argv += ["--against", value]
-    if args.tol_pos is not None:
-        argv += ["--tol-pos", f"{args.tol_pos:g}"]
-    if args.tol_rot is not None:
-        argv += ["--tol-rot", f"{args.tol_rot:g}"]
-    for value in args.require or ():
-        argv += ["--require", value]
-    for flag, value in (("--from", args.frame_from), ("--to", args.frame_to)):
-        if value is not None:
-            argv += [flag, value]
     if getattr(args, "allow_xacro", False):
         argv.append("--allow-xacro")
-    jacobian = jacobian_from_args(args)
-    if jacobian is not None:
-        argv.append("--jacobian" if jacobian else "--no-jacobian")
-    if args.jacobian_reference is not None:
-        argv += ["--jacobian-reference", args.jacobian_reference]
-    if args.tol_jacobian is not None:
-        argv += ["--tol-jacobian", f"{args.tol_jacobian:g}"]
     return "fkcheck " + shlex.join(argv)
+
+
+#: Options a reproducing command line always writes, default or not.
+_ALWAYS_WRITTEN = frozenset({"samples", "seed", "sampler", "timeout_s"})
+
+
+def _flag(flag: str, value: object) -> list[str]:
+    """One option as its flag's arguments: a switch, ``--no-`` for false, repeated for a list."""
+    if value is None:
+        return []
+    if isinstance(value, bool):
+        return [flag if value else "--no-" + flag.removeprefix("--")]
+    if isinstance(value, tuple):
+        return [arg for item in value for arg in (flag, str(item))]
+    return [flag, f"{value:g}" if isinstance(value, float) else str(value)]
 
 
 def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | None) -> int:
