@@ -27,6 +27,7 @@ from fkcheck.engine.evidence import FailureDetail, WorstCases, arm_pose, dh_part
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.model.coverage import coverage
 from fkcheck.model.frames import frame_poses_from_dh, reference_poses, relative_pose
+from fkcheck.model.options import CheckOptions
 from fkcheck.model.read import model_from_dict
 from fkcheck.model.types import Model
 
@@ -192,9 +193,7 @@ def golden_check(model: Model | None = None, message_extra: str = "") -> CheckRe
     )
     return CheckResult(
         model=model,
-        samples=3,
-        seed=7,
-        sampler="sobol",
+        options=CheckOptions(samples=3, seed=7, sampler="sobol"),
         frame_from="base",
         frame_to="tool",
         tol_pos_m=1e-6,

@@ -10,7 +10,8 @@ that what the site shows is checked where Sphinx is not installed:
   accepts (the ``*_KEYS`` each reader in :mod:`fkcheck.model.sections` declares), each
   described by the ``Attributes:`` of the type it is read into.
 * :func:`project_keys_markdown` — the keys of ``[tool.fkcheck]``
-  (:mod:`fkcheck.model.project`), described by :class:`~fkcheck.model.project.ProjectConfig`.
+  (:mod:`fkcheck.model.project`), described by :class:`~fkcheck.model.project.ProjectConfig`
+  and, for a check option, by :class:`~fkcheck.model.options.CheckOptions`.
 * :func:`action_markdown` — the GitHub Action's inputs and outputs, from ``action.yml``.
 
 Docstrings are reStructuredText; the tables are parsed as MyST Markdown, so each
@@ -172,14 +173,20 @@ def model_schema_markdown() -> list[str]:
 
 def project_keys_markdown() -> list[str]:
     """``[tool.fkcheck]``'s keys, one row per key, in the reader's order."""
-    from fkcheck.model import project
+    from fkcheck.model import options, project
 
     described = attributes(project.ProjectConfig)
+    # A check option's key is described by the CheckOptions attribute it sets.
+    option_of = {key: name for name, key in options.PROJECT_KEYS.items()}
+    described_option = attributes(options.CheckOptions)
     rows = ["| key | meaning |", "|---|---|"]
     for key in project._KEYS:
-        if key not in described:
-            raise ValueError(f"[tool.fkcheck] key {key!r}: not in ProjectConfig's Attributes")
-        rows.append(f"| `{key}` | {_cell(described[key])} |")
+        text = described_option.get(option_of[key]) if key in option_of else described.get(key)
+        if not text:
+            raise ValueError(
+                f"[tool.fkcheck] key {key!r}: not in ProjectConfig's or CheckOptions' Attributes"
+            )
+        rows.append(f"| `{key}` | {_cell(text)} |")
     return rows
 
 

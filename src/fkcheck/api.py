@@ -7,7 +7,8 @@ Example:
     'pass'
     >>> fkcheck.write_report(outcome, html="reports/ur5.html", json="reports/ur5.json")
 
-:func:`check` runs the engine (:func:`fkcheck.engine.runner.run_check`) and, when
+:func:`check` builds one request (:class:`~fkcheck.engine.request.CheckRequest`),
+runs it through the engine (:func:`fkcheck.engine.runner.run_request`) and, when
 it fails, the diagnosis of each distinct disagreement
 (:func:`fkcheck.diagnose.failures.diagnose_failures`); :func:`write_report`
 formats that outcome — it runs no backend, no forward kinematics and no
@@ -19,23 +20,23 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Unpack
 
 from fkcheck.backends.base import Backend
 from fkcheck.backends.registry import BackendOptions, default_backends, make_backend
-from fkcheck.core.typing import JacobianReference
 from fkcheck.diagnose.failures import BackendDiagnosis, diagnose_failures
 from fkcheck.diagnose.jacobian import explain_sample
-from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.plan import Plan
+from fkcheck.engine.prepare import PreparedCheck
+from fkcheck.engine.request import CheckRequest
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.engine.runner import Progress, run_check
+from fkcheck.engine.runner import Progress, run_request
 from fkcheck.engine.verdict import Verdict, headline
-from fkcheck.model.options import CheckOptions, Sampler, jacobian_for, resolve_options
+from fkcheck.model.options import CheckOptions, OptionArgs, resolve_options
 from fkcheck.model.read import load_model
-from fkcheck.model.require import Kind
 from fkcheck.model.types import Model
 
-__all__ = ["Outcome", "check", "write_report"]
+__all__ = ["Outcome", "check", "check_request", "write_report"]
 
 
 @dataclass(frozen=True, eq=False, repr=False)
@@ -91,34 +92,24 @@ def check(
     model: Model | str | Path,
     against: Sequence[Backend | str] | None = None,
     *,
-    samples: int | None = None,
-    seed: int | None = None,
-    sampler: Sampler | None = None,
-    frame_from: str | None = None,
-    frame_to: str | None = None,
-    tol_pos_m: float | None = None,
-    tol_rot_rad: float | None = None,
-    timeout_s: float | None = None,
-    require: Sequence[Kind] = (),
-    jacobian: bool | None = None,
-    jacobian_reference: JacobianReference | None = None,
-    tol_jacobian: float | None = None,
     options: CheckOptions | None = None,
     diagnose: bool = True,
     explain_jacobians: bool = True,
     on_progress: Progress | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
-    full: bool | None = None,
     on_plan: Callable[[Plan], None] | None = None,
     lint_ignore: Sequence[str] = (),
+    **given: Unpack[OptionArgs],
 ) -> Outcome:
     """Cross-check a model's forward kinematics, and diagnose a failure.
 
-    The options (``samples`` … ``tol_jacobian``) are those of
-    :class:`~fkcheck.model.options.CheckOptions`, checked by its one rule; each
-    one given wins over ``options``, which wins over the defaults
+    The options are :class:`~fkcheck.model.options.CheckOptions`'s, given by
+    name (``samples=200``, ``seed=3``, ``timeout_s=30``, ``require=["table"]``,
+    ``jacobian=True``…) and checked by its one rule; each one given wins over
+    ``options``, which wins over the defaults
     (:data:`~fkcheck.model.options.DEFAULT_SAMPLES` samples, seed 0, Sobol,
-    :data:`~fkcheck.model.options.DEFAULT_TIMEOUT_S` s) and the model's ``[check]``.
+    :data:`~fkcheck.model.options.DEFAULT_TIMEOUT_S` s) and the model's ``[check]``
+    (frames, tolerances, Jacobian).
 
     Args:
         model: A loaded model, a bundled model's name (``"ur5"``) or a model file.
@@ -127,21 +118,6 @@ def check(
             default: the standard set (see :mod:`fkcheck.backends.registry`).
             Backends named here get ``timeout_s`` as their own limit too (a
             ``cmd:`` program's, a plugin's); objects keep the one they were built with.
-        samples: Random samples, on top of named poses, zero, mid-range and limit corners.
-        seed: Seed of the random samples (0 … 2**64 - 1).
-        sampler: ``"sobol"`` or ``"uniform"``.
-        frame_from: Frame the compared pose is expressed in (default: the model's ``[check]``).
-        frame_to: Frame whose pose is compared (default: the model's ``[check]``).
-        tol_pos_m: Position tolerance, metres (default: the model's ``[check]``).
-        tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
-        timeout_s: Time limit per backend, seconds.
-        require: Kinds of evidence that must be verified (``"table"``,
-            ``"implementation"``); else the verdict is ``unverified``.
-        jacobian: Also compare each backend's Jacobian of ``frame_to`` (default:
-            the model's ``[check] jacobian``); see :mod:`fkcheck.engine.jacobian`.
-        jacobian_reference: ``"world-aligned"``, ``"local"`` or ``"world"``
-            (default: the model's ``[check]``, else ``"world-aligned"``).
-        tol_jacobian: Jacobian tolerance, m/rad and rad/rad (default: the model's ``[check]``).
         options: Options resolved already (``fkcheck check``'s flags over
             ``[tool.fkcheck]``, the pytest plugin's), with where each came from.
         diagnose: When the check fails, run ``fkcheck diagnose`` against each
@@ -151,12 +127,13 @@ def check(
             kept configurations: milliseconds).
         on_progress: Called as ``(backend, configurations done, total)``.
         on_done: Called with each backend's result as it finishes.
-        full: Every backend compares every configuration (default: ``options``'s,
-            else no: a backend whose declared cost does not fit its time limit
-            compares a stated subset, :mod:`fkcheck.engine.plan`).
         on_plan: Called with the check's plan before any backend starts.
         lint_ignore: Lint rules the check's ``lint`` leaves out (as ``fkcheck lint
             --ignore``), on top of the model's own ``[lint] ignore``.
+        **given: The options by name (:class:`~fkcheck.model.options.OptionArgs`):
+            ``samples``, ``seed``, ``sampler``, ``frame_from``, ``frame_to``,
+            ``tol_pos_m``, ``tol_rot_rad``, ``timeout_s``, ``require``,
+            ``jacobian``, ``jacobian_reference``, ``tol_jacobian``, ``full``…
 
     Returns:
         The outcome: ``outcome.verdict``, ``outcome.check``, ``outcome.diagnoses``.
@@ -166,12 +143,6 @@ def check(
             option out of its range is an ``OptionError`` naming it (also a
             ``ValueError``; a ``ToleranceError`` for a tolerance).
     """
-    given = {
-        "samples": samples, "seed": seed, "sampler": sampler, "timeout_s": timeout_s,
-        "frame_from": frame_from, "frame_to": frame_to, "tol_pos_m": tol_pos_m,
-        "tol_rot_rad": tol_rot_rad, "require": tuple(require), "jacobian": jacobian,
-        "jacobian_reference": jacobian_reference, "tol_jacobian": tol_jacobian, "full": full,
-    }  # fmt: skip
     opts = resolve_options(given, base=options)  # refuses a bad value before any work
     loaded = model if isinstance(model, Model) else load_model(model)
     limit = BackendOptions(  # the frames too: a ROS 2 bag composes its transform for them
@@ -181,29 +152,42 @@ def check(
         backends = default_backends(limit)
     else:
         backends = [b if not isinstance(b, str) else make_backend(b, limit) for b in against]
-    jacobian_asked = jacobian_for(opts, loaded)
-    spec = JacobianSpec(*jacobian_asked) if jacobian_asked is not None else None
-    result = run_check(
-        loaded,
-        backends,
-        samples=opts.samples,
-        seed=opts.seed,
-        sampler=opts.sampler,
-        frame_from=opts.frame_from,
-        frame_to=opts.frame_to,
-        tol_pos_m=opts.tol_pos_m,
-        tol_rot_rad=opts.tol_rot_rad,
-        timeout_s=opts.timeout_s,
-        require=opts.require,
-        jacobian=spec,
-        explain_jacobian=explain_sample if explain_jacobians else None,
-        on_done=on_done,
-        on_progress=on_progress,
-        tolerance_source=opts.tolerance_source,
-        full=opts.full,
-        on_plan=on_plan,
-        lint_ignore=lint_ignore,
+    explain = explain_sample if explain_jacobians else None
+    request = CheckRequest(loaded, tuple(backends), opts, tuple(lint_ignore), explain)
+    return check_request(
+        request, diagnose=diagnose, on_progress=on_progress, on_done=on_done, on_plan=on_plan
     )
+
+
+def check_request(
+    request: CheckRequest | PreparedCheck,
+    *,
+    diagnose: bool = True,
+    on_progress: Progress | None = None,
+    on_done: Callable[[BackendResult], None] | None = None,
+    on_plan: Callable[[Plan], None] | None = None,
+) -> Outcome:
+    """One request's check (:func:`~fkcheck.engine.runner.run_request`), and its diagnoses.
+
+    :func:`check`, ``fkcheck check`` and the pytest plugin each build one
+    :class:`~fkcheck.engine.request.CheckRequest`; the command line passes it
+    prepared (its inputs read before the header is printed).
+
+    Args:
+        request: The request, or the request prepared.
+        diagnose: When the check fails, diagnose each distinct disagreeing backend.
+        on_progress: Called as ``(backend, configurations done, total)``.
+        on_done: Called with each backend's result as it finishes.
+        on_plan: Called with the check's plan before any backend starts.
+
+    Returns:
+        The outcome.
+
+    Raises:
+        FkcheckError: Bad input.
+    """
+    result = run_request(request, on_done=on_done, on_progress=on_progress, on_plan=on_plan)
+    backends = (request.request if isinstance(request, PreparedCheck) else request).backends
     diagnoses = diagnose_failures(result, backends) if diagnose else ()
     return Outcome(result, diagnoses)
 

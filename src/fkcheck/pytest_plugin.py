@@ -259,14 +259,17 @@ class ModelFile(pytest.File):
         return self._outcome
 
     def _run(self) -> Outcome | None:
-        from fkcheck.api import check
+        from fkcheck.api import check_request
         from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
+        from fkcheck.diagnose.jacobian import explain_sample
+        from fkcheck.engine.request import CheckRequest
         from fkcheck.errors import FkcheckError
         from fkcheck.model.options import resolve_options
+        from fkcheck.model.read import load_model
 
         p = self.project
         try:
-            options = resolve_options(project=p)  # [tool.fkcheck] > defaults, as the CLI's
+            options = resolve_options(project=p.options)  # [tool.fkcheck] > defaults, as the CLI's
             limit = BackendOptions(
                 timeout_s=options.timeout_s,
                 frame_from=options.frame_from,
@@ -274,7 +277,10 @@ class ModelFile(pytest.File):
             )
             against = list(p.against) if p.against else None
             backends = parse_against(against, limit) if against else default_backends(limit)
-            return check(self.path, backends, options=options, lint_ignore=p.lint_ignore)
+            model = load_model(self.path)
+            return check_request(
+                CheckRequest(model, tuple(backends), options, p.lint_ignore, explain_sample)
+            )
         except FkcheckError as exc:
             self._error = str(exc)
             return None

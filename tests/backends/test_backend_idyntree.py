@@ -25,7 +25,6 @@ from fkcheck.backends.urdf_common import kinematic_text
 from fkcheck.cli.main import main
 from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
 from fkcheck.core.typing import JACOBIAN_REFERENCES
-from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import UnmappedFrameError, UrdfError
 from fkcheck.model.read import load_model
@@ -178,7 +177,9 @@ def test_jacobians_agree_with_core_in_every_reference(name: str, reference: str)
         [make_backend("idyntree-urdf")],
         samples=20,
         seed=5,
-        jacobian=JacobianSpec(reference, 1e-6),  # type: ignore[arg-type]
+        jacobian=True,
+        jacobian_reference=reference,
+        tol_jacobian=1e-6,  # type: ignore[arg-type]
     )
     assert check.verdict == "pass", [(b.name, b.message, b.jacobian) for b in check.backends]
     (result,) = check.backends

@@ -34,7 +34,6 @@ import pytest
 from fkcheck.backends import registry
 from fkcheck.backends.base import Backend, contract_problems
 from fkcheck.core.tolerances import ROUNDED_URDF, SAME_CHAIN
-from fkcheck.engine.jacobian import JacobianSpec
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import FkcheckError
 from fkcheck.model.read import load_model
@@ -192,7 +191,14 @@ def test_its_own_jacobian_agrees_in_every_reference_it_declares(registration, sp
     own = backend.frame_jacobian(model, q, model.check.frame_to, asked)
     assert own is not None
     assert own.shape == (4, 6, model.dof)
-    check = run_check(model, [backend], samples=SAMPLES, jacobian=JacobianSpec(reference, 1e-9))
+    check = run_check(
+        model,
+        [backend],
+        samples=SAMPLES,
+        jacobian=True,
+        jacobian_reference=reference,
+        tol_jacobian=1e-9,
+    )
     (result,) = check.backends
     assert result.jacobian is not None
     assert result.jacobian.status == "pass", result.jacobian.message

@@ -36,7 +36,7 @@ def test_the_page_shows_the_keys_a_check_writes(tmp_path):
     real = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
     example = _example()
     assert _shape(example) == _shape(real)
-    same = ("model", "samples", "seed", "sampler", "configurations", "from", "to",
+    same = ("model", "samples", "seed", "sampler", "timeout_s", "configurations", "from", "to",
             "tolerance", "reference", "verdict", "headline", "cross_checked")  # fmt: skip
     assert {k: example[k] for k in same} == {k: real[k] for k in same}
     assert example["evidence"] == real["evidence"]

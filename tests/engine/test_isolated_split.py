@@ -107,6 +107,26 @@ def test_the_parts_run_in_two_processes_and_join_to_the_unsplit_answer(ur5, two_
     assert len(set(firsts)) == 2
 
 
+def test_processes_caps_the_parts_and_one_keeps_the_backend_in_one_process(
+    ur5, two_parts, monkeypatch
+):
+    least = runner.SPLIT_MIN_CONFIGS
+    monkeypatch.setattr(runner, "usable_cores", lambda: 8)
+    assert runner._split(3 * least, processes=2) == [
+        (0, 3 * least // 2),
+        (3 * least // 2, 3 * least),
+    ]
+    assert runner._split(3 * least, processes=1) == [(0, 3 * least)]
+    check = run_check(ur5, [PidChain(), ReferenceChain()], samples=100, processes=1)
+    assert check.options.processes == 1
+    split, threaded = check.backends
+    assert split.status == threaded.status == "pass"
+    np.testing.assert_array_equal(split.position_error_m, threaded.position_error_m)
+    written = [p.name for p in two_parts.iterdir()]
+    assert len(written) == 1  # one process, all configurations
+    assert int(written[0].split("-")[1]) == check.q.shape[0]
+
+
 def test_a_part_that_hangs_times_the_backend_out_and_every_part_is_killed(ur5, two_parts):
     start = time.perf_counter()
     check = run_check(ur5, [HangInSecondPart()], samples=40, timeout_s=3)

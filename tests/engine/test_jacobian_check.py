@@ -43,7 +43,15 @@ def _urdf_models() -> list[str]:
 def test_every_model_agrees_with_both_dh_references_in_every_reference_frame(name, reference):
     model = load_model(name)
     backends = [make_backend("rtb-dh"), make_backend("pinocchio-dh")]
-    check = run_check(model, backends, samples=40, seed=3, jacobian=JacobianSpec(reference, 1e-6))
+    check = run_check(
+        model,
+        backends,
+        samples=40,
+        seed=3,
+        jacobian=True,
+        jacobian_reference=reference,
+        tol_jacobian=1e-6,
+    )
     assert check.verdict == "pass", [(b.name, b.message, b.jacobian) for b in check.backends]
     for b in check.backends:
         assert b.jacobian is not None
@@ -58,7 +66,15 @@ def test_every_model_agrees_with_both_dh_references_in_every_reference_frame(nam
 def test_urdf_models_agree_with_pinocchio_urdf_and_yourdfpy_differences(name, reference):
     model = load_model(name)
     backends = [make_backend("pinocchio-urdf"), make_backend("yourdfpy-urdf")]
-    check = run_check(model, backends, samples=10, seed=5, jacobian=JacobianSpec(reference, 1e-6))
+    check = run_check(
+        model,
+        backends,
+        samples=10,
+        seed=5,
+        jacobian=True,
+        jacobian_reference=reference,
+        tol_jacobian=1e-6,
+    )
     assert check.verdict == "pass", [(b.name, b.message, b.jacobian) for b in check.backends]
     pin, yourdfpy = check.backends
     assert pin.jacobian.max_linear_error < ROUNDED_URDF
@@ -114,7 +130,9 @@ def test_seeded_mistakes_fail_and_are_named(mistake, first_column, named):
         samples=30,
         frame_from="base",
         frame_to="tcp",
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True,
+        jacobian_reference="world-aligned",
+        tol_jacobian=1e-6,
         explain_jacobian=explain_sample,
     )
     good, bad = check.backends
@@ -135,7 +153,9 @@ def test_a_flipped_column_leaves_the_other_columns_in_agreement():
         load_model("panda"),
         [_Seeded("column-3-flipped")],
         samples=30,
-        jacobian=JacobianSpec("local", 1e-6),
+        jacobian=True,
+        jacobian_reference="local",
+        tol_jacobian=1e-6,
     )
     j = check.backends[0].jacobian
     columns = np.maximum(j.column_linear, j.column_angular)
@@ -150,7 +170,9 @@ def test_a_moving_from_frame_is_refused_before_anything_runs():
             [make_backend("rtb-dh")],
             samples=5,
             frame_from="panda_link3",
-            jacobian=JacobianSpec("world-aligned", 1e-6),
+            jacobian=True,
+            jacobian_reference="world-aligned",
+            tol_jacobian=1e-6,
         )
 
 
@@ -158,7 +180,9 @@ def test_measured_poses_have_no_jacobian_and_say_why():
     check = run_check(
         load_model("ur5"),
         [make_backend(f"poses:{DATA_DIR / 'ur5_pendant.csv'}")],
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True,
+        jacobian_reference="world-aligned",
+        tol_jacobian=1e-6,
     )
     (measured,) = check.backends
     assert measured.jacobian.status == "skipped"
@@ -173,7 +197,12 @@ def test_a_jacobian_that_raises_is_that_backends_jacobian_error_and_the_poses_st
             raise RuntimeError("no Jacobian today")
 
     check = run_check(
-        load_model("ur5"), [Broken()], samples=5, jacobian=JacobianSpec("world", 1e-6)
+        load_model("ur5"),
+        [Broken()],
+        samples=5,
+        jacobian=True,
+        jacobian_reference="world",
+        tol_jacobian=1e-6,
     )
     (b,) = check.backends
     assert b.status == "pass"
@@ -189,7 +218,14 @@ def test_a_jacobian_of_the_wrong_shape_is_an_error_naming_both_shapes():
         def frame_jacobian(self, model, q, frame, reference):
             return np.zeros((q.shape[0], 6, model.dof + 1))
 
-    check = run_check(load_model("ur5"), [Wrong()], samples=5, jacobian=JacobianSpec("world", 1e-6))
+    check = run_check(
+        load_model("ur5"),
+        [Wrong()],
+        samples=5,
+        jacobian=True,
+        jacobian_reference="world",
+        tol_jacobian=1e-6,
+    )
     assert check.backends[0].jacobian.status == "error"
     assert "shape (" in check.backends[0].jacobian.message
     assert ", 6, 7)" in check.backends[0].jacobian.message
@@ -210,7 +246,9 @@ def test_json_junit_and_markdown_carry_the_jacobian(tmp_path):
         load_model("ur5"),
         [make_backend("rtb-dh"), _Seeded("column-3-flipped")],
         samples=10,
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True,
+        jacobian_reference="world-aligned",
+        tol_jacobian=1e-6,
     )
     doc = json.loads(json.dumps(result_to_dict(check)))
     assert doc["jacobian"]["reference"] == "world-aligned"
@@ -239,7 +277,9 @@ def test_the_html_report_has_the_per_column_section(tmp_path):
         load_model("ur5"),
         [make_backend("rtb-dh"), _Seeded("column-3-flipped")],
         samples=10,
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True,
+        jacobian_reference="world-aligned",
+        tol_jacobian=1e-6,
     )
     path = write_html(check, tmp_path / "r.html", plots=False)
     html = path.read_text()
@@ -271,7 +311,9 @@ def test_a_core_mistake_in_the_local_or_world_jacobian_fails_the_check(
         load_model("ur5"),
         [make_backend(backend)],
         samples=5,
-        jacobian=JacobianSpec(reference, 1e-6),
+        jacobian=True,
+        jacobian_reference=reference,
+        tol_jacobian=1e-6,
     )
     assert check.backends[0].jacobian.status == "fail"
     assert check.backends[0].jacobian.first_bad_column == 0
@@ -291,7 +333,9 @@ def test_a_recorded_known_difference_makes_the_jacobian_an_expected_failure_too(
         model,
         [make_backend("pinocchio-urdf"), make_backend("pinocchio-dh")],
         samples=10,
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True,
+        jacobian_reference="world-aligned",
+        tol_jacobian=1e-6,
     )
     urdf, dh = check.backends
     assert urdf.status == "xfail"
@@ -316,7 +360,7 @@ def test_a_wrong_core_jacobian_is_not_excused_by_a_pose_record(name, monkeypatch
     monkeypatch.setattr(engine_jacobian, "frame_jacobian", flipped)
     check = run_check(
         load_model(name), [make_backend("pinocchio-urdf")], samples=10,
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True, jacobian_reference="world-aligned", tol_jacobian=1e-6,
     )  # fmt: skip
     (urdf,) = check.backends
     assert urdf.status == "xfail"  # the poses differ as recorded
@@ -342,7 +386,9 @@ def test_a_jacobian_only_failure_is_named_by_the_verdict_line_and_the_annotation
         load_model("ur5"),
         [make_backend("rtb-dh"), _Seeded("column-3-flipped")],
         samples=10,
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True,
+        jacobian_reference="world-aligned",
+        tol_jacobian=1e-6,
     )
     line = verdict_line(check)
     assert line.startswith("2 of 2 backends that ran agree with the in-house core")
@@ -384,7 +430,8 @@ def test_poses_too_coarse_to_differentiate_are_an_error_not_a_wrong_jacobian():
     # over a 1e-6 step are off by up to ~0.05 m/rad: no finding, and no pass.
     check = run_check(
         load_model("ur5"), [_PosesOnly(decimals=7)], samples=20,
-        jacobian=JacobianSpec("world-aligned", 1e-6), explain_jacobian=explain_sample,
+        jacobian=True, jacobian_reference="world-aligned", tol_jacobian=1e-6,
+        explain_jacobian=explain_sample,
     )  # fmt: skip
     (b,) = check.backends
     assert b.status == "pass"
@@ -409,7 +456,7 @@ def test_coarse_poses_far_from_the_origin_are_an_error_in_the_world_reference_to
     model = replace(load_model("ur5"), base=Offset(xyz=(10.0, 0.0, 0.0)))
     check = run_check(
         model, [_PosesOnly(decimals=7)], samples=20, frame_from="world", frame_to="tcp",
-        jacobian=JacobianSpec("world", 1e-6),
+        jacobian=True, jacobian_reference="world", tol_jacobian=1e-6,
     )  # fmt: skip
     assert check.backends[0].jacobian.status == "error", check.backends[0].jacobian.message
     assert "too coarse to differentiate" in check.backends[0].jacobian.message
@@ -436,7 +483,7 @@ def test_a_wrong_jacobian_is_not_excused_by_a_few_rough_configurations(monkeypat
     monkeypatch.setattr(engine_jacobian, "frame_jacobian", off)
     check = run_check(
         load_model("ur5"), [RoughAtZero()], samples=40,
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True, jacobian_reference="world-aligned", tol_jacobian=1e-6,
     )  # fmt: skip
     assert check.backends[0].jacobian.status == "fail", check.backends[0].jacobian.message
 
@@ -445,7 +492,7 @@ def test_a_smooth_backend_whose_jacobian_differs_still_fails():
     # a2 longer by 0.5 µm: poses within 1e-6 m, the Jacobian off by ~5e-7 m/rad > 1e-7.
     check = run_check(
         load_model("ur5"), [_PosesOnly(a2_m=5e-7)], samples=20,
-        jacobian=JacobianSpec("world-aligned", FINITE_DIFFERENCE),
+        jacobian=True, jacobian_reference="world-aligned", tol_jacobian=FINITE_DIFFERENCE,
     )  # fmt: skip
     (b,) = check.backends
     assert b.status == "pass"
@@ -462,7 +509,7 @@ def test_a_program_printing_seven_digits_is_too_coarse_for_its_jacobian():
     program = CommandBackend(spec, BackendOptions(timeout_s=60.0))
     check = run_check(
         load_model("ur5"), [program], samples=10, frame_from="world", frame_to="tcp",
-        jacobian=JacobianSpec("world-aligned", 1e-6),
+        jacobian=True, jacobian_reference="world-aligned", tol_jacobian=1e-6,
     )  # fmt: skip
     (b,) = check.backends
     assert b.status == "pass"  # 7 digits: poses within 1e-6

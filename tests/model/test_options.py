@@ -28,6 +28,7 @@ import fkcheck
 import fkcheck.api
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.cli.main import main
+from fkcheck.engine.request import CheckRequest
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import OptionError
 from fkcheck.model.options import (
@@ -62,6 +63,7 @@ BAD: list[tuple[OptionName, object, str]] = [
     ("timeout_s", 0.0, "0.0"),
     ("timeout_s", 2 * MAX_TIMEOUT_S, f"{2 * MAX_TIMEOUT_S:.1f}"),
     ("timeout_s", math.nan, "nan"),
+    ("processes", 0, "0"),
 ]
 IDS = [f"{name}={text}" for name, _, text in BAD]
 
@@ -81,10 +83,9 @@ def test_the_defaults_are_written_once():
         DEFAULT_TIMEOUT_S,
     )
     assert BackendOptions().timeout_s == DEFAULT_TIMEOUT_S
-    engine = inspect.signature(run_check).parameters
-    assert engine["samples"].default == DEFAULT_SAMPLES
-    assert engine["seed"].default == DEFAULT_SEED
-    assert engine["timeout_s"].default == DEFAULT_TIMEOUT_S
+    # The engine restates none of them: a request's options are CheckOptions' own.
+    assert not set(OPTIONS) & set(inspect.signature(run_check).parameters)
+    assert CheckRequest(load_model(PLANAR2), ()).options == options
     assert resolve_options() == options
     assert set(FLAGS) == set(OPTIONS)
     assert set(PROJECT_KEYS) == set(OPTIONS) - {"frame_from", "frame_to"}
@@ -151,8 +152,8 @@ def test_one_seed_range_for_the_flag_the_argument_and_the_project_file(tmp_path)
     path = _project(tmp_path, f"seed = {MAX_SEED}")
     project = load_project(path.parent)
     assert project is not None
-    assert project.seed == MAX_SEED
-    assert resolve_options(project=project).seed == MAX_SEED
+    assert project.options.get("seed") == MAX_SEED
+    assert resolve_options(project=project.options).seed == MAX_SEED
     assert resolve_options({"seed": MAX_SEED}, labels=FLAGS).seed == MAX_SEED
     assert CheckOptions(seed=MAX_SEED).seed == MAX_SEED
 
@@ -160,7 +161,7 @@ def test_one_seed_range_for_the_flag_the_argument_and_the_project_file(tmp_path)
 def test_flag_wins_over_project_which_wins_over_the_default_and_each_says_where(tmp_path):
     path = _project(tmp_path, "samples = 7\nseed = 3\ntimeout = 30\ntol_pos_m = 1e-5")
     project = load_project(path.parent)
-    options = resolve_options({"seed": 9, "tol_pos_m": None}, labels=FLAGS, project=project)
+    options = resolve_options({"seed": 9, "tol_pos_m": None}, labels=FLAGS, project=project.options)
     assert (options.samples, options.seed, options.timeout_s, options.tol_pos_m) == (7, 9, 30, 1e-5)
     assert options.sampler == DEFAULT_SAMPLER
     assert options.tol_rot_rad is None  # the model's [check]
@@ -179,11 +180,13 @@ def _recording(monkeypatch: pytest.MonkeyPatch) -> dict[str, Any]:
     """Replace the engine behind ``fkcheck.check`` by one that records what reaches it."""
     seen: dict[str, Any] = {}
 
-    def fake_run_check(model: object, backends: list[object], **kwargs: Any) -> object:
-        seen.update(kwargs, backends=backends)
+    def fake_run_request(request: CheckRequest, **kwargs: Any) -> object:
+        options = request.options
+        seen.update({name: getattr(options, name) for name in OPTIONS}, backends=request.backends)
+        seen["tolerance_source"] = options.tolerance_source
         return SimpleNamespace()
 
-    monkeypatch.setattr(fkcheck.api, "run_check", fake_run_check)
+    monkeypatch.setattr(fkcheck.api, "run_request", fake_run_request)
     return seen
 
 

@@ -39,7 +39,7 @@ def test_nearest_pyproject_is_found_from_a_subdirectory(tmp_path):
     assert find_pyproject(deep) == (root / "pyproject.toml").resolve()
     config = load_project(deep)
     assert config is not None
-    assert config.samples == 200
+    assert config.options.get("samples") == 200
     assert config.require == ("table",)
     assert [p.name for p in config.model_paths()] == ["a.toml", "b.toml"]
 
@@ -145,7 +145,8 @@ def test_tolerances_within_their_bounds_are_read(tmp_path):
     _project(tmp_path, "tol_pos_m = 0.01\ntol_rot_rad = 0.1\ntol_jacobian = 1e-2")
     config = load_project(tmp_path)
     assert config is not None
-    assert (config.tol_pos_m, config.tol_rot_rad, config.tol_jacobian) == (0.01, 0.1, 0.01)
+    got = [config.options.get(n) for n in ("tol_pos_m", "tol_rot_rad", "tol_jacobian")]
+    assert got == [0.01, 0.1, 0.01]
 
 
 def test_not_toml_is_one_line(tmp_path):
@@ -233,7 +234,7 @@ def test_the_repositorys_own_pyproject_applies_from_any_subdirectory(tmp_path):
     config = load_project(deep)
     assert config is not None
     assert config.path == (repo / "pyproject.toml").resolve()
-    assert (config.samples, config.against) == (7, None)
+    assert (config.options.get("samples"), config.against) == (7, None)
 
 
 def test_the_first_pyproject_ends_the_search_even_without_a_table(tmp_path):

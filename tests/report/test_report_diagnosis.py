@@ -152,9 +152,9 @@ def test_no_diagnose_leaves_the_section_out_and_the_json_is_the_same(d1_pages):
             b.pop("duration_s")
     assert doc_with == doc_without
     assert set(doc_with) == {
-        "model", "samples", "seed", "sampler", "configurations", "from", "to", "tolerance",
-        "reference", "backends", "verdict", "headline", "evidence", "numbers", "cross_checked",
-        "fkcheck_version", "config", "calibration", "lint",
+        "model", "samples", "seed", "sampler", "timeout_s", "configurations", "from", "to",
+        "tolerance", "reference", "backends", "verdict", "headline", "evidence", "numbers",
+        "cross_checked", "fkcheck_version", "config", "calibration", "lint",
     }  # fmt: skip
     assert page_numbers(page_with).verdict == page_numbers(page_without).verdict == "fail"
 
@@ -310,7 +310,9 @@ def test_diagnose_command_names_only_what_differs_from_the_model_file():
     assert diagnose_command(check, "x y") == (
         "fkcheck diagnose golden-3r --against 'x y' --from base --to tool --seed 7"
     )
-    looser = replace(check, seed=0, tol_pos_m=2.5e-5, tol_rot_rad=1e-4)
+    looser = replace(
+        check, options=replace(check.options, seed=0), tol_pos_m=2.5e-5, tol_rot_rad=1e-4
+    )
     assert diagnose_command(looser, "rtb-urdf") == (
         "fkcheck diagnose golden-3r --against rtb-urdf --from base --to tool "
         "--tol-pos 2.5e-05 --tol-rot 0.0001"

@@ -182,6 +182,14 @@ def add_parser(sub: Any) -> None:
         "half its time limit compares a stated subset: all structured configurations and "
         "the first of the random samples",
     )
+    p.add_argument(
+        "--processes",
+        type=int,
+        metavar="N",
+        help="at most N processes for each isolated backend (default: one per usable core); "
+        "1 on a CI runner shared with other jobs. It changes the time a check takes, never "
+        "its result",
+    )
     p.add_argument("--json", type=Path, metavar="PATH", help="write the JSON result here")
     p.add_argument("--junit", type=Path, metavar="PATH", help="write JUnit XML here")
     p.add_argument("--html", type=Path, metavar="PATH", help="write the HTML report here")
@@ -257,17 +265,16 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     values decided, for the header and the reproducing command lines.
     """
     from fkcheck.cli.check_run import jacobian_from_args
-    from fkcheck.model.options import FLAGS, resolve_options
+    from fkcheck.model.options import FLAGS, OPTIONS, resolve_options
 
-    given = {
-        "samples": args.samples, "seed": args.seed, "sampler": args.sampler,
-        "timeout_s": args.timeout, "frame_from": args.frame_from, "frame_to": args.frame_to,
-        "tol_pos_m": args.tol_pos, "tol_rot_rad": args.tol_rot,
+    # A flag whose dest is its option's name needs no line here.
+    given: dict[str, Any] = {name: getattr(args, name, None) for name in OPTIONS}
+    given |= {
+        "timeout_s": args.timeout, "tol_pos_m": args.tol_pos, "tol_rot_rad": args.tol_rot,
         "require": require_from_args(args), "jacobian": jacobian_from_args(args),
-        "jacobian_reference": args.jacobian_reference, "tol_jacobian": args.tol_jacobian,
-        "full": args.full,
     }  # fmt: skip
-    options = resolve_options(given, labels=FLAGS, project=project)
+    layer = project.options if project is not None else None
+    options = resolve_options(given, labels=FLAGS, project=layer)
     args.options = options
     args.samples, args.seed, args.sampler = options.samples, options.seed, options.sampler
     args.timeout = options.timeout_s

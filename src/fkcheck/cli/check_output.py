@@ -116,11 +116,12 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
 
     record = check_record(check)
     console = make_console(highlight=False)
+    asked = check.options
     described = (
         f"fkcheck {terminal_markup(check.model.name)}: {terminal_markup(check.frame_from)} → "
         f"{terminal_markup(check.frame_to)}, "
-        f"{check.q.shape[0]} configurations ({check.samples} {check.sampler} samples, "
-        f"seed {check.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
+        f"{check.q.shape[0]} configurations ({asked.samples} {asked.sampler} samples, "
+        f"seed {asked.seed}), tolerance {check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad"
         f"{terminal_markup(_config(check.config))}{_VERSION}"
     )
     if title:
@@ -135,16 +136,27 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
         table = _backends_table(record, evidence=False)
     console.print(table)
     if check.jacobian is not None:
-        # As the table above: where its text column would break words, it goes, and
-        # each backend's way of computing the Jacobian (or why it had none) is a line below.
-        jacobian = _jacobian_table(check, record, how=True)
-        if not _fits(console, jacobian):
-            console.print(_jacobian_table(check, record, how=False))
-            for i, (name, how) in enumerate(_jacobian_how(record)):
-                lead = "how: " if i == 0 else " " * len("how: ")
-                console.print(f"{lead}{terminal_markup(name)}: {terminal_markup(how)}")
-        else:
-            console.print(jacobian)
+        _print_jacobians(console, check, record)
+    _print_backend_lines(console, record)
+    _print_verdict(console, check, record)
+
+
+def _print_jacobians(console: Any, check: CheckResult, record: CheckRecord) -> None:
+    """The Jacobian table (and, where it would not fit, each backend's way as a line)."""
+    # As the backends' table: where its text column would break words, it goes, and
+    # each backend's way of computing the Jacobian (or why it had none) is a line below.
+    jacobian = _jacobian_table(check, record, how=True)
+    if not _fits(console, jacobian):
+        console.print(_jacobian_table(check, record, how=False))
+        for i, (name, how) in enumerate(_jacobian_how(record)):
+            lead = "how: " if i == 0 else " " * len("how: ")
+            console.print(f"{lead}{terminal_markup(name)}: {terminal_markup(how)}")
+    else:
+        console.print(jacobian)
+
+
+def _print_backend_lines(console: Any, record: CheckRecord) -> None:
+    """Below the table: a pass's note once, why a backend did not run or failed."""
     notes: dict[str, list[str]] = {}  # a pass's message (a URDF from this table), once each
     for r in record.backends:
         if r.status == "pass" and r.message:
@@ -165,6 +177,10 @@ def print_summary(check: CheckResult, *, title: bool = False) -> None:
                 console.print(f"  diagnosis: {terminal_markup(r.jacobian.diagnosis)}")
                 for line in r.jacobian.diagnosis_details:
                     console.print(f"    {terminal_markup(line)}")
+
+
+def _print_verdict(console: Any, check: CheckResult, record: CheckRecord) -> None:
+    """The evidence lines, the numbers' and calibration's lines, and the verdict."""
     implementation, table_text = (e.sentence for e in record.evidence)
     table_style = {"verified": "green", "failed": "bold red", "not-checked": "bold yellow",
                    "expected-failure": "bold yellow", "partly-verified": "bold yellow"}  # fmt: skip

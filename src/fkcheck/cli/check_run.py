@@ -87,25 +87,33 @@ def jacobian_from_args(args: argparse.Namespace) -> bool | None:
 def check_with_progress(
     args: argparse.Namespace, model: Model, backends: list[Backend], *, diagnose: bool
 ) -> Outcome:
-    """The header, the plan, the core's kernels, then the check with its progress on stderr.
+    """The inputs read, the header, the plan, the core's kernels, then the check with progress.
 
-    The header is flushed first (the first line of a CI log); each backend given
+    The check is prepared first (:func:`~fkcheck.engine.prepare.prepare`: inputs read
+    and screened once), so bad input is one line with nothing on stdout; the
+    header is then flushed (the first line of a CI log); each backend given
     a subset by the plan is said before it runs; loading the core's kernels, for
     a check large enough to use them, is its own phase
     (:func:`~fkcheck.cli.progress.kernels_phase`). No progress with ``--quiet``.
     """
-    from fkcheck.api import check
+    from fkcheck.api import check_request
     from fkcheck.cli.progress import check_progress, kernels_phase
-    from fkcheck.model.options import jacobian_for
+    from fkcheck.diagnose.jacobian import explain_sample
+    from fkcheck.engine.prepare import prepare
+    from fkcheck.engine.request import CheckRequest
 
-    _read_inputs(model, backends, args.options.timeout_s)  # bad input: one line, nothing on stdout
+    # args.options: the flags over [tool.fkcheck], resolved once (fkcheck.cli.check)
+    lint_ignore = tuple(getattr(args, "lint_ignore", ()))
+    request = CheckRequest(model, tuple(backends), args.options, lint_ignore, explain_sample)
+    prepared = prepare(request)  # bad input: one line, nothing on stdout
     print_header(model, backends, args)
     quiet = getattr(args, "quiet", False)
-    jacobian = jacobian_for(args.options, model) is not None
 
     def on_plan(plan: Plan) -> None:
         print_plan(plan.notes())
-        kernels_phase(jacobian=jacobian, configurations=plan.total, quiet=quiet)
+        kernels_phase(
+            jacobian=prepared.jacobian is not None, configurations=plan.total, quiet=quiet
+        )
 
     progress = check_progress(
         [b.name for b in backends],
@@ -114,42 +122,7 @@ def check_with_progress(
         limit_s=args.options.timeout_s,
     )
     with progress as on_progress:
-        # args.options: the flags over [tool.fkcheck], resolved once (fkcheck.cli.check)
-        return check(
-            model,
-            backends,
-            options=args.options,
-            lint_ignore=getattr(args, "lint_ignore", ()),
-            diagnose=diagnose,
-            on_progress=on_progress,
-            on_plan=on_plan,
-        )
-
-
-def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> None:
-    """Read what the check will read before its header is printed, so bad input is one line.
-
-    A measured-poses file and the model's URDF (expanded once, if xacro: the check
-    reuses the expansion) are read here; their errors are the check's own.
-    """
-    import contextlib
-
-    from fkcheck.backends.base import FixedConfigurations
-    from fkcheck.calibration.description import screen_kinematics
-    from fkcheck.engine.stream import stream_recordings
-    from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import load_urdf
-    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
-
-    stream_recordings(backends)  # read once, as the check reads it
-    for backend in backends:
-        if isinstance(backend, FixedConfigurations):
-            backend.configurations(model)
-    reads_urdf = any(b.reads == "urdf" for b in backends)
-    screen_kinematics(model)  # before the description is expanded with it
-    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
-        with contextlib.suppress(BackendUnavailable):  # each URDF backend says so itself
-            load_urdf(model, min(timeout_s, XACRO_TIMEOUT_S))
+        return check_request(prepared, diagnose=diagnose, on_progress=on_progress, on_plan=on_plan)
 
 
 def write_summaries(
@@ -171,42 +144,40 @@ def write_summaries(
 
 
 def model_command(args: argparse.Namespace, model: str) -> str:
-    """The command line that reproduces one model's check of a run over several."""
-    argv = [
-        "check",
-        operand(model),
-        "--samples",
-        str(args.samples),
-        "--seed",
-        str(args.seed),
-        "--sampler",
-        args.sampler,
-        "--timeout",
-        f"{args.timeout:g}",
-    ]
-    if args.options.full:
-        argv.append("--full")
+    """The command line that reproduces one model's check of a run over several.
+
+    Every option the check was given (``args.options``: flag, ``[tool.fkcheck]``)
+    is written as its flag, in :data:`~fkcheck.model.options.OPTIONS`' order; the
+    samples, seed, sampler and time limit always, so that no default is assumed.
+    """
+    from fkcheck.model.options import FLAGS, OPTIONS, CheckOptions
+
+    defaults = CheckOptions()
+    argv = ["check", operand(model)]
+    for name in OPTIONS:
+        value = getattr(args.options, name)
+        if value != getattr(defaults, name) or name in _ALWAYS_WRITTEN:
+            argv += _flag(FLAGS[name], value)
     for value in args.against or ():
         argv += ["--against", value]
-    if args.tol_pos is not None:
-        argv += ["--tol-pos", f"{args.tol_pos:g}"]
-    if args.tol_rot is not None:
-        argv += ["--tol-rot", f"{args.tol_rot:g}"]
-    for value in args.require or ():
-        argv += ["--require", value]
-    for flag, value in (("--from", args.frame_from), ("--to", args.frame_to)):
-        if value is not None:
-            argv += [flag, value]
     if getattr(args, "allow_xacro", False):
         argv.append("--allow-xacro")
-    jacobian = jacobian_from_args(args)
-    if jacobian is not None:
-        argv.append("--jacobian" if jacobian else "--no-jacobian")
-    if args.jacobian_reference is not None:
-        argv += ["--jacobian-reference", args.jacobian_reference]
-    if args.tol_jacobian is not None:
-        argv += ["--tol-jacobian", f"{args.tol_jacobian:g}"]
     return "fkcheck " + shlex.join(argv)
+
+
+#: Options a reproducing command line always writes, default or not.
+_ALWAYS_WRITTEN = frozenset({"samples", "seed", "sampler", "timeout_s"})
+
+
+def _flag(flag: str, value: object) -> list[str]:
+    """One option as its flag's arguments: a switch, ``--no-`` for false, repeated for a list."""
+    if value is None:
+        return []
+    if isinstance(value, bool):
+        return [flag if value else "--no-" + flag.removeprefix("--")]
+    if isinstance(value, tuple):
+        return [arg for item in value for arg in (flag, str(item))]
+    return [flag, f"{value:g}" if isinstance(value, float) else str(value)]
 
 
 def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | None) -> int:

@@ -70,8 +70,8 @@ def diagnose_command(check: CheckResult, backend: str) -> str:
     model = check.model
     argv = ["diagnose", operand(str(model.path)) if model.path is not None else model.name]
     argv += ["--against", backend, "--from", check.frame_from, "--to", check.frame_to]
-    if check.seed != 0:
-        argv += ["--seed", str(check.seed)]
+    if check.options.seed != 0:
+        argv += ["--seed", str(check.options.seed)]
     if check.tol_pos_m != model.check.tol_pos_m:
         argv += ["--tol-pos", repr(check.tol_pos_m)]
     if check.tol_rot_rad != model.check.tol_rot_rad:
@@ -87,7 +87,7 @@ def _run_one(check: CheckResult, backend: Backend) -> tuple[Diagnosis | None, st
             backend,
             frame_from=check.frame_from,
             frame_to=check.frame_to,
-            seed=check.seed,
+            seed=check.options.seed,
             tol_pos_m=check.tol_pos_m,
             tol_rot_rad=check.tol_rot_rad,
         )

@@ -30,7 +30,9 @@ from fkcheck.engine.evidence import FailureDetail
 from fkcheck.engine.jacobian import JacobianSample, JacobianSpec
 from fkcheck.engine.verdict import EvidenceSummary, Kind, Verdict, summarize, tolerance_note
 from fkcheck.model.coverage import Coverage
+from fkcheck.model.options import CheckOptions
 from fkcheck.model.types import Model
+from fkcheck.urdf.locate import display_path
 
 __all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "JacobianResult", "Status"]
 
@@ -193,10 +195,10 @@ class CheckResult:
     """A whole check: what was compared, on which configurations, and the verdict.
 
     Attributes:
-        model: The model checked.
-        samples: Number of random samples asked for.
-        seed: Seed of the random samples.
-        sampler: ``sobol`` or ``uniform``.
+        model: The model checked (with the ``urdf:LINK`` frames the check placed).
+        options: The request's options, as asked (``samples``, ``seed``,
+            ``sampler``, ``timeout_s``…; :class:`~fkcheck.model.options.CheckOptions`);
+            what they left ``None`` is resolved in the fields below.
         frame_from: Frame the compared pose is expressed in.
         frame_to: Frame whose pose is compared.
         tol_pos_m: Position tolerance, metres.
@@ -213,9 +215,6 @@ class CheckResult:
         jacobian: What ``--jacobian`` compared (reference frame, tolerance), or ``None``.
         numbers: What the compared frame pair can verify, number by number
             (:mod:`fkcheck.model.coverage`); ``None`` when not analysed.
-        tolerance_source: Where the position and the rotation tolerance came
-            from (``--tol-pos``, the model's ``[check]``, ``[tool.fkcheck] in
-            …/pyproject.toml``).
         config: The ``pyproject.toml`` whose ``[tool.fkcheck]`` gave the check
             its defaults, as the CLI names it (set by the CLI); ``None``: none did.
         calibration: For a calibrated model (``[calibration]``), what the
@@ -227,9 +226,7 @@ class CheckResult:
     """
 
     model: Model
-    samples: int
-    seed: int
-    sampler: str
+    options: CheckOptions
     frame_from: str
     frame_to: str
     tol_pos_m: float
@@ -244,10 +241,24 @@ class CheckResult:
     command: str = ""
     jacobian: JacobianSpec | None = None
     numbers: Coverage | None = None
-    tolerance_source: tuple[str, str] = ("", "")
     config: str | None = None
     calibration: CalibrationEffect | None = None
     lint: tuple[str, ...] = ()
+
+    @property
+    def tolerance_source(self) -> tuple[str, str]:
+        """Where the position and the rotation tolerance came from, in words.
+
+        ``--tol-pos``, ``[tool.fkcheck] tol_pos_m in …/pyproject.toml``, "the
+        caller" (an argument), or the model's ``[check]`` when the options left it.
+        """
+        said = self.options.tolerance_source
+        of = f" of {display_path(self.model.path)}" if self.model.path is not None else ""
+        own = f"the model's [check]{of}"
+        return (
+            own if self.options.tol_pos_m is None else said[0] or "the caller",
+            own if self.options.tol_rot_rad is None else said[1] or "the caller",
+        )
 
     @property
     def ran(self) -> tuple[BackendResult, ...]:

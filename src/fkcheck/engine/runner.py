@@ -1,13 +1,17 @@
-"""The cross-check's run: sample, run every backend in its own thread and time limit.
+"""The cross-check's run: every backend in its own thread and time limit.
 
-:func:`run_check` samples configurations (or takes a measured-poses backend's),
-plans how many of them each backend compares (:mod:`fkcheck.engine.plan`: a
-backend whose declared cost does not fit its limit gets a stated subset),
-loads the core's kernels (a phase of its own, charged to no backend), runs each
-backend in a thread — an isolated one's poses in a child process, started first,
-while the libraries of the others are imported — within its time limit, has
-:func:`fkcheck.engine.compare.compare` judge each against the in-house core,
-and returns a :class:`~fkcheck.engine.results.CheckResult` with the verdict.
+:func:`run_request` takes a check through its three stages
+(:mod:`fkcheck.engine.request`): :func:`~fkcheck.engine.prepare.prepare` reads
+the inputs, samples the configurations (or takes a measured-poses backend's)
+and plans how many of them each backend compares (:mod:`fkcheck.engine.plan`:
+a backend whose declared cost does not fit its limit gets a stated subset);
+then the core's kernels load (a phase of its own, charged to no backend) and
+:func:`run_backends` runs each backend in a thread — an isolated one's poses in
+a child process, started first, while the libraries of the others are imported
+— within its time limit, with :func:`fkcheck.engine.compare.compare` comparing
+each with the in-house core; :func:`~fkcheck.engine.judge.judge` gives the
+:class:`~fkcheck.engine.results.CheckResult` with the verdict. :func:`run_check`
+is one request from a model, backends and options by name.
 
 The words of the result (pass, fail, error, skipped) are defined in
 :mod:`fkcheck.engine.results`.
@@ -16,7 +20,6 @@ The words of the result (pass, fail, error, skipped) are defined in
 from __future__ import annotations
 
 import contextlib
-import datetime as _dt
 import functools
 import importlib
 import itertools
@@ -25,41 +28,22 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Unpack
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations
-from fkcheck.backends.registry import check_known_differences
-from fkcheck.calibration.description import screen_kinematics
-from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
-from fkcheck.calibration.lint import lint_calibrated
-from fkcheck.calibration.provenance import calibration_provenance
-from fkcheck.core.tolerances import pose_tolerances
+from fkcheck.backends.base import Backend
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
-from fkcheck.engine.expected import apply_known_differences, known_difference_findings
-from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
-from fkcheck.engine.plan import Plan, plan_check
-from fkcheck.engine.provenance import apply_provenance
+from fkcheck.engine.jacobian import Explain
+from fkcheck.engine.judge import judge
+from fkcheck.engine.plan import Plan
+from fkcheck.engine.prepare import EVIDENCE_MIN_S, PreparedCheck, prepare
+from fkcheck.engine.request import CheckRequest
 from fkcheck.engine.results import BackendResult, CheckResult
-from fkcheck.engine.stream import stream_recordings
-from fkcheck.engine.verdict import KINDS, Kind, summarize, verdict_of
-from fkcheck.errors import BackendUnavailable, FkcheckError, FrameError, Skip, failure_text
-from fkcheck.model.coverage import Competitor, coverage
-from fkcheck.model.frames import (
-    resolve_frame,
-)
-from fkcheck.model.lint import lint_lines
-from fkcheck.model.options import (
-    DEFAULT_SAMPLER,
-    DEFAULT_SAMPLES,
-    DEFAULT_SEED,
-    DEFAULT_TIMEOUT_S,
-    CheckOptions,
-)
-from fkcheck.model.sampling import Sampler, Samples, sample_configurations
-from fkcheck.model.types import URDF_FRAME_PREFIX, Model
+from fkcheck.errors import FkcheckError, Skip, failure_text
+from fkcheck.model.options import OptionArgs, resolve_options
+from fkcheck.model.types import Model
 from fkcheck.process.cpus import usable_cores
 from fkcheck.process.isolation import (
     IsolatedDied,
@@ -69,29 +53,19 @@ from fkcheck.process.isolation import (
     terminate_all,
 )
 from fkcheck.process.supervise import acting_for
-from fkcheck.urdf.chain import competing_links, urdf_kinematics
-from fkcheck.urdf.locate import display_path
 
 if TYPE_CHECKING:
     from fkcheck.urdf.mapping import LinkFit
 
-__all__ = ["EVIDENCE_MIN_S", "Progress", "load_kernels", "run_check"]
-
-
-def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
-    """The configurations a measured-poses backend dictates, if one takes part."""
-    fixed = [b for b in backends if isinstance(b, FixedConfigurations)]
-    if not fixed:
-        return None
-    stream_recordings(fixed)  # a long recording is compared as it is read
-    q = np.asarray(fixed[0].configurations(model), dtype=np.float64)
-    for other in fixed[1:]:
-        if not np.array_equal(np.asarray(other.configurations(model)), q):
-            raise FkcheckError(
-                f"{fixed[0].name} and {other.name} hold poses at different configurations; "
-                "check them one at a time"
-            )
-    return Samples(q=q, origin=(f"file:{fixed[0].name}",) * q.shape[0])
+__all__ = [
+    "EVIDENCE_MIN_S",
+    "CheckRequest",
+    "Progress",
+    "load_kernels",
+    "run_backends",
+    "run_check",
+    "run_request",
+]
 
 
 def _error(backend: Backend, message: str, duration_s: float = 0.0) -> BackendResult:
@@ -105,7 +79,7 @@ def _skipped(backend: Backend, reason: str) -> BackendResult:
 
 
 def _run_one(
-    job: Job, timeout_s: float, on_progress: Progress | None = None
+    job: Job, timeout_s: float, on_progress: Progress | None = None, processes: int | None = None
 ) -> BackendResult | FkcheckError:
     """Run one backend with a time limit; returns a result, or bad input to re-raise."""
     backend = job.backend
@@ -117,7 +91,7 @@ def _run_one(
         return _skipped(backend, reason)
 
     if backend.isolated:
-        job = replace(job, backend=_InChild(backend, timeout_s))
+        job = replace(job, backend=_InChild(backend, timeout_s, processes))
 
     box: list[BackendResult | FkcheckError] = []
 
@@ -180,10 +154,13 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
 SPLIT_MIN_CONFIGS = 2_500
 
 
-def _split(n: int) -> list[tuple[int, int]]:
-    """Contiguous ``[start, stop)`` parts of ``n`` configurations, one per process."""
+def _split(n: int, processes: int | None = None) -> list[tuple[int, int]]:
+    """Contiguous ``[start, stop)`` parts of ``n`` configurations, one per process.
+
+    At most ``processes`` parts (``None``: one per usable core).
+    """
     worth = n // SPLIT_MIN_CONFIGS  # parts worth a process each
-    parts = min(usable_cores(), worth) if worth > 1 else 1
+    parts = min(processes or usable_cores(), worth) if worth > 1 else 1
     bounds = [n * k // parts for k in range(parts + 1)]
     return list(itertools.pairwise(bounds))
 
@@ -195,14 +172,15 @@ class _InChild:
     own (:func:`~fkcheck.process.isolation.run_isolated`); the reference and the
     comparison stay in this process, like every other backend's. A slow pure-Python
     backend that holds the GIL then uses the other cores: its configurations are
-    split over up to one process per core (:data:`SPLIT_MIN_CONFIGS` each at least),
+    split over up to one process per core, or the options' ``processes``
+    (:data:`SPLIT_MIN_CONFIGS` each at least),
     run at once and joined in order. A crash of a process (e.g. a segfault in a C
     extension) or an answer larger than :func:`~fkcheck.process.isolation.answer_limit`
     is the backend's error, and at the time limit every process it started is killed
     with all they started.
     """
 
-    def __init__(self, backend: Backend, timeout_s: float) -> None:
+    def __init__(self, backend: Backend, timeout_s: float, processes: int | None = None) -> None:
         self.backend = backend
         self.name = backend.name
         self.method = backend.method
@@ -214,6 +192,7 @@ class _InChild:
         self.jacobian_method = backend.jacobian_method
         self.jacobian_references = backend.jacobian_references
         self.timeout_s = timeout_s
+        self.processes = processes
         self.deadline = time.monotonic() + min(timeout_s, threading.TIMEOUT_MAX)
 
     def unavailable_reason(self, model: Model) -> str | None:
@@ -247,9 +226,8 @@ class _InChild:
         jac: Float | None = self._run(calls, axis=0)
         return jac
 
-    @staticmethod
-    def _parts(q: Float) -> list[Float]:
-        return [q[start:stop] for start, stop in _split(q.shape[0])]
+    def _parts(self, q: Float) -> list[Float]:
+        return [q[start:stop] for start, stop in _split(q.shape[0], self.processes)]
 
     def _run(self, calls: list[tuple[functools.partial[Any], int]], axis: int) -> Any:
         """Each ``(call, configurations)`` in a process of its own, at once, joined on ``axis``."""
@@ -345,36 +323,6 @@ def load_kernels(jacobian: bool, configurations: int) -> None:
         core_jacobian.load_kernel()
 
 
-def _place_urdf_links(
-    model: Model, asked: Sequence[str], xacro_timeout_s: float
-) -> tuple[Model, dict[str, LinkFit]]:
-    """The model with ``urdf:LINK`` frames for the undeclared links ``asked`` names.
-
-    ``xacro_timeout_s`` is the time limit of a xacro expansion.
-
-    Raises:
-        FkcheckError: The URDF cannot be read (example-robot-data missing included),
-            the link is not in it, or it is at no constant offset from any DH frame.
-    """
-    wanted = [
-        name
-        for name in asked
-        if name.startswith(URDF_FRAME_PREFIX)
-        and not any(s.urdf == name[len(URDF_FRAME_PREFIX) :] for s in model.frames.values())
-    ]
-    if not wanted or model.urdf is None:
-        return model, {}  # resolve_frame says what is wrong, if anything
-    from fkcheck.urdf.chain import urdf_kinematics  # scipy.optimize: only when needed
-    from fkcheck.urdf.mapping import with_link_frames
-    from fkcheck.urdf.source import load_urdf
-
-    try:
-        kin = urdf_kinematics(load_urdf(model, xacro_timeout_s))
-    except BackendUnavailable as exc:
-        raise FkcheckError(f"{wanted[0]}: the URDF cannot be read here: {exc}") from None
-    return with_link_frames(model, kin, wanted)
-
-
 def _placed_reason(placed: Mapping[str, LinkFit]) -> str:
     """Why a backend that does not read the URDF skips a check of a placed ``urdf:LINK``."""
     name, fit = next(iter(placed.items()))
@@ -385,175 +333,104 @@ def _placed_reason(placed: Mapping[str, LinkFit]) -> str:
     )
 
 
-def _check_twins(model: Model, pair: Sequence[str], links: Sequence[str], urdf: str) -> None:
-    """The URDF links of the compared frames exist (a frame not compared may lack its link).
-
-    Raises:
-        FrameError: A compared frame names a link the URDF does not have (listing them).
-    """
-    for name in pair:
-        link = resolve_frame(model, name).urdf
-        if link is not None and link not in links:
-            raise FrameError(link, f"URDF {urdf} (frame {name})", links)
-
-
-#: How long the main thread waits on a backend's thread at a time, s (see run_check).
+#: How long the main thread waits on a backend's thread at a time, s (see run_backends).
 _JOIN_SLICE_S = 0.1
-#: The per-number evidence's time limit is the check's ``timeout_s``, but never less
-#: than this, seconds: it costs a few seconds even at 256 joints (about 5 s of one
-#: core), and a ``--timeout`` short enough for a hanging backend (0.5 s) must not end
-#: a six-joint check on a busy machine.
-EVIDENCE_MIN_S = 10.0
 
 
 def run_check(
     model: Model,
     backends: Sequence[Backend],
     *,
-    samples: int = DEFAULT_SAMPLES,
-    seed: int = DEFAULT_SEED,
-    sampler: Sampler = DEFAULT_SAMPLER,
-    frame_from: str | None = None,
-    frame_to: str | None = None,
-    tol_pos_m: float | None = None,
-    tol_rot_rad: float | None = None,
-    timeout_s: float = DEFAULT_TIMEOUT_S,
-    require: Sequence[Kind] = (),
-    jacobian: JacobianSpec | None = None,
+    lint_ignore: Sequence[str] = (),
     explain_jacobian: Explain | None = None,
     on_done: Callable[[BackendResult], None] | None = None,
     on_progress: Progress | None = None,
-    tolerance_source: str | tuple[str, str] = "",
-    full: bool = False,
     on_plan: Callable[[Plan], None] | None = None,
-    lint_ignore: Sequence[str] = (),
+    **options: Unpack[OptionArgs],
 ) -> CheckResult:
-    """Check ``backends`` against the in-house core on sampled configurations.
-
-    Backends run concurrently (one thread each), each within ``timeout_s``. When a
-    backend holds poses only at fixed configurations (measured poses), the check
-    runs on those instead of sampling.
+    """Check ``backends`` against the in-house core: :func:`run_request` of one request.
 
     Args:
         model: The model.
         backends: Backends to compare (see :mod:`fkcheck.backends.registry`).
-        samples: Number of random samples (on top of poses, corners and mid-points).
-        seed: Seed for the random samples.
-        sampler: ``sobol`` or ``uniform``.
-        frame_from: Frame to express the pose in (default: the model's ``[check]``).
-        frame_to: Frame whose pose is compared (default: the model's ``[check]``).
-        tol_pos_m: Position tolerance, metres (default: the model's ``[check]``).
-        tol_rot_rad: Rotation tolerance, radians (default: the model's ``[check]``).
-        timeout_s: Time limit per backend, seconds (and of a xacro expansion, when
-            shorter than :data:`~fkcheck.urdf.xacro.XACRO_TIMEOUT_S`).
-        require: Kinds of evidence (``"table"``, ``"implementation"``) that must be
-            verified, on top of the model's ``[check] require``; when one is not,
-            the verdict is ``unverified``.
-        jacobian: Also compare each backend's Jacobian of ``frame_to`` with the
-            core's (:mod:`fkcheck.engine.jacobian`); a disagreement fails the check.
-        explain_jacobian: Names each Jacobian disagreement (``fkcheck.check`` passes
-            the diagnosis's); without it a failure carries its numbers only.
+        lint_ignore: Lint rules left out of the check's ``lint``.
+        explain_jacobian: Names each Jacobian disagreement.
+        on_done: Called with each backend's result as it finishes.
+        on_progress: Called as ``(backend name, configurations done, total)``.
+        on_plan: Called with the plan once it is made, before any backend starts.
+        **options: The check's options by name (``samples=…``, ``seed=…``,
+            ``jacobian=True``…; :class:`~fkcheck.model.options.CheckOptions`).
+
+    Returns:
+        The check result.
+
+    Raises:
+        OptionError: An option out of its range (a ``ToleranceError`` for a tolerance).
+        FkcheckError: Bad input, as :func:`run_request` says.
+    """
+    request = CheckRequest(
+        model, tuple(backends), resolve_options(options), tuple(lint_ignore), explain_jacobian
+    )
+    return run_request(request, on_done=on_done, on_progress=on_progress, on_plan=on_plan)
+
+
+def run_request(
+    request: CheckRequest | PreparedCheck,
+    *,
+    on_done: Callable[[BackendResult], None] | None = None,
+    on_progress: Progress | None = None,
+    on_plan: Callable[[Plan], None] | None = None,
+) -> CheckResult:
+    """A check's three stages: *prepare* (unless done), *run* and *judge*.
+
+    Backends run concurrently (one thread each), each within the options'
+    ``timeout_s``. When a backend holds poses only at fixed configurations
+    (measured poses), the check runs on those instead of sampling.
+
+    Args:
+        request: The request, or the request already prepared
+            (:func:`~fkcheck.engine.prepare.prepare`: the command line reads its
+            inputs before printing its header).
         on_done: Called with each backend's result as it finishes.
         on_progress: Called as ``(backend name, configurations done, total)`` after
             each chunk a backend finishes (from that backend's thread).
-        tolerance_source: Where ``tol_pos_m``/``tol_rot_rad`` came from, for the
-            headline: one for both, or ``(position's, rotation's)`` (default: "the
-            caller"); a tolerance not given is the model's ``[check]``'s, said so.
-        full: Every backend compares every configuration; by default a backend
-            whose declared cost does not fit its limit compares a stated subset
-            (:mod:`fkcheck.engine.plan`).
-        on_plan: Called with the plan once it is made, before any backend starts.
-        lint_ignore: Lint rules left out of the check's ``lint`` (a project's
-            ``[tool.fkcheck] lint_ignore``), on top of the model's own ``[lint]``.
+        on_plan: Called with the plan, before the core's kernels load and any backend starts.
 
     Returns:
         The check result.
 
     Raises:
         FrameError: An unknown frame name.
-        OptionError: ``samples``, ``seed``, ``sampler`` or ``timeout_s`` out of its
-            range (:mod:`fkcheck.model.options`); a tolerance is a ``ToleranceError``.
         UrdfError: The model's URDF is missing, unsafe or does not fit the model.
         TimeLimitError: The per-number evidence did not finish within ``timeout_s``
-            (or :data:`EVIDENCE_MIN_S`, when longer).
+            (or :data:`~fkcheck.engine.prepare.EVIDENCE_MIN_S`, when longer).
         FkcheckError: Other bad input reported by a backend.
     """
-    from fkcheck.urdf.source import load_urdf
-    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
-
-    CheckOptions(samples=samples, seed=seed, sampler=sampler, timeout_s=timeout_s)  # in range
-    created = _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
-    t0 = time.perf_counter()
-    check_known_differences(model, backends)
-    screen_kinematics(model)  # a calibration YAML is read as fkcheck calibration reads it
-    asked = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
-    # ``urdf:LINK`` resolves to the declared frame mapped onto that link; a link no
-    # frame declares is placed from the URDF, and only URDF backends compare it.
-    xacro_timeout_s = min(timeout_s, XACRO_TIMEOUT_S)  # the check's limit, when shorter
-    model, placed = _place_urdf_links(model, asked, xacro_timeout_s)
-    pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
-    tol = pose_tolerances(
-        tol_pos_m, tol_rot_rad, (model.check.tol_pos_m, model.check.tol_rot_rad), model.reach_m
-    )
-    if jacobian is not None:
-        check_fixed_from(model, pair[0])
-    reads_urdf = any(b.reads == "urdf" for b in backends)
-    competitors: dict[str, list[Competitor]] = {}
-    # A xacro file is expanded (its macros run) only when a backend reads the URDF.
-    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
-        # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
-        # is not: each URDF backend then reports itself skipped.
-        with contextlib.suppress(BackendUnavailable):
-            info = load_urdf(model, xacro_timeout_s)
-            if reads_urdf:
-                _check_twins(model, pair, info.links, info.path.name)
-                competitors = competing_links(model, pair, urdf_kinematics(info))
-            if model.urdf.xacro:  # the expansion travels with the model: run the file once
-                model = replace(model, urdf=replace(model.urdf, expanded=info.text))
-    q = _fixed_configurations(model, backends) or sample_configurations(
-        model, samples, seed, sampler
-    )
-    calibration = _calibration_effect(model, q.q, pair)
-    required = tuple(k for k in KINDS if k in (*model.check.require, *require))
-    # What it exercises, and what a choice among links could hide, within the check's
-    # time limit (at least EVIDENCE_MIN_S).
-    numbers = coverage(
-        model,
-        pair[0],
-        pair[1],
-        *tol,
-        q=q.q,
-        competitors=competitors,
-        time_limit_s=max(timeout_s, EVIDENCE_MIN_S),
-    )
-    if "table" in required and numbers.spans_no_joint:
-        raise FkcheckError(
-            f"require table: the frame pair {pair[0]} → {pair[1]} spans no joint of model "
-            f"{model.name}, so it cannot verify the table; compare a pair with joints "
-            "between them (e.g. the model's [check] from/to)"
-        )
-    plan = plan_check(backends, q.origin, dof=model.dof, timeout_s=timeout_s,
-                      jacobian=jacobian is not None, full=full)  # fmt: skip
+    prepared = request if isinstance(request, PreparedCheck) else prepare(request)
     if on_plan is not None:
-        on_plan(plan)
-    load_kernels(jacobian is not None, plan.total)
+        on_plan(prepared.plan)
+    load_kernels(prepared.jacobian is not None, prepared.plan.total)
+    return judge(prepared, run_backends(prepared, on_done=on_done, on_progress=on_progress))
 
+
+def run_backends(
+    prepared: PreparedCheck,
+    *,
+    on_done: Callable[[BackendResult], None] | None = None,
+    on_progress: Progress | None = None,
+) -> list[BackendResult]:
+    """Run each backend in its own thread, within its time limit: one result each, in order.
+
+    Raises:
+        FkcheckError: Bad input a backend reported (the first one).
+    """
+    backends, model = prepared.request.backends, prepared.model
     results: dict[int, BackendResult] = {}
     errors: list[FkcheckError] = []
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        if placed and backend.reads != "urdf":
-            outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
-        else:
-            share = plan.backends[index]
-            outcome = _run_one(
-                Job(backend, model, q.q[: share.compared], pair, tol, jacobian, explain_jacobian),
-                timeout_s,
-                on_progress,
-            )
-            if share.subset and isinstance(outcome, BackendResult):
-                outcome = replace(outcome, subset=(share.compared, share.total))
+        outcome = _one_backend(prepared, index, backend, on_progress)
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)
@@ -583,104 +460,21 @@ def run_check(
             worker.join(_JOIN_SLICE_S)
     if errors:
         raise errors[0]
-    ordered = apply_known_differences(
-        model,
-        pair,
-        tol,
-        [results[i] for i in range(len(backends))],
-        {b.name: b.reads for b in backends},
-    )
-    ordered = apply_provenance(model, backends, tol, ordered)  # a URDF from this very table
-    answered = _table_answered(ordered, len(q.q))
-    if 0 < answered < len(q.q):  # the numbers are judged on what the table's evidence compared
-        numbers = coverage(
-            model, pair[0], pair[1], *tol, q=q.q[:answered], competitors=competitors,
-            time_limit_s=max(timeout_s, EVIDENCE_MIN_S),
-        )  # fmt: skip
-    # A Jacobian that disagrees fails the check, one that could not be computed is
-    # its error; the evidence (what the poses proved) is the poses' alone.
-    jacobians = [replace(r, status=r.jacobian.status) for r in ordered if r.jacobian and r.ran]
-    return CheckResult(
-        model=model,
-        samples=samples,
-        seed=seed,
-        sampler=sampler,
-        frame_from=pair[0],
-        frame_to=pair[1],
-        tol_pos_m=tol[0],
-        tol_rot_rad=tol[1],
-        q=q.q,
-        origin=q.origin,
-        backends=ordered,
-        verdict=verdict_of((*ordered, *jacobians), summarize(ordered, required, numbers)),
-        required=required,
-        created=created,
-        duration_s=time.perf_counter() - t0,
-        jacobian=jacobian,
-        numbers=numbers,
-        tolerance_source=_tolerance_source(model, tol_pos_m, tol_rot_rad, tolerance_source),
-        calibration=calibration,
-        lint=lint_lines(
-            model,
-            [
-                *lint_calibrated(model, lint_ignore)[0],
-                *known_difference_findings(model, lint_ignore),
-            ],
-        ),
-    )
+    return [results[i] for i in range(len(backends))]
 
 
-def _table_answered(results: Sequence[BackendResult], total: int) -> int:
-    """How many configurations the agreeing table evidence compared: the most any one did.
-
-    A backend on a subset compares a prefix of the check's configurations
-    (:mod:`fkcheck.engine.plan`), so the prefixes nest: the longest one is their
-    union, and it is one backend's own. Each number is then verified only when
-    configurations that one agreeing backend answered tell it apart. ``0`` when
-    no table evidence agreed (no number is verified then anyway).
-    """
-    return max(
-        (
-            r.subset[0] if r.subset is not None else total
-            for r in results
-            if r.evidence == "table" and r.status == "pass"
-        ),
-        default=0,
-    )
-
-
-def _calibration_effect(model: Model, q: Float, pair: tuple[str, str]) -> CalibrationEffect | None:
-    """What a calibrated model's calibration changes at ``q`` (``None`` for other models).
-
-    The nominal model must load (a bad ``[calibration] nominal`` is bad input);
-    a frame pair the nominal model does not have is not compared.
-
-    Raises:
-        ModelError: The nominal model is missing, invalid or has other joints.
-    """
-    if model.calibration is None:
-        return None
-    nominal = nominal_model(model)
-    try:
-        name = Path(model.calibration.file).name
-        effect = calibration_effect(model, nominal, q, pair[0], pair[1], name)
-    except FrameError:
-        return None
-    # Said with the effect: whether the file and the table are still as calibrated.
-    return replace(effect, provenance=calibration_provenance(model, nominal))
-
-
-def _tolerance_source(
-    model: Model,
-    tol_pos_m: float | None,
-    tol_rot_rad: float | None,
-    given: str | tuple[str, str],
-) -> tuple[str, str]:
-    """Where each of the check's tolerances came from, in words: ``(position, rotation)``."""
-    said = (given, given) if isinstance(given, str) else given
-    of = f" of {display_path(model.path)}" if model.path is not None else ""
-    own = f"the model's [check]{of}"
-    return (
-        own if tol_pos_m is None else said[0] or "the caller",
-        own if tol_rot_rad is None else said[1] or "the caller",
-    )
+def _one_backend(
+    prepared: PreparedCheck, index: int, backend: Backend, on_progress: Progress | None
+) -> BackendResult | FkcheckError:
+    """One backend's result on its share of the plan (or bad input to re-raise)."""
+    if prepared.placed and backend.reads != "urdf":
+        return _skipped(backend, _placed_reason(prepared.placed))
+    share = prepared.plan.backends[index]
+    request = prepared.request
+    job = Job(backend, prepared.model, prepared.samples.q[: share.compared], prepared.pair,
+              prepared.tol, prepared.jacobian, request.explain_jacobian)  # fmt: skip
+    options = request.options
+    outcome = _run_one(job, options.timeout_s, on_progress, options.processes)
+    if share.subset and isinstance(outcome, BackendResult):
+        outcome = replace(outcome, subset=(share.compared, share.total))
+    return outcome

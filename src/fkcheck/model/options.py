@@ -20,10 +20,10 @@ is read (:mod:`fkcheck.model.project`), and the tolerances' ranges are
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Literal, get_args
+from typing import TYPE_CHECKING, Any, Literal, TypedDict, get_args
 
 from fkcheck.core.tolerances import LimitKind, limit_problem
 from fkcheck.core.typing import JACOBIAN_REFERENCES, JacobianReference
@@ -32,7 +32,6 @@ from fkcheck.model.require import KINDS, Kind
 from fkcheck.process.supervise import MAX_TIMEOUT_S
 
 if TYPE_CHECKING:
-    from fkcheck.model.project import ProjectConfig
     from fkcheck.model.types import Model
 
 __all__ = [
@@ -41,6 +40,8 @@ __all__ = [
     "DEFAULT_SEED",
     "DEFAULT_TIMEOUT_S",
     "FLAGS",
+    "FLOAT_OPTIONS",
+    "MAX_PROCESSES",
     "MAX_SAMPLES",
     "MAX_SEED",
     "MAX_TIMEOUT_S",
@@ -48,6 +49,8 @@ __all__ = [
     "PROJECT_KEYS",
     "SAMPLERS",
     "CheckOptions",
+    "OptionArgs",
+    "OptionLayer",
     "OptionName",
     "Sampler",
     "check_option",
@@ -74,6 +77,8 @@ DEFAULT_TIMEOUT_S = 120.0
 #: Most random samples one check draws: ten million configurations are 0.5 GB of
 #: joint values alone for six joints; more is a typo, not a check.
 MAX_SAMPLES = 10_000_000
+#: Most processes one isolated backend may split its configurations over.
+MAX_PROCESSES = 1024
 #: Largest seed: NumPy's ``SeedSequence`` takes any non-negative integer; seeds
 #: are 64-bit numbers (0 … 2^64 − 1) everywhere fkcheck takes one.
 MAX_SEED = 2**64 - 1
@@ -81,6 +86,7 @@ MAX_SEED = 2**64 - 1
 OptionName = Literal[
     "samples", "seed", "sampler", "timeout_s", "frame_from", "frame_to", "tol_pos_m",
     "tol_rot_rad", "require", "jacobian", "jacobian_reference", "tol_jacobian", "full",
+    "processes",
 ]  # fmt: skip
 #: Every option of a check, in the order :class:`CheckOptions` holds them.
 OPTIONS: tuple[OptionName, ...] = get_args(OptionName)
@@ -101,6 +107,7 @@ FLAGS: Mapping[OptionName, str] = MappingProxyType(
         "jacobian_reference": "--jacobian-reference",
         "tol_jacobian": "--tol-jacobian",
         "full": "--full",
+        "processes": "--processes",
     }
 )
 
@@ -118,6 +125,7 @@ PROJECT_KEYS: Mapping[OptionName, str] = MappingProxyType(
         "jacobian_reference": "jacobian_reference",
         "tol_jacobian": "tol_jacobian",
         "full": "full",
+        "processes": "processes",
     }
 )
 
@@ -129,7 +137,12 @@ _INTEGERS: Mapping[str, tuple[int, int, str, str]] = MappingProxyType(
     {
         "samples": (0, MAX_SAMPLES, f"{MAX_SAMPLES:_}", "more is a typo, not a check"),
         "seed": (0, MAX_SEED, "2**64 - 1", "a 64-bit seed"),
+        "processes": (1, MAX_PROCESSES, str(MAX_PROCESSES), "more than any machine's cores"),
     }
+)
+#: Options in seconds or tolerances: an integer given (``timeout = 60``) is read as a float.
+FLOAT_OPTIONS: frozenset[OptionName] = frozenset(
+    {"timeout_s", "tol_pos_m", "tol_rot_rad", "tol_jacobian"}
 )
 _TIMEOUT_WHY = "a day: longer than any CI job runs"
 
@@ -150,6 +163,18 @@ def _choice(value: object, choices: tuple[str, ...], what: str) -> str | None:
     return f"{_shown(value)} unknown; {what} are: {', '.join(choices)}"
 
 
+def _timeout_problem(value: object) -> str | None:
+    """Why ``value`` is no time limit: a number of seconds, > 0 and at most a day."""
+    number = (
+        float(value)
+        if isinstance(value, int | float) and not isinstance(value, bool) and abs(value) < 1e308
+        else math.nan
+    )
+    if 0.0 < number <= MAX_TIMEOUT_S:
+        return None
+    return f"must be > 0 and at most {MAX_TIMEOUT_S:g} s ({_TIMEOUT_WHY}), got {_shown(value)}"
+
+
 def option_problem(name: OptionName, value: object, *, lowest: int | None = None) -> str | None:
     """Why ``value`` cannot be option ``name``, one phrase; ``None`` when it can.
 
@@ -167,14 +192,7 @@ def option_problem(name: OptionName, value: object, *, lowest: int | None = None
             return None
         return f"must be an integer from {low} to {shown_high} ({why}), got {_shown(value)}"
     if name == "timeout_s":
-        number = (
-            float(value)
-            if isinstance(value, int | float) and not isinstance(value, bool) and abs(value) < 1e308
-            else math.nan
-        )
-        if 0.0 < number <= MAX_TIMEOUT_S:
-            return None
-        return f"must be > 0 and at most {MAX_TIMEOUT_S:g} s ({_TIMEOUT_WHY}), got {_shown(value)}"
+        return _timeout_problem(value)
     if name == "sampler":
         return _choice(value, SAMPLERS, "samplers")
     if name == "jacobian_reference":
@@ -223,6 +241,10 @@ class CheckOptions:
             (the time limit still applies); by default a backend whose declared
             cost cannot fit its limit compares a stated subset
             (:mod:`fkcheck.engine.plan`).
+        processes: Most processes an isolated backend (a slow pure-Python one)
+            splits its configurations over (``None``: one per usable core, its
+            CPU quota included); 1 keeps each in one process, for a CI runner
+            shared with other jobs. It changes the time a check takes, never its result.
         sources: Where each option given came from (``--seed``, ``[tool.fkcheck]
             seed in …/pyproject.toml``); absent: a default, or the caller's argument.
 
@@ -243,6 +265,7 @@ class CheckOptions:
     jacobian_reference: JacobianReference | None = None
     tol_jacobian: float | None = None
     full: bool = False
+    processes: int | None = None
     sources: Mapping[str, str] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
@@ -258,22 +281,57 @@ class CheckOptions:
         return (self.sources.get("tol_pos_m", ""), self.sources.get("tol_rot_rad", ""))
 
 
-def _from_project(project: ProjectConfig, name: OptionName) -> Any:
-    """The value ``[tool.fkcheck]`` gives option ``name``, or ``None``."""
-    if name == "jacobian":
-        return project.wants_jacobian  # jacobian_reference and tol_jacobian imply it
-    if name == "require":
-        return project.require or None
-    if name == "timeout_s":
-        return project.timeout
-    return getattr(project, name, None)
+class OptionArgs(TypedDict, total=False):
+    """The options as keyword arguments (:func:`fkcheck.check`): see :class:`CheckOptions`.
+
+    ``None`` (or an empty ``require``) is an argument not given.
+    """
+
+    samples: int | None
+    seed: int | None
+    sampler: Sampler | None
+    timeout_s: float | None
+    frame_from: str | None
+    frame_to: str | None
+    tol_pos_m: float | None
+    tol_rot_rad: float | None
+    require: Sequence[Kind]
+    jacobian: bool | None
+    jacobian_reference: JacobianReference | None
+    tol_jacobian: float | None
+    full: bool | None
+    processes: int | None
+
+
+@dataclass(frozen=True)
+class OptionLayer:
+    """The options one layer below the caller's gives (``[tool.fkcheck]``), each checked.
+
+    :mod:`fkcheck.model.project` reads one from a ``pyproject.toml``;
+    :func:`resolve_options` puts the caller's values over it.
+
+    Attributes:
+        values: Each option the layer sets, by name (one it leaves out is not given).
+        sources: Where each came from, in words (``[tool.fkcheck] seed in …/pyproject.toml``).
+    """
+
+    values: Mapping[OptionName, Any] = field(default_factory=dict)
+    sources: Mapping[OptionName, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "values", MappingProxyType(dict(self.values)))
+        object.__setattr__(self, "sources", MappingProxyType(dict(self.sources)))
+
+    def get(self, name: OptionName) -> Any:
+        """The value the layer gives option ``name``, or ``None``."""
+        return self.values.get(name)
 
 
 def resolve_options(
     given: Mapping[str, Any] | None = None,
     *,
     labels: Mapping[OptionName, str] | None = None,
-    project: ProjectConfig | None = None,
+    project: OptionLayer | None = None,
     base: CheckOptions | None = None,
 ) -> CheckOptions:
     """Each option from the first layer that gives it: ``given`` > ``project`` > default.
@@ -284,7 +342,8 @@ def resolve_options(
         labels: How ``given`` values are named in sources and messages
             (:data:`FLAGS` for the command line); without, they are the caller's
             and a bad one is named by its argument.
-        project: ``[tool.fkcheck]``, whose values are named by key and file.
+        project: ``[tool.fkcheck]``'s options (:attr:`ProjectConfig.options
+            <fkcheck.model.project.ProjectConfig.options>`), named by key and file.
         base: Options already resolved (by the command line, the pytest
             plugin), in place of ``project`` and the defaults.
 
@@ -305,10 +364,11 @@ def resolve_options(
             if name in base.sources:
                 sources[name] = base.sources[name]
             continue
-        value = _from_project(project, name) if project is not None else None
-        if value is not None:
+        value = project.get(name) if project is not None else None
+        if value is not None and value != ():
             values[name] = tuple(value) if name == "require" else value
-            sources[name] = f"[tool.fkcheck] {PROJECT_KEYS[name]} in {project.path}"  # type: ignore[union-attr]
+            if project is not None and name in project.sources:
+                sources[name] = project.sources[name]
     return CheckOptions(**values, sources=sources)
 
 

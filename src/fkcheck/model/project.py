@@ -24,15 +24,20 @@ from __future__ import annotations
 import os
 import tomllib
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from fkcheck.core.typing import JacobianReference
 from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
 from fkcheck.model.lint_rules import parse_lint_rules
-from fkcheck.model.options import PROJECT_KEYS, OptionName, Sampler, option_problem
+from fkcheck.model.options import (
+    FLOAT_OPTIONS,
+    PROJECT_KEYS,
+    OptionLayer,
+    OptionName,
+    option_problem,
+)
 from fkcheck.model.read import is_model_file
 from fkcheck.model.require import Kind, parse_require
 
@@ -54,11 +59,8 @@ REPOSITORY_MARKERS = (".git", ".hg")
 #: How many model files one list may expand to (a glob over a huge tree stops here).
 MAX_MODEL_FILES = 10_000
 
-_KEYS = (
-    "models", "against", "samples", "seed", "sampler", "timeout", "require",
-    "tol_pos_m", "tol_rot_rad", "lint_ignore", "jacobian", "jacobian_reference", "tol_jacobian",
-    "full",
-)  # fmt: skip
+#: Every key, in the order messages list them: the project's own, then the options'.
+_KEYS = ("models", "against", "lint_ignore", *PROJECT_KEYS.values())
 #: What a model file is, in messages.
 _MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
 
@@ -81,55 +83,40 @@ class ProjectError(FkcheckError):
 
 @dataclass(frozen=True)
 class ProjectConfig:
-    """``[tool.fkcheck]`` of one ``pyproject.toml``; ``None`` where it says nothing.
+    """``[tool.fkcheck]`` of one ``pyproject.toml``; empty or ``None`` where it says nothing.
+
+    Its check options are :attr:`options`: a key of :data:`~fkcheck.model.options.PROJECT_KEYS`
+    (``samples``, ``seed``, ``timeout``, ``require``, ``jacobian``…) sets the
+    :class:`~fkcheck.model.options.CheckOptions` attribute of that name, checked by
+    the same rule as its flag.
 
     Attributes:
         path: The ``pyproject.toml`` it came from.
         models: Model files, directories or globs, relative to ``root``.
         against: Backends (as ``--against``).
-        samples: Random samples per model.
-        seed: Seed of the random samples.
-        sampler: ``sobol`` or ``uniform``.
-        timeout: Time limit per backend, seconds.
-        require: Kinds of evidence that must be verified.
-        tol_pos_m: Position tolerance, metres.
-        tol_rot_rad: Rotation tolerance, radians.
         lint_ignore: Lint rules to ignore for every model.
-        jacobian: Also compare Jacobians (as ``check --jacobian``/``--no-jacobian``).
-        jacobian_reference: Their reference frame (as ``--jacobian-reference``).
-        tol_jacobian: Their tolerance, m/rad and rad/rad (as ``--tol-jacobian``).
-        full: Every backend compares every configuration (as ``--full``).
+        options: The check options it sets, each named by its key and this file.
+            ``jacobian_reference`` or ``tol_jacobian`` without ``jacobian`` sets
+            ``jacobian`` too (they imply it, as ``--jacobian-reference`` and
+            ``--tol-jacobian`` do).
     """
 
     path: Path
     models: tuple[str, ...] = ()
     against: tuple[str, ...] | None = None
-    samples: int | None = None
-    seed: int | None = None
-    sampler: Sampler | None = None
-    timeout: float | None = None
-    require: tuple[Kind, ...] = ()
-    tol_pos_m: float | None = None
-    tol_rot_rad: float | None = None
     lint_ignore: tuple[str, ...] = ()
-    jacobian: bool | None = None
-    jacobian_reference: JacobianReference | None = None
-    tol_jacobian: float | None = None
-    full: bool | None = None
+    options: OptionLayer = field(default_factory=OptionLayer)
 
     @property
     def wants_jacobian(self) -> bool | None:
-        """Whether Jacobians are compared, read as the flags are.
+        """Whether Jacobians are compared: ``None`` leaves it to the model's ``[check]``."""
+        wanted: bool | None = self.options.get("jacobian")
+        return wanted
 
-        ``jacobian`` if set; else ``True`` when ``jacobian_reference`` or
-        ``tol_jacobian`` is (they imply it, like ``--jacobian-reference`` and
-        ``--tol-jacobian``); else ``None`` (the model's ``[check] jacobian``).
-        """
-        if self.jacobian is not None:
-            return self.jacobian
-        if self.jacobian_reference is not None or self.tol_jacobian is not None:
-            return True
-        return None
+    @property
+    def require(self) -> tuple[Kind, ...]:
+        """Kinds of evidence that must be verified (on top of each model's ``[check]``)."""
+        return tuple(self.options.get("require") or ())
 
     @property
     def root(self) -> Path:
@@ -169,10 +156,6 @@ def _strings(path: Path, key: str, value: Any) -> tuple[str, ...]:
     return tuple(value)
 
 
-#: Options whose TOML integers are read as floats (``timeout = 60``).
-_FLOATS = ("timeout_s", "tol_pos_m", "tol_rot_rad", "tol_jacobian")
-
-
 def _option(path: Path, table: Mapping[str, Any], name: OptionName) -> Any:
     """Option ``name``'s value if the table sets it (checked by the one rule), else ``None``.
 
@@ -185,7 +168,7 @@ def _option(path: Path, table: Mapping[str, Any], name: OptionName) -> Any:
     if problem is not None:
         raise ProjectError(path, f"tool.fkcheck.{key}", problem)
     value = table[key]
-    return float(value) if name in _FLOATS else value
+    return float(value) if name in FLOAT_OPTIONS else value  # timeout = 60
 
 
 def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
@@ -200,13 +183,6 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
             path, f"tool.fkcheck.{unknown[0]}", f"unknown key; keys are: {', '.join(_KEYS)}"
         )
     try:
-        require = parse_require(_strings(path, "require", table.get("require", [])), "")
-    except ValueError as exc:
-        raise ProjectError(path, "tool.fkcheck.require", str(exc).lstrip(": ")) from None
-    jacobian = table.get("jacobian")
-    if jacobian is not None and not isinstance(jacobian, bool):
-        raise ProjectError(path, "tool.fkcheck.jacobian", "must be true or false")
-    try:
         lint_ignore = parse_lint_rules(_strings(path, "lint_ignore", table.get("lint_ignore", [])))
     except ValueError as exc:
         raise ProjectError(path, "tool.fkcheck.lint_ignore", str(exc)) from None
@@ -214,19 +190,31 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         path=path,
         models=_strings(path, "models", table.get("models", [])),
         against=_strings(path, "against", table["against"]) if "against" in table else None,
-        samples=_option(path, table, "samples"),
-        seed=_option(path, table, "seed"),
-        sampler=_option(path, table, "sampler"),
-        timeout=_option(path, table, "timeout_s"),
-        require=require,
-        tol_pos_m=_option(path, table, "tol_pos_m"),
-        tol_rot_rad=_option(path, table, "tol_rot_rad"),
         lint_ignore=lint_ignore,
-        jacobian=jacobian,
-        jacobian_reference=_option(path, table, "jacobian_reference"),
-        tol_jacobian=_option(path, table, "tol_jacobian"),
-        full=_option(path, table, "full"),
+        options=_options(path, table),
     )
+
+
+def _options(path: Path, table: Mapping[str, Any]) -> OptionLayer:
+    """The check options the table sets, each checked and named by its key and ``path``."""
+    values: dict[OptionName, Any] = {}
+    for name in PROJECT_KEYS:
+        value = _require(path, table) if name == "require" else _option(path, table, name)
+        if value is not None and value != ():
+            values[name] = value
+    if "jacobian" not in values and ({"jacobian_reference", "tol_jacobian"} & set(values)):
+        values["jacobian"] = True  # they imply it, as their flags do
+    return OptionLayer(
+        values, {name: f"[tool.fkcheck] {PROJECT_KEYS[name]} in {path}" for name in values}
+    )
+
+
+def _require(path: Path, table: Mapping[str, Any]) -> tuple[Kind, ...]:
+    """``require``: a kind or a list of kinds (``table``, ``implementation``)."""
+    try:
+        return parse_require(_strings(path, "require", table.get("require", [])), "")
+    except ValueError as exc:
+        raise ProjectError(path, "tool.fkcheck.require", str(exc).lstrip(": ")) from None
 
 
 def load_project(start: Path | None = None) -> ProjectConfig | None:

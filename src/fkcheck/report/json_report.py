@@ -169,9 +169,10 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
     record = check_record(check)
     return {
         "model": check.model.name,
-        "samples": check.samples,
-        "seed": check.seed,
-        "sampler": check.sampler,
+        "samples": check.options.samples,
+        "seed": check.options.seed,
+        "sampler": check.options.sampler,
+        "timeout_s": check.options.timeout_s,
         "configurations": int(check.q.shape[0]),
         "from": check.frame_from,
         "to": check.frame_to,

@@ -105,8 +105,9 @@ def markdown_summary(
         lines.append("")
         lines.append(
             f"{escape_markdown(check.frame_from)} → {escape_markdown(check.frame_to)}, "
-            f"{record.configurations} configurations (seed {check.seed}), tolerance "
-            f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad."
+            f"{record.configurations} configurations (seed {check.options.seed}), tolerance "
+            f"{check.tol_pos_m:g} m / {check.tol_rot_rad:g} rad; time limit "
+            f"{check.options.timeout_s:g} s per backend."
         )
         for line in (record.numbers_line, record.calibration_line):
             if line:

@@ -67,10 +67,10 @@ def _configurations(check: CheckResult) -> str:
         "mid": "mid-range",
         "corner": "limit corners",
         "edge": "limit edges",
-        "random": f"{check.sampler} samples",
+        "random": f"{check.options.sampler} samples",
     }
     parts = [f"{counts[key]} {label}" for key, label in names.items() if counts.get(key)]
-    return f"{check.q.shape[0]} ({', '.join(parts)}); seed {check.seed}"
+    return f"{check.q.shape[0]} ({', '.join(parts)}); seed {check.options.seed}"
 
 
 def build_report_page(
@@ -127,6 +127,7 @@ def build_report_page(
         ),
         Fact("tolerance", tol),
         Fact("configurations", _configurations(check)),
+        Fact("time limit", f"{check.options.timeout_s:g} s per backend"),
         Fact("reference", f"{REFERENCE_NAME}: the in-house DH core ({model.convention} DH)"),
         Fact(
             "model file",
