@@ -58,7 +58,6 @@ import bisect
 import math
 import os
 import stat
-from array import array
 from collections import deque
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -906,7 +905,7 @@ def read_bag(
         poses.append(T)
     q_all, poses_all = np.concatenate(qs), np.concatenate(poses)
     try:
-        measured._check_duplicates(q_all, poses_all, array("q", range(1, count + 1)), path)
+        measured._check_duplicates(q_all, poses_all, np.arange(1, count + 1, dtype=np.int64), path)
     except PosesFileError as exc:  # its rows are the pairs, counted from 1 as recorded
         raise BagError(path, exc.problem.replace("lines", "pairs", 1)) from None
     return q_all, poses_all, pair, pairs.provenance.method
