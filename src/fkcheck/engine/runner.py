@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations
+from fkcheck.backends.base import Backend, FixedConfigurations, reads_format
 from fkcheck.backends.registry import check_known_differences
 from fkcheck.calibration.description import screen_kinematics
 from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
@@ -37,6 +37,8 @@ from fkcheck.calibration.lint import lint_calibrated
 from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
+from fkcheck.description.registry import load_description, model_format
+from fkcheck.description.types import Description, DescriptionFormat
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.expected import apply_known_differences, known_difference_findings
 from fkcheck.engine.jacobian import Explain, JacobianSpec, check_fixed_from
@@ -68,7 +70,7 @@ from fkcheck.process.isolation import (
     terminate_all,
 )
 from fkcheck.process.supervise import acting_for
-from fkcheck.urdf.chain import competing_links, urdf_kinematics
+from fkcheck.urdf.chain import competing_links
 from fkcheck.urdf.locate import display_path
 
 if TYPE_CHECKING:
@@ -206,6 +208,7 @@ class _InChild:
         self.method = backend.method
         self.evidence = backend.evidence
         self.reads = backend.reads
+        self.formats = getattr(backend, "formats", ())
         self.isolated = False  # it is the isolation
         self.imports: tuple[str, ...] = ()  # imported in its own process
         self.distributions = backend.distributions
@@ -360,14 +363,12 @@ def _place_urdf_links(
         if name.startswith(URDF_FRAME_PREFIX)
         and not any(s.urdf == name[len(URDF_FRAME_PREFIX) :] for s in model.frames.values())
     ]
-    if not wanted or model.urdf is None:
+    if not wanted or model_format(model) is None:
         return model, {}  # resolve_frame says what is wrong, if anything
-    from fkcheck.urdf.chain import urdf_kinematics  # scipy.optimize: only when needed
-    from fkcheck.urdf.mapping import with_link_frames
-    from fkcheck.urdf.source import load_urdf
+    from fkcheck.urdf.mapping import with_link_frames  # scipy.optimize: only when needed
 
     try:
-        kin = urdf_kinematics(load_urdf(model, xacro_timeout_s))
+        kin = load_description(model, xacro_timeout_s).tree
     except BackendUnavailable as exc:
         raise FkcheckError(f"{wanted[0]}: the URDF cannot be read here: {exc}") from None
     return with_link_frames(model, kin, wanted)
@@ -383,16 +384,20 @@ def _placed_reason(placed: Mapping[str, LinkFit]) -> str:
     )
 
 
-def _check_twins(model: Model, pair: Sequence[str], links: Sequence[str], urdf: str) -> None:
-    """The URDF links of the compared frames exist (a frame not compared may lack its link).
+def _check_twins(
+    model: Model, pair: Sequence[str], fmt: DescriptionFormat, described: Description
+) -> None:
+    """The description's frames of the compared frames exist (one not compared may lack its own).
 
     Raises:
-        FrameError: A compared frame names a link the URDF does not have (listing them).
+        FrameError: A compared frame names a frame the description does not have (listing them).
     """
+    links = described.frames
     for name in pair:
-        link = resolve_frame(model, name).urdf
+        link = fmt.frame(resolve_frame(model, name))
         if link is not None and link not in links:
-            raise FrameError(link, f"URDF {urdf} (frame {name})", links)
+            where = f"{described.language.upper()} {described.path.name} (frame {name})"
+            raise FrameError(link, where, links)
 
 
 #: How long the main thread waits on a backend's thread at a time, s (see run_check).
@@ -476,7 +481,6 @@ def run_check(
             (or :data:`EVIDENCE_MIN_S`, when longer).
         FkcheckError: Other bad input reported by a backend.
     """
-    from fkcheck.urdf.source import load_urdf
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
     CheckOptions(samples=samples, seed=seed, sampler=sampler, timeout_s=timeout_s)  # in range
@@ -495,19 +499,19 @@ def run_check(
     )
     if jacobian is not None:
         check_fixed_from(model, pair[0])
-    reads_urdf = any(b.reads == "urdf" for b in backends)
+    fmt = model_format(model)
+    read = fmt is not None and any(reads_format(b, fmt.name) for b in backends)
     competitors: dict[str, list[Competitor]] = {}
-    # A xacro file is expanded (its macros run) only when a backend reads the URDF.
-    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
-        # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
-        # is not: each URDF backend then reports itself skipped.
+    # A description whose reading runs code (xacro) is read only when a backend reads it.
+    if fmt is not None and (read or not fmt.executes):
+        # Bad description input is exit 2 before anything runs; a missing
+        # example-robot-data is not: each reader then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
-            info = load_urdf(model, xacro_timeout_s)
-            if reads_urdf:
-                _check_twins(model, pair, info.links, info.path.name)
-                competitors = competing_links(model, pair, urdf_kinematics(info))
-            if model.urdf.xacro:  # the expansion travels with the model: run the file once
-                model = replace(model, urdf=replace(model.urdf, expanded=info.text))
+            described = load_description(model, xacro_timeout_s)
+            if read:
+                _check_twins(model, pair, fmt, described)
+                competitors = competing_links(model, pair, described.tree)
+            model = fmt.carry(model, described)  # an expansion travels: run the file once
     q = _fixed_configurations(model, backends) or sample_configurations(
         model, samples, seed, sampler
     )
@@ -541,7 +545,7 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        if placed and backend.reads != "urdf":
+        if placed and not (fmt is not None and reads_format(backend, fmt.name)):
             outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
         else:
             share = plan.backends[index]
