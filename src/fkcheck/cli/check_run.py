@@ -119,25 +119,25 @@ def check_with_progress(
 def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> None:
     """Read what the check will read before its header is printed, so bad input is one line.
 
-    A measured-poses file and the model's URDF (expanded once, if xacro: the check
-    reuses the expansion) are read here; their errors are the check's own.
+    A measured-poses file and the model's description (expanded once, if xacro: the
+    check reuses the expansion) are read here; their errors are the check's own.
     """
     import contextlib
 
-    from fkcheck.backends.base import FixedConfigurations
+    from fkcheck.backends.base import FixedConfigurations, reads_format
     from fkcheck.calibration.description import screen_kinematics
+    from fkcheck.description.registry import DESCRIPTION_TIMEOUT_S, load_description, model_format
     from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import load_urdf
-    from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
     for backend in backends:
         if isinstance(backend, FixedConfigurations):
             backend.configurations(model)
-    reads_urdf = any(b.reads == "urdf" for b in backends)
+    fmt = model_format(model)
+    read = fmt is not None and any(reads_format(b, fmt.name) for b in backends)
     screen_kinematics(model)  # before the description is expanded with it
-    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
-        with contextlib.suppress(BackendUnavailable):  # each URDF backend says so itself
-            load_urdf(model, min(timeout_s, XACRO_TIMEOUT_S))
+    if fmt is not None and (read or not fmt.executes):
+        with contextlib.suppress(BackendUnavailable):  # each reader says so itself
+            load_description(model, min(timeout_s, DESCRIPTION_TIMEOUT_S))
 
 
 def write_summaries(

@@ -75,7 +75,7 @@ def format_of_file(path: str | Path) -> DescriptionFormat:
     """The format a file named on the command line is read as, by its suffix.
 
     A file no format claims is read as a URDF (whose screen refuses xacro and
-    says how to allow it), as ``map`` and ``dh-from-urdf`` always did.
+    says how to allow it), as ``map`` and ``table-from`` always did.
     """
     name = str(path).lower()
     for fmt in sorted(FORMATS, key=lambda f: -max((len(s) for s in f.suffixes), default=0)):
@@ -90,10 +90,14 @@ def description_frame(model: Model, spec: FrameSpec) -> str | None:
     return None if fmt is None else fmt.frame(spec)
 
 
-def load_description(model: Model, timeout_s: float = DESCRIPTION_TIMEOUT_S) -> Description:
+def load_description(
+    model: Model, timeout_s: float = DESCRIPTION_TIMEOUT_S, *, mapping: bool = True
+) -> Description:
     """``model``'s description: found, screened, read once per process, its mapping checked.
 
-    ``timeout_s`` bounds any code the reading runs (a xacro expansion).
+    ``timeout_s`` bounds any code the reading runs (a xacro expansion);
+    ``mapping=False`` leaves the joint mapping unchecked (``map``, which proposes it,
+    and the files a run reads).
 
     Raises:
         UrdfError: The model has no description; or it is missing, unsafe, not
@@ -119,7 +123,8 @@ def load_description(model: Model, timeout_s: float = DESCRIPTION_TIMEOUT_S) -> 
                 _KEPT[key] = (description, digests)
                 while len(_KEPT) > _KEPT_SIZE:
                     del _KEPT[next(iter(_KEPT))]
-    fmt.check_mapping(model, description)
+    if mapping:
+        fmt.check_mapping(model, description)
     return description
 
 

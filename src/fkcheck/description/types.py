@@ -102,6 +102,15 @@ class DescriptionFormat(Protocol):
         """What identifies ``model``'s description besides its files' bytes (the cache's key)."""
         ...
 
+    def locate(self, model: Model) -> Path:
+        """The file ``model`` names, found but not read.
+
+        Raises:
+            UrdfError: It does not exist, is not a regular file or is too large.
+            BackendUnavailable: It names a package that is not installed.
+        """
+        ...
+
     def read_model(self, model: Model, timeout_s: float) -> Description:
         """Find, screen and read ``model``'s description (no cache, no mapping check).
 

@@ -17,7 +17,11 @@ from fkcheck.description.types import Description
 from fkcheck.errors import XacroRefused
 from fkcheck.model.types import FrameSpec, Model
 from fkcheck.urdf.chain import KinematicTree, read_urdf_source, urdf_kinematics
-from fkcheck.urdf.source import check_urdf_mapping, read_model_urdf_expanded
+from fkcheck.urdf.source import (
+    check_urdf_mapping,
+    read_model_urdf_expanded,
+    resolve_urdf_path,
+)
 from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = ["URDF", "XACRO", "UrdfFormat", "urdf_description", "urdf_info"]
@@ -87,6 +91,10 @@ class UrdfFormat:
             tuple(sorted(u.xacro_files.items())),
             u.expanded,
         )
+
+    def locate(self, model: Model) -> Path:
+        """``[urdf].path`` resolved (:func:`~fkcheck.urdf.source.resolve_urdf_path`)."""
+        return resolve_urdf_path(model)[0]
 
     def read_model(self, model: Model, timeout_s: float) -> Description:
         """The model's URDF, screened; a xacro file expanded first.

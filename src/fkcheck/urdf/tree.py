@@ -2,7 +2,7 @@
 
 Every URDF backend parses the URDF with its own parser (urdfdom, lxml, Robotics
 Toolbox's reader); :func:`read_urdf` runs first, for all of them and for
-``dh-from-urdf`` and ``diagnose``:
+``table-from`` and ``diagnose``:
 
 * it reads and screens the document with :mod:`fkcheck.urdf.screen` (regular files
   only, no DTD or entities, no xacro, no includes, size and nesting bounds) and
