@@ -61,6 +61,7 @@ __all__ = [
     "contract_problems",
     "reads_description",
     "reads_format",
+    "reads_model_description",
     "validated_q",
 ]
 
@@ -301,6 +302,14 @@ def _format_problems(reads: str, formats: tuple[str, ...]) -> list[str]:
 def reads_format(backend: Backend, fmt: str) -> bool:
     """Whether ``backend`` reads descriptions of format ``fmt`` (``"urdf"``, ``"xacro"``)."""
     return fmt in getattr(backend, "formats", ())
+
+
+def reads_model_description(backend: Backend, model: Model) -> bool:
+    """Whether ``backend`` reads ``model``'s description (its format is one it reads)."""
+    from fkcheck.description.registry import model_format
+
+    fmt = model_format(model)
+    return fmt is not None and reads_format(backend, fmt.name)
 
 
 def reads_description(backend: Backend) -> bool:

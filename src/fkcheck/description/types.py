@@ -94,6 +94,10 @@ class DescriptionFormat(Protocol):
         """The description's joint for each DH joint, in DH order (``[urdf].joints``)."""
         ...
 
+    def written(self, model: Model) -> str:
+        """The description's file as ``model``'s file names it (``[urdf].path``)."""
+        ...
+
     def frame(self, spec: FrameSpec) -> str | None:
         """The frame of the description ``spec`` is mapped onto (its ``frame_key``), or ``None``."""
         ...
@@ -153,6 +157,10 @@ class DescriptionFormat(Protocol):
 
     def tree(self, description: Description) -> KinematicTree:
         """The kinematic tree of a description this format read."""
+        ...
+
+    def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
+        """``model`` with its joint mapping (:meth:`mapped_joints`) replaced by ``joints``."""
         ...
 
     def carry(self, model: Model, description: Description) -> Model:

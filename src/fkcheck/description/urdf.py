@@ -73,6 +73,11 @@ class UrdfFormat:
         """``[urdf].joints``: the URDF joint of each DH joint (``()`` without ``[urdf]``)."""
         return () if model.urdf is None else tuple(model.urdf.joints)
 
+    def written(self, model: Model) -> str:
+        """``[urdf].path`` as written."""
+        assert model.urdf is not None
+        return model.urdf.path
+
     def frame(self, spec: FrameSpec) -> str | None:
         """The frame's ``urdf`` link, or ``None``."""
         return spec.urdf
@@ -127,6 +132,11 @@ class UrdfFormat:
     def tree(self, description: Description) -> KinematicTree:
         """The URDF's kinematic tree (:func:`~fkcheck.urdf.chain.urdf_kinematics`)."""
         return urdf_kinematics(urdf_info(description))
+
+    def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
+        """``model`` with ``[urdf].joints`` replaced."""
+        assert model.urdf is not None
+        return replace(model, urdf=replace(model.urdf, joints=tuple(joints)))
 
     def carry(self, model: Model, description: Description) -> Model:
         """``model`` with ``[urdf].expanded`` set to a xacro file's expansion.
