@@ -305,11 +305,10 @@ def reads_format(backend: Backend, fmt: str) -> bool:
 
 
 def reads_model_description(backend: Backend, model: Model) -> bool:
-    """Whether ``backend`` reads ``model``'s description (its format is one it reads)."""
-    from fkcheck.description.registry import model_format
+    """Whether ``backend`` reads one of ``model``'s descriptions (its format is one it reads)."""
+    from fkcheck.description.registry import model_formats
 
-    fmt = model_format(model)
-    return fmt is not None and reads_format(backend, fmt.name)
+    return any(reads_format(backend, fmt.name) for fmt in model_formats(model))
 
 
 def reads_description(backend: Backend) -> bool:

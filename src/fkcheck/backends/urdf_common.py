@@ -166,7 +166,7 @@ def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str
     """
     if importlib.util.find_spec(module) is None:
         return install_hint
-    fmt = model_format(model)
+    fmt = model_format(model, "urdf")
     if fmt is None:
         return "model has no [urdf]"
     if fmt.name not in UrdfReader.formats:
@@ -238,8 +238,8 @@ def urdf_inputs(
         UnmappedFrameError: A frame has no ``urdf`` twin.
         JointInputError: ``q`` has the wrong shape or non-finite values.
     """
-    fmt = model_format(model)
+    fmt = model_format(model, "urdf")
     if fmt is None or fmt.name not in UrdfReader.formats:
         raise BackendUnavailable("model has no [urdf]")
-    info = urdf_info(load_description(model))
+    info = urdf_info(load_description(model, language="urdf"))
     return info, validated_q(model, q), urdf_twins(model, frames, backend, info.links)

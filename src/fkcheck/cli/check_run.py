@@ -126,18 +126,19 @@ def _read_inputs(model: Model, backends: list[Backend], timeout_s: float) -> Non
 
     from fkcheck.backends.base import FixedConfigurations, reads_format
     from fkcheck.calibration.description import screen_kinematics
-    from fkcheck.description.registry import DESCRIPTION_TIMEOUT_S, load_description, model_format
+    from fkcheck.description.registry import DESCRIPTION_TIMEOUT_S, load_description, model_formats
     from fkcheck.errors import BackendUnavailable
 
     for backend in backends:
         if isinstance(backend, FixedConfigurations):
             backend.configurations(model)
-    fmt = model_format(model)
-    read = fmt is not None and any(reads_format(b, fmt.name) for b in backends)
     screen_kinematics(model)  # before the description is expanded with it
-    if fmt is not None and (read or not fmt.executes):
+    for fmt in model_formats(model):
+        if fmt.executes and not any(reads_format(b, fmt.name) for b in backends):
+            continue  # code in a description (xacro) runs only when a backend reads it
         with contextlib.suppress(BackendUnavailable):  # each reader says so itself
-            load_description(model, min(timeout_s, DESCRIPTION_TIMEOUT_S))
+            limit = min(timeout_s, DESCRIPTION_TIMEOUT_S)
+            load_description(model, limit, language=fmt.language)
 
 
 def write_summaries(

@@ -22,7 +22,7 @@ from pathlib import Path
 from fkcheck.description.types import Description, DescriptionFormat
 from fkcheck.description.urdf import URDF, XACRO
 from fkcheck.errors import FkcheckError, UrdfError
-from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.types import Model
 from fkcheck.urdf.screen import MAX_URDF_BYTES
 from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
@@ -31,11 +31,11 @@ __all__ = [
     "FORMATS",
     "LANGUAGES",
     "clear_descriptions",
-    "description_frame",
     "format_named",
     "format_of_file",
     "load_description",
     "model_format",
+    "model_formats",
     "read_description_file",
 ]
 
@@ -63,10 +63,19 @@ def format_named(name: str) -> DescriptionFormat:
     )
 
 
-def model_format(model: Model) -> DescriptionFormat | None:
-    """The format ``model`` declares its description in, or ``None`` when it has none."""
-    for fmt in FORMATS:
-        if fmt.declared_by(model):
+def model_formats(model: Model) -> tuple[DescriptionFormat, ...]:
+    """Every description format ``model`` declares (one per section), in :data:`FORMATS` order."""
+    return tuple(fmt for fmt in FORMATS if fmt.declared_by(model))
+
+
+def model_format(model: Model, language: str | None = None) -> DescriptionFormat | None:
+    """The format of ``model``'s description (the first it declares), or ``None``.
+
+    ``language``: the format of its description in that language (``"urdf"``
+    for ``[urdf]``, whether URDF or xacro).
+    """
+    for fmt in model_formats(model):
+        if language is None or fmt.language == language:
             return fmt
     return None
 
@@ -84,29 +93,29 @@ def format_of_file(path: str | Path) -> DescriptionFormat:
     return URDF
 
 
-def description_frame(model: Model, spec: FrameSpec) -> str | None:
-    """The frame of ``model``'s description that ``spec`` is mapped onto, or ``None``."""
-    fmt = model_format(model)
-    return None if fmt is None else fmt.frame(spec)
-
-
 def load_description(
-    model: Model, timeout_s: float = DESCRIPTION_TIMEOUT_S, *, mapping: bool = True
+    model: Model,
+    timeout_s: float = DESCRIPTION_TIMEOUT_S,
+    *,
+    mapping: bool = True,
+    language: str | None = None,
 ) -> Description:
     """``model``'s description: found, screened, read once per process, its mapping checked.
 
     ``timeout_s`` bounds any code the reading runs (a xacro expansion);
     ``mapping=False`` leaves the joint mapping unchecked (``map``, which proposes it,
-    and the files a run reads).
+    and the files a run reads); ``language``: its description in that language
+    (:func:`model_format`), for a model that declares more than one.
 
     Raises:
         UrdfError: The model has no description; or it is missing, unsafe, not
             valid, or a mapped joint is missing or of the wrong type.
         BackendUnavailable: It names a package that is not installed.
     """
-    fmt = model_format(model)
+    fmt = model_format(model, language)
     if fmt is None:
-        raise UrdfError(f"model {model.name}", "has no [urdf] table")
+        section = "urdf" if language is None else language
+        raise UrdfError(f"model {model.name}", f"has no [{section}] table")
     key = (fmt.name, fmt.key(model), os.getcwd())
     with _LOCK:
         kept = _KEPT.get(key)

@@ -46,10 +46,10 @@ def urdf_derivation(model: Model, tol: tuple[float, float]) -> Derivation | None
     the URDF language (``fkcheck urdf`` writes URDF only: another format's
     derivation is not recognised).
     """
-    if model_format(model) is None:
+    if model_format(model, "urdf") is None:
         return None
     try:
-        described = load_description(model)
+        described = load_description(model, language="urdf")
     except (FkcheckError, Skip):
         return None
     if described.language != "urdf":
@@ -102,7 +102,7 @@ def apply_provenance(
         computed from it (see the module docstring).
     """
     results = _computed_poses(backends, results)
-    fmt = model_format(model)
+    fmt = model_format(model, "urdf")  # fkcheck writes URDF only: its readers
     readers = [
         i
         for i, (b, r) in enumerate(zip(backends, results, strict=True))

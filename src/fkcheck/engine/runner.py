@@ -37,7 +37,7 @@ from fkcheck.calibration.lint import lint_calibrated
 from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.description.registry import load_description, model_format
+from fkcheck.description.registry import load_description, model_format, model_formats
 from fkcheck.description.types import Description, DescriptionFormat
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.expected import apply_known_differences, known_difference_findings
@@ -363,12 +363,12 @@ def _place_urdf_links(
         if name.startswith(URDF_FRAME_PREFIX)
         and not any(s.urdf == name[len(URDF_FRAME_PREFIX) :] for s in model.frames.values())
     ]
-    if not wanted or model_format(model) is None:
+    if not wanted or model_format(model, "urdf") is None:
         return model, {}  # resolve_frame says what is wrong, if anything
     from fkcheck.urdf.mapping import with_link_frames  # scipy.optimize: only when needed
 
     try:
-        kin = load_description(model, xacro_timeout_s).tree
+        kin = load_description(model, xacro_timeout_s, language="urdf").tree
     except BackendUnavailable as exc:
         raise FkcheckError(f"{wanted[0]}: the URDF cannot be read here: {exc}") from None
     return with_link_frames(model, kin, wanted)
@@ -499,19 +499,21 @@ def run_check(
     )
     if jacobian is not None:
         check_fixed_from(model, pair[0])
-    fmt = model_format(model)
-    read = fmt is not None and any(reads_format(b, fmt.name) for b in backends)
     competitors: dict[str, list[Competitor]] = {}
-    # A description whose reading runs code (xacro) is read only when a backend reads it.
-    if fmt is not None and (read or not fmt.executes):
+    for fmt in model_formats(model):
+        read = any(reads_format(b, fmt.name) for b in backends)
+        if fmt.executes and not read:  # code in a description (xacro) runs only when read
+            continue
         # Bad description input is exit 2 before anything runs; a missing
         # example-robot-data is not: each reader then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
-            described = load_description(model, xacro_timeout_s)
+            described = load_description(model, xacro_timeout_s, language=fmt.language)
             if read:
                 _check_twins(model, pair, fmt, described)
-                competitors = competing_links(model, pair, described.tree)
+                for name, found in competing_links(model, pair, described.tree, fmt.frame).items():
+                    competitors.setdefault(name, []).extend(found)
             model = fmt.carry(model, described)  # an expansion travels: run the file once
+    urdf = model_format(model, "urdf")  # placed urdf:LINK frames are its readers' alone
     q = _fixed_configurations(model, backends) or sample_configurations(
         model, samples, seed, sampler
     )
@@ -545,7 +547,7 @@ def run_check(
     lock = threading.Lock()
 
     def run_and_collect(index: int, backend: Backend) -> None:
-        if placed and not (fmt is not None and reads_format(backend, fmt.name)):
+        if placed and not (urdf is not None and reads_format(backend, urdf.name)):
             outcome: BackendResult | FkcheckError = _skipped(backend, _placed_reason(placed))
         else:
             share = plan.backends[index]

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import collections
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,7 +33,7 @@ from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError, UrdfError, XacroRefused
 from fkcheck.model.coverage import Competitor
-from fkcheck.model.types import Model, resolve_frame
+from fkcheck.model.types import FrameSpec, Model, resolve_frame
 from fkcheck.urdf.tree import UrdfInfo, chain_between
 
 __all__ = [
@@ -403,9 +403,14 @@ def read_urdf_file(
 
 
 def competing_links(
-    model: Model, pair: Sequence[str], kin: KinematicTree
+    model: Model,
+    pair: Sequence[str],
+    kin: KinematicTree,
+    twin: Callable[[FrameSpec], str | None] = lambda spec: spec.urdf,
 ) -> dict[str, list[Competitor]]:
-    """For each compared frame with a URDF twin, the other links fixed to its link.
+    """For each compared frame with a twin in ``kin``, the other links fixed to its link.
+
+    ``twin`` gives a frame's twin in that description (default: its ``urdf`` link).
 
     Each is placed relative to the frame's DH frame: the frame's offset composed
     with the URDF's fixed joints (:meth:`KinematicTree.rigid`). Which of them is
@@ -414,11 +419,12 @@ def competing_links(
     out: dict[str, list[Competitor]] = {}
     for name in dict.fromkeys(pair):
         spec = resolve_frame(model, name)
-        if spec.urdf is None:
+        link = twin(spec)
+        if link is None:
             continue
         anchor_T_frame = spec.offset.matrix
         out[spec.name] = [
-            Competitor(link, anchor_T_frame @ frame_T_link)
-            for link, frame_T_link in kin.rigid(spec.urdf).items()
+            Competitor(other, anchor_T_frame @ frame_T_link)
+            for other, frame_T_link in kin.rigid(link).items()
         ]
     return out
