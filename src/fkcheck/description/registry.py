@@ -123,10 +123,11 @@ def load_description(
         description = kept[0]
     else:
         description = fmt.read_model(model, timeout_s)
-        digests = _digests(description.files)
         # An expansion is kept by its format (which knows whether it looked for files
         # it did not read, :func:`fkcheck.urdf.xacro.read_xacro`), not here.
-        if digests is not None and not format_named(description.format).executes:
+        kept_here = not format_named(description.format).executes
+        digests = _digests(description.files) if kept_here else None
+        if digests is not None:
             with _LOCK:
                 _KEPT.pop(key, None)
                 _KEPT[key] = (description, digests)
