@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.cli._outputs import Input, description_inputs, plan
     from fkcheck.cli.expand import xacro_inputs
     from fkcheck.description.registry import (
+        format_named,
         load_description,
         model_format,
         read_description_file,
@@ -94,10 +96,11 @@ def run(args: argparse.Namespace) -> int:
             xacro_args = values
             declared = {name: path_for(where, model.path) for name, where in packages.items()}
         spec = urdf_spec_for(described.path, model.path)  # relative to the model file it goes in
-    elif model_format(model) is not None and model.urdf is not None:
-        described = load_description(model, mapping=False)  # screened; expanded if xacro = true
-        spec = model.urdf.path
-        if model.urdf.xacro:
+    elif (declared_fmt := model_format(model)) is not None:
+        # screened; expanded first when xacro = true
+        described = load_description(model, mapping=False, language=declared_fmt.language)
+        spec = declared_fmt.written(model)
+        if declared_fmt.executes and model.urdf is not None:
             xacro_args, declared = dict(model.urdf.xacro_args), dict(model.urdf.packages)
     else:
         raise FkcheckError(
@@ -111,7 +114,10 @@ def run(args: argparse.Namespace) -> int:
         model, kin, spec, samples=args.samples, seed=args.seed,
         xacro_args=xacro_args, packages=declared,
     )  # fmt: skip
-    text = proposal_toml(result)
+    fmt = format_named(described.format)  # the block is in its section, frames by its key
+    text = proposal_toml(
+        result, fmt.section, lambda s: fmt.with_frame(replace(s, urdf=None), s.urdf)
+    )
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:
         command = shlex.join(["fkcheck", "check", args.model, *result.check_flags])

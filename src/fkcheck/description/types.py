@@ -102,6 +102,10 @@ class DescriptionFormat(Protocol):
         """The frame of the description ``spec`` is mapped onto (its ``frame_key``), or ``None``."""
         ...
 
+    def with_frame(self, spec: FrameSpec, twin: str | None) -> FrameSpec:
+        """``spec`` mapped onto ``twin`` of a description in this format (its ``frame_key``)."""
+        ...
+
     def key(self, model: Model) -> tuple[object, ...]:
         """What identifies ``model``'s description besides its files' bytes (the cache's key)."""
         ...

@@ -82,6 +82,10 @@ class UrdfFormat:
         """The frame's ``urdf`` link, or ``None``."""
         return spec.urdf
 
+    def with_frame(self, spec: FrameSpec, twin: str | None) -> FrameSpec:
+        """``spec`` with ``urdf = twin``."""
+        return replace(spec, urdf=twin)
+
     def key(self, model: Model) -> tuple[object, ...]:
         """``[urdf]``'s path and xacro keys, the model file's folder and the kept expansion."""
         assert model.urdf is not None
