@@ -5,7 +5,8 @@ that what the site shows is checked where Sphinx is not installed:
 
 * :func:`backends_markdown` — every registered backend (:data:`fkcheck.backends.registry.BUILTIN`
   and installed entry points): name, what it is (its class docstring's first line),
-  the evidence its agreement gives, what it reads, whether a plain check runs it.
+  the evidence its agreement gives, what it reads (and which description formats),
+  whether a plain check runs it.
 * :func:`model_schema_markdown` — every section of a model file and the keys its reader
   accepts (the ``*_KEYS`` each reader in :mod:`fkcheck.model.sections` declares), each
   described by the ``Attributes:`` of the type it is read into.
@@ -122,20 +123,23 @@ def backends_markdown() -> list[str]:
     from fkcheck.backends import registry
 
     rows = [
-        "| name | what it is | evidence | reads | runs |",
-        "|---|---|---|---|---|",
+        "| name | what it is | evidence | reads | formats | runs |",
+        "|---|---|---|---|---|---|",
     ]
     for reg in (*registry.registrations(), registry._PLUGIN):
         cls = reg.factory()
         evidence = reg.declared("evidence") if reg is not registry._PLUGIN else cls.evidence
         reads = reg.declared("reads") if reg is not registry._PLUGIN else cls.reads
+        found = reg.declared("formats") if reg is not registry._PLUGIN else cls.formats
+        formats = ", ".join(found or ()) or "-"
         runs = "by default" if reg.default else f"`--against {reg.name}…`"
         if not reg.prefixed and not reg.default and reg is not registry._PLUGIN:
             runs = f"`--against {reg.name}`"
         if reg is registry._PLUGIN:
             runs = "`--against mypkg.fk:forward`"
         name = f"`{reg.shown}`"
-        rows.append(f"| {name} | {_cell(_first_line(cls))} | {evidence} | {reads} | {runs} |")
+        what = _cell(_first_line(cls))
+        rows.append(f"| {name} | {what} | {evidence} | {reads} | {formats} | {runs} |")
     return rows
 
 

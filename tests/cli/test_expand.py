@@ -1,4 +1,4 @@
-"""`fkcheck expand` and `dh-from-urdf --allow-xacro` as a user runs them."""
+"""`fkcheck expand` and `table-from --allow-xacro` as a user runs them."""
 
 from __future__ import annotations
 
@@ -100,7 +100,7 @@ def test_expand_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, edit,
 def test_dh_from_urdf_needs_the_opt_in_and_then_writes_a_model_that_checks(tmp_path, capsys):
     top, package = write_description(tmp_path)
     model = tmp_path / "robot" / "derived.toml"
-    base = ["dh-from-urdf", top, "--base", "base", "--tip", "tip", "-o", model]
+    base = ["table-from", top, "--base", "base", "--tip", "tip", "-o", model]
     code, _, err = run(capsys, *base)
     assert code == 2
     assert "--allow-xacro" in err

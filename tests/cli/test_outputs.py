@@ -67,7 +67,7 @@ COMMANDS = [
     ("bench-json", ["bench", MODEL, "--n", "4", "--repeat", "1", "--json", "{target}"]),
     ("map-o", ["map", MODEL, "--samples", "8", "-o", "{target}"]),
     ("map-urdf-o", ["map", MODEL, XACRO, "--samples", "8", *XACRO_OPTIONS, "-o", "{target}"]),
-    ("dh-from-urdf-o", ["dh-from-urdf", XACRO, "--base", "base", "--tip", "tip", *XACRO_OPTIONS,
+    ("table-from-o", ["table-from", XACRO, "--base", "base", "--tip", "tip", *XACRO_OPTIONS,
                         "-o", "{target}"]),
     ("expand-o", ["expand", XACRO, "--package", "arm_description=arm_description", "-o",
                   "{target}"]),

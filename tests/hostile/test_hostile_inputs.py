@@ -579,7 +579,7 @@ ROUND_THREE = {
     "dh_from_urdf_name_not_utf8": (
         {"d": write_description},
         [
-            "dh-from-urdf",
+            "table-from",
             XACRO,
             "--allow-xacro",
             "--package",

@@ -1,7 +1,7 @@
 """Hostile and broken URDFs: one clear line and exit 2, before any parser sees them.
 
 Every command that reads a URDF — ``check`` with each URDF backend, ``check``
-writing reports, ``diagnose`` and ``dh-from-urdf`` — runs each hostile URDF.
+writing reports, ``diagnose`` and ``table-from`` — runs each hostile URDF.
 Each case asserts: exit code 2; standard error (captured at the file-descriptor
 level, so a native library's own prints count too) is exactly one line naming
 the file and the problem, with no traceback; no parser entry point was called;
@@ -24,7 +24,7 @@ import pytest
 import fkcheck.backends.pinocchio_urdf as pinocchio_urdf
 import fkcheck.backends.rtb_urdf as rtb_urdf
 import fkcheck.backends.yourdfpy_urdf as yourdfpy_urdf
-import fkcheck.engine.axes as engine_axes
+import fkcheck.description.urdf as description_urdf
 import fkcheck.engine.runner as check_module
 import fkcheck.urdf.chain as urdf_kinematics
 from fkcheck.cli.main import main
@@ -128,8 +128,8 @@ COMMANDS: dict[str, Callable[[Path, Path, Path], list[str | Path]]] = {
         "--junit", o / "r.xml",
     ],
     "diagnose": lambda m, u, o: ["diagnose", m, "--samples", "5", "--json", o / "d.json"],
-    "dh-from-urdf": lambda m, u, o: [
-        "dh-from-urdf", u, "--base", "base_link", "--tip", "tool0", "-o", o / "m.toml",
+    "table-from": lambda m, u, o: [
+        "table-from", u, "--base", "base_link", "--tip", "tool0", "-o", o / "m.toml",
     ],
 }  # fmt: skip
 
@@ -151,8 +151,8 @@ def parser_calls(monkeypatch: pytest.MonkeyPatch) -> list[str]:
         (rtb_urdf, "_read_robot"),  # Robotics Toolbox's reader
         (yourdfpy_urdf, "_load"),  # yourdfpy (lxml), in the parent
         (check_module, "run_isolated"),  # yourdfpy's own process
-        (urdf_kinematics, "urdf_kinematics"),  # dh-from-urdf's own reader
-        (engine_axes, "urdf_kinematics"),  # the axis comparison (engine evidence, diagnose)
+        (urdf_kinematics, "urdf_kinematics"),  # table-from's own reader
+        (description_urdf, "urdf_kinematics"),  # a description's tree (axes, diagnose, map)
     ]
     for module, attr in doors:
         monkeypatch.setattr(module, attr, recorder(f"{module.__name__}.{attr}"))
@@ -507,7 +507,7 @@ BROKEN: dict[str, tuple[str | bytes, str]] = {
 }
 
 #: Broken structure goes through the commands that read URDFs differently.
-STRUCTURE_COMMANDS = ("check-reports", "diagnose", "dh-from-urdf")
+STRUCTURE_COMMANDS = ("check-reports", "diagnose", "table-from")
 
 
 @pytest.mark.parametrize("command", STRUCTURE_COMMANDS)
@@ -585,7 +585,7 @@ COMMENTED = after_first(
 )
 
 
-@pytest.mark.parametrize("command", ["check-rtb-urdf", "check-pinocchio-urdf", "dh-from-urdf"])
+@pytest.mark.parametrize("command", ["check-rtb-urdf", "check-pinocchio-urdf", "table-from"])
 def test_xacro_in_comments_and_processing_instructions_is_dropped_never_run(
     command, workdir, capfd
 ):
@@ -620,7 +620,7 @@ def test_urdf_in_another_encoding_is_read_as_declared(encode, workdir, capfd):
 
 
 def test_urdfdom_refusal_is_one_line_without_its_own_prints(workdir, capfd):
-    # The screen does not require <limit> (dh-from-urdf needs none); urdfdom does,
+    # The screen does not require <limit> (table-from needs none); urdfdom does,
     # and prints "Error: ... at line 607 in joint.cpp" on fd 2 before Pinocchio raises.
     text = re.sub(
         r'(<joint name="wrist_3_joint" type="revolute">.*?)<limit[^>]*/>',

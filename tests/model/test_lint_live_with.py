@@ -1,4 +1,4 @@
-"""Lint you can live with: per-rule ignores, true messages, clean dh-from-urdf output."""
+"""Lint you can live with: per-rule ignores, true messages, clean table-from output."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""dh-from-urdf: the extracted table must pass the check against the URDF it came from."""
+"""table-from: the extracted table must pass the check against the URDF it came from."""
 
 from __future__ import annotations
 
@@ -61,7 +61,7 @@ def test_extracted_table_passes_the_check_in_every_urdf_backend(
     assert (
         main(
             [
-                "dh-from-urdf",
+                "table-from",
                 "example-robot-data:" + spec,
                 "--base",
                 base,
@@ -172,7 +172,7 @@ def test_mimic_joint_is_refused(tmp_path):
 
 
 def test_cli_missing_urdf_is_exit_2(capsys, tmp_path):
-    assert main(["dh-from-urdf", str(tmp_path / "nope.urdf"), "--base", "a", "--tip", "b"]) == 2
+    assert main(["table-from", str(tmp_path / "nope.urdf"), "--base", "a", "--tip", "b"]) == 2
     assert "nope.urdf: no such file" in capsys.readouterr().err
 
 
@@ -180,7 +180,7 @@ def test_cli_prints_the_model_without_output(capsys):
     import tomllib
 
     spec = "example-robot-data:double_pendulum_description/urdf/double_pendulum.urdf"
-    assert main(["dh-from-urdf", spec, "--base", "base_link", "--tip", "link2"]) == 0
+    assert main(["table-from", spec, "--base", "base_link", "--tip", "link2"]) == 0
     out, err = capsys.readouterr()
     data = tomllib.loads(out)
     assert [j["name"] for j in data["joint"]] == ["joint1", "joint2"]

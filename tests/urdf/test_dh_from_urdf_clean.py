@@ -1,4 +1,4 @@
-"""dh-from-urdf writes a table fkcheck lint finds clean: round numbers snapped, --deg."""
+"""table-from writes a table fkcheck lint finds clean: round numbers snapped, --deg."""
 
 from __future__ import annotations
 
@@ -41,7 +41,7 @@ def test_dh_from_urdf_of_every_bundled_urdf_lints_clean(name, convention, deg, t
     base = model.frames[model.check.frame_from].urdf or model.check.frame_from
     tip = model.frames[model.check.frame_to].urdf or model.check.frame_to
     out = tmp_path / f"{name}.toml"
-    argv = ["dh-from-urdf", model.urdf.path, "--base", base, "--tip", tip, "--convention",
+    argv = ["table-from", model.urdf.path, "--base", base, "--tip", tip, "--convention",
             convention, "-o", str(out)]  # fmt: skip
     if model.urdf.xacro:  # UR's ROS 2 description, bundled: fkcheck:ur_description
         argv += ["--allow-xacro"]
@@ -68,7 +68,7 @@ def test_dh_from_urdf_of_every_bundled_urdf_lints_clean(name, convention, deg, t
 def test_dh_from_urdf_ur5_in_degrees_reads_like_the_vendor_sheet(tmp_path, capsys):
     out = tmp_path / "ur5.toml"
     spec = "example-robot-data:ur_description/urdf/ur5_robot.urdf"
-    assert main(["dh-from-urdf", spec, "--base", "base_link", "--tip", "tool0", "--deg",
+    assert main(["table-from", spec, "--base", "base_link", "--tip", "tool0", "--deg",
                  "-o", str(out)]) == 0  # fmt: skip
     extracted = load_model(out)
     assert [j.d for j in extracted.joints] == [0.089159, 0.0, 0.0, 0.10915, 0.09465, 0.0823]

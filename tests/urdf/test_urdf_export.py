@@ -85,7 +85,7 @@ def test_urdf_from_a_urdf_extracted_table_round_trips(tmp_path):
     assert (
         main(
             [
-                "dh-from-urdf",
+                "table-from",
                 spec,
                 "--base",
                 "base",

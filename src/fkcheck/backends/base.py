@@ -59,6 +59,9 @@ __all__ = [
     "Reads",
     "SharesDHFrames",
     "contract_problems",
+    "reads_description",
+    "reads_format",
+    "reads_model_description",
     "validated_q",
 ]
 
@@ -69,11 +72,13 @@ Evidence = Literal["implementation", "table"]
 #: What a backend's poses are computed from:
 #:
 #: * ``"dh"`` — the model's own DH table (``rtb-dh``, ``pinocchio-dh``);
-#: * ``"urdf"`` — the model's ``[urdf]``, any link of it (``pinocchio-urdf``…);
+#: * ``"urdf"`` — the model's description in the URDF language (a URDF, a xacro
+#:   file's expansion), any link of it (``pinocchio-urdf``…);
+#: * ``"mjcf"`` — the model's description in MuJoCo's MJCF;
 #: * ``"published"`` — a table published elsewhere (``rtb-model:``);
 #: * ``"poses"`` — poses recorded on a robot (``poses:``);
 #: * ``"program"`` — the user's own code running the table (plugins, ``cmd:``).
-Reads = Literal["dh", "urdf", "published", "poses", "program"]
+Reads = Literal["dh", "urdf", "mjcf", "published", "poses", "program"]
 
 #: The evidence a backend may claim, by what it reads: a backend that computes
 #: from the table (or is the user's code running it) proves the implementation only.
@@ -81,6 +86,7 @@ EVIDENCE_BY_READS: dict[str, tuple[Evidence, ...]] = {
     "dh": ("implementation",),
     "program": ("implementation",),
     "urdf": ("table",),
+    "mjcf": ("table",),
     "published": ("table",),
     "poses": ("table",),
 }
@@ -94,10 +100,14 @@ class Backend(Protocol):
         name: The backend's name as shown in results (``"rtb-dh"``, ``"cmd:./fk"``).
         method: The library call used, for the report (``"DHRobot.fkine_all"``).
         evidence: ``"implementation"`` or ``"table"``: what its agreement proves.
-        reads: What its poses are computed from (:data:`Reads`); ``"urdf"`` means
-            it computes any link of the model's URDF, so it may compare
-            ``urdf:LINK`` for a link no frame declares
-            (:func:`fkcheck.urdf.mapping.with_link_frames`).
+        reads: What its poses are computed from (:data:`Reads`); a description
+            language (``"urdf"``) means it computes any link of the model's
+            description, so it may compare ``urdf:LINK`` for a link no frame
+            declares (:func:`fkcheck.urdf.mapping.with_link_frames`).
+        formats: The description formats it reads (``("urdf", "xacro")``;
+            :data:`fkcheck.description.registry.FORMATS`), each in the language
+            ``reads`` names; empty for a backend that reads no description.
+            :func:`reads_format` is the question every part of a check asks.
         isolated: ``True``: the engine calls its :meth:`frame_poses` (and
             :meth:`frame_jacobian`) in processes of its own, a large ``q`` split over
             the cores — for slow pure-Python backends that hold the GIL; the object,
@@ -121,6 +131,7 @@ class Backend(Protocol):
     method: str
     evidence: Evidence
     reads: Reads
+    formats: tuple[str, ...]
     isolated: bool
     imports: tuple[str, ...]
     distributions: tuple[str, ...]
@@ -198,6 +209,7 @@ class BackendDefaults:
     pose_cost_us: float | None = None
     jacobian_cost_us: float | None = None
     isolated: bool = False
+    formats: tuple[str, ...] = ()
     imports: tuple[str, ...] = ()
     distributions: tuple[str, ...] = ()
     jacobian_method: str | None = None
@@ -252,6 +264,11 @@ def contract_problems(backend: Any) -> list[str]:
     for member in ("imports", "distributions"):
         if not all(isinstance(m, str) for m in getattr(backend, member)):
             problems.append(f"{member!r} holds something other than names")
+    formats = getattr(backend, "formats", ())  # optional: BackendDefaults gives ()
+    if not isinstance(formats, tuple) or not all(isinstance(f, str) for f in formats):
+        problems.append("'formats' is not a tuple of format names")
+    else:
+        problems += _format_problems(reads, formats)
     references = backend.jacobian_references
     if backend.jacobian_method is not None and "world-aligned" not in references:
         problems.append("has a jacobian_method but 'world-aligned' is not in jacobian_references")
@@ -262,6 +279,41 @@ def contract_problems(backend: Any) -> list[str]:
             f"{', '.join(JACOBIAN_REFERENCES)}"
         )
     return problems
+
+
+def _format_problems(reads: str, formats: tuple[str, ...]) -> list[str]:
+    """How a backend's ``formats`` disagree with its ``reads`` (each must be in its language)."""
+    from fkcheck.description.registry import FORMATS
+
+    languages = {f.name: f.language for f in FORMATS}
+    problems = [
+        f"formats names {f!r}, not one of {', '.join(languages)}"
+        for f in formats
+        if f not in languages
+    ]
+    problems += [
+        f"reads {reads!r} but reads format {f!r}, which is in {languages[f]!r}"
+        for f in formats
+        if f in languages and languages[f] != reads
+    ]
+    return problems
+
+
+def reads_format(backend: Backend, fmt: str) -> bool:
+    """Whether ``backend`` reads descriptions of format ``fmt`` (``"urdf"``, ``"xacro"``)."""
+    return fmt in getattr(backend, "formats", ())
+
+
+def reads_model_description(backend: Backend, model: Model) -> bool:
+    """Whether ``backend`` reads one of ``model``'s descriptions (its format is one it reads)."""
+    from fkcheck.description.registry import model_formats
+
+    return any(reads_format(backend, fmt.name) for fmt in model_formats(model))
+
+
+def reads_description(backend: Backend) -> bool:
+    """Whether ``backend`` computes its poses from a model's description (of any format)."""
+    return bool(getattr(backend, "formats", ()))
 
 
 @runtime_checkable

@@ -2,7 +2,7 @@
 
 A fourth URDF reader, independent of urdfdom (Pinocchio), yourdfpy and
 Robotics Toolbox's: iDynTree's own parser (on libxml2). The URDF is resolved and
-screened by :func:`fkcheck.urdf.source.load_urdf`; its ``<visual>``,
+screened by :func:`fkcheck.description.registry.load_description`; its ``<visual>``,
 ``<collision>`` and ``<material>`` elements are removed from the in-memory text
 (:func:`fkcheck.backends.urdf_common.kinematic_text`), so no ``package://`` mesh
 path is ever resolved or opened; ``ModelLoader.loadReducedModelFromString``

@@ -2,7 +2,8 @@
 
 A fourth URDF parser, independent of urdfdom (Pinocchio), yourdfpy and Robotics
 Toolbox's reader. The URDF is first resolved and screened by
-:func:`fkcheck.urdf.source.load_urdf`; ``urdf_common.kinematic_text`` then keeps only its
+:func:`fkcheck.description.registry.load_description`; ``urdf_common.kinematic_text``
+then keeps only its
 tree — the ``<robot>`` element, every ``<link>`` *emptied* and every ``<joint>``
 as written — and ``mujoco.MjSpec.from_string`` reads that text, which
 ``MjSpec.compile`` turns into an ``MjModel``. Facts about MuJoCo 4.0 this relies

@@ -1,6 +1,6 @@
 """The ``pinocchio-urdf`` backend: the model's reference URDF, parsed by Pinocchio (urdfdom).
 
-The URDF is first resolved and screened by :func:`fkcheck.urdf.source.load_urdf`;
+The URDF is first resolved and screened by :func:`fkcheck.description.registry.load_description`;
 Pinocchio then parses the screened text with ``buildModelFromXML`` (the kinematic
 tree only: no geometry model, so no mesh file is ever opened). Each DH joint's
 value goes to the Pinocchio joint named in ``[urdf].joints``, unchanged — a DH

@@ -401,9 +401,15 @@ def _find(spec: str, found: Sequence[Registration]) -> tuple[Registration | None
 
 
 def names(
-    *, reads: Reads | None = None, evidence: Evidence | None = None, default: bool | None = None
+    *,
+    reads: Reads | str | None = None,
+    evidence: Evidence | None = None,
+    default: bool | None = None,
+    format: str | None = None,
 ) -> tuple[str, ...]:
     """Registered names (prefixes as ``"cmd:"``) with the given declarations, in order.
+
+    ``format``: only the readers of that description format (``formats`` holds it).
 
     Asking for declarations builds each third-party backend in its own process; one
     that cannot be built is left out (asking for it by name says why).
@@ -416,6 +422,8 @@ def names(
             if reads is not None and r.declared("reads") != reads:
                 continue
             if evidence is not None and r.declared("evidence") != evidence:
+                continue
+            if format is not None and format not in (r.declared("formats") or ()):
                 continue
         except FkcheckError:
             if r.origin == "fkcheck":

@@ -1,7 +1,7 @@
 """The ``rtb-urdf`` backend: the model's reference URDF read by Robotics Toolbox's own reader.
 
 A third URDF parser, independent of urdfdom (Pinocchio) and yourdfpy: the
-screened URDF text from :func:`fkcheck.urdf.source.load_urdf` goes through
+screened URDF text from :func:`fkcheck.description.registry.load_description` goes through
 Robotics Toolbox's URDF classes (``URDF.loadstr``, the standard library's XML
 parser) and its URDF-to-links conversion (``_links_from_urdf``, the second half
 of ``URDF_file``), and becomes an ETS robot (``roboticstoolbox.Robot``).
@@ -106,7 +106,7 @@ class RtbUrdf(UrdfReader):
             FrameError: A name is not a frame of the model.
             UnmappedFrameError: A frame has no ``urdf`` twin (the backend's error).
             UrdfError: The URDF is missing, unsafe or does not fit the model
-                (from :func:`~fkcheck.urdf.source.load_urdf`), or RTB rejects it.
+                (from :func:`~fkcheck.description.registry.load_description`), or RTB rejects it.
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         info, q2, twins = urdf_inputs(model, q, frames, self.name)

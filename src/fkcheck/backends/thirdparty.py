@@ -63,7 +63,7 @@ from fkcheck.process.isolation import (
 __all__ = ["IsolatedBackend", "ThirdPartyError", "class_members"]
 
 #: The optional members read from a built backend besides :data:`~fkcheck.backends.base.CONTRACT`'s.
-_OPTIONAL = ("pose_cost_us", "jacobian_cost_us")
+_OPTIONAL = ("pose_cost_us", "jacobian_cost_us", "formats")
 #: The skips that travel back by name (a third party's own Skip subclass is a Skip).
 _SKIPS: dict[str, type[Skip]] = {
     "BackendUnavailable": BackendUnavailable,
@@ -128,9 +128,10 @@ def _plain(value: Any) -> Any:
 
 
 def _class_declares(registration: Registration) -> dict[str, Any]:
-    """In a child: what a prefix's class declares (``reads``, ``evidence``, ``distributions``)."""
+    """In a child: what a prefix's class declares (``reads``, ``evidence``, ``formats``…)."""
     cls = registration.factory()
-    return {m: _plain(getattr(cls, m, None)) for m in ("reads", "evidence", "distributions")}
+    declares = ("reads", "evidence", "distributions", "formats")
+    return {m: _plain(getattr(cls, m, None)) for m in declares}
 
 
 def _call_method(
@@ -235,6 +236,7 @@ class IsolatedBackend:
         self.method: str = members["method"]
         self.evidence = members["evidence"]
         self.reads = members["reads"]
+        self.formats: tuple[str, ...] = tuple(members.get("formats") or ())
         self.distributions: tuple[str, ...] = members["distributions"]
         self.jacobian_method: str | None = members["jacobian_method"]
         self.jacobian_references: tuple[JacobianReference, ...] = members["jacobian_references"]

@@ -22,6 +22,8 @@ from pathlib import Path
 
 from fkcheck.backends.base import BackendDefaults, Evidence, Reads, validated_q
 from fkcheck.core.typing import Float
+from fkcheck.description.registry import load_description, model_format
+from fkcheck.description.urdf import urdf_info
 from fkcheck.errors import (
     INSTALL_REFERENCE,
     BackendUnavailable,
@@ -31,7 +33,7 @@ from fkcheck.errors import (
 )
 from fkcheck.model.types import Model, resolve_frame
 from fkcheck.urdf.locate import ERD_PREFIX
-from fkcheck.urdf.source import load_urdf, resolve_urdf_path
+from fkcheck.urdf.source import resolve_urdf_path
 from fkcheck.urdf.tree import UrdfInfo, listed
 
 __all__ = [
@@ -54,6 +56,8 @@ class UrdfReader(BackendDefaults):
 
     evidence: Evidence = "table"
     reads: Reads = "urdf"
+    #: A URDF, or a xacro file's expansion (screened, then read as a URDF).
+    formats: tuple[str, ...] = ("urdf", "xacro")
 
     def inputs(self, model: Model) -> tuple[Path, ...]:
         """The model's URDF (or xacro) file as ``[urdf].path`` names it.
@@ -162,8 +166,12 @@ def urdf_unavailable_reason(model: Model, module: str, install_hint: str) -> str
     """
     if importlib.util.find_spec(module) is None:
         return install_hint
-    if model.urdf is None:
+    fmt = model_format(model, "urdf")
+    if fmt is None:
         return "model has no [urdf]"
+    if fmt.name not in UrdfReader.formats:
+        return f"its description is {fmt.name}, which URDF readers do not read"
+    assert model.urdf is not None
     if model.urdf.path.startswith(ERD_PREFIX) and (
         importlib.util.find_spec("example_robot_data") is None
     ):
@@ -219,7 +227,8 @@ def urdf_inputs(
         backend: The asking backend's name, for messages.
 
     Returns:
-        ``(info, q, twins)``: the screened URDF (:func:`~fkcheck.urdf.source.load_urdf`),
+        ``(info, q, twins)``: the screened URDF (the model's description,
+        :func:`~fkcheck.description.registry.load_description`),
         ``q`` validated as C-contiguous float64 ``(N, n)``, and the frames' URDF links.
 
     Raises:
@@ -229,7 +238,8 @@ def urdf_inputs(
         UnmappedFrameError: A frame has no ``urdf`` twin.
         JointInputError: ``q`` has the wrong shape or non-finite values.
     """
-    if model.urdf is None:
+    fmt = model_format(model, "urdf")
+    if fmt is None or fmt.name not in UrdfReader.formats:
         raise BackendUnavailable("model has no [urdf]")
-    info = load_urdf(model)
+    info = urdf_info(load_description(model, language="urdf"))
     return info, validated_q(model, q), urdf_twins(model, frames, backend, info.links)

@@ -1,6 +1,6 @@
 """The ``yourdfpy-urdf`` backend: the model's reference URDF, parsed by yourdfpy.
 
-The URDF is first resolved and screened by :func:`fkcheck.urdf.source.load_urdf`;
+The URDF is first resolved and screened by :func:`fkcheck.description.registry.load_description`;
 yourdfpy then parses the screened text from a file object with
 ``load_meshes=False`` and ``load_collision_meshes=False`` and no collision scene,
 so no ``<mesh>`` file is opened: its only mesh-loading path

@@ -125,11 +125,12 @@ def _pinocchio(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
 
 def _yourdfpy(model: Model, q: Float, ours: Float, repeat: int) -> Timing:
     from fkcheck.backends.yourdfpy_urdf import _load  # the backend's loader: no meshes
-    from fkcheck.urdf.source import load_urdf
+    from fkcheck.description.registry import load_description
+    from fkcheck.description.urdf import urdf_info
 
     if model.urdf is None:
         raise LookupError("the model has no [urdf]")
-    robot = _load(load_urdf(model))
+    robot = _load(urdf_info(load_description(model)))
     frames = (model.check.frame_from, model.check.frame_to)
     twin_from, twin_to = (model.frames[f].urdf for f in frames)
     if twin_from is None or twin_to is None:

@@ -173,16 +173,15 @@ def table_from_yaml(nominal: Model, yaml: UrCalibration | None) -> DhValues:
             extraction leaves a base or tool transform (the table alone would
             not reproduce the description's ``tool0``).
     """
-    from fkcheck.urdf.chain import urdf_kinematics
-    from fkcheck.urdf.source import read_model_urdf
+    from fkcheck.description.registry import load_description
     from fkcheck.urdf.to_dh import dh_from_urdf
 
     assert yaml is not None
     _ur_description(nominal, yaml)
     # The nominal model's own [urdf], read from where it is; the YAML by its absolute path.
     model = with_kinematics(nominal, yaml.path.resolve(), None)
-    info = read_model_urdf(model)
-    extraction = dh_from_urdf(urdf_kinematics(info), "base", "tool0", "standard")
+    tree = load_description(model, mapping=False).tree
+    extraction = dh_from_urdf(tree, "base", "tool0", "standard")
     derived = extraction.model
     for label, offset in (("base", derived.base), ("tool", derived.tool)):
         if not np.allclose(offset.matrix, np.eye(4), rtol=0.0, atol=YAML_TABLE_TOL):

@@ -26,18 +26,18 @@ from fkcheck.io.text import terminal_text
 
 if TYPE_CHECKING:
     from fkcheck.backends.base import Backend
+    from fkcheck.description.types import Description
     from fkcheck.model.types import Model
-    from fkcheck.urdf.tree import UrdfInfo
 
 __all__ = [
     "STEP_SUMMARY",
     "Input",
     "append_to_step_summary",
     "backend_inputs",
+    "description_inputs",
     "model_inputs",
     "plan",
     "step_summary_target",
-    "urdf_inputs",
     "writes",
 ]
 
@@ -53,17 +53,18 @@ def writes(outputs: Iterable[tuple[str, Path | str | None]]) -> bool:
     return any(path is not None for _, path in outputs) or bool(os.environ.get(STEP_SUMMARY))
 
 
-def urdf_inputs(info: UrdfInfo, what: str) -> list[Input]:
-    """Every file a URDF was made of: the file (``what``), then each file its xacro read."""
-    found: list[Input] = [(what, info.path)]
-    found += [(f"a file {what} reads (xacro include or load_yaml)", f) for f in info.files[1:]]
+def description_inputs(described: Description, what: str) -> list[Input]:
+    """Every file a description was made of: the file (``what``), then each file it read."""
+    how = "xacro include or load_yaml" if described.format == "xacro" else "include"
+    found: list[Input] = [(what, described.path)]
+    found += [(f"a file {what} reads ({how})", f) for f in described.files[1:]]
     return found
 
 
 def model_inputs(model: Model, *, expand: bool = True) -> list[Input]:
     """The model file and, when it has one that exists, every file its URDF is made of.
 
-    A plain URDF is screened here (:func:`fkcheck.urdf.source.read_model_urdf`),
+    A plain URDF is screened here (:func:`fkcheck.description.registry.load_description`),
     before any output path is planned: input is refused before anything, even a
     probe of an output directory, touches the disk. A xacro file the model opts
     in to (``xacro = true``) is expanded here too when ``expand`` (a run that
@@ -76,17 +77,18 @@ def model_inputs(model: Model, *, expand: bool = True) -> list[Input]:
         UrdfError: The URDF is missing, not a regular file, unsafe or broken, or
             its xacro expansion failed.
     """
+    from fkcheck.description.registry import load_description, model_format
     from fkcheck.errors import BackendUnavailable
-    from fkcheck.urdf.source import read_model_urdf, resolve_urdf_path
 
     found: list[Input] = [(f"the model file of {model.name}", model.path)]
-    if model.urdf is None:
+    fmt = model_format(model)
+    if fmt is None:
         return found
-    what = f"the URDF of {model.name}"
+    what = f"the {fmt.language.upper()} of {model.name}"
     try:
-        if model.urdf.xacro and not expand:
-            return [*found, (what, resolve_urdf_path(model)[0])]
-        return [*found, *urdf_inputs(read_model_urdf(model), what)]
+        if fmt.executes and not expand:
+            return [*found, (what, fmt.locate(model))]
+        return [*found, *description_inputs(load_description(model, mapping=False), what)]
     except BackendUnavailable:  # example-robot-data is not installed: no file here
         return found
 

@@ -85,15 +85,18 @@ def run(args: argparse.Namespace) -> int:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
     name = args.against
     if name is None:
-        if model.urdf is None:
-            urdf = registry.names(reads="urdf")
-            others = [n for n in registry.known_difference_names() if n not in urdf]
+        from fkcheck.description.registry import LANGUAGES, model_format
+
+        fmt = model_format(model)
+        if fmt is None:
+            readers = {n for language in LANGUAGES for n in registry.names(reads=language)}
+            others = [n for n in registry.known_difference_names() if n not in readers]
             independent = ", ".join(n + "…" if n.endswith(":") else n for n in others)
             raise FkcheckError(
                 f"model {model.name} has no [urdf] to diagnose against: give --against "
                 f"a backend independent of its table ({independent})"
             )
-        name = "pinocchio-urdf"
+        name = registry.names(format=fmt.name, default=True)[0]  # pinocchio-urdf for a URDF
     # the frames too: a ROS 2 bag (poses:BAG) composes its transform for them
     backend = make_backend(name, BackendOptions(frame_from=args.frame_from, frame_to=args.frame_to))
     outputs = [("--json", args.json)]

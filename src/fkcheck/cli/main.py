@@ -49,7 +49,7 @@ if TYPE_CHECKING:
 __all__ = ["COMMANDS", "MAIN_JOB", "main"]
 
 #: Subcommand modules under fkcheck.cli, in the order ``--help`` lists them.
-COMMANDS = ("check", "fk", "models", "convert", "dh_from_urdf", "map", "urdf", "expand", "lint",
+COMMANDS = ("check", "fk", "models", "convert", "table_from", "map", "urdf", "expand", "lint",
             "diagnose", "calibration", "bench", "ik", "opw")  # fmt: skip
 
 #: What plain ``fkcheck`` runs: the same check wherever it runs, so ``--isolated``

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import shlex
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -59,17 +60,22 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read, map, write the block, summarise."""
-    from fkcheck.cli._outputs import Input, plan, urdf_inputs
+    from fkcheck.cli._outputs import Input, description_inputs, plan
     from fkcheck.cli.expand import xacro_inputs
+    from fkcheck.description.registry import (
+        format_named,
+        load_description,
+        model_format,
+        read_description_file,
+    )
     from fkcheck.errors import FkcheckError, XacroRefused
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.model.options import check_option
     from fkcheck.model.read import load_model
-    from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
-    from fkcheck.urdf.source import allow_xacro, read_model_urdf
+    from fkcheck.urdf.source import allow_xacro
 
     check_option("samples", args.samples, "--samples")
     check_option("seed", args.seed, "--seed")
@@ -82,32 +88,36 @@ def run(args: argparse.Namespace) -> int:
     declared: dict[str, str] = {}
     if args.urdf is not None:
         try:
-            info = read_urdf_source(args.urdf)
+            described = read_description_file(args.urdf)
         except XacroRefused:
             if not args.allow_xacro:
                 raise
-            info = read_urdf_source(args.urdf, xacro_args=values, packages=packages)
+            described = read_description_file(args.urdf, args=values, packages=packages)
             xacro_args = values
             declared = {name: path_for(where, model.path) for name, where in packages.items()}
-        spec = urdf_spec_for(info.path, model.path)  # relative to the model file it goes in
-    elif model.urdf is not None:
-        info = read_model_urdf(model)  # screened; expanded first when xacro = true
-        spec = model.urdf.path
-        if model.urdf.xacro:
+        spec = urdf_spec_for(described.path, model.path)  # relative to the model file it goes in
+    elif (declared_fmt := model_format(model)) is not None:
+        # screened; expanded first when xacro = true
+        described = load_description(model, mapping=False, language=declared_fmt.language)
+        spec = declared_fmt.written(model)
+        if declared_fmt.executes and model.urdf is not None:
             xacro_args, declared = dict(model.urdf.xacro_args), dict(model.urdf.packages)
     else:
         raise FkcheckError(
             f"model {model.name} has no [urdf]: give the URDF to map it onto "
             "(fkcheck map MODEL URDF, a file or example-robot-data:<subpath>)"
         )
-    path, kin = info.path, urdf_kinematics(info)
-    inputs: list[Input] = [("the model", model.path), *urdf_inputs(info, "the URDF")]
+    path, kin = described.path, described.tree
+    inputs: list[Input] = [("the model", model.path), *description_inputs(described, "the URDF")]
     plan(args, [("-o", args.output)], inputs)
     result = map_model(
         model, kin, spec, samples=args.samples, seed=args.seed,
         xacro_args=xacro_args, packages=declared,
     )  # fmt: skip
-    text = proposal_toml(result)
+    fmt = format_named(described.format)  # the block is in its section, frames by its key
+    text = proposal_toml(
+        result, fmt.section, lambda s: fmt.with_frame(replace(s, urdf=None), s.urdf)
+    )
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:
         command = shlex.join(["fkcheck", "check", args.model, *result.check_flags])

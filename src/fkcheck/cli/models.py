@@ -46,9 +46,12 @@ def evidence_text(model: Model) -> str:
     implementations of the same table can answer (``code only (no URDF)``). A
     recorded difference with its URDF is counted.
     """
-    if model.urdf is None:
+    from fkcheck.description.registry import model_format
+
+    fmt = model_format(model)
+    if fmt is None:
         return "code only (no URDF)"
-    file = model.urdf.path.split(":")[-1].rsplit("/", 1)[-1]
+    file = fmt.written(model).split(":")[-1].rsplit("/", 1)[-1]
     known = len(model.known_differences)
     recorded = f", {known} known difference{'s' if known != 1 else ''}" if known else ""
     return f"table + code ({file}{recorded})"
@@ -68,13 +71,15 @@ def _long(models: dict[str, Model]) -> None:
     from rich.table import Table
 
     from fkcheck.cli._console import console
+    from fkcheck.description.registry import model_format
     from fkcheck.io.text import terminal_markup
 
     table = Table(title="bundled models", title_justify="left")
     for column in ("model", "DOF", "convention", "URDF", "source"):
         table.add_column(column, overflow="fold", no_wrap=column == "model")
     for name, model in models.items():
-        urdf = model.urdf.path if model.urdf else "-"
+        fmt = model_format(model)
+        urdf = fmt.written(model) if fmt is not None else "-"
         cells = (name, str(model.dof), model.convention, urdf, model.source)
         table.add_row(*map(terminal_markup, cells))
     console().print(table)

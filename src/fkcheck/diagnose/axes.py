@@ -8,6 +8,7 @@ configuration for the report); here it runs over up to
 
 from __future__ import annotations
 
+from fkcheck.description.registry import model_format
 from fkcheck.diagnose.problem import Problem
 from fkcheck.engine.axes import (
     AxisRow,
@@ -33,7 +34,8 @@ def compare_axes(problem: Problem) -> tuple[AxisRow, ...]:
     frame has no URDF twin (the axes then cannot be put in a common frame).
     """
     model = problem.model
-    if model.urdf is None or model.frames[problem.frame_from].urdf is None:
+    fmt = model_format(model)
+    if fmt is None or fmt.frame(model.frames[problem.frame_from]) is None:
         return ()
     kin = read_urdf_kinematics(model)
     step = max(1, problem.q.shape[0] // AXIS_CONFIGURATIONS)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from fkcheck.backends.base import reads_model_description
 from fkcheck.diagnose.findings import Change, Explanation
 from fkcheck.diagnose.hypotheses import fit_single_parameters
 from fkcheck.diagnose.offsets import explain_offsets
@@ -106,7 +107,7 @@ def explain_conventions(problem: Problem) -> list[Explanation]:
     """
     model = problem.model
     source = problem.source
-    if model.urdf is None or source is None or source.reads != "urdf":
+    if source is None or not reads_model_description(source, model):
         return []
     from fkcheck.urdf.mapping import reconcile_table  # SciPy: the reference extra's
 

@@ -26,6 +26,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from fkcheck.core.dh import Convention
+from fkcheck.description.registry import model_format
 from fkcheck.diagnose.findings import Change, Explanation, Kind
 from fkcheck.diagnose.problem import Problem, Residual, pose_residuals
 from fkcheck.model.names import PARAMS, Param, param_symbol
@@ -436,16 +437,17 @@ def explain_swapped_mapping(problem: Problem) -> tuple[list[Explanation], int]:
         ``(explanations, number of swaps tried)``.
     """
     model = problem.model
-    if model.urdf is None or problem.source is None:
+    fmt = model_format(model)
+    if fmt is None or problem.source is None:
         return [], 0
-    names = model.urdf.joints
+    names = fmt.mapped_joints(model)
     found: list[Explanation] = []
     tried = 0
     for i in range(len(names)):
         for j in range(i + 1, len(names)):
             swapped = list(names)
             swapped[i], swapped[j] = swapped[j], swapped[i]
-            cand = replace(model, urdf=replace(model.urdf, joints=tuple(swapped)))
+            cand = fmt.remapped(model, tuple(swapped))
             tried += 1
             residual = problem.verify(cand)
             if problem.explained(residual):

@@ -22,9 +22,10 @@ import numpy as np
 
 from fkcheck.core.geometry import invert
 from fkcheck.core.typing import Float
+from fkcheck.description.registry import load_description, model_format
 from fkcheck.model.frames import reference_poses
 from fkcheck.model.types import Model
-from fkcheck.urdf.chain import UrdfKinematics, urdf_kinematics
+from fkcheck.urdf.chain import KinematicTree
 
 __all__ = [
     "AxisLines",
@@ -85,10 +86,12 @@ def _dh_axes(model: Model, q: Float, frame_from: str) -> tuple[Float, Float]:
     return np.array(points), np.array(dirs)
 
 
-def _urdf_axes(model: Model, kin: UrdfKinematics, q: Float, from_link: str) -> tuple[Float, Float]:
-    """URDF axes of the mapped joints in link ``from_link``, joints at ``q`` (DH order)."""
-    assert model.urdf is not None
-    value = dict(zip(model.urdf.joints, q, strict=True))
+def _urdf_axes(model: Model, kin: KinematicTree, q: Float, from_link: str) -> tuple[Float, Float]:
+    """The description's axes of the mapped joints in link ``from_link`` at ``q`` (DH order)."""
+    fmt = model_format(model)
+    assert fmt is not None
+    mapped = fmt.mapped_joints(model)
+    value = dict(zip(mapped, q, strict=True))
     root = kin.root
 
     def pose(link: str) -> Float:
@@ -101,7 +104,7 @@ def _urdf_axes(model: Model, kin: UrdfKinematics, q: Float, from_link: str) -> t
 
     from_T_root = invert(pose(from_link))
     points, dirs = [], []
-    for name in model.urdf.joints:
+    for name in mapped:
         joint = kin.joints[name]
         chain = kin.chain(root, joint.child)
         qs = np.array([value.get(j.name, 0.0) for j in chain if j.type != "fixed"])
@@ -131,16 +134,13 @@ class AxisLines:
     urdf_directions: Float
 
 
-def read_urdf_kinematics(model: Model) -> UrdfKinematics:
-    """The model's URDF, read and screened, as a joint chain."""
-    from fkcheck.urdf.source import load_urdf
-
-    info = load_urdf(model)
-    return urdf_kinematics(info)
+def read_urdf_kinematics(model: Model) -> KinematicTree:
+    """The model's description, read and screened, as a kinematic tree (whatever its format)."""
+    return load_description(model).tree
 
 
 def axis_lines(
-    model: Model, q: Float, frame_from: str, kin: UrdfKinematics | None = None
+    model: Model, q: Float, frame_from: str, kin: KinematicTree | None = None
 ) -> AxisLines | None:
     """Each joint's axis from the table and from the model's URDF at one configuration.
 
@@ -159,11 +159,13 @@ def axis_lines(
         UrdfError, FrameError: The URDF cannot be read or does not fit the mapping.
     """
     spec = model.frames[frame_from]
-    if model.urdf is None or spec.urdf is None:
+    fmt = model_format(model)
+    twin = None if fmt is None else fmt.frame(spec)
+    if twin is None:
         return None
     kin = kin if kin is not None else read_urdf_kinematics(model)
     p_dh, d_dh = _dh_axes(model, q, frame_from)
-    p_u, d_u = _urdf_axes(model, kin, q, spec.urdf)
+    p_u, d_u = _urdf_axes(model, kin, q, twin)
     return AxisLines(p_dh, d_dh, p_u, d_u)
 
 

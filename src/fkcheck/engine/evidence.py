@@ -23,6 +23,7 @@ import numpy as np
 
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
+from fkcheck.description.registry import model_format
 from fkcheck.engine.axes import AxisLines, AxisRow, axis_lines, axis_rows
 from fkcheck.errors import FkcheckError, Skip
 from fkcheck.model.frames import reference_poses
@@ -212,7 +213,8 @@ def urdf_axes(
         or the URDF cannot be read: this is evidence for a report, never part of
         the verdict (a URDF backend that could not read it has said so already).
     """
-    if model.urdf is None:
+    fmt = model_format(model)
+    if fmt is None:
         return None
     try:
         lines = axis_lines(model, q, frame_from)
@@ -223,7 +225,7 @@ def urdf_axes(
     if lines is None:
         return None
     rows = axis_rows(model, [lines], tol[0], tol[1])
-    return UrdfAxes(index, lines, rows, tuple(model.urdf.joints))
+    return UrdfAxes(index, lines, rows, fmt.mapped_joints(model))
 
 
 @dataclass(frozen=True, eq=False)

@@ -36,6 +36,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 
+from fkcheck.description.registry import LANGUAGES
 from fkcheck.engine.results import BackendResult
 from fkcheck.io.format import format_angle_summary, format_length_summary
 from fkcheck.model.lint import Finding
@@ -59,18 +60,21 @@ def known_difference_for(model: Model, backend: str, reads: str) -> KnownDiffere
     selected = [
         e
         for e in model.known_differences
-        if e.applies_to(backend, reads) or (reads == "urdf" and of_the_description(e))
+        if e.applies_to(backend, reads) or (reads in LANGUAGES and of_the_description(e, reads))
     ]
     found = named or selected
     return found[0] if found else None
 
 
-def of_the_description(entry: KnownDifference) -> bool:
-    """Whether ``entry`` names several URDF readers and nothing else: the URDF's own difference."""
+def of_the_description(entry: KnownDifference, language: str = "urdf") -> bool:
+    """Whether ``entry`` names several readers of ``language`` and nothing else.
+
+    Such a record is the description's own difference, not one of its readers'.
+    """
     from fkcheck.backends.registry import names  # the registry, only when a record names some
 
     listed = set(entry.backends)
-    return entry.reads == "" and len(listed) > 1 and listed <= set(names(reads="urdf"))
+    return entry.reads == "" and len(listed) > 1 and listed <= set(names(reads=language))
 
 
 def known_difference_findings(model: Model, ignore: Iterable[str] = ()) -> list[Finding]:

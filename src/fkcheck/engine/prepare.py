@@ -24,13 +24,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from fkcheck.backends.base import Backend, FixedConfigurations
+from fkcheck.backends.base import Backend, FixedConfigurations, reads_format
 from fkcheck.backends.registry import check_known_differences
 from fkcheck.calibration.description import screen_kinematics
 from fkcheck.calibration.effect import CalibrationEffect, calibration_effect, nominal_model
 from fkcheck.calibration.provenance import calibration_provenance
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float
+from fkcheck.description.registry import load_description, model_format, model_formats
+from fkcheck.description.types import Description, DescriptionFormat
 from fkcheck.engine.jacobian import JacobianSpec, check_fixed_from
 from fkcheck.engine.plan import Plan, plan_check
 from fkcheck.engine.request import CheckRequest
@@ -42,7 +44,7 @@ from fkcheck.model.frames import resolve_frame
 from fkcheck.model.options import jacobian_for
 from fkcheck.model.sampling import Samples, sample_configurations
 from fkcheck.model.types import URDF_FRAME_PREFIX, Model
-from fkcheck.urdf.chain import competing_links, urdf_kinematics
+from fkcheck.urdf.chain import competing_links
 
 if TYPE_CHECKING:
     from fkcheck.urdf.mapping import LinkFit
@@ -176,16 +178,16 @@ def _read_descriptions(
 ) -> tuple[Model, dict[str, LinkFit], tuple[str, str], dict[str, list[Competitor]]]:
     """The model's descriptions read once: ``(model, placed links, frame pair, competitors)``.
 
-    Today's URDF reading of a check, kept together: ``urdf:LINK`` frames placed,
-    the frame pair resolved, the URDF read (a xacro file expanded only when a
-    backend reads the URDF), the compared frames' links checked, the links that
-    could compete found, and the expansion kept with the model.
+    ``urdf:LINK`` frames placed, the frame pair resolved, each of the model's
+    descriptions read once (one that runs code, a xacro file, only when a backend
+    reads it), the compared frames' links checked against each description a
+    backend reads, the links that could compete found, and what a format carries
+    (a xacro expansion) kept with the model.
 
     Raises:
         FrameError: An unknown frame, or a compared frame's link not in the URDF.
-        UrdfError: The model's URDF is missing, unsafe or does not fit the model.
+        UrdfError: A description is missing, unsafe or does not fit the model.
     """
-    from fkcheck.urdf.source import load_urdf
     from fkcheck.urdf.xacro import XACRO_TIMEOUT_S
 
     model, backends, options = request.model, request.backends, request.options
@@ -197,19 +199,20 @@ def _read_descriptions(
     xacro_timeout_s = min(timeout_s, XACRO_TIMEOUT_S)  # the check's limit, when shorter
     model, placed = _place_urdf_links(model, asked, xacro_timeout_s)
     pair = (resolve_frame(model, asked[0]).name, resolve_frame(model, asked[1]).name)
-    reads_urdf = any(b.reads == "urdf" for b in backends)
     competitors: dict[str, list[Competitor]] = {}
-    # A xacro file is expanded (its macros run) only when a backend reads the URDF.
-    if model.urdf is not None and (reads_urdf or not model.urdf.xacro):
-        # Bad URDF input is exit 2 before anything runs; a missing example-robot-data
-        # is not: each URDF backend then reports itself skipped.
+    for fmt in model_formats(model):
+        read = any(reads_format(b, fmt.name) for b in backends)
+        if fmt.executes and not read:  # code in a description (xacro) runs only when read
+            continue
+        # Bad description input is exit 2 before anything runs; a missing
+        # example-robot-data is not: each reader then reports itself skipped.
         with contextlib.suppress(BackendUnavailable):
-            info = load_urdf(model, xacro_timeout_s)
-            if reads_urdf:
-                _check_twins(model, pair, info.links, info.path.name)
-                competitors = competing_links(model, pair, urdf_kinematics(info))
-            if model.urdf.xacro:  # the expansion travels with the model: run the file once
-                model = replace(model, urdf=replace(model.urdf, expanded=info.text))
+            described = load_description(model, xacro_timeout_s, language=fmt.language)
+            if read:
+                _check_twins(model, pair, fmt, described)
+                for name, found in competing_links(model, pair, described.tree, fmt.frame).items():
+                    competitors.setdefault(name, []).extend(found)
+            model = fmt.carry(model, described)  # an expansion travels: run the file once
     return model, placed, pair, competitors
 
 
@@ -230,29 +233,31 @@ def _place_urdf_links(
         if name.startswith(URDF_FRAME_PREFIX)
         and not any(s.urdf == name[len(URDF_FRAME_PREFIX) :] for s in model.frames.values())
     ]
-    if not wanted or model.urdf is None:
+    if not wanted or model_format(model, "urdf") is None:
         return model, {}  # resolve_frame says what is wrong, if anything
-    from fkcheck.urdf.chain import urdf_kinematics  # scipy.optimize: only when needed
-    from fkcheck.urdf.mapping import with_link_frames
-    from fkcheck.urdf.source import load_urdf
+    from fkcheck.urdf.mapping import with_link_frames  # scipy.optimize: only when needed
 
     try:
-        kin = urdf_kinematics(load_urdf(model, xacro_timeout_s))
+        kin = load_description(model, xacro_timeout_s, language="urdf").tree
     except BackendUnavailable as exc:
         raise FkcheckError(f"{wanted[0]}: the URDF cannot be read here: {exc}") from None
     return with_link_frames(model, kin, wanted)
 
 
-def _check_twins(model: Model, pair: Sequence[str], links: Sequence[str], urdf: str) -> None:
-    """The URDF links of the compared frames exist (a frame not compared may lack its link).
+def _check_twins(
+    model: Model, pair: Sequence[str], fmt: DescriptionFormat, described: Description
+) -> None:
+    """The description's frames of the compared frames exist (one not compared may lack its own).
 
     Raises:
-        FrameError: A compared frame names a link the URDF does not have (listing them).
+        FrameError: A compared frame names a frame the description does not have (listing them).
     """
+    links = described.frames
     for name in pair:
-        link = resolve_frame(model, name).urdf
+        link = fmt.frame(resolve_frame(model, name))
         if link is not None and link not in links:
-            raise FrameError(link, f"URDF {urdf} (frame {name})", links)
+            where = f"{described.language.upper()} {described.path.name} (frame {name})"
+            raise FrameError(link, where, links)
 
 
 def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:

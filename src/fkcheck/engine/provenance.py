@@ -21,13 +21,14 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import replace
 
-from fkcheck.backends.base import Backend
+from fkcheck.backends.base import Backend, reads_format
 from fkcheck.backends.measured import MeasuredPoses
+from fkcheck.description.registry import load_description, model_format
+from fkcheck.description.urdf import urdf_info
 from fkcheck.engine.results import BackendResult
 from fkcheck.errors import FkcheckError, Skip
 from fkcheck.model.types import Model
 from fkcheck.urdf.provenance import Derivation, derived_from_table
-from fkcheck.urdf.source import load_urdf
 
 __all__ = ["ROUND_OFF", "apply_provenance", "urdf_derivation"]
 
@@ -38,18 +39,22 @@ ROUND_OFF = 1e-9
 
 
 def urdf_derivation(model: Model, tol: tuple[float, float]) -> Derivation | None:
-    """How the model's URDF was written from its own table, or ``None``.
+    """How the model's description was written from its own table, or ``None``.
 
-    ``None`` too when the model has no URDF or it cannot be read here: the URDF
-    backends then say so themselves, and answer nothing.
+    ``None`` too when the model has no description, or it cannot be read here
+    (its readers then say so themselves, and answer nothing), or it is not in
+    the URDF language (``fkcheck urdf`` writes URDF only: another format's
+    derivation is not recognised).
     """
-    if model.urdf is None:
+    if model_format(model, "urdf") is None:
         return None
     try:
-        info = load_urdf(model)
+        described = load_description(model, language="urdf")
     except (FkcheckError, Skip):
         return None
-    return derived_from_table(model, info, tol)
+    if described.language != "urdf":
+        return None
+    return derived_from_table(model, urdf_info(described), tol)
 
 
 def _computed_poses(
@@ -90,16 +95,18 @@ def apply_provenance(
         results: One result per backend.
 
     Returns:
-        The results, where a table-evidence backend that reads the model's URDF
-        (``reads == "urdf"``) now counts as implementation evidence, its message
-        saying why, when that URDF was written from the model's own table; and so
-        does a measured-poses file computed from it (see the module docstring).
+        The results, where a table-evidence backend that reads the model's
+        description (:func:`~fkcheck.backends.base.reads_format`) now counts as
+        implementation evidence, its message saying why, when that URDF was
+        written from the model's own table; and so does a measured-poses file
+        computed from it (see the module docstring).
     """
     results = _computed_poses(backends, results)
+    fmt = model_format(model, "urdf")  # fkcheck writes URDF only: its readers
     readers = [
         i
         for i, (b, r) in enumerate(zip(backends, results, strict=True))
-        if r.evidence == "table" and b.reads == "urdf"
+        if r.evidence == "table" and fmt is not None and reads_format(b, fmt.name)
     ]
     # Only when one of them answered: a URDF none could read proves nothing either way.
     answered = any(results[i].ran for i in readers)

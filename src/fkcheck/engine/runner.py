@@ -32,8 +32,9 @@ from typing import TYPE_CHECKING, Any, Unpack
 
 import numpy as np
 
-from fkcheck.backends.base import Backend
+from fkcheck.backends.base import Backend, reads_format
 from fkcheck.core.typing import Float, JacobianReference
+from fkcheck.description.registry import model_format
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.jacobian import Explain
 from fkcheck.engine.judge import judge
@@ -186,6 +187,7 @@ class _InChild:
         self.method = backend.method
         self.evidence = backend.evidence
         self.reads = backend.reads
+        self.formats = getattr(backend, "formats", ())
         self.isolated = False  # it is the isolation
         self.imports: tuple[str, ...] = ()  # imported in its own process
         self.distributions = backend.distributions
@@ -467,7 +469,8 @@ def _one_backend(
     prepared: PreparedCheck, index: int, backend: Backend, on_progress: Progress | None
 ) -> BackendResult | FkcheckError:
     """One backend's result on its share of the plan (or bad input to re-raise)."""
-    if prepared.placed and backend.reads != "urdf":
+    urdf = model_format(prepared.model, "urdf")  # placed urdf:LINK frames are its readers' alone
+    if prepared.placed and not (urdf is not None and reads_format(backend, urdf.name)):
         return _skipped(backend, _placed_reason(prepared.placed))
     share = prepared.plan.backends[index]
     request = prepared.request

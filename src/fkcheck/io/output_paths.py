@@ -1,7 +1,7 @@
 """The one output-path policy: what a run may write, decided before anything runs.
 
 Every command that writes files (``check``'s reports and ``--all``'s
-directory, ``urdf -o``, ``convert -o``, ``dh-from-urdf -o``, ``bench --json``,
+directory, ``urdf -o``, ``convert -o``, ``table-from -o``, ``bench --json``,
 ``diagnose --json``) calls :func:`plan_outputs` with its outputs and its inputs
 before the (possibly long) work starts. The rules:
 

@@ -37,7 +37,7 @@ def snap(value: float, *, angle: bool, tol: float | None = None, grid_m: float =
     Angles (radians) go to 0 or a multiple of π/2 (the float nearest it); lengths
     (metres) to a multiple of ``grid_m`` (``1e-6``: whole micrometres), or to 0
     when ``grid_m`` is 0. The default ``tol`` removes round-off only
-    (:data:`ANGLE_SNAP_RAD`, :data:`LENGTH_SNAP_M`); ``dh-from-urdf`` cleans
+    (:data:`ANGLE_SNAP_RAD`, :data:`LENGTH_SNAP_M`); ``table-from`` cleans
     with a looser one (:data:`fkcheck.urdf.to_dh.CLEAN_TOL`).
     """
     if tol is None:

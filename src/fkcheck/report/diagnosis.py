@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from fkcheck.description.registry import model_format
 from fkcheck.io.format import format_seconds
 from fkcheck.report.measures import measure_m, measure_rad
 from fkcheck.report.views import AxisView, DiagnosisView, ExplanationView
@@ -38,7 +39,8 @@ def _explanation_view(rank: int, e: Explanation) -> ExplanationView:
 
 
 def _axes(d: Diagnosis) -> tuple[AxisView, ...]:
-    urdf = d.model.urdf.joints if d.model.urdf is not None else ()
+    fmt = model_format(d.model)
+    urdf = fmt.mapped_joints(d.model) if fmt is not None else ()
     first = next((a.joint for a in d.axes if not a.agrees), None)
     return tuple(
         AxisView(

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from fkcheck.description.registry import model_format
 from fkcheck.engine.results import CheckResult
 from fkcheck.io.format import (
     format_constant,
@@ -76,11 +77,14 @@ def placement(model: Model, spec: FrameSpec) -> str:
 
 
 def urdf_twin(model: Model, spec: FrameSpec) -> str:
-    """A named frame's URDF twin, in words (or that it has none)."""
-    if spec.urdf is None:
-        return "no URDF twin: only backends built from the DH table compare it"
-    where = f" of {model.urdf.path}" if model.urdf is not None else ""
-    return f"URDF link {spec.urdf}{where}"
+    """A named frame's twin in the model's description, in words (or that it has none)."""
+    fmt = model_format(model)
+    twin = spec.urdf if fmt is None else fmt.frame(spec)
+    language = "URDF" if fmt is None else fmt.language.upper()
+    if twin is None:
+        return f"no {language} twin: only backends built from the DH table compare it"
+    where = f" of {fmt.written(model)}" if fmt is not None else ""
+    return f"{language} link {twin}{where}"
 
 
 def frame_sides(check: CheckResult) -> tuple[FrameSide, ...]:
@@ -121,7 +125,8 @@ def _limits(model: Model, i: int) -> str:
 def model_view(check: CheckResult) -> ModelView:
     """The model section: the DH table, Aᵢ, base, tool and named frames."""
     model = check.model
-    urdf_joints = model.urdf.joints if model.urdf is not None else ()
+    fmt = model_format(model)
+    urdf_joints = fmt.mapped_joints(model) if fmt is not None else ()
     rows = tuple(
         DhRow(
             index=i + 1,
@@ -166,5 +171,5 @@ def model_view(check: CheckResult) -> ModelView:
         base=_transform_view("base: world → DH frame 0", model.base),
         tool=_transform_view(f"tool: DH frame {model.dof} → TCP", model.tool),
         frames=frames,
-        urdf=model.urdf.path if model.urdf is not None else "",
+        urdf=fmt.written(model) if fmt is not None else "",
     )

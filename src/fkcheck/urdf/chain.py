@@ -1,8 +1,14 @@
-"""A URDF's kinematic geometry: joint origins and axes, and FK along one chain (NumPy only).
+"""A description's kinematic tree: joint origins and axes, and FK along one chain (NumPy only).
 
-Reference libraries compute URDF poses for the *check*; this module is for
-*geometry*: joint axes as lines (for ``dh-from-urdf`` and for ``diagnose``'s
-axis comparison), which none of the backends expose. It builds on the
+:class:`KinematicTree` is format-neutral: links (a URDF's links; an MJCF's
+bodies and sites) joined by :class:`JointGeometry` (origin in the parent, axis,
+type, limits). Every description format reads its file into one
+(:mod:`fkcheck.description`); :func:`urdf_kinematics` is URDF's reading.
+(``UrdfKinematics`` is its former name, kept as an alias.)
+
+Reference libraries compute poses for the *check*; this module is for
+*geometry*: joint axes as lines (for ``table-from`` and for ``diagnose``'s
+axis comparison), which none of the backends expose. URDF's reading builds on the
 :class:`~fkcheck.urdf.tree.UrdfInfo` that :func:`fkcheck.urdf.tree.read_urdf`
 produced — its checked tree, its screened text (never the raw file) and its one
 chain walk — and follows the URDF specification: ``<origin xyz rpy>``
@@ -17,7 +23,7 @@ from __future__ import annotations
 
 import collections
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,12 +33,13 @@ from fkcheck.core.geometry import invert, matrix_from_xyz_rpy
 from fkcheck.core.typing import Float
 from fkcheck.errors import FrameError, UrdfError, XacroRefused
 from fkcheck.model.coverage import Competitor
-from fkcheck.model.types import Model, resolve_frame
+from fkcheck.model.types import FrameSpec, Model, resolve_frame
 from fkcheck.urdf.tree import UrdfInfo, chain_between
 
 __all__ = [
     "MOVABLE",
     "JointGeometry",
+    "KinematicTree",
     "UrdfKinematics",
     "axis_rotation",
     "competing_links",
@@ -48,7 +55,7 @@ MOVABLE = ("revolute", "continuous", "prismatic")
 
 @dataclass(frozen=True, eq=False)
 class JointGeometry:
-    """One URDF joint's geometry.
+    """One joint's geometry (a URDF ``<joint>``, or a joint or fixed attachment of another format).
 
     Attributes:
         name: Joint name.
@@ -98,15 +105,16 @@ def axis_rotation(axis: Float, angle: float | Float) -> Float:
 
 
 @dataclass(frozen=True, eq=False)
-class UrdfKinematics:
-    """The joints and links of one URDF, and FK along a chain of it.
+class KinematicTree:
+    """The joints and links of one description, and FK along a chain of it.
 
     Attributes:
-        path: The URDF file.
-        name: The ``<robot name>``.
+        path: The description's file.
+        name: The robot's name (a URDF's ``<robot name>``, an MJCF's ``<mujoco model>``).
         joints: Joints by name.
-        links: Link names, in file order.
+        links: Link names (every frame a joint may join), in file order.
         root: The root link.
+        kind: The format's name as messages show it (``"URDF"``, ``"MJCF"``).
     """
 
     path: Path
@@ -114,6 +122,7 @@ class UrdfKinematics:
     joints: Mapping[str, JointGeometry]
     links: tuple[str, ...]
     root: str
+    kind: str = "URDF"
 
     def chain(self, base: str, tip: str) -> list[JointGeometry]:
         """The joints from link ``base`` to link ``tip``, in order.
@@ -129,7 +138,7 @@ class UrdfKinematics:
         """
         for link in (base, tip):
             if link not in self.links:
-                raise FrameError(link, f"URDF {self.path.name}", self.links)
+                raise FrameError(link, f"{self.kind} {self.path.name}", self.links)
         up_base = self._path_from_root(base)
         up_tip = self._path_from_root(tip)
         shared = 0
@@ -287,7 +296,11 @@ def _floats(text: str | None, default: tuple[float, ...]) -> tuple[float, ...]:
     return default if text is None else tuple(float(p) for p in text.split(" ") if p)
 
 
-def urdf_kinematics(info: UrdfInfo) -> UrdfKinematics:
+#: The former name of :class:`KinematicTree` (the type is not URDF's alone).
+UrdfKinematics = KinematicTree
+
+
+def urdf_kinematics(info: UrdfInfo) -> KinematicTree:
     """The kinematic geometry of a URDF read by :func:`fkcheck.urdf.tree.read_urdf`.
 
     The links, the root, each joint's type, parent and child and the numbers
@@ -328,7 +341,7 @@ def urdf_kinematics(info: UrdfInfo) -> UrdfKinematics:
             limits=limits,
             mimic=str(mimic_el.get("joint")) if mimic_el is not None else None,
         )
-    return UrdfKinematics(path, str(root.get("name", path.stem)), joints, info.links, info.root)
+    return KinematicTree(path, str(root.get("name", path.stem)), joints, info.links, info.root)
 
 
 def read_urdf_source(
@@ -378,7 +391,7 @@ def read_urdf_file(
     *,
     xacro_args: Mapping[str, str] | None = None,
     packages: Mapping[str, Path] | None = None,
-) -> tuple[Path, str, UrdfKinematics]:
+) -> tuple[Path, str, KinematicTree]:
     """``(path, screened text, kinematics)`` of :func:`read_urdf_source`'s URDF.
 
     Raises:
@@ -390,22 +403,28 @@ def read_urdf_file(
 
 
 def competing_links(
-    model: Model, pair: Sequence[str], kin: UrdfKinematics
+    model: Model,
+    pair: Sequence[str],
+    kin: KinematicTree,
+    twin: Callable[[FrameSpec], str | None] = lambda spec: spec.urdf,
 ) -> dict[str, list[Competitor]]:
-    """For each compared frame with a URDF twin, the other links fixed to its link.
+    """For each compared frame with a twin in ``kin``, the other links fixed to its link.
+
+    ``twin`` gives a frame's twin in that description (default: its ``urdf`` link).
 
     Each is placed relative to the frame's DH frame: the frame's offset composed
-    with the URDF's fixed joints (:meth:`UrdfKinematics.rigid`). Which of them is
+    with the URDF's fixed joints (:meth:`KinematicTree.rigid`). Which of them is
     the DH frame is a choice (:class:`~fkcheck.model.coverage.Competitor`).
     """
     out: dict[str, list[Competitor]] = {}
     for name in dict.fromkeys(pair):
         spec = resolve_frame(model, name)
-        if spec.urdf is None:
+        link = twin(spec)
+        if link is None:
             continue
         anchor_T_frame = spec.offset.matrix
         out[spec.name] = [
-            Competitor(link, anchor_T_frame @ frame_T_link)
-            for link, frame_T_link in kin.rigid(spec.urdf).items()
+            Competitor(other, anchor_T_frame @ frame_T_link)
+            for other, frame_T_link in kin.rigid(link).items()
         ]
     return out

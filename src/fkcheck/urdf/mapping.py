@@ -1258,8 +1258,16 @@ def _same(a: Offset, b: Offset) -> bool:
 # ----------------------------------------------------------------------------- the text
 
 
-def proposal_toml(result: MapResult) -> str:
-    """The ``[urdf]`` and ``[frames.*]`` block, with the evidence in comments.
+def proposal_toml(
+    result: MapResult,
+    section: str = "urdf",
+    twin: Callable[[FrameSpec], FrameSpec] | None = None,
+) -> str:
+    """The ``[urdf]`` (or ``section``) and ``[frames.*]`` block, with the evidence in comments.
+
+    ``twin`` maps a proposed frame (whose ``urdf`` names its link) onto the
+    description's format (:meth:`fkcheck.description.types.DescriptionFormat.with_frame`);
+    default: as it is, ``urdf = "LINK"``.
 
     Every comment goes through :func:`~fkcheck.model.write.toml_comment`: names
     from the URDF or the model (which may hold newlines) can never start a line
@@ -1277,7 +1285,7 @@ def proposal_toml(result: MapResult) -> str:
             "of 0, a multiple of 90° or a whole µm are snapped to it.",
         ]
     )
-    out += ["", "[urdf]", f"path = {toml_string(result.urdf_path)}"]
+    out += ["", f"[{section}]", f"path = {toml_string(result.urdf_path)}"]
     notes: list[str] = []
     if result.joints_fit:
         notes.append(
@@ -1343,7 +1351,8 @@ def proposal_toml(result: MapResult) -> str:
             if p.note:
                 comment.append(p.note)
             comment += _absorb_warning(p, result.absorbs.get(p.spec.name, ()))
-            out.append(frame_toml(p.spec, unit, comment).rstrip("\n"))
+            spec = p.spec if twin is None else twin(p.spec)
+            out.append(frame_toml(spec, unit, comment).rstrip("\n"))
     for near in result.nearest:
         where = "DH frame 0" if near.anchor == 0 else f"DH frame {near.anchor}"
         out += [

@@ -24,8 +24,10 @@ from fkcheck.urdf.xacro import XACRO_TIMEOUT_S, read_xacro, screen_expansion
 
 __all__ = [
     "allow_xacro",
+    "check_urdf_mapping",
     "load_urdf",
     "read_model_urdf",
+    "read_model_urdf_expanded",
     "resolve_urdf_path",
 ]
 
@@ -57,20 +59,33 @@ def read_model_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> U
             valid tree, or the xacro expansion failed.
         BackendUnavailable: The path names example-robot-data, which is not installed.
     """
+    return read_model_urdf_expanded(model, xacro_timeout_s)[0]
+
+
+def read_model_urdf_expanded(
+    model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S
+) -> tuple[UrdfInfo, bool]:
+    """:func:`read_model_urdf`'s URDF, and whether it is a xacro file's expansion.
+
+    Raises:
+        UrdfError: As :func:`read_model_urdf`.
+        BackendUnavailable: The path names example-robot-data, which is not installed.
+    """
     path, package_dirs = resolve_urdf_path(model)
     assert model.urdf is not None
     if not model.urdf.xacro:
-        return read_urdf(path, package_dirs)
+        return read_urdf(path, package_dirs), False
     base = Path.cwd() if model.path is None else model.path.parent
     packages = {name: locate(where, base) for name, where in model.urdf.packages.items()}
     files = {name: locate(where, base) for name, where in model.urdf.xacro_files.items()}
     dirs = package_dirs + tuple(p.parent for p in packages.values())
     if model.urdf.expanded is not None:  # expanded once by this check: screened, not re-run
-        return screen_expansion(path, model.urdf.expanded, dirs)
+        return screen_expansion(path, model.urdf.expanded, dirs), True
     try:
-        return read_urdf(path, dirs)  # a plain URDF is read as one: xacro never runs on it
+        return read_urdf(path, dirs), False  # a plain URDF is read as one: xacro never runs on it
     except XacroRefused:
-        return read_xacro(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s, files)
+        info = read_xacro(path, model.urdf.xacro_args, packages, dirs, xacro_timeout_s, files)
+        return info, True
 
 
 def resolve_urdf_path(model: Model) -> tuple[Path, tuple[Path, ...]]:
@@ -99,6 +114,16 @@ def load_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> UrdfInf
             that frame is used.)
     """
     info = read_model_urdf(model, xacro_timeout_s)
+    check_urdf_mapping(model, info)
+    return info
+
+
+def check_urdf_mapping(model: Model, info: UrdfInfo) -> None:
+    """Check the model's ``[urdf].joints`` against the URDF's joints (names, types).
+
+    Raises:
+        UrdfError: A mapped joint is missing or of the wrong type.
+    """
     path = info.path
     assert model.urdf is not None
     for name, joint in zip(model.urdf.joints, model.joints, strict=True):
@@ -115,4 +140,3 @@ def load_urdf(model: Model, xacro_timeout_s: float = XACRO_TIMEOUT_S) -> UrdfInf
             raise UrdfError(
                 path, f"joint {name!r} is {found.type} in the URDF but {joint.type} in the model"
             )
-    return info

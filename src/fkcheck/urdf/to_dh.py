@@ -386,7 +386,7 @@ def dh_from_urdf(
         convention=convention,
         joints=tuple(joints),
         description=f"{robot}: {base} → {tip}, {convention} DH extracted from the URDF's joint "
-        "axes by fkcheck dh-from-urdf",
+        "axes by fkcheck table-from",
         source=f"URDF {kin.path.name}",
         base=base_offset,
         tool=tool_offset,

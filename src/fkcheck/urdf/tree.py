@@ -2,7 +2,7 @@
 
 Every URDF backend parses the URDF with its own parser (urdfdom, lxml, Robotics
 Toolbox's reader); :func:`read_urdf` runs first, for all of them and for
-``dh-from-urdf`` and ``diagnose``:
+``table-from`` and ``diagnose``:
 
 * it reads and screens the document with :mod:`fkcheck.urdf.screen` (regular files
   only, no DTD or entities, no xacro, no includes, size and nesting bounds) and
@@ -35,7 +35,6 @@ import sys
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 from typing import Protocol, TypeVar
 
@@ -215,19 +214,15 @@ class UrdfInfo:
 def read_urdf(path: Path, package_dirs: tuple[Path, ...] = ()) -> UrdfInfo:
     """Read, screen and summarise a URDF file (no model mapping checks).
 
-    The result is cached by path and the file's modification time and size.
+    Not kept: a model's description is kept by
+    :func:`fkcheck.description.registry.load_description`.
 
     Raises:
         UrdfError: Missing, not a regular file, too large, not XML, refused by the
             screen (:mod:`fkcheck.urdf.screen`), not a valid tree, or beyond
             :data:`MAX_URDF_LINKS` / :data:`MAX_URDF_DEPTH`.
     """
-    st = check_urdf_path(path)  # part of the cache key: a file edited in place is read again
-    return _read(path, package_dirs, st.st_mtime_ns, st.st_size)
-
-
-@lru_cache(maxsize=32)
-def _read(path: Path, package_dirs: tuple[Path, ...], mtime_ns: int, size: int) -> UrdfInfo:
+    check_urdf_path(path)
     return urdf_info_from_bytes(path, read_urdf_bytes(path), package_dirs)
 
 

@@ -1,8 +1,12 @@
-"""``fkcheck dh-from-urdf``: an exact DH model file from a serial chain of a URDF."""
+"""``fkcheck table-from``: an exact DH model file from a serial chain of a description.
+
+Formerly ``dh-from-urdf``, which still works and says it was renamed.
+"""
 
 from __future__ import annotations
 
 import argparse
+import sys
 from dataclasses import replace
 from typing import Any
 
@@ -10,23 +14,43 @@ from fkcheck.cli._arguments import utf8_text
 from fkcheck.cli._model_output import add_model_output, emit_model
 from fkcheck.cli.expand import add_xacro_options, xacro_inputs
 
-__all__ = ["add_parser", "run"]
+__all__ = ["COMMAND", "FORMER_NAME", "add_parser", "run"]
+
+#: The command's name, and the name it had until it read more than URDF.
+COMMAND = "table-from"
+FORMER_NAME = "dh-from-urdf"
 
 
 def add_parser(sub: Any) -> None:
-    """Register the subcommand."""
+    """Register the subcommand, and its former name as a working alias."""
     p = sub.add_parser(
-        "dh-from-urdf",
-        help="extract an exact DH table from a URDF's joint axes",
+        COMMAND,
+        help="derive an exact DH table from a description's joint axes (URDF, xacro)",
         description="Build a DH model (θ/d offsets, base and tool transforms, and the [urdf]/"
-        "[frames] mapping back to the URDF) for the chain BASE → TIP from the joint axes "
-        "(common normals; parallel, intersecting and coincident axes by the usual "
-        "conventions, each said in a comment). Numbers within 1e-9 of a round one (0, a "
-        "multiple of 90°, a whole micrometre) are written as it: the URDF's rounding of π "
-        "and float noise do not reach the table, so fkcheck lint finds it clean. "
-        "Check it with: fkcheck check MODEL.toml",
+        "[frames] mapping back to the description) for the chain BASE → TIP from the joint "
+        "axes of a robot description (common normals; parallel, intersecting and coincident "
+        "axes by the usual conventions, each said in a comment). Numbers within 1e-9 of a "
+        "round one (0, a multiple of 90°, a whole micrometre) are written as it: the "
+        "description's rounding of π and float noise do not reach the table, so fkcheck lint "
+        "finds it clean. Check it with: fkcheck check MODEL.toml",
     )
-    p.add_argument("urdf", metavar="URDF", help="a URDF file, or example-robot-data:<subpath>")
+    _arguments(p)
+    p.set_defaults(run=run)
+    former = sub.add_parser(
+        FORMER_NAME,
+        help=f"renamed {COMMAND} (this name still works)",
+        description=f"{FORMER_NAME} was renamed {COMMAND}: the same command, the same options.",
+    )
+    _arguments(former)
+    former.set_defaults(run=_run_renamed)
+
+
+def _arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "urdf",
+        metavar="DESCRIPTION",
+        help="a URDF (or, with --allow-xacro, xacro) file, or example-robot-data:<subpath>",
+    )
     p.add_argument("--base", required=True, metavar="FRAME", help="base link of the chain")
     p.add_argument("--tip", required=True, metavar="FRAME", help="tip link of the chain")
     p.add_argument(
@@ -35,7 +59,9 @@ def add_parser(sub: Any) -> None:
         default="standard",
         help="DH convention of the table (default standard)",
     )
-    p.add_argument("--name", type=utf8_text, help="model name (default: the URDF's robot name)")
+    p.add_argument(
+        "--name", type=utf8_text, help="model name (default: the description's robot name)"
+    )
     p.add_argument(
         "--deg",
         action="store_true",
@@ -43,24 +69,29 @@ def add_parser(sub: Any) -> None:
     )
     add_xacro_options(p)
     add_model_output(p)
-    p.set_defaults(run=run)
+
+
+def _run_renamed(args: argparse.Namespace) -> int:
+    """``dh-from-urdf``: say it was renamed, then run it."""
+    print(f"fkcheck: {FORMER_NAME} was renamed {COMMAND}; running {COMMAND}", file=sys.stderr)
+    return run(args)
 
 
 def run(args: argparse.Namespace) -> int:
     """Extract, write, summarise."""
-    from fkcheck.cli._outputs import plan, urdf_inputs
+    from fkcheck.cli._outputs import description_inputs, plan
+    from fkcheck.description.registry import read_description_file
     from fkcheck.io.text import terminal_text
     from fkcheck.model.write import model_to_toml
-    from fkcheck.urdf.chain import read_urdf_source, urdf_kinematics
     from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.to_dh import dh_from_urdf
 
     values, packages = xacro_inputs(args)
-    info = read_urdf_source(
-        args.urdf, xacro_args=values if args.allow_xacro else None, packages=packages
+    described = read_description_file(
+        args.urdf, args=values if args.allow_xacro else None, packages=packages
     )
-    plan(args, [("-o", args.output)], urdf_inputs(info, "the URDF"))
-    path, kin = info.path, urdf_kinematics(info)
+    plan(args, [("-o", args.output)], description_inputs(described, "the URDF"))
+    path, kin = described.path, described.tree
     spec = urdf_spec_for(path, args.output)
     result = dh_from_urdf(kin, args.base, args.tip, args.convention, name=args.name, urdf_spec=spec)
     model = result.model
@@ -76,7 +107,7 @@ def run(args: argparse.Namespace) -> int:
         )
     header = [
         f"{model.name}: {args.base} → {args.tip} of {path.name}, {model.convention} DH.",
-        "Generated by fkcheck dh-from-urdf from the URDF's joint axes at q = 0:",
+        f"Generated by fkcheck {COMMAND} from the URDF's joint axes at q = 0:",
         "each DH z follows the URDF axis direction (no flips); θ and d hold the offsets at",
         "q = 0; [base] places DH frame 0 in the base link (the model's world), [tool] the",
         "tip link in the last DH frame. Every chain link is a named frame mapped to its URDF",
@@ -90,7 +121,7 @@ def run(args: argparse.Namespace) -> int:
         joint_comments=dict(enumerate(result.notes)),
     )
     summary = (
-        f"fkcheck dh-from-urdf: {len(model.joints)} joints "
+        f"fkcheck {COMMAND}: {len(model.joints)} joints "
         f"({terminal_text(', '.join(model.joint_names))}); "
         f"consecutive axes: {', '.join(result.relations) or '-'}; self-check "
         f"{result.self_check_error:.2g}"
