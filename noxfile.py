@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -44,11 +45,12 @@ def _reference_env(session: nox.Session) -> Path:
     The sessions that need the ~1.8 GB of reference libraries (:data:`REFERENCE_ENV`'s)
     install them once into one venv, ``.nox/reference``, instead of once each (a
     fresh venv per session was five installs in CI, about 4 of its minutes, and 9 GB
-    on disk). Each session still runs ``pip install`` (next to nothing to do when
-    all is there), so a session run alone, on a clean clone, installs everything
-    itself. They are ``venv_backend="none"`` sessions that run the venv's programs
-    by path. Two of them started at once in one checkout share it: let the first
-    finish installing before starting the second.
+    on disk). A session installs when the venv is missing or was installed from
+    another ``pyproject.toml`` (a stamp in it says which; fkcheck is installed
+    editable, so its sources need none), so a session run alone, on a clean clone,
+    installs everything itself. They are ``venv_backend="none"`` sessions that run
+    the venv's programs by path. Two of them started at once in one checkout share
+    it: let the first finish installing before starting the second.
     """
     venv = session.cache_dir.parent / REFERENCE_ENV  # cache_dir is <envdir>/.cache
     bin_dir = venv / "bin"
@@ -56,10 +58,19 @@ def _reference_env(session: nox.Session) -> Path:
         session.run(sys.executable, "-m", "venv", str(venv), external=True)
     groups = (nox.project.dependency_groups(PYPROJECT, g) for g in _REFERENCE_GROUPS)
     deps = list(dict.fromkeys(d for group in groups for d in group))  # each once
-    session.run(
-        str(bin_dir / "python"), "-m", "pip", "install", "-e", ".[reference]", *deps,
-        external=True, silent=True,
-    )  # fmt: skip
+    # What was installed: pyproject.toml (fkcheck's dependencies, extras, entry points)
+    # and the groups. The install is editable, so a change to the sources needs none.
+    stamp = venv / ".fkcheck-installed"
+    wanted = hashlib.sha256(Path("pyproject.toml").read_bytes() + repr(deps).encode()).hexdigest()
+    if stamp.is_file() and stamp.read_text(encoding="utf-8") == wanted:
+        session.log(f"{venv}: installed from this pyproject.toml (delete it to reinstall)")
+    else:
+        stamp.unlink(missing_ok=True)
+        session.run(
+            str(bin_dir / "python"), "-m", "pip", "install", "-e", ".[reference]", *deps,
+            external=True, silent=True,
+        )  # fmt: skip
+        stamp.write_text(wanted, encoding="utf-8")
     session.env["VIRTUAL_ENV"] = str(venv)
     session.env["PATH"] = os.pathsep.join([str(bin_dir), os.environ.get("PATH", "")])
     return bin_dir
