@@ -81,6 +81,11 @@ def _reference_env(session: nox.Session) -> Path:
 #: shares a file, a port or the environment with another is a bug under it (CONTRIBUTING.md).
 PARALLEL = ("-n", "auto", "--dist", "loadfile")
 
+#: The slow tests' workers take single tests (`worksteal`): one file's three property
+#: runs (tests/urdf/test_map_link_choice_property.py) are almost half the session's time,
+#: and whole files kept them on one worker. No slow test shares a module-scoped fixture.
+SLOW_PARALLEL = ("-n", "auto", "--dist", "worksteal")
+
 
 @nox.session(venv_backend="none")
 def tests(session: nox.Session) -> None:
@@ -99,7 +104,7 @@ def tests(session: nox.Session) -> None:
 def slow(session: nox.Session) -> None:
     """Run the tests marked ``slow`` (``nox -s tests`` leaves them out), in parallel."""
     bin_dir = _reference_env(session)
-    session.run(bin_dir / "pytest", *PARALLEL, "-m", "slow", *session.posargs, external=True)
+    session.run(bin_dir / "pytest", *SLOW_PARALLEL, "-m", "slow", *session.posargs, external=True)
 
 
 @nox.session

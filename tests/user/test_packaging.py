@@ -124,7 +124,7 @@ def test_dist_installs_the_extra_for_the_main_job_and_the_wheel_alone_for_lint()
 def test_the_tests_session_leaves_the_slow_tests_to_a_session_ci_runs_too() -> None:
     noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
     tests_run = 'bin_dir / "pytest", *PARALLEL, "-m", "not slow", *session.posargs, external=True'
-    slow_run = 'bin_dir / "pytest", *PARALLEL, "-m", "slow", *session.posargs, external=True'
+    slow_run = 'bin_dir / "pytest", *SLOW_PARALLEL, "-m", "slow", *session.posargs, external=True'
     assert tests_run in noxfile.split("def tests(", 1)[1].split("\n@nox.session", 1)[0]
     assert slow_run in noxfile.split("def slow(", 1)[1].split("\n@nox.session", 1)[0]
     assert '"-n", "auto"' in noxfile
