@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
 import subprocess
+import sys
 import tempfile
 import zipfile
 from pathlib import Path
@@ -31,30 +33,80 @@ def _install(session: nox.Session, *groups: str, reference: bool = True) -> None
     session.install("-e", ".[reference,ik]" if reference else ".", *deps)
 
 
+#: The one environment of the sessions that need the reference extra (tests, slow,
+#: bounded, typecheck, crossval, fuzz, wall, campaign), in nox's envdir: ``.nox/reference``.
+REFERENCE_ENV = "reference"
+
+#: What it holds besides fkcheck[reference,ik]: every group those sessions use.
+_REFERENCE_GROUPS = ("test", "typecheck")
+
+
+def _reference_env(session: nox.Session) -> Path:
+    """The shared environment's ``bin/``: created if missing, brought up to date.
+
+    The sessions that need the ~1.8 GB of reference libraries (:data:`REFERENCE_ENV`'s)
+    install them once into one venv, ``.nox/reference``, instead of once each (a
+    fresh venv per session was five installs in CI, about 4 of its minutes, and 9 GB
+    on disk). A session installs when the venv is missing or was installed from
+    another ``pyproject.toml`` (a stamp in it says which; fkcheck is installed
+    editable, so its sources need none), so a session run alone, on a clean clone,
+    installs everything itself. They are ``venv_backend="none"`` sessions that run
+    the venv's programs by path. Two of them started at once in one checkout share
+    it: let the first finish installing before starting the second.
+    """
+    venv = session.cache_dir.parent / REFERENCE_ENV  # cache_dir is <envdir>/.cache
+    bin_dir = venv / "bin"
+    if not (bin_dir / "python").is_file():
+        session.run(sys.executable, "-m", "venv", str(venv), external=True)
+    groups = (nox.project.dependency_groups(PYPROJECT, g) for g in _REFERENCE_GROUPS)
+    deps = list(dict.fromkeys(d for group in groups for d in group))  # each once
+    # What was installed: pyproject.toml (fkcheck's dependencies, extras, entry points)
+    # and the groups. The install is editable, so a change to the sources needs none.
+    stamp = venv / ".fkcheck-installed"
+    wanted = hashlib.sha256(Path("pyproject.toml").read_bytes() + repr(deps).encode()).hexdigest()
+    if stamp.is_file() and stamp.read_text(encoding="utf-8") == wanted:
+        session.log(f"{venv}: installed from this pyproject.toml (delete it to reinstall)")
+    else:
+        stamp.unlink(missing_ok=True)
+        session.run(
+            str(bin_dir / "python"), "-m", "pip", "install", "-e", ".[reference,ik]", *deps,
+            external=True, silent=True,
+        )  # fmt: skip
+        stamp.write_text(wanted, encoding="utf-8")
+    session.env["VIRTUAL_ENV"] = str(venv)
+    session.env["PATH"] = os.pathsep.join([str(bin_dir), os.environ.get("PATH", "")])
+    return bin_dir
+
+
 #: pytest-xdist's workers: one per CPU (2 on two cores), each given whole test files
 #: (`loadfile`: a module-scoped fixture, often a check, is computed once). A test that
 #: shares a file, a port or the environment with another is a bug under it (CONTRIBUTING.md).
 PARALLEL = ("-n", "auto", "--dist", "loadfile")
 
+#: The slow tests' workers take single tests (`worksteal`): one file's three property
+#: runs (tests/urdf/test_map_link_choice_property.py) are almost half the session's time,
+#: and whole files kept them on one worker. No slow test shares a module-scoped fixture.
+SLOW_PARALLEL = ("-n", "auto", "--dist", "worksteal")
 
-@nox.session
+
+@nox.session(venv_backend="none")
 def tests(session: nox.Session) -> None:
     """Run the test suite in parallel, without the tests marked ``slow``.
 
     Bounded property-based examples. The long runs (marker ``slow``: the stress
     run, the long property run of map, the tests that build an environment, run
     the pytest plugin in a project or check every bundled model) are ``nox -s
-    slow``'s; CI runs both.
+    slow``'s; CI runs both. In the shared environment (``.nox/reference``).
     """
-    _install(session, "test")
-    session.run("pytest", *PARALLEL, "-m", "not slow", *session.posargs)
+    bin_dir = _reference_env(session)
+    session.run(bin_dir / "pytest", *PARALLEL, "-m", "not slow", *session.posargs, external=True)
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def slow(session: nox.Session) -> None:
     """Run the tests marked ``slow`` (``nox -s tests`` leaves them out), in parallel."""
-    _install(session, "test")
-    session.run("pytest", *PARALLEL, "-m", "slow", *session.posargs)
+    bin_dir = _reference_env(session)
+    session.run(bin_dir / "pytest", *SLOW_PARALLEL, "-m", "slow", *session.posargs, external=True)
 
 
 @nox.session
@@ -77,19 +129,21 @@ def actionlint(session: nox.Session) -> None:
     session.run("actionlint")
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def typecheck(session: nox.Session) -> None:
-    """Mypy (strict) on src/."""
-    _install(session, "typecheck")
-    session.run("mypy")
+    """Mypy (strict) on src/, in the shared environment (``.nox/reference``)."""
+    session.run(_reference_env(session) / "mypy", external=True)
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def fuzz(session: nox.Session) -> None:
     """Property-based tests with 10x the examples of the default session."""
-    _install(session, "test")
+    bin_dir = _reference_env(session)
     session.env["FKCHECK_HYPOTHESIS_PROFILE"] = "fuzz"
-    session.run("pytest", "-k", "property", "--hypothesis-show-statistics", *session.posargs)
+    session.run(
+        bin_dir / "pytest", "-k", "property", "--hypothesis-show-statistics", *session.posargs,
+        external=True,
+    )  # fmt: skip
 
 
 #: Address-space limit of `nox -s bounded` (what `ulimit -v` sets), bytes.
@@ -103,28 +157,30 @@ _BOUNDED_PYTEST = (
 )
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def bounded(session: nox.Session) -> None:
     """The hostile-input suites and the big-input test under a 2 GiB address-space limit.
 
     `ulimit -v` for the test process and every fkcheck it starts: a reader that
     loads a whole hostile file, or a report built all at once, runs out of memory
-    here instead of passing.
+    here instead of passing. In parallel (each pytest-xdist worker starts under the
+    limit too), in the shared environment (``.nox/reference``).
     """
-    _install(session, "test")
+    bin_dir = _reference_env(session)
     session.run(
-        "python", "-c", _BOUNDED_PYTEST, str(BOUNDED_AS_BYTES), "-p", "no:cacheprovider",
+        bin_dir / "python", "-c", _BOUNDED_PYTEST, str(BOUNDED_AS_BYTES), "-p", "no:cacheprovider",
+        *PARALLEL,
         "tests/hostile/test_hostile_inputs.py", "tests/hostile/test_hostile_urdf.py",
         "tests/hostile/test_hostile_xacro.py", "tests/hostile/test_hostile_outputs.py",
         "tests/hostile/test_hostile_processes.py", "tests/hostile/test_bounded_memory.py",
         "tests/hostile/test_hostile_calibration.py", "tests/hostile/test_property_calibration.py",
         "tests/hostile/test_bounded_work.py", "tests/hostile/test_hostile_readers.py",
         "tests/backends/test_bag.py",
-        *session.posargs,
+        *session.posargs, external=True,
     )  # fmt: skip
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def crossval(session: nox.Session) -> None:
     """Check every bundled model against every default backend; fail when any disagrees.
 
@@ -133,10 +189,9 @@ def crossval(session: nox.Session) -> None:
     $GITHUB_STEP_SUMMARY on GitHub Actions). Extra arguments go to
     `fkcheck check --all`, e.g. `nox -s crossval -- --samples 10000`.
     """
-    _install(session)
     session.run(
-        "fkcheck", "check", "--all", "--out-dir", "reports",
-        "--summary", "reports/summary.md", *session.posargs,
+        _reference_env(session) / "fkcheck", "check", "--all", "--out-dir", "reports",
+        "--summary", "reports/summary.md", *session.posargs, external=True,
     )  # fmt: skip
 
 
@@ -163,7 +218,7 @@ def bench(session: nox.Session) -> None:
     )  # fmt: skip
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def wall(session: nox.Session) -> None:
     """Wall time of whole checks (benchmarks/check_wall.py): reports/check-wall.json.
 
@@ -171,13 +226,13 @@ def wall(session: nox.Session) -> None:
     runs, against ``--against rtb-dh`` alone in the same session; ``nox -s wall
     -- --big`` adds the 10⁶-sample and 3·10⁵-sample Jacobian checks.
     """
-    _install(session)
     session.run(
-        "python", "benchmarks/check_wall.py", "--json", "reports/check-wall.json", *session.posargs
-    )
+        _reference_env(session) / "python", "benchmarks/check_wall.py",
+        "--json", "reports/check-wall.json", *session.posargs, external=True,
+    )  # fmt: skip
 
 
-@nox.session(default=False)
+@nox.session(default=False, venv_backend="none")
 def campaign(session: nox.Session) -> None:
     """Verdict campaign (benchmarks/verdict_campaign.py): reports/verdict-campaign.json.
 
@@ -187,10 +242,9 @@ def campaign(session: nox.Session) -> None:
     identifiable, not covered and false green per arm; exit 1 on a false green or a
     published table refused. About 200 map → check runs.
     """
-    _install(session)
     session.run(
-        "python", "benchmarks/verdict_campaign.py", "--json", "reports/verdict-campaign.json",
-        *session.posargs,
+        _reference_env(session) / "python", "benchmarks/verdict_campaign.py",
+        "--json", "reports/verdict-campaign.json", *session.posargs, external=True,
     )  # fmt: skip
 
 

@@ -9,6 +9,7 @@ source tree by name, never reports/ or a CI venv, and the licences are declared.
 
 from __future__ import annotations
 
+import ast
 import inspect
 import subprocess
 import sys
@@ -133,8 +134,10 @@ def test_dist_installs_the_extra_for_the_main_job_and_the_wheel_alone_for_lint()
 
 def test_the_tests_session_leaves_the_slow_tests_to_a_session_ci_runs_too() -> None:
     noxfile = (REPO_ROOT / "noxfile.py").read_text("utf-8")
-    assert 'session.run("pytest", *PARALLEL, "-m", "not slow", *session.posargs)' in noxfile
-    assert 'session.run("pytest", *PARALLEL, "-m", "slow", *session.posargs)' in noxfile
+    tests_run = 'bin_dir / "pytest", *PARALLEL, "-m", "not slow", *session.posargs, external=True'
+    slow_run = 'bin_dir / "pytest", *SLOW_PARALLEL, "-m", "slow", *session.posargs, external=True'
+    assert tests_run in noxfile.split("def tests(", 1)[1].split("\n@nox.session", 1)[0]
+    assert slow_run in noxfile.split("def slow(", 1)[1].split("\n@nox.session", 1)[0]
     assert '"-n", "auto"' in noxfile
     markers = _pyproject()["tool"]["pytest"]["ini_options"]["markers"]
     assert any(m.startswith("slow: ") for m in markers)
@@ -147,6 +150,28 @@ def test_the_tests_session_leaves_the_slow_tests_to_a_session_ci_runs_too() -> N
     assert ci[slow - 1] == 'export PYTEST_ADDOPTS="--junitxml=${slow_junit}"'
     assert tests < slow < ci.index('[ "$tests_status" -eq 0 ] || exit "$tests_status"')
     assert 'python3 - "$tests_junit" "$slow_junit" <<\'PY\'' in ci
+
+
+def test_the_sessions_needing_the_reference_extra_share_one_environment() -> None:
+    # One install of the ~1.8 GB instead of one per session (CI ran five of them): each
+    # of these sessions makes or updates .nox/reference and runs its programs from there;
+    # the light ones (lint, docs) keep their own small environments.
+    tree = ast.parse((REPO_ROOT / "noxfile.py").read_text("utf-8"))
+    sessions = {
+        f.name: f
+        for f in tree.body
+        if isinstance(f, ast.FunctionDef)
+        and any("session" in ast.unparse(d) for d in f.decorator_list)
+    }
+    shared = {"tests", "slow", "bounded", "typecheck", "crossval", "fuzz", "wall", "campaign"}
+    for name in shared:
+        (decorator,) = sessions[name].decorator_list
+        assert 'venv_backend="none"' in ast.unparse(decorator).replace("'", '"'), name
+        assert "_reference_env(session)" in ast.unparse(sessions[name]), name
+    for name in ("lint", "docs"):
+        assert "_reference_env" not in ast.unparse(sessions[name]), name
+    # The hostile-input suites under the memory limit run in parallel too.
+    assert "*PARALLEL" in ast.unparse(sessions["bounded"])
 
 
 def test_ci_counts_the_tests_and_skips_of_both_junit_files(tmp_path: Path) -> None:

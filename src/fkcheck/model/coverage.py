@@ -785,7 +785,7 @@ def _hidden(
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
         return {}
-    strict = _weak(within[:, idx], configurations, RESOLUTION_LIMIT)
+    strict = _weak(_spectrum(within[:, idx]), configurations, RESOLUTION_LIMIT)
     if not len(strict):
         return {}
     # Of what the limits hide, the combinations free joints show at least as well as
@@ -956,7 +956,11 @@ def coverage(
     ]
     rows = generic.shape[0]
     generic_residual = _without(J, [J[:, c] @ k for c, k in offsets.absorbing]) * unit_tol
-    trades = _trades(generic_residual, candidates, rows, clock=clock)
+    # One SVD of the candidates' generic columns: for the trades, and for what the
+    # check's configurations hide that generic ones show.
+    chosen = [i for i, c in enumerate(candidates) if c]
+    spectrum = _spectrum(generic_residual[:, chosen]) if chosen else None
+    trades = _trades(generic_residual, candidates, rows, clock=clock, spectrum=spectrum)
     # … and what the check's own configurations exercise: its resolution, its trades.
     if q is not None:
         checked = _subset(q, CHECK_SAMPLES, seed)
@@ -968,7 +972,15 @@ def coverage(
     # Combinations the check's configurations hide that generic ones show at least
     # 1:1: its configurations, not the kinematics, leave those numbers apart.
     tied = (
-        _unseen(generic_residual, residual * unit_tol, candidates, rows, checked.shape[0], clock)
+        _unseen(
+            generic_residual,
+            residual * unit_tol,
+            candidates,
+            rows,
+            checked.shape[0],
+            clock,
+            generic_spectrum=spectrum,
+        )
         if q is not None
         else {}
     )
@@ -1757,10 +1769,23 @@ def _needs_full(J: Float) -> bool:
     return bool(J.shape[0] < J.shape[1])
 
 
-def _weak(J: Float, configurations: int, limit: float) -> Float:
-    """Orthonormal rows spanning the combinations ``J`` shows under ``1/limit`` of (RMS)."""
+def _spectrum(J: Float) -> tuple[Float, Float]:
+    """``J``'s singular values, one per column (zeros past its row count), and all of ``Vᵀ``.
+
+    One SVD that :func:`_trades` and :func:`_unseen` both read (the same generic
+    ``J``, each against its own threshold).
+    """
     _, sv, vt = np.linalg.svd(J, full_matrices=_needs_full(J))
     sv = np.concatenate([sv, np.zeros(J.shape[1] - len(sv))]) if len(sv) < J.shape[1] else sv
+    return sv, vt
+
+
+def _weak(spectrum: tuple[Float, Float], configurations: int, limit: float) -> Float:
+    """Orthonormal rows spanning the combinations a ``J`` shows under ``1/limit`` of (RMS).
+
+    ``spectrum`` is that ``J``'s :func:`_spectrum`.
+    """
+    sv, vt = spectrum
     weak: Float = vt[sv < math.sqrt(configurations) / limit]
     return weak
 
@@ -1772,6 +1797,7 @@ def _unseen(
     generic_configurations: int,
     checked_configurations: int,
     clock: _Clock = _NO_LIMIT,
+    generic_spectrum: tuple[Float, Float] | None = None,
 ) -> dict[int, tuple[int, ...]]:
     """Numbers in combinations the check's configurations hide but generic ones show.
 
@@ -1780,14 +1806,16 @@ def _unseen(
     root mean square, and at the worst configuration) and that lies well outside
     what generic configurations show less than :data:`BLAME_MARGIN` tenths of
     (a margin, so a borderline near-trade is no fault of the check) is theirs:
-    its numbers are ``{i: (the others in it, …)}``.
+    its numbers are ``{i: (the others in it, …)}``. ``generic_spectrum``: the
+    :func:`_spectrum` of ``generic``'s candidate columns, when already computed.
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if not idx:
         return {}
-    loose = _weak(generic[:, idx], generic_configurations, RESOLUTION_LIMIT / BLAME_MARGIN)
+    spectrum = generic_spectrum if generic_spectrum is not None else _spectrum(generic[:, idx])
+    loose = _weak(spectrum, generic_configurations, RESOLUTION_LIMIT / BLAME_MARGIN)
     clock.check()
-    strict = _weak(checked[:, idx], checked_configurations, RESOLUTION_LIMIT)
+    strict = _weak(_spectrum(checked[:, idx]), checked_configurations, RESOLUTION_LIMIT)
     clock.check()
     if not len(strict):
         return {}
@@ -1833,6 +1861,7 @@ def _trades(
     configurations: int,
     limit: float = RESOLUTION_LIMIT,
     clock: _Clock = _NO_LIMIT,
+    spectrum: tuple[Float, Float] | None = None,
 ) -> dict[int, tuple[int, ...]]:
     """Numbers whose columns depend on each other only: ``{i: (j, …)}``.
 
@@ -1845,13 +1874,12 @@ def _trades(
     Exact dependencies (UR's parallel d2, d3, d4) and near ones (a calibrated
     arm's almost parallel axes) alike. The reduced row echelon basis of those
     combinations has the smallest supports, so independent groups stay apart.
+    ``spectrum``: the :func:`_spectrum` of ``J``'s candidate columns, when already computed.
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
         return {}
-    _, sv, vt = np.linalg.svd(J[:, idx], full_matrices=_needs_full(J[:, idx]))
-    sv = np.concatenate([sv, np.zeros(len(idx) - len(sv))]) if len(sv) < len(idx) else sv
-    weak = vt[sv < math.sqrt(configurations) / limit]
+    weak = _weak(spectrum if spectrum is not None else _spectrum(J[:, idx]), configurations, limit)
     clock.check()
     parent = list(range(len(idx)))
 
