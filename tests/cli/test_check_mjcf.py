@@ -111,3 +111,18 @@ def test_pinocchio_4_1_0_on_the_ur5e_twin_is_that_reader_failing_never_a_traceba
         assert found["pinocchio-mjcf"]["max_position_error_m"] > 1.0
     else:
         assert code == 0
+
+
+def test_map_proposes_the_mjcf_block_and_keeps_the_urdf_twins(capsys):
+    xml = bundled_model_paths()["panda"].parent / "mujoco_menagerie/franka_emika_panda/panda_nohand.xml"
+    assert main(["map", "panda", str(xml), "--samples", "64"]) == 0
+    block = capsys.readouterr().out
+    assert "\n[mjcf]\n" in block
+    assert f"joints = [{JOINTS}]\n" in block
+    # A site Menagerie turns 135° about z from the flange (the table's tcp), found as such.
+    site = block[block.index("[frames.attachment_site]") :]
+    assert site.startswith('[frames.attachment_site]\ndh = "tcp"\nrpy = [0.0, 0.0, 2.35619')
+    assert 'mjcf = "attachment_site"' in site.split("\n\n")[0]
+    # The model's URDF links stay as they are: the block adds the MJCF beside them.
+    assert '[frames.panda_link0]\ndh = 0\nurdf = "panda_link0"\n' in block
+    assert '[frames.link7]\ndh = 7\nmjcf = "link7"\n' in block
