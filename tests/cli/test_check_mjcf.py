@@ -22,7 +22,7 @@ joints = [{JOINTS}]
 dh = "tcp"
 rpy = [0.0, 0.0, 2.356194490192345]
 mjcf = "attachment_site"
-source = "Menagerie's panda_nohand.xml: site attachment_site on link7, quat (0.3826834, 0, 0, 0.9238795)"
+source = "Menagerie's panda_nohand.xml: attachment_site, quat (0.3826834, 0, 0, 0.9238795)"
 """
 
 
@@ -30,7 +30,9 @@ def panda(tmp_path, path: str = f"{MENAGERIE}/franka_emika_panda/panda_nohand.xm
     """The bundled Panda's table and URDF, with Menagerie's MJCF mapped frame by frame."""
     text = bundled_model_paths()["panda"].read_text(encoding="utf-8")
     for k in range(8):
-        text = text.replace(f'urdf = "panda_link{k}"\n', f'urdf = "panda_link{k}"\nmjcf = "link{k}"\n')
+        text = text.replace(
+            f'urdf = "panda_link{k}"\n', f'urdf = "panda_link{k}"\nmjcf = "link{k}"\n'
+        )
     model = tmp_path / "panda.toml"
     model.write_text(text + PANDA_MJCF.replace("{path}", path), encoding="utf-8")
     return model
@@ -63,12 +65,15 @@ def test_the_flange_site_passes_in_both_readers(tmp_path):
 def test_a_body_one_millimetre_off_fails_in_both_readers(tmp_path, capsys):
     source = bundled_model_paths()["panda"].parent / "mujoco_menagerie/franka_emika_panda"
     text = (source / "panda_nohand.xml").read_text(encoding="utf-8")
-    seeded = text.replace('<body name="link5" pos="-0.0825 0.384 0"', '<body name="link5" pos="-0.0825 0.385 0"')
+    seeded = text.replace(
+        '<body name="link5" pos="-0.0825 0.384 0"', '<body name="link5" pos="-0.0825 0.385 0"'
+    )
     assert seeded != text
     (tmp_path / "panda_nohand.xml").write_text(seeded, encoding="utf-8")
     out = tmp_path / "check.json"
-    argv = ["check", str(panda(tmp_path, "panda_nohand.xml")), "--samples", "50",
-            "--to", "attachment_site", "--against", ",".join(READERS), "--json", str(out)]  # fmt: skip
+    model = panda(tmp_path, "panda_nohand.xml")
+    argv = ["check", str(model), "--samples", "50", "--to", "attachment_site",
+            "--against", ",".join(READERS), "--json", str(out)]  # fmt: skip
     assert main(argv) == 1
     found = rows(out)
     for name in READERS:
@@ -114,7 +119,10 @@ def test_pinocchio_4_1_0_on_the_ur5e_twin_is_that_reader_failing_never_a_traceba
 
 
 def test_map_proposes_the_mjcf_block_and_keeps_the_urdf_twins(capsys):
-    xml = bundled_model_paths()["panda"].parent / "mujoco_menagerie/franka_emika_panda/panda_nohand.xml"
+    xml = (
+        bundled_model_paths()["panda"].parent
+        / "mujoco_menagerie/franka_emika_panda/panda_nohand.xml"
+    )
     assert main(["map", "panda", str(xml), "--samples", "64"]) == 0
     block = capsys.readouterr().out
     assert "\n[mjcf]\n" in block

@@ -24,7 +24,13 @@ from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
 from fkcheck.description.mjcf import MJCF, mjcf_native
 from fkcheck.description.registry import load_description
-from fkcheck.errors import INSTALL_REFERENCE, BackendUnavailable, FrameError, MjcfError, UnmappedFrameError
+from fkcheck.errors import (
+    INSTALL_REFERENCE,
+    BackendUnavailable,
+    FrameError,
+    MjcfError,
+    UnmappedFrameError,
+)
 from fkcheck.mjcf.readers import mujoco_poses, pinocchio_poses
 from fkcheck.model.types import Model, resolve_frame
 
@@ -118,4 +124,3 @@ class PinocchioMjcf(MjcfReader):
     imports = ("pinocchio",)
     pose_cost_us = 10.0
     compute = staticmethod(pinocchio_poses)
-

@@ -65,7 +65,9 @@ def backends_from_args(args: argparse.Namespace, model: Model | None = None) -> 
         frame_to=args.options.frame_to,
         **bag,
     )
-    return parse_against(args.against, options) if args.against else default_backends(options, model)
+    return (
+        parse_against(args.against, options) if args.against else default_backends(options, model)
+    )
 
 
 def require_from_args(args: argparse.Namespace) -> tuple[Kind, ...]:

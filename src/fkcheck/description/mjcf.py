@@ -1,4 +1,4 @@
-"""MJCF (MuJoCo's format) as a description format: :mod:`fkcheck.mjcf`'s reading behind the contract.
+"""MJCF (MuJoCo's format) as a description format: :mod:`fkcheck.mjcf` behind the contract.
 
 Declared in a model's ``[mjcf]`` (``path`` relative to the model file, whose
 folder its ``<include>`` files are held to; ``joints`` in DH order); a frame is
@@ -49,7 +49,10 @@ def mjcf_native(description: Description) -> MjcfDescription:
 
 @dataclass(frozen=True)
 class MjcfFormat:
-    """MJCF, declared in ``[mjcf]``. Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`."""
+    """MJCF, declared in ``[mjcf]``.
+
+    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`.
+    """
 
     name: str = "mjcf"
     language: str = "mjcf"
@@ -100,7 +103,7 @@ class MjcfFormat:
         return mjcf_description(read_mjcf(path, root=root))
 
     def check_mapping(self, model: Model, description: Description) -> None:
-        """``[mjcf].joints`` against the MJCF: each a hinge (revolute) or slide (prismatic) joint."""
+        """``[mjcf].joints`` against the MJCF: each a hinge (revolute) or slide (prismatic)."""
         assert model.mjcf is not None
         native = mjcf_native(description)
         for name, joint in zip(model.mjcf.joints, model.joints, strict=True):
@@ -128,7 +131,7 @@ class MjcfFormat:
         return mjcf_description(read_mjcf(Path(spec)))
 
     def tree(self, description: Description) -> KinematicTree:
-        """The tree MuJoCo's compiler read (:attr:`fkcheck.mjcf.tree.MjcfDescription.kinematics`)."""
+        """The tree MuJoCo's compiler read (``MjcfDescription.kinematics``)."""
         return mjcf_native(description).kinematics
 
     def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
