@@ -113,14 +113,16 @@ def run(args: argparse.Namespace) -> int:
     fmt = format_named(described.format)  # the block is in its section, frames by its key
     # The solver reads each declared frame's twin in this format (in its ``urdf`` field);
     # the block keeps the frame's twins in the other formats as the model has them.
-    own = {name: spec.urdf for name, spec in model.frames.items()}
+    urdf_twins = {name: spec.urdf for name, spec in model.frames.items()}
     twins = {name: replace(s, urdf=fmt.frame(s)) for name, s in model.frames.items()}
     result = map_model(
         replace(model, frames=twins), kin, spec, samples=args.samples, seed=args.seed,
         xacro_args=xacro_args, packages=declared,
     )  # fmt: skip
     text = proposal_toml(
-        result, fmt.section, lambda s: fmt.with_frame(replace(s, urdf=own.get(s.name)), s.urdf)
+        result,
+        fmt.section,
+        lambda s: fmt.with_frame(replace(s, urdf=urdf_twins.get(s.name)), s.urdf),
     )
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:
