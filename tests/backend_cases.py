@@ -60,10 +60,12 @@ def pair_errors(
 
 
 def edited_bundled_model(tmp_path: Path, name: str, old: str, new: str) -> Model:
-    """A copy of a bundled model file with one exact piece of text replaced."""
-    text = bundled_model_paths()[name].read_text()
-    assert text.count(old) == 1, f"{old!r} is not in {name}.toml exactly once"
-    path = tmp_path / f"{name}_edited.toml"
+    """A copy of a bundled model file (or of the model file ``name``) with one exact piece
+    of text replaced."""
+    source = bundled_model_paths().get(name) or Path(name)
+    text = source.read_text()
+    assert text.count(old) == 1, f"{old!r} is not in {source.name} exactly once"
+    path = tmp_path / f"{source.stem}_edited.toml"
     path.write_text(text.replace(old, new))
     return load_model(path)
 

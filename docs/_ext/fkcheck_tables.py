@@ -47,6 +47,7 @@ SECTIONS: tuple[tuple[str, str, str, str, dict[str, str]], ...] = (
     ("[base], [tool]", "fkcheck.model.sections.offsets", "OFFSET_KEYS",
      "fkcheck.model.types:Offset", {}),
     ("[urdf]", "fkcheck.model.sections.urdf", "URDF_KEYS", "fkcheck.model.types:UrdfSpec", {}),
+    ("[mjcf]", "fkcheck.model.sections.mjcf", "MJCF_KEYS", "fkcheck.model.types:MjcfSpec", {}),
     ("[frames.NAME]", "fkcheck.model.sections.frames", "FRAME_KEYS",
      "fkcheck.model.types:FrameSpec", {"xyz": "offset", "rpy": "offset"}),
     ("[check]", "fkcheck.model.sections.check", "CHECK_KEYS", "fkcheck.model.types:CheckSpec",

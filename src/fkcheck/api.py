@@ -149,7 +149,7 @@ def check(
         timeout_s=opts.timeout_s, frame_from=opts.frame_from, frame_to=opts.frame_to
     )
     if against is None:
-        backends = default_backends(limit)
+        backends = default_backends(limit, loaded)
     else:
         backends = [b if not isinstance(b, str) else make_backend(b, limit) for b in against]
     explain = explain_sample if explain_jacobians else None

@@ -66,6 +66,7 @@ if TYPE_CHECKING:
     from fkcheck.api import Outcome
     from fkcheck.engine.results import CheckResult
     from fkcheck.model.project import ProjectConfig
+    from fkcheck.model.types import Model
 
 __all__ = ["FkcheckCollectionWarning", "FkcheckFailure", "ModelFile", "ModelItem"]
 
@@ -220,11 +221,11 @@ class ModelFile(pytest.File):
         assert found is not None  # collected only when there is a project
         return found[0]
 
-    def _backend_names(self) -> list[str]:
+    def _backend_names(self, model: Model) -> list[str]:
         from fkcheck.backends.registry import default_backends, parse_against
 
         against = self.project.against
-        backends = parse_against(list(against)) if against else default_backends()
+        backends = parse_against(list(against)) if against else default_backends(model=model)
         return [b.name for b in backends]
 
     def collect(self) -> list[ModelItem]:
@@ -235,7 +236,7 @@ class ModelFile(pytest.File):
 
         try:
             model = load_model(self.path)
-            names = self._backend_names()
+            names = self._backend_names(model)
         except FkcheckError as exc:
             self._error = str(exc)
             return [ModelItem.from_parent(self, name="fkcheck[load]", target="load")]
@@ -276,8 +277,8 @@ class ModelFile(pytest.File):
                 frame_to=options.frame_to,
             )
             against = list(p.against) if p.against else None
-            backends = parse_against(against, limit) if against else default_backends(limit)
             model = load_model(self.path)
+            backends = parse_against(against, limit) if against else default_backends(limit, model)
             return check_request(
                 CheckRequest(model, tuple(backends), options, p.lint_ignore, explain_sample)
             )

@@ -60,9 +60,15 @@ PLUGIN = "ur5_jacobians:correct"
 #: Few configurations: the suite checks behaviour; accuracy is the property tests' job.
 SAMPLES = 24
 #: The model each case is checked on (UR5 unless named here), and a change of its d1
-#: by 0.1 mm (10² tolerances) that every table-independent backend must see.
-MODELS = {"rtb-model:Puma560": "puma560"}
-CHANGES = {"ur5": ("d = 0.089159", "d = 0.089259"), "puma560": ("d = 0.67183", "d = 0.67193")}
+#: by 0.1 mm (10² tolerances) that every table-independent backend must see. The MJCF
+#: readers' is the Panda's table on Menagerie's MJCF (tests/data/panda_mjcf.toml).
+PANDA_MJCF = str(DATA_DIR / "panda_mjcf.toml")
+MODELS = {"rtb-model:Puma560": "puma560", "mujoco-mjcf": PANDA_MJCF, "pinocchio-mjcf": PANDA_MJCF}
+CHANGES = {
+    "ur5": ("d = 0.089159", "d = 0.089259"),
+    "puma560": ("d = 0.67183", "d = 0.67193"),
+    PANDA_MJCF: ("d = 0.333", "d = 0.3331"),
+}
 
 
 def _specs() -> list[pytest.param]:
@@ -143,6 +149,8 @@ def test_is_built_and_probed_without_importing_its_library(registration, spec):
     assert (reason, loaded) == (None, [])
     if registration.declared("reads") == "urdf":  # the model's URDF file, resolved
         assert [Path(p).name for p in inputs] == ["ur.urdf.xacro"]  # UR's ROS 2, bundled
+    if registration.declared("reads") == "mjcf":  # the model's MJCF file, resolved
+        assert [Path(p).name for p in inputs] == ["panda_nohand.xml"]  # Menagerie's, bundled
 
 
 @pytest.mark.parametrize(("registration", "spec"), RUNNABLE)

@@ -122,10 +122,10 @@ def test_a_file_on_the_command_line_is_read_by_its_format(tmp_path):
 
 
 def test_an_unknown_format_lists_the_formats():
-    wanted = r"unknown description format 'sdf'; formats are: xacro, urdf"
+    wanted = r"unknown description format 'sdf'; formats are: xacro, urdf, mjcf$"
     with pytest.raises(FkcheckError, match=wanted):
         format_named("sdf")
-    assert [f.name for f in FORMATS] == ["xacro", "urdf"]
+    assert [f.name for f in FORMATS] == ["xacro", "urdf", "mjcf"]
 
 
 def test_a_model_without_a_description_has_no_format():
@@ -157,7 +157,7 @@ def test_the_contract_holds_formats_to_the_language_a_backend_reads():
     pin, dh = copy.copy(make_backend("pinocchio-urdf")), copy.copy(make_backend("rtb-dh"))
     assert contract_problems(pin) == []
     pin.formats = ("urdf", "sdf")
-    assert contract_problems(pin) == ["formats names 'sdf', not one of xacro, urdf"]
+    assert contract_problems(pin) == ["formats names 'sdf', not one of xacro, urdf, mjcf"]
     dh.formats = ("urdf",)
     assert contract_problems(dh) == ["reads 'dh' but reads format 'urdf', which is in 'urdf'"]
     dh.formats = ["urdf"]

@@ -65,7 +65,7 @@ BAD = {
     ),
     "reads_the_table": (
         '[[known_difference]]\nreads = "dh"\nfinding = "x"\n',
-        r"known_difference\[0\]\.reads: 'dh' is not one of: urdf$",
+        r"known_difference\[0\]\.reads: 'dh' is not one of: urdf, mjcf$",
     ),
     "reads_not_text": (
         '[[known_difference]]\nreads = ["urdf"]\nfinding = "x"\n',

@@ -9,7 +9,8 @@ what each backend declares (:class:`~fkcheck.backends.base.Backend`).
 Names:
 
 * built-ins: ``rtb-dh``, ``pinocchio-dh``, ``pinocchio-urdf``, ``yourdfpy-urdf``,
-  ``rtb-urdf``… (:data:`BUILTIN`; those marked default run without ``--against``);
+  ``rtb-urdf``… (:data:`BUILTIN`; those marked default run without ``--against``,
+  and ``mujoco-mjcf``, ``pinocchio-mjcf`` too for a model with ``[mjcf]``);
 * ``rtb-model:<Name>`` — a model Robotics Toolbox ships (``rtb-model:UR5``);
 * ``poses:<file.csv>`` — measured poses (a robot's pendant log, say), or
   ``poses:<bag>`` — a ROS 2 bag's joint states and tf (:mod:`fkcheck.backends.bag`);
@@ -121,6 +122,9 @@ class Registration:
         target: ``"module:attribute"`` of the class (or factory) called as
             ``target(argument, options)``.
         default: Whether a check without ``--against`` runs it.
+        default_for: A description format (``"mjcf"``): a check without
+            ``--against`` runs it for a model that declares that format, and
+            only for such a model (its readers have nothing to read otherwise).
         origin: ``"fkcheck"``, or the distribution (and version) that registered it.
     """
 
@@ -128,6 +132,7 @@ class Registration:
     target: str
     default: bool = False
     origin: str = "fkcheck"
+    default_for: str = ""
 
     @property
     def prefixed(self) -> bool:
@@ -187,6 +192,10 @@ BUILTIN: tuple[Registration, ...] = (
     Registration("rtb-urdf", "fkcheck.backends.rtb_urdf:RtbUrdf", default=True),
     Registration("mujoco-urdf", "fkcheck.backends.mujoco_urdf:MujocoUrdf", default=True),
     Registration("idyntree-urdf", "fkcheck.backends.idyntree_urdf:IdyntreeUrdf", default=True),
+    Registration("mujoco-mjcf", "fkcheck.backends.mjcf_readers:MujocoMjcf", default_for="mjcf"),
+    Registration(
+        "pinocchio-mjcf", "fkcheck.backends.mjcf_readers:PinocchioMjcf", default_for="mjcf"
+    ),
     Registration("rtb-model:", "fkcheck.backends.rtb_model:RtbModel"),
     Registration("cmd:", "fkcheck.backends.command:CommandBackend"),
     Registration("poses:", "fkcheck.backends.measured:MeasuredPoses"),
@@ -433,14 +442,27 @@ def names(
     return tuple(out)
 
 
-def default_names() -> tuple[str, ...]:
-    """The backends a check runs when ``--against`` is not given."""
-    return names(default=True)
+def default_names(model: Model | None = None) -> tuple[str, ...]:
+    """The backends a check of ``model`` runs when ``--against`` is not given.
+
+    The default set, then the readers of each description format ``model``
+    declares (``default_for``: ``mujoco-mjcf`` and ``pinocchio-mjcf`` for a
+    model with ``[mjcf]``); without a model, the default set alone.
+    """
+    plain = names(default=True)
+    if model is None:
+        return plain
+    from fkcheck.description.registry import model_formats
+
+    declared = {fmt.name for fmt in model_formats(model)}
+    return plain + tuple(r.name for r in registrations() if r.default_for in declared)
 
 
-def default_backends(options: BackendOptions | None = None) -> list[Backend]:
-    """The backends a plain check runs."""
-    return [make_backend(name, options) for name in default_names()]
+def default_backends(
+    options: BackendOptions | None = None, model: Model | None = None
+) -> list[Backend]:
+    """The backends a plain check of ``model`` runs (:func:`default_names`)."""
+    return [make_backend(name, options) for name in default_names(model)]
 
 
 def known_difference_names() -> tuple[str, ...]:
@@ -527,9 +549,16 @@ def against_help() -> str:
     """What ``--against`` accepts, for the command line's help (from the registry)."""
     found = registrations()  # a broken registration is reported when it is asked for
     plain = [r.name for r in found if r.default]
-    extra = [r.name for r in found if not r.default and not r.prefixed]
+    formats = sorted({r.default_for for r in found if r.default_for})
+    per_format = [
+        f"{', '.join(r.name for r in found if r.default_for == fmt)} (the default for a model "
+        f"with [{fmt}]), "
+        for fmt in formats
+    ]
+    extra = [r.name for r in found if not r.default and not r.default_for and not r.prefixed]
     return (
         f"backends, comma-separated or repeated: {', '.join(plain)} (the default set), "
+        + "".join(per_format)
         + "".join(f"{name}, " for name in extra)
         + "rtb-model:NAME, poses:FILE.csv or poses:BAG (measured poses, or a ROS 2 bag: "
         "the check runs at their configurations), cmd:PROGRAM, module:function"

@@ -46,8 +46,12 @@ __all__ = [
 ]
 
 
-def backends_from_args(args: argparse.Namespace) -> list[Backend]:
-    """The backends ``--against`` names (default: the standard set), with the options."""
+def backends_from_args(args: argparse.Namespace, model: Model | None = None) -> list[Backend]:
+    """The backends ``--against`` names, with the options.
+
+    Default: the standard set, and the readers of the description formats ``model``
+    declares (:func:`fkcheck.backends.registry.default_names`).
+    """
     from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
 
     bag = {  # a ROS 2 bag's settings given (else the defaults): fkcheck check's --bag-* flags
@@ -61,7 +65,9 @@ def backends_from_args(args: argparse.Namespace) -> list[Backend]:
         frame_to=args.options.frame_to,
         **bag,
     )
-    return parse_against(args.against, options) if args.against else default_backends(options)
+    return (
+        parse_against(args.against, options) if args.against else default_backends(options, model)
+    )
 
 
 def require_from_args(args: argparse.Namespace) -> tuple[Kind, ...]:
@@ -211,8 +217,9 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
     outputs.append(("--summary", args.summary))
     expand = writes(outputs)
     inputs = [item for target in targets for item in model_inputs(target.model, expand=expand)]
-    backends = backends_from_args(args)
-    inputs += [item for t in targets for item in backend_inputs(backends, t.model)]
+    inputs += [
+        item for t in targets for item in backend_inputs(backends_from_args(args, t.model), t.model)
+    ]
     inputs.append(("the configuration file", args.config))
     step_summary = step_summary_target(inputs, plan(args, outputs, inputs))
     entries: list[IndexEntry] = []
@@ -226,7 +233,7 @@ def run_many(args: argparse.Namespace, targets: list[Target], out_dir: Path | No
         for warning in target.model.warnings:
             print(f"fkcheck: warning: {target.stem}: {terminal_text(warning)}", file=sys.stderr)
         outcome = check_with_progress(
-            args, target.model, backends_from_args(args), diagnose=diagnose
+            args, target.model, backends_from_args(args, target.model), diagnose=diagnose
         )
         check = replace(outcome.check, command=model_command(args, target.arg), config=args.config)
         if out_dir is not None:
@@ -296,7 +303,7 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     model = target.model
     for warning in model.warnings:
         print(f"fkcheck: warning: {terminal_text(warning)}", file=sys.stderr)
-    backends = backends_from_args(args)
+    backends = backends_from_args(args, model)
     outputs = [("--json", args.json), ("--junit", args.junit), ("--html", args.html),
                ("--summary", args.summary)]  # fmt: skip
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs(backends, model)]

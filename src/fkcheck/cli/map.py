@@ -110,13 +110,19 @@ def run(args: argparse.Namespace) -> int:
     path, kin = described.path, described.tree
     inputs: list[Input] = [("the model", model.path), *description_inputs(described, "the URDF")]
     plan(args, [("-o", args.output)], inputs)
+    fmt = format_named(described.format)  # the block is in its section, frames by its key
+    # The solver reads each declared frame's twin in this format (in its ``urdf`` field);
+    # the block keeps the frame's twins in the other formats as the model has them.
+    urdf_twins = {name: spec.urdf for name, spec in model.frames.items()}
+    twins = {name: replace(s, urdf=fmt.frame(s)) for name, s in model.frames.items()}
     result = map_model(
-        model, kin, spec, samples=args.samples, seed=args.seed,
+        replace(model, frames=twins), kin, spec, samples=args.samples, seed=args.seed,
         xacro_args=xacro_args, packages=declared,
     )  # fmt: skip
-    fmt = format_named(described.format)  # the block is in its section, frames by its key
     text = proposal_toml(
-        result, fmt.section, lambda s: fmt.with_frame(replace(s, urdf=None), s.urdf)
+        result,
+        fmt.section,
+        lambda s: fmt.with_frame(replace(s, urdf=urdf_twins.get(s.name)), s.urdf),
     )
     linked = [f.spec.name for f in result.frames if f.fit is not None]
     if result.complete:

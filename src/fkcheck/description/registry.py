@@ -19,6 +19,7 @@ import threading
 from collections.abc import Mapping
 from pathlib import Path
 
+from fkcheck.description.mjcf import MJCF
 from fkcheck.description.types import Description, DescriptionFormat
 from fkcheck.description.urdf import URDF, XACRO
 from fkcheck.errors import FkcheckError, UrdfError
@@ -40,7 +41,7 @@ __all__ = [
 ]
 
 #: Every description format, in the order a model's sections are asked.
-FORMATS: tuple[DescriptionFormat, ...] = (XACRO, URDF)
+FORMATS: tuple[DescriptionFormat, ...] = (XACRO, URDF, MJCF)
 
 #: The languages descriptions are read in (a backend's ``reads`` when it reads one).
 LANGUAGES: tuple[str, ...] = tuple(dict.fromkeys(f.language for f in FORMATS))

@@ -27,6 +27,7 @@ from fkcheck.model.sections.header import read_free_text, read_header
 from fkcheck.model.sections.joints import read_joints
 from fkcheck.model.sections.known_difference import read_known_differences
 from fkcheck.model.sections.lint import read_lint
+from fkcheck.model.sections.mjcf import read_mjcf
 from fkcheck.model.sections.offsets import read_offset
 from fkcheck.model.sections.poses import read_poses
 from fkcheck.model.sections.reader import Reader
@@ -43,7 +44,7 @@ __all__ = [
 
 _TOP_KEYS = {
     "name", "description", "source", "convention", "angle_unit",
-    "joint", "base", "tool", "poses", "urdf", "frames", "check", "lint", "known_difference",
+    "joint", "base", "tool", "poses", "urdf", "mjcf", "frames", "check", "lint", "known_difference",
     "calibration",
 }  # fmt: skip
 _INT_DIGITS = sys.get_int_max_str_digits()
@@ -197,6 +198,7 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
     tool = read_offset(r, top["tool"], "tool", to_rad) if "tool" in top else Offset()
     poses = read_poses(r, top["poses"], joints, to_rad) if "poses" in top else {}
     urdf = read_urdf(r, top["urdf"], n) if "urdf" in top else None
+    mjcf = read_mjcf(r, top["mjcf"], n) if "mjcf" in top else None
     frames = read_frames(r, top, n, to_rad)
     check = read_check(r, top["check"], frames) if "check" in top else CheckSpec()
     lint_ignore = read_lint(r, top["lint"]) if "lint" in top else ()
@@ -211,6 +213,7 @@ def model_from_dict(data: Mapping[str, Any], path: Path | None = None) -> Model:
         tool=tool,
         poses=poses,
         urdf=urdf,
+        mjcf=mjcf,
         frames=frames,
         check=check,
         angle_unit=header.angle_unit,

@@ -53,6 +53,7 @@ __all__ = [
     "FrameSpec",
     "Joint",
     "KnownDifference",
+    "MjcfSpec",
     "Model",
     "Offset",
     "UrdfSpec",
@@ -187,8 +188,22 @@ class UrdfSpec:
 
 
 @dataclass(frozen=True)
+class MjcfSpec:
+    """Where the model's MJCF is, and which MJCF joint is which DH joint.
+
+    Attributes:
+        path: As written: a path relative to the model file (its ``<include>``
+            files are held to the model file's folder).
+        joints: MJCF hinge or slide joint names in DH order, one per DH joint.
+    """
+
+    path: str
+    joints: tuple[str, ...]
+
+
+@dataclass(frozen=True)
 class FrameSpec:
-    """A named frame: where it sits on the DH chain and its URDF twin.
+    """A named frame: where it sits on the DH chain and its twins in the descriptions.
 
     Attributes:
         name: The frame's name.
@@ -199,6 +214,7 @@ class FrameSpec:
             ``"UR's ROS 2 description: flange = tool0 · rpy(−90°, −90°, 0)"``):
             the check then takes the offset as given instead of counting the
             table numbers it could absorb as unverified (:mod:`fkcheck.model.coverage`).
+        mjcf: Name of the same frame in the MJCF (a body, a site or ``world``), or ``None``.
     """
 
     name: str
@@ -206,6 +222,7 @@ class FrameSpec:
     offset: Offset = field(default_factory=Offset)
     urdf: str | None = None
     source: str = ""
+    mjcf: str | None = None
 
 
 _WORLD = FrameSpec("world", "world")
@@ -313,6 +330,7 @@ class Model:
         poses: Named configurations: revolute values in the file's ``angle_unit``
             (held in radians), prismatic ones in metres.
         urdf: The reference URDF, if any.
+        mjcf: The reference MJCF, if any.
         frames: Named frames (always includes ``world`` and ``tcp``; default: just
             those, :func:`default_frames`, so that a model built here checks
             ``world`` → ``tcp`` as a file's does).
@@ -346,6 +364,7 @@ class Model:
     lint_ignore: tuple[str, ...] = ()
     known_differences: tuple[KnownDifference, ...] = ()
     calibration: CalibrationSpec | None = None
+    mjcf: MjcfSpec | None = None
 
     @property
     def dof(self) -> int:

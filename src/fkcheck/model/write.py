@@ -110,6 +110,8 @@ def frame_toml(
     lines.extend(_offset_lines(spec.offset, unit))
     if spec.urdf is not None:
         lines.append(f"urdf = {toml_string(spec.urdf)}")
+    if spec.mjcf is not None:
+        lines.append(f"mjcf = {toml_string(spec.mjcf)}")
     if spec.source:
         lines.append(f"source = {toml_string(spec.source)}")
     return "\n".join(lines) + "\n"
@@ -154,6 +156,7 @@ def _is_default_frame(spec: FrameSpec) -> bool:
         and spec.dh == spec.name
         and spec.offset.is_identity
         and spec.urdf is None
+        and spec.mjcf is None
     )
 
 
@@ -197,6 +200,9 @@ def model_to_toml(
         joints = ", ".join(toml_string(n) for n in model.urdf.joints)
         out.extend(["", "[urdf]", f"path = {toml_string(model.urdf.path)}", f"joints = [{joints}]"])
         out.extend(xacro_toml(model.urdf))
+    if model.mjcf is not None:
+        joints = ", ".join(toml_string(n) for n in model.mjcf.joints)
+        out.extend(["", "[mjcf]", f"path = {toml_string(model.mjcf.path)}", f"joints = [{joints}]"])
     for name, spec in model.frames.items():
         if _is_default_frame(spec):
             continue

@@ -11,7 +11,7 @@ from fkcheck.model.types import DhIndex, FrameSpec, default_frames
 
 __all__ = ["FRAME_KEYS", "read_frames"]
 
-FRAME_KEYS = {"dh", "xyz", "rpy", "urdf", "source"}
+FRAME_KEYS = {"dh", "xyz", "rpy", "urdf", "mjcf", "source"}
 
 
 def read_frames(r: Reader, top: Mapping[str, Any], n: int, to_rad: float) -> dict[str, FrameSpec]:
@@ -34,10 +34,11 @@ def _read_frame(r: Reader, fname: str, raw: Any, n: int, to_rad: float) -> Frame
     idx = _dh_index(r, tbl, where, n)
     off = read_offset(r, {k: tbl[k] for k in ("xyz", "rpy") if k in tbl}, where, to_rad)
     twin = r.string(tbl["urdf"], f"{where}.urdf") if "urdf" in tbl else None
+    mjcf = r.string(tbl["mjcf"], f"{where}.mjcf") if "mjcf" in tbl else None
     source = r.string(tbl["source"], f"{where}.source") if "source" in tbl else ""
     if "source" in tbl and not source.strip():
         raise r.fail(f"{where}.source", "empty: say where the offset comes from")
-    return FrameSpec(fname, idx, off, twin, source)
+    return FrameSpec(fname, idx, off, twin, source, mjcf)
 
 
 def _dh_index(r: Reader, tbl: dict[str, Any], where: str, n: int) -> DhIndex:

@@ -12,10 +12,10 @@ from fkcheck.model.types import KnownDifference
 __all__ = ["KNOWN_DIFFERENCE_KEYS", "KNOWN_DIFFERENCE_READS", "read_known_differences"]
 
 KNOWN_DIFFERENCE_KEYS = {"backends", "reads", "finding", "max_position_m", "max_angle_rad"}
-#: What ``reads`` may select: every backend reading the model's URDF. (Backends that
-#: read the table can never differ from it; measured poses and published tables are
-#: named one by one.)
-KNOWN_DIFFERENCE_READS = ("urdf",)
+#: What ``reads`` may select: every backend reading the model's URDF, or its MJCF.
+#: (Backends that read the table can never differ from it; measured poses and
+#: published tables are named one by one.)
+KNOWN_DIFFERENCE_READS = ("urdf", "mjcf")
 #: The bound keys and the range each must be within (:mod:`fkcheck.core.tolerances`).
 KNOWN_DIFFERENCE_LIMITS: dict[str, LimitKind] = {
     "max_position_m": "known_position", "max_angle_rad": "known_angle",
