@@ -74,14 +74,18 @@ def test_bad_input_ends_in_prepare_before_any_backend_runs():
 def test_fkcheck_check_reads_the_urdf_once(monkeypatch, tmp_path, capsys):
     pytest.importorskip("example_robot_data", reason="panda's URDF is example-robot-data's")
     # The command line read the URDF before its header, then the engine read it again.
+    import fkcheck.description.urdf
+    from fkcheck.description.registry import clear_descriptions
+
     reads: list[str] = []
-    real = fkcheck.urdf.source.load_urdf
+    real = fkcheck.description.urdf.read_model_urdf_expanded
 
     def counting(model, *args, **kwargs):
         reads.append(model.name)
         return real(model, *args, **kwargs)
 
-    monkeypatch.setattr(fkcheck.urdf.source, "load_urdf", counting)
+    clear_descriptions()  # another test in this process may have read it already
+    monkeypatch.setattr(fkcheck.description.urdf, "read_model_urdf_expanded", counting)
     monkeypatch.chdir(tmp_path)
     assert main(["check", "panda", "--against", "rtb-dh", "--samples", "5", "-q"]) == 0
     assert reads == ["panda"]  # a plain URDF is read even when no backend reads it (screened)

@@ -76,9 +76,9 @@ def test_the_analysis_obeys_the_check_s_timeout_in_one_line(tmp_path, monkeypatc
     # The evidence's limit is --timeout, at least EVIDENCE_MIN_S (10 s: a --timeout for a
     # hanging backend must not end a six-joint check); without that floor, 0.5 s.
     from fkcheck.cli.main import main
-    from fkcheck.engine import runner
+    from fkcheck.engine import prepare
 
-    monkeypatch.setattr(runner, "EVIDENCE_MIN_S", 0.0)
+    monkeypatch.setattr(prepare, "EVIDENCE_MIN_S", 0.0)
     model = _long_chain(tmp_path / "long.toml")
     start = time.monotonic()
     code = main(["check", str(model), "--samples", "2", "--against", "rtb-dh",

@@ -253,8 +253,9 @@ def _screen(path: Path) -> str:
     if not os.path.lexists(meta):
         raise BagError(
             path,
-            "a directory without metadata.yaml is not a ROS 2 bag (give the bag directory "
-            "ros2 bag record wrote, or its .mcap or .db3 file)",
+            "is a directory, not a regular file, and not a ROS 2 bag either (no "
+            "metadata.yaml): give a poses CSV, the bag directory ros2 bag record wrote, or "
+            "its .mcap or .db3 file",
         )
     _regular(meta, "metadata.yaml", path, follow=False)
     if os.path.getsize(meta) > MAX_METADATA_BYTES:
