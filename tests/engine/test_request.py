@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import pytest
 
-import fkcheck.urdf.source
 from fkcheck import FrameError, load_model
 from fkcheck.backends.base import BackendDefaults
 from fkcheck.cli.main import main
