@@ -206,6 +206,10 @@ def _models_line(pyproject: Path) -> int:
     return 1
 
 
+#: The target of an item that checks an IK solver (``[tool.fkcheck] ik_solvers``).
+IK_PREFIX = "ik:"
+
+
 class ModelFile(pytest.File):
     """One model file: its tests, and its check, run once when first needed."""
 
@@ -242,10 +246,41 @@ class ModelFile(pytest.File):
             return [ModelItem.from_parent(self, name="fkcheck[load]", target="load")]
         wanted = (*model.check.require, *self.project.require)
         kinds = [k for k in KINDS if k in wanted]
+        solvers = [f"{IK_PREFIX}{name}" for name in self.project.ik_solvers]
         return [
             *(ModelItem.from_parent(self, name=f"fkcheck[{n}]", target=n) for n in names),
             *(ModelItem.from_parent(self, name=f"fkcheck[require:{k}]", target=k) for k in kinds),
+            *(ModelItem.from_parent(self, name=f"fkcheck[{t}]", target=t) for t in solvers),
         ]
+
+    def ik_outcome(self, solver: str) -> str | None:
+        """``fkcheck ik`` of this model against ``solver``: ``None`` if it passes, else the report.
+
+        The configurations and seed are the project's check options (``samples``,
+        ``seed``), the frames the model's ``[check]`` pair (or the project's).
+
+        Raises:
+            FkcheckFailure: The model, the project or the solver cannot be used (one line).
+        """
+        from fkcheck.errors import FkcheckError
+        from fkcheck.ik import check_ik, make_solver
+        from fkcheck.ik.output import format_text
+        from fkcheck.model.options import resolve_options
+        from fkcheck.model.read import load_model
+
+        try:
+            options = resolve_options(project=self.project.options)
+            model = load_model(self.path)
+            pair = (
+                options.frame_from or model.check.frame_from,
+                options.frame_to or model.check.frame_to,
+            )
+            made = make_solver(solver, model, *pair, timeout_s=options.timeout_s)
+            result = check_ik(model, made, frame_from=pair[0], frame_to=pair[1],
+                              samples=options.samples, seed=options.seed)  # fmt: skip
+        except FkcheckError as exc:
+            raise FkcheckFailure(f"{self.path.name}: IK solver {solver}: {exc}") from None
+        return None if result.passed else format_text(result)
 
     def outcome(self) -> Outcome:
         """The model's check, run on first call (then remembered in this process).
@@ -339,6 +374,11 @@ class ModelItem(pytest.Item):
         from fkcheck.report.record import check_record
         from fkcheck.testing import backend_message, backend_ok, check_message
 
+        if self.target.startswith(IK_PREFIX):  # an IK solver against the model's FK
+            failed = self.model_file.ik_outcome(self.target[len(IK_PREFIX) :])
+            if failed is not None:
+                raise FkcheckFailure(failed)
+            return
         outcome = self.model_file.outcome()  # raises FkcheckFailure for "load" too
         c = outcome.check
         degenerate = _pair_spans_no_joint(c)

@@ -60,7 +60,7 @@ REPOSITORY_MARKERS = (".git", ".hg")
 MAX_MODEL_FILES = 10_000
 
 #: Every key, in the order messages list them: the project's own, then the options'.
-_KEYS = ("models", "against", "lint_ignore", *PROJECT_KEYS.values())
+_KEYS = ("models", "against", "lint_ignore", "ik_solvers", *PROJECT_KEYS.values())
 #: What a model file is, in messages.
 _MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
 
@@ -95,6 +95,8 @@ class ProjectConfig:
         models: Model files, directories or globs, relative to ``root``.
         against: Backends (as ``--against``).
         lint_ignore: Lint rules to ignore for every model.
+        ik_solvers: IK solvers (as ``fkcheck ik --solver``) the pytest plugin checks
+            against each model, one test each.
         options: The check options it sets, each named by its key and this file.
             ``jacobian_reference`` or ``tol_jacobian`` without ``jacobian`` sets
             ``jacobian`` too (they imply it, as ``--jacobian-reference`` and
@@ -105,6 +107,7 @@ class ProjectConfig:
     models: tuple[str, ...] = ()
     against: tuple[str, ...] | None = None
     lint_ignore: tuple[str, ...] = ()
+    ik_solvers: tuple[str, ...] = ()
     options: OptionLayer = field(default_factory=OptionLayer)
 
     @property
@@ -191,6 +194,7 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         models=_strings(path, "models", table.get("models", [])),
         against=_strings(path, "against", table["against"]) if "against" in table else None,
         lint_ignore=lint_ignore,
+        ik_solvers=_strings(path, "ik_solvers", table.get("ik_solvers", [])),
         options=_options(path, table),
     )
 
