@@ -265,7 +265,10 @@ def _no_metadata(bag: Path) -> Path:
         (_bad_metadata, r"metadata\.yaml is not a ROS 2 bag's"),
         (_compressed, r"the bag is compressed \(compression_mode 'file'\)"),
         (_link_out, r"its file bag_mcap\.mcap is a symbolic link; a bag's files must be in it"),
-        (_no_metadata, r"a directory without metadata\.yaml is not a ROS 2 bag"),
+        (
+            _no_metadata,
+            r"is a directory, not a regular file, and not a ROS 2 bag either \(no metadata\.yaml\)",
+        ),
         (_alias_bomb, r"metadata\.yaml has an anchor or alias \(&name, \*name\); ROS writes none"),
     ],
     ids=["truncated", "garbage", "metadata", "compressed", "symlink", "no-metadata", "aliases"],
