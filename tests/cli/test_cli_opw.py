@@ -49,7 +49,7 @@ def test_kr6_prints_the_published_yaml(capsys):
     published = yaml.safe_load(KR6_PUBLISHED_YAML)
     assert printed == published  # the 12 significant digits print -π/2 as published
     assert out.splitlines()[1].startswith(
-        "# py-opw-kinematics' FK against the table over 1080 configurations: at most "
+        "# the FK of py-opw-kinematics against the table over 1080 configurations: at most "
     )
 
 

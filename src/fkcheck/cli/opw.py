@@ -83,7 +83,7 @@ def opw_yaml(model: Model, params: OpwParameters, deviation: OpwDeviation) -> st
 
     lines = [
         f"# OPW parameters of {model.name}, derived from its DH table by fkcheck opw.",
-        f"# py-opw-kinematics' FK against the table over {deviation.samples} configurations: "
+        f"# the FK of py-opw-kinematics against the table over {deviation.samples} configurations: "
         f"at most {deviation.max_position_m:.3g} m, {deviation.max_angle_rad:.3g} rad.",
     ]
     for what, matrix, ok in (
