@@ -271,6 +271,48 @@ def _where(doc: ScreenedUrdf, element: ET.Element) -> str:
     return f"line {line}: " if line is not None else ""
 
 
+def _links(path: Path, doc: ScreenedUrdf, elements: list[ET.Element]) -> dict[str, int]:
+    """Each ``<link>``'s line (``0`` if unknown) by name, in file order.
+
+    Raises:
+        UrdfError: A link without a name, or a name defined twice.
+    """
+    links: dict[str, int] = {}
+    for el in elements:
+        name = el.get("name")
+        if not name:
+            raise UrdfError(path, f"{_where(doc, el)}a <link> has no name")
+        if name in links:
+            raise UrdfError(
+                path,
+                f"{_where(doc, el)}link {name!r} is defined twice (first on line {links[name]})",
+            )
+        links[name] = doc.line(el) or 0
+    return links
+
+
+def _joint_end(
+    path: Path, doc: ScreenedUrdf, el: ET.Element, name: str, role: str, links: dict[str, int]
+) -> str:
+    """The link named by joint ``name``'s ``<parent>`` or ``<child>`` (``role``).
+
+    Raises:
+        UrdfError: The element or its ``link`` attribute is missing, or names no link.
+    """
+    where = _where(doc, el)
+    end = el.find(role)
+    link = end.get("link") if end is not None else None
+    if not link:
+        raise UrdfError(path, f'{where}joint {name!r} has no <{role} link="…">')
+    if link not in links:
+        raise UrdfError(
+            path,
+            f"{where}joint {name!r} names {role} link {link!r}, which is not a link; "
+            f"links are: {listed(links)}",
+        )
+    return link
+
+
 def _links_and_joints(path: Path, doc: ScreenedUrdf) -> tuple[dict[str, int], dict[str, UrdfJoint]]:
     """The ``<link>`` and ``<joint>`` children of ``<robot>``, checked one by one.
 
@@ -290,17 +332,7 @@ def _links_and_joints(path: Path, doc: ScreenedUrdf) -> tuple[dict[str, int], di
                 f"has {len(found)} {what}, more than the {MAX_URDF_LINKS} a URDF may have "
                 "(fkcheck's limit)",
             )
-    links: dict[str, int] = {}
-    for el in elements:
-        name = el.get("name")
-        if not name:
-            raise UrdfError(path, f"{_where(doc, el)}a <link> has no name")
-        if name in links:
-            raise UrdfError(
-                path,
-                f"{_where(doc, el)}link {name!r} is defined twice (first on line {links[name]})",
-            )
-        links[name] = doc.line(el) or 0
+    links = _links(path, doc, elements)
     joints: dict[str, UrdfJoint] = {}
     lines: dict[str, int] = {}
     parent_of: dict[str, str] = {}  # child link → the joint that has it as child
@@ -321,20 +353,9 @@ def _links_and_joints(path: Path, doc: ScreenedUrdf) -> tuple[dict[str, int], di
                 f"{where}joint {name!r} has {shown}; URDF joint types are: "
                 f"{', '.join(JOINT_TYPES)}",
             )
-        ends: list[str] = []
-        for role in ("parent", "child"):
-            end = el.find(role)
-            link = end.get("link") if end is not None else None
-            if not link:
-                raise UrdfError(path, f'{where}joint {name!r} has no <{role} link="…">')
-            if link not in links:
-                raise UrdfError(
-                    path,
-                    f"{where}joint {name!r} names {role} link {link!r}, which is not a link; "
-                    f"links are: {listed(links)}",
-                )
-            ends.append(link)
-        parent, child = ends
+        parent, child = (
+            _joint_end(path, doc, el, name, role, links) for role in ("parent", "child")
+        )
         if parent == child:
             raise UrdfError(path, f"{where}joint {name!r} connects link {child!r} to itself")
         if child in parent_of:
