@@ -45,6 +45,7 @@ import weakref
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO
 
 __all__ = [
     "MAX_TIMEOUT_S",
@@ -347,6 +348,40 @@ class _Reader:
         del self.stderr[:-STDERR_TAIL_BYTES]
 
 
+def _feed(sel: selectors.BaseSelector, fd: int, pending: memoryview, feed: IO[bytes]) -> memoryview:
+    """Write the next chunk of stdin; what is left to write.
+
+    Once all is written (or the child stopped reading), ``feed`` is closed.
+    """
+    try:
+        pending = pending[os.write(fd, pending[:_WRITE_CHUNK]) :]
+    except BlockingIOError:
+        return pending
+    except OSError:  # it stopped reading (EPIPE): how it ends will say why
+        pending = pending[:0]
+    if not pending:
+        sel.unregister(fd)
+        feed.close()
+    return pending
+
+
+def _drain(
+    sel: selectors.BaseSelector, key: selectors.SelectorKey, reader: _Reader, problem: str | None
+) -> str | None:
+    """Read what one of the three pipes has; the first output problem so far (or ``None``)."""
+    data = os.read(key.fd, _READ_CHUNK)
+    if not data:
+        sel.unregister(key.fd)
+    elif key.data == "out":
+        if problem is None:
+            problem = reader.out(data)
+    elif key.data == "err":
+        reader.err(data)
+    elif len(reader.status) < 4096:
+        reader.status += data
+    return problem
+
+
 def _collect(
     proc: subprocess.Popen[bytes], status_r: int, stdin: bytes, deadline: float, limits: _Limits
 ) -> Finished:
@@ -383,26 +418,9 @@ def _collect(
                 continue
             for key, _ in sel.select(min(remaining, _MAX_WAIT_S)):
                 if key.data == "in":
-                    try:
-                        pending = pending[os.write(key.fd, pending[:_WRITE_CHUNK]) :]
-                    except BlockingIOError:
-                        continue
-                    except OSError:  # it stopped reading (EPIPE): how it ends will say why
-                        pending = pending[:0]
-                    if not pending:
-                        sel.unregister(key.fd)
-                        feed.close()
-                    continue
-                data = os.read(key.fd, _READ_CHUNK)
-                if not data:
-                    sel.unregister(key.fd)
-                elif key.data == "out":
-                    if problem is None:
-                        problem = reader.out(data)
-                elif key.data == "err":
-                    reader.err(data)
-                elif len(reader.status) < 4096:
-                    reader.status += data
+                    pending = _feed(sel, key.fd, pending, feed)
+                else:
+                    problem = _drain(sel, key, reader, problem)
     if timed_out:
         raise IsolatedTimeout
     if problem is not None:
