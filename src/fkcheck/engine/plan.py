@@ -198,6 +198,35 @@ def _compared(cap_s: float, cost_us: float, total: int, structured: int) -> int:
     return structured + extra
 
 
+def _compared_of(
+    cap: float | None, cost: float | None, whole: float | None, total: int, structured: int
+) -> int:
+    """Configurations one backend compares: all of them unless its cap is too short."""
+    fits = cap is None or cost is None or whole is None or cap * _SLACK >= whole
+    return total if fits else _compared(cap or 0.0, cost or 1.0, total, structured)
+
+
+def _time_caps(
+    backends: Sequence[Backend],
+    full_s: Sequence[float | None],
+    pool: Sequence[int],
+    pool_full: Sequence[float],
+    budget: float,
+) -> list[float | None]:
+    """Seconds each backend may take: the in-process ``pool`` shares ``budget``.
+
+    An isolated backend has the whole ``budget`` to itself; a backend whose cost
+    is unknown has no cap (``None``).
+    """
+    caps: list[float | None] = [None] * len(backends)
+    for i, pool_cap in zip(pool, _caps(pool_full, budget), strict=True):
+        caps[i] = pool_cap
+    for i, b in enumerate(backends):
+        if b.isolated and full_s[i] is not None:
+            caps[i] = min(full_s[i] or 0.0, budget)
+    return caps
+
+
 def plan_check(
     backends: Sequence[Backend],
     origin: Sequence[str],
@@ -229,28 +258,21 @@ def plan_check(
     costs = [configuration_cost_us(b, dof, jacobian=jacobian) for b in backends]
     full_s = [None if c is None else c * total / 1e6 for c in costs]
     budget = BUDGET_SHARE * timeout_s
-    caps: list[float | None] = [None] * len(backends)
     pool = [i for i, b in enumerate(backends) if not b.isolated and full_s[i] is not None]
     pool_full = [full_s[i] or 0.0 for i in pool]
     shared = sum(pool_full)
-    if not full:
-        for i, pool_cap in zip(pool, _caps(pool_full, budget), strict=True):
-            caps[i] = pool_cap
-        for i, b in enumerate(backends):
-            if b.isolated and full_s[i] is not None:
-                caps[i] = min(full_s[i] or 0.0, budget)
+    caps: list[float | None] = (
+        [None] * len(backends) if full else _time_caps(backends, full_s, pool, pool_full, budget)
+    )
     plans = []
     for i, backend in enumerate(backends):
-        cap, cost, whole = caps[i], costs[i], full_s[i]
-        fits = cap is None or cost is None or whole is None or cap * _SLACK >= whole
-        compared = total if fits else _compared(cap or 0.0, cost or 1.0, total, structured)
         plans.append(
             BackendPlan(
                 backend.name,
-                compared,
+                _compared_of(caps[i], costs[i], full_s[i], total, structured),
                 total,
                 structured,
-                whole,
+                full_s[i],
                 shared if i in pool else None,
                 timeout_s,
             )
