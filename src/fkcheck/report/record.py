@@ -434,6 +434,56 @@ def _beyond(check: CheckResult, r: BackendResult) -> int:
     return int((~within).sum())
 
 
+def _numbers_and_summary(
+    check: CheckResult, r: BackendResult, beyond: int, configurations: int
+) -> tuple[str, str]:
+    """A backend's ``numbers`` (empty when it did not run) and its ``summary``."""
+    if not r.ran:
+        return "", r.message
+    numbers = (
+        f"max position error {format_length_summary(r.max_position_error_m)}, "
+        f"max rotation error {format_angle_summary(r.max_rotation_error_rad)}"
+    )
+    summary = (
+        f"{numbers}; {beyond} of {configurations} configurations beyond tolerance "
+        f"({check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
+    )
+    if r.subset is not None:
+        summary += f"; a subset: {subset_text(*r.subset)}"
+    return numbers, summary
+
+
+def _reasons(r: BackendResult, beyond: int, numbers: str, tolerance: str) -> str:
+    """Why a backend has its status: its message, and for a failure the numbers and tolerance."""
+    reasons = r.message
+    if r.status == "fail":
+        if not beyond and numbers:  # the engine's message states the numbers only when beyond
+            reasons = f"{reasons}; {numbers}" if reasons else numbers
+        reasons = f"{reasons} ({tolerance})"
+    return reasons
+
+
+def _diagnosis_fields(
+    check: CheckResult, r: BackendResult, outcome: BackendDiagnosis | None
+) -> tuple[tuple[str, ...], str, str, str, str]:
+    """``(diagnosed_with, diagnosis, diagnosis_short, diagnosis_command, diagnosis_field)``."""
+    group: tuple[str, ...] = (r.name,)
+    if outcome is None:
+        return group, "", "", "", ""
+    if r.status == "fail":
+        failed = {b.name for b in check.backends if b.status == "fail"}
+        group = tuple(n for n in (outcome.backend, *outcome.also) if n in failed)
+    best = outcome.diagnosis.best if outcome.diagnosis is not None else None
+    field = best.changes[0].field if best is not None and best.changes else ""
+    return (
+        group,
+        diagnosis_headline(outcome),
+        diagnosis_view(outcome).short,
+        outcome.command,
+        field,
+    )
+
+
 def backend_record(
     check: CheckResult,
     r: BackendResult,
@@ -448,37 +498,11 @@ def backend_record(
     worst = check.q[r.worst_index] if r.worst_index is not None else None
     worst_q, worst_text = _q(check.model, worst)
     origin = check.origin[r.worst_index] if worst is not None and r.worst_index is not None else ""
-    numbers = summary = ""
-    if r.ran:
-        numbers = (
-            f"max position error {format_length_summary(pos)}, "
-            f"max rotation error {format_angle_summary(rot)}"
-        )
-        summary = (
-            f"{numbers}; {beyond} of {configurations} configurations beyond tolerance "
-            f"({check.tol_pos_m:g} m, {check.tol_rot_rad:g} rad)"
-        )
-        if r.subset is not None:
-            summary += f"; a subset: {subset_text(*r.subset)}"
-    else:
-        summary = r.message
-    reasons = r.message
-    if r.status == "fail":
-        if not beyond and numbers:  # the engine's message states the numbers only when beyond
-            reasons = f"{reasons}; {numbers}" if reasons else numbers
-        reasons = f"{reasons} ({tolerance})"
-    outcome = diagnosis_for(diagnoses, r.name)
-    group: tuple[str, ...] = (r.name,)
-    diagnosis = short = command = field = ""
-    if outcome is not None:
-        if r.status == "fail":
-            failed = {b.name for b in check.backends if b.status == "fail"}
-            group = tuple(n for n in (outcome.backend, *outcome.also) if n in failed)
-        diagnosis = diagnosis_headline(outcome)
-        short = diagnosis_view(outcome).short
-        command = outcome.command
-        best = outcome.diagnosis.best if outcome.diagnosis is not None else None
-        field = best.changes[0].field if best is not None and best.changes else ""
+    numbers, summary = _numbers_and_summary(check, r, beyond, configurations)
+    reasons = _reasons(r, beyond, numbers, tolerance)
+    group, diagnosis, short, command, field = _diagnosis_fields(
+        check, r, diagnosis_for(diagnoses, r.name)
+    )
     return BackendRecord(
         name=r.name,
         status=r.status,
