@@ -11,11 +11,20 @@ for a pre-commit hook.
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeAlias
 
 from fkcheck.cli._targets import ONLY_MODELS_HELP
 from fkcheck.model.lint_rules import LINT_RULES
+
+if TYPE_CHECKING:
+    from fkcheck.cli._targets import Target
+    from fkcheck.model.lint import Finding
+    from fkcheck.model.types import Model
+
+    # A model, where it was named, its findings, whether measured values were exempt.
+    _Report: TypeAlias = tuple[Model, str, list[Finding], bool]
 
 __all__ = ["add_parser", "run"]
 
@@ -52,15 +61,9 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Lint every model and print one block per file; exit 1 if any has a warning."""
-    from fkcheck.calibration.lint import lint_calibrated
     from fkcheck.cli._targets import load_targets, named_model_files, project_config
-    from fkcheck.engine.expected import known_difference_findings
     from fkcheck.errors import FkcheckError
-    from fkcheck.io.strict_json import strict_json
-    from fkcheck.io.text import terminal_text
-    from fkcheck.model.lint import MEASURED_RULES
     from fkcheck.model.lint_rules import parse_lint_rules
-    from fkcheck.model.names import field_text
 
     try:
         ignore = parse_lint_rules(args.ignore)
@@ -74,6 +77,19 @@ def run(args: argparse.Namespace) -> int:
     project = project_config()
     targets = load_targets(models, project)
     ignore += project.lint_ignore if project is not None else ()
+    reports = _lint_targets(targets, ignore)
+    if args.json:
+        _print_json(reports)
+    else:
+        _print_text(reports)
+    return 1 if any(findings for _, _, findings, _ in reports) else 0
+
+
+def _lint_targets(targets: Sequence[Target], ignore: tuple[str, ...]) -> list[_Report]:
+    """Each target's model, where it was named, its findings, whether its joints were exempt from the measured rules."""
+    from fkcheck.calibration.lint import lint_calibrated
+    from fkcheck.engine.expected import known_difference_findings
+
     reports = []
     for target in targets:
         model = target.model
@@ -82,40 +98,51 @@ def run(args: argparse.Namespace) -> int:
         findings, measured = lint_calibrated(model, ignore)
         findings += known_difference_findings(model, ignore)
         reports.append((model, where, findings, measured))
-    if args.json:
-        blocks = [
-            {
-                "model": model.name,
-                "path": where,
-                "findings": [
-                    {"rule": f.rule, "field": f.field, "message": f.message} for f in findings
-                ],
-            }
-            for model, where, findings, _ in reports
-        ]
-        print(strict_json(blocks[0] if len(blocks) == 1 else blocks))
-    else:
-        from fkcheck.urdf.locate import display_path
+    return reports
 
-        for model, path, findings, measured in reports:
-            where = display_path(path)  # a bundled model as fkcheck:NAME.toml (JSON: its file)
-            for f in findings:
-                field = f"{field_text(model, f.field)}: " if f.field else ""
-                print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
-            if not findings:
-                print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
-            if measured and model.calibration is not None:
-                print(
-                    terminal_text(
-                        f"{where}: calibrated from {model.calibration.nominal}: its joints' "
-                        f"measured values are not held to the {', '.join(sorted(MEASURED_RULES))} "
-                        f"rules (lint {model.calibration.nominal} for those)"
-                    )
-                )
-        if len(reports) > 1:
-            warned = sum(1 for _, _, findings, _ in reports if findings)
+
+def _print_json(reports: Sequence[_Report]) -> None:
+    """The findings as JSON: one object for one model, else a list."""
+    from fkcheck.io.strict_json import strict_json
+
+    blocks = [
+        {
+            "model": model.name,
+            "path": where,
+            "findings": [
+                {"rule": f.rule, "field": f.field, "message": f.message} for f in findings
+            ],
+        }
+        for model, where, findings, _ in reports
+    ]
+    print(strict_json(blocks[0] if len(blocks) == 1 else blocks))
+
+
+def _print_text(reports: Sequence[_Report]) -> None:
+    """One block per model, and a count line when there are several."""
+    from fkcheck.io.text import terminal_text
+    from fkcheck.model.lint import MEASURED_RULES
+    from fkcheck.model.names import field_text
+    from fkcheck.urdf.locate import display_path
+
+    for model, path, findings, measured in reports:
+        where = display_path(path)  # a bundled model as fkcheck:NAME.toml (JSON: its file)
+        for f in findings:
+            field = f"{field_text(model, f.field)}: " if f.field else ""
+            print(terminal_text(f"{where}: {field}warning [{f.rule}]: {f.message}"))
+        if not findings:
+            print(f"{terminal_text(where)}: clean ({model.dof} joints, {model.convention} DH)")
+        if measured and model.calibration is not None:
             print(
-                f"fkcheck lint: {len(reports)} models, {len(reports) - warned} clean, "
-                f"{warned} with warnings"
+                terminal_text(
+                    f"{where}: calibrated from {model.calibration.nominal}: its joints' "
+                    f"measured values are not held to the {', '.join(sorted(MEASURED_RULES))} "
+                    f"rules (lint {model.calibration.nominal} for those)"
+                )
             )
-    return 1 if any(findings for _, _, findings, _ in reports) else 0
+    if len(reports) > 1:
+        warned = sum(1 for _, _, findings, _ in reports if findings)
+        print(
+            f"fkcheck lint: {len(reports)} models, {len(reports) - warned} clean, "
+            f"{warned} with warnings"
+        )
