@@ -17,7 +17,12 @@ import shlex
 import sys
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from fkcheck.description.types import Description
+    from fkcheck.model.types import Model
+    from fkcheck.urdf.mapping import MapResult
 
 __all__ = ["add_parser", "run"]
 
@@ -62,18 +67,11 @@ def run(args: argparse.Namespace) -> int:
     """Read, map, write the block, summarise."""
     from fkcheck.cli._outputs import Input, description_inputs, plan
     from fkcheck.cli.expand import xacro_inputs
-    from fkcheck.description.registry import (
-        format_named,
-        load_description,
-        model_format,
-        read_description_file,
-    )
-    from fkcheck.errors import FkcheckError, XacroRefused
+    from fkcheck.description.registry import format_named
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.text import terminal_text
     from fkcheck.model.options import check_option
     from fkcheck.model.read import load_model
-    from fkcheck.urdf.locate import path_for, urdf_spec_for
     from fkcheck.urdf.mapping import map_model, proposal_toml
     from fkcheck.urdf.source import allow_xacro
 
@@ -83,6 +81,61 @@ def run(args: argparse.Namespace) -> int:
     values, packages = xacro_inputs(args)
     if args.allow_xacro:
         model = allow_xacro(model)
+    described, spec, xacro_args, declared = _description(args, model, values, packages)
+    path, kin = described.path, described.tree
+    inputs: list[Input] = [("the model", model.path), *description_inputs(described, "the URDF")]
+    plan(args, [("-o", args.output)], inputs)
+    fmt = format_named(described.format)  # the block is in its section, frames by its key
+    # The solver reads each declared frame's twin in this format (in its ``urdf`` field);
+    # the block keeps the frame's twins in the other formats as the model has them.
+    urdf_twins = {name: spec.urdf for name, spec in model.frames.items()}
+    twins = {name: replace(s, urdf=fmt.frame(s)) for name, s in model.frames.items()}
+    result = map_model(
+        replace(model, frames=twins), kin, spec, samples=args.samples, seed=args.seed,
+        xacro_args=xacro_args, packages=declared,
+    )  # fmt: skip
+    text = proposal_toml(
+        result,
+        fmt.section,
+        lambda s: fmt.with_frame(replace(s, urdf=urdf_twins.get(s.name)), s.urdf),
+    )
+    if result.complete:
+        summary = _complete_summary(args.model, model, path, result)
+    else:
+        summary = [f"fkcheck map: {model.name} onto {path.name}: {_why_not(result)}"]
+    if args.output is None:
+        sys.stdout.write(text)
+        for line in summary:
+            print(terminal_text(line), file=sys.stderr)
+    else:
+        write_text_atomic(args.output, text)
+        for line in summary:
+            print(terminal_text(line))
+        print(f"wrote {terminal_text(args.output)}")
+    return 0 if result.complete else 1
+
+
+def _description(
+    args: argparse.Namespace,
+    model: Model,
+    values: dict[str, str],
+    packages: dict[str, Path],
+) -> tuple[Description, str, dict[str, str] | None, dict[str, str]]:
+    """The URDF to map onto: the one named, else the model's own.
+
+    Returns:
+        ``(described, spec, xacro_args, packages)``: the description read, the
+        block's path to it, and the xacro arguments and packages the block opts
+        in to (``None`` and empty when the URDF is not xacro).
+    """
+    from fkcheck.description.registry import (
+        load_description,
+        model_format,
+        read_description_file,
+    )
+    from fkcheck.errors import FkcheckError, XacroRefused
+    from fkcheck.urdf.locate import path_for, urdf_spec_for
+
     # The block opts in to xacro (with its arguments and packages) when the URDF is xacro.
     xacro_args: dict[str, str] | None = None
     declared: dict[str, str] = {}
@@ -107,64 +160,40 @@ def run(args: argparse.Namespace) -> int:
             f"model {model.name} has no [urdf]: give the URDF to map it onto "
             "(fkcheck map MODEL URDF, a file or example-robot-data:<subpath>)"
         )
-    path, kin = described.path, described.tree
-    inputs: list[Input] = [("the model", model.path), *description_inputs(described, "the URDF")]
-    plan(args, [("-o", args.output)], inputs)
-    fmt = format_named(described.format)  # the block is in its section, frames by its key
-    # The solver reads each declared frame's twin in this format (in its ``urdf`` field);
-    # the block keeps the frame's twins in the other formats as the model has them.
-    urdf_twins = {name: spec.urdf for name, spec in model.frames.items()}
-    twins = {name: replace(s, urdf=fmt.frame(s)) for name, s in model.frames.items()}
-    result = map_model(
-        replace(model, frames=twins), kin, spec, samples=args.samples, seed=args.seed,
-        xacro_args=xacro_args, packages=declared,
-    )  # fmt: skip
-    text = proposal_toml(
-        result,
-        fmt.section,
-        lambda s: fmt.with_frame(replace(s, urdf=urdf_twins.get(s.name)), s.urdf),
-    )
+    return described, spec, xacro_args, declared
+
+
+def _complete_summary(named: str, model: Model, path: Path, result: MapResult) -> list[str]:
+    """The summary lines of a block that can pass as pasted (``named``: the MODEL argument)."""
     linked = [f.spec.name for f in result.frames if f.fit is not None]
-    if result.complete:
-        command = shlex.join(["fkcheck", "check", args.model, *result.check_flags])
-        summary = [
-            f"fkcheck map: {model.name} onto {path.name}: {model.dof} joints, "
-            f"{len(linked)} frames ({', '.join(linked)}); check it: {command}"
-        ]
-        if result.check_flags:
-            own = model.check
-            summary.append(
-                f"fkcheck map: the model's own [check] compares {own.frame_from} → "
-                f"{own.frame_to}, and no URDF link sits exactly on "
-                f"{' or '.join(result.unmapped_ends)}: give --from/--to as "
-                "above, or set from and to in its [check] (the block's last lines)"
-            )
-        if result.numbers is not None and result.pair is not None:
-            summary.append(
-                f"fkcheck map: the proposed check {result.pair[0]} → {result.pair[1]} can verify "
-                f"{result.numbers.scope()}"
-            )
-        hiding = [name for name in result.absorbs if result.pair and name in result.pair]
-        if hiding:
-            summary.append(
-                f"fkcheck map: {', '.join(hiding)} "
-                f"{'carries an offset' if len(hiding) == 1 else 'carry offsets'} that a table "
-                "error would also produce, or sit beside links that could be the DH frame "
-                "instead: either the URDF defines it so, or the table is off "
-                "— fkcheck cannot tell (see the NOT IDENTIFIABLE comments)"
-            )
-    else:
-        summary = [f"fkcheck map: {model.name} onto {path.name}: {_why_not(result)}"]
-    if args.output is None:
-        sys.stdout.write(text)
-        for line in summary:
-            print(terminal_text(line), file=sys.stderr)
-    else:
-        write_text_atomic(args.output, text)
-        for line in summary:
-            print(terminal_text(line))
-        print(f"wrote {terminal_text(args.output)}")
-    return 0 if result.complete else 1
+    command = shlex.join(["fkcheck", "check", named, *result.check_flags])
+    summary = [
+        f"fkcheck map: {model.name} onto {path.name}: {model.dof} joints, "
+        f"{len(linked)} frames ({', '.join(linked)}); check it: {command}"
+    ]
+    if result.check_flags:
+        own = model.check
+        summary.append(
+            f"fkcheck map: the model's own [check] compares {own.frame_from} → "
+            f"{own.frame_to}, and no URDF link sits exactly on "
+            f"{' or '.join(result.unmapped_ends)}: give --from/--to as "
+            "above, or set from and to in its [check] (the block's last lines)"
+        )
+    if result.numbers is not None and result.pair is not None:
+        summary.append(
+            f"fkcheck map: the proposed check {result.pair[0]} → {result.pair[1]} can verify "
+            f"{result.numbers.scope()}"
+        )
+    hiding = [name for name in result.absorbs if result.pair and name in result.pair]
+    if hiding:
+        summary.append(
+            f"fkcheck map: {', '.join(hiding)} "
+            f"{'carries an offset' if len(hiding) == 1 else 'carry offsets'} that a table "
+            "error would also produce, or sit beside links that could be the DH frame "
+            "instead: either the URDF defines it so, or the table is off "
+            "— fkcheck cannot tell (see the NOT IDENTIFIABLE comments)"
+        )
+    return summary
 
 
 def _why_not(result: Any) -> str:
