@@ -9,9 +9,14 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from fkcheck.io.format import format_length_console, format_microseconds, format_scientific
+
+if TYPE_CHECKING:
+    from rich.table import Table
+
+    from fkcheck.bench.ik import IkBenchResult, IkTiming
 
 __all__ = ["add_parser", "run", "write_json"]
 
@@ -328,8 +333,6 @@ def _jacobian_over_fk(result: Any) -> list[str]:
 
 def _run_ik(args: argparse.Namespace, model: Any) -> int:
     """``--ik``: time the solvers, print their table, write the JSON; 1 if one fails."""
-    from rich.table import Table
-
     from fkcheck.bench.ik import run_ik_bench
     from fkcheck.cli._console import console
     from fkcheck.io.text import terminal_markup, terminal_text
@@ -345,35 +348,7 @@ def _run_ik(args: argparse.Namespace, model: Any) -> int:
             progress=lambda name: status.update(f"timing {terminal_markup(name)}…"),
         )
     tol = model.check.tol_pos_m
-    table = Table(
-        title=f"fkcheck bench {terminal_markup(result.model)} --ik: {result.n:,} poses, median "
-        f"of {result.repeat} runs (the check: one run)"
-    )
-    for column in ("solver", "part", "µs/solve", "solves/s", "× solve", "max |Δp|", "note"):
-        table.add_column(
-            column, justify="left" if column in ("solver", "part", "note") else "right"
-        )
-    solve_us = {t.solver: t.us_per_solve for t in result.timings if t.part == "solve"}
-    for t in result.timings:
-        if t.error:
-            table.add_row(terminal_markup(t.solver), t.part, "[bold red]FAILED[/]", "", "", "",
-                          terminal_markup(t.error))  # fmt: skip
-            continue
-        base = solve_us.get(t.solver)
-        ratio = "" if base is None or t.us_per_solve is None else f"{t.us_per_solve / base:.2g}"
-        err = "" if t.max_position_error_m is None else f"{t.max_position_error_m:.2g}"
-        if t.max_position_error_m is not None and not t.max_position_error_m <= tol:
-            err = f"[bold red]{err}[/]"
-        table.add_row(
-            terminal_markup(t.solver),
-            t.part,
-            "" if t.us_per_solve is None else format_microseconds(t.us_per_solve),
-            f"{t.solves_per_s:,.0f}" if t.solves_per_s else "",
-            ratio,
-            err,
-            terminal_markup(t.note),
-        )
-    console().print(table)
+    console().print(_ik_table(result, tol))
     failed = [f"{t.solver} ({t.error})" for t in result.timings if t.error]
     unsound = [
         t.solver
@@ -395,6 +370,48 @@ def _run_ik(args: argparse.Namespace, model: Any) -> int:
         )
         return 1
     return 0
+
+
+def _ik_table(result: IkBenchResult, tol: float) -> Table:
+    """``--ik``'s table: one row per solver and part, an error beyond ``tol`` (m) in red."""
+    from rich.table import Table
+
+    from fkcheck.io.text import terminal_markup
+
+    table = Table(
+        title=f"fkcheck bench {terminal_markup(result.model)} --ik: {result.n:,} poses, median "
+        f"of {result.repeat} runs (the check: one run)"
+    )
+    for column in ("solver", "part", "µs/solve", "solves/s", "× solve", "max |Δp|", "note"):
+        table.add_column(
+            column, justify="left" if column in ("solver", "part", "note") else "right"
+        )
+    solve_us = {t.solver: t.us_per_solve for t in result.timings if t.part == "solve"}
+    for t in result.timings:
+        table.add_row(*_ik_row(t, solve_us.get(t.solver), tol))
+    return table
+
+
+def _ik_row(t: IkTiming, base: float | None, tol: float) -> tuple[str, ...]:
+    """One timing's cells (``base``: its solver's µs per solve, for the ``× solve`` column)."""
+    from fkcheck.io.text import terminal_markup
+
+    if t.error:
+        return (terminal_markup(t.solver), t.part, "[bold red]FAILED[/]", "", "", "",
+                terminal_markup(t.error))  # fmt: skip
+    ratio = "" if base is None or t.us_per_solve is None else f"{t.us_per_solve / base:.2g}"
+    err = "" if t.max_position_error_m is None else f"{t.max_position_error_m:.2g}"
+    if t.max_position_error_m is not None and not t.max_position_error_m <= tol:
+        err = f"[bold red]{err}[/]"
+    return (
+        terminal_markup(t.solver),
+        t.part,
+        "" if t.us_per_solve is None else format_microseconds(t.us_per_solve),
+        f"{t.solves_per_s:,.0f}" if t.solves_per_s else "",
+        ratio,
+        err,
+        terminal_markup(t.note),
+    )
 
 
 def write_json(path: Path, data: dict[str, Any]) -> None:
