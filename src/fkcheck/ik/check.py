@@ -231,87 +231,47 @@ def check_ik(
     started = time.perf_counter()
     named = classifiable(model)
     branches = branch_names(branch_values(model, q_all)) if named else [""] * len(q_all)
-    revolute = np.array([j.type == "revolute" for j in model.joints])
-
-    # Every solution of every pose at once: the check costs a few batched FKs, not a
-    # Python loop of small ones (the per-pose loop below visits failures only).
-    sizes = np.array([len(a) for a in answers], dtype=np.int64)
-    owner = np.repeat(np.arange(len(q_all)), sizes)
-    flat = np.concatenate(answers) if len(owner) else np.zeros((0, model.dof))
-    finite: NDArray[np.bool_] = np.asarray(np.isfinite(flat).all(axis=1))
-    safe = np.where(finite[:, None], flat, 0.0)
-    reached = model.fk(safe, frame_from=frame_from, frame_to=frame_to)
-    pos = position_error_m(reached, targets[owner])
-    rot = rotation_error_rad(reached, targets[owner])
-    bad: NDArray[np.bool_] = finite & ((pos > tol_pos) | (rot > tol_rot))
-    delta = safe - q_all[owner]
-    delta[:, revolute] = np.angle(np.exp(1j * delta[:, revolute]))
-    gap = np.abs(delta).max(axis=1, initial=0.0)
-    same = finite & ~bad & (gap <= SAME_CONFIGURATION_RAD)
-    found = np.zeros(len(q_all), dtype=bool)
-    np.logical_or.at(found, owner, same)
-    names = branch_names(branch_values(model, safe)) if named and len(owner) else [""] * len(owner)
+    sols = _judge_solutions(
+        model, answers, q_all, targets, (frame_from, frame_to), (tol_pos, tol_rot), named=named
+    )
+    sizes, owner, bad = sols.sizes, sols.owner, sols.bad
     garbage_pose = np.zeros(len(q_all), dtype=bool)
-    np.logical_or.at(garbage_pose, owner, ~finite)
+    np.logical_or.at(garbage_pose, owner, ~sols.finite)
     raised_pose = np.zeros(len(q_all), dtype=bool)
     raised_pose[[i for i in errors if i >= 0]] = True
     # A run that failed as a whole has no answers to judge: its error says so, not a count.
     # A redundant arm's pose has a continuum of configurations: completeness is not checked.
     complete = model.dof <= 6
-    missed_pose = ~found & ~singular & ~raised_pose & (-1 not in errors) & complete
+    missed_pose = ~sols.found & ~singular & ~raised_pose & (-1 not in errors) & complete
     own_pos = own_rot = np.zeros(len(q_all))
     own_err = np.zeros(len(q_all), dtype=bool)
     if own_poses is not None:
         own_pos = position_error_m(own_poses, targets)
         own_rot = rotation_error_rad(own_poses, targets)
         own_err = ~((own_pos <= tol_pos) & (own_rot <= tol_rot))  # NaN disagrees
-    start = np.concatenate([[0], np.cumsum(sizes)])
 
     cases: list[IkCase] = []
     missed_by: Counter[str] = Counter(branches[i] for i in np.flatnonzero(missed_pose))
-    wrong_by: Counter[str] = Counter(names[k] for k in np.flatnonzero(bad))
+    wrong_by: Counter[str] = Counter(sols.names[k] for k in np.flatnonzero(bad))
     failing = raised_pose | garbage_pose | missed_pose | own_err
     failing[owner[bad]] = True
     for i in np.flatnonzero(failing).tolist():
         base = dict(index=i, origin=configs.origin[i], q=_row(q_all[i]), branch=branches[i])
-        if raised_pose[i]:
-            cases.append(_case("raised", base, (), (), None, math.inf, math.inf, errors[i]))
-            continue
-        rows = slice(start[i], start[i + 1])
-        sols = flat[rows]
-        returned = tuple(n for n, ok in zip(names[rows], finite[rows], strict=True) if ok)
-        if garbage_pose[i]:
-            cases.append(
-                _case("garbage", base, sols, (), None, math.inf, math.inf,
-                      f"{int((~finite[rows]).sum())} of its {len(sols)} solutions hold NaN or inf")
-            )  # fmt: skip
-        good = np.flatnonzero(finite[rows])
-        for k in np.flatnonzero(bad[rows]).tolist():
-            own_at = _own_pose(solver, i, finite[rows], int(np.searchsorted(good, k)), sols[k])
-            cases.append(
-                _case("wrong", base, sols, returned, sols[k], float(pos[rows][k]),
-                      float(rot[rows][k]), _why_wrong(own_at, targets[i], tol_pos, tol_rot))
-            )  # fmt: skip
-        if missed_pose[i]:
-            why = f"missed {branches[i] or 'the configuration'}; returned {len(sols)}"
-            if returned:
-                why += f" ({'; '.join(sorted(set(returned)))})"
-            right = np.flatnonzero(finite[rows] & ~bad[rows])
-            if len(right):  # how near the nearest right one came: a snapped singularity?
-                nearest = right[np.argmin(gap[rows][right])]
-                joint = int(np.argmax(np.abs(delta[rows][nearest])))
-                why += (
-                    f"; the nearest right solution is {gap[rows][nearest]:.2g} rad from it "
-                    f"(joint {joint + 1}, {model.joints[joint].name})"
-                )
-            if own_err[i]:
-                why += "; its own FK disagrees with the table here: it solves another arm"
-            cases.append(_case("missed", base, sols, returned, None, 0.0, 0.0, why))
-        if own_err[i]:
-            cases.append(
-                _case("own-fk", base, sols, returned, None, float(own_pos[i]),
-                      float(own_rot[i]), "the solver's own FK disagrees with the table at q")
-            )  # fmt: skip
+        cases.extend(
+            _pose_cases(
+                i,
+                base,
+                sols,
+                raised=errors[i] if raised_pose[i] else None,
+                garbage=bool(garbage_pose[i]),
+                missed=bool(missed_pose[i]),
+                own=(float(own_pos[i]), float(own_rot[i])) if own_err[i] else None,
+                solver=solver,
+                model=model,
+                target=targets[i],
+                tol=(tol_pos, tol_rot),
+            )
+        )
     counts = Counter(sizes[~raised_pose].tolist())
     wrong = int(bad.sum())
     missed = int(missed_pose.sum())
@@ -351,6 +311,162 @@ def check_ik(
         error=errors.get(-1, ""),
     )
     return _explained(result, cases)
+
+
+@dataclass(frozen=True)
+class _Solutions:
+    """Every solution of every pose, judged at once (a row per solution, unless said).
+
+    Attributes:
+        sizes: How many solutions each pose got (a row per pose).
+        owner: The pose each solution answers.
+        start: Pose ``i``'s solutions are rows ``start[i]:start[i + 1]`` (a row per pose, and one).
+        flat: The solutions.
+        finite: Whether it holds no NaN or inf.
+        pos: How far it puts the ``to`` frame from its pose, metres.
+        rot: And how far turned, radians.
+        bad: Finite, and beyond either tolerance: a wrong solution.
+        delta: It minus its pose's ``q``, revolute joints wrapped to (-π, π].
+        gap: The largest ``|delta|``.
+        names: Its branch (``""`` for an arm branches are not named for).
+        found: Whether the pose's ``q`` is among its sound solutions (a row per pose).
+    """
+
+    sizes: NDArray[np.int64]
+    owner: NDArray[np.int64]
+    start: NDArray[np.int64]
+    flat: Float
+    finite: NDArray[np.bool_]
+    pos: Float
+    rot: Float
+    bad: NDArray[np.bool_]
+    delta: Float
+    gap: Float
+    names: list[str]
+    found: NDArray[np.bool_]
+
+
+def _judge_solutions(
+    model: Model,
+    answers: list[Float],
+    q_all: Float,
+    targets: Float,
+    frames: tuple[str, str],
+    tol: tuple[float, float],
+    *,
+    named: bool,
+) -> _Solutions:
+    """Judge every solution of every pose at once.
+
+    The check costs a few batched FKs, not a Python loop of small ones (the
+    per-pose loop of :func:`check_ik` visits failures only).
+    """
+    frame_from, frame_to = frames
+    tol_pos, tol_rot = tol
+    revolute = np.array([j.type == "revolute" for j in model.joints])
+    sizes = np.array([len(a) for a in answers], dtype=np.int64)
+    owner = np.repeat(np.arange(len(q_all)), sizes)
+    flat = np.concatenate(answers) if len(owner) else np.zeros((0, model.dof))
+    finite: NDArray[np.bool_] = np.asarray(np.isfinite(flat).all(axis=1))
+    safe = np.where(finite[:, None], flat, 0.0)
+    reached = model.fk(safe, frame_from=frame_from, frame_to=frame_to)
+    pos = position_error_m(reached, targets[owner])
+    rot = rotation_error_rad(reached, targets[owner])
+    bad: NDArray[np.bool_] = finite & ((pos > tol_pos) | (rot > tol_rot))
+    delta = safe - q_all[owner]
+    delta[:, revolute] = np.angle(np.exp(1j * delta[:, revolute]))
+    gap = np.abs(delta).max(axis=1, initial=0.0)
+    same = finite & ~bad & (gap <= SAME_CONFIGURATION_RAD)
+    found = np.zeros(len(q_all), dtype=bool)
+    np.logical_or.at(found, owner, same)
+    names = branch_names(branch_values(model, safe)) if named and len(owner) else [""] * len(owner)
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    return _Solutions(sizes, owner, start, flat, finite, pos, rot, bad, delta, gap, names, found)
+
+
+def _pose_cases(
+    i: int,
+    base: dict[str, Any],
+    s: _Solutions,
+    *,
+    raised: str | None,
+    garbage: bool,
+    missed: bool,
+    own: tuple[float, float] | None,
+    solver: IkSolver,
+    model: Model,
+    target: Float,
+    tol: tuple[float, float],
+) -> list[IkCase]:
+    """The failing cases of pose ``i``, in the order raised, garbage, wrong, missed, own-fk.
+
+    Args:
+        i: The pose.
+        base: Its :class:`IkCase` fields ``index``, ``origin``, ``q`` and ``branch``.
+        s: Every solution, judged.
+        raised: What the solver raised on it, or ``None``.
+        garbage: Whether a solution holds NaN or inf.
+        missed: Whether its configuration is missing.
+        own: The solver's own FK's position and rotation error at ``q`` when it
+            disagrees with the table, else ``None``.
+        solver: The solver (its own FK tells a wrong solution's cause).
+        model: The model.
+        target: The pose.
+        tol: The soundness tolerances, metres and radians.
+    """
+    if raised is not None:
+        return [_case("raised", base, (), (), None, math.inf, math.inf, raised)]
+    cases: list[IkCase] = []
+    rows = slice(s.start[i], s.start[i + 1])
+    sols = s.flat[rows]
+    returned = tuple(n for n, ok in zip(s.names[rows], s.finite[rows], strict=True) if ok)
+    if garbage:
+        cases.append(
+            _case("garbage", base, sols, (), None, math.inf, math.inf,
+                  f"{int((~s.finite[rows]).sum())} of its {len(sols)} solutions hold NaN or inf")
+        )  # fmt: skip
+    good = np.flatnonzero(s.finite[rows])
+    for k in np.flatnonzero(s.bad[rows]).tolist():
+        own_at = _own_pose(solver, i, s.finite[rows], int(np.searchsorted(good, k)), sols[k])
+        cases.append(
+            _case("wrong", base, sols, returned, sols[k], float(s.pos[rows][k]),
+                  float(s.rot[rows][k]), _why_wrong(own_at, target, *tol))
+        )  # fmt: skip
+    if missed:
+        why = _why_missed(model, s, rows, base["branch"], returned, own_disagrees=own is not None)
+        cases.append(_case("missed", base, sols, returned, None, 0.0, 0.0, why))
+    if own is not None:
+        cases.append(
+            _case("own-fk", base, sols, returned, None, *own,
+                  "the solver's own FK disagrees with the table at q")
+        )  # fmt: skip
+    return cases
+
+
+def _why_missed(
+    model: Model,
+    s: _Solutions,
+    rows: slice,
+    branch: str,
+    returned: tuple[str, ...],
+    *,
+    own_disagrees: bool,
+) -> str:
+    """Why a pose missed its configuration: what it got, how near the nearest right one came."""
+    why = f"missed {branch or 'the configuration'}; returned {len(s.flat[rows])}"
+    if returned:
+        why += f" ({'; '.join(sorted(set(returned)))})"
+    right = np.flatnonzero(s.finite[rows] & ~s.bad[rows])
+    if len(right):  # how near the nearest right one came: a snapped singularity?
+        nearest = right[np.argmin(s.gap[rows][right])]
+        joint = int(np.argmax(np.abs(s.delta[rows][nearest])))
+        why += (
+            f"; the nearest right solution is {s.gap[rows][nearest]:.2g} rad from it "
+            f"(joint {joint + 1}, {model.joints[joint].name})"
+        )
+    if own_disagrees:
+        why += "; its own FK disagrees with the table here: it solves another arm"
+    return why
 
 
 def _row(q: Float) -> tuple[float, ...]:
@@ -534,24 +650,34 @@ def _explained(result: IkResult, cases: list[IkCase]) -> IkResult:
             f"{worst.rotation_error_rad:.3g} rad): it models another arm"
         )
     if result.wrong_solutions:
-        why = Counter(c.explanation for c in cases if c.kind == "wrong")
-        poses = len({c.index for c in cases if c.kind == "wrong"})
-        lines.append(
-            f"{result.wrong_solutions} wrong solutions on {poses} poses, by branch: "
-            + ", ".join(f"{b or 'unnamed'} ({n})" for b, n in result.wrong_by_branch.items())
-        )
-        lines.extend(f"  {n}×: {text}" for text, n in why.most_common(3))
+        lines.extend(_wrong_lines(result, cases))
     if result.missed:
-        origins = Counter(c.origin for c in cases if c.kind == "missed")
-        lines.append(
-            f"{result.missed} poses missed their configuration, by branch: "
-            + ", ".join(f"{b or 'unnamed'} ({n})" for b, n in result.missed_by_branch.items())
-            + "; from: "
-            + ", ".join(f"{o} ({n})" for o, n in origins.most_common())
-        )
+        lines.append(_missed_line(result, cases))
     if result.garbage:
         lines.append(f"{result.garbage} poses answered with NaN or inf")
     if result.raised:
         first = next(c for c in cases if c.kind == "raised")
         lines.append(f"it raised on {result.raised} poses (first: {first.explanation})")
     return dataclasses.replace(result, explanation=tuple(lines))
+
+
+def _wrong_lines(result: IkResult, cases: list[IkCase]) -> list[str]:
+    """The wrong solutions by branch, then their three commonest explanations."""
+    why = Counter(c.explanation for c in cases if c.kind == "wrong")
+    poses = len({c.index for c in cases if c.kind == "wrong"})
+    return [
+        f"{result.wrong_solutions} wrong solutions on {poses} poses, by branch: "
+        + ", ".join(f"{b or 'unnamed'} ({n})" for b, n in result.wrong_by_branch.items()),
+        *(f"  {n}×: {text}" for text, n in why.most_common(3)),
+    ]
+
+
+def _missed_line(result: IkResult, cases: list[IkCase]) -> str:
+    """The missed poses by branch and by where their configurations came from."""
+    origins = Counter(c.origin for c in cases if c.kind == "missed")
+    return (
+        f"{result.missed} poses missed their configuration, by branch: "
+        + ", ".join(f"{b or 'unnamed'} ({n})" for b, n in result.missed_by_branch.items())
+        + "; from: "
+        + ", ".join(f"{o} ({n})" for o, n in origins.most_common())
+    )
