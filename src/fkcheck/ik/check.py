@@ -22,18 +22,17 @@ For each configuration ``q`` of :func:`~fkcheck.ik.poses.ik_configurations`,
   round trip and fails here.
 
 The result says, for a failing solver, which poses, which branches and whether
-its own FK or its inversion is wrong (:attr:`IkResult.explanation`).
+its own FK or its inversion is wrong (:attr:`IkResult.explanation`). The
+result's types and wording are :mod:`fkcheck.ik.result`; calling the solver is
+:mod:`fkcheck.ik.answers`.
 """
 
 from __future__ import annotations
 
-import contextlib
-import dataclasses
 import math
-import re
 import time
 from collections import Counter
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -41,18 +40,20 @@ from numpy.typing import NDArray
 
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
+from fkcheck.ik.answers import solve_all
 from fkcheck.ik.branches import branch_names, branch_values, classifiable
 from fkcheck.ik.poses import ik_configurations
-from fkcheck.ik.solver import IkSolver, IkSolverError, validated_solutions
+from fkcheck.ik.result import WORST_CASES, IkCase, IkResult, explained, worst_cases
+from fkcheck.ik.solver import IkSolver
 from fkcheck.model.sampling import Samples
 from fkcheck.model.types import Model
 
 __all__ = [
     "SAME_CONFIGURATION_RAD",
     "SINGULAR_SIGMA",
-    "WORST_CASES",
-    "IkCase",
-    "IkResult",
+    "WORST_CASES",  # re-exported: defined in fkcheck.ik.result
+    "IkCase",  # re-exported
+    "IkResult",  # re-exported
     "check_ik",
 ]
 
@@ -68,124 +69,6 @@ SAME_CONFIGURATION_RAD = 1e-6
 #: answer for the ill-conditioned joints is legitimately anywhere in a continuum.
 SINGULAR_SIGMA = 1e-9
 #: Worst cases kept in the result (the largest errors first, missed poses after).
-WORST_CASES = 10
-
-
-@dataclass(frozen=True)
-class IkCase:
-    """One failing pose, with what the solver returned.
-
-    Attributes:
-        kind: ``"wrong"`` (a returned solution does not reproduce the pose),
-            ``"missed"`` (``q`` is not among the solutions), ``"garbage"`` (NaN or
-            inf), ``"raised"`` (the solver raised) or ``"own-fk"`` (its FK
-            disagrees with the table at ``q``).
-        index: The configuration's index in the check's set.
-        origin: Where it came from (``random``, ``near-wrist``, ``pose:home``…).
-        q: The configuration the pose came from, radians / metres.
-        branch: ``q``'s branch (``""`` for an arm branches are not named for).
-        returned: Every solution returned for the pose.
-        returned_branches: Their branches.
-        solution: The offending solution (``kind == "wrong"``), else ``None``.
-        position_error_m: How far it (or the solver's FK) puts the ``to`` frame, metres.
-        rotation_error_rad: And how far turned, radians.
-        explanation: What is wrong, in words.
-    """
-
-    kind: str
-    index: int
-    origin: str
-    q: tuple[float, ...]
-    branch: str
-    returned: tuple[tuple[float, ...], ...]
-    returned_branches: tuple[str, ...]
-    solution: tuple[float, ...] | None
-    position_error_m: float
-    rotation_error_rad: float
-    explanation: str
-
-
-@dataclass(frozen=True)
-class IkResult:
-    """An IK check's outcome.
-
-    Attributes:
-        model: The model's name.
-        solver: The solver's name.
-        method: What computes its answers.
-        frame_from: The frame the solver's pose is expressed in.
-        frame_to: The frame whose pose it inverts.
-        tol_pos_m: Soundness tolerance, metres.
-        tol_rot_rad: Soundness tolerance, radians.
-        seed: The samples' seed.
-        samples: Random samples asked for.
-        poses: Configurations checked.
-        singular_poses: Of them, singular (:data:`SINGULAR_SIGMA`).
-        solutions: Solutions returned in all.
-        counts: How many poses got each number of solutions.
-        wrong_solutions: Returned solutions that do not reproduce their pose.
-        missed: Regular poses whose configuration is not among the solutions.
-        garbage: Poses whose answer holds NaN or inf.
-        raised: Poses the solver raised on.
-        own_fk: Whether the solver's own FK was checked.
-        own_fk_disagreements: Configurations where it disagrees with the table.
-        missed_by_branch: Missed poses by their configuration's branch.
-        wrong_by_branch: Wrong solutions by their own branch.
-        worst: Up to :data:`WORST_CASES` failing poses.
-        explanation: What a failing solver gets wrong, a line each.
-        solve_s: Time spent in the solver, seconds.
-        check_s: Time spent checking its answers, seconds.
-        messages: Lines the solver printed (a library's warnings), with a count.
-        error: A failure of the whole run (a function's process died), or ``""``.
-        completeness_checked: ``False`` for an arm of more than six joints: a pose
-            has a continuum of configurations, no finite answer holds them all.
-    """
-
-    model: str
-    solver: str
-    method: str
-    frame_from: str
-    frame_to: str
-    tol_pos_m: float
-    tol_rot_rad: float
-    seed: int
-    samples: int
-    poses: int
-    singular_poses: int
-    solutions: int
-    counts: dict[int, int]
-    wrong_solutions: int
-    missed: int
-    garbage: int
-    raised: int
-    own_fk: bool
-    own_fk_disagreements: int
-    missed_by_branch: dict[str, int]
-    wrong_by_branch: dict[str, int]
-    worst: tuple[IkCase, ...]
-    explanation: tuple[str, ...]
-    solve_s: float
-    check_s: float
-    messages: dict[str, int] = field(default_factory=dict)
-    error: str = ""
-    completeness_checked: bool = True
-
-    @property
-    def passed(self) -> bool:
-        """Sound, complete, no garbage, no raise, own FK (if any) agreeing, no error."""
-        return not (
-            self.error
-            or self.wrong_solutions
-            or self.missed
-            or self.garbage
-            or self.raised
-            or self.own_fk_disagreements
-        )
-
-    @property
-    def verdict(self) -> str:
-        """``"pass"`` or ``"fail"``."""
-        return "pass" if self.passed else "fail"
 
 
 def check_ik(
@@ -227,7 +110,7 @@ def check_ik(
     sigma = np.linalg.svd(model.jacobian(q_all, frame=frame_to), compute_uv=False)[:, -1]
     singular = sigma < SINGULAR_SIGMA
 
-    answers, errors, own_poses, messages, solve_s = _solve_all(model, solver, targets, q_all)
+    answers, errors, own_poses, messages, solve_s = solve_all(model, solver, targets, q_all)
     started = time.perf_counter()
     named = classifiable(model)
     branches = branch_names(branch_values(model, q_all)) if named else [""] * len(q_all)
@@ -302,7 +185,7 @@ def check_ik(
         own_fk_disagreements=own_bad,
         missed_by_branch=dict(missed_by.most_common()),
         wrong_by_branch=dict(wrong_by.most_common()),
-        worst=tuple(_worst(cases)),
+        worst=tuple(worst_cases(cases)),
         explanation=(),
         solve_s=solve_s,
         check_s=check_s,
@@ -310,7 +193,7 @@ def check_ik(
         completeness_checked=complete,
         error=errors.get(-1, ""),
     )
-    return _explained(result, cases)
+    return explained(result, cases)
 
 
 @dataclass(frozen=True)
@@ -536,148 +419,4 @@ def _why_wrong(own: Float | str | None, target: Float, tol_pos: float, tol_rot: 
     return (
         "its inversion is wrong: the solution reproduces the pose neither by the table nor by "
         "its own FK"
-    )
-
-
-def _solve_all(
-    model: Model, solver: IkSolver, targets: Float, q_all: Float
-) -> tuple[list[Float], dict[int, str], Float | None, dict[str, int], float]:
-    """Every pose's answer, the poses it raised on, its own FK at ``q`` and its printing.
-
-    Returns ``(answers, errors, own_poses, messages, seconds)``; ``errors[-1]``
-    is a failure of the whole batch.
-    """
-    dof = model.dof
-    errors: dict[int, str] = {}
-    messages: Counter[str] = Counter()
-    answers: list[Float] = []
-    batch = getattr(solver, "solve_batch", None)
-    if callable(batch):  # the user's function: one process of its own for them all
-        started = time.perf_counter()
-        try:
-            answers = [validated_solutions(solver.name, a, dof) for a in batch(targets, q_all)]
-        except IkSolverError as exc:
-            empty = [np.zeros((0, dof))] * len(targets)
-            return empty, {-1: str(exc)}, None, {}, time.perf_counter() - started
-        own = getattr(solver, "fk_poses", None)
-        return answers, errors, own, {}, time.perf_counter() - started
-    batch_context = getattr(solver, "batch", None)  # a library's printing redirected once
-    with batch_context() if callable(batch_context) else contextlib.nullcontext():
-        spent = _solve_each(solver, targets, dof, answers, errors, messages)
-    for line in getattr(solver, "messages", ()) if callable(batch_context) else ():
-        messages[_message_kind(line)] += 1
-    own_poses = None
-    fk = getattr(solver, "fk", None)
-    if callable(fk):
-        own_poses = np.empty_like(targets)
-        for i, q in enumerate(q_all):
-            try:
-                own_poses[i] = np.asarray(fk(q.copy()), dtype=np.float64)
-            except Exception:  # counted as a disagreement: NaN is never within tolerance
-                own_poses[i] = np.nan
-    return answers, errors, own_poses, dict(messages), spent
-
-
-def _solve_each(
-    solver: IkSolver,
-    targets: Float,
-    dof: int,
-    answers: list[Float],
-    errors: dict[int, str],
-    messages: Counter[str],
-) -> float:
-    """Solve the poses one call each into ``answers`` and ``errors``; the seconds spent solving."""
-    spent = 0.0
-    for i, T in enumerate(targets):
-        started = time.perf_counter()
-        try:
-            answer = solver.solve(T.copy())
-        except Exception as exc:  # the solver's failure on this pose: counted, one line each
-            spent += time.perf_counter() - started
-            errors[i] = f"raised {type(exc).__name__}: {exc}"
-            answers.append(np.zeros((0, dof)))
-            continue
-        spent += time.perf_counter() - started
-        try:
-            answers.append(validated_solutions(solver.name, answer, dof))
-        except IkSolverError as exc:
-            errors[i] = exc.problem
-            answers.append(np.zeros((0, dof)))
-        for line in getattr(solver, "messages", ()):
-            messages[_message_kind(line)] += 1
-    return spent
-
-
-def _message_kind(line: str) -> str:
-    """A printed line without its numbers: lines of one kind are counted together."""
-    words = re.sub(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", "", line)
-    return " ".join(words.split()).rstrip(":")[:200]
-
-
-def _worst(cases: list[IkCase]) -> list[IkCase]:
-    """Up to :data:`WORST_CASES`, one per pose and kind: one of each kind first, then by error."""
-    order = sorted(cases, key=lambda c: (-c.position_error_m, -c.rotation_error_rad))
-    seen: set[tuple[str, int]] = set()
-    unique: list[IkCase] = []
-    for case in order:
-        if (case.kind, case.index) not in seen:
-            seen.add((case.kind, case.index))
-            unique.append(case)
-    order = unique
-    picked: list[IkCase] = []
-    for kind in ("raised", "garbage", "own-fk", "wrong", "missed"):
-        first = next((c for c in order if c.kind == kind), None)
-        if first is not None:
-            picked.append(first)
-    for case in order:
-        if len(picked) >= WORST_CASES:
-            break
-        if case not in picked:
-            picked.append(case)
-    return picked
-
-
-def _explained(result: IkResult, cases: list[IkCase]) -> IkResult:
-    """The result with its explanation: which poses, which branches, FK or inversion."""
-    lines: list[str] = []
-    if result.error:
-        lines.append(f"the solver failed as a whole: {result.error}")
-    if result.own_fk_disagreements:
-        worst = max((c for c in cases if c.kind == "own-fk"), key=lambda c: c.position_error_m)
-        lines.append(
-            f"its own FK disagrees with the table at {result.own_fk_disagreements} of "
-            f"{result.poses} configurations (worst {worst.position_error_m:.3g} m, "
-            f"{worst.rotation_error_rad:.3g} rad): it models another arm"
-        )
-    if result.wrong_solutions:
-        lines.extend(_wrong_lines(result, cases))
-    if result.missed:
-        lines.append(_missed_line(result, cases))
-    if result.garbage:
-        lines.append(f"{result.garbage} poses answered with NaN or inf")
-    if result.raised:
-        first = next(c for c in cases if c.kind == "raised")
-        lines.append(f"it raised on {result.raised} poses (first: {first.explanation})")
-    return dataclasses.replace(result, explanation=tuple(lines))
-
-
-def _wrong_lines(result: IkResult, cases: list[IkCase]) -> list[str]:
-    """The wrong solutions by branch, then their three commonest explanations."""
-    why = Counter(c.explanation for c in cases if c.kind == "wrong")
-    poses = len({c.index for c in cases if c.kind == "wrong"})
-    return [
-        f"{result.wrong_solutions} wrong solutions on {poses} poses, by branch: "
-        + ", ".join(f"{b or 'unnamed'} ({n})" for b, n in result.wrong_by_branch.items()),
-        *(f"  {n}×: {text}" for text, n in why.most_common(3)),
-    ]
-
-
-def _missed_line(result: IkResult, cases: list[IkCase]) -> str:
-    """The missed poses by branch and by where their configurations came from."""
-    origins = Counter(c.origin for c in cases if c.kind == "missed")
-    return (
-        f"{result.missed} poses missed their configuration, by branch: "
-        + ", ".join(f"{b or 'unnamed'} ({n})" for b, n in result.missed_by_branch.items())
-        + "; from: "
-        + ", ".join(f"{o} ({n})" for o, n in origins.most_common())
     )
