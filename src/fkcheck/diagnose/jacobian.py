@@ -486,6 +486,41 @@ def _fit_offset(
     return (float(sol[0]), float(sol[1]), float(sol[2]))
 
 
+def _poses(from_T_to: ArrayLike, N: int) -> Float:
+    """``from_T_to`` as ``(N, 4, 4)`` (one ``(4, 4)`` pose is one configuration's).
+
+    Raises:
+        ValueError: Another shape.
+    """
+    T = np.asarray(from_T_to, dtype=float)
+    if T.shape == (4, 4):
+        T = T[None]
+    if T.shape != (N, 4, 4):
+        raise ValueError(
+            f"from_T_to has shape {T.shape}; expected ({N}, 4, 4), one per configuration"
+        )
+    return T
+
+
+def _columns(
+    prismatic: ArrayLike, joint_names: Sequence[str], n: int
+) -> tuple[NDArray[np.bool_], tuple[str, ...]]:
+    """Which of the ``n`` columns are prismatic, and their joints' names (``j1…jn`` if none).
+
+    Raises:
+        ValueError: Either has not ``n`` entries.
+    """
+    is_prismatic = np.asarray(prismatic, dtype=bool).reshape(-1)
+    if is_prismatic.shape != (n,):
+        raise ValueError(
+            f"prismatic has {is_prismatic.size} entries; the Jacobians have {n} columns"
+        )
+    names = tuple(joint_names) or tuple(f"j{j + 1}" for j in range(n))
+    if len(names) != n:
+        raise ValueError(f"joint_names has {len(names)} names; the Jacobians have {n} columns")
+    return is_prismatic, names
+
+
 def diagnose_jacobian(
     expected: ArrayLike,
     observed: ArrayLike,
@@ -518,25 +553,12 @@ def diagnose_jacobian(
     """
     exp, obs = _pair(expected, observed)
     N, _, n = exp.shape
-    T = np.asarray(from_T_to, dtype=float)
-    if T.shape == (4, 4):
-        T = T[None]
-    if T.shape != (N, 4, 4):
-        raise ValueError(
-            f"from_T_to has shape {T.shape}; expected ({N}, 4, 4), one per configuration"
-        )
+    T = _poses(from_T_to, N)
     if reference not in REFERENCES:
         raise ValueError(
             f"unknown reference {reference!r}; references are: {', '.join(REFERENCES)}"
         )
-    is_prismatic = np.asarray(prismatic, dtype=bool).reshape(-1)
-    if is_prismatic.shape != (n,):
-        raise ValueError(
-            f"prismatic has {is_prismatic.size} entries; the Jacobians have {n} columns"
-        )
-    names = tuple(joint_names) or tuple(f"j{j + 1}" for j in range(n))
-    if len(names) != n:
-        raise ValueError(f"joint_names has {len(names)} names; the Jacobians have {n} columns")
+    is_prismatic, names = _columns(prismatic, joint_names, n)
     tol_l = float(tolerance)
     tol_a = tol_l if angular_tolerance is None else float(angular_tolerance)
     if not (tol_l > 0 and tol_a > 0):
