@@ -150,31 +150,45 @@ def _angles(model: Model) -> list[tuple[str, str, float]]:
 
 def _units(model: Model) -> Iterator[Candidate]:
     angles = _angles(model)
+    if model.angle_unit == "rad":
+        yield from _degrees_read_as_radians(model, angles)
+    if model.angle_unit == "deg":
+        yield from _radians_read_as_degrees(model, angles)
+
+
+def _degrees_read_as_radians(
+    model: Model, angles: list[tuple[str, str, float]]
+) -> Iterator[Candidate]:
+    """A radian file with an angle beyond half a turn: all, or some, angles are degrees."""
     values = [v for _, _, v in angles]
-    if model.angle_unit == "rad" and any(abs(v) > math.pi + 1e-9 for v in values):
-        beyond = [a for a in angles if abs(a[2]) > math.pi + 1e-9]
-        table = [a for a in beyond if a[0].startswith("joint[")]  # the table's own, if any
-        _, symbol, biggest = max(table or beyond, key=lambda a: abs(a[2]))
-        yield Candidate(
-            "degrees",
-            'the table\'s angles are in degrees but were read as radians: set angle_unit = "deg"',
-            _scale_angles(model, math.pi / 180),
-            details=(
-                f'angle_unit = "rad", yet {symbol} = {biggest:g}: that is '
-                f"{abs(biggest) / (2 * math.pi):.3g} turns in radians, an ordinary angle in "
-                "degrees; the unit applies to every angle, limit and named pose of the file",
-            ),
-        )
-        # Some angles typed in degrees, the others in radians: only those beyond a
-        # full turn, which cannot be radians, are converted.
-        typed = [a for a in angles if abs(a[2]) > _FULL_TURN_RAD]
-        if typed and len(typed) < sum(1 for v in values if v != 0):
-            yield _typed_in_degrees(model, typed)
-    if (
-        model.angle_unit == "deg"
-        and any(v != 0 for v in values)
-        and all(abs(math.degrees(v)) <= _FULL_TURN_RAD for v in values)
-    ):
+    if not any(abs(v) > math.pi + 1e-9 for v in values):
+        return
+    beyond = [a for a in angles if abs(a[2]) > math.pi + 1e-9]
+    table = [a for a in beyond if a[0].startswith("joint[")]  # the table's own, if any
+    _, symbol, biggest = max(table or beyond, key=lambda a: abs(a[2]))
+    yield Candidate(
+        "degrees",
+        'the table\'s angles are in degrees but were read as radians: set angle_unit = "deg"',
+        _scale_angles(model, math.pi / 180),
+        details=(
+            f'angle_unit = "rad", yet {symbol} = {biggest:g}: that is '
+            f"{abs(biggest) / (2 * math.pi):.3g} turns in radians, an ordinary angle in "
+            "degrees; the unit applies to every angle, limit and named pose of the file",
+        ),
+    )
+    # Some angles typed in degrees, the others in radians: only those beyond a
+    # full turn, which cannot be radians, are converted.
+    typed = [a for a in angles if abs(a[2]) > _FULL_TURN_RAD]
+    if typed and len(typed) < sum(1 for v in values if v != 0):
+        yield _typed_in_degrees(model, typed)
+
+
+def _radians_read_as_degrees(
+    model: Model, angles: list[tuple[str, str, float]]
+) -> Iterator[Candidate]:
+    """A degree file whose every angle, as a number, is within ±2π: radians."""
+    values = [v for _, _, v in angles]
+    if any(v != 0 for v in values) and all(abs(math.degrees(v)) <= _FULL_TURN_RAD for v in values):
         yield Candidate(
             "degrees",
             'the table\'s angles are in radians but were read as degrees: set angle_unit = "rad"',
