@@ -97,14 +97,7 @@ def run_bench(
     # One pose on the scalar Python path: only measurable before the JIT is loaded.
     k = part("one-pose-python")
     say("in-house, one pose, Python")
-    python_one = Timing("in-house one pose, Python", "in-house", k)
-    if dh.jit_status() == "not loaded":
-        rows = list(q[:k])
-        python_one.seconds = median_seconds(lambda: [model.fk(r) for r in rows], repeat)
-        python_one.note = "model.fk(q) in a loop, JIT not loaded (math module)"
-        python_poses = np.array([model.fk(r) for r in rows])
-    else:
-        python_one.skipped = "the JIT was already loaded in this process"
+    python_one, python_poses = _python_one_pose(model, q[:k], repeat)
     timings.append(python_one)
 
     say("in-house, batched")
@@ -130,7 +123,7 @@ def run_bench(
         )
     )
     ours = dh.fk(chain, q, out=out)
-    if python_one.seconds is not None:
+    if python_poses is not None:
         python_one.max_pos_err_m = max_pos_err(python_poses, ours[:k])
     k = part("rtb-eval")
     if jit and k >= dh.JIT_MIN_POSES:
@@ -159,14 +152,7 @@ def run_bench(
     for name, key, measure in peers.PEERS:
         say(name)
         k = part(key)
-        try:
-            timings.append(measure(model, q[:k], ours[:k], repeat))
-        except (ImportError, BackendUnavailable) as exc:
-            timings.append(Timing(name, "peer", k, skipped=f"not installed: {exc}"))
-        except LookupError as exc:  # the model lacks what the peer needs (no URDF)
-            timings.append(Timing(name, "peer", k, skipped=str(exc)))
-        except Exception as exc:  # installed but failed: an error, and the bench fails
-            timings.append(Timing(name, "peer", k, error=f"{type(exc).__name__}: {exc}"))
+        timings.append(_peer_row(name, measure, model, q[:k], ours[:k], repeat))
 
     say("memory bound")
     timings.append(_memory_bound(n, repeat))
@@ -183,6 +169,42 @@ def run_bench(
         versions=library_versions(),
         recordings=recordings,
     )
+
+
+def _python_one_pose(model: Model, q: Float, repeat: int) -> tuple[Timing, Float | None]:
+    """One pose at a time on the scalar Python path, and its poses (``None`` when skipped).
+
+    Only measurable before the JIT is loaded: afterwards the row says it was skipped.
+    """
+    k = q.shape[0]
+    python_one = Timing("in-house one pose, Python", "in-house", k)
+    if dh.jit_status() != "not loaded":
+        python_one.skipped = "the JIT was already loaded in this process"
+        return python_one, None
+    rows = list(q)
+    python_one.seconds = median_seconds(lambda: [model.fk(r) for r in rows], repeat)
+    python_one.note = "model.fk(q) in a loop, JIT not loaded (math module)"
+    return python_one, np.array([model.fk(r) for r in rows])
+
+
+def _peer_row(
+    name: str,
+    measure: peers.Measure,
+    model: Model,
+    q: Float,
+    ours: Float,
+    repeat: int,
+) -> Timing:
+    """One peer's row: timed, skipped (not installed, or the model lacks what it needs), failed."""
+    k = q.shape[0]
+    try:
+        return measure(model, q, ours, repeat)
+    except (ImportError, BackendUnavailable) as exc:
+        return Timing(name, "peer", k, skipped=f"not installed: {exc}")
+    except LookupError as exc:  # the model lacks what the peer needs (no URDF)
+        return Timing(name, "peer", k, skipped=str(exc))
+    except Exception as exc:  # installed but failed: an error, and the bench fails
+        return Timing(name, "peer", k, error=f"{type(exc).__name__}: {exc}")
 
 
 def _batch_row(
