@@ -93,6 +93,19 @@ def _title(model: Model, edits: TableEdits, frames: bool) -> str:
     return text
 
 
+def _one_number(problem: Problem, edited: Model) -> Explanation | None:
+    """The first single-number fit that explains what the edited table leaves, if any."""
+    singles = [e for e in fit_single_parameters(replace(problem, model=edited)) if e.explains]
+    return singles[0] if singles else None
+
+
+def _more_than_half_left(problem: Problem, residual: Residual, before: Residual) -> bool:
+    """The edits leave more than half the disagreement (rotation: or more than the tolerance)."""
+    return residual.position_m > before.position_m / 2 or residual.rotation_rad > max(
+        before.rotation_rad / 2, problem.tol_rot_rad
+    )
+
+
 def explain_conventions(problem: Problem) -> list[Explanation]:
     """Reversed joints, quarter-turn zeros and the frames at the ends, together.
 
@@ -133,9 +146,8 @@ def explain_conventions(problem: Problem) -> list[Explanation]:
             numbers += off.changed
             details += [d for d in off.details if not d.startswith("with the fix applied")]
     if not problem.explained(residual):
-        singles = [e for e in fit_single_parameters(replace(problem, model=edited)) if e.explains]
-        if singles:
-            single = singles[0]
+        single = _one_number(problem, edited)
+        if single is not None:
             assert single.model is not None
             assert len(single.changes) == 1
             change = single.changes[0]
@@ -152,10 +164,7 @@ def explain_conventions(problem: Problem) -> list[Explanation]:
     if edits.count == 1 and not frames:
         return []  # one flip, one zero or one sign: a hypothesis of its own
     explains = problem.explained(residual)
-    if not explains and (
-        residual.position_m > before.position_m / 2
-        or residual.rotation_rad > max(before.rotation_rad / 2, problem.tol_rot_rad)
-    ):
+    if not explains and _more_than_half_left(problem, residual, before):
         return []
     return [
         Explanation(
