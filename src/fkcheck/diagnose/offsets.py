@@ -316,6 +316,28 @@ def _first_axis_in_from(problem: Problem) -> Float | None:
     return z * (-1.0 if problem.model.joints[0].flip else 1.0)
 
 
+def _rotations_in_steps(X: Float, Y: Float) -> bool:
+    """Both offsets are rotations by multiples of 15° (or none), without a translation."""
+    pure_rotation = all(np.linalg.norm(T[:3, 3]) < _CLEAN_LENGTH_M for T in (X, Y))
+    return pure_rotation and all(
+        _is_identity(T) or np.array_equal(T, _clean(T, step_deg=15.0)) for T in (X, Y)
+    )
+
+
+def _like_d1(problem: Problem, X: Float) -> str | None:
+    """A detail when the base offset is a shift along joint 1's axis: d1 may be the error."""
+    axis = _first_axis_in_from(problem)
+    t = X[:3, 3]
+    if axis is None or np.linalg.norm(np.cross(t, axis)) >= 1e-9:
+        return None
+    shift = float(t @ axis)
+    return (
+        f"ambiguous: a constant shift of {shift * 1e3:+.3f} mm along joint 1's axis at "
+        f"the base is exactly what d1 {'+' if shift >= 0 else '-'} "
+        f"{abs(shift) * 1e3:.3f} mm does — the table's d1 may be the error, not the frame"
+    )
+
+
 def explain_offsets(problem: Problem) -> list[Explanation]:
     """Constant base/tip offsets, as an explanation (with the fixing model-file text)."""
     T_dh = problem.poses(problem.model)
@@ -342,23 +364,12 @@ def explain_offsets(problem: Problem) -> list[Explanation]:
         fixes.append(text)
         details.append(_side_text(Y, f"tip side ({problem.frame_to})"))
 
-    pure_rotation = all(np.linalg.norm(T[:3, 3]) < _CLEAN_LENGTH_M for T in (X, Y))
-    clean = (
-        explains
-        and pure_rotation
-        and all(_is_identity(T) or np.array_equal(T, _clean(T, step_deg=15.0)) for T in (X, Y))
-    )
+    clean = explains and _rotations_in_steps(X, Y)
     title = _title(problem, X, Y, base_same, tip_same, explains, clean)
     if explains and not base_same and np.linalg.norm(X[:3, 3]) > _CLEAN_LENGTH_M:
-        axis = _first_axis_in_from(problem)
-        t = X[:3, 3]
-        if axis is not None and np.linalg.norm(np.cross(t, axis)) < 1e-9:
-            shift = float(t @ axis)
-            details.append(
-                f"ambiguous: a constant shift of {shift * 1e3:+.3f} mm along joint 1's axis at "
-                f"the base is exactly what d1 {'+' if shift >= 0 else '-'} "
-                f"{abs(shift) * 1e3:.3f} mm does — the table's d1 may be the error, not the frame"
-            )
+        ambiguous = _like_d1(problem, X)
+        if ambiguous is not None:
+            details.append(ambiguous)
     if explains:
         check = problem.residual(model)
         details.append(f"with the fix applied, the table is {check.text()} from the reference")
