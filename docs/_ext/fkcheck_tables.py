@@ -122,21 +122,22 @@ def _cell(text: str) -> str:
 def backends_markdown() -> list[str]:
     """The registry, one row per registration, the plugin form last."""
     from fkcheck.backends import registry
+    from fkcheck.backends.registration import PLUGIN
 
     rows = [
         "| name | what it is | evidence | reads | formats | runs |",
         "|---|---|---|---|---|---|",
     ]
-    for reg in (*registry.registrations(), registry._PLUGIN):
+    for reg in (*registry.registrations(), PLUGIN):
         cls = reg.factory()
-        evidence = reg.declared("evidence") if reg is not registry._PLUGIN else cls.evidence
-        reads = reg.declared("reads") if reg is not registry._PLUGIN else cls.reads
-        found = reg.declared("formats") if reg is not registry._PLUGIN else cls.formats
+        evidence = reg.declared("evidence") if reg is not PLUGIN else cls.evidence
+        reads = reg.declared("reads") if reg is not PLUGIN else cls.reads
+        found = reg.declared("formats") if reg is not PLUGIN else cls.formats
         formats = ", ".join(found or ()) or "-"
         runs = "by default" if reg.default else f"`--against {reg.name}…`"
-        if not reg.prefixed and not reg.default and reg is not registry._PLUGIN:
+        if not reg.prefixed and not reg.default and reg is not PLUGIN:
             runs = f"`--against {reg.name}`"
-        if reg is registry._PLUGIN:
+        if reg is PLUGIN:
             runs = "`--against mypkg.fk:forward`"
         name = f"`{reg.shown}`"
         what = _cell(_first_line(cls))
