@@ -86,7 +86,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _lint_targets(targets: Sequence[Target], ignore: tuple[str, ...]) -> list[_Report]:
-    """Each target's model, where it was named, its findings, whether its joints were exempt from the measured rules."""
+    """Each target's model, where it was named, its findings, and whether its joints were exempt.
+
+    (Exempt: a calibrated model's measured joints are not held to the measured rules.)
+    """
     from fkcheck.calibration.lint import lint_calibrated
     from fkcheck.engine.expected import known_difference_findings
 
