@@ -14,7 +14,8 @@ Toolbox's reader); :func:`read_urdf` runs first, for all of them and for
   type and a parent and a child that are links, no link has two parents, the
   joints form no cycle and there is one root link; every number in a URDF
   attribute (origins, axes, limits, inertials, geometry, colours) is a finite
-  decimal number, the right count of them, and a moving joint's axis is not zero;
+  decimal number, the right count of them, and a moving joint's axis is not zero
+  (:mod:`fkcheck.urdf.tree_numbers`);
 * it bounds the robot: at most :data:`MAX_URDF_LINKS` links (so as many joints) and
   at most :data:`MAX_URDF_DEPTH` joints from the root link to any link. Chains
   deeper than that exhaust the parsers' recursion: Pinocchio (urdfdom) overflows
@@ -29,9 +30,6 @@ Mesh files are never opened here or by the backends.
 
 from __future__ import annotations
 
-import math
-import re
-import sys
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
@@ -40,6 +38,7 @@ from typing import Protocol, TypeVar
 
 from fkcheck.errors import UrdfError
 from fkcheck.urdf.screen import ScreenedUrdf, check_urdf_path, read_urdf_bytes, screen_urdf
+from fkcheck.urdf.tree_numbers import MAX_AXIS_LENGTH, MIN_AXIS_LENGTH, at_line, check_numbers
 
 __all__ = [
     "JOINT_TYPES",
@@ -63,52 +62,6 @@ MAX_URDF_DEPTH = 256
 #: The joint types of the URDF specification (urdfdom refuses any other).
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _ONE_DOF = ("revolute", "continuous", "prismatic")
-#: Shortest and longest ``<axis xyz>`` a reader can normalise: every one divides by
-#: ``sqrt(x² + y² + z²)``, whose square must be a normal float (2.2e-308 … 1.8e308).
-#: ``0 0 1e-300`` gave 0 (Pinocchio's and yourdfpy's poses were not rotations),
-#: ``0 1e300 1e300`` gave infinity.
-MIN_AXIS_LENGTH = math.sqrt(sys.float_info.min)
-MAX_AXIS_LENGTH = math.sqrt(sys.float_info.max) / 2.0  # three components: room for the sum
-
-#: A URDF number, as urdfdom reads it: decimal, optional sign and exponent (no
-#: ``inf``, ``nan``, ``1_0``, hexadecimal or non-ASCII digits).
-_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-#: Numeric attributes urdfdom parses, by the element holding them under a
-#: ``<joint>``, a ``<link>`` or the ``<robot>``: name → how many numbers.
-_NUMERIC: tuple[tuple[str, str, dict[str, int]], ...] = (
-    ("joint", "origin", {"xyz": 3, "rpy": 3}),
-    ("joint", "axis", {"xyz": 3}),
-    ("joint", "limit", {"lower": 1, "upper": 1, "effort": 1, "velocity": 1}),
-    ("joint", "dynamics", {"damping": 1, "friction": 1}),
-    ("joint", "mimic", {"multiplier": 1, "offset": 1}),
-    (
-        "joint",
-        "safety_controller",
-        {"soft_lower_limit": 1, "soft_upper_limit": 1, "k_position": 1, "k_velocity": 1},
-    ),
-    ("joint", "calibration", {"rising": 1, "falling": 1}),
-    ("link", "inertial/origin", {"xyz": 3, "rpy": 3}),
-    ("link", "inertial/mass", {"value": 1}),
-    (
-        "link",
-        "inertial/inertia",
-        {"ixx": 1, "ixy": 1, "ixz": 1, "iyy": 1, "iyz": 1, "izz": 1},
-    ),
-    *(
-        entry
-        for part in ("visual", "collision")
-        for entry in (
-            ("link", f"{part}/origin", {"xyz": 3, "rpy": 3}),
-            ("link", f"{part}/geometry/box", {"size": 3}),
-            ("link", f"{part}/geometry/cylinder", {"radius": 1, "length": 1}),
-            ("link", f"{part}/geometry/capsule", {"radius": 1, "length": 1}),
-            ("link", f"{part}/geometry/sphere", {"radius": 1}),
-            ("link", f"{part}/geometry/mesh", {"scale": 3}),
-        )
-    ),
-    ("link", "visual/material/color", {"rgba": 4}),
-    ("robot", "material/color", {"rgba": 4}),
-)
 
 
 @dataclass(frozen=True)
@@ -246,7 +199,7 @@ def urdf_info_from_bytes(path: Path, data: bytes, package_dirs: tuple[Path, ...]
     if root.tag != "robot":
         raise UrdfError(path, f"root element is <{root.tag}>, expected <robot>")
     links, joints = _links_and_joints(path, doc)
-    _check_numbers(path, doc)
+    check_numbers(path, doc)
     _check_mimics(path, doc, joints)
     return UrdfInfo(
         path=path,
@@ -266,11 +219,6 @@ def listed(names: Iterable[str], limit: int = 20) -> str:
     return shown + (f", … ({len(names) - limit} more)" if len(names) > limit else "")
 
 
-def _where(doc: ScreenedUrdf, element: ET.Element) -> str:
-    line = doc.line(element)
-    return f"line {line}: " if line is not None else ""
-
-
 def _links(path: Path, doc: ScreenedUrdf, elements: list[ET.Element]) -> dict[str, int]:
     """Each ``<link>``'s line (``0`` if unknown) by name, in file order.
 
@@ -281,11 +229,11 @@ def _links(path: Path, doc: ScreenedUrdf, elements: list[ET.Element]) -> dict[st
     for el in elements:
         name = el.get("name")
         if not name:
-            raise UrdfError(path, f"{_where(doc, el)}a <link> has no name")
+            raise UrdfError(path, f"{at_line(doc, el)}a <link> has no name")
         if name in links:
             raise UrdfError(
                 path,
-                f"{_where(doc, el)}link {name!r} is defined twice (first on line {links[name]})",
+                f"{at_line(doc, el)}link {name!r} is defined twice (first on line {links[name]})",
             )
         links[name] = doc.line(el) or 0
     return links
@@ -299,7 +247,7 @@ def _joint_end(
     Raises:
         UrdfError: The element or its ``link`` attribute is missing, or names no link.
     """
-    where = _where(doc, el)
+    where = at_line(doc, el)
     end = el.find(role)
     link = end.get("link") if end is not None else None
     if not link:
@@ -337,7 +285,7 @@ def _links_and_joints(path: Path, doc: ScreenedUrdf) -> tuple[dict[str, int], di
     lines: dict[str, int] = {}
     parent_of: dict[str, str] = {}  # child link → the joint that has it as child
     for el in joint_elements:
-        where = _where(doc, el)
+        where = at_line(doc, el)
         name = el.get("name")
         if not name:
             raise UrdfError(path, f"{where}a <joint> has no name")
@@ -424,46 +372,6 @@ def _check_tree(path: Path, links: dict[str, int], joints: dict[str, UrdfJoint])
     return roots[0]
 
 
-def _check_numbers(path: Path, doc: ScreenedUrdf) -> None:
-    """Every numeric URDF attribute is the right count of finite decimal numbers.
-
-    Numbers are separated by spaces, as urdfdom splits them. A moving joint's
-    axis must not be zero.
-    """
-    owners = {
-        "robot": [doc.root],
-        "link": doc.root.findall("link"),
-        "joint": doc.root.findall("joint"),
-    }
-    for owner_tag, sub, attributes in _NUMERIC:
-        for owner in owners[owner_tag]:
-            for el in owner.findall(sub):
-                for attr, count in attributes.items():
-                    text = el.get(attr)
-                    if text is not None:
-                        _numbers(path, doc, owner, el, attr, text, count)
-    for joint in owners["joint"]:
-        axis = joint.find("axis")
-        if axis is None or joint.get("type") not in ("revolute", "continuous", "prismatic"):
-            continue
-        values = _numbers(path, doc, joint, axis, "xyz", axis.get("xyz", "1 0 0"), 3)
-        if not any(values):
-            raise UrdfError(
-                path,
-                f"{_where(doc, axis)}joint {joint.get('name')!r}: <axis xyz> is zero; a "
-                f"{joint.get('type')} joint needs a direction",
-            )
-        length = math.sqrt(sum(v * v for v in values))  # as every reader normalises it
-        if not MIN_AXIS_LENGTH <= length <= MAX_AXIS_LENGTH:
-            raise UrdfError(
-                path,
-                f"{_where(doc, axis)}joint {joint.get('name')!r}: <axis xyz> is "
-                f"{axis.get('xyz')!r}, whose length no reader can take (its square is not a "
-                f"normal float: {MIN_AXIS_LENGTH:.3g} … {MAX_AXIS_LENGTH:.3g}); write the "
-                "direction as a unit vector",
-            )
-
-
 def _check_mimics(path: Path, doc: ScreenedUrdf, joints: dict[str, UrdfJoint]) -> None:
     """Every ``<mimic>`` names a one-DOF joint (revolute, continuous, prismatic) other than its own.
 
@@ -474,7 +382,7 @@ def _check_mimics(path: Path, doc: ScreenedUrdf, joints: dict[str, UrdfJoint]) -
         name = el.get("name")
         for mimic in el.findall("mimic"):
             leader = mimic.get("joint")
-            where = f"{_where(doc, mimic)}joint {name!r}: <mimic joint>"
+            where = f"{at_line(doc, mimic)}joint {name!r}: <mimic joint>"
             if not leader:
                 raise UrdfError(path, f"{where} names no joint; it must name the joint it follows")
             if leader not in joints:
@@ -490,27 +398,3 @@ def _check_mimics(path: Path, doc: ScreenedUrdf, joints: dict[str, UrdfJoint]) -
                     f"{where} is {leader!r}, a {joints[leader].type} joint; a mimic follows "
                     f"a {', '.join(_ONE_DOF[:-1])} or {_ONE_DOF[-1]} joint",
                 )
-
-
-def _numbers(
-    path: Path,
-    doc: ScreenedUrdf,
-    owner: ET.Element,
-    el: ET.Element,
-    attr: str,
-    text: str,
-    count: int,
-) -> tuple[float, ...]:
-    parts = [p for p in text.split(" ") if p]
-    values = tuple(float(p) for p in parts if _NUMBER.fullmatch(p))
-    if len(values) == count and len(parts) == count and all(map(math.isfinite, values)):
-        return values
-    field = f"<{el.tag} {attr}>"
-    if owner is not doc.root:
-        field = f"{owner.tag} {owner.get('name')!r}: {field}"
-    expected = "a finite decimal number" if count == 1 else f"{count} finite decimal numbers"
-    raise UrdfError(
-        path,
-        f"{_where(doc, el)}{field} is {text!r}, expected {expected}"
-        + (" separated by spaces" if count > 1 else ""),
-    )
