@@ -17,7 +17,7 @@ from pathlib import Path
 from fkcheck.description.types import Description
 from fkcheck.errors import MjcfError
 from fkcheck.mjcf.tree import MjcfDescription, read_mjcf
-from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.types import FrameSpec, MjcfSpec, Model
 from fkcheck.urdf.chain import KinematicTree
 from fkcheck.urdf.locate import FKCHECK_PREFIX, locate
 
@@ -138,6 +138,10 @@ class MjcfFormat:
         """``model`` with ``[mjcf].joints`` replaced."""
         assert model.mjcf is not None
         return replace(model, mjcf=replace(model.mjcf, joints=tuple(joints)))
+
+    def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
+        """``model`` with a new ``[mjcf]`` naming ``path``."""
+        return replace(model, mjcf=MjcfSpec(path=path, joints=tuple(joints)))
 
     def carry(self, model: Model, description: Description) -> Model:
         """``model`` as it is: reading an MJCF runs no code."""

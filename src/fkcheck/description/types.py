@@ -167,6 +167,10 @@ class DescriptionFormat(Protocol):
         """``model`` with its joint mapping (:meth:`mapped_joints`) replaced by ``joints``."""
         ...
 
+    def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
+        """``model`` declaring a description of this format at ``path`` (its section, new)."""
+        ...
+
     def carry(self, model: Model, description: Description) -> Model:
         """``model`` carrying what reading its description produced, when that ran code.
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from fkcheck.description.types import Description
 from fkcheck.errors import XacroRefused
-from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.types import FrameSpec, Model, UrdfSpec
 from fkcheck.urdf.chain import KinematicTree, read_urdf_source, urdf_kinematics
 from fkcheck.urdf.source import (
     check_urdf_mapping,
@@ -141,6 +141,10 @@ class UrdfFormat:
         """``model`` with ``[urdf].joints`` replaced."""
         assert model.urdf is not None
         return replace(model, urdf=replace(model.urdf, joints=tuple(joints)))
+
+    def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
+        """``model`` with a new ``[urdf]`` naming ``path`` (``xacro`` as this format)."""
+        return replace(model, urdf=UrdfSpec(path=path, joints=tuple(joints), xacro=self.executes))
 
     def carry(self, model: Model, description: Description) -> Model:
         """``model`` with ``[urdf].expanded`` set to a xacro file's expansion.
