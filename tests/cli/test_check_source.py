@@ -1,0 +1,117 @@
+"""``fkcheck check --source A --against-description B``: a conversion checked, no table given."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from fkcheck.cli.main import main
+from tests.description.conversion_arm import FAULTS, URDF, seeded, write_pair
+
+MJCF_READERS = "mujoco-mjcf,pinocchio-mjcf"
+URDF_READERS = "pinocchio-urdf,yourdfpy-urdf"
+
+
+def run(argv, tmp_path):
+    out = tmp_path / "check.json"
+    code = main(["check", *argv, "--samples", "40", "--json", str(out)])
+    return code, json.loads(out.read_text(encoding="utf-8"))
+
+
+def statuses(doc) -> dict[str, str]:
+    return {b["name"]: b["status"] for b in doc["backends"]}
+
+
+def test_a_right_urdf_to_mjcf_conversion_passes_and_says_which_was_the_source(tmp_path, capsys):
+    urdf, xml = write_pair(tmp_path)
+    code, doc = run(["--source", str(urdf), "--against-description", str(xml),
+                     "--against", MJCF_READERS], tmp_path)  # fmt: skip
+    assert code == 0
+    assert statuses(doc) == {"mujoco-mjcf": "pass", "pinocchio-mjcf": "pass"}
+    assert doc["derived"]["source"] == str(urdf)
+    assert doc["derived"]["checked"] == str(xml)
+    assert (doc["from"], doc["to"]) == ("base_link", "link3")
+    # Honest about what agreement shows, wherever the verdict is read.
+    for said in (doc["headline"], doc["evidence"]["table"]["summary"]):
+        assert f"table derived by fkcheck from {urdf} (the source)" in said
+        assert "not whether either holds the vendor's numbers" in said
+    out = capsys.readouterr().out
+    assert out.startswith(f"fkcheck: derived by fkcheck from {urdf} (the source), checked "
+                          f"against {xml}\n")  # fmt: skip
+
+
+def test_the_other_way_an_mjcf_to_urdf_conversion_passes(tmp_path):
+    urdf, xml = write_pair(tmp_path)
+    code, doc = run(["--source", str(xml), "--against-description", str(urdf),
+                     "--against", URDF_READERS, "--tip", "tool0"], tmp_path)  # fmt: skip
+    assert code == 0, doc["headline"]
+    assert statuses(doc) == {"pinocchio-urdf": "pass", "yourdfpy-urdf": "pass"}
+    assert doc["derived"]["source"] == str(xml)
+    assert doc["to"] == "tool0"  # the MJCF's site, the URDF's link
+
+
+@pytest.mark.parametrize("fault", sorted(FAULTS))
+def test_a_seeded_conversion_fault_fails_in_both_mjcf_readers(tmp_path, capsys, fault):
+    urdf, xml = write_pair(tmp_path, seeded(fault))
+    code, doc = run(["--source", str(urdf), "--against-description", str(xml),
+                     "--against", MJCF_READERS], tmp_path)  # fmt: skip
+    assert code == 1
+    assert statuses(doc) == {"mujoco-mjcf": "fail", "pinocchio-mjcf": "fail"}
+    assert doc["verdict"] == "fail"
+    assert doc["headline"].startswith("fail — table disagrees; table derived by fkcheck from")
+    where = {
+        "body 1 mm off": "one number differs: a2 (j2)",
+        "axis sign flipped": "joint 2 (j2) turns the other way",
+        # Two numbers (link2's quarter turn, link3's 0.5 rad) read as degrees: no one change.
+        "radians read as degrees": "not explained by any one change",
+    }[fault]
+    assert f"diagnosis (mujoco-mjcf, pinocchio-mjcf): {where}" in capsys.readouterr().out
+
+
+def test_a_urdf_one_millimetre_off_an_mjcf_source_fails_in_the_urdf_readers(tmp_path, capsys):
+    urdf, xml = write_pair(tmp_path)
+    urdf.write_text(URDF.replace('<origin xyz="0.3 0 0"', '<origin xyz="0.301 0 0"'))
+    code, doc = run(["--source", str(xml), "--against-description", str(urdf),
+                     "--against", URDF_READERS], tmp_path)  # fmt: skip
+    assert code == 1
+    assert statuses(doc) == {"pinocchio-urdf": "fail", "yourdfpy-urdf": "fail"}
+    assert "one number differs: a2 (j2)" in capsys.readouterr().out
+
+
+def test_joints_that_differ_by_name_are_one_line_and_exit_2(tmp_path, capsys):
+    urdf, xml = write_pair(tmp_path, seeded("axis sign flipped").replace('"j3"', '"joint3"'))
+    assert main(["check", "--source", str(urdf), "--against-description", str(xml)]) == 2
+    err = capsys.readouterr().err
+    assert err == (
+        f"fkcheck: error: joints are matched by name, and they differ: {urdf} (base_link → "
+        f"link3) has j1, j2, j3; {xml} (base_link → link3) has j1, j2, joint3 (not there: j3)\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["ur5"], "MODEL does not go with --source"),
+        (["--to", "tool0"], "--to does not go with --source (the chain's ends: --base, --tip)"),
+        (["--all"], "--all does not go with --source"),
+    ],
+)
+def test_what_does_not_go_with_source_is_one_line(tmp_path, capsys, extra, message):
+    urdf, xml = write_pair(tmp_path)
+    assert main(["check", "--source", str(urdf), "--against-description", str(xml), *extra]) == 2
+    assert capsys.readouterr().err == f"fkcheck: error: {message}\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--source", "arm.urdf"], "--source needs --against-description"),
+        (["--against-description", "arm.xml"], "--against-description needs --source"),
+        (["ur5", "--tip", "tool0"], "--base, --tip, --checked-base and --checked-tip go with "
+                                    "--source"),
+    ],
+)  # fmt: skip
+def test_half_a_pair_is_one_line(tmp_path, capsys, argv, message):
+    assert main(["check", *argv]) == 2
+    assert message in capsys.readouterr().err
