@@ -8,6 +8,7 @@ import pytest
 
 from fkcheck.cli.main import main
 from tests.description.conversion_arm import FAULTS, URDF, seeded, write_pair
+from tests.paths import REPO_ROOT
 
 MJCF_READERS = "mujoco-mjcf,pinocchio-mjcf"
 URDF_READERS = "pinocchio-urdf,yourdfpy-urdf"
@@ -115,3 +116,19 @@ def test_what_does_not_go_with_source_is_one_line(tmp_path, capsys, extra, messa
 def test_half_a_pair_is_one_line(tmp_path, capsys, argv, message):
     assert main(["check", *argv]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_menageries_xarm7_against_example_robot_datas_urdf_differs_by_micrometres(tmp_path):
+    """A real conversion (docs/howto/check-a-conversion.md): 3.7 µm of rounding, named."""
+    pytest.importorskip("example_robot_data")
+    argv = ["--source", "example-robot-data:xarm_description/urdf/xarm7.urdf",
+            "--against-description", "models/mujoco_menagerie/ufactory_xarm7/xarm7_nohand.xml",
+            "--against", "mujoco-mjcf"]  # fmt: skip
+    argv[3] = str(REPO_ROOT / argv[3])
+    code, doc = run(argv, tmp_path)
+    assert code == 1
+    (row,) = doc["backends"]
+    assert 3e-6 < row["max_position_error_m"] < 4e-6
+    code, doc = run([*argv, "--tol-pos", "1e-5", "--tol-rot", "1e-4"], tmp_path)
+    assert code == 0
+    assert doc["verdict"] == "pass"

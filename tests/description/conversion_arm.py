@@ -1,4 +1,4 @@
-"""One small arm written twice, as a URDF and as its MJCF conversion, and faults to seed in it.
+"""One small arm written twice, a URDF and its MJCF conversion (examples/conversion/), and faults.
 
 Three revolute joints (one turning the other way), a quarter turn and a 0.5 rad
 turn between links, and a tool frame (a URDF fixed joint, an MJCF site): what a
@@ -10,55 +10,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["FAULTS", "MJCF", "URDF", "seeded", "write_pair"]
+from tests.paths import REPO_ROOT
 
-URDF = """<?xml version="1.0"?>
-<robot name="arm3">
-  <link name="base_link"/>
-  <link name="link1"/>
-  <link name="link2"/>
-  <link name="link3"/>
-  <link name="tool0"/>
-  <joint name="j1" type="revolute">
-    <parent link="base_link"/><child link="link1"/>
-    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/>
-    <limit lower="-3" upper="3" effort="1" velocity="1"/>
-  </joint>
-  <joint name="j2" type="revolute">
-    <parent link="link1"/><child link="link2"/>
-    <origin xyz="0 0.05 0.2" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
-    <limit lower="-3" upper="3" effort="1" velocity="1"/>
-  </joint>
-  <joint name="j3" type="revolute">
-    <parent link="link2"/><child link="link3"/>
-    <origin xyz="0.3 0 0" rpy="0 0 0.5"/><axis xyz="0 0 -1"/>
-    <limit lower="-3" upper="3" effort="1" velocity="1"/>
-  </joint>
-  <joint name="tool" type="fixed">
-    <parent link="link3"/><child link="tool0"/>
-    <origin xyz="0.1 0 0.02" rpy="0 1.5707963267948966 0"/>
-  </joint>
-</robot>
-"""
+__all__ = ["FAULTS", "FOLDER", "MJCF", "URDF", "seeded", "write_pair"]
 
-MJCF = """<mujoco model="arm3">
-  <compiler angle="radian"/>
-  <worldbody>
-    <body name="base_link">
-      <body name="link1" pos="0 0 0.1">
-        <joint name="j1" axis="0 0 1" range="-3 3"/>
-        <body name="link2" pos="0 0.05 0.2" euler="1.5707963267948966 0 0">
-          <joint name="j2" axis="0 0 1" range="-3 3"/>
-          <body name="link3" pos="0.3 0 0" euler="0 0 0.5">
-            <joint name="j3" axis="0 0 -1" range="-3 3"/>
-            <site name="tool0" pos="0.1 0 0.02" euler="0 1.5707963267948966 0"/>
-          </body>
-        </body>
-      </body>
-    </body>
-  </worldbody>
-</mujoco>
-"""
+#: The two files, as a user would have them (docs/howto/check-a-conversion.md runs them).
+FOLDER = REPO_ROOT / "examples" / "conversion"
+URDF = (FOLDER / "arm.urdf").read_text(encoding="utf-8")
+MJCF = (FOLDER / "arm.xml").read_text(encoding="utf-8")
 
 #: Seeded conversion faults: name → (text in the right MJCF, its faulty replacement).
 FAULTS = {

@@ -15,6 +15,7 @@ so every output says which was the source and that the table was derived.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from itertools import pairwise
 from pathlib import Path
 
 from fkcheck.description.registry import format_named
@@ -28,7 +29,7 @@ __all__ = ["ChainEnds", "default_ends", "derived_model"]
 
 @dataclass(frozen=True)
 class ChainEnds:
-    """The base and tip links (bodies, sites) of a chain; ``None``: chosen by :func:`default_ends`."""
+    """A chain's base and tip links (bodies, sites); ``None``: chosen by :func:`default_ends`."""
 
     base: str | None = None
     tip: str | None = None
@@ -64,7 +65,7 @@ def _one_chain(tree: KinematicTree, moving: list[JointGeometry]) -> list[JointGe
     """``moving`` in order from the root, when each lies below the one before; else ``None``."""
     below_root = {j.name: len(_ancestry(tree, j)) for j in moving}
     ordered = sorted(moving, key=lambda j: below_root[j.name])
-    for upper, lower in zip(ordered, ordered[1:], strict=False):
+    for upper, lower in pairwise(ordered):
         if upper.name not in {j.name for j in _ancestry(tree, lower)}:
             return None
     return ordered
@@ -117,7 +118,9 @@ def derived_model(
     chosen = ChainEnds(checked_ends.base or source_ends.base, checked_ends.tip or source_ends.tip)
     checked_base, checked_tip = default_ends(checked.tree, chosen)
     table = dh_from_urdf(source.tree, base, tip).model
-    theirs = tuple(j.name for j in checked.tree.movable(checked.tree.chain(checked_base, checked_tip)))
+    theirs = tuple(
+        j.name for j in checked.tree.movable(checked.tree.chain(checked_base, checked_tip))
+    )
     if theirs != table.joint_names:
         missing = [n for n in table.joint_names if n not in theirs]
         raise FkcheckError(

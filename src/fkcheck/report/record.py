@@ -548,7 +548,9 @@ def check_record(check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ())
         partial=_partial(check.verdict, evidence),
         evidence=tuple(
             EvidenceRecord(
-                k, evidence.of(k).status, text + (_derived_note(check) if k == "table" else ""),
+                k,
+                evidence.of(k).status,
+                text + (_derived_note(check) if k == "table" else ""),
                 k in evidence.unmet,
             )
             for k, text in zip(KINDS, sentences, strict=True)
