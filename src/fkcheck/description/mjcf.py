@@ -14,10 +14,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from fkcheck.description.section import SectionFormat
 from fkcheck.description.types import Description
 from fkcheck.errors import MjcfError
 from fkcheck.mjcf.tree import MjcfDescription, read_mjcf
-from fkcheck.model.types import FrameSpec, MjcfSpec, Model
+from fkcheck.model.types import MjcfSpec, Model
 from fkcheck.urdf.chain import KinematicTree
 from fkcheck.urdf.locate import FKCHECK_PREFIX, locate
 
@@ -48,10 +49,11 @@ def mjcf_native(description: Description) -> MjcfDescription:
 
 
 @dataclass(frozen=True)
-class MjcfFormat:
+class MjcfFormat(SectionFormat):
     """MJCF, declared in ``[mjcf]``.
 
-    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`.
+    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`; ``[mjcf]``
+    and ``mjcf =`` frames are read by :class:`~fkcheck.description.section.SectionFormat`.
     """
 
     name: str = "mjcf"
@@ -60,27 +62,6 @@ class MjcfFormat:
     section: str = "mjcf"
     frame_key: str = "mjcf"
     executes: bool = False
-
-    def declared_by(self, model: Model) -> bool:
-        """Whether ``model`` has ``[mjcf]``."""
-        return model.mjcf is not None
-
-    def mapped_joints(self, model: Model) -> tuple[str, ...]:
-        """``[mjcf].joints``: the MJCF joint of each DH joint (``()`` without ``[mjcf]``)."""
-        return () if model.mjcf is None else tuple(model.mjcf.joints)
-
-    def written(self, model: Model) -> str:
-        """``[mjcf].path`` as written."""
-        assert model.mjcf is not None
-        return model.mjcf.path
-
-    def frame(self, spec: FrameSpec) -> str | None:
-        """The frame's ``mjcf`` body or site, or ``None``."""
-        return spec.mjcf
-
-    def with_frame(self, spec: FrameSpec, twin: str | None) -> FrameSpec:
-        """``spec`` with ``mjcf = twin``."""
-        return replace(spec, mjcf=twin)
 
     def key(self, model: Model) -> tuple[object, ...]:
         """``[mjcf].path`` and the model file's folder."""
@@ -133,11 +114,6 @@ class MjcfFormat:
     def tree(self, description: Description) -> KinematicTree:
         """The tree MuJoCo's compiler read (``MjcfDescription.kinematics``)."""
         return mjcf_native(description).kinematics
-
-    def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
-        """``model`` with ``[mjcf].joints`` replaced."""
-        assert model.mjcf is not None
-        return replace(model, mjcf=replace(model.mjcf, joints=tuple(joints)))
 
     def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
         """``model`` with a new ``[mjcf]`` naming ``path``."""
