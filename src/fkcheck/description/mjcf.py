@@ -27,14 +27,7 @@ __all__ = ["MJCF", "MjcfFormat", "mjcf_description", "mjcf_native"]
 
 def mjcf_description(native: MjcfDescription) -> Description:
     """The :class:`Description` of an MJCF read by :func:`fkcheck.mjcf.tree.read_mjcf`."""
-    return Description(
-        format="mjcf",
-        language="mjcf",
-        path=native.path,
-        files=native.files,
-        text=native.text,
-        native=native,
-    )
+    return Description.of(native, "mjcf", "mjcf")
 
 
 def mjcf_native(description: Description) -> MjcfDescription:
@@ -43,9 +36,7 @@ def mjcf_native(description: Description) -> MjcfDescription:
     Raises:
         TypeError: The description is in another language (a caller's bug).
     """
-    if not isinstance(description.native, MjcfDescription):
-        raise TypeError(f"a {description.format} description holds no MJCF")
-    return description.native
+    return description.native_as(MjcfDescription, "MJCF")
 
 
 @dataclass(frozen=True)

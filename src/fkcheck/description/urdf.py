@@ -30,14 +30,7 @@ __all__ = ["URDF", "XACRO", "UrdfFormat", "urdf_description", "urdf_info"]
 
 def urdf_description(info: UrdfInfo, *, expanded: bool) -> Description:
     """The :class:`Description` of a screened URDF (``expanded``: a xacro file's expansion)."""
-    return Description(
-        format="xacro" if expanded else "urdf",
-        language="urdf",
-        path=info.path,
-        files=info.files,
-        text=info.text,
-        native=info,
-    )
+    return Description.of(info, "xacro" if expanded else "urdf", "urdf")
 
 
 def urdf_info(description: Description) -> UrdfInfo:
@@ -47,9 +40,7 @@ def urdf_info(description: Description) -> UrdfInfo:
         TypeError: The description is in another language (a caller's bug: ask
             :attr:`Description.language` first).
     """
-    if not isinstance(description.native, UrdfInfo):
-        raise TypeError(f"a {description.format} description holds no URDF")
-    return description.native
+    return description.native_as(UrdfInfo, "URDF")
 
 
 @dataclass(frozen=True)
