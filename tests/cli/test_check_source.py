@@ -96,6 +96,10 @@ def test_joints_that_differ_by_name_are_one_line_and_exit_2(tmp_path, capsys):
         (["ur5"], "MODEL does not go with --source"),
         (["--to", "tool0"], "--to does not go with --source (the chain's ends: --base, --tip)"),
         (["--all"], "--all does not go with --source"),
+        (
+            ["--allow-xacro"],
+            "--allow-xacro does not go with --source (expand the xacro file first: fkcheck expand)",
+        ),
     ],
 )
 def test_what_does_not_go_with_source_is_one_line(tmp_path, capsys, extra, message):
@@ -132,3 +136,20 @@ def test_menageries_xarm7_against_example_robot_datas_urdf_differs_by_micrometre
     code, doc = run([*argv, "--tol-pos", "1e-5", "--tol-rot", "1e-4"], tmp_path)
     assert code == 0
     assert doc["verdict"] == "pass"
+
+
+def test_a_xacro_source_is_refused_with_how_to_expand_it(tmp_path, capsys):
+    _, xml = write_pair(tmp_path)
+    xacro = tmp_path / "arm.urdf.xacro"
+    xacro.write_text(
+        URDF.replace(
+            '<robot name="arm3">',
+            '<robot name="$(arg name)" xmlns:xacro="http://www.ros.org/wiki/xacro">',
+        ),
+        encoding="utf-8",
+    )
+    assert main(["check", "--source", str(xacro), "--against-description", str(xml)]) == 2
+    assert capsys.readouterr().err == (
+        f"fkcheck: error: {xacro}: is xacro: expand it first (fkcheck expand FILE.xacro --arg "
+        "NAME=VALUE --package NAME=DIR -o robot.urdf) and give the URDF\n"
+    )

@@ -61,6 +61,7 @@ from fkcheck.model.options import (
 
 if TYPE_CHECKING:
     from fkcheck.cli._targets import Target
+    from fkcheck.description.types import Description
     from fkcheck.model.project import ProjectConfig
 
 from fkcheck.cli._targets import ONLY_MODELS_HELP
@@ -266,21 +267,24 @@ def _pair_target(args: argparse.Namespace) -> Target:
     """
     from fkcheck.cli._targets import Target
     from fkcheck.description.derived import ChainEnds, derived_model
-    from fkcheck.description.registry import read_description_file
     from fkcheck.io.text import terminal_text
 
     if args.source is None or args.against_description is None:
         given, missing = ("--source", "--against-description")[:: 1 if args.source else -1]
         raise FkcheckError(f"{given} needs {missing} (the two descriptions to compare)")
-    clashes = [("MODEL", bool(args.models)), ("--all", args.all),
-               ("--out-dir", args.out_dir is not None), ("--from", args.frame_from is not None),
-               ("--to", args.frame_to is not None)]  # fmt: skip
-    for flag, given in clashes:
+    ends, expand = (
+        " (the chain's ends: --base, --tip)",
+        " (expand the xacro file first: fkcheck expand)",
+    )
+    clashes = [("MODEL", bool(args.models), ""), ("--all", args.all, ""),
+               ("--out-dir", args.out_dir is not None, ""),
+               ("--from", args.frame_from is not None, ends),
+               ("--to", args.frame_to is not None, ends),
+               ("--allow-xacro", args.allow_xacro, expand)]  # fmt: skip
+    for flag, given, hint in clashes:
         if given:
-            hint = " (the chain's ends: --base, --tip)" if flag in ("--from", "--to") else ""
             raise FkcheckError(f"{flag} does not go with --source{hint}")
-    source = read_description_file(args.source)
-    checked = read_description_file(args.against_description)
+    source, checked = (_pair_file(args.source), _pair_file(args.against_description))
     model = derived_model(
         source, checked, ChainEnds(args.base, args.tip),
         ChainEnds(args.checked_base, args.checked_tip),
@@ -288,6 +292,26 @@ def _pair_target(args: argparse.Namespace) -> Target:
     )  # fmt: skip
     print(f"fkcheck: {terminal_text(model.source)}")
     return Target(args.against_description, checked.path.stem, model)
+
+
+def _pair_file(spec: str) -> Description:
+    """One of ``--source``/``--against-description``, read; a xacro file is refused with its fix.
+
+    Raises:
+        UrdfError: Missing, unsafe, not valid; xacro (expanded first by ``fkcheck expand``,
+            which takes its arguments and packages).
+    """
+    from fkcheck.description.registry import read_description_file
+    from fkcheck.errors import XacroRefused
+
+    try:
+        return read_description_file(spec)
+    except XacroRefused as refused:
+        raise XacroRefused(
+            refused.path,
+            "is xacro: expand it first (fkcheck expand FILE.xacro --arg NAME=VALUE "
+            "--package NAME=DIR -o robot.urdf) and give the URDF",
+        ) from None
 
 
 def _add_bag_arguments(p: argparse.ArgumentParser) -> None:
