@@ -108,6 +108,15 @@ def test_what_does_not_go_with_source_is_one_line(tmp_path, capsys, extra, messa
     assert capsys.readouterr().err == f"fkcheck: error: {message}\n"
 
 
+def test_one_file_twice_is_refused(tmp_path, capsys):
+    urdf, _ = write_pair(tmp_path)
+    assert main(["check", "--source", str(urdf), "--against-description", str(urdf)]) == 2
+    assert capsys.readouterr().err == (
+        f"fkcheck: error: --source and --against-description both name {urdf}: a description "
+        "agrees with itself; give the other one\n"
+    )
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [

@@ -285,6 +285,11 @@ def _pair_target(args: argparse.Namespace) -> Target:
         if given:
             raise FkcheckError(f"{flag} does not go with --source{hint}")
     source, checked = (_pair_file(args.source), _pair_file(args.against_description))
+    if source.path.resolve() == checked.path.resolve():
+        raise FkcheckError(
+            f"--source and --against-description both name {source.path}: a description "
+            "agrees with itself; give the other one"
+        )
     model = derived_model(
         source, checked, ChainEnds(args.base, args.tip),
         ChainEnds(args.checked_base, args.checked_tip),
