@@ -154,7 +154,7 @@ def test_no_diagnose_leaves_the_section_out_and_the_json_is_the_same(d1_pages):
     assert set(doc_with) == {
         "model", "samples", "seed", "sampler", "timeout_s", "configurations", "from", "to",
         "tolerance", "reference", "backends", "verdict", "headline", "evidence", "numbers",
-        "cross_checked", "fkcheck_version", "config", "calibration", "lint",
+        "cross_checked", "fkcheck_version", "config", "calibration", "derived", "lint",
     }  # fmt: skip
     assert page_numbers(page_with).verdict == page_numbers(page_without).verdict == "fail"
 

@@ -61,6 +61,7 @@ from fkcheck.model.options import (
 
 if TYPE_CHECKING:
     from fkcheck.cli._targets import Target
+    from fkcheck.description.types import Description
     from fkcheck.model.project import ProjectConfig
 
 from fkcheck.cli._targets import ONLY_MODELS_HELP
@@ -162,6 +163,7 @@ def add_parser(sub: Any) -> None:
         f"1e-6, at most {MAX_TOL_JACOBIAN:g}; implies --jacobian",
     )
     add_allow_xacro(p)
+    _add_pair_arguments(p)
     _add_bag_arguments(p)
     p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.add_argument(
@@ -233,6 +235,88 @@ def _stamp_tolerance(value: str) -> float:
     if not 0.0 <= seconds <= 1.0:
         raise argparse.ArgumentTypeError(f"{value} s is not within 0 … 1 s")
     return seconds
+
+
+def _add_pair_arguments(p: argparse.ArgumentParser) -> None:
+    """Two descriptions and no table (:mod:`fkcheck.description.derived`)."""
+    pair = p.add_argument_group(
+        "two descriptions, no table (--source A --against-description B)",
+        "derive the DH table from A alone (as table-from does) and check B against it with "
+        "B's own readers (MuJoCo and Pinocchio for an MJCF, the URDF parsers for a URDF); "
+        "joints are matched by name. It shows whether A and B agree, not whether either "
+        "holds the vendor's numbers. Each chain runs from the link its first moving joint "
+        "hangs from to the link its last one moves, unless given",
+    )
+    pair.add_argument("--source", metavar="DESCRIPTION",
+                      help="the URDF or MJCF the table is derived from")  # fmt: skip
+    pair.add_argument("--against-description", metavar="DESCRIPTION",
+                      help="the URDF or MJCF checked against it")  # fmt: skip
+    pair.add_argument("--base", metavar="LINK", help="the source chain's base link or body")
+    pair.add_argument("--tip", metavar="LINK", help="the source chain's tip link, body or site")
+    pair.add_argument("--checked-base", metavar="LINK",
+                      help="the checked chain's base (default: --base, else chosen)")  # fmt: skip
+    pair.add_argument("--checked-tip", metavar="LINK",
+                      help="the checked chain's tip (default: --tip, else chosen)")  # fmt: skip
+
+
+def _pair_target(args: argparse.Namespace) -> Target:
+    """``--source A --against-description B``: the model of the table derived from ``A``.
+
+    Raises:
+        FkcheckError: One of the two missing, or given with what does not go with it.
+    """
+    from fkcheck.cli._targets import Target
+    from fkcheck.description.derived import ChainEnds, derived_model
+    from fkcheck.io.text import terminal_text
+
+    if args.source is None or args.against_description is None:
+        given, missing = ("--source", "--against-description")[:: 1 if args.source else -1]
+        raise FkcheckError(f"{given} needs {missing} (the two descriptions to compare)")
+    ends, expand = (
+        " (the chain's ends: --base, --tip)",
+        " (expand the xacro file first: fkcheck expand)",
+    )
+    clashes = [("MODEL", bool(args.models), ""), ("--all", args.all, ""),
+               ("--out-dir", args.out_dir is not None, ""),
+               ("--from", args.frame_from is not None, ends),
+               ("--to", args.frame_to is not None, ends),
+               ("--allow-xacro", args.allow_xacro, expand)]  # fmt: skip
+    for flag, given, hint in clashes:
+        if given:
+            raise FkcheckError(f"{flag} does not go with --source{hint}")
+    source, checked = (_pair_file(args.source), _pair_file(args.against_description))
+    if source.path.resolve() == checked.path.resolve():
+        raise FkcheckError(
+            f"--source and --against-description both name {source.path}: a description "
+            "agrees with itself; give the other one"
+        )
+    model = derived_model(
+        source, checked, ChainEnds(args.base, args.tip),
+        ChainEnds(args.checked_base, args.checked_tip),
+        names=(args.source, args.against_description),
+    )  # fmt: skip
+    print(f"fkcheck: {terminal_text(model.source)}")
+    return Target(args.against_description, checked.path.stem, model)
+
+
+def _pair_file(spec: str) -> Description:
+    """One of ``--source``/``--against-description``, read; a xacro file is refused with its fix.
+
+    Raises:
+        UrdfError: Missing, unsafe, not valid; xacro (expanded first by ``fkcheck expand``,
+            which takes its arguments and packages).
+    """
+    from fkcheck.description.registry import read_description_file
+    from fkcheck.errors import XacroRefused
+
+    try:
+        return read_description_file(spec)
+    except XacroRefused as refused:
+        raise XacroRefused(
+            refused.path,
+            "is xacro: expand it first (fkcheck expand FILE.xacro --arg NAME=VALUE "
+            "--package NAME=DIR -o robot.urdf) and give the URDF",
+        ) from None
 
 
 def _add_bag_arguments(p: argparse.ArgumentParser) -> None:
@@ -348,6 +432,12 @@ def run(args: argparse.Namespace) -> int:
     _apply_project(args, project)
     _validate(args)
     require_from_args(args)  # bad --require is exit 2 before anything runs
+    pair = (args.source, args.against_description, args.base, args.tip, args.checked_base,
+            args.checked_tip)  # fmt: skip
+    if any(given is not None for given in pair):
+        if args.source is None and args.against_description is None:
+            raise FkcheckError("--base, --tip, --checked-base and --checked-tip go with --source")
+        return run_one(args, _pair_target(args))
     targets = _targets(args, project)
     if args.allow_xacro:
         from dataclasses import replace

@@ -342,9 +342,12 @@ def print_diagnoses(diagnoses: Sequence[BackendDiagnosis], prefix: str = "") -> 
 
 
 def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
-    """Offer ``fkcheck diagnose`` for the first backend that disagrees."""
+    """Offer ``fkcheck diagnose`` for the first backend that disagrees.
+
+    Not for a table fkcheck derived (``check --source``): there is no model file to name.
+    """
     failed = [r for r in check.backends if r.status == "fail"]
-    if failed:
+    if failed and check.model.derived is None:
         argv = ["diagnose", operand(model_arg), "--against", failed[0].name,
                 "--from", check.frame_from, "--to", check.frame_to]  # fmt: skip
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")

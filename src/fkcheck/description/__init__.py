@@ -12,7 +12,9 @@ A format is a module that fulfils
 :class:`~fkcheck.description.types.DescriptionFormat` and is listed in
 :data:`~fkcheck.description.registry.FORMATS`: URDF and xacro
 (:mod:`~fkcheck.description.urdf`, wrapping :mod:`fkcheck.urdf`) and MJCF
-(:mod:`~fkcheck.description.mjcf`, wrapping :mod:`fkcheck.mjcf`). Readers of a
+(:mod:`~fkcheck.description.mjcf`, wrapping :mod:`fkcheck.mjcf`); what depends
+only on the names of its model-file section and frame key is
+:class:`~fkcheck.description.section.SectionFormat`'s, which each extends. Readers of a
 format are backends that declare it (``formats`` on
 :class:`fkcheck.backends.base.Backend`). May import: :mod:`fkcheck.mjcf`,
 :mod:`fkcheck.urdf`, :mod:`fkcheck.model`, :mod:`fkcheck.core`, :mod:`fkcheck.io`,

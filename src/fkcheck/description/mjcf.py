@@ -14,10 +14,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from fkcheck.description.section import SectionFormat
 from fkcheck.description.types import Description
 from fkcheck.errors import MjcfError
 from fkcheck.mjcf.tree import MjcfDescription, read_mjcf
-from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.types import MjcfSpec, Model
 from fkcheck.urdf.chain import KinematicTree
 from fkcheck.urdf.locate import FKCHECK_PREFIX, locate
 
@@ -26,14 +27,7 @@ __all__ = ["MJCF", "MjcfFormat", "mjcf_description", "mjcf_native"]
 
 def mjcf_description(native: MjcfDescription) -> Description:
     """The :class:`Description` of an MJCF read by :func:`fkcheck.mjcf.tree.read_mjcf`."""
-    return Description(
-        format="mjcf",
-        language="mjcf",
-        path=native.path,
-        files=native.files,
-        text=native.text,
-        native=native,
-    )
+    return Description.of(native, "mjcf", "mjcf")
 
 
 def mjcf_native(description: Description) -> MjcfDescription:
@@ -42,16 +36,15 @@ def mjcf_native(description: Description) -> MjcfDescription:
     Raises:
         TypeError: The description is in another language (a caller's bug).
     """
-    if not isinstance(description.native, MjcfDescription):
-        raise TypeError(f"a {description.format} description holds no MJCF")
-    return description.native
+    return description.native_as(MjcfDescription, "MJCF")
 
 
 @dataclass(frozen=True)
-class MjcfFormat:
+class MjcfFormat(SectionFormat):
     """MJCF, declared in ``[mjcf]``.
 
-    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`.
+    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`; ``[mjcf]``
+    and ``mjcf =`` frames are read by :class:`~fkcheck.description.section.SectionFormat`.
     """
 
     name: str = "mjcf"
@@ -60,27 +53,6 @@ class MjcfFormat:
     section: str = "mjcf"
     frame_key: str = "mjcf"
     executes: bool = False
-
-    def declared_by(self, model: Model) -> bool:
-        """Whether ``model`` has ``[mjcf]``."""
-        return model.mjcf is not None
-
-    def mapped_joints(self, model: Model) -> tuple[str, ...]:
-        """``[mjcf].joints``: the MJCF joint of each DH joint (``()`` without ``[mjcf]``)."""
-        return () if model.mjcf is None else tuple(model.mjcf.joints)
-
-    def written(self, model: Model) -> str:
-        """``[mjcf].path`` as written."""
-        assert model.mjcf is not None
-        return model.mjcf.path
-
-    def frame(self, spec: FrameSpec) -> str | None:
-        """The frame's ``mjcf`` body or site, or ``None``."""
-        return spec.mjcf
-
-    def with_frame(self, spec: FrameSpec, twin: str | None) -> FrameSpec:
-        """``spec`` with ``mjcf = twin``."""
-        return replace(spec, mjcf=twin)
 
     def key(self, model: Model) -> tuple[object, ...]:
         """``[mjcf].path`` and the model file's folder."""
@@ -134,10 +106,9 @@ class MjcfFormat:
         """The tree MuJoCo's compiler read (``MjcfDescription.kinematics``)."""
         return mjcf_native(description).kinematics
 
-    def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
-        """``model`` with ``[mjcf].joints`` replaced."""
-        assert model.mjcf is not None
-        return replace(model, mjcf=replace(model.mjcf, joints=tuple(joints)))
+    def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
+        """``model`` with a new ``[mjcf]`` naming ``path``."""
+        return replace(model, mjcf=MjcfSpec(path=path, joints=tuple(joints)))
 
     def carry(self, model: Model, description: Description) -> Model:
         """``model`` as it is: reading an MJCF runs no code."""

@@ -6,12 +6,26 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
-from typing import Protocol
+from typing import Protocol, TypeVar
 
 from fkcheck.model.types import FrameSpec, Model
 from fkcheck.urdf.chain import KinematicTree
 
-__all__ = ["Description", "DescriptionFormat"]
+__all__ = ["Description", "DescriptionFormat", "Read"]
+
+
+_N = TypeVar("_N")
+
+
+class Read(Protocol):
+    """What a format module's reading holds for every format (a URDF's ``UrdfInfo``)."""
+
+    @property
+    def path(self) -> Path: ...  # noqa: D102 (the file named)
+    @property
+    def files(self) -> tuple[Path, ...]: ...  # noqa: D102 (every file it was made of)
+    @property
+    def text(self) -> str: ...  # noqa: D102 (the screened text)
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,6 +53,22 @@ class Description:
     files: tuple[Path, ...]
     text: str = field(repr=False)
     native: object = field(repr=False)
+
+    @classmethod
+    def of(cls, native: Read, format: str, language: str) -> Description:
+        """The description of a format module's reading ``native`` (its path, files and text)."""
+        return cls(format, language, native.path, native.files, native.text, native)
+
+    def native_as(self, kind: type[_N], what: str) -> _N:
+        """:attr:`native` as the reading ``kind`` of the format module that made it.
+
+        Raises:
+            TypeError: It is another format's reading (a caller's bug: ask
+                :attr:`language` first); the message names ``what`` it holds no reading of.
+        """
+        if not isinstance(self.native, kind):
+            raise TypeError(f"a {self.format} description holds no {what}")
+        return self.native
 
     @cached_property
     def tree(self) -> KinematicTree:
@@ -165,6 +195,10 @@ class DescriptionFormat(Protocol):
 
     def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
         """``model`` with its joint mapping (:meth:`mapped_joints`) replaced by ``joints``."""
+        ...
+
+    def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
+        """``model`` declaring a description of this format at ``path`` (its section, new)."""
         ...
 
     def carry(self, model: Model, description: Description) -> Model:

@@ -13,9 +13,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from fkcheck.description.section import SectionFormat
 from fkcheck.description.types import Description
 from fkcheck.errors import XacroRefused
-from fkcheck.model.types import FrameSpec, Model
+from fkcheck.model.types import Model, UrdfSpec
 from fkcheck.urdf.chain import KinematicTree, read_urdf_source, urdf_kinematics
 from fkcheck.urdf.source import (
     check_urdf_mapping,
@@ -29,14 +30,7 @@ __all__ = ["URDF", "XACRO", "UrdfFormat", "urdf_description", "urdf_info"]
 
 def urdf_description(info: UrdfInfo, *, expanded: bool) -> Description:
     """The :class:`Description` of a screened URDF (``expanded``: a xacro file's expansion)."""
-    return Description(
-        format="xacro" if expanded else "urdf",
-        language="urdf",
-        path=info.path,
-        files=info.files,
-        text=info.text,
-        native=info,
-    )
+    return Description.of(info, "xacro" if expanded else "urdf", "urdf")
 
 
 def urdf_info(description: Description) -> UrdfInfo:
@@ -46,16 +40,15 @@ def urdf_info(description: Description) -> UrdfInfo:
         TypeError: The description is in another language (a caller's bug: ask
             :attr:`Description.language` first).
     """
-    if not isinstance(description.native, UrdfInfo):
-        raise TypeError(f"a {description.format} description holds no URDF")
-    return description.native
+    return description.native_as(UrdfInfo, "URDF")
 
 
 @dataclass(frozen=True)
-class UrdfFormat:
+class UrdfFormat(SectionFormat):
     """URDF (``xacro = False``) or xacro (``xacro = True``), declared in ``[urdf]``.
 
-    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`.
+    Attributes: as :class:`~fkcheck.description.types.DescriptionFormat`; ``[urdf]``
+    and ``urdf =`` frames are read by :class:`~fkcheck.description.section.SectionFormat`.
     """
 
     name: str
@@ -68,23 +61,6 @@ class UrdfFormat:
     def declared_by(self, model: Model) -> bool:
         """Whether ``model`` has ``[urdf]``: with ``xacro = true`` for xacro, without for URDF."""
         return model.urdf is not None and model.urdf.xacro == self.executes
-
-    def mapped_joints(self, model: Model) -> tuple[str, ...]:
-        """``[urdf].joints``: the URDF joint of each DH joint (``()`` without ``[urdf]``)."""
-        return () if model.urdf is None else tuple(model.urdf.joints)
-
-    def written(self, model: Model) -> str:
-        """``[urdf].path`` as written."""
-        assert model.urdf is not None
-        return model.urdf.path
-
-    def frame(self, spec: FrameSpec) -> str | None:
-        """The frame's ``urdf`` link, or ``None``."""
-        return spec.urdf
-
-    def with_frame(self, spec: FrameSpec, twin: str | None) -> FrameSpec:
-        """``spec`` with ``urdf = twin``."""
-        return replace(spec, urdf=twin)
 
     def key(self, model: Model) -> tuple[object, ...]:
         """``[urdf]``'s path and xacro keys, the model file's folder and the kept expansion."""
@@ -137,10 +113,9 @@ class UrdfFormat:
         """The URDF's kinematic tree (:func:`~fkcheck.urdf.chain.urdf_kinematics`)."""
         return urdf_kinematics(urdf_info(description))
 
-    def remapped(self, model: Model, joints: tuple[str, ...]) -> Model:
-        """``model`` with ``[urdf].joints`` replaced."""
-        assert model.urdf is not None
-        return replace(model, urdf=replace(model.urdf, joints=tuple(joints)))
+    def declared(self, model: Model, path: str, joints: tuple[str, ...]) -> Model:
+        """``model`` with a new ``[urdf]`` naming ``path`` (``xacro`` as this format)."""
+        return replace(model, urdf=UrdfSpec(path=path, joints=tuple(joints), xacro=self.executes))
 
     def carry(self, model: Model, description: Description) -> Model:
         """``model`` with ``[urdf].expanded`` set to a xacro file's expansion.

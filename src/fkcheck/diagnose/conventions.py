@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from fkcheck.backends.base import reads_model_description
+from fkcheck.description.registry import model_format
 from fkcheck.diagnose.findings import Change, Explanation
 from fkcheck.diagnose.hypotheses import fit_single_parameters
 from fkcheck.diagnose.offsets import explain_offsets
@@ -124,7 +125,9 @@ def explain_conventions(problem: Problem) -> list[Explanation]:
         return []
     from fkcheck.urdf.mapping import reconcile_table  # SciPy: the reference extra's
 
-    found = reconcile_table(model, read_urdf_kinematics(model), seed=0)
+    fmt = model_format(model)
+    joints = fmt.mapped_joints(model) if fmt is not None else None
+    found = reconcile_table(model, read_urdf_kinematics(model), seed=0, joints=joints)
     edits = found.edits
     if not edits:
         return []

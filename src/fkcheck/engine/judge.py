@@ -22,6 +22,7 @@ from fkcheck.engine.provenance import apply_provenance
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import summarize, verdict_of
 from fkcheck.model.lint import lint_lines
+from fkcheck.model.types import Model
 
 __all__ = ["judge"]
 
@@ -60,13 +61,17 @@ def judge(prepared: PreparedCheck, results: Sequence[BackendResult]) -> CheckRes
         jacobian=prepared.jacobian,
         numbers=numbers,
         calibration=prepared.calibration,
-        lint=lint_lines(
-            model,
-            [
-                *lint_calibrated(model, request.lint_ignore)[0],
-                *known_difference_findings(model, request.lint_ignore),
-            ],
-        ),
+        lint=_lint(model, request.lint_ignore),
+    )
+
+
+def _lint(model: Model, ignore: tuple[str, ...]) -> tuple[str, ...]:
+    """What lint finds in the model; nothing for a table fkcheck derived (no one wrote it)."""
+    if model.derived is not None:
+        return ()
+    return lint_lines(
+        model,
+        [*lint_calibrated(model, ignore)[0], *known_difference_findings(model, ignore)],
     )
 
 

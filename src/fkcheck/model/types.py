@@ -50,6 +50,7 @@ __all__ = [
     "URDF_FRAME_PREFIX",
     "CalibrationSpec",
     "CheckSpec",
+    "DerivedTable",
     "FrameSpec",
     "Joint",
     "KnownDifference",
@@ -316,6 +317,33 @@ class CheckSpec:
 
 
 @dataclass(frozen=True)
+class DerivedTable:
+    """A table fkcheck derived from one description to check another against it.
+
+    ``fkcheck check --source A --against-description B``: the table comes from
+    ``A`` alone and ``B`` is read by its own readers, so agreement shows that
+    the two descriptions describe the same kinematics, not that either holds the
+    vendor's numbers. Never read from a model file.
+
+    Attributes:
+        source: The description the table was derived from, as named.
+        checked: The description checked against it, as named.
+    """
+
+    source: str
+    checked: str
+
+    @property
+    def line(self) -> str:
+        """What the check of such a table shows, one line for every output."""
+        return (
+            f"table derived by fkcheck from {self.source} (the source), {self.checked} "
+            "checked against it: this shows whether the two descriptions agree, not "
+            "whether either holds the vendor's numbers"
+        )
+
+
+@dataclass(frozen=True)
 class Model:
     """A validated robot model. Lengths in metres, angles in radians.
 
@@ -345,6 +373,8 @@ class Model:
         known_differences: Recorded disagreements with independent references
             (``[[known_difference]]``), reported as expected failures.
         calibration: Where a calibrated table came from (``[calibration]``).
+        derived: The descriptions a table derived by fkcheck came from and is
+            checked against (:class:`DerivedTable`), or ``None``.
     """
 
     name: str
@@ -365,6 +395,7 @@ class Model:
     known_differences: tuple[KnownDifference, ...] = ()
     calibration: CalibrationSpec | None = None
     mjcf: MjcfSpec | None = None
+    derived: DerivedTable | None = None
 
     @property
     def dof(self) -> int:

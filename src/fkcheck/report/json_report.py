@@ -155,6 +155,14 @@ def _calibration(record: CheckRecord) -> dict[str, Any] | None:
     }
 
 
+def _derived(check: CheckResult) -> dict[str, str] | None:
+    """A table fkcheck derived (``check --source``): which file it came from, which was checked."""
+    derived = check.model.derived
+    if derived is None:
+        return None
+    return {"source": derived.source, "checked": derived.checked, "line": derived.line}
+
+
 def _jacobian_spec(check: CheckResult) -> dict[str, Any]:
     """``{"jacobian": …}`` when the check compared Jacobians, else nothing."""
     if check.jacobian is None:
@@ -185,6 +193,7 @@ def result_to_dict(check: CheckResult) -> dict[str, Any]:
         "evidence": _evidence(check, record),
         "numbers": _numbers(check, record),
         "calibration": _calibration(record),
+        "derived": _derived(check),
         "lint": list(check.lint),
         "cross_checked": record.answered,
         "fkcheck_version": __version__,

@@ -130,6 +130,17 @@ def _disagreeing(ran: Sequence[BackendResult], failing: Sequence[BackendResult])
     return parts
 
 
+def _derived_note(check: CheckResult) -> str:
+    """``; table derived by fkcheck from A (the source), B checked against it: …`` or ``""``.
+
+    A table fkcheck derived from one description (``check --source``) is checked
+    against the other: its verdict is about the two descriptions, and says so
+    wherever it is shown.
+    """
+    derived = check.model.derived
+    return "" if derived is None else f"; {derived.line}"
+
+
 def _lint_note(check: CheckResult) -> str:
     """``; lint: 1 warning (fkcheck lint names it)`` when lint flags the model, else ``""``.
 
@@ -335,11 +346,18 @@ def check_record(check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ())
     return CheckRecord(
         model=check.model.name,
         verdict=check.verdict,
-        headline=headline(check.verdict, evidence, len(check.ran)) + _lint_note(check),
+        headline=headline(check.verdict, evidence, len(check.ran))
+        + _lint_note(check)
+        + _derived_note(check),
         verdict_line=verdict_line(check),
         partial=_partial(check.verdict, evidence),
         evidence=tuple(
-            EvidenceRecord(k, evidence.of(k).status, text, k in evidence.unmet)
+            EvidenceRecord(
+                k,
+                evidence.of(k).status,
+                text + (_derived_note(check) if k == "table" else ""),
+                k in evidence.unmet,
+            )
             for k, text in zip(KINDS, sentences, strict=True)
         ),
         numbers_line=(

@@ -987,9 +987,17 @@ class Reconciled:
 
 
 def reconcile_table(
-    model: Model, kin: UrdfKinematics, *, samples: int = DEFAULT_SAMPLES, seed: int = 0
+    model: Model,
+    kin: UrdfKinematics,
+    *,
+    samples: int = DEFAULT_SAMPLES,
+    seed: int = 0,
+    joints: Sequence[str] | None = None,
 ) -> Reconciled:
-    """The table's edits that make it move like the URDF joints its ``[urdf]`` maps.
+    """The table's edits that make it move like the description's joints it maps.
+
+    ``joints``: the description's joint of each DH joint (an MJCF's ``[mjcf].joints``);
+    default ``[urdf].joints``.
 
     As ``fkcheck map`` finds them, on the model's own mapping: each joint's
     direction, then (when no directions fit) quarter-turn zero offsets too, by a
@@ -999,16 +1007,18 @@ def reconcile_table(
     Raises:
         FkcheckError: The model has no ``[urdf]``, or maps joints the URDF lacks.
     """
-    if model.urdf is None:
-        raise FkcheckError(f"model {model.name} has no [urdf]")
-    missing = [name for name in model.urdf.joints if name not in kin.joints]
+    if joints is None:
+        if model.urdf is None:
+            raise FkcheckError(f"model {model.name} has no [urdf]")
+        joints = model.urdf.joints
+    missing = [name for name in joints if name not in kin.joints]
     if missing:
         raise FkcheckError(
-            f"model {model.name}'s [urdf] joints name {listed(missing)}, which "
+            f"model {model.name}'s joints name {listed(missing)}, which "
             f"{kin.path.name} does not have"
         )
     problem = _Problem(model, kin, samples, seed)
-    edits, _, fit = _reconciled(problem, problem.search(model.urdf.joints, polish=False))
+    edits, _, fit = _reconciled(problem, problem.search(tuple(joints), polish=False))
     return Reconciled(edits, fit.dev_m, fit.dev_rad)
 
 
