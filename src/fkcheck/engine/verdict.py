@@ -23,6 +23,13 @@ and disagreed, or one the model records as disagreeing agrees: a stale
 names kinds that must be ``verified``; when one is not, the verdict is
 ``unverified`` (exit 1) even though nothing disagreed.
 
+A reader of a description that disagrees while another reader of the same
+description agrees with the table is a *reader finding*
+(:mod:`fkcheck.engine.readers`): it is named with its library's version in the
+table's sentence and the headline, never counted as the table disagreeing, and
+the verdict is still ``fail`` (the reader disagrees: no silent pass) until a
+``[[known_difference]]`` records it for that reader's versions.
+
 Verdicts: ``pass`` — every backend that ran agrees (or disagrees as recorded,
 ``xfail``) and every required kind is verified; ``fail`` — a backend answered
 wrongly, or agreed where the model records a difference (``xpass``); ``error`` — a backend could
@@ -82,6 +89,8 @@ class _Outcome(Protocol):
     def ran(self) -> bool: ...
     @property
     def subset(self) -> tuple[int, int] | None: ...
+    @property
+    def reader_finding(self) -> str: ...
 
 
 @dataclass(frozen=True)
@@ -100,6 +109,10 @@ class EvidenceKind:
         stale: Backends the model records as disagreeing that agree (``xpass``).
         gaps: For ``partly-verified``: the numbers of the table the frame pair
             leaves unverified, one clause (:meth:`fkcheck.model.coverage.Coverage.gaps`).
+        readers: Readers that disagree while another reader of the same
+            description agrees with the table (:mod:`fkcheck.engine.readers`):
+            not counted in ``disagreed``, and the check still fails.
+        reader_findings: Their sentences, in the same order.
     """
 
     kind: Kind
@@ -110,6 +123,8 @@ class EvidenceKind:
     expected: tuple[str, ...] = ()
     stale: tuple[str, ...] = ()
     gaps: str = ""
+    readers: tuple[str, ...] = ()
+    reader_findings: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -146,7 +161,8 @@ class EvidenceSummary:
 def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
     mine = [r for r in results if r.evidence == kind]
     agreed = tuple(r.name for r in mine if r.status == "pass")
-    disagreed = tuple(r.name for r in mine if r.status == "fail")
+    disagreed = tuple(r.name for r in mine if r.status == "fail" and not r.reader_finding)
+    readers = [r for r in mine if r.status == "fail" and r.reader_finding]
     unanswered = tuple(r.name for r in mine if r.status in ("error", "skipped"))
     expected = tuple(r.name for r in mine if r.status == "xfail")
     stale = tuple(r.name for r in mine if r.status == "xpass")
@@ -159,7 +175,17 @@ def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
         if agreed
         else "not-checked"
     )
-    return EvidenceKind(kind, status, agreed, disagreed, unanswered, expected, stale)
+    return EvidenceKind(
+        kind,
+        status,
+        agreed,
+        disagreed,
+        unanswered,
+        expected,
+        stale,
+        readers=tuple(r.name for r in readers),
+        reader_findings=tuple(r.reader_finding for r in readers),
+    )
 
 
 def summarize(
@@ -298,6 +324,8 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
             "table NOT CHECKED: nothing independent of it (URDF, measured poses, published "
             "table) answered; agreement proves the arithmetic, not the numbers"
         )
+    if tab.reader_findings:
+        tab_text += "; " + "; ".join(tab.reader_findings)
     if "table" in evidence.unmet:
         tab_text += " — required (require = table)"
     if "implementation" in evidence.unmet:
@@ -362,6 +390,12 @@ def _headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
                 parts.append(f"{k} disagrees")
             if evidence.of(k).stale:
                 parts.append(f"{k}: known difference no longer seen (stale record)")
+            if evidence.of(k).readers:
+                parts.append(
+                    f"a reader disagrees where another reader of the same description agrees "
+                    f"with the table: {', '.join(evidence.of(k).readers)} (a finding about the "
+                    "reader, not the table)"
+                )
         if not parts:  # only a Jacobian can fail while every pose agrees
             return "fail — the poses agree, a Jacobian disagrees"
         return "fail — " + " and ".join(parts)
