@@ -28,7 +28,8 @@ def pinocchio_drops_the_ur_base_turn() -> bool:
 def test_every_twin_is_bundled_with_its_mjcf_and_no_urdf():
     for name in TWINS:
         model = load_model(name)
-        assert model.mjcf is not None and model.urdf is None
+        assert model.mjcf is not None
+        assert model.urdf is None
         assert model.mjcf.path.startswith("fkcheck:mujoco_menagerie/")
         base = load_model(name.removesuffix("_menagerie"))  # the vendor's table, unchanged
         assert model.joints == base.joints

@@ -1,4 +1,4 @@
-"""``fkcheck check``: one MJCF reader agrees with the table, the other does not — the reader's finding.
+"""``fkcheck check``: one MJCF reader agrees with the table, the other not: a reader finding.
 
 Menagerie's UR5e with a table of Menagerie's own rounded numbers: MuJoCo reads it
 exactly; Pinocchio 4.1.0 drops the jointless root body's π turn (pinocchio#2782).
@@ -45,7 +45,7 @@ def pinocchio_drops_the_turn() -> bool:
 
 
 def rounded_ur5e(tmp_path, record: str = ""):
-    """The bundled UR5e twin, its table rounded as Menagerie's, its records replaced by ``record``."""
+    """The bundled UR5e twin, its table rounded as Menagerie's, its records now ``record``."""
     text = bundled_model_paths()["ur5e_menagerie"].read_text(encoding="utf-8")
     text = text.split("# Menagerie's numbers are not UR's")[0]
     for old, new in ROUNDED.items():
@@ -87,16 +87,20 @@ def test_the_disagreeing_reader_is_named_with_its_version_and_the_table_is_not_b
     assert rows["mujoco-mjcf"]["reader_finding"] is None
     assert f"pinocchio-mjcf: {FINDING} — " in out
     assert "table PARTLY verified: mujoco-mjcf agrees (evidence independent of the table)" in out
-    assert "table FAILED" not in out and "table disagrees" not in out
+    assert "table FAILED" not in out
+    assert "table disagrees" not in out
     assert "verdict: fail — a reader disagrees where another reader of the same description" in out
     assert "diagnosis (pinocchio-mjcf)" not in out  # no table number is blamed
     assert "fkcheck diagnose" not in out
-    assert 'hint: a reader\'s finding, not the table\'s: record it for the reader\'s version with ' \
-        '[[known_difference]] backends = ["pinocchio-mjcf"]' in out  # fmt: skip
+    hint = (
+        "hint: a reader's finding, not the table's: record it for the reader's version with "
+        '[[known_difference]] backends = ["pinocchio-mjcf"]'
+    )
+    assert hint in out
 
 
 def test_a_known_difference_for_the_installed_version_records_it(tmp_path, capsys):
-    code, out, rows = run(tmp_path, rounded_ur5e(tmp_path, record(f"<={PIN}")), capsys)
+    code, _, rows = run(tmp_path, rounded_ur5e(tmp_path, record(f"<={PIN}")), capsys)
     if not pinocchio_drops_the_turn():  # the record is stale on a fixed Pinocchio
         assert (code, rows["pinocchio-mjcf"]["status"]) == (1, "xpass")
         return
@@ -109,7 +113,7 @@ def test_a_known_difference_for_the_installed_version_records_it(tmp_path, capsy
 
 
 def test_a_known_difference_for_other_versions_does_not_apply_and_says_so(tmp_path, capsys):
-    code, out, rows = run(tmp_path, rounded_ur5e(tmp_path, record(f"<{PIN}")), capsys)
+    code, _, rows = run(tmp_path, rounded_ur5e(tmp_path, record(f"<{PIN}")), capsys)
     said = (
         f"(the model's known difference for pinocchio-mjcf is recorded for versions <{PIN} only "
         f"and does not apply to pinocchio {PIN})"

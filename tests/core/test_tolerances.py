@@ -131,7 +131,7 @@ def test_the_defaults_and_the_engine_s_own_tolerances_are_inside_the_bounds():
     assert MAX_KNOWN_ANGLE_RAD >= MAX_TOL_ROT_RAD
     # A reader's recorded difference may be larger than a table's, and a rotation is at most π.
     assert MAX_READER_POSITION_M > MAX_KNOWN_POSITION_M
-    assert MAX_READER_ANGLE_RAD == math.pi
+    assert math.pi == MAX_READER_ANGLE_RAD
 
 
 @pytest.mark.parametrize("name", sorted(bundled_model_paths()))
@@ -142,8 +142,10 @@ def test_every_bundled_model_is_inside_the_bounds(name):
     assert limit_problem(model.check.tol_jacobian, "tol_jacobian") is None
     for known in model.known_differences:
         # A reader's own difference, for its library's versions, may be as large as the arm.
-        position, angle = ("reader_position", "reader_angle") if known.versions else (
-            "known_position", "known_angle"
+        position, angle = (
+            ("reader_position", "reader_angle")
+            if known.versions
+            else ("known_position", "known_angle")
         )
         assert limit_problem(known.max_position_m, position) is None
         assert limit_problem(known.max_angle_rad, angle) is None

@@ -71,7 +71,8 @@ def test_a_bad_versions_record_is_one_clear_line(tmp_path, case):
 def test_two_backends_with_versions_are_refused(tmp_path):
     path = tmp_path / "m.toml"
     path.write_text(
-        TOP + READER.format(versions="<=4.1.0", pos=1, rot=1).replace(
+        TOP
+        + READER.format(versions="<=4.1.0", pos=1, rot=1).replace(
             '["pinocchio-mjcf"]', '["pinocchio-mjcf", "mujoco-mjcf"]'
         )
     )

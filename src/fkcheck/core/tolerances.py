@@ -242,9 +242,7 @@ LIMITS: Mapping[LimitKind, Limit] = MappingProxyType(
             "a reader's recorded difference (versions = …) may be as large as the arm turned "
             "about its base, no larger",
         ),
-        "reader_angle": Limit(
-            MAX_READER_ANGLE_RAD, "rad", "a rotation is at most π"
-        ),
+        "reader_angle": Limit(MAX_READER_ANGLE_RAD, "rad", "a rotation is at most π"),
     }
 )
 

@@ -6,8 +6,9 @@ differences (:mod:`fkcheck.engine.expected`), provenance (a URDF exported
 from this very table proves nothing about it, :mod:`fkcheck.engine.provenance`)
 and reader findings (one reader of a file disagrees where another agrees with
 the table, :mod:`fkcheck.engine.readers`), judges the numbers on what the
-table's evidence answered, lints the model, and returns the :class:`~fkcheck.engine.results.CheckResult` with its verdict and
-the request's options.
+table's evidence answered, lints the model, and returns the
+:class:`~fkcheck.engine.results.CheckResult` with its verdict and the request's
+options.
 """
 
 from __future__ import annotations

@@ -86,7 +86,5 @@ def apply_reader_findings(
         if agreeing is None:
             continue
         sentence = reader_sentence(result.name, agreeing.name, libraries)
-        out[i] = replace(
-            result, reader_finding=sentence, message=f"{sentence} — {result.message}"
-        )
+        out[i] = replace(result, reader_finding=sentence, message=f"{sentence} — {result.message}")
     return tuple(out)
