@@ -89,3 +89,18 @@ def test_a_reader_without_a_known_library_is_named_alone():
     results = [row("mujoco-mjcf", "pass"), row("pinocchio-mjcf", "fail", error=1.7)]
     out = apply_reader_findings(results, FORMATS, {})
     assert out[1].reader_finding.startswith("pinocchio-mjcf disagrees with mujoco-mjcf, which")
+
+
+def test_a_backends_library_is_named_as_imported_with_its_installed_version():
+    from importlib import metadata
+
+    from fkcheck.backends.registry import make_backend
+    from fkcheck.engine.expected import library_of
+
+    assert library_of(make_backend("pinocchio-mjcf")) == ("pinocchio", metadata.version("pin"))
+    assert library_of(make_backend("mujoco-mjcf")) == ("mujoco", metadata.version("mujoco-core"))
+    assert library_of(make_backend("rtb-urdf")) == (
+        "roboticstoolbox",
+        metadata.version("roboticstoolbox-python"),
+    )
+    assert library_of(object()) is None  # names no distribution

@@ -84,19 +84,27 @@ def known_difference_for(
 def library_of(backend: object) -> tuple[str, str] | None:
     """``("pinocchio", "4.1.0")``: a backend's library and its installed version, if it names one.
 
-    Read from package metadata (the backend's first ``distributions``), nothing
-    imported; ``None`` for a backend that names no distribution or whose
-    distribution is not installed.
+    Read from package metadata (the backend's first ``distributions``, named as
+    imported: ``pin`` is ``pinocchio``), nothing imported; ``None`` for a backend
+    that names no distribution or whose distribution is not installed.
     """
     dists = tuple(getattr(backend, "distributions", ()) or ())
     if not dists:
         return None
-    imports = tuple(getattr(backend, "imports", ()) or ())
     try:
         version = metadata.version(dists[0])
     except metadata.PackageNotFoundError:
         return None
-    return (imports[0] if imports else dists[0]), version
+    return _LIBRARY_NAMES.get(dists[0], dists[0]), version
+
+
+#: Distributions named otherwise than the library users import (``pin`` is ``pinocchio``).
+_LIBRARY_NAMES = {
+    "pin": "pinocchio",
+    "mujoco-core": "mujoco",
+    "roboticstoolbox-python": "roboticstoolbox",
+    "spatialmath-python": "spatialmath",
+}
 
 
 def _not_this_version(model: Model, result: BackendResult, library: tuple[str, str] | None) -> str:
