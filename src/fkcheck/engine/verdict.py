@@ -158,14 +158,28 @@ class EvidenceSummary:
         return self.implementation if kind == "implementation" else self.table
 
 
+def _group(result: _Outcome) -> str:
+    """Its status, or ``reader`` for a reader finding (:mod:`fkcheck.engine.readers`)."""
+    if result.status == "fail" and result.reader_finding:
+        return "reader"
+    return "unanswered" if result.status in ("error", "skipped") else result.status
+
+
 def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
-    mine = [r for r in results if r.evidence == kind]
-    agreed = tuple(r.name for r in mine if r.status == "pass")
-    disagreed = tuple(r.name for r in mine if r.status == "fail" and not r.reader_finding)
-    readers = [r for r in mine if r.status == "fail" and r.reader_finding]
-    unanswered = tuple(r.name for r in mine if r.status in ("error", "skipped"))
-    expected = tuple(r.name for r in mine if r.status == "xfail")
-    stale = tuple(r.name for r in mine if r.status == "xpass")
+    groups: dict[str, list[_Outcome]] = {}
+    for r in results:
+        if r.evidence == kind:
+            groups.setdefault(_group(r), []).append(r)
+
+    def names(group: str) -> tuple[str, ...]:
+        return tuple(r.name for r in groups.get(group, ()))
+
+    agreed, disagreed, expected, stale = (
+        names("pass"),
+        names("fail"),
+        names("xfail"),
+        names("xpass"),
+    )
     status: KindStatus = (
         "failed"
         if disagreed or stale
@@ -180,11 +194,11 @@ def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
         status,
         agreed,
         disagreed,
-        unanswered,
+        names("unanswered"),
         expected,
         stale,
-        readers=tuple(r.name for r in readers),
-        reader_findings=tuple(r.reader_finding for r in readers),
+        readers=names("reader"),
+        reader_findings=tuple(r.reader_finding for r in groups.get("reader", ())),
     )
 
 
@@ -384,24 +398,28 @@ def _headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
             evidence.unmet
         )
     if verdict == "fail":
-        parts = []
-        for k in KINDS:
-            if evidence.of(k).disagreed:
-                parts.append(f"{k} disagrees")
-            if evidence.of(k).stale:
-                parts.append(f"{k}: known difference no longer seen (stale record)")
-            if evidence.of(k).readers:
-                parts.append(
-                    f"a reader disagrees where another reader of the same description agrees "
-                    f"with the table: {', '.join(evidence.of(k).readers)} (a finding about the "
-                    "reader, not the table)"
-                )
+        parts = [part for k in KINDS for part in _failing(k, evidence.of(k))]
         if not parts:  # only a Jacobian can fail while every pose agrees
             return "fail — the poses agree, a Jacobian disagrees"
         return "fail — " + " and ".join(parts)
     if n_ran == 0:
         return "error — no backend gave an answer: nothing was cross-checked"
     return "error — a backend could not answer (see its message)"
+
+
+def _failing(k: Kind, kind: EvidenceKind) -> list[str]:
+    """What of one kind fails the check, as the headline says it."""
+    parts = []
+    if kind.disagreed:
+        parts.append(f"{k} disagrees")
+    if kind.stale:
+        parts.append(f"{k}: known difference no longer seen (stale record)")
+    if kind.readers:
+        parts.append(
+            "a reader disagrees where another reader of the same description agrees with the "
+            f"table: {', '.join(kind.readers)} (a finding about the reader, not the table)"
+        )
+    return parts
 
 
 NumberStatus = Literal[
