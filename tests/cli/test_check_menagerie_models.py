@@ -91,3 +91,10 @@ def test_diagnose_names_the_ur5e_numbers_that_differ(capsys):
     ):
         assert line in out
     assert "has no [urdf]" not in out
+
+
+def test_diagnose_names_the_ur10e_site_short_of_d6(capsys):
+    assert main(["diagnose", "ur10e_menagerie", "--against", "mujoco-mjcf"]) == 0
+    out = capsys.readouterr().out
+    assert "d6 (wrist_3) = 0.11655 here, 0.1 would match, Δ = -16.550 mm" in out
+    assert "a3 (elbow) = -0.57155 here, -0.571 would match, Δ = +0.550 mm" in out
