@@ -41,6 +41,7 @@ beyond them it stays ``fail`` (a wrong Jacobian is never excused by a pose recor
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
 from importlib import metadata
@@ -91,11 +92,17 @@ def library_of(backend: object) -> tuple[str, str] | None:
     dists = tuple(getattr(backend, "distributions", ()) or ())
     if not dists:
         return None
+    version = _installed(dists[0])
+    return None if version is None else (_LIBRARY_NAMES.get(dists[0], dists[0]), version)
+
+
+@functools.cache
+def _installed(distribution: str) -> str | None:
+    """The installed version of ``distribution`` (read once per process), or ``None``."""
     try:
-        version = metadata.version(dists[0])
+        return metadata.version(distribution)
     except metadata.PackageNotFoundError:
         return None
-    return _LIBRARY_NAMES.get(dists[0], dists[0]), version
 
 
 #: Distributions named otherwise than the library users import (``pin`` is ``pinocchio``).
