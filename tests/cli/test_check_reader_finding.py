@@ -137,3 +137,18 @@ def test_every_report_says_the_finding(tmp_path, capsys, fmt):
     assert code == 1
     text = out.read_text(encoding="utf-8")
     assert FINDING in text.replace("&#39;", "'").replace("&quot;", '"')
+
+
+def test_diagnose_against_the_disagreeing_reader_says_the_table_is_not_blamed(tmp_path, capsys):
+    model = rounded_ur5e(tmp_path)
+    main(["diagnose", str(model), "--against", "pinocchio-mjcf"])
+    out = capsys.readouterr().out
+    note = (
+        f"note: {FINDING}; the explanations above fit the table to pinocchio-mjcf's reading, "
+        "they do not say the table is wrong"
+    )
+    assert (note in out) is pinocchio_drops_the_turn()
+    assert main(["diagnose", str(model), "--against", "mujoco-mjcf"]) == 0
+    out = capsys.readouterr().out
+    assert "the table agrees with the reference" in out
+    assert "note:" not in out
