@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
-from fkcheck.backends.base import Backend, FixedConfigurations, reads_format
+from fkcheck.backends.base import Backend, FixedConfigurations, reads_model_description
 from fkcheck.core.tolerances import pose_tolerances
 from fkcheck.core.typing import Float
 from fkcheck.diagnose.axes import axes_note, compare_axes
@@ -102,7 +102,7 @@ def diagnose(
         found, hypotheses_tried = explain_hypotheses(problem)
         explanations += found
         tried += hypotheses_tried
-        if _reads_urdf(backend, model):
+        if reads_model_description(backend, model):
             swaps, n_swaps = explain_swapped_mapping(problem)
             explanations += swaps
             tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
@@ -123,7 +123,7 @@ def diagnose(
             tried.append("all DH parameters + base + tool fitted together")
         if problem.known is not None:
             explanations = [_leaves_known(problem, problem.known, e) for e in explanations]
-        if _reads_urdf(backend, model):
+        if reads_model_description(backend, model):
             axes = compare_axes(problem)
             tried.append("joint axes against the URDF")
     unsettled: tuple[Unsettled, ...] = ()
@@ -218,11 +218,3 @@ def _leaves_known(problem: Problem, known: KnownDifference, e: Explanation) -> E
             f"({known.finding}; bounds {_bounds(known)})",
         ),
     )
-
-
-def _reads_urdf(backend: Backend, model: Model) -> bool:
-    """Whether ``backend`` reads the model's URDF: the swaps, conventions and axes need its chain.
-
-    An MJCF reader reads a description too, but not the one ``[urdf]`` names.
-    """
-    return model.urdf is not None and reads_format(backend, "urdf")
