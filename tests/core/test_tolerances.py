@@ -17,6 +17,8 @@ from fkcheck.core.tolerances import (
     LIMITS,
     MAX_KNOWN_ANGLE_RAD,
     MAX_KNOWN_POSITION_M,
+    MAX_READER_ANGLE_RAD,
+    MAX_READER_POSITION_M,
     MAX_TOL_JACOBIAN,
     MAX_TOL_POS_M,
     MAX_TOL_ROT_RAD,
@@ -127,6 +129,9 @@ def test_the_defaults_and_the_engine_s_own_tolerances_are_inside_the_bounds():
     # A known difference may record more than a tolerance may accept, never less.
     assert MAX_KNOWN_POSITION_M >= MAX_TOL_POS_M
     assert MAX_KNOWN_ANGLE_RAD >= MAX_TOL_ROT_RAD
+    # A reader's recorded difference may be larger than a table's, and a rotation is at most π.
+    assert MAX_READER_POSITION_M > MAX_KNOWN_POSITION_M
+    assert math.pi == MAX_READER_ANGLE_RAD
 
 
 @pytest.mark.parametrize("name", sorted(bundled_model_paths()))
@@ -136,5 +141,18 @@ def test_every_bundled_model_is_inside_the_bounds(name):
     assert limit_problem(model.check.tol_rot_rad, "tol_rot") is None
     assert limit_problem(model.check.tol_jacobian, "tol_jacobian") is None
     for known in model.known_differences:
-        assert limit_problem(known.max_position_m, "known_position") is None
-        assert limit_problem(known.max_angle_rad, "known_angle") is None
+        # A reader's own difference, for its library's versions, may be as large as the arm.
+        position, angle = (
+            ("reader_position", "reader_angle")
+            if known.versions
+            else ("known_position", "known_angle")
+        )
+        assert limit_problem(known.max_position_m, position) is None
+        assert limit_problem(known.max_angle_rad, angle) is None
+    # Only a record tied to a reader's versions goes beyond the table's 0.1 m and 0.1 rad.
+    assert all(
+        limit_problem(k.max_position_m, "known_position") is None
+        and limit_problem(k.max_angle_rad, "known_angle") is None
+        for k in model.known_differences
+        if not k.versions
+    )

@@ -342,11 +342,21 @@ def print_diagnoses(diagnoses: Sequence[BackendDiagnosis], prefix: str = "") -> 
 
 
 def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
-    """Offer ``fkcheck diagnose`` for the first backend that disagrees.
+    """Offer ``fkcheck diagnose`` for the first backend that disagrees with the table.
 
-    Not for a table fkcheck derived (``check --source``): there is no model file to name.
+    A reader finding (:mod:`fkcheck.engine.readers`) is the reader's, not the
+    table's: no diagnosis of the table's numbers is offered for it, but how to
+    record it for the reader's versions. Not for a table fkcheck derived
+    (``check --source``): there is no model file to name.
     """
-    failed = [r for r in check.backends if r.status == "fail"]
+    failed = [r for r in check.backends if r.status == "fail" and not r.reader_finding]
+    readers = [r.name for r in check.backends if r.status == "fail" and r.reader_finding]
+    if readers and not failed:
+        print(
+            f"hint: a reader's finding, not the table's: record it for the reader's version "
+            f'with [[known_difference]] backends = ["{terminal_text(readers[0])}"], '
+            'versions = "<=VERSION" (docs/reference/model-file.md)'
+        )
     if failed and check.model.derived is None:
         argv = ["diagnose", operand(model_arg), "--against", failed[0].name,
                 "--from", check.frame_from, "--to", check.frame_to]  # fmt: skip

@@ -267,7 +267,8 @@ _TALLY = (
     ("not-checked", "implementation only, table not checked", True),
     (
         "expected-failure",
-        "table differs from its URDF as recorded (expected failure, not verified)",
+        "table differs from its description (URDF, MJCF) as recorded "
+        "(expected failure, not verified)",
         False,
     ),
 )

@@ -117,6 +117,13 @@ def run(args: argparse.Namespace) -> int:
         tol_rot_rad=args.tol_rot,
     )
     sys.stdout.write(terminal_lines(format_text(result)))
+    if not result.agrees:  # another reader of the same file may show it is this one's
+        finding = _reader_finding(model, backend, args)
+        if finding:
+            print(
+                f"note: {terminal_text(finding)}; the explanations above fit the table to "
+                f"{terminal_text(backend.name)}'s reading, they do not say the table is wrong"
+            )
     if args.json is not None:
         write_text_atomic(args.json, strict_json(to_dict(result), indent=2) + "\n")
     return 0 if result.agrees or result.explained else 1
@@ -170,3 +177,44 @@ class _Reference:
             raise FkcheckError(
                 f"cannot diagnose against {name}: it failed: {failure_text(exc)}"
             ) from None
+
+
+#: Configurations of the check that looks for a reader finding: enough to see a reader
+#: metres off (pinocchio#2782 is off at every configuration), and about a second.
+_READER_SAMPLES = 20
+
+
+def _reader_finding(model: Model, backend: Backend, args: argparse.Namespace) -> str:
+    """When another reader of the same description agrees with the table: the finding.
+
+    A short check of ``backend`` with the other readers of its format
+    (:mod:`fkcheck.engine.readers`), on the diagnosis's frames and tolerances;
+    ``""`` for a backend that reads no description, or when no other reader agrees.
+    """
+    from fkcheck.api import check
+    from fkcheck.backends import registry
+
+    if not getattr(backend, "formats", ()):
+        return ""
+    others = [n for n in registry.names(reads=backend.reads) if n != backend.name]
+    if not others:
+        return ""
+    given = {
+        "frame_from": args.frame_from,
+        "frame_to": args.frame_to,
+        "tol_pos_m": args.tol_pos,
+        "tol_rot_rad": args.tol_rot,
+    }
+    try:
+        outcome = check(
+            model,
+            [backend.name, *others],
+            diagnose=False,
+            samples=_READER_SAMPLES,
+            seed=args.seed,
+            **{k: v for k, v in given.items() if v is not None},
+        )
+    except FkcheckError:  # the others cannot be asked here: nothing to say of them
+        return ""
+    row = next(r for r in outcome.check.backends if r.name == backend.name)
+    return row.reader_finding

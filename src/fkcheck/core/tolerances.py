@@ -35,6 +35,8 @@ __all__ = [
     "LIMITS",
     "MAX_KNOWN_ANGLE_RAD",
     "MAX_KNOWN_POSITION_M",
+    "MAX_READER_ANGLE_RAD",
+    "MAX_READER_POSITION_M",
     "MAX_TOL_JACOBIAN",
     "MAX_TOL_POS_M",
     "MAX_TOL_ROT_RAD",
@@ -153,9 +155,31 @@ MAX_KNOWN_POSITION_M = 0.1
 #: difference.
 MAX_KNOWN_ANGLE_RAD = 0.1
 
+#: Largest position error a ``[[known_difference]]`` tied to a reader's library
+#: versions (``versions = "<=4.1.0"``) may record, metres: 10 m. A reader's bug is not
+#: a wrong model, and it can be as large as the arm: Pinocchio 4.1.0 drops a jointless
+#: root body's turn (pinocchio#2782), 1.9 m on Menagerie's UR5e, which is the arm's
+#: reach (0.85 m) turned π. Twice the reach of the longest arm fkcheck bundles (UR20:
+#: 1.75 m) is 3.5 m; 10 m bounds any arm turned about its base with margin, and still
+#: refuses a runaway (an unnormalised axis-angle put one reader 58.6 m off).
+MAX_READER_POSITION_M = 10.0
+
+#: Largest rotation error such a record may record, radians: π, every rotation (a
+#: reader that drops a half turn is off by exactly π). What keeps it honest is that
+#: it applies only to the versions named, never to the table.
+MAX_READER_ANGLE_RAD = math.pi
+
 _ROUNDOFF = "a tighter check judges the round-off of float arithmetic, not the table"
 
-LimitKind = Literal["tol_pos", "tol_rot", "tol_jacobian", "known_position", "known_angle"]
+LimitKind = Literal[
+    "tol_pos",
+    "tol_rot",
+    "tol_jacobian",
+    "known_position",
+    "known_angle",
+    "reader_position",
+    "reader_angle",
+]
 
 
 @dataclass(frozen=True)
@@ -212,6 +236,13 @@ LIMITS: Mapping[LimitKind, Limit] = MappingProxyType(
             "5.7°: a larger one, such as a missing 90° θ offset, is a wrong model, not a known "
             "difference",
         ),
+        "reader_position": Limit(
+            MAX_READER_POSITION_M,
+            "m",
+            "a reader's recorded difference (versions = …) may be as large as the arm turned "
+            "about its base, no larger",
+        ),
+        "reader_angle": Limit(MAX_READER_ANGLE_RAD, "rad", "a rotation is at most π"),
     }
 )
 

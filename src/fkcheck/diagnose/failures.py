@@ -121,7 +121,7 @@ def diagnose_failures(
         return ()
     diagnosed: list[tuple[BackendResult, BackendDiagnosis, list[str]]] = []
     for result, backend in zip(check.backends, backends, strict=True):
-        if result.status != "fail":
+        if result.status != "fail" or result.reader_finding:  # a reader's, not the table's
             continue
         twin = next((t for t in diagnosed if same_disagreement(check, t[0], result)), None)
         if twin is not None:

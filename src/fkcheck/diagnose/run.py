@@ -16,7 +16,7 @@ from fkcheck.diagnose.identify import Unsettled, unsettled_numbers
 from fkcheck.diagnose.offsets import explain_offsets
 from fkcheck.diagnose.paramfit import explain_parameter_fit
 from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
-from fkcheck.engine.expected import known_difference_for
+from fkcheck.engine.expected import known_difference_for, library_of
 from fkcheck.model.types import KnownDifference, Model
 
 __all__ = ["diagnose"]
@@ -181,7 +181,9 @@ def _known(
         model.check.tol_rot_rad,
     ):
         return None
-    return known_difference_for(model, backend.name, backend.reads)
+    library = library_of(backend) if any(e.versions for e in model.known_differences) else None
+    version = library[1] if library is not None else None
+    return known_difference_for(model, backend.name, backend.reads, version)
 
 
 def _bounds(known: KnownDifference) -> str:

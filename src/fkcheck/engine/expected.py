@@ -20,6 +20,14 @@ records a difference of the description, not of those parsers: it is read as
 as they do, and a model written for an older fkcheck keeps its verdict. One
 reader named alone stays that reader's (a parser's own difference).
 
+A record with ``versions = "<=4.1.0"`` names one reader and the versions of
+its library it was measured on (a bug of that library, pinocchio#2782 say): it
+applies only while the installed version matches, its expected failure names
+the version (``known difference (pinocchio 4.1.0, recorded for versions
+<=4.1.0)``), and once the library is outside them the record does not apply
+and the backend's message says so: its failure is a failure again, and its
+agreement a plain pass.
+
 Checks of another frame pair, or with other tolerances than the model's
 ``[check]``, are left as they are: the finding was recorded for the default
 check only (a looser tolerance may rightly pass it, a tighter one fail it).
@@ -33,8 +41,10 @@ beyond them it stays ``fail`` (a wrong Jacobian is never excused by a pose recor
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import replace
+from importlib import metadata
 
 from fkcheck.description.registry import LANGUAGES
 from fkcheck.engine.results import BackendResult
@@ -46,24 +56,74 @@ __all__ = [
     "apply_known_differences",
     "known_difference_findings",
     "known_difference_for",
+    "library_of",
     "of_the_description",
 ]
 
 
-def known_difference_for(model: Model, backend: str, reads: str) -> KnownDifference | None:
+def known_difference_for(
+    model: Model, backend: str, reads: str, version: str | None = None
+) -> KnownDifference | None:
     """The model's recorded difference with ``backend`` (which reads ``reads``), if any.
 
     One naming it wins over one selecting what it reads; one naming several URDF
     readers and nothing else selects every URDF reader (:func:`of_the_description`).
+    One recorded for some versions of the backend's library (``versions``) applies
+    only when ``version``, the installed one, matches them.
     """
-    named = [e for e in model.known_differences if backend in e.backends]
+    entries = [e for e in model.known_differences if e.applies_to_version(version)]
+    named = [e for e in entries if backend in e.backends]
     selected = [
         e
-        for e in model.known_differences
+        for e in entries
         if e.applies_to(backend, reads) or (reads in LANGUAGES and of_the_description(e, reads))
     ]
     found = named or selected
     return found[0] if found else None
+
+
+def library_of(backend: object) -> tuple[str, str] | None:
+    """``("pinocchio", "4.1.0")``: a backend's library and its installed version, if it names one.
+
+    Read from package metadata (the backend's first ``distributions``, named as
+    imported: ``pin`` is ``pinocchio``), nothing imported; ``None`` for a backend
+    that names no distribution or whose distribution is not installed.
+    """
+    dists = tuple(getattr(backend, "distributions", ()) or ())
+    if not dists:
+        return None
+    version = _installed(dists[0])
+    return None if version is None else (_LIBRARY_NAMES.get(dists[0], dists[0]), version)
+
+
+@functools.cache
+def _installed(distribution: str) -> str | None:
+    """The installed version of ``distribution`` (read once per process), or ``None``."""
+    try:
+        return metadata.version(distribution)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+#: Distributions named otherwise than the library users import (``pin`` is ``pinocchio``).
+_LIBRARY_NAMES = {
+    "pin": "pinocchio",
+    "mujoco-core": "mujoco",
+    "roboticstoolbox-python": "roboticstoolbox",
+    "spatialmath-python": "spatialmath",
+}
+
+
+def _not_this_version(model: Model, result: BackendResult, library: tuple[str, str] | None) -> str:
+    """Why a record naming the backend for other versions of its library does not apply."""
+    other = [e for e in model.known_differences if result.name in e.backends and e.versions]
+    if not other or result.status not in ("fail", "pass"):
+        return ""
+    installed = f"{library[0]} {library[1]}" if library else "its library's version unknown"
+    return (
+        f" (the model's known difference for {result.name} is recorded for versions "
+        f"{other[0].versions} only and does not apply to {installed})"
+    )
 
 
 def of_the_description(entry: KnownDifference, language: str = "urdf") -> bool:
@@ -116,7 +176,9 @@ def _beyond(result: BackendResult, entry: KnownDifference) -> list[str]:
     return over
 
 
-def _apply(result: BackendResult, entry: KnownDifference) -> BackendResult:
+def _apply(
+    result: BackendResult, entry: KnownDifference, library: tuple[str, str] | None = None
+) -> BackendResult:
     if result.status == "pass":
         return replace(
             result,
@@ -151,10 +213,13 @@ def _apply(result: BackendResult, entry: KnownDifference) -> BackendResult:
         else:
             excused = f"expected failure, known difference: {entry.finding} — "
             jacobian = replace(jacobian, status="xfail", message=excused + jacobian.message)
+    said = "known difference"
+    if entry.versions and library is not None:  # a reader's own, for the versions recorded
+        said += f" ({library[0]} {library[1]}, recorded for versions {entry.versions})"
     return replace(
         result,
         status="xfail",
-        message=f"expected failure, known difference: {entry.finding} — {result.message}",
+        message=f"expected failure, {said}: {entry.finding} — {result.message}",
         jacobian=jacobian,
     )
 
@@ -165,6 +230,7 @@ def apply_known_differences(
     tol: tuple[float, float],
     results: Sequence[BackendResult],
     reads: Mapping[str, str],
+    libraries: Mapping[str, tuple[str, str] | None] | None = None,
 ) -> tuple[BackendResult, ...]:
     """The results with the model's recorded differences applied (see the module docstring).
 
@@ -174,6 +240,8 @@ def apply_known_differences(
         tol: The ``(position m, rotation rad)`` tolerances it used.
         results: One result per backend.
         reads: What each backend reads, by name (``"urdf"``…).
+        libraries: Each backend's library and installed version, by name
+            (:func:`library_of`), for records tied to versions (``versions``).
 
     Returns:
         The results, those of listed backends rewritten.
@@ -185,7 +253,14 @@ def apply_known_differences(
     if not model.known_differences or not default:
         return tuple(results)
     out: list[BackendResult] = []
+    libraries = libraries or {}
     for result in results:
-        entry = known_difference_for(model, result.name, reads.get(result.name, ""))
-        out.append(result if entry is None else _apply(result, entry))
+        library = libraries.get(result.name)
+        version = library[1] if library is not None else None
+        entry = known_difference_for(model, result.name, reads.get(result.name, ""), version)
+        if entry is None or (entry.versions == "" and result.name not in entry.backends):
+            note = _not_this_version(model, result, library)
+            if note:
+                result = replace(result, message=(result.message + note).strip())
+        out.append(result if entry is None else _apply(result, entry, library))
     return tuple(out)

@@ -2,11 +2,13 @@
 
 :func:`judge` takes a :class:`~fkcheck.engine.prepare.PreparedCheck` and the
 run's results (:mod:`fkcheck.engine.runner`): it applies the model's known
-differences (:mod:`fkcheck.engine.expected`) and provenance (a URDF exported
-from this very table proves nothing about it, :mod:`fkcheck.engine.provenance`),
-judges the numbers on what the table's evidence answered, lints the model, and
-returns the :class:`~fkcheck.engine.results.CheckResult` with its verdict and
-the request's options.
+differences (:mod:`fkcheck.engine.expected`), provenance (a URDF exported
+from this very table proves nothing about it, :mod:`fkcheck.engine.provenance`)
+and reader findings (one reader of a file disagrees where another agrees with
+the table, :mod:`fkcheck.engine.readers`), judges the numbers on what the
+table's evidence answered, lints the model, and returns the
+:class:`~fkcheck.engine.results.CheckResult` with its verdict and the request's
+options.
 """
 
 from __future__ import annotations
@@ -16,9 +18,14 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 from fkcheck.calibration.lint import lint_calibrated
-from fkcheck.engine.expected import apply_known_differences, known_difference_findings
+from fkcheck.engine.expected import (
+    apply_known_differences,
+    known_difference_findings,
+    library_of,
+)
 from fkcheck.engine.prepare import PreparedCheck, numbers_of
 from fkcheck.engine.provenance import apply_provenance
+from fkcheck.engine.readers import apply_reader_findings
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.engine.verdict import summarize, verdict_of
 from fkcheck.model.lint import lint_lines
@@ -31,10 +38,13 @@ def judge(prepared: PreparedCheck, results: Sequence[BackendResult]) -> CheckRes
     """The check's result: ``results`` (one per backend, in order) judged, with the verdict."""
     request, model, pair, tol = prepared.request, prepared.model, prepared.pair, prepared.tol
     backends, q = request.backends, prepared.samples
+    readers = {b.name: b.reads for b in backends if getattr(b, "formats", ())}
+    libraries = {b.name: library_of(b) for b in backends if b.name in readers or _versioned(model)}
     ordered = apply_known_differences(
-        model, pair, tol, list(results), {b.name: b.reads for b in backends}
+        model, pair, tol, list(results), {b.name: b.reads for b in backends}, libraries
     )
     ordered = apply_provenance(model, backends, tol, ordered)  # a URDF from this very table
+    ordered = apply_reader_findings(ordered, readers, libraries)  # one reader of a file wrong
     numbers = prepared.numbers
     answered = _table_answered(ordered, len(q.q))
     if 0 < answered < len(q.q):  # the numbers are judged on what the table's evidence compared
@@ -92,3 +102,8 @@ def _table_answered(results: Sequence[BackendResult], total: int) -> int:
         ),
         default=0,
     )
+
+
+def _versioned(model: Model) -> bool:
+    """Whether a known difference of the model is tied to a library's versions."""
+    return any(e.versions for e in model.known_differences)

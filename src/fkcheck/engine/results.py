@@ -143,6 +143,10 @@ class BackendResult:
         jacobian: Its Jacobian against the core's, when the check compares Jacobians.
         subset: ``(compared, total)`` when the check's plan gave it the first
             ``compared`` of the ``total`` configurations only (:mod:`fkcheck.engine.plan`).
+        reader_finding: For a reader that disagrees while another reader of the
+            same description agrees with the table, that sentence (a finding
+            about the reader, not the table: :mod:`fkcheck.engine.readers`);
+            ``""`` otherwise.
     """
 
     name: str
@@ -157,6 +161,7 @@ class BackendResult:
     evidence: Evidence = "implementation"
     jacobian: JacobianResult | None = None
     subset: tuple[int, int] | None = None
+    reader_finding: str = ""
 
     @property
     def ran(self) -> bool:

@@ -23,6 +23,13 @@ and disagreed, or one the model records as disagreeing agrees: a stale
 names kinds that must be ``verified``; when one is not, the verdict is
 ``unverified`` (exit 1) even though nothing disagreed.
 
+A reader of a description that disagrees while another reader of the same
+description agrees with the table is a *reader finding*
+(:mod:`fkcheck.engine.readers`): it is named with its library's version in the
+table's sentence and the headline, never counted as the table disagreeing, and
+the verdict is still ``fail`` (the reader disagrees: no silent pass) until a
+``[[known_difference]]`` records it for that reader's versions.
+
 Verdicts: ``pass`` — every backend that ran agrees (or disagrees as recorded,
 ``xfail``) and every required kind is verified; ``fail`` — a backend answered
 wrongly, or agreed where the model records a difference (``xpass``); ``error`` — a backend could
@@ -82,6 +89,8 @@ class _Outcome(Protocol):
     def ran(self) -> bool: ...
     @property
     def subset(self) -> tuple[int, int] | None: ...
+    @property
+    def reader_finding(self) -> str: ...
 
 
 @dataclass(frozen=True)
@@ -100,6 +109,10 @@ class EvidenceKind:
         stale: Backends the model records as disagreeing that agree (``xpass``).
         gaps: For ``partly-verified``: the numbers of the table the frame pair
             leaves unverified, one clause (:meth:`fkcheck.model.coverage.Coverage.gaps`).
+        readers: Readers that disagree while another reader of the same
+            description agrees with the table (:mod:`fkcheck.engine.readers`):
+            not counted in ``disagreed``, and the check still fails.
+        reader_findings: Their sentences, in the same order.
     """
 
     kind: Kind
@@ -110,6 +123,8 @@ class EvidenceKind:
     expected: tuple[str, ...] = ()
     stale: tuple[str, ...] = ()
     gaps: str = ""
+    readers: tuple[str, ...] = ()
+    reader_findings: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -143,13 +158,28 @@ class EvidenceSummary:
         return self.implementation if kind == "implementation" else self.table
 
 
+def _group(result: _Outcome) -> str:
+    """Its status, or ``reader`` for a reader finding (:mod:`fkcheck.engine.readers`)."""
+    if result.status == "fail" and result.reader_finding:
+        return "reader"
+    return "unanswered" if result.status in ("error", "skipped") else result.status
+
+
 def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
-    mine = [r for r in results if r.evidence == kind]
-    agreed = tuple(r.name for r in mine if r.status == "pass")
-    disagreed = tuple(r.name for r in mine if r.status == "fail")
-    unanswered = tuple(r.name for r in mine if r.status in ("error", "skipped"))
-    expected = tuple(r.name for r in mine if r.status == "xfail")
-    stale = tuple(r.name for r in mine if r.status == "xpass")
+    groups: dict[str, list[_Outcome]] = {}
+    for r in results:
+        if r.evidence == kind:
+            groups.setdefault(_group(r), []).append(r)
+
+    def names(group: str) -> tuple[str, ...]:
+        return tuple(r.name for r in groups.get(group, ()))
+
+    agreed, disagreed, expected, stale = (
+        names("pass"),
+        names("fail"),
+        names("xfail"),
+        names("xpass"),
+    )
     status: KindStatus = (
         "failed"
         if disagreed or stale
@@ -159,7 +189,17 @@ def _kind(kind: Kind, results: Sequence[_Outcome]) -> EvidenceKind:
         if agreed
         else "not-checked"
     )
-    return EvidenceKind(kind, status, agreed, disagreed, unanswered, expected, stale)
+    return EvidenceKind(
+        kind,
+        status,
+        agreed,
+        disagreed,
+        names("unanswered"),
+        expected,
+        stale,
+        readers=names("reader"),
+        reader_findings=tuple(r.reader_finding for r in groups.get("reader", ())),
+    )
 
 
 def summarize(
@@ -298,6 +338,8 @@ def evidence_sentences(evidence: EvidenceSummary) -> tuple[str, str]:
             "table NOT CHECKED: nothing independent of it (URDF, measured poses, published "
             "table) answered; agreement proves the arithmetic, not the numbers"
         )
+    if tab.reader_findings:
+        tab_text += "; " + "; ".join(tab.reader_findings)
     if "table" in evidence.unmet:
         tab_text += " — required (require = table)"
     if "implementation" in evidence.unmet:
@@ -356,18 +398,28 @@ def _headline(verdict: Verdict, evidence: EvidenceSummary, n_ran: int) -> str:
             evidence.unmet
         )
     if verdict == "fail":
-        parts = []
-        for k in KINDS:
-            if evidence.of(k).disagreed:
-                parts.append(f"{k} disagrees")
-            if evidence.of(k).stale:
-                parts.append(f"{k}: known difference no longer seen (stale record)")
+        parts = [part for k in KINDS for part in _failing(k, evidence.of(k))]
         if not parts:  # only a Jacobian can fail while every pose agrees
             return "fail — the poses agree, a Jacobian disagrees"
         return "fail — " + " and ".join(parts)
     if n_ran == 0:
         return "error — no backend gave an answer: nothing was cross-checked"
     return "error — a backend could not answer (see its message)"
+
+
+def _failing(k: Kind, kind: EvidenceKind) -> list[str]:
+    """What of one kind fails the check, as the headline says it."""
+    parts = []
+    if kind.disagreed:
+        parts.append(f"{k} disagrees")
+    if kind.stale:
+        parts.append(f"{k}: known difference no longer seen (stale record)")
+    if kind.readers:
+        parts.append(
+            "a reader disagrees where another reader of the same description agrees with the "
+            f"table: {', '.join(kind.readers)} (a finding about the reader, not the table)"
+        )
+    return parts
 
 
 NumberStatus = Literal[

@@ -41,6 +41,7 @@ from fkcheck.core.tolerances import (
 )
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.errors import FrameError, OptionError
+from fkcheck.model.version_spec import parse_versions, versions_match
 
 __all__ = [
     "MAX_JOINTS",
@@ -255,13 +256,21 @@ class KnownDifference:
             large, into an expected one. At most
             :data:`~fkcheck.core.tolerances.MAX_KNOWN_POSITION_M` (0.1 m).
         max_angle_rad: Largest rotation error it may show, radians (required too),
-            at most :data:`~fkcheck.core.tolerances.MAX_KNOWN_ANGLE_RAD` (0.1 rad).
+            at most :data:`~fkcheck.core.tolerances.MAX_KNOWN_ANGLE_RAD` (0.1 rad)
+            (with ``versions``, the reader bounds below).
         reads: ``""``, or what every backend it names reads (``"urdf"``: all URDF
             readers, whichever are installed — a difference between the table and
             the URDF is the URDF's, not one parser's).
+        versions: ``""``, or the versions of the one backend's library it was
+            measured on (``"<=4.1.0"``, :mod:`fkcheck.model.version_spec`): a
+            reader's own difference (a bug of that library), which applies only
+            while the installed version matches. Its bounds may then reach
+            :data:`~fkcheck.core.tolerances.MAX_READER_POSITION_M` (10 m) and π rad.
 
     Raises:
         ToleranceError: A bound is not within its range.
+        ValueError: ``versions`` is not a valid spec, or is given without exactly
+            one backend named.
     """
 
     backends: tuple[str, ...]
@@ -269,14 +278,38 @@ class KnownDifference:
     max_position_m: float
     max_angle_rad: float
     reads: str = ""
+    versions: str = ""
 
     def applies_to(self, name: str, reads: str) -> bool:
         """Whether it records the difference of backend ``name``, which reads ``reads``."""
         return name in self.backends or (self.reads != "" and reads == self.reads)
 
+    def applies_to_version(self, version: str | None) -> bool:
+        """Whether it applies to the backend's library at ``version`` (``None``: unknown).
+
+        A record without ``versions`` applies to every version; one with them
+        only to a version they match (an unknown or unreadable one matches none).
+        """
+        if not self.versions:
+            return True
+        return version is not None and versions_match(self.versions, version)
+
     def __post_init__(self) -> None:
-        check_limit(self.max_position_m, "known_position", "KnownDifference.max_position_m")
-        check_limit(self.max_angle_rad, "known_angle", "KnownDifference.max_angle_rad")
+        reader = bool(self.versions)
+        if reader:
+            parse_versions(self.versions)
+            if len(self.backends) != 1 or self.reads:
+                raise ValueError("versions = … records one backend's library: name it alone")
+        check_limit(
+            self.max_position_m,
+            "reader_position" if reader else "known_position",
+            "KnownDifference.max_position_m",
+        )
+        check_limit(
+            self.max_angle_rad,
+            "reader_angle" if reader else "known_angle",
+            "KnownDifference.max_angle_rad",
+        )
 
 
 @dataclass(frozen=True)

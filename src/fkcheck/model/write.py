@@ -286,6 +286,8 @@ def _known_difference_lines(known: KnownDifference) -> list[str]:
     selected = [f"backends = [{names}]"] if known.backends else []
     if known.reads:
         selected.append(f"reads = {toml_string(known.reads)}")
+    if known.versions:
+        selected.append(f"versions = {toml_string(known.versions)}")
     return [
         "",
         "[[known_difference]]",

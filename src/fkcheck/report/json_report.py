@@ -41,6 +41,7 @@ def _backend(record: BackendRecord) -> dict[str, Any]:
         "duration_s": round(record.duration_s, 6),
         "configurations": record.configurations,
         "subset": record.subset or None,
+        "reader_finding": record.reader_finding or None,
         **({"jacobian": _jacobian(record.jacobian)} if record.jacobian is not None else {}),
     }
 

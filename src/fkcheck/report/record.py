@@ -113,12 +113,19 @@ def _disagreeing(ran: Sequence[BackendResult], failing: Sequence[BackendResult])
     """
     parts = []
     for kind, whom in (("implementation", "the in-house core"), ("table", "the table")):
-        names = [r.name for r in failing if r.evidence == kind]
+        names = [r.name for r in failing if r.evidence == kind and not r.reader_finding]
         if names:
             parts.append(
                 f"{len(names)} of {len(ran)} backends that ran disagree with {whom}: "
                 + ", ".join(names)
             )
+    readers = [r.name for r in failing if r.reader_finding]
+    if readers:
+        parts.append(
+            f"{len(readers)} of {len(ran)} backends that ran disagree with another reader of the "
+            f"same description, which agrees with the table: {', '.join(readers)} (a finding "
+            "about the reader, not the table)"
+        )
     if all(r.evidence == "table" for r in failing):
         agree = [r.name for r in ran if r.evidence == "implementation" and r.status == "pass"]
         if agree:
@@ -325,6 +332,7 @@ def backend_record(
         diagnosed_with=group,
         jacobian=_jacobian(check, r.jacobian) if r.jacobian is not None else None,
         subset=subset_text(*r.subset) if r.subset is not None else "",
+        reader_finding=r.reader_finding,
     )
 
 

@@ -129,6 +129,9 @@ class BackendRecord:
         jacobian: Its Jacobian comparison, when the check compared Jacobians.
         subset: ``95 081 of 1 000 081 configurations`` when the check's plan gave
             it a subset only (:mod:`fkcheck.engine.plan`); ``""``: it had them all.
+        reader_finding: For a reader that disagrees where another reader of the
+            same description agrees with the table, that sentence (with both
+            libraries' versions; :mod:`fkcheck.engine.readers`); ``""`` otherwise.
     """
 
     name: str
@@ -160,6 +163,7 @@ class BackendRecord:
     diagnosed_with: tuple[str, ...]
     jacobian: JacobianRecord | None
     subset: str = ""
+    reader_finding: str = ""
 
 
 @dataclass(frozen=True)

@@ -8,10 +8,13 @@ from fkcheck.core.tolerances import LimitKind
 from fkcheck.io.numbers import show_text
 from fkcheck.model.sections.reader import Reader, kind
 from fkcheck.model.types import KnownDifference
+from fkcheck.model.version_spec import parse_versions
 
 __all__ = ["KNOWN_DIFFERENCE_KEYS", "KNOWN_DIFFERENCE_READS", "read_known_differences"]
 
-KNOWN_DIFFERENCE_KEYS = {"backends", "reads", "finding", "max_position_m", "max_angle_rad"}
+KNOWN_DIFFERENCE_KEYS = {
+    "backends", "reads", "versions", "finding", "max_position_m", "max_angle_rad",
+}  # fmt: skip
 #: What ``reads`` may select: every backend reading the model's URDF, or its MJCF.
 #: (Backends that read the table can never differ from it; measured poses and
 #: published tables are named one by one.)
@@ -19,6 +22,10 @@ KNOWN_DIFFERENCE_READS = ("urdf", "mjcf")
 #: The bound keys and the range each must be within (:mod:`fkcheck.core.tolerances`).
 KNOWN_DIFFERENCE_LIMITS: dict[str, LimitKind] = {
     "max_position_m": "known_position", "max_angle_rad": "known_angle",
+}  # fmt: skip
+#: The same for a reader's own difference (``versions = …``): up to 10 m and π rad.
+READER_DIFFERENCE_LIMITS: dict[str, LimitKind] = {
+    "max_position_m": "reader_position", "max_angle_rad": "reader_angle",
 }  # fmt: skip
 
 
@@ -57,8 +64,10 @@ def _read_entry(r: Reader, item: Any, i: int, listed: dict[str, int]) -> KnownDi
     finding = r.string(tbl["finding"], f"{where}.finding")
     if not finding.strip():
         raise r.fail(f"{where}.finding", "must not be empty: say what fkcheck diagnose names")
+    versions = _versions(r, tbl["versions"], where, names, reads) if "versions" in tbl else ""
+    limits = READER_DIFFERENCE_LIMITS if versions else KNOWN_DIFFERENCE_LIMITS
     bounds: dict[str, float] = {}
-    for key, limit_kind in KNOWN_DIFFERENCE_LIMITS.items():
+    for key, limit_kind in limits.items():
         if key not in tbl:
             raise r.fail(
                 f"{where}.{key}",
@@ -66,7 +75,23 @@ def _read_entry(r: Reader, item: Any, i: int, listed: dict[str, int]) -> KnownDi
                 "so that a larger one still fails)",
             )
         bounds[key] = r.limit(tbl[key], f"{where}.{key}", limit_kind)
-    return KnownDifference(names, finding, **bounds, reads=reads)
+    return KnownDifference(names, finding, **bounds, reads=reads, versions=versions)
+
+
+def _versions(r: Reader, value: Any, where: str, names: tuple[str, ...], reads: str) -> str:
+    """``versions``: a valid spec (:mod:`fkcheck.model.version_spec`), for one backend named."""
+    text = r.string(value, f"{where}.versions")
+    if reads or len(names) != 1:
+        raise r.fail(
+            f"{where}.versions",
+            "records one reader's library versions: name that one backend alone "
+            '(backends = ["pinocchio-mjcf"]), without reads',
+        )
+    try:
+        parse_versions(text)
+    except ValueError as exc:
+        raise r.fail(f"{where}.versions", str(exc)) from None
+    return text
 
 
 def _backends(r: Reader, names: Any, where: str, i: int, listed: dict[str, int]) -> tuple[str, ...]:
