@@ -2,8 +2,8 @@
 
 The pictures place their axes from the measured sizes of their tick labels, axis
 labels, titles and legends (:func:`fkcheck.report.plots._place`), not with a layout
-engine. These tests draw each picture and ask Matplotlib where every piece of text
-ended up: inside the figure, and no axis's labels over another axes.
+engine. These tests draw each picture and ask Matplotlib where what it drew ended
+up: inside the figure, and no axis's ticks and labels, title or legend over another panel.
 """
 
 from __future__ import annotations
