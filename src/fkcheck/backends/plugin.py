@@ -58,7 +58,14 @@ from fkcheck.errors import BackendNotFoundError
 from fkcheck.model.types import Model, Offset, resolve_frame
 from fkcheck.process.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
 
-__all__ = ["PluginBackend", "PluginError", "module_file", "search_path"]
+__all__ = [
+    "PluginBackend",
+    "PluginError",
+    "import_callable",
+    "module_file",
+    "search_path",
+    "split_spec",
+]
 
 
 #: Output dtypes accepted as they are (converted to float64 exactly).
@@ -115,12 +122,8 @@ class PluginBackend(BackendDefaults):
         Raises:
             BackendNotFoundError: ``spec`` is not of the form ``module:function``.
         """
-        module, sep, function = spec.strip().rpartition(":")
-        if not sep or not module or not function:
-            raise BackendNotFoundError(spec, ["module:function"])
-        self.module = module
-        self.function = function
-        self.name = f"{module}:{function}"
+        self.module, self.function = split_spec(spec)
+        self.name = f"{self.module}:{self.function}"
         self.method = f"python callable {self.name}"
         self.jacobian_method = f"python callable {self.name}_jacobian"
         self.timeout_s = options.timeout_s
@@ -213,6 +216,18 @@ class PluginBackend(BackendDefaults):
         return jacobian
 
 
+def split_spec(spec: str) -> tuple[str, str]:
+    """``module:function`` as ``(module, function)`` (an IK solver's too).
+
+    Raises:
+        BackendNotFoundError: ``spec`` is not of the form ``module:function``.
+    """
+    module, sep, function = spec.strip().rpartition(":")
+    if not sep or not module or not function:
+        raise BackendNotFoundError(spec, ["module:function"])
+    return module, function
+
+
 def search_path(cwd: str | None = None) -> list[str]:
     """Where a plugin's module is looked for: ``sys.path``, then the working directory.
 
@@ -250,14 +265,12 @@ def _call(
         ``("ok", array)``, ``("absent", None)`` (an optional ``…_jacobian`` the
         module does not define) or ``("error", why)``.
     """
-    sys.path[:] = search_path(cwd)
     try:
         optional = function.endswith("_jacobian") and shape[1:2] == (6,)
         who = f"{function} " if optional else ""  # the pose callable is the spec's own
-        mod = _import(spec, module)
-        if optional and not hasattr(mod, function):
+        _, forward = import_callable(spec, module, function, cwd, optional=optional)
+        if forward is None:
             return ("absent", None)
-        forward = _callable(spec, mod, module, function)
         try:
             result = forward(q)
         except Exception as exc:
@@ -268,6 +281,35 @@ def _call(
         if len(problem) > _PROBLEM_CHARS:
             problem = problem[:_PROBLEM_CHARS] + "…"
         return ("error", problem)
+
+
+def import_callable(
+    spec: str, module: str, function: str, cwd: str, *, optional: bool = False
+) -> tuple[Any, Callable[..., Any] | None]:
+    """In a plugin's (or an IK solver's) own process: its module and callable.
+
+    The module is imported from :func:`search_path` of ``cwd`` (``sys.path`` is
+    set to it: this process is the plugin's).
+
+    Args:
+        spec: The plugin as named (``module:function``), for messages.
+        module: Its module's dotted name.
+        function: The callable's name in it.
+        cwd: The working directory fkcheck was started in.
+        optional: A missing ``function`` is ``None`` (an optional ``…_jacobian``).
+
+    Returns:
+        The module, and the callable (``None``: optional and absent).
+
+    Raises:
+        PluginError: The module cannot be imported (or raises), has no such
+            attribute (the message lists its public callables), or it is not callable.
+    """
+    sys.path[:] = search_path(cwd)
+    mod = _import(spec, module)
+    if optional and not hasattr(mod, function):
+        return mod, None
+    return mod, _callable(spec, mod, module, function)
 
 
 def _import(spec: str, module: str) -> Any:

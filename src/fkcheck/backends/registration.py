@@ -11,15 +11,14 @@ docstring for the names); the lists of backends by kind are
 from __future__ import annotations
 
 import functools
-import importlib
 import re
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from importlib import metadata
 from typing import Any
 
 from fkcheck.backends.base import Backend, contract_problems
+from fkcheck.backends.entry_points import TargetUnloadable, load_target, scan_entry_points
 from fkcheck.errors import BackendNotFoundError, FkcheckError
 from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.process.supervise import MAX_TIMEOUT_S
@@ -115,19 +114,12 @@ class Registration:
         Raises:
             BackendContractError: The target cannot be imported or is not callable.
         """
-        module, _, attribute = self.target.partition(":")
         try:
-            found = getattr(importlib.import_module(module), attribute)
-        except Exception as exc:  # a third party's broken module: one line
+            return load_target(self.target)
+        except TargetUnloadable as exc:
             raise BackendContractError(
-                f"backend {self.name} ({self.origin}): cannot load {self.target}: "
-                f"{type(exc).__name__}: {exc}"
+                f"backend {self.name} ({self.origin}): {exc.problem}"
             ) from None
-        if not callable(found):
-            raise BackendContractError(
-                f"backend {self.name} ({self.origin}): {self.target} is not callable"
-            )
-        return found  # type: ignore[no-any-return]
 
     def declared(self, member: str) -> Any:
         """A member every backend of this registration declares (``reads``, ``evidence``).
@@ -179,35 +171,18 @@ def _scan() -> tuple[list[Registration], dict[str, str]]:
     A name that is not a backend name, that a built-in has, or that two
     distributions register is not registered: asking for it is one line naming
     every source (:func:`make_backend`); asking for any other backend is not
-    affected.
+    affected (:func:`fkcheck.backends.entry_points.scan_entry_points`).
     """
-    found: dict[str, Registration] = {}
-    problems: dict[str, str] = {}
-    owners: dict[str, list[str]] = {}
-    builtin = {r.name for r in BUILTIN}
-    for ep in metadata.entry_points(group=ENTRY_POINT_GROUP):
-        dist = getattr(ep, "dist", None)
-        origin = f"{dist.name} {dist.version}" if dist is not None else "an entry point"
-        where = f"entry point {ep.name!r} of {origin} (group {ENTRY_POINT_GROUP})"
-        owners.setdefault(ep.name, []).append(origin)
-        if not _NAME.match(ep.name):
-            problems[ep.name] = (
-                f"{where}: not a backend name (lower-case letters, digits, '-', '_', '.'; "
-                "a prefix ends in ':')"
-            )
-        elif ep.name in builtin:
-            problems[ep.name] = f"{where}: the name is taken by fkcheck"
-        elif len(owners[ep.name]) > 1:
-            found.pop(ep.name, None)
-            problems[ep.name] = (
-                f"backend name {ep.name!r} is registered by {' and by '.join(owners[ep.name])} "
-                f"(group {ENTRY_POINT_GROUP}): uninstall one of them"
-            )
-        elif not re.match(r"^[\w.]+:[\w.]+$", ep.value):
-            problems[ep.name] = f"{where}: {ep.value!r} is not module:Class"
-        else:
-            found[ep.name] = Registration(ep.name, ep.value, default=False, origin=origin)
-    return sorted(found.values(), key=lambda r: r.name), problems
+    found, problems = scan_entry_points(
+        ENTRY_POINT_GROUP,
+        kind="backend",
+        taken={r.name for r in BUILTIN},
+        name=_NAME,
+        bad_name="not a backend name (lower-case letters, digits, '-', '_', '.'; "
+        "a prefix ends in ':')",
+        target="module:Class",
+    )
+    return [Registration(e.name, e.target, default=False, origin=e.origin) for e in found], problems
 
 
 def registrations() -> tuple[Registration, ...]:

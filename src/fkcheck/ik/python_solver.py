@@ -19,16 +19,13 @@ the table's.
 from __future__ import annotations
 
 import functools
-import importlib
 import os
-import sys
 from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.plugin import search_path
+from fkcheck.backends.plugin import PluginError, import_callable, split_spec
 from fkcheck.core.typing import Float
-from fkcheck.errors import BackendNotFoundError
 from fkcheck.ik.solver import IkSolverError, validated_solutions
 from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.process.isolation import IsolatedDied, IsolatedTimeout, answer_limit, run_isolated
@@ -57,12 +54,8 @@ class PythonIkSolver:
         Raises:
             BackendNotFoundError: ``spec`` is not ``module:function``.
         """
-        module, sep, function = spec.strip().rpartition(":")
-        if not sep or not module or not function:
-            raise BackendNotFoundError(spec, ["module:function"])
-        self.module = module
-        self.function = function
-        self.name = f"{module}:{function}"
+        self.module, self.function = split_spec(spec)
+        self.name = f"{self.module}:{self.function}"
         self.method = f"python function {self.name}"
         self.timeout_s = timeout_s
         self._dof = dof
@@ -128,22 +121,11 @@ def _solve_all(
     cwd: str,
 ) -> tuple[str, Any]:
     """In the solver's own process: import, call on every pose, check each answer."""
-    sys.path[:] = search_path(cwd)
     try:
-        try:
-            mod = importlib.import_module(module)
-        except Exception as exc:
-            raise IkSolverError(
-                spec, f"cannot import module {module!r}: {type(exc).__name__}: {exc}"
-            ) from None
-        solve = getattr(mod, function, None)
-        if not callable(solve):
-            found = sorted(k for k, v in vars(mod).items() if callable(v) and not k.startswith("_"))
-            raise IkSolverError(
-                spec,
-                f"module {module!r} has no callable {function!r}; its public callables are: "
-                f"{', '.join(found) or '(none)'}",
-            )
+        try:  # as a --against module:function plugin's module is found, in its process
+            mod, solve = import_callable(spec, module, function, cwd)
+        except PluginError as exc:
+            raise IkSolverError(spec, exc.problem) from None
         solutions = [validated_solutions(spec, _call(spec, solve, T), dof) for T in poses]
         fk_poses = _own_fk(spec, mod, q_for_fk)
         fk_at = None

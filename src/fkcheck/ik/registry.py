@@ -28,12 +28,11 @@ when asked for, naming both.
 
 from __future__ import annotations
 
-import importlib
 import re
 from dataclasses import dataclass
-from importlib import metadata
 from typing import Any
 
+from fkcheck.backends.entry_points import TargetUnloadable, load_target, scan_entry_points
 from fkcheck.errors import FkcheckError
 from fkcheck.ik.frames import for_frames
 from fkcheck.ik.solver import IkSolver, SolverRefused
@@ -80,29 +79,16 @@ class SolverRegistration:
             SolverRefused: It cannot be imported (a built-in's module absent from
                 this installation is "not available"), or is not callable.
         """
-        module, _, attribute = self.target.partition(":")
         try:
-            found = getattr(importlib.import_module(module), attribute)
-        except ModuleNotFoundError as exc:
-            if self.origin == "fkcheck" and exc.name == module:
+            return load_target(self.target)
+        except TargetUnloadable as exc:
+            if self.origin == "fkcheck" and exc.missing:
+                module = self.target.partition(":")[0]
                 raise SolverRefused(
                     f"IK solver {self.name} is not available in this fkcheck ({module} "
                     "is not part of it)"
                 ) from None
-            raise SolverRefused(
-                f"IK solver {self.name} ({self.origin}): cannot load {self.target}: "
-                f"{type(exc).__name__}: {exc}"
-            ) from None
-        except Exception as exc:  # a third party's broken module: one line
-            raise SolverRefused(
-                f"IK solver {self.name} ({self.origin}): cannot load {self.target}: "
-                f"{type(exc).__name__}: {exc}"
-            ) from None
-        if not callable(found):
-            raise SolverRefused(
-                f"IK solver {self.name} ({self.origin}): {self.target} is not callable"
-            )
-        return found
+            raise SolverRefused(f"IK solver {self.name} ({self.origin}): {exc.problem}") from None
 
 
 #: Built-in solvers (their libraries are imported only when one is asked for).
@@ -121,32 +107,19 @@ BUILTIN: tuple[SolverRegistration, ...] = (
 
 
 def _scan() -> tuple[list[SolverRegistration], dict[str, str]]:
-    """Third-party registrations, and the names refused (with why)."""
-    found: dict[str, SolverRegistration] = {}
-    problems: dict[str, str] = {}
-    owners: dict[str, list[str]] = {}
-    builtin = {r.name for r in BUILTIN}
-    for ep in metadata.entry_points(group=ENTRY_POINT_GROUP):
-        dist = getattr(ep, "dist", None)
-        origin = f"{dist.name} {dist.version}" if dist is not None else "an entry point"
-        where = f"entry point {ep.name!r} of {origin} (group {ENTRY_POINT_GROUP})"
-        owners.setdefault(ep.name, []).append(origin)
-        if not _NAME.match(ep.name):
-            problems[ep.name] = f"{where}: not a solver name (lower-case letters, digits, '-_.')"
-        elif ep.name in builtin:
-            problems[ep.name] = f"{where}: the name is taken by fkcheck"
-        elif len(owners[ep.name]) > 1:
-            found.pop(ep.name, None)
-            problems[ep.name] = (
-                f"IK solver name {ep.name!r} is registered by "
-                f"{' and by '.join(owners[ep.name])} (group {ENTRY_POINT_GROUP}): "
-                "uninstall one of them"
-            )
-        elif not re.match(r"^[\w.]+:[\w.]+$", ep.value):
-            problems[ep.name] = f"{where}: {ep.value!r} is not module:factory"
-        else:
-            found[ep.name] = SolverRegistration(ep.name, ep.value, origin=origin)
-    return sorted(found.values(), key=lambda r: r.name), problems
+    """Third-party registrations, and the names refused (with why).
+
+    As the backends' (:func:`fkcheck.backends.entry_points.scan_entry_points`).
+    """
+    found, problems = scan_entry_points(
+        ENTRY_POINT_GROUP,
+        kind="IK solver",
+        taken={r.name for r in BUILTIN},
+        name=_NAME,
+        bad_name="not a solver name (lower-case letters, digits, '-_.')",
+        target="module:factory",
+    )
+    return [SolverRegistration(e.name, e.target, origin=e.origin) for e in found], problems
 
 
 def registrations() -> tuple[SolverRegistration, ...]:

@@ -93,10 +93,12 @@ class ProjectConfig:
     Attributes:
         path: The ``pyproject.toml`` it came from.
         models: Model files, directories or globs, relative to ``root``.
-        against: Backends (as ``--against``).
+        against: Backends (as ``--against``). A ``module:function`` or ``cmd:PROGRAM``
+            entry runs the project's own code, in a process of its own but as you.
         lint_ignore: Lint rules to ignore for every model.
         ik_solvers: IK solvers (as ``fkcheck ik --solver``) the pytest plugin checks
-            against each model, one test each.
+            against each model, one test each. A ``module:function`` entry runs the
+            project's own code, in a process of its own but as you.
         options: The check options it sets, each named by its key and this file.
             ``jacobian_reference`` or ``tol_jacobian`` without ``jacobian`` sets
             ``jacobian`` too (they imply it, as ``--jacobian-reference`` and

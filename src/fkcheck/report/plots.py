@@ -84,9 +84,107 @@ def backend_colors(check: CheckResult) -> dict[str, str]:
 
 
 def _new_figure(width_in: float, height_in: float) -> Figure:
+    """A figure drawn by Agg at :data:`DPI`, without a layout engine (see :func:`_place`)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    return Figure(figsize=(width_in, height_in), layout="constrained")
+    fig = Figure(figsize=(width_in, height_in), dpi=DPI)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+#: Points per inch (Matplotlib's font sizes, paddings and tick lengths are in points).
+_PT = 72.0
+#: Blank room at a figure's edges and between a label and what it labels, points.
+_PAD_PT = 4.0
+
+
+def _text_size(fig: Figure, text: str, size: float | str) -> tuple[float, float]:
+    """Width and height (inches) of one line of text at a font size, as Agg draws it."""
+    from matplotlib import cbook
+    from matplotlib.font_manager import FontProperties
+
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    math = cbook.is_math_text(text)
+    width, height, _ = renderer.get_text_width_height_descent(
+        text, FontProperties(size=size), ismath=math
+    )
+    # A line is at least as tall as "lp" (what Matplotlib's text layout reserves).
+    _, line, _ = renderer.get_text_width_height_descent("lp", FontProperties(size=size), False)
+    return width / fig.dpi, max(height, line) / fig.dpi
+
+
+def _tick_labels(axis: Any, which: str) -> list[str]:
+    """The labels of an axis's ``major`` or ``minor`` ticks at its current limits.
+
+    Asked of its locator and formatter as the axis asks them when it draws,
+    without building the ticks (what made a layout engine slow).
+    """
+    locator = getattr(axis, f"get_{which}_locator")()
+    formatter = getattr(axis, f"get_{which}_formatter")()
+    scale = axis.get_transform()  # ticks are kept or dropped on the drawn (e.g. log) scale
+    low, high = sorted(scale.transform(np.asarray(axis.get_view_interval(), dtype=float)))
+    close = 1e-10 * (high - low)  # a tick a round-off beyond the limits is drawn
+    locs = np.asarray(locator(), dtype=float)
+    drawn = scale.transform(locs) if locs.size else locs
+    texts = formatter.format_ticks(locs)
+    return [t for x, t in zip(drawn, texts, strict=True) if t and low - close <= x <= high + close]
+
+
+def _tick_room(fig: Figure, axis: Any, *, across: bool, size: float | None = None) -> float:
+    """Room (inches) an axis's ticks and their labels take beside the axes.
+
+    Args:
+        fig: The figure.
+        axis: Its x or y axis.
+        across: The labels' width (a y axis: labels beside it); else their height.
+        size: The major tick labels' font size, points, when set (``tick_params``,
+            which sets the major ticks' only); else Matplotlib's default.
+    """
+    import matplotlib as mpl
+
+    rc = mpl.rcParams
+    if across:
+        default, tick = rc["ytick.labelsize"], rc["ytick.major.size"] + rc["ytick.major.pad"]
+    else:
+        default, tick = rc["xtick.labelsize"], rc["xtick.major.size"] + rc["xtick.major.pad"]
+    labels = [(t, default if size is None else size) for t in _tick_labels(axis, "major")]
+    labels += [(t, default) for t in _tick_labels(axis, "minor")]
+    sizes = [_text_size(fig, text, at) for text, at in labels]
+    label = max((w if across else h for w, h in sizes), default=0.0)
+    return label + float(tick) / _PT
+
+
+def _place(
+    fig: Figure,
+    grid: tuple[int, int],
+    *,
+    left: float,
+    right: float,
+    top: float,
+    bottom: float,
+    wspace: float = 0.0,
+    hspace: float = 0.0,
+) -> None:
+    """Place a grid of ``(rows, columns)`` subplots with margins and gaps given in inches.
+
+    The pictures lay themselves out: each measures what lies outside its axes
+    (tick labels, axis labels, titles, legends) and leaves that much room.
+    Matplotlib's ``constrained`` layout did the same by building and measuring
+    every tick of every panel twice per drawing: about half of a picture's time.
+    """
+    width, height = fig.get_size_inches()
+    rows, cols = grid
+    panel_w = (width - left - right - wspace * (cols - 1)) / cols
+    panel_h = (height - top - bottom - hspace * (rows - 1)) / rows
+    fig.subplots_adjust(
+        left=left / width,
+        right=1.0 - right / width,
+        top=1.0 - top / height,
+        bottom=bottom / height,
+        wspace=wspace / panel_w,
+        hspace=hspace / panel_h,
+    )
 
 
 def _layered(k: int, count: int, thinnest: float, thickest: float) -> float:
@@ -154,7 +252,9 @@ def error_distribution(check: CheckResult) -> Image | None:
         ax.set_xlabel(label)
         ax.set_ylabel("configurations")
         ax.grid(True, which="major", alpha=0.3)
-    axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    legend = axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    for _ in range(2):  # the second time measures the ticks of the panels' final size
+        _place_side_by_side(fig, axes, legend.get_window_extent().width / fig.dpi)
     n = check.q.shape[0]
     return Image(
         src=png_data_uri(fig),
@@ -165,6 +265,31 @@ def error_distribution(check: CheckResult) -> Image | None:
             f"at {LOG_FLOOR:g}. A backend to the right of the dashed line disagrees. Backends "
             "listed first are drawn wider, so identical distributions show one behind another."
         ),
+    )
+
+
+def _place_side_by_side(fig: Figure, axes: Any, legend_in: float) -> None:
+    """Lay out :func:`error_distribution`'s two panels, its legend (this wide) at the right."""
+    import matplotlib as mpl
+
+    pad = _PAD_PT / _PT
+    size = mpl.rcParams["axes.labelsize"]
+    label = _text_size(fig, "configurations", size)[1] + float(mpl.rcParams["axes.labelpad"]) / _PT
+    beside = [label + _tick_room(fig, ax.yaxis, across=True) for ax in axes]
+    below = max(_tick_room(fig, ax.xaxis, across=False) for ax in axes)
+    # The top y tick label stands half above the axes; a count's offset (×1e6) above it.
+    above = _text_size(fig, "0", mpl.rcParams["ytick.labelsize"])[1]
+    if any(ax.yaxis.get_major_formatter().get_offset() for ax in axes):
+        above *= 2
+    width = fig.get_size_inches()[0]
+    _place(
+        fig,
+        (1, len(axes)),
+        left=pad + beside[0],
+        right=pad + legend_in + 0.01 * width / 2,  # the legend starts at 1.01 of the axes
+        top=pad + above,
+        bottom=pad + label + below,
+        wspace=2 * pad + beside[1],
     )
 
 
@@ -231,15 +356,19 @@ def error_against_joints(check: CheckResult) -> Image | None:
         axes[0, 0].set_ylabel("position error [m]", fontsize=8)
         axes[1, 0].set_ylabel("rotation error [rad]", fontsize=8)
     handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(
+    legend = fig.legend(
         handles,
         labels,
-        loc="outside lower center",
+        loc="lower center",
+        bbox_to_anchor=(0.5, 0.0),
+        borderaxespad=_PAD_PT / 8,  # in font sizes: _PAD_PT above the figure's bottom edge
         ncols=min(len(labels), 6),
         fontsize=8,
         markerscale=4,
         frameon=False,
     )
+    for _ in range(2):  # the second time measures the ticks of the panels' final size
+        _place_panels(fig, axes, legend.get_window_extent().y1 / fig.dpi)
     return Image(
         src=png_data_uri(fig),
         alt="Position and rotation error against each joint's value, one panel per joint",
@@ -249,6 +378,32 @@ def error_against_joints(check: CheckResult) -> Image | None:
             "band across every panel is a constant error that no joint drives (a wrong "
             "constant, offset or mapping); structure in one joint's panel points at that joint."
         ),
+    )
+
+
+def _place_panels(fig: Figure, axes: Any, legend_top_in: float) -> None:
+    """Lay out :func:`error_against_joints`'s panels above its legend (whose top is given).
+
+    Fonts as that function sets them: 7 pt major ticks, 8 pt titles and axis labels;
+    the panels of a row share their y axis, so only the first column has y tick labels.
+    """
+    import matplotlib as mpl
+
+    pad = _PAD_PT / _PT
+    label = _text_size(fig, "q1 [°]", 8)[1] + float(mpl.rcParams["axes.labelpad"]) / _PT
+    title = _text_size(fig, "J1", 8)[1] + float(mpl.rcParams["axes.titlepad"]) / _PT
+    beside = max(_tick_room(fig, ax.yaxis, across=True, size=7) for ax in axes[:, 0])
+    below = [max(_tick_room(fig, ax.xaxis, across=False, size=7) for ax in row) for row in axes]
+    tick = float(mpl.rcParams["ytick.major.size"]) / _PT
+    _place(
+        fig,
+        axes.shape,
+        left=pad + label + beside,
+        right=pad,
+        top=pad + title,
+        bottom=legend_top_in + pad + label + below[1],
+        wspace=2 * pad + tick,
+        hspace=below[0] + pad,  # the second row has no titles
     )
 
 
@@ -297,6 +452,10 @@ def arm_drawing(check: CheckResult, result: BackendResult, detail: FailureDetail
     color = backend_colors(check)[result.name]
 
     fig = _new_figure(7.6, 6.6)
+    pad = _PAD_PT / _PT
+    _place(
+        fig, (1, 1), left=pad, right=pad, top=pad, bottom=pad
+    )  # a 3D axes draws its labels inside
     ax = fig.add_subplot(projection="3d")
     chain = np.vstack([frames[:, :3, 3], tcp[None, :3, 3]])
     ax.plot(*chain.T, "-", color="black", linewidth=2.5, label=f"{REFERENCE_NAME} chain")
