@@ -125,7 +125,7 @@ def prepare(request: CheckRequest) -> PreparedCheck:
     jacobian = JacobianSpec(*asked) if asked is not None else None
     if jacobian is not None:
         check_fixed_from(model, pair[0])
-    q = _fixed_configurations(model, backends) or sample_configurations(
+    q = _fixed_configurations(model, backends, tol) or sample_configurations(
         model, options.samples, options.seed, options.sampler
     )
     required = tuple(k for k in KINDS if k in (*model.check.require, *options.require))
@@ -260,12 +260,17 @@ def _check_twins(
             raise FrameError(link, where, links)
 
 
-def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
-    """The configurations a measured-poses backend dictates, if one takes part."""
+def _fixed_configurations(
+    model: Model, backends: Sequence[Backend], tol: tuple[float, float]
+) -> Samples | None:
+    """The configurations a measured-poses backend dictates, if one takes part.
+
+    A long recording is compared as it is read, its rows beyond ``tol`` counted.
+    """
     fixed = [b for b in backends if isinstance(b, FixedConfigurations)]
     if not fixed:
         return None
-    stream_recordings(fixed)  # a long recording is compared as it is read
+    stream_recordings(fixed, tol)  # a long recording is compared as it is read
     q = np.asarray(fixed[0].configurations(model), dtype=np.float64)
     for other in fixed[1:]:
         if not np.array_equal(np.asarray(other.configurations(model)), q):
