@@ -67,7 +67,7 @@ def share_cores(workers: int) -> int | None:
     threads = max(1, usable_cores() // max(1, workers))
     if _limit is not None and _limit <= threads:
         return _limit
-    from threadpoolctl import threadpool_limits
+    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
 
     for name in THREAD_VARIABLES:  # for the libraries this process loads later
         os.environ[name] = str(threads)
