@@ -344,7 +344,7 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
 
     A least-squares fit of one scalar (:func:`scipy.optimize.least_squares`) from the
     table's value: "d1 = 0.089459 here, 0.089159 would match, Δ = −0.300 mm". Fitted
-    on up to :data:`~fkcheck.diagnose.problem.FIT_CONFIGURATIONS` of the problem's
+    on up to :data:`~fkcheck.diagnose.problem.SPREAD_CONFIGURATIONS` of the problem's
     configurations, judged on all of them.
     """
     from scipy.optimize import least_squares

@@ -319,7 +319,7 @@ def _first_axis_in_from(problem: Problem) -> Float | None:
 def explain_offsets(problem: Problem) -> list[Explanation]:
     """Constant base/tip offsets, as an explanation (with the fixing model-file text).
 
-    Fitted on up to :data:`~fkcheck.diagnose.problem.FIT_CONFIGURATIONS` of the
+    Fitted on up to :data:`~fkcheck.diagnose.problem.SPREAD_CONFIGURATIONS` of the
     problem's configurations, judged on all of them.
     """
     T_dh = problem.poses(problem.model)

@@ -21,7 +21,7 @@ from fkcheck.model.sampling import sample_configurations
 from fkcheck.model.types import KnownDifference, Model
 
 __all__ = [
-    "FIT_CONFIGURATIONS",
+    "SPREAD_CONFIGURATIONS",
     "Problem",
     "Residual",
     "diagnosis_configurations",
@@ -36,7 +36,7 @@ __all__ = [
 #: numbers. Each fit's result is then judged on all of the problem's configurations.
 #: Above a diagnosis's own sampling (200 random configurations and the named poses),
 #: so a diagnosis of sampled configurations fits on all of them.
-FIT_CONFIGURATIONS = 1024
+SPREAD_CONFIGURATIONS = 1024
 #: Rotation errors enter least-squares fits multiplied by this length (m per rad):
 #: one milliradian weighs as much as one millimetre, the scale of an arm's reach.
 ROTATION_WEIGHT_M = 1.0
@@ -169,10 +169,10 @@ class Problem:
         """The same problem on its first ``count`` configurations (for costly fits)."""
         return replace(self, q=self.q[:count], reference=self.reference[:count])
 
-    def spread(self, count: int = FIT_CONFIGURATIONS) -> Problem:
+    def spread(self, count: int = SPREAD_CONFIGURATIONS) -> Problem:
         """The same problem on at most ``count`` configurations evenly spread over its own.
 
-        For least-squares fits (see :data:`FIT_CONFIGURATIONS`): a recording's kept
+        For least-squares fits (see :data:`SPREAD_CONFIGURATIONS`): a recording's kept
         rows are in its order, so its first rows would see only its first minutes.
         """
         total = self.q.shape[0]
