@@ -354,3 +354,35 @@ def test_the_diagnosis_of_a_streamed_recording_explains_it_without_reading_it_ag
     assert "the reference matches the published table ur10e" in out
     assert "could not run" not in out
     assert reads == [path]
+
+
+def test_reading_a_recording_past_the_checks_time_limit_is_one_line_exit_2(
+    ur5, motion, tmp_path, small, capsys, monkeypatch
+):
+    from fkcheck.engine import stream
+
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, motion)
+    monkeypatch.setattr(stream, "READ_MIN_S", 0.0)  # the time limit is --timeout alone
+    code = main(["check", "ur5", "--against", f"poses:{path}", "--timeout", "1e-9"])
+    captured = capsys.readouterr()
+    assert code == 2, captured.out
+    assert captured.err.count("\n") == 1, captured.err
+    assert re.search(
+        r"reading the recording did not finish within the check's time limit of 1e-09 s "
+        r"\(\d+ rows read\); give it more with --timeout",
+        captured.err,
+    ), captured.err
+    assert "Traceback" not in captured.err
+
+
+def test_the_time_limit_of_a_recordings_read_is_never_below_read_min_s(ur5, motion, small):
+    from fkcheck.engine.stream import READ_MIN_S, StreamKeeper
+
+    summary = StreamKeeper((1e-6, 1e-6), 1e-9)(ur5, ("base", "tool0"))
+    assert summary.limit_s == READ_MIN_S
+    poses = poses_of(ur5, motion)
+    summary.add(recording.PoseChunk(motion, poses, None, np.arange(ROWS) + 2))
+    assert summary.rows == ROWS
+    # Equal keepers read a recording once, whatever their time limits.
+    assert StreamKeeper((1e-6, 1e-6), 5.0) == StreamKeeper((1e-6, 1e-6))
+    assert StreamKeeper((1e-6, 1e-6)) != StreamKeeper((1e-6, 2e-6))

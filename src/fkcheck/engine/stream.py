@@ -32,8 +32,9 @@ exact, as the worst rows are among them. The recording is read once.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -43,11 +44,13 @@ from fkcheck.backends.recording import PoseChunk, Recording, SampleKeeper
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import WORST_CASES
+from fkcheck.errors import TimeLimitError
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Model
 
 __all__ = [
     "HISTOGRAM_RATIO",
+    "READ_MIN_S",
     "StreamKeeper",
     "StreamSummary",
     "rows_beyond",
@@ -62,6 +65,10 @@ _HIST_LOW = 1e-16
 #: ... to this large (larger ones, and infinite ones, count in the last).
 _HIST_HIGH = 1e4
 _BINS = math.ceil(math.log(_HIST_HIGH / _HIST_LOW) / math.log(HISTOGRAM_RATIO))
+#: Reading a recording has the check's time limit, but never less than this, seconds:
+#: a ``--timeout`` short enough for a hanging backend (0.5 s) must not end the read of
+#: a recording of a few minutes (about 13 µs a row: 10 s is some 750,000 rows).
+READ_MIN_S = 10.0
 
 
 def _bin(values: Float) -> NDArray[np.intp]:
@@ -122,13 +129,25 @@ class StreamSummary(SampleKeeper):
         max_rotation_rad: Largest rotation error over every row.
     """
 
-    def __init__(self, model: Model, pair: tuple[str, str], tol: tuple[float, float]) -> None:
-        """Compare rows of ``pair``'s poses with ``model``'s core; count those beyond ``tol``."""
+    def __init__(
+        self,
+        model: Model,
+        pair: tuple[str, str],
+        tol: tuple[float, float],
+        timeout_s: float | None = None,
+    ) -> None:
+        """Compare rows of ``pair``'s poses with ``model``'s core; count those beyond ``tol``.
+
+        With ``timeout_s``, the rows must all be added within it (at least
+        :data:`READ_MIN_S`) from now.
+        """
         super().__init__(model.dof)
         self.model = model
         self.pair = pair
         self.tol = tol
         self.beyond = 0
+        self.limit_s = None if timeout_s is None else max(timeout_s, READ_MIN_S)
+        self._deadline = math.inf if self.limit_s is None else time.monotonic() + self.limit_s
         self.max_position_m = 0.0
         self.max_rotation_rad = 0.0
         self._hist = {
@@ -139,7 +158,16 @@ class StreamSummary(SampleKeeper):
         self._top_rot = _Top(WORST_CASES, model.dof)
 
     def add(self, chunk: PoseChunk) -> None:
-        """Compare one chunk's rows with the core; keep the sample, the worst, the statistics."""
+        """Compare one chunk's rows with the core; keep the sample, the worst, the statistics.
+
+        Raises:
+            TimeLimitError: The time limit has passed (checked once a chunk).
+        """
+        if time.monotonic() > self._deadline:
+            raise TimeLimitError(
+                f"reading the recording did not finish within the check's time limit of "
+                f"{self.limit_s:g} s ({self.rows:,} rows read); give it more with --timeout"
+            )
         if not chunk.q.shape[0]:
             return
         first = self.rows
@@ -192,30 +220,38 @@ class StreamKeeper:
     """Makes the check's :class:`StreamSummary` of a recording: a keeper factory.
 
     Equal for equal tolerances, so that a backend handed an equal one again keeps
-    the recording it read (:meth:`fkcheck.backends.measured.MeasuredPoses.keep_with`).
+    the recording it read (:meth:`fkcheck.backends.measured.MeasuredPoses.keep_with`):
+    the time limit takes no part (a diagnosis after the check reads nothing again).
 
     Attributes:
         tol: ``(position m, rotation rad)``: the check's tolerances.
+        timeout_s: The check's time limit for the read (at least :data:`READ_MIN_S`),
+            from when the summary is made; ``None``: none.
     """
 
     tol: tuple[float, float]
+    timeout_s: float | None = field(default=None, compare=False)
 
     def __call__(self, model: Model, pair: tuple[str, str]) -> StreamSummary:
         """The summary of a recording of ``pair``'s poses, compared with ``model``."""
-        return StreamSummary(model, pair, self.tol)
+        return StreamSummary(model, pair, self.tol, self.timeout_s)
 
 
-def stream_recordings(backends: Sequence[Backend], tol: tuple[float, float]) -> None:
+def stream_recordings(
+    backends: Sequence[Backend], tol: tuple[float, float], timeout_s: float | None = None
+) -> None:
     """Hand each backend that reads a recording chunk by chunk the check's keeper.
 
     ``tol`` is the check's ``(position m, rotation rad)`` tolerances: the rows
-    beyond them are counted as the recording streams.
+    beyond them are counted as the recording streams. ``timeout_s`` is the check's
+    time limit: a read that takes longer (and at least :data:`READ_MIN_S`) ends in
+    :class:`~fkcheck.errors.TimeLimitError`.
     """
     from fkcheck.backends.measured import MeasuredPoses
 
     for backend in backends:
         if isinstance(backend, MeasuredPoses):
-            backend.keep_with(StreamKeeper(tol))
+            backend.keep_with(StreamKeeper(tol, timeout_s))
 
 
 def _count_beyond(pos: Float, rot: Float, tol: tuple[float, float]) -> int:
