@@ -71,7 +71,7 @@ def test_the_reference_extra_installs_every_library_fkcheck_names_as_its() -> No
     assert set(_DISTRIBUTION.values()) <= extra
     # The light install has none of them: lint and the lint hook stay small.
     assert not extra & _requirement_names(project["dependencies"])
-    # threadpoolctl (pure Python, ~40 KB) sizes the BLAS pools of xdist workers that share
+    # threadpoolctl (one pure-Python module, 82 KB) sizes the BLAS pools of xdist workers that share
     # the cores (fkcheck.process.threads); the pytest plugin may need it before any check.
     assert _requirement_names(project["dependencies"]) == {
         "numpy",
