@@ -13,6 +13,11 @@ and degrees and the index of the worst pose (and a matrix that is not a rigid
 transform is refused, naming its defect). :func:`check_message` is that text
 for any finished check (the pytest plugin, :mod:`fkcheck.pytest_plugin`, shows
 the same). Nothing here imports pytest.
+
+Under pytest-xdist, :func:`assert_fk_matches` first sizes the process's thread
+pools to its share of the cores
+(:func:`fkcheck.process.threads.share_xdist_cores`), so that the workers'
+checks do not wait on each other's threads.
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ from fkcheck.io.format import format_deg, format_mm, format_pair
 from fkcheck.io.text import terminal_text
 from fkcheck.model.require import Kind
 from fkcheck.model.types import Model
+from fkcheck.process.threads import share_xdist_cores
 from fkcheck.report.record import BackendRecord, backend_record, check_record
 
 __all__ = [
@@ -191,6 +197,7 @@ def assert_fk_matches(
         FkcheckError: Bad input (unknown model, backend or frame, bad file…).
     """
     __tracebackhide__ = True  # pytest shows the caller's line and the message, not this code
+    share_xdist_cores()
     backends = [against] if isinstance(against, str | Backend) else list(against)
     frame_from, frame_to = frames if frames is not None else (None, None)
     outcome = check(

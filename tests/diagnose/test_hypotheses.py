@@ -141,3 +141,28 @@ def test_radians_read_as_degrees_is_named(reference):
     assert best.title == (
         'the table\'s angles are in radians but were read as degrees: set angle_unit = "rad"'
     )
+
+
+def test_a_fit_on_the_spread_configurations_is_judged_on_all_of_them():
+    # A long recording's kept rows: more configurations than a fit evaluates at each step.
+    from fkcheck.diagnose.problem import SPREAD_CONFIGURATIONS
+    from tests.rtde_cases import poses_of
+
+    ur5 = load_model("ur5")
+    q = np.random.default_rng(7).uniform(-3, 3, (SPREAD_CONFIGURATIONS + 76, 6))
+    d1 = ur5.joints[0].d + 3e-4
+    reference = poses_of(with_joint(ur5, 0, d=d1), q)  # the tests' composition, not the core
+    problem = Problem(ur5, "recording", "base", "tool0", q, reference, 1e-6, 1e-6)
+    spread = problem.spread()
+    assert spread.q.shape[0] == SPREAD_CONFIGURATIONS
+    np.testing.assert_array_equal(spread.q[[0, -1]], q[[0, -1]])  # from first to last
+    [fitted] = [e for e in fit_single_parameters(problem) if e.explains]
+    assert [(c.field, c.new) for c in fitted.changes] == [("joint[0].d", pytest.approx(d1))]
+    # One row the fit never saw, 1 mm further off: the same fit no longer explains.
+    unseen = next(k for k in range(q.shape[0]) if not (spread.q == q[k]).all(axis=1).any())
+    moved = reference.copy()
+    moved[unseen, 2, 3] += 1e-3
+    problem = Problem(ur5, "recording", "base", "tool0", q, moved, 1e-6, 1e-6)
+    assert not [e for e in fit_single_parameters(problem) if e.explains]
+    few = problem.spread(2 * q.shape[0])
+    assert few is problem

@@ -35,6 +35,19 @@ class PidChain(ReferenceChain):
         return super().frame_poses(model, q, frames)
 
 
+class EnvChain(ReferenceChain):
+    """The table's own poses, from an isolated process that writes its thread variables down."""
+
+    name = "env-chain"
+    isolated = True
+
+    def frame_poses(self, model, q, frames):
+        where = Path(os.environ["FKCHECK_TEST_PIDS"])
+        names = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+        (where / str(os.getpid())).write_text(" ".join(os.environ.get(n, "-") for n in names))
+        return super().frame_poses(model, q, frames)
+
+
 class HangInSecondPart(ReferenceChain):
     """Answers at once for the first part; the second part's process hangs."""
 
@@ -150,3 +163,20 @@ def test_a_part_that_dies_is_the_backends_error(ur5, two_parts):
         "its process exited with code 3 without an answer",
     )
     assert good.status == "pass"
+
+
+@pytest.mark.parametrize(("processes", "each"), [(None, "1 1 1 1"), (1, "- - - -")])
+def test_the_parts_side_by_side_share_the_cores_between_their_thread_pools(
+    ur5, two_parts, monkeypatch, processes, each
+):
+    # Two parts on two cores: each process's BLAS, OpenMP and numba run one thread, not
+    # two each (four threads on two cores, waiting on each other). One part inherits.
+    from fkcheck.process import threads
+
+    monkeypatch.setattr(threads, "usable_cores", lambda: 2)
+    for name in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS"):
+        monkeypatch.delenv(name, raising=False)
+    check = run_check(ur5, [EnvChain()], samples=100, processes=processes)
+    assert check.backends[0].status == "pass"
+    written = [p.read_text() for p in two_parts.iterdir()]
+    assert written == [each] * (2 if processes is None else 1)

@@ -20,7 +20,7 @@ from fkcheck.backends import recording
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError, read_poses_file
 from fkcheck.cli.main import main
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
-from fkcheck.engine.stream import HISTOGRAM_RATIO, StreamSummary
+from fkcheck.engine.stream import HISTOGRAM_RATIO, StreamSummary, rows_beyond
 from tests.rtde_cases import RTDE_HEADER, poses_of, rtde_rows, write_rtde_csv
 
 #: Rows of the recordings here, and the most the check keeps of them.
@@ -154,7 +154,7 @@ def test_the_summary_keeps_the_worst_rows_of_either_error_whatever_the_tolerance
     poses[100, 0, 3] += 1e-3  # row 100: 1 mm, no rotation
     rot = np.array([[1, 0, 0], [0, np.cos(1e-3), -np.sin(1e-3)], [0, np.sin(1e-3), np.cos(1e-3)]])
     poses[333, :3, :3] = poses[333, :3, :3] @ rot  # row 333: 1 mrad, no position
-    summary = StreamSummary(ur5, ("base", "tool0"))
+    summary = StreamSummary(ur5, ("base", "tool0"), (1e-6, 1e-6))
     for first in range(0, ROWS, CHUNK):
         stop = min(ROWS, first + CHUNK)
         summary.add(
@@ -222,3 +222,167 @@ def test_a_check_through_the_api_streams_too(ur5, motion, tmp_path, small):
     assert backend.status == "fail"
     assert "1 of 600 rows differ" in backend.message
     assert backend.max_position_error_m == pytest.approx(2e-3, rel=1e-9)
+
+
+def _off_by_known_amounts(ur5, q, seed):
+    """``poses_of(ur5, q)``, each row moved by a drawn translation and turned about its own z.
+
+    Row ``k`` is moved by ``shift[k]`` (in the tool frame) and turned by ``turn[k]`` about
+    its tool z axis: its position error is ``|shift[k]|`` and its rotation error
+    ``|turn[k]|``, known without fkcheck's metrics. About a third of the rows are beyond
+    the 1 µm / 1 µrad tolerances in position, a third in rotation, some in both.
+    """
+    rng = np.random.default_rng(seed)
+    m = q.shape[0]
+    size = rng.choice([0.0, 0.5e-6, 2e-6], m)  # none, within, beyond the 1 µm tolerance
+    direction = rng.normal(size=(m, 3))
+    shift = direction / np.linalg.norm(direction, axis=1)[:, None] * size[:, None]
+    turn = rng.choice([0.0, -0.4e-6, 3e-6], m)
+    poses = poses_of(ur5, q).copy()
+    c, s = np.cos(turn), np.sin(turn)
+    rz = np.zeros((m, 3, 3))
+    rz[:, 0, 0], rz[:, 0, 1], rz[:, 1, 0], rz[:, 1, 1], rz[:, 2, 2] = c, -s, s, c, 1.0
+    poses[:, :3, 3] += np.einsum("kij,kj->ki", poses[:, :3, :3], shift)
+    poses[:, :3, :3] = poses[:, :3, :3] @ rz
+    return poses, size, np.abs(turn)
+
+
+def _beyond(size, turn, tol=(1e-6, 1e-6)):
+    """Rows moved or turned by more than ``tol``: NumPy's count of the drawn amounts."""
+    return int(((size > tol[0]) | (turn > tol[1])).sum())
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_the_summary_counts_the_rows_beyond_tolerance_as_numpy_does_over_every_row(
+    ur5, motion, small, seed
+):
+    poses, size, turn = _off_by_known_amounts(ur5, motion, seed)
+    beyond = _beyond(size, turn)
+    assert 0 < beyond < ROWS  # some rows within, some beyond
+    summary = StreamSummary(ur5, ("base", "tool0"), (1e-6, 1e-6))
+    for first in range(0, ROWS, CHUNK):
+        stop = min(ROWS, first + CHUNK)
+        summary.add(
+            recording.PoseChunk(
+                motion[first:stop], poses[first:stop], None, np.arange(first, stop) + 2
+            )
+        )
+    assert summary.stride > 1  # a sample is kept, not every row
+    assert summary.beyond == beyond
+    # Another tolerance: the second pass counts against it, as NumPy does.
+    looser = (2.5e-6, 1e-6)
+    want = _beyond(size, turn, looser)
+    assert 0 < want < beyond
+    rec = _ChunkedRecording(motion, poses)
+    assert rows_beyond(rec, ur5, ("base", "tool0"), looser) == want
+
+
+class _ChunkedRecording:
+    """A recording held in memory, read :data:`CHUNK` rows at a time; counts its reads."""
+
+    method = "in memory"
+    pair = None
+    where = "row"
+
+    def __init__(self, q, poses):
+        self.q, self.poses, self.reads = q, poses, 0
+
+    def chunks(self):
+        self.reads += 1
+        for first in range(0, self.q.shape[0], CHUNK):
+            stop = min(self.q.shape[0], first + CHUNK)
+            yield recording.PoseChunk(
+                self.q[first:stop], self.poses[first:stop], None, np.arange(first, stop) + 1
+            )
+
+
+def test_a_failing_check_reads_the_recording_once_and_counts_every_row(
+    ur5, motion, tmp_path, small, capsys, monkeypatch
+):
+    poses, size, turn = _off_by_known_amounts(ur5, motion, 3)
+    beyond = _beyond(size, turn)
+    rows = rtde_rows(ur5, motion)
+    lines = [" ".join(RTDE_HEADER)]
+    x = RTDE_HEADER.index("actual_TCP_pose_0")
+    from scipy.spatial.transform import Rotation
+
+    rotvec = Rotation.from_matrix(poses[:, :3, :3]).as_rotvec()
+    for row, pose in zip(rows, np.hstack([poses[:, :3, 3], rotvec]), strict=True):
+        row[x : x + 6] = pose.tolist()
+        lines.append(" ".join(map(repr, row)))
+    path = tmp_path / "rec.csv"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    from fkcheck.backends import measured
+
+    reads = []
+    chunks = measured._CsvRecording.chunks
+
+    def counted(self):
+        reads.append(self.path)
+        return chunks(self)
+
+    monkeypatch.setattr(measured._CsvRecording, "chunks", counted)
+    code = main(["check", "ur5", "--against", f"poses:{path}"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 1, out
+    assert f"{beyond} of 600 rows differ" in out
+    # Once: the check's count, its diagnosis (every explanation it verifies) included.
+    assert reads == [path]
+
+
+def test_the_diagnosis_of_a_streamed_recording_explains_it_without_reading_it_again(
+    motion, tmp_path, small, capsys, monkeypatch
+):
+    # A UR10e recording checked with the UR10's table: the diagnosis names the UR10e,
+    # verified against the recording's own rows (the ones the check kept).
+    ur10e = load_model("ur10e")
+    path = write_rtde_csv(tmp_path / "rec.csv", ur10e, motion)
+    from fkcheck.backends import measured
+
+    reads = []
+    chunks = measured._CsvRecording.chunks
+
+    def counted(self):
+        reads.append(self.path)
+        return chunks(self)
+
+    monkeypatch.setattr(measured._CsvRecording, "chunks", counted)
+    code = main(["check", "ur10", "--against", f"poses:{path}"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 1, out
+    assert "600 of 600 rows differ" in out
+    assert "the reference matches the published table ur10e" in out
+    assert "could not run" not in out
+    assert reads == [path]
+
+
+def test_reading_a_recording_past_the_checks_time_limit_is_one_line_exit_2(
+    ur5, motion, tmp_path, small, capsys, monkeypatch
+):
+    from fkcheck.engine import stream
+
+    path = write_rtde_csv(tmp_path / "rec.csv", ur5, motion)
+    monkeypatch.setattr(stream, "READ_MIN_S", 0.0)  # the time limit is --timeout alone
+    code = main(["check", "ur5", "--against", f"poses:{path}", "--timeout", "1e-9"])
+    captured = capsys.readouterr()
+    assert code == 2, captured.out
+    assert captured.err.count("\n") == 1, captured.err
+    assert re.search(
+        r"reading the recording did not finish within the check's time limit of 1e-09 s "
+        r"\(\d+ rows read\); give it more with --timeout",
+        captured.err,
+    ), captured.err
+    assert "Traceback" not in captured.err
+
+
+def test_the_time_limit_of_a_recordings_read_is_never_below_read_min_s(ur5, motion, small):
+    from fkcheck.engine.stream import READ_MIN_S, StreamKeeper
+
+    summary = StreamKeeper((1e-6, 1e-6), 1e-9)(ur5, ("base", "tool0"))
+    assert summary.limit_s == READ_MIN_S
+    poses = poses_of(ur5, motion)
+    summary.add(recording.PoseChunk(motion, poses, None, np.arange(ROWS) + 2))
+    assert summary.rows == ROWS
+    # Equal keepers read a recording once, whatever their time limits.
+    assert StreamKeeper((1e-6, 1e-6), 5.0) == StreamKeeper((1e-6, 1e-6))
+    assert StreamKeeper((1e-6, 1e-6)) != StreamKeeper((1e-6, 2e-6))

@@ -33,10 +33,10 @@ _READ = """
 import sys
 from fkcheck import load_model
 from fkcheck.backends.measured import MeasuredPoses
-from fkcheck.engine.stream import StreamSummary
+from fkcheck.engine.stream import StreamKeeper
 model = load_model("ur5")
 backend = MeasuredPoses(sys.argv[1])
-backend.keep_with(StreamSummary)
+backend.keep_with(StreamKeeper((1e-6, 1e-6)))
 q = backend.configurations(model)
 _, summary = backend.streamed(model)
 status = open("/proc/self/status").read().split("VmHWM:", 1)[1]

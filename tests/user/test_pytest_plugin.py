@@ -148,6 +148,37 @@ def test_pytest_xdist_spreads_the_models(tmp_path: Path) -> None:
     _assert_report(result)
 
 
+_SHARE_TEST = """
+import os
+
+from fkcheck.process.cpus import usable_cores
+from fkcheck.process.threads import thread_limit
+
+
+def test_the_worker_has_its_share():
+    assert os.environ["PYTEST_XDIST_WORKER_COUNT"] == "2"
+    assert thread_limit() == max(1, usable_cores() // 2)
+    assert os.environ["OPENBLAS_NUM_THREADS"] == str(thread_limit())
+"""
+
+
+def test_xdist_workers_of_a_project_with_models_share_the_cores(tmp_path: Path) -> None:
+    # Set when the plugin configures each worker: before any of its tests, the
+    # project's own ones included.
+    pytest.importorskip("xdist")
+    repo = make_user_repo(tmp_path / "repo", TOOL_FKCHECK)
+    (repo / "test_share.py").write_text(_SHARE_TEST, encoding="utf-8")
+    env = _env(tmp_path)
+    for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+        env.pop(name, None)
+    result = subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-n", "2", "test_share.py"],
+        cwd=repo, env=env, capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert re.search(r"\b1 passed", result.stdout), result.stdout
+
+
 def test_the_report_header_names_the_version_and_the_models(tmp_path: Path) -> None:
     result = _run(tmp_path, "--collect-only")
     assert result.returncode == 0, result.stdout + result.stderr

@@ -244,3 +244,32 @@ def test_failures_in_a_users_pytest_run_are_short_and_name_the_number(tmp_path: 
         lines = section.strip().splitlines()
         assert len(lines) <= 15, section
         assert re.fullmatch(r"test_arm\.py:\d+: AssertionError", lines[-1]), section
+
+
+_XDIST_WORKER = """
+import os
+from fkcheck.process.threads import thread_limit
+from fkcheck.testing import assert_fk_matches
+
+assert thread_limit() is None  # importing fkcheck shares nothing
+assert_fk_matches("ur5", against="rtb-dh", samples=5)
+print(thread_limit(), os.environ.get("OPENBLAS_NUM_THREADS"))
+"""
+
+
+@pytest.mark.parametrize(("workers", "share"), [("4", "1 1"), (None, "None None")])
+def test_assert_fk_matches_in_an_xdist_worker_shares_the_cores(workers, share):
+    # One of 4 workers on this machine (2 cores, or fewer usable): 1 thread a pool. Not
+    # under xdist: the pools stay as they are.
+    pytest.importorskip("roboticstoolbox")
+    from fkcheck.process.cpus import usable_cores
+
+    assert usable_cores() <= 7  # 4 workers get one thread each (7 // 4 == 1)
+    names = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS")
+    env = {k: v for k, v in os.environ.items() if k not in names and not k.startswith("PYTEST_")}
+    if workers is not None:
+        env["PYTEST_XDIST_WORKER_COUNT"] = workers
+    done = subprocess.run([sys.executable, "-c", _XDIST_WORKER], env=env, capture_output=True,
+                          text=True, timeout=300, check=False)  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == share.split()

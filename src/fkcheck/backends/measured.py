@@ -682,6 +682,21 @@ def _check_duplicates(q: Float, poses: Float, linenos: NDArray[np.int64], path: 
         refuse_if_different(unique[close], unique[near[close, 1]], f" (within {MATCH_TOL:g})")
 
 
+def _reading(model: Model) -> tuple[object, ...]:
+    """What reading a recording takes from a model: its joints, URDF joint names and frames.
+
+    The columns (by joint count and type), a bag's joint names and the frame pair
+    (the model's ``[check]`` pair, frame names and their URDF twins); not its numbers.
+    """
+    urdf = model.urdf.joints if model.urdf is not None and model.urdf.joints else ()
+    return (
+        tuple((j.name, j.type) for j in model.joints),
+        tuple(urdf),
+        (model.check.frame_from, model.check.frame_to),
+        tuple((key, spec.name, spec.urdf) for key, spec in model.frames.items()),
+    )
+
+
 def _key_values(q: Float) -> Float:
     """``q`` as a C-contiguous copy with -0.0 made 0.0: equal rows have equal bytes."""
     return np.ascontiguousarray(q, dtype=np.float64) + 0.0
@@ -743,9 +758,10 @@ class MeasuredPoses(BackendDefaults):
     def keep_with(self, keeper: KeeperFactory) -> None:
         """Read the recording through ``keeper`` from now on (the check's: it compares as it reads).
 
-        A recording already read through another keeper is read again when next asked for.
+        A recording already read through another keeper (one not equal to it) is read
+        again when next asked for.
         """
-        if keeper is not self._keeper:
+        if keeper != self._keeper:
             self._keeper = keeper
             self._read = None
 
@@ -766,6 +782,18 @@ class MeasuredPoses(BackendDefaults):
             self._read = model, _read(self.path, model, self._keeper, self.options)
             self.method = self._read[1].method
         return self._read[1]
+
+    def _table_for(self, model: Model) -> _Table:
+        """The table to look up ``model``'s poses in: the one read, if ``model`` reads alike.
+
+        A recorded pose does not depend on the model, only which rows were kept and
+        how the recording was read: a diagnosis's changed model (other numbers, the
+        same joints and frames) looks up the rows kept for the check's model, rather
+        than reading a recording of millions of rows again for each change it verifies.
+        """
+        if self._read is not None and _reading(self._read[0]) == _reading(model):
+            return self._read[1]
+        return self._table(model)
 
     @property
     def recording(self) -> bool:
@@ -796,7 +824,7 @@ class MeasuredPoses(BackendDefaults):
             JointInputError: ``q`` has the wrong shape or non-finite values.
         """
         q = validated_q(model, q)
-        table = self._table(model)
+        table = self._table_for(model)
         pair = table.pair or (model.check.frame_from, model.check.frame_to)
         if tuple(frames) != pair:
             raise FrameUnavailable(

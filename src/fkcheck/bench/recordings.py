@@ -114,10 +114,10 @@ def _fkcheck_read(path: Path, model: Model) -> Float:
 
 def _fkcheck_check(path: Path, model: Model) -> None:
     from fkcheck.backends.measured import MeasuredPoses
-    from fkcheck.engine.stream import StreamSummary
+    from fkcheck.engine.stream import StreamKeeper
 
     backend = MeasuredPoses(str(path))
-    backend.keep_with(StreamSummary)
+    backend.keep_with(StreamKeeper((model.check.tol_pos_m, model.check.tol_rot_rad)))
     backend.configurations(model)
 
 

@@ -54,6 +54,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from fkcheck.core.joint_array import joint_array, require_finite
 from fkcheck.core.typing import Float
+from fkcheck.process.threads import thread_limit
 
 __all__ = [
     "JIT_MIN_POSES",
@@ -270,9 +271,15 @@ _jit_error: str | None = None
 
 
 def jit_tasks() -> int:
-    """Worker count of the numba kernels (FK and Jacobian): numba's thread count."""
+    """Worker count of the numba kernels (FK and Jacobian): numba's thread count.
+
+    No more than this process's share of the cores when it runs beside other checks
+    (:func:`fkcheck.process.threads.thread_limit`).
+    """
     assert _jit is not None
-    return int(_jit.tasks())
+    limit = thread_limit()
+    tasks = int(_jit.tasks())
+    return tasks if limit is None else min(tasks, limit)
 
 
 def load_jit() -> bool:

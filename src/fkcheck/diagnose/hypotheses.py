@@ -357,11 +357,14 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
     """Each a, α, d, θ fitted alone to the reference; the ones that explain (or halve) it.
 
     A least-squares fit of one scalar (:func:`scipy.optimize.least_squares`) from the
-    table's value: "d1 = 0.089459 here, 0.089159 would match, Δ = −0.300 mm".
+    table's value: "d1 = 0.089459 here, 0.089159 would match, Δ = −0.300 mm". Fitted
+    on up to :data:`~fkcheck.diagnose.problem.SPREAD_CONFIGURATIONS` of the problem's
+    configurations, judged on all of them.
     """
     from scipy.optimize import least_squares
 
     model = problem.model
+    fit = problem.spread()
     before = problem.residual(model)
     out: list[Explanation] = []
     for i in range(model.dof):
@@ -370,7 +373,7 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
 
             def residuals(x: np.ndarray, i: int = i, param: str = param) -> np.ndarray:
                 trial = _with_joint(model, i, **{param: float(x[0])})
-                return pose_residuals(problem.poses(trial), problem.reference)
+                return pose_residuals(fit.poses(trial), fit.reference)
 
             sol = least_squares(
                 residuals, [old], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200

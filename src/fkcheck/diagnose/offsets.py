@@ -339,16 +339,21 @@ def _like_d1(problem: Problem, X: Float) -> str | None:
 
 
 def explain_offsets(problem: Problem) -> list[Explanation]:
-    """Constant base/tip offsets, as an explanation (with the fixing model-file text)."""
+    """Constant base/tip offsets, as an explanation (with the fixing model-file text).
+
+    Fitted on up to :data:`~fkcheck.diagnose.problem.SPREAD_CONFIGURATIONS` of the
+    problem's configurations, judged on all of them.
+    """
     T_dh = problem.poses(problem.model)
-    fit = fit_offsets(T_dh, problem.reference)
+    spread = problem.spread()
+    fit = fit_offsets(spread.poses(problem.model), spread.reference)
     X, Y = fit.X, fit.Y
     clean_X, clean_Y = _clean(X, step_deg=15.0), _clean(Y, step_deg=15.0)
     cleaned = problem.errors(clean_X @ T_dh @ clean_Y)
     if problem.explained(cleaned):
         X, Y, residual = clean_X, clean_Y, cleaned
     else:
-        residual = fit.residual
+        residual = problem.errors(X @ T_dh @ Y)
     explains = problem.explained(residual)
     base_same, tip_same = _is_identity(X), _is_identity(Y)
     if base_same and tip_same:

@@ -21,6 +21,7 @@ from fkcheck.model.sampling import sample_configurations
 from fkcheck.model.types import KnownDifference, Model
 
 __all__ = [
+    "SPREAD_CONFIGURATIONS",
     "Problem",
     "Residual",
     "diagnosis_configurations",
@@ -29,6 +30,13 @@ __all__ = [
 ]
 
 
+#: Configurations a least-squares fit evaluates at each step, at most: a diagnosis of
+#: a long recording runs on its kept rows (up to ~20,000), and a fit on all of them
+#: would take tens of seconds where a thousand spread over the recording find the same
+#: numbers. Each fit's result is then judged on all of the problem's configurations.
+#: Above a diagnosis's own sampling (200 random configurations and the named poses),
+#: so a diagnosis of sampled configurations fits on all of them.
+SPREAD_CONFIGURATIONS = 1024
 #: Rotation errors enter least-squares fits multiplied by this length (m per rad):
 #: one milliradian weighs as much as one millimetre, the scale of an arm's reach.
 ROTATION_WEIGHT_M = 1.0
@@ -160,6 +168,18 @@ class Problem:
     def subset(self, count: int) -> Problem:
         """The same problem on its first ``count`` configurations (for costly fits)."""
         return replace(self, q=self.q[:count], reference=self.reference[:count])
+
+    def spread(self, count: int = SPREAD_CONFIGURATIONS) -> Problem:
+        """The same problem on at most ``count`` configurations evenly spread over its own.
+
+        For least-squares fits (see :data:`SPREAD_CONFIGURATIONS`): a recording's kept
+        rows are in its order, so its first rows would see only its first minutes.
+        """
+        total = self.q.shape[0]
+        if total <= count:
+            return self
+        keep = np.linspace(0, total - 1, count).round().astype(np.intp)
+        return replace(self, q=self.q[keep], reference=self.reference[keep])
 
     def poses(self, model: Model) -> Float:
         """``from_T_to(q)`` of a (modified) table, with the in-house core."""

@@ -82,7 +82,7 @@ def diagnose(
     if q is None and isinstance(backend, FixedConfigurations):
         from fkcheck.engine.stream import stream_recordings
 
-        stream_recordings([backend])  # a long recording: its sample and its worst rows
+        stream_recordings([backend], tol)  # a long recording: its sample and its worst rows
         q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)
     problem = Problem.build(model, backend, configs, pair, tol)

@@ -171,11 +171,11 @@ def compare(job: Job, on_progress: Progress | None = None) -> BackendResult:
     stream = _streamed(job)
     if n_bad:
         # A long recording: the kept rows hold its worst ones, so it fails exactly when
-        # they do; how many of all its rows differ takes a second pass.
+        # they do; how many of all its rows differ was counted as it streamed.
         counted = (
             f"{n_bad} of {q.shape[0]} configurations"
             if stream is None
-            else f"{rows_beyond(stream[0], model, pair, job.tol)} of {stream[1].rows} rows"
+            else f"{_rows_beyond(stream, job)} of {stream[1].rows} rows"
         )
         reasons.append(
             f"{counted} differ: max position error "
@@ -337,6 +337,18 @@ def _streamed(job: Job) -> tuple[Recording, StreamSummary] | None:
     if streamed is None or not isinstance(streamed[1], StreamSummary):
         return None
     return streamed[0], streamed[1]
+
+
+def _rows_beyond(stream: tuple[Recording, StreamSummary], job: Job) -> int:
+    """A streamed recording's rows beyond the job's tolerances, over every row.
+
+    Counted as it streamed (the check's tolerances are its summary's); other
+    tolerances take a second pass.
+    """
+    recording, summary = stream
+    if summary.tol == job.tol and summary.pair == job.pair:
+        return summary.beyond
+    return rows_beyond(recording, job.model, summary.pair, job.tol)
 
 
 def _stream_spread(summary: StreamSummary) -> str:

@@ -103,7 +103,8 @@ def prepare(request: CheckRequest) -> PreparedCheck:
         FrameError: An unknown frame name.
         UrdfError: The model's URDF is missing, unsafe or does not fit the model.
         ModelError: A calibrated model's nominal model is missing or invalid.
-        TimeLimitError: The per-number evidence did not finish within the check's
+        TimeLimitError: A recording's read (:data:`~fkcheck.engine.stream.READ_MIN_S`
+            at least) or the per-number evidence did not finish within the check's
             time limit (or :data:`EVIDENCE_MIN_S`, when longer).
         FkcheckError: Other bad input (a known difference naming no backend,
             measured poses at different configurations, ``require table`` on a
@@ -125,7 +126,7 @@ def prepare(request: CheckRequest) -> PreparedCheck:
     jacobian = JacobianSpec(*asked) if asked is not None else None
     if jacobian is not None:
         check_fixed_from(model, pair[0])
-    q = _fixed_configurations(model, backends) or sample_configurations(
+    q = _fixed_configurations(model, backends, tol, options.timeout_s) or sample_configurations(
         model, options.samples, options.seed, options.sampler
     )
     required = tuple(k for k in KINDS if k in (*model.check.require, *options.require))
@@ -260,12 +261,18 @@ def _check_twins(
             raise FrameError(link, where, links)
 
 
-def _fixed_configurations(model: Model, backends: Sequence[Backend]) -> Samples | None:
-    """The configurations a measured-poses backend dictates, if one takes part."""
+def _fixed_configurations(
+    model: Model, backends: Sequence[Backend], tol: tuple[float, float], timeout_s: float
+) -> Samples | None:
+    """The configurations a measured-poses backend dictates, if one takes part.
+
+    A long recording is compared as it is read, its rows beyond ``tol`` counted,
+    within ``timeout_s`` (at least :data:`~fkcheck.engine.stream.READ_MIN_S`).
+    """
     fixed = [b for b in backends if isinstance(b, FixedConfigurations)]
     if not fixed:
         return None
-    stream_recordings(fixed)  # a long recording is compared as it is read
+    stream_recordings(fixed, tol, timeout_s)  # a long recording is compared as it is read
     q = np.asarray(fixed[0].configurations(model), dtype=np.float64)
     for other in fixed[1:]:
         if not np.array_equal(np.asarray(other.configurations(model)), q):

@@ -54,6 +54,7 @@ from fkcheck.process.isolation import (
     terminate_all,
 )
 from fkcheck.process.supervise import acting_for
+from fkcheck.process.threads import child_environment
 
 if TYPE_CHECKING:
     from fkcheck.urdf.mapping import LinkFit
@@ -234,7 +235,7 @@ class _InChild:
     def _run(self, calls: list[tuple[functools.partial[Any], int]], axis: int) -> Any:
         """Each ``(call, configurations)`` in a process of its own, at once, joined on ``axis``."""
         if len(calls) == 1:
-            answers: list[tuple[str, Any] | BaseException] = [self._answer(*calls[0])]
+            answers: list[tuple[str, Any] | BaseException] = [self._answer(*calls[0], 1)]
         else:
             owner = threading.current_thread()
             boxes: list[list[tuple[str, Any] | BaseException]] = [[] for _ in calls]
@@ -242,7 +243,7 @@ class _InChild:
             def part(k: int) -> None:
                 try:
                     with acting_for(owner):  # abandoning the backend stops every part
-                        boxes[k].append(self._answer(*calls[k]))
+                        boxes[k].append(self._answer(*calls[k], len(calls)))
                 except BaseException as exc:
                     boxes[k].append(exc)
 
@@ -272,12 +273,19 @@ class _InChild:
             raise NoAnswerError("it gave a Jacobian for some configurations and none for others")
         return np.concatenate([a[1] for a in answers if isinstance(a, tuple)], axis=axis)
 
-    def _answer(self, call: functools.partial[Any], n: int) -> tuple[str, Any]:
-        """One process's ``(kind, value)`` over ``n`` configurations (see :func:`_in_child`)."""
+    def _answer(self, call: functools.partial[Any], n: int, parts: int) -> tuple[str, Any]:
+        """One process's ``(kind, value)`` over ``n`` configurations (see :func:`_in_child`).
+
+        One of ``parts`` processes at once: its thread pools are sized to its share of
+        the cores (:func:`fkcheck.process.threads.child_environment`).
+        """
         remaining = max(0.0, self.deadline - time.monotonic())
         try:
             answer: tuple[str, Any] = run_isolated(
-                functools.partial(_in_child, call), remaining, answer_limit(n)
+                functools.partial(_in_child, call),
+                remaining,
+                answer_limit(n),
+                env=child_environment(parts),
             )
         except IsolatedTimeout:
             raise NoAnswerError(f"timed out after {self.timeout_s:g} s") from None

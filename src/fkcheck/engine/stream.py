@@ -18,18 +18,23 @@ forgotten; what is kept is bounded whatever the recording's length:
   apart, for the median and 95th percentile of a failure's spread (the bin's middle:
   within 0.05 % of the exact value).
 
+* **the count of rows beyond the check's tolerances**, known before the recording
+  is read (:class:`StreamKeeper` carries them), so that a failure's count is over
+  every row without reading the recording again.
+
 The check runs on the kept rows — the sample and the worst rows, in the
 recording's order: every other backend, the coverage of the table's numbers, the
 calibration's effect and the plots see those, and its verdict on the recording is
-exact, as the worst rows are among them. Only a failure's count of rows beyond
-tolerance needs every row again: :func:`rows_beyond` streams the recording a
-second time (:func:`fkcheck.engine.compare.compare` asks for it only then).
+exact, as the worst rows are among them. The recording is read once.
+:func:`rows_beyond` counts for other tolerances, with a second pass.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -39,10 +44,18 @@ from fkcheck.backends.recording import PoseChunk, Recording, SampleKeeper
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import WORST_CASES
+from fkcheck.errors import TimeLimitError
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Model
 
-__all__ = ["HISTOGRAM_RATIO", "StreamSummary", "rows_beyond", "stream_recordings"]
+__all__ = [
+    "HISTOGRAM_RATIO",
+    "READ_MIN_S",
+    "StreamKeeper",
+    "StreamSummary",
+    "rows_beyond",
+    "stream_recordings",
+]
 
 #: Neighbouring bins of the error histograms are this far apart (ratio).
 HISTOGRAM_RATIO = 1.001
@@ -52,6 +65,10 @@ _HIST_LOW = 1e-16
 #: ... to this large (larger ones, and infinite ones, count in the last).
 _HIST_HIGH = 1e4
 _BINS = math.ceil(math.log(_HIST_HIGH / _HIST_LOW) / math.log(HISTOGRAM_RATIO))
+#: Reading a recording has the check's time limit, but never less than this, seconds:
+#: a ``--timeout`` short enough for a hanging backend (0.5 s) must not end the read of
+#: a recording of a few minutes (about 13 µs a row: 10 s is some 750,000 rows).
+READ_MIN_S = 10.0
 
 
 def _bin(values: Float) -> NDArray[np.intp]:
@@ -104,16 +121,33 @@ class StreamSummary(SampleKeeper):
     Attributes:
         model: The model compared with.
         pair: The frame pair of the recording's poses.
+        tol: ``(position m, rotation rad)``: the tolerances :attr:`beyond` counts against.
+        beyond: Rows whose position error exceeds ``tol[0]`` or whose rotation error
+            exceeds ``tol[1]`` (a row that is not finite counts), over every row.
         max_position_m: Largest position error over every row (``inf``: a row whose
             reference or pose is not finite).
         max_rotation_rad: Largest rotation error over every row.
     """
 
-    def __init__(self, model: Model, pair: tuple[str, str]) -> None:
-        """Compare rows of ``pair``'s poses with ``model``'s core."""
+    def __init__(
+        self,
+        model: Model,
+        pair: tuple[str, str],
+        tol: tuple[float, float],
+        timeout_s: float | None = None,
+    ) -> None:
+        """Compare rows of ``pair``'s poses with ``model``'s core; count those beyond ``tol``.
+
+        With ``timeout_s``, the rows must all be added within it (at least
+        :data:`READ_MIN_S`) from now.
+        """
         super().__init__(model.dof)
         self.model = model
         self.pair = pair
+        self.tol = tol
+        self.beyond = 0
+        self.limit_s = None if timeout_s is None else max(timeout_s, READ_MIN_S)
+        self._deadline = math.inf if self.limit_s is None else time.monotonic() + self.limit_s
         self.max_position_m = 0.0
         self.max_rotation_rad = 0.0
         self._hist = {
@@ -124,11 +158,21 @@ class StreamSummary(SampleKeeper):
         self._top_rot = _Top(WORST_CASES, model.dof)
 
     def add(self, chunk: PoseChunk) -> None:
-        """Compare one chunk's rows with the core; keep the sample, the worst, the statistics."""
+        """Compare one chunk's rows with the core; keep the sample, the worst, the statistics.
+
+        Raises:
+            TimeLimitError: The time limit has passed (checked once a chunk).
+        """
+        if time.monotonic() > self._deadline:
+            raise TimeLimitError(
+                f"reading the recording did not finish within the check's time limit of "
+                f"{self.limit_s:g} s ({self.rows:,} rows read); give it more with --timeout"
+            )
         if not chunk.q.shape[0]:
             return
         first = self.rows
         pos, rot = _errors(self.model, self.pair, chunk)
+        self.beyond += _count_beyond(pos, rot, self.tol)
         self.max_position_m = max(self.max_position_m, float(pos.max()))
         self.max_rotation_rad = max(self.max_rotation_rad, float(rot.max()))
         self._hist["position"] += np.bincount(_bin(pos), minlength=_BINS)
@@ -171,13 +215,48 @@ class StreamSummary(SampleKeeper):
         return min(top, float(_HIST_LOW * HISTOGRAM_RATIO ** (min(k, _BINS - 1) + 0.5)))
 
 
-def stream_recordings(backends: Sequence[Backend]) -> None:
-    """Hand each backend that reads a recording chunk by chunk the check's keeper."""
+@dataclass(frozen=True)
+class StreamKeeper:
+    """Makes the check's :class:`StreamSummary` of a recording: a keeper factory.
+
+    Equal for equal tolerances, so that a backend handed an equal one again keeps
+    the recording it read (:meth:`fkcheck.backends.measured.MeasuredPoses.keep_with`):
+    the time limit takes no part (a diagnosis after the check reads nothing again).
+
+    Attributes:
+        tol: ``(position m, rotation rad)``: the check's tolerances.
+        timeout_s: The check's time limit for the read (at least :data:`READ_MIN_S`),
+            from when the summary is made; ``None``: none.
+    """
+
+    tol: tuple[float, float]
+    timeout_s: float | None = field(default=None, compare=False)
+
+    def __call__(self, model: Model, pair: tuple[str, str]) -> StreamSummary:
+        """The summary of a recording of ``pair``'s poses, compared with ``model``."""
+        return StreamSummary(model, pair, self.tol, self.timeout_s)
+
+
+def stream_recordings(
+    backends: Sequence[Backend], tol: tuple[float, float], timeout_s: float | None = None
+) -> None:
+    """Hand each backend that reads a recording chunk by chunk the check's keeper.
+
+    ``tol`` is the check's ``(position m, rotation rad)`` tolerances: the rows
+    beyond them are counted as the recording streams. ``timeout_s`` is the check's
+    time limit: a read that takes longer (and at least :data:`READ_MIN_S`) ends in
+    :class:`~fkcheck.errors.TimeLimitError`.
+    """
     from fkcheck.backends.measured import MeasuredPoses
 
     for backend in backends:
         if isinstance(backend, MeasuredPoses):
-            backend.keep_with(StreamSummary)
+            backend.keep_with(StreamKeeper(tol, timeout_s))
+
+
+def _count_beyond(pos: Float, rot: Float, tol: tuple[float, float]) -> int:
+    """Rows whose position or rotation error exceeds its tolerance (``inf`` does)."""
+    return int(np.count_nonzero((pos > tol[0]) | (rot > tol[1])))
 
 
 def rows_beyond(
@@ -185,11 +264,13 @@ def rows_beyond(
 ) -> int:
     """How many rows of ``recording`` differ from the core by more than ``tol``: a second pass.
 
+    The check needs none: its :class:`StreamSummary` counts against the check's
+    tolerances as the recording streams (:attr:`StreamSummary.beyond`).
+
     Raises:
         FkcheckError: The recording cannot be read (as on its first pass).
     """
     count = 0
     for chunk in recording.chunks():
-        pos, rot = _errors(model, pair, chunk)
-        count += int(((pos > tol[0]) | (rot > tol[1])).sum())
+        count += _count_beyond(*_errors(model, pair, chunk), tol)
     return count

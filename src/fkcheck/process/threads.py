@@ -1,0 +1,112 @@
+"""Thread pools sized to a process's share of the cores, when several checks run at once.
+
+NumPy's and SciPy's OpenBLAS, an OpenMP runtime and fkcheck's numba kernels each
+run one thread per core in every process. Several checks at once — pytest-xdist
+workers, an isolated backend split over processes — then run ``workers × cores``
+threads on the cores, and they wait on each other: 16 robots' checks took as long
+on 2 xdist workers as on 1, with 40 % more CPU time (``docs/howto/many-robots.md``).
+
+:func:`share_cores` gives this process its share, ``usable cores // workers``
+threads (at least 1): to the libraries already loaded through threadpoolctl, to
+those loaded later through their own variables (``OMP_NUM_THREADS``,
+``OPENBLAS_NUM_THREADS``, ``MKL_NUM_THREADS``, read when a library loads), and to
+fkcheck's numba kernels through :func:`thread_limit`. :func:`child_environment`
+sizes the pools of child processes started side by side (numba's
+``NUMBA_NUM_THREADS`` too: it cannot change once numba runs in a process).
+
+:func:`share_xdist_cores` is the share of a pytest-xdist worker, taken by the
+pytest plugin (for a project with ``[tool.fkcheck]`` models) and by
+:func:`fkcheck.testing.assert_fk_matches`. A user who set any of those variables
+chose: their pools are left alone.
+"""
+
+from __future__ import annotations
+
+import os
+
+from fkcheck.process.cpus import usable_cores
+
+__all__ = [
+    "THREAD_VARIABLES",
+    "XDIST_WORKERS",
+    "child_environment",
+    "share_cores",
+    "share_xdist_cores",
+    "thread_limit",
+]
+
+#: The variables that size the thread pools of a library loaded after they are set.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+#: numba's, read once when numba is imported (a child process's only).
+_NUMBA_VARIABLE = "NUMBA_NUM_THREADS"
+
+#: The variable pytest-xdist sets in each of its workers: how many workers it runs.
+XDIST_WORKERS = "PYTEST_XDIST_WORKER_COUNT"
+
+_limit: int | None = None
+
+
+def _user_chose() -> bool:
+    """Whether the user set a pool's size (before fkcheck set any)."""
+    return _limit is None and any(
+        name in os.environ for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE)
+    )
+
+
+def share_cores(workers: int) -> int | None:
+    """Size this process's thread pools to its share, as one of ``workers`` side by side.
+
+    Idempotent; a share once set is never widened (a second, larger one is ignored).
+
+    Returns:
+        The threads each pool may run, or ``None`` when the user's variables decide.
+    """
+    global _limit
+    if _user_chose():
+        return None
+    threads = max(1, usable_cores() // max(1, workers))
+    if _limit is not None and _limit <= threads:
+        return _limit
+    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
+
+    for name in THREAD_VARIABLES:  # for the libraries this process loads later
+        os.environ[name] = str(threads)
+    threadpool_limits(limits=threads)  # for those loaded already
+    _limit = threads
+    return threads
+
+
+def share_xdist_cores() -> int | None:
+    """In a pytest-xdist worker (one of several), :func:`share_cores` with the workers' count.
+
+    Outside xdist, or in its only worker, nothing changes.
+
+    Returns:
+        The threads each pool may run, or ``None`` when nothing changed.
+    """
+    try:
+        workers = int(os.environ.get(XDIST_WORKERS, ""))
+    except ValueError:  # not an xdist worker (or a variable set by hand, not a count)
+        return None
+    return share_cores(workers) if workers > 1 else None
+
+
+def thread_limit() -> int | None:
+    """The threads this process's share allows (:func:`share_cores`), or ``None``: no share."""
+    return _limit
+
+
+def child_environment(workers: int) -> dict[str, str] | None:
+    """The environment of one of ``workers`` child processes started side by side.
+
+    This process's, with each pool sized to the child's share of this process's
+    cores (its own share, when it has one); ``None`` (inherit this process's
+    environment) for one child, or when the user's variables decide.
+    """
+    if workers <= 1 or _user_chose():
+        return None
+    threads = str(max(1, (_limit or usable_cores()) // workers))
+    env = dict(os.environ)
+    for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE):
+        env[name] = threads
+    return env

@@ -1,0 +1,120 @@
+"""Thread pools sized to a process's share of the cores (several checks at once).
+
+Each case runs in a fresh interpreter: a share changes the process's thread pools
+and environment for good. The machine's cores are set in it (``usable_cores``), so
+the shares asserted do not depend on the machine the tests run on.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from fkcheck.process import threads
+
+pytestmark = pytest.mark.skipif(
+    not hasattr(os, "sched_getaffinity"), reason="compares with the process's affinity (Linux)"
+)
+
+_SHARE = """
+import json, os, sys
+import numpy
+from fkcheck.process import threads
+threads.usable_cores = lambda: int(sys.argv[1])
+from threadpoolctl import threadpool_info
+before = [p["num_threads"] for p in threadpool_info()]
+got = threads.share_xdist_cores()
+import scipy.linalg  # its OpenBLAS loads after the share: sized by the variables
+after = {p["filepath"].rsplit("/", 1)[-1]: p["num_threads"] for p in threadpool_info()}
+from fkcheck.core import dh
+assert dh.load_jit()
+print(json.dumps({"got": got, "before": before, "after": after, "jit": dh.jit_tasks(),
+                  "numba": int(dh._jit.nb.get_num_threads()),
+                  "env": {k: os.environ.get(k) for k in threads.THREAD_VARIABLES},
+                  "child": threads.child_environment(2) is not None}))
+"""
+
+
+def _share(cores: int, env: dict[str, str]) -> dict:
+    clean = {
+        k: v
+        for k, v in os.environ.items()
+        if k not in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS", threads.XDIST_WORKERS)
+    }
+    done = subprocess.run(
+        [sys.executable, "-c", _SHARE, str(cores)],
+        env={**clean, **env},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    result: dict = json.loads(done.stdout.splitlines()[-1])
+    return result
+
+
+def test_an_xdist_worker_gets_its_share_of_the_cores_in_every_pool():
+    # 4 cores, 4 workers: one thread each — numpy's and SciPy's OpenBLAS (loaded before
+    # and after the share) and fkcheck's numba kernels.
+    got = _share(4, {threads.XDIST_WORKERS: "4"})
+    assert got["got"] == 1
+    assert max(got["before"]) > 1 or len(os.sched_getaffinity(0)) == 1  # default: one per core
+    assert len(got["after"]) >= 2  # numpy's and SciPy's OpenBLAS
+    assert set(got["after"].values()) == {1}
+    assert got["jit"] == 1
+    assert got["env"] == dict.fromkeys(threads.THREAD_VARIABLES, "1")
+
+
+def test_two_workers_on_eight_cores_get_four_threads_each():
+    got = _share(8, {threads.XDIST_WORKERS: "2"})
+    assert got["got"] == 4
+    # OpenBLAS loaded before the share runs at most the threads it started with (one per
+    # core of this machine); the one loaded after starts with 4.
+    least = min(4, len(os.sched_getaffinity(0)))
+    assert all(least <= v <= 4 for v in got["after"].values()), got["after"]
+    assert got["jit"] == min(4, got["numba"])
+
+
+@pytest.mark.parametrize(
+    "env",
+    [
+        {},  # not an xdist worker
+        {threads.XDIST_WORKERS: "1"},  # its only worker
+        {threads.XDIST_WORKERS: "4", "OMP_NUM_THREADS": "3"},  # the user chose
+        {threads.XDIST_WORKERS: "4", "NUMBA_NUM_THREADS": "2"},
+    ],
+)
+def test_no_share_outside_xdist_or_when_the_user_sized_the_pools(env):
+    got = _share(4, env)
+    assert got["got"] is None
+    assert got["after"]
+    assert set(got["after"].values()) == set(got["before"])
+    assert got["jit"] == got["numba"]
+    for name in threads.THREAD_VARIABLES:
+        assert got["env"][name] == env.get(name)
+    # Children inherit this process's environment when the user chose.
+    assert got["child"] is not any(k in env for k in ("OMP_NUM_THREADS", "NUMBA_NUM_THREADS"))
+
+
+def test_children_side_by_side_each_get_their_share(monkeypatch):
+    monkeypatch.setattr(threads, "usable_cores", lambda: 8)
+    monkeypatch.setattr(threads, "_limit", None)
+    for name in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS"):
+        monkeypatch.delenv(name, raising=False)
+    assert threads.child_environment(1) is None  # one child: this process's environment
+    env = threads.child_environment(2)
+    assert env is not None
+    assert {env[k] for k in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS")} == {"4"}
+    assert env["PATH"] == os.environ["PATH"]  # the rest is this process's
+    env = threads.child_environment(16)
+    assert env is not None
+    assert env["OPENBLAS_NUM_THREADS"] == "1"  # at least one
+    # A process with a share of its own splits that share, not the machine.
+    monkeypatch.setattr(threads, "_limit", 2)
+    env = threads.child_environment(2)
+    assert env is not None
+    assert env["OMP_NUM_THREADS"] == "1"
