@@ -26,6 +26,8 @@ round one (0, a multiple of 90°, a whole micrometre) snapped to it
 (:func:`fkcheck.urdf.to_dh.clean_number`).
 """
 
+from __future__ import annotations
+
 from fkcheck.urdf.chain_fit import DEFAULT_SAMPLES, LinkFit
 from fkcheck.urdf.matching import (
     COMMON_NAMES,
