@@ -11,13 +11,19 @@ from dataclasses import replace
 import numpy as np
 
 from fkcheck.core.typing import Float
-from fkcheck.model.coverage.carrying import _absorption, _take, _vouched_absorption
+from fkcheck.model.coverage.carrying import _absorption, _take, _vouched_absorption, _Word
 from fkcheck.model.coverage.clock import _Clock
 from fkcheck.model.coverage.evidence import _Findings, _number_evidence
 from fkcheck.model.coverage.held import _held_still, _limited
-from fkcheck.model.coverage.links import _link_choice
-from fkcheck.model.coverage.results import Competitor, Coverage, _unique
-from fkcheck.model.coverage.sensitivity import _configurations, _flip_errors, _numbers, _subset
+from fkcheck.model.coverage.links import _link_choice, _LinkChoice
+from fkcheck.model.coverage.results import Competitor, Coverage, NumberEvidence, _unique
+from fkcheck.model.coverage.sensitivity import (
+    _configurations,
+    _flip_errors,
+    _Number,
+    _numbers,
+    _subset,
+)
 from fkcheck.model.coverage.spectrum import (
     _sensitivities,
     _spectrum,
@@ -28,7 +34,7 @@ from fkcheck.model.coverage.spectrum import (
 )
 from fkcheck.model.coverage.tuning import CHECK_SAMPLES, SAMPLES
 from fkcheck.model.sampling import sampling_box
-from fkcheck.model.types import Model, resolve_frame
+from fkcheck.model.types import FrameSpec, Model, resolve_frame
 
 __all__ = [
     "coverage",
@@ -91,17 +97,12 @@ def coverage(
         model, specs, numbers, (generic, J, moving), tols, competitors or {},
         set(offsets.absorbed), clock,
     )  # fmt: skip
-    for i, frames in links.on_word.items():
-        word.on_word.setdefault(i, []).extend(f for f in frames if f not in word.on_word[i])
-    word.sources.update(links.sources)
+    _merge_word(word, links)
     # A number a choice among links could hide is a discrete ambiguity: its continuous
     # direction is still seen, and still trades (or is held by the limits) with others.
     absorbed = offsets.absorbed
     unit_tol = np.array([tol_pos_m if n.unit == "m" else tol_rot_rad for n in numbers])
-    candidates = [
-        bool(moving[i] and n.table and n.kind != "flip" and i not in absorbed)
-        for i, n in enumerate(numbers)
-    ]
+    candidates = _candidates(numbers, moving, absorbed)
     rows = generic.shape[0]
     generic_residual = _without(J, [J[:, c] @ k for c, k in offsets.absorbing]) * unit_tol
     # One SVD of the candidates' generic columns: for the trades, and for what the
@@ -110,11 +111,7 @@ def coverage(
     spectrum = _spectrum(generic_residual[:, chosen]) if chosen else None
     trades = _trades(generic_residual, candidates, rows, clock=clock, spectrum=spectrum)
     # … and what the check's own configurations exercise: its resolution, its trades.
-    if q is not None:
-        checked = _subset(q, CHECK_SAMPLES, seed)
-        J_check = _sensitivities(model, specs, numbers, checked, tols, clock)[0]
-    else:
-        checked, J_check = generic, J
+    checked, J_check = _checked(model, specs, numbers, q, seed, tols, clock, (generic, J))
     carried = [J_check[:, c] @ k for c, k in offsets.absorbing]
     residual = _without(J_check, carried)
     # Combinations the check's configurations hide that generic ones show at least
@@ -167,6 +164,59 @@ def coverage(
         box=sampling_box(model),
         revolute=tuple(j.type != "prismatic" for j in model.joints),
     )
+    out = _evidence_list(numbers, findings, trades, word)
+    vouches = _vouches(out, word)
+    return Coverage(
+        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad,
+        vouches,
+    )  # fmt: skip
+
+
+def _merge_word(word: _Word, links: _LinkChoice) -> None:
+    """Add to ``word`` the vouched frames that settle a choice among links."""
+    for i, frames in links.on_word.items():
+        word.on_word.setdefault(i, []).extend(f for f in frames if f not in word.on_word[i])
+    word.sources.update(links.sources)
+
+
+def _candidates(
+    numbers: Sequence[_Number], moving: Float, absorbed: Mapping[int, object]
+) -> list[bool]:
+    """Which numbers the spectrum judges: moving table numbers, no flip, no offset absorbs."""
+    return [
+        bool(moving[i] and n.table and n.kind != "flip" and i not in absorbed)
+        for i, n in enumerate(numbers)
+    ]
+
+
+def _checked(
+    model: Model,
+    specs: dict[str, FrameSpec],
+    numbers: Sequence[_Number],
+    q: Float | None,
+    seed: int,
+    tols: tuple[float, float],
+    clock: _Clock,
+    generic: tuple[Float, Float],
+) -> tuple[Float, Float]:
+    """The configurations the check exercises and the numbers' columns over them.
+
+    A seeded subset of :data:`CHECK_SAMPLES` of ``q``; without ``q``, ``generic``
+    (the generic configurations and their columns) as it is.
+    """
+    if q is None:
+        return generic
+    checked = _subset(q, CHECK_SAMPLES, seed)
+    return checked, _sensitivities(model, specs, numbers, checked, tols, clock)[0]
+
+
+def _evidence_list(
+    numbers: Sequence[_Number],
+    findings: _Findings,
+    trades: Mapping[int, Sequence[int]],
+    word: _Word,
+) -> list[NumberEvidence]:
+    """Each number's evidence, with what it trades with and the vouched frames it rests on."""
     out = [
         replace(
             _number_evidence(i, n, findings),
@@ -174,15 +224,15 @@ def coverage(
         )
         for i, n in enumerate(numbers)
     ]
-    out = [
+    return [
         replace(e, on_word_of=tuple(word.on_word[i]))
         if e.status == "verified" and word.on_word.get(i)
         else e
         for i, e in enumerate(out)
     ]
+
+
+def _vouches(out: Sequence[NumberEvidence], word: _Word) -> tuple[tuple[str, str], ...]:
+    """The vouched frames verified numbers rest on, each with its ``source``."""
     resting = _unique(f for e in out if e.status == "verified" for f in e.on_word_of)
-    vouches = tuple((f, word.sources[f]) for f in resting)
-    return Coverage(
-        specs["from"].name, specs["to"].name, tuple(out), spanned, tol_pos_m, tol_rot_rad,
-        vouches,
-    )  # fmt: skip
+    return tuple((f, word.sources[f]) for f in resting)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -93,7 +93,6 @@ def _link_choice(
         comps = competitors.get(spec.name, ())
         if not comps:
             continue
-        group = f"[frames.{spec.name}]"
         end = _end_numbers(pose, F_inv, numbers, J, moving, side, scale)
         if not end:
             continue
@@ -101,18 +100,7 @@ def _link_choice(
         anchor = {"world": "the world", "tcp": "the TCP"}.get(str(spec.dh), f"DH frame {spec.dh}")
         places = {np.round(c.anchor_T_link, 9).tobytes() for c in comps}
         if len(places) > MAX_COMPETITORS:
-            why = (
-                f"{len(places)} places of links fixed beside {spec.urdf or spec.name} in the "
-                f"description, more than the {MAX_COMPETITORS} fkcheck analyses: any of them "
-                "could be the DH frame"
-            )
-            for i in end:
-                if spec.source:  # the compared frame is vouched for: its word settles it
-                    found.on_word.setdefault(i, []).append(group)
-                    found.sources[group] = spec.source
-                else:
-                    found.absorbed.setdefault(i, (group, why))
-                    found.competing.setdefault(i, [c.link for c in comps[:3]] + ["…"])
+            _too_many(found, spec, comps, end, len(places))
             continue
         for comp in comps:
             clock.check()
@@ -122,36 +110,75 @@ def _link_choice(
                 tidy = _turned(pose, side, numbers, end, comp.anchor_T_link, tols, carried)
                 solved[key] = [(c, True) for c in exact] + [(c, False) for c in tidy]
             for changes, exactly in solved[key]:
-                change = ", ".join(
-                    f"{numbers[i].name} changed by {_amount(d, numbers[i].unit)}"
-                    for i, d in changes.items()
-                )
-                how = (
-                    f"would be {anchor} exactly with {change}"
-                    if exactly
-                    else f"would sit, with {change}, at an offset from {anchor} that carries "
-                    "none of it"
-                )
+                how = _how(numbers, changes, exactly, anchor)
                 unsettled = set(changes) - carried  # what the choice alone could hide
                 pins = _pins(model, spec, comps, tols, (pose, side, numbers, end), unsettled)
-                for i in changes:
-                    if pins:
-                        for frame, source in pins:
-                            if frame not in found.on_word.setdefault(i, []):
-                                found.on_word[i].append(frame)
-                            found.sources[frame] = source
-                        continue
-                    found.absorbed.setdefault(
-                        i,
-                        (
-                            group,
-                            f"link {comp.link} of the description {how}: choosing "
-                            f"{spec.urdf or spec.name} over it is a fit",
-                        ),
-                    )
-                    if comp.link not in found.competing.setdefault(i, []):
-                        found.competing[i].append(comp.link)
+                _record(found, changes, pins, spec, comp, how)
     return found
+
+
+def _too_many(
+    found: _LinkChoice,
+    spec: FrameSpec,
+    comps: Sequence[Competitor],
+    end: Iterable[int],
+    places: int,
+) -> None:
+    """Record the end's numbers as hidden by a choice too wide to analyse (or vouched)."""
+    group = f"[frames.{spec.name}]"
+    why = (
+        f"{places} places of links fixed beside {spec.urdf or spec.name} in the "
+        f"description, more than the {MAX_COMPETITORS} fkcheck analyses: any of them "
+        "could be the DH frame"
+    )
+    for i in end:
+        if spec.source:  # the compared frame is vouched for: its word settles it
+            found.on_word.setdefault(i, []).append(group)
+            found.sources[group] = spec.source
+        else:
+            found.absorbed.setdefault(i, (group, why))
+            found.competing.setdefault(i, [c.link for c in comps[:3]] + ["…"])
+
+
+def _how(
+    numbers: Sequence[_Number], changes: Mapping[int, float], exactly: bool, anchor: str
+) -> str:
+    """Where a competing link would be with the table's numbers so changed."""
+    change = ", ".join(
+        f"{numbers[i].name} changed by {_amount(d, numbers[i].unit)}" for i, d in changes.items()
+    )
+    if exactly:
+        return f"would be {anchor} exactly with {change}"
+    return f"would sit, with {change}, at an offset from {anchor} that carries none of it"
+
+
+def _record(
+    found: _LinkChoice,
+    changes: Iterable[int],
+    pins: Sequence[tuple[str, str]],
+    spec: FrameSpec,
+    comp: Competitor,
+    how: str,
+) -> None:
+    """Record the changed numbers as settled by the vouched ``pins``, or as hidden by the choice."""
+    group = f"[frames.{spec.name}]"
+    for i in changes:
+        if pins:
+            for frame, source in pins:
+                if frame not in found.on_word.setdefault(i, []):
+                    found.on_word[i].append(frame)
+                found.sources[frame] = source
+            continue
+        found.absorbed.setdefault(
+            i,
+            (
+                group,
+                f"link {comp.link} of the description {how}: choosing "
+                f"{spec.urdf or spec.name} over it is a fit",
+            ),
+        )
+        if comp.link not in found.competing.setdefault(i, []):
+            found.competing[i].append(comp.link)
 
 
 #: The turns of one angle of the table tried for a competing link that a turned table
