@@ -8,7 +8,7 @@ from __future__ import annotations
 import fnmatch
 import re
 import tomllib
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
@@ -539,60 +539,82 @@ def _frames(problem: _Problem, fit: _Fit) -> tuple[list[ProposedFrame], list[Lin
     n = model.dof
     links = list(kin.links)
     order = {link: i for i, link in enumerate(links)}
-    anchors: list[Anchor] = [0, "world", n, "tcp"]
     declared = {s.name: s for s in model.frames.values() if not _builtin(s)}
-    for spec in declared.values():
-        if spec.dh not in anchors:
-            anchors.append(spec.dh)
-    table = {
-        anchor: {f.link: f for f in problem.evaluate(fit, links, anchor)} for anchor in anchors
-    }
+    table = _link_table(problem, fit, links, declared.values())
     chain_ok = fit.score(tol)[0] == 0
 
     def fits(f: LinkFit | None) -> bool:
         return f is not None and chain_ok and f.fits(*tol)
 
-    proposals: list[ProposedFrame] = []
-    used: set[str] = set()
-    for spec in declared.values():
-        proposals.append(_declared(spec, table, fits, kin))
-        if proposals[-1].fit is not None:
-            used.add(proposals[-1].fit.link)
+    proposals = [_declared(spec, table, fits, kin) for spec in declared.values()]
+    used = {p.fit.link for p in proposals if p.fit is not None}
     taken = set(model.frames)
     nearest: list[LinkFit] = []
+    ranked = sorted(links, key=lambda name: _rank(name, order))
     # On a tie the outer anchor wins where the model has a base or a tool: a frame
     # there covers [base] / [tool], one on the DH frame leaves it out of the check.
     base_side: tuple[Anchor, ...] = (0, "world") if model.base.is_identity else ("world", 0)
     tip_side: tuple[Anchor, ...] = (n, "tcp") if model.tool.is_identity else ("tcp", n)
     for group in (base_side, tip_side):
-        found = False
-        for link in sorted(links, key=lambda name: _rank(name, order)):
-            candidates = [table[a][link] for a in group if fits(table[a].get(link))]
-            if not candidates:
-                continue
-            found = True
-            if link in used:
-                continue
-            pick = min(candidates, key=lambda f: (_complexity(f.offset), group.index(f.anchor)))
-            name = _frame_name(link, taken)
-            taken.add(name)
-            proposals.append(
-                ProposedFrame(FrameSpec(name, pick.anchor, pick.offset, link), pick, False)
-            )
-        if not found:
+        found = _undeclared(group, ranked, table, fits, used, taken)
+        if found is None:
             nearest.append(
                 min(
                     (f for a in group for f in table[a].values()),
                     key=lambda f: f.spread_m + f.spread_rad,
                 )
             )
-    proposals.sort(
-        key=lambda p: (
-            0 if p.spec.dh in (0, "world") else 2 if p.spec.dh in (n, "tcp") else 1,
-            _rank(p.spec.urdf or p.spec.name, order),
-        )
-    )
+        else:
+            proposals += found
+    proposals.sort(key=lambda p: _frame_order(p, n, order))
     return proposals, nearest
+
+
+def _link_table(
+    problem: _Problem, fit: _Fit, links: Sequence[str], declared: Iterable[FrameSpec]
+) -> dict[Anchor, dict[str, LinkFit]]:
+    """Each link's fit at DH frame 0, the world, the last DH frame, the TCP and declared frames."""
+    n = problem.model.dof
+    anchors: list[Anchor] = [0, "world", n, "tcp"]
+    for spec in declared:
+        if spec.dh not in anchors:
+            anchors.append(spec.dh)
+    return {anchor: {f.link: f for f in problem.evaluate(fit, links, anchor)} for anchor in anchors}
+
+
+def _undeclared(
+    group: tuple[Anchor, ...],
+    ranked: Sequence[str],
+    table: Mapping[Anchor, Mapping[str, LinkFit]],
+    fits: Callable[[LinkFit | None], bool],
+    used: set[str],
+    taken: set[str],
+) -> list[ProposedFrame] | None:
+    """A frame for each link that fits at one end and no declared frame maps.
+
+    ``taken`` (the frame names in use) grows by the names given. Returns ``None``
+    when no link fits at that end at all (a declared frame's included).
+    """
+    out: list[ProposedFrame] = []
+    found = False
+    for link in ranked:
+        candidates = [table[a][link] for a in group if fits(table[a].get(link))]
+        if not candidates:
+            continue
+        found = True
+        if link in used:
+            continue
+        pick = min(candidates, key=lambda f: (_complexity(f.offset), group.index(f.anchor)))
+        name = _frame_name(link, taken)
+        taken.add(name)
+        out.append(ProposedFrame(FrameSpec(name, pick.anchor, pick.offset, link), pick, False))
+    return out if found else None
+
+
+def _frame_order(p: ProposedFrame, n: int, order: Mapping[str, int]) -> tuple[int, int, int]:
+    """Sort key of a proposed frame: DH frame 0's end, the middle, the tip's; then :func:`_rank`."""
+    end = 0 if p.spec.dh in (0, "world") else 2 if p.spec.dh in (n, "tcp") else 1
+    return (end, *_rank(p.spec.urdf or p.spec.name, order))
 
 
 def _builtin(spec: FrameSpec) -> bool:

@@ -38,7 +38,6 @@ def proposal_toml(
     of TOML of their own.
     """
     model = result.model
-    unit = model.angle_unit
     tol_m, tol_rad = result.tolerances
     out = toml_comment(
         [
@@ -50,6 +49,32 @@ def proposal_toml(
         ]
     )
     out += ["", f"[{section}]", f"path = {toml_string(result.urdf_path)}"]
+    out += toml_comment(_joint_notes(result))
+    out.append(f"joints = [{', '.join(toml_string(j.urdf) for j in result.joints)}]")
+    if result.xacro_args is not None:
+        out += toml_comment(
+            "A xacro file: fkcheck expands it only with this opt-in (it runs the file's Python)."
+        )
+        urdf = UrdfSpec(result.urdf_path, (), True, dict(result.xacro_args), dict(result.packages))
+        out += xacro_toml(urdf)
+    out += _frame_groups(result, twin)
+    for near in result.nearest:
+        where = "DH frame 0" if near.anchor == 0 else f"DH frame {near.anchor}"
+        out += [
+            "",
+            *toml_comment(
+                f"NO URDF link sits at a constant offset from {where}: the nearest, "
+                f"{near.link}, moves by {format_mm(near.spread_m)} / {format_deg(near.spread_rad)} "
+                "over the samples."
+            ),
+        ]
+    out += _check_block(result)
+    return "\n".join(out) + "\n"
+
+
+def _joint_notes(result: MapResult) -> list[str]:
+    """The comment over ``joints``: how well they fit, each one's direction, the rows changed."""
+    model = result.model
     notes: list[str] = []
     if result.joints_fit:
         notes.append(
@@ -78,21 +103,19 @@ def proposal_toml(
         notes += [f"  {line}" for line in moved]
         notes.append("The frames below are those of the table so changed: change it, then paste.")
     notes += [f"Another chain moves the same way: {', '.join(other)}" for other in result.also_fit]
-    out += toml_comment(notes)
-    out.append(f"joints = [{', '.join(toml_string(j.urdf) for j in result.joints)}]")
-    if result.xacro_args is not None:
-        out += toml_comment(
-            "A xacro file: fkcheck expands it only with this opt-in (it runs the file's Python)."
-        )
-        urdf = UrdfSpec(result.urdf_path, (), True, dict(result.xacro_args), dict(result.packages))
-        out += xacro_toml(urdf)
-    n = model.dof
+    return notes
+
+
+def _frame_groups(result: MapResult, twin: Callable[[FrameSpec], FrameSpec] | None) -> list[str]:
+    """The proposed ``[frames.*]`` tables, grouped by end, each with its evidence."""
+    n = result.model.dof
     ends: tuple[Anchor, ...] = (0, "world", n, "tcp")
     groups: tuple[tuple[str, tuple[Anchor, ...] | None], ...] = (
         ("DH frame 0", (0, "world")),
         ("the middle DH frames", None),
         (f"the last DH frame ({n}) and the TCP", (n, "tcp")),
     )
+    out: list[str] = []
     for title, members in groups:
         chosen = [
             p
@@ -107,28 +130,23 @@ def proposal_toml(
                 f"--- Links at a constant offset from {title}, most common name first ---"
             ),
         ]
-        for p in chosen:
-            comment = []
-            if p.fit is not None:
-                new = "" if p.declared else " (not declared in the model)"
-                comment.append(f"{p.fit.link}: {p.fit.evidence()}{new}")
-            if p.note:
-                comment.append(p.note)
-            comment += _absorb_warning(p, result.absorbs.get(p.spec.name, ()))
-            spec = p.spec if twin is None else twin(p.spec)
-            out.append(frame_toml(spec, unit, comment).rstrip("\n"))
-    for near in result.nearest:
-        where = "DH frame 0" if near.anchor == 0 else f"DH frame {near.anchor}"
-        out += [
-            "",
-            *toml_comment(
-                f"NO URDF link sits at a constant offset from {where}: the nearest, "
-                f"{near.link}, moves by {format_mm(near.spread_m)} / {format_deg(near.spread_rad)} "
-                "over the samples."
-            ),
-        ]
-    out += _check_block(result)
-    return "\n".join(out) + "\n"
+        out += [_frame_lines(result, p, twin) for p in chosen]
+    return out
+
+
+def _frame_lines(
+    result: MapResult, p: ProposedFrame, twin: Callable[[FrameSpec], FrameSpec] | None
+) -> str:
+    """One proposed frame's table, its evidence, note and warning in comments over it."""
+    comment = []
+    if p.fit is not None:
+        new = "" if p.declared else " (not declared in the model)"
+        comment.append(f"{p.fit.link}: {p.fit.evidence()}{new}")
+    if p.note:
+        comment.append(p.note)
+    comment += _absorb_warning(p, result.absorbs.get(p.spec.name, ()))
+    spec = p.spec if twin is None else twin(p.spec)
+    return frame_toml(spec, result.model.angle_unit, comment).rstrip("\n")
 
 
 def _absorb_warning(p: ProposedFrame, hidden: Sequence[str]) -> list[str]:
