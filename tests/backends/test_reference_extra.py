@@ -113,6 +113,8 @@ TOP_LEVEL_IMPORTERS = {
     "fkcheck.core._kernels",
     "fkcheck.urdf.chain_fit",
     "fkcheck.urdf.hand_eye",
+    "fkcheck.urdf.map_frames",
+    "fkcheck.urdf.map_result",
     "fkcheck.urdf.mapping",
     "fkcheck.urdf.matching",
     "fkcheck.urdf.placement",

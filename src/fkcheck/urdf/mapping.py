@@ -24,20 +24,23 @@ model does not map (fingers) take seeded random values then, so links below
 them never count as rigid. Offsets are written with numbers within 1e-9 of a
 round one (0, a multiple of 90°, a whole micrometre) snapped to it
 (:func:`fkcheck.urdf.to_dh.clean_number`).
+
+The modules: :mod:`~fkcheck.urdf.hand_eye` (the ``M ≈ X·U·Y`` fit),
+:mod:`~fkcheck.urdf.chain_fit` (the configurations, the beam search, each link's
+offset), :mod:`~fkcheck.urdf.matching` (:func:`map_model`,
+:func:`reconcile_table`, the proposed check), :mod:`~fkcheck.urdf.map_frames`
+(the proposed frames), :mod:`~fkcheck.urdf.map_result` (what the map found),
+:mod:`~fkcheck.urdf.proposal` (the TOML block) and
+:mod:`~fkcheck.urdf.placement` (``urdf:LINK``). This module re-exports their
+public names.
 """
 
 from __future__ import annotations
 
 from fkcheck.urdf.chain_fit import DEFAULT_SAMPLES, LinkFit
-from fkcheck.urdf.matching import (
-    COMMON_NAMES,
-    JointMatch,
-    MapResult,
-    ProposedFrame,
-    Reconciled,
-    map_model,
-    reconcile_table,
-)
+from fkcheck.urdf.map_frames import COMMON_NAMES
+from fkcheck.urdf.map_result import JointMatch, MapResult, ProposedFrame
+from fkcheck.urdf.matching import Reconciled, map_model, reconcile_table
 from fkcheck.urdf.placement import link_frame, with_link_frames
 from fkcheck.urdf.proposal import proposal_toml
 

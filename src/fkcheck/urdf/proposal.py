@@ -15,7 +15,7 @@ from fkcheck.model.types import (
 )
 from fkcheck.model.write import frame_toml, toml_comment, toml_string, xacro_toml
 from fkcheck.urdf.chain_fit import Anchor
-from fkcheck.urdf.matching import MapResult, ProposedFrame
+from fkcheck.urdf.map_result import MapResult, ProposedFrame
 
 __all__ = [
     "proposal_toml",
