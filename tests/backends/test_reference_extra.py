@@ -113,12 +113,20 @@ def test_rtb_model_without_robotics_toolbox_is_unavailable_naming_the_extra() ->
 
 
 #: The modules that import a reference library at their top: each is imported only by
-#: the code that needs it (a backend, the numba kernels with their NumPy fallback, map).
+#: the code that needs it (a backend, the numba kernels with their NumPy fallback, the
+#: map's modules).
 TOP_LEVEL_IMPORTERS = {
     "fkcheck.backends._idyntree",
     "fkcheck.core._jacobian_kernels",
     "fkcheck.core._kernels",
+    "fkcheck.urdf.chain_fit",
+    "fkcheck.urdf.hand_eye",
+    "fkcheck.urdf.map_frames",
+    "fkcheck.urdf.map_result",
     "fkcheck.urdf.mapping",
+    "fkcheck.urdf.matching",
+    "fkcheck.urdf.placement",
+    "fkcheck.urdf.proposal",
 }
 
 

@@ -29,7 +29,7 @@ from fkcheck.core.geometry import translation
 from fkcheck.engine.plan import plan_check
 from fkcheck.engine.runner import run_check
 from fkcheck.errors import TimeLimitError
-from fkcheck.model import coverage as coverage_module
+from fkcheck.model.coverage import clock as coverage_clock  # where the analysis reads the time
 from fkcheck.model.frames import frame_poses_from_dh
 
 #: The per-number evidence's limit in these checks (EVIDENCE_MIN_S is the floor), seconds.
@@ -125,7 +125,7 @@ def test_per_number_evidence_past_its_limit_ends_the_check_before_any_backend(ur
     """A stall in ``prepare``'s analysis: TimeLimitError, no result, no backend run."""
     clock = _Jumping()
     clock.stall()
-    monkeypatch.setattr(coverage_module, "time", SimpleNamespace(monotonic=clock.monotonic))
+    monkeypatch.setattr(coverage_clock, "time", SimpleNamespace(monotonic=clock.monotonic))
     ran = []
 
     class Watched(TableEvidence):
@@ -147,7 +147,7 @@ def test_per_number_evidence_past_its_limit_in_judge_is_no_result(ur5, monkeypat
     the full set's analysis (which would cover more than the subset tested).
     """
     clock = _Jumping()
-    monkeypatch.setattr(coverage_module, "time", SimpleNamespace(monotonic=clock.monotonic))
+    monkeypatch.setattr(coverage_clock, "time", SimpleNamespace(monotonic=clock.monotonic))
 
     class StallsWhileRunning(TableEvidence):
         pose_cost_us = PRICELESS_US

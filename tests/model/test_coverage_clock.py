@@ -17,8 +17,8 @@ import pytest
 from fkcheck import load_model
 from fkcheck.core.tolerances import DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD
 from fkcheck.errors import TimeLimitError
-from fkcheck.model import coverage as coverage_module
 from fkcheck.model.coverage import Coverage, coverage
+from fkcheck.model.coverage import clock as coverage_clock  # where the analysis reads the time
 
 #: A time limit no simulated jump below reaches, seconds.
 LIMIT_S = 60.0
@@ -51,7 +51,7 @@ def _held_ur5():
 
 
 def _run(model, clock: _Clock, monkeypatch: pytest.MonkeyPatch) -> Coverage:
-    monkeypatch.setattr(coverage_module, "time", SimpleNamespace(monotonic=clock.monotonic))
+    monkeypatch.setattr(coverage_clock, "time", SimpleNamespace(monotonic=clock.monotonic))
     q = np.random.default_rng(7).uniform(-1.0, 1.0, (40, model.dof))
     return coverage(
         model, "world", "tcp", DEFAULT_TOL_POS_M, DEFAULT_TOL_ROT_RAD, q=q, time_limit_s=LIMIT_S
