@@ -65,13 +65,27 @@ CHUNK = 65_536
 
 
 def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
-    """Named-frame poses from the in-house core: ``(len(frames), N, 4, 4)``."""
+    """Named-frame poses from the in-house core: ``(len(frames), N, 4, 4)``.
+
+    Runs only the core calls the frames are placed on: every DH frame when one is
+    on a DH frame (or none is on the TCP: ``q`` is validated there), the TCP when
+    one is on the TCP. The diagnosis calls this thousands of times per failing check.
+    """
+    anchors = [resolve_frame(model, name).dh for name in frames]
+    on_tcp = "tcp" in anchors
+    on_dh = any(isinstance(a, int) for a in anchors) or not on_tcp
     out = np.empty((len(frames), q.shape[0], 4, 4))
     for start in range(0, q.shape[0], CHUNK):
         chunk = q[start : start + CHUNK]
-        out[:, start : start + CHUNK] = frame_poses_from_dh(
-            model, model.fk(chunk, all_frames=True), model.fk(chunk), frames
+        N = chunk.shape[0]
+        # A frame not asked for is NaN, never read: frame_poses_from_dh reads only anchors.
+        world_T_dh = (
+            model.fk(chunk, all_frames=True)
+            if on_dh
+            else np.broadcast_to(np.nan, (N, model.dof + 1, 4, 4))
         )
+        world_T_tcp = model.fk(chunk) if on_tcp else np.broadcast_to(np.nan, (N, 4, 4))
+        out[:, start : start + CHUNK] = frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
     return out
 
 
