@@ -42,3 +42,24 @@ def test_reference_poses_validate_q_when_no_frame_is_on_the_chain():
     q[1, 2] = np.nan
     with pytest.raises(JointInputError, match="configuration 1 joint 3 is nan"):
         reference_poses(model, q, ("world", "world"))
+
+
+def test_a_given_chain_is_computed_with_the_models_frames(rng):
+    # The diagnosis's one-number fits hand a changed chain instead of a changed model:
+    # the poses must be the changed model's, bit for bit, and not the given model's.
+    model = load_model("ur5")
+    changed = replace(
+        model, joints=(replace(model.joints[0], d=0.1), *model.joints[1:])
+    )  # d1 + 10.8 mm
+    q = random_q(model, rng, 20)
+    for pair in PAIRS:
+        got = reference_poses(model, q, pair, chain=changed.chain)
+        assert np.array_equal(got, reference_poses(changed, q, pair))
+    # d1 moves every pose along base z by the change; 1e-12 m: round-off of a 1 m chain.
+    moved = reference_poses(model, q, ("base", "tool0"), chain=changed.chain)
+    assert np.allclose(
+        moved[1, :, 2, 3] - reference_poses(model, q, ("base", "tool0"))[1, :, 2, 3],
+        0.1 - model.joints[0].d,
+        rtol=0,
+        atol=1e-12,
+    )
