@@ -365,6 +365,7 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
 
     model = problem.model
     fit = problem.spread()
+    chain = model.chain
     before = problem.residual(model)
     out: list[Explanation] = []
     for i in range(model.dof):
@@ -372,8 +373,12 @@ def fit_single_parameters(problem: Problem) -> list[Explanation]:
             old = float(getattr(model.joints[i], param))
 
             def residuals(x: np.ndarray, i: int = i, param: str = param) -> np.ndarray:
-                trial = _with_joint(model, i, **{param: float(x[0])})
-                return pose_residuals(fit.poses(trial), fit.reference)
+                # The chain of the table with this one number changed: the arrays a
+                # changed Model would build, without building one per evaluation.
+                values = getattr(chain, param).copy()
+                values[i] = float(x[0])
+                trial = replace(chain, **{param: values})
+                return pose_residuals(fit.poses(model, trial), fit.reference)
 
             sol = least_squares(
                 residuals, [old], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=200

@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from fkcheck.backends.base import Backend
+from fkcheck.core.dh import DHChain
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.model.frames import reference_poses, relative_pose, resolve_frame
@@ -181,9 +182,13 @@ class Problem:
         keep = np.linspace(0, total - 1, count).round().astype(np.intp)
         return replace(self, q=self.q[keep], reference=self.reference[keep])
 
-    def poses(self, model: Model) -> Float:
-        """``from_T_to(q)`` of a (modified) table, with the in-house core."""
-        ref = reference_poses(model, self.q, self.pair)
+    def poses(self, model: Model, chain: DHChain | None = None) -> Float:
+        """``from_T_to(q)`` of a (modified) table, with the in-house core.
+
+        ``chain``: the table to compute instead of ``model.chain``, ``model``'s frames
+        (see :func:`~fkcheck.model.frames.reference_poses`).
+        """
+        ref = reference_poses(model, self.q, self.pair, chain=chain)
         return relative_pose(ref[0], ref[1])
 
     def errors(self, poses: Float) -> Residual:

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from fkcheck.core import dh
 from fkcheck.core.geometry import invert
 from fkcheck.core.typing import Float, JacobianReference
 from fkcheck.model.types import Model, resolve_frame
@@ -64,14 +65,44 @@ def relative_pose(root_T_from: Float, root_T_to: Float) -> Float:
 CHUNK = 65_536
 
 
-def reference_poses(model: Model, q: Float, frames: Sequence[str]) -> Float:
-    """Named-frame poses from the in-house core: ``(len(frames), N, 4, 4)``."""
+def reference_poses(
+    model: Model, q: Float, frames: Sequence[str], *, chain: dh.DHChain | None = None
+) -> Float:
+    """Named-frame poses from the in-house core: ``(len(frames), N, 4, 4)``.
+
+    Runs only the core calls the frames are placed on: every DH frame when one is
+    on a DH frame (or none is on the TCP: ``q`` is validated there), the TCP when
+    one is on the TCP. The diagnosis calls this thousands of times per failing check.
+
+    Args:
+        model: The model: its frames, and its table unless ``chain`` is given.
+        q: ``(N, n)`` configurations.
+        frames: Named frames to return.
+        chain: The table to compute instead of ``model.chain`` (same frames): a
+            one-number fit changes one array entry per evaluation, cheaper than a
+            new :class:`~fkcheck.model.types.Model` and its chain.
+    """
+
+    def fk(chunk: Float, all_frames: bool = False) -> Float:
+        if chain is None:
+            return model.fk(chunk, all_frames)
+        return dh.fk(chain, chunk, all_frames=all_frames)
+
+    anchors = [resolve_frame(model, name).dh for name in frames]
+    on_tcp = "tcp" in anchors
+    on_dh = any(isinstance(a, int) for a in anchors) or not on_tcp
     out = np.empty((len(frames), q.shape[0], 4, 4))
     for start in range(0, q.shape[0], CHUNK):
         chunk = q[start : start + CHUNK]
-        out[:, start : start + CHUNK] = frame_poses_from_dh(
-            model, model.fk(chunk, all_frames=True), model.fk(chunk), frames
+        N = chunk.shape[0]
+        # A frame not asked for is NaN, never read: frame_poses_from_dh reads only anchors.
+        world_T_dh = (
+            fk(chunk, all_frames=True)
+            if on_dh
+            else np.broadcast_to(np.nan, (N, model.dof + 1, 4, 4))
         )
+        world_T_tcp = fk(chunk) if on_tcp else np.broadcast_to(np.nan, (N, 4, 4))
+        out[:, start : start + CHUNK] = frame_poses_from_dh(model, world_T_dh, world_T_tcp, frames)
     return out
 
 
