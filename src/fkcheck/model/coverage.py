@@ -778,9 +778,14 @@ def _hidden(
     """Numbers in combinations ``within`` hides and ``free`` shows: ``{i: (the others, …)}``.
 
     Among the combinations ``within`` shows under a tenth of (root mean square),
-    those ``free`` shows at least :data:`BLAME_MARGIN` tenths of, in their
-    sparsest (reduced row echelon) basis, each kept when the worst configuration
-    within limits shows it under a tenth too (:func:`_trades`' test).
+    those free joints do not leave a trade: ``free`` shows them at least a tenth
+    (:data:`RESOLUTION_LIMIT`) root mean square, or, in the sparsest (reduced row
+    echelon) basis of the rest, at the worst configuration — the complement of
+    :func:`_trades`' test, with no margin: a combination an error of
+    :data:`RESOLUTION_LIMIT` tolerances of would show with the joints free
+    describes other kinematics, which only the limits keep from failing the
+    check. Each is kept, in the sparsest basis of them all, when the worst
+    configuration within limits shows it under a tenth too.
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
@@ -788,10 +793,19 @@ def _hidden(
     strict = _weak(_spectrum(within[:, idx]), configurations, RESOLUTION_LIMIT)
     if not len(strict):
         return {}
-    # Of what the limits hide, the combinations free joints show at least as well as
-    # a trade's margin (BLAME_MARGIN tenths, root mean square), in their sparsest basis.
+    # Of what the limits hide, the combinations free joints show: a tenth root mean
+    # square, or at the worst configuration along the sparsest basis of the rest.
     _, sv, vt = np.linalg.svd(free[:, idx] @ strict.T, full_matrices=False)
-    shown = vt[sv >= math.sqrt(configurations) * BLAME_MARGIN / RESOLUTION_LIMIT] @ strict
+    bar = math.sqrt(configurations) / RESOLUTION_LIMIT
+    shown = vt[sv >= bar] @ strict
+    rest = vt[sv < bar] @ strict
+    if len(rest):
+        rest = _rref(rest)
+        effect = np.einsum("nrk,vk->vnr", free[:, idx].reshape(-1, 6, len(idx)), rest)
+        worst = np.maximum(
+            np.linalg.norm(effect[:, :, :3], axis=2), np.linalg.norm(effect[:, :, 3:], axis=2)
+        ).max(axis=1)
+        shown = np.vstack([shown, rest[worst * RESOLUTION_LIMIT >= np.linalg.norm(rest, axis=1)]])
     per = within[:, idx].reshape(-1, 6, len(idx))
     out: dict[int, set[int]] = {}
     for vec in _rref(shown) if len(shown) else ():
