@@ -2,22 +2,33 @@
 
 :mod:`tests.urdf.test_map_link_choice_property` (a right table mapped onto its
 URDF is verified, or only a choice among links is not) failed in CI on two
-generated tables. The first is kept here; its cause was the property's oracle,
-not fkcheck: a frame of the model itself (exported as a link of the URDF) sat
-exactly where a change of the last rows would put the last DH frame, so the
-map's report of it as a competing link was right, and the oracle, which knew
-only the rival links the test placed, did not allow it. The oracle now finds
-such frames on its own (:func:`~tests.urdf.test_map_never_hides_property.rival_frames`,
-a least-squares fit over the rows, not coverage's search).
+generated tables, after the merges of session 11. Neither was a regression:
+both give the same evidence with the code of 6962fd4, where the property
+passed; that run's examples did not reach them. The cause of both was the
+property's oracle, which knew too few of the links a choice is among:
+
+- a frame of the model itself (exported as a link of the URDF) sat exactly where
+  a change of the last rows would put the last DH frame, so the map's report of
+  it as a competing link was right; the oracle now finds such frames on its own
+  (:func:`~tests.urdf.test_map_never_hides_property.rival_frames`, a least-squares
+  fit over the rows, not coverage's search);
+- with a rival beside the last DH frame's link, every link at that end hides some
+  numbers, and the map's pair ended on the one hiding the fewest: the last
+  joint's own link, whose random frame carries α6, d6 and θ6. The oracle now
+  allows any link at an end where a rival is.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
+import numpy as np
 import pytest
 
 import tests.urdf.test_map_never_hides_property as workflow
 from fkcheck.model.types import FrameSpec, Joint, Model, Offset
-from tests.urdf.test_map_link_choice_property import _urdf
+from tests.urdf.test_map_link_choice_property import _urdf, rival_at_base, rival_at_tip
 from tests.urdf.test_map_never_hides_property import (
     mapped_check,
     rival_frames,
@@ -88,3 +99,38 @@ def test_a_right_table_whose_own_frame_is_a_rival_is_verified_but_for_that_choic
             if n.status != "verified"}  # fmt: skip
     # The numbers the choice could hide, and only they; extra1 the link named.
     assert left == dict.fromkeys(("d4", "a5", "d5", "a6", "α6", "d6"), ("extra1",))
+
+
+def _bare() -> Model:
+    """CI's second table: the first one's rows, no frames of its own."""
+    model = _last_rows_rival()
+    return replace(model, frames={k: model.frames[k] for k in ("world", "tcp")})
+
+
+@pytest.mark.parametrize("tip", [True, False], ids=["rival at each end", "rival at the base"])
+def test_a_rival_beside_the_last_frame_lets_the_pair_end_on_the_link_hiding_the_fewest(
+    tip, tmp_path, monkeypatch
+):
+    monkeypatch.setattr(workflow, "note", lambda _: None)
+    model = _bare()
+    rivals = {"rival_base": ("dh_frame_0", rival_at_base(model, 0.9, 0.05))}
+    if tip:  # θ6 + 180°, d6 + 30 mm, a6 + 20 mm, α6 − 0.3 rad
+        change = np.array([math.pi, 0.03, 0.02, -0.3])
+        rivals["rival_tip"] = ("dh_frame_6", rival_at_tip(model, change))
+    status, _block, check = mapped_check(model, _urdf(model, 311, rivals), tmp_path)
+    outcome = verified_or_a_link_choice(status, check, model, frozenset(rivals))
+    left = {n.name: (n.reason, n.competing, n.by)
+            for n in check.evidence.numbers.table_numbers if n.status != "verified"}  # fmt: skip
+    base = {name: ("link", ("rival_base",), ("[frames.urdf_world]",))
+            for name in ("d1", "θ1", "d2", "θ2", "d3", "θ3")}  # fmt: skip
+    if not tip:  # the last DH frame's link hides nothing: the pair ends there
+        assert outcome == "a choice among links (link)"
+        assert left == base
+        return
+    assert outcome == "a choice among links (link, offset)"
+    assert check.model.check.frame_to == "dh_joint_6"
+    carried = {name: ("offset", (), ("[frames.dh_joint_6]",)) for name in ("α6", "d6", "θ6")}
+    # What the rival's change moves beyond the joint's frame (d4, d5: along one axis).
+    linked = {name: ("link", ("rival_tip",), ("[frames.dh_joint_6]",))
+              for name in ("d4", "a5", "d5", "a6")}  # fmt: skip
+    assert left == base | carried | linked

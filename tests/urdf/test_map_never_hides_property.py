@@ -233,10 +233,13 @@ def verified_or_a_link_choice(
     :func:`rival_frames`; any link at an end with a ``[base]`` or ``[tool]``, whose
     six numbers reach anywhere) makes which link is the DH frame a
     fit. Its numbers are then not identifiable for reason ``link``, naming such
-    links; or the map chose such a link as the compared frame and its offset carries
-    or takes them (reasons ``offset``, ``taken``, by that frame); or the map's pair
-    stops short of that end, leaving ``[base]`` or ``[tool]`` not covered. Anything
-    else fails.
+    links; or the map chose a link at that end as the compared frame and its offset
+    carries or takes them (reasons ``offset``, ``taken``, by that frame): such a link,
+    or any other there, since with a rival every link at that end hides some numbers
+    and the map takes the one hiding the fewest (a moving link's own frame, whose
+    offset carries the last row's turns, can hide fewer than the DH frame's link
+    does with a rival beside it); or the map's pair stops short of that end, leaving
+    ``[base]`` or ``[tool]`` not covered. Anything else fails.
 
     Returns:
         ``fully verified``, or the reasons met (``a choice among links (link, …)``).
@@ -251,7 +254,14 @@ def verified_or_a_link_choice(
     named = {x for n in left for x in (*n.competing, *n.by)}
     if named - allowed - {f"[frames.{name}]" for name in allowed}:
         allowed |= rival_frames(model)  # a least-squares fit per frame: only when needed
-    chosen = {f"[frames.{name}]" for name in allowed}
+    # The ends (0: DH frame 0 or the world, 1: the last DH frame or the TCP) a rival is at.
+    ends = {0: (0, "world"), 1: (model.dof, "tcp")}
+    mapped = check.model.frames.values()
+    contested = {e for e, at in ends.items() for f in mapped
+                 if f.dh in at and (f.urdf in allowed or f.name in allowed)}  # fmt: skip
+    chosen = {f"[frames.{name}]" for name in allowed} | {
+        f"[frames.{f.name}]" for f in mapped for e in contested if f.dh in ends[e]
+    }
     reasons = set()
     for n in left:
         if n.status == "not-covered":
