@@ -242,14 +242,6 @@ def right_tables(draw: st.DrawFn) -> tuple[Model, dict[str, tuple[str, np.ndarra
     return model, rivals, draw(st.integers(0, 2**32 - 1))
 
 
-@pytest.mark.xfail(
-    strict=False,
-    reason="regression of session 11, root cause not found: on two generated right tables "
-    "the check blames other frames than the oracle allows (d4 competing with link extra1 "
-    "where no rival was drawn; α6 absorbed by [frames.dh_joint_6] where the map's pair "
-    "should end on a rival). Both are over-cautious attributions (not identifiable), never "
-    "a verified wrong number; the falsifying examples are in the closing note of session 11",
-)
 @_SETTINGS
 @given(case=right_tables())
 def test_property_a_right_table_is_verified_or_only_a_link_choice_is_not(case, tmp_path_factory):

@@ -157,19 +157,89 @@ def free_end_links(model: Model) -> set[str]:
     return out | {name for name, frame in model.frames.items() if frame.dh in ends}
 
 
+#: Configurations a rival frame must match the changed table's DH frame at.
+_RIVAL_CONFIGURATIONS = 8
+
+
+def rival_frames(model: Model) -> set[str]:
+    """The model's own frames at an end where a change of the table would put the DH frame.
+
+    Exported as links of the description, they are rivals as much as those a test
+    places so: a frame on DH frame 0 (or the world, no ``[base]``) at ``X`` is one
+    when some change of the rows gives a chain that, hung from it, is the robot
+    (``X·F'ₙ(q) = Fₙ(q)``); on the last DH frame (or the TCP, no ``[tool]``),
+    when the changed chain ends on it (``F'ₙ(q) = Fₙ(q)·X``). Found by least
+    squares over every row's numbers at seeded configurations (scipy's solver, the
+    core's FK: not coverage's search), within a tenth of the tolerances. Random
+    offsets almost never are; Hypothesis shrinks them to turns about one axis,
+    which often are (a turn about x of the last frame is a change of αₙ).
+    """
+    from scipy.optimize import least_squares
+    from scipy.spatial.transform import Rotation
+
+    n = model.dof
+    # A frame on its DH frame (no offset) is that frame: no number changes.
+    placed = {name: f for name, f in model.frames.items() if not f.offset.is_identity}
+    at_base = {name for name, f in placed.items()
+               if f.dh == 0 or (f.dh == "world" and model.base.is_identity)}  # fmt: skip
+    at_tip = {name for name, f in placed.items()
+              if f.dh == n or (f.dh == "tcp" and model.tool.is_identity)}  # fmt: skip
+    if not (at_base | at_tip):
+        return set()
+    lo, hi = model.limits[:, 0], model.limits[:, 1]
+    rng = np.random.default_rng(0)
+    q = lo + (hi - lo) * rng.random((_RIVAL_CONFIGURATIONS, n))
+    params = ("a", "alpha", "d", "theta")
+
+    def chain(m: Model) -> np.ndarray:  # DH frame 0 → DH frame n
+        frames = m.fk(q, all_frames=True)
+        return invert(frames[:, 0]) @ frames[:, n]
+
+    F = chain(model)
+    scale = np.array([1.0 / DEFAULT_TOL_POS_M] * 3 + [1.0 / DEFAULT_TOL_ROT_RAD] * 3)
+
+    def error(E: np.ndarray) -> np.ndarray:
+        rot = Rotation.from_matrix(E[:, :3, :3]).as_rotvec()
+        return (np.concatenate([E[:, :3, 3], rot], axis=1) * scale).reshape(-1)
+
+    def changed(delta: np.ndarray) -> Model:
+        joints = [replace(j, **{p: getattr(j, p) + delta[4 * i + k]
+                                for k, p in enumerate(params)})
+                  for i, j in enumerate(model.joints)]  # fmt: skip
+        return replace(model, joints=tuple(joints))
+
+    out = set()
+    for name in sorted(at_base | at_tip):
+        X = model.frames[name].offset.matrix
+        base = name in at_base
+
+        def residual(delta: np.ndarray, X: np.ndarray = X, base: bool = base) -> np.ndarray:
+            G = chain(changed(delta))
+            return error(invert(F) @ X @ G if base else invert(F @ X) @ G)
+
+        fit = least_squares(residual, np.zeros(4 * n), x_scale=1e-2, xtol=1e-15, ftol=1e-15)
+        if np.abs(fit.fun).max() <= 0.1:
+            out.add(name)
+    return out
+
+
 def verified_or_a_link_choice(
     status: str, check: Any, model: Model, rivals: frozenset[str] = frozenset()
 ) -> str:
     """A right table's outcome: every number verified, or only a choice among links is not.
 
     A link of the description fixed where a change of the numbers at an end would put
-    the DH frame (``rivals``, placed so; any link at an end with a ``[base]`` or
-    ``[tool]``, whose six numbers reach anywhere) makes which link is the DH frame a
+    the DH frame (``rivals``, placed so; a frame of the model that happens to sit so,
+    :func:`rival_frames`; any link at an end with a ``[base]`` or ``[tool]``, whose
+    six numbers reach anywhere) makes which link is the DH frame a
     fit. Its numbers are then not identifiable for reason ``link``, naming such
-    links; or the map chose such a link as the compared frame and its offset carries
-    or takes them (reasons ``offset``, ``taken``, by that frame); or the map's pair
-    stops short of that end, leaving ``[base]`` or ``[tool]`` not covered. Anything
-    else fails.
+    links; or the map chose a link at that end as the compared frame and its offset
+    carries or takes them (reasons ``offset``, ``taken``, by that frame): such a link,
+    or any other there, since with a rival every link at that end hides some numbers
+    and the map takes the one hiding the fewest (a moving link's own frame, whose
+    offset carries the last row's turns, can hide fewer than the DH frame's link
+    does with a rival beside it); or the map's pair stops short of that end, leaving
+    ``[base]`` or ``[tool]`` not covered. Anything else fails.
 
     Returns:
         ``fully verified``, or the reasons met (``a choice among links (link, …)``).
@@ -181,7 +251,17 @@ def verified_or_a_link_choice(
     left = [n for n in check.evidence.numbers.table_numbers if n.status != "verified"]
     note([(n.name, n.status, n.reason, n.competing, n.by) for n in left])
     allowed = set(rivals) | free_end_links(model)
-    chosen = {f"[frames.{name}]" for name in allowed}
+    named = {x for n in left for x in (*n.competing, *n.by)}
+    if named - allowed - {f"[frames.{name}]" for name in allowed}:
+        allowed |= rival_frames(model)  # a least-squares fit per frame: only when needed
+    # The ends (0: DH frame 0 or the world, 1: the last DH frame or the TCP) a rival is at.
+    ends = {0: (0, "world"), 1: (model.dof, "tcp")}
+    mapped = check.model.frames.values()
+    contested = {e for e, at in ends.items() for f in mapped
+                 if f.dh in at and (f.urdf in allowed or f.name in allowed)}  # fmt: skip
+    chosen = {f"[frames.{name}]" for name in allowed} | {
+        f"[frames.{f.name}]" for f in mapped for e in contested if f.dh in ends[e]
+    }
     reasons = set()
     for n in left:
         if n.status == "not-covered":

@@ -100,9 +100,17 @@ def _hidden(
     """Numbers in combinations ``within`` hides and ``free`` shows: ``{i: (the others, …)}``.
 
     Among the combinations ``within`` shows under a tenth of (root mean square),
-    those ``free`` shows at least :data:`BLAME_MARGIN` tenths of, in their
-    sparsest (reduced row echelon) basis, each kept when the worst configuration
-    within limits shows it under a tenth too (:func:`_trades`' test).
+    those free joints do not leave a trade: ``free`` shows them at least a tenth
+    (:data:`RESOLUTION_LIMIT`) root mean square, or at the worst configuration —
+    the complement of :func:`_trades`' test, with no margin: a combination an
+    error of :data:`RESOLUTION_LIMIT` tolerances of would show with the joints
+    free describes other kinematics, which only the limits keep from failing the
+    check. They are read in sparsest (reduced row echelon) bases: of those shown
+    at :data:`BLAME_MARGIN` tenths and of those at one tenth (root mean square),
+    and of the rest, those shown at a tenth at the worst configuration — each
+    basis on its own, since the sparsest basis of a larger set can mix every
+    combination the limits hide with one they do not. Each combination is kept
+    when the worst configuration within limits shows it under a tenth too.
     """
     idx = [i for i, c in enumerate(candidates) if c]
     if len(idx) < 2:
@@ -110,13 +118,20 @@ def _hidden(
     strict = _weak(_spectrum(within[:, idx]), configurations, RESOLUTION_LIMIT)
     if not len(strict):
         return {}
-    # Of what the limits hide, the combinations free joints show at least as well as
-    # a trade's margin (BLAME_MARGIN tenths, root mean square), in their sparsest basis.
     _, sv, vt = np.linalg.svd(free[:, idx] @ strict.T, full_matrices=False)
-    shown = vt[sv >= math.sqrt(configurations) * BLAME_MARGIN / RESOLUTION_LIMIT] @ strict
+    bar = math.sqrt(configurations) / RESOLUTION_LIMIT  # a tenth, root mean square
+    bases = [_rref(vt[sv >= level * bar] @ strict) for level in (BLAME_MARGIN, 1.0)]
+    rest = _rref(vt[sv < bar] @ strict)
+    if len(rest):  # shown at the worst configuration with the joints free
+        effect = np.einsum("nrk,vk->vnr", free[:, idx].reshape(-1, 6, len(idx)), rest)
+        worst = np.maximum(
+            np.linalg.norm(effect[:, :, :3], axis=2), np.linalg.norm(effect[:, :, 3:], axis=2)
+        ).max(axis=1)
+        bases.append(rest[worst * RESOLUTION_LIMIT >= np.linalg.norm(rest, axis=1)])
+    shown = np.vstack(bases)
     per = within[:, idx].reshape(-1, 6, len(idx))
     out: dict[int, set[int]] = {}
-    for vec in _rref(shown) if len(shown) else ():
+    for vec in shown:
         size = float(np.linalg.norm(vec))
         effect = np.einsum("nrk,k->nr", per, vec)
         shows = np.maximum(
