@@ -496,6 +496,13 @@ class _Joints:
         """
         if names in self._cache:
             return self._cache[names]
+        out = self._match(names)
+        if len(self._cache) < 64:
+            self._cache[names] = out
+        return out
+
+    def _match(self, names: tuple[str, ...]) -> list[int] | None:
+        """:meth:`indices`, uncached; a match notes the names the model does not have."""
         if len(names) > MAX_JOINT_NAMES:
             raise _Bad(f"a joint state names {len(names):,} joints (at most {MAX_JOINT_NAMES:,})")
         where = {n: k for k, n in enumerate(names)}
@@ -503,22 +510,22 @@ class _Joints:
             raise _Bad("a joint state names one joint twice")
         found = [[where[n] for n in options if n in where] for options in self.accepted]
         if not any(found):
-            out = None
-        else:
-            missing = [" or ".join(o) for o, f in zip(self.accepted, found, strict=True) if not f]
-            if missing:
-                raise _Bad(
-                    f"a joint state lacks the model's joint{'s' if len(missing) > 1 else ''} "
-                    f"{', '.join(missing)}; it names {', '.join(n[:60] for n in names[:20])}"
-                )
-            twice = [o for o, f in zip(self.accepted, found, strict=True) if len(f) > 1]
-            if twice:
-                raise _Bad(f"a joint state names joint {' and '.join(twice[0])} both")
-            out = [f[0] for f in found]
-            self.ignored.update(n for n in names if n not in self.known)
-        if len(self._cache) < 64:
-            self._cache[names] = out
-        return out
+            return None
+        self._each_once(names, found)
+        self.ignored.update(n for n in names if n not in self.known)
+        return [f[0] for f in found]
+
+    def _each_once(self, names: tuple[str, ...], found: list[list[int]]) -> None:
+        """Refuse a match that lacks one of the model's joints or names one twice."""
+        missing = [" or ".join(o) for o, f in zip(self.accepted, found, strict=True) if not f]
+        if missing:
+            raise _Bad(
+                f"a joint state lacks the model's joint{'s' if len(missing) > 1 else ''} "
+                f"{', '.join(missing)}; it names {', '.join(n[:60] for n in names[:20])}"
+            )
+        twice = [o for o, f in zip(self.accepted, found, strict=True) if len(f) > 1]
+        if twice:
+            raise _Bad(f"a joint state names joint {' and '.join(twice[0])} both")
 
     def values(self, msg: Any) -> Float | None:
         """The model's joint values in one joint state (``None``: it names none of them)."""
