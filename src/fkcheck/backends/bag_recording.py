@@ -17,6 +17,7 @@ import numpy as np
 
 from fkcheck.backends.bag_screen import BagError
 from fkcheck.backends.measured import PosesFileError
+from fkcheck.backends.poses_table import _check_duplicates
 from fkcheck.backends.recording import CHUNK_ROWS, MAX_RECORDING_ROWS, PoseChunk
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
@@ -131,7 +132,7 @@ def read_bag(
         poses.append(T)
     q_all, poses_all = np.concatenate(qs), np.concatenate(poses)
     try:
-        measured._check_duplicates(q_all, poses_all, np.arange(1, count + 1, dtype=np.int64), path)
+        _check_duplicates(q_all, poses_all, np.arange(1, count + 1, dtype=np.int64), path)
     except PosesFileError as exc:  # its rows are the pairs, counted from 1 as recorded
         raise BagError(path, exc.problem.replace("lines", "pairs", 1)) from None
     return q_all, poses_all, pair, pairs.provenance.method
