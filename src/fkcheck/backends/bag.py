@@ -47,6 +47,11 @@ most :data:`MAX_TRANSFORMS` transforms, the tree at most :data:`MAX_FRAMES` fram
 Anything the reader cannot read (a truncated file, a corrupt database, bad
 metadata) is one line naming the bag, never a traceback.
 
+The bag's files are screened and its limits set in :mod:`.bag_screen`, the tf
+tree is :mod:`.bag_tf`, the joint states' names are matched in :mod:`.bag_joints`;
+this module reads the messages and pairs them; :mod:`.bag_recording` gives the pairs
+to the check (:func:`bag_pairs`, :class:`BagRecording`, :func:`read_bag`).
+
 Reading streams: :class:`BagPairs` yields the pairs in chunks of a bounded number
 of rows, and keeps only the joint states of the last
 :data:`REORDER_WINDOW_S` of stamps, so memory does not grow with the bag's length.
@@ -55,9 +60,6 @@ of rows, and keeps only the joint states of the last
 from __future__ import annotations
 
 import bisect
-import math
-import os
-import stat
 from collections import deque
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -66,11 +68,26 @@ from typing import Any
 
 import numpy as np
 
-from fkcheck.backends.measured import PosesFileError
-from fkcheck.backends.recording import CHUNK_ROWS, MAX_RECORDING_ROWS, PoseChunk
+from fkcheck.backends.bag_joints import _Joints
+from fkcheck.backends.bag_recording import BagRecording, bag_pairs, read_bag
+from fkcheck.backends.bag_screen import MAX_DEPTH as MAX_DEPTH
+from fkcheck.backends.bag_screen import MAX_FRAME_ID_CHARS as MAX_FRAME_ID_CHARS
+from fkcheck.backends.bag_screen import MAX_FRAMES as MAX_FRAMES
+from fkcheck.backends.bag_screen import MAX_JOINT_NAMES as MAX_JOINT_NAMES
+from fkcheck.backends.bag_screen import (
+    MAX_MESSAGE_BYTES,
+    MAX_TRANSFORMS,
+    BagError,
+    _Bad,
+    _screen,
+    bag_files,
+    is_bag,
+)
+from fkcheck.backends.bag_screen import MAX_METADATA_BYTES as MAX_METADATA_BYTES
+from fkcheck.backends.bag_screen import QUATERNION_NORM_TOL as QUATERNION_NORM_TOL
+from fkcheck.backends.bag_tf import _NS, _frame_id, _stamp_ns, _Tree
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
-from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
 
 __all__ = [
     "DEFAULT_STAMP_TOLERANCE_S",
@@ -96,21 +113,8 @@ MAX_STAMP_TOLERANCE_S = 1.0
 #: The message types read, by their ROS 2 names.
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 TF_MESSAGE_TYPE = "tf2_msgs/msg/TFMessage"
-#: Largest message read (bytes, serialised): a joint state of a few arms or a tf
-#: message of a few hundred frames is a few kilobytes.
-MAX_MESSAGE_BYTES = 1 << 20
 #: Largest MCAP chunk, decompressed (bytes); ``ros2 bag record`` writes about 1 MiB.
 MAX_CHUNK_BYTES = 64 << 20
-#: Largest ``metadata.yaml`` (bytes).
-MAX_METADATA_BYTES = 1 << 20
-#: Joints one joint state may name, transforms one tf message may hold, frames the
-#: tree may hold, characters a frame id may have.
-MAX_JOINT_NAMES = 1_000
-MAX_TRANSFORMS = 10_000
-MAX_FRAMES = 10_000
-MAX_FRAME_ID_CHARS = 256
-#: Frames between a frame and the root of its tf tree at most.
-MAX_DEPTH = 256
 #: How far (in stamps) a joint state may arrive after a pose it belongs to (seconds):
 #: a pose waits for a joint state stamped after it, at most this long.
 REORDER_WINDOW_S = 1.0
@@ -118,18 +122,6 @@ REORDER_WINDOW_S = 1.0
 MAX_KEPT_JOINT_STATES = 100_000
 #: Rows per chunk :meth:`BagPairs.chunks` yields by default.
 DEFAULT_CHUNK_ROWS = 10_000
-#: Largest distance of a quaternion's norm from 1 on the compared path (tf2 refuses
-#: quaternions further than about 1e-3 from unit length, too).
-QUATERNION_NORM_TOL = 1e-3
-_NS = 1_000_000_000
-
-
-class BagError(PosesFileError):
-    """A bag that cannot be read as measured poses (one line, exit 2)."""
-
-
-class _Bad(Exception):
-    """What a message of the bag holds cannot be used (becomes a :class:`BagError`)."""
 
 
 @dataclass(frozen=True)
@@ -205,95 +197,6 @@ class BagProvenance:
         return text
 
 
-def is_bag(path: Path) -> bool:
-    """Whether ``poses:PATH`` names a ROS 2 bag: a directory, or a ``.mcap`` / ``.db3`` file."""
-    return path.is_dir() or path.suffix.lower() in (".mcap", ".db3")
-
-
-def bag_files(path: Path) -> tuple[Path, ...]:
-    """The bag and the files in its directory: what no output of the run may replace.
-
-    At most :data:`MAX_FRAMES` entries of the directory are listed (a bag has a few).
-    """
-    if not path.is_dir():
-        return (path,)
-    try:
-        with os.scandir(path) as entries:
-            found = [Path(e.path) for _, e in zip(range(MAX_FRAMES), entries, strict=False)]
-    except OSError:
-        found = []
-    return (path, *sorted(found))
-
-
-def _regular(path: Path, what: str, bag: Path, *, follow: bool) -> None:
-    """Refuse anything but a regular file (a FIFO would hang the read; a link may lead out)."""
-    try:
-        info = os.stat(path) if follow else os.lstat(path)
-    except OSError as exc:
-        raise BagError(bag, f"{what}: {exc.strerror or exc}") from None
-    if stat.S_ISLNK(info.st_mode):
-        raise BagError(bag, f"{what} is a symbolic link; a bag's files must be in it")
-    if not stat.S_ISREG(info.st_mode):
-        raise BagError(bag, f"{what} is not a regular file")
-
-
-def _screen(path: Path) -> str:
-    """The bag's storage, ``mcap`` or ``sqlite3``, once its files are known to be safe to read.
-
-    Raises:
-        BagError: Not a bag, a file of it not a regular file in it, compressed, or
-            metadata that is not a bag's.
-    """
-    import yaml
-
-    if not path.is_dir():
-        _regular(path, "the bag", path, follow=True)
-        return "mcap" if path.suffix.lower() == ".mcap" else "sqlite3"
-    meta = path / "metadata.yaml"
-    if not os.path.lexists(meta):
-        raise BagError(
-            path,
-            "is a directory, not a regular file, and not a ROS 2 bag either (no "
-            "metadata.yaml): give a poses CSV, the bag directory ros2 bag record wrote, or "
-            "its .mcap or .db3 file",
-        )
-    _regular(meta, "metadata.yaml", path, follow=False)
-    if os.path.getsize(meta) > MAX_METADATA_BYTES:
-        raise BagError(path, f"metadata.yaml is larger than {MAX_METADATA_BYTES >> 20} MiB")
-    try:
-        text = meta.read_bytes()
-        # Plain data, as ROS writes it: an alias bomb of a few hundred bytes expands to
-        # billions of values in whoever walks it (rosbags reads this file too).
-        for event in yaml.parse(text, Loader=yaml.SafeLoader):
-            if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None):
-                raise BagError(
-                    path, "metadata.yaml has an anchor or alias (&name, *name); ROS writes none"
-                )
-        doc = yaml.safe_load(text)
-        info = doc["rosbag2_bagfile_information"]
-        storage = info["storage_identifier"]
-        files = info["relative_file_paths"]
-        mode = str(info.get("compression_mode", "") or "").lower()
-    except (yaml.YAMLError, KeyError, TypeError, AttributeError, OSError, UnicodeError) as exc:
-        reason = type(exc).__name__ if isinstance(exc, KeyError) else exc
-        raise BagError(path, f"metadata.yaml is not a ROS 2 bag's ({reason})") from None
-    if storage not in ("mcap", "sqlite3"):
-        raise BagError(path, f"storage {str(storage)[:40]!r} is not mcap or sqlite3")
-    if mode not in ("", "none"):
-        raise BagError(
-            path,
-            f"the bag is compressed (compression_mode {mode[:20]!r}); write it uncompressed "
-            "(ros2 bag convert) or record it with the mcap storage, whose chunk compression "
-            "is read",
-        )
-    if not isinstance(files, list) or not files or len(files) > 10_000:
-        raise BagError(path, "metadata.yaml's relative_file_paths is not a list of files")
-    for name in files:
-        _regular(path / Path(str(name)).name, f"its file {Path(str(name)).name}", path,
-                 follow=False)  # fmt: skip
-    return str(storage)
-
-
 def _bounded_decompressors() -> None:
     """Make :mod:`rosbags` decompress an MCAP chunk to at most its declared size.
 
@@ -324,222 +227,6 @@ def _bounded_decompressors() -> None:
 
     storage_mcap.DECOMPRESSORS["zstd"] = bounded(zstd.ZstdDecompressor)
     storage_mcap.DECOMPRESSORS["lz4"] = bounded(lz4.frame.LZ4FrameDecompressor)
-
-
-def _stamp_ns(header: Any) -> int:
-    stamp = header.stamp
-    sec, nanosec = int(stamp.sec), int(stamp.nanosec)
-    if not 0 <= nanosec < _NS:
-        raise _Bad(f"a stamp's nanosec is {nanosec} (0 … 999999999)")
-    return sec * _NS + nanosec
-
-
-def _frame_id(name: str) -> str:
-    """A frame id as tf2 compares it: without a leading ``/``."""
-    if len(name) > MAX_FRAME_ID_CHARS:
-        raise _Bad(f"a frame id of {len(name)} characters (at most {MAX_FRAME_ID_CHARS})")
-    return name[1:] if name.startswith("/") else name
-
-
-def _matrix(transform: Any) -> Float:
-    """``parent_T_child`` of a ``geometry_msgs/msg/Transform``, its quaternion normalised."""
-    t, r = transform.translation, transform.rotation
-    x, y, z, w = float(r.x), float(r.y), float(r.z), float(r.w)
-    p = (float(t.x), float(t.y), float(t.z))
-    norm = math.sqrt(x * x + y * y + z * z + w * w)
-    if not (math.isfinite(norm) and all(math.isfinite(v) for v in p)):
-        raise _Bad("a transform with a non-finite number")
-    if abs(norm - 1.0) > QUATERNION_NORM_TOL:
-        raise _Bad(f"a rotation quaternion of norm {norm:.6g} (tf2 needs unit length)")
-    if max(abs(v) for v in p) > MAX_LENGTH_M:
-        raise _Bad(f"a translation beyond ±{MAX_LENGTH_M:g} m")
-    x, y, z, w = x / norm, y / norm, z / norm, w / norm
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w), p[0]],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w), p[1]],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y), p[2]],
-            [0.0, 0.0, 0.0, 1.0],
-        ]
-    )
-
-
-class _Tree:
-    """The tf tree: each child frame's parent and transform; changing ones with their stamp."""
-
-    def __init__(self, base: str, tip: str) -> None:
-        self.base, self.tip = base, tip
-        self.static: dict[str, tuple[str, Any]] = {}  # child: (parent, Transform message)
-        self.moving: dict[str, tuple[str, Any, int]] = {}  # child: (parent, Transform, stamp)
-        # The child frames from base and from tip up to their common ancestor, once
-        # connected; recomputed only after a frame's parent changed.
-        self.path: tuple[tuple[str, ...], tuple[str, ...]] | None = None
-        self._changed = True
-        self._on: frozenset[str] = frozenset()
-
-    def _set_parent(self, child: str, old: str | None, parent: str) -> None:
-        if old is None and len(self.static) + len(self.moving) >= MAX_FRAMES:
-            raise _Bad(f"more than {MAX_FRAMES:,} frames in the tf tree")
-        if old != parent:
-            self._changed = True
-
-    def set_static(self, parent: str, child: str, transform: Any) -> None:
-        """Store one static transform."""
-        old = self.static.get(child)
-        self._set_parent(child, old[0] if old else None, parent)
-        self.static[child] = (parent, transform)
-
-    def set_moving(self, parent: str, child: str, transform: Any, stamp: int) -> bool:
-        """Store one changing transform; whether it is on the compared path."""
-        old = self.moving.get(child)
-        self._set_parent(child, old[0] if old else self._parent(child), parent)
-        self.moving[child] = (parent, transform, stamp)
-        return child in self._on_path()
-
-    def _parent(self, child: str) -> str | None:
-        if child in self.moving:
-            return self.moving[child][0]
-        if child in self.static:
-            return self.static[child][0]
-        return None
-
-    def _up(self, frame: str) -> tuple[str, ...]:
-        """``frame`` and its ancestors, to the root."""
-        chain = [frame]
-        seen = {frame}
-        parent = self._parent(frame)
-        while parent is not None:
-            if parent in seen:
-                raise _Bad(f"the tf tree has a loop through frame {parent[:80]!r}")
-            if len(chain) > MAX_DEPTH:
-                raise _Bad(f"a tf tree deeper than {MAX_DEPTH} frames")
-            chain.append(parent)
-            seen.add(parent)
-            parent = self._parent(parent)
-        return tuple(chain)
-
-    def _on_path(self) -> frozenset[str]:
-        """The child frames whose transforms make up the compared path (empty: none yet)."""
-        if self._changed:
-            self._changed = False
-            up_base, up_tip = self._up(self.base), self._up(self.tip)
-            common = next((f for f in up_tip if f in set(up_base)), None)
-            if common is None:
-                self.path, self._on = None, frozenset()
-            else:
-                self.path = (up_base[: up_base.index(common)], up_tip[: up_tip.index(common)])
-                self._on = frozenset((*self.path[0], *self.path[1]))
-        return self._on
-
-    def pose(self) -> tuple[Float, int | None] | None:
-        """``base_T_tip`` and the stamp of its changing transforms (``None``: none changes).
-
-        ``None`` when the frames are not connected, or the changing transforms on the
-        path carry different stamps.
-        """
-        self._on_path()
-        if self.path is None:
-            return None
-        up_base, up_tip = self.path
-        stamps: set[int] = set()
-
-        def to_common(chain: tuple[str, ...]) -> Float | None:
-            out = None  # None: the identity (base is the common frame, as for UR's driver)
-            for child in chain:  # child, its parent, …: common_T_frame = … · parent_T_child
-                if child in self.moving:
-                    _, transform, stamp = self.moving[child]
-                    stamps.add(stamp)
-                else:
-                    transform = self.static[child][1]
-                out = _matrix(transform) if out is None else _matrix(transform) @ out
-            return out
-
-        common_T_base, common_T_tip = to_common(up_base), to_common(up_tip)
-        if len(stamps) > 1:
-            return None
-        stamp = stamps.pop() if stamps else None
-        if common_T_tip is None:
-            common_T_tip = np.eye(4)
-        if common_T_base is None:
-            return common_T_tip, stamp
-        base_T_common = np.eye(4)  # the rigid inverse: rotation transposed
-        base_T_common[:3, :3] = common_T_base[:3, :3].T
-        base_T_common[:3, 3] = -common_T_base[:3, :3].T @ common_T_base[:3, 3]
-        return base_T_common @ common_T_tip, stamp
-
-    def needles(self) -> tuple[bytes, ...] | None:
-        """The path's child frame ids as bytes, once the path is known (else ``None``).
-
-        A tf message whose serialised bytes hold none of them cannot change the path
-        (only a new parent of a frame on it could), so it need not be deserialised.
-        """
-        self._on_path()
-        return None if self.path is None else tuple(f.encode() for f in self._on)
-
-
-class _Joints:
-    """The model's joints in a joint state's names: indices, cached per list of names."""
-
-    def __init__(self, accepted: Sequence[Sequence[str]], bounds: Sequence[float]) -> None:
-        self.accepted = [tuple(dict.fromkeys(names)) for names in accepted]
-        self.bounds = np.asarray(bounds, dtype=np.float64)
-        self.known = {n for names in self.accepted for n in names}
-        self.ignored: set[str] = set()
-        self._cache: dict[tuple[str, ...], list[int] | None] = {}
-
-    def indices(self, names: tuple[str, ...]) -> list[int] | None:
-        """Where each model joint is in ``names``; ``None`` when none of them is there.
-
-        Raises:
-            _Bad: Some of the model's joints are there and some are not, or
-                one is named twice (by its own and its URDF name, say).
-        """
-        if names in self._cache:
-            return self._cache[names]
-        if len(names) > MAX_JOINT_NAMES:
-            raise _Bad(f"a joint state names {len(names):,} joints (at most {MAX_JOINT_NAMES:,})")
-        where = {n: k for k, n in enumerate(names)}
-        if len(where) != len(names):
-            raise _Bad("a joint state names one joint twice")
-        found = [[where[n] for n in options if n in where] for options in self.accepted]
-        if not any(found):
-            out = None
-        else:
-            missing = [" or ".join(o) for o, f in zip(self.accepted, found, strict=True) if not f]
-            if missing:
-                raise _Bad(
-                    f"a joint state lacks the model's joint{'s' if len(missing) > 1 else ''} "
-                    f"{', '.join(missing)}; it names {', '.join(n[:60] for n in names[:20])}"
-                )
-            twice = [o for o, f in zip(self.accepted, found, strict=True) if len(f) > 1]
-            if twice:
-                raise _Bad(f"a joint state names joint {' and '.join(twice[0])} both")
-            out = [f[0] for f in found]
-            self.ignored.update(n for n in names if n not in self.known)
-        if len(self._cache) < 64:
-            self._cache[names] = out
-        return out
-
-    def values(self, msg: Any) -> Float | None:
-        """The model's joint values in one joint state (``None``: it names none of them)."""
-        names = tuple(str(n) for n in msg.name)
-        at = self.indices(names)
-        if at is None:
-            return None
-        position = np.asarray(msg.position, dtype=np.float64)
-        if position.shape != (len(names),):
-            raise _Bad(
-                f"a joint state names {len(names)} joints but holds {position.size} positions"
-            )
-        q = position[at]
-        bad = np.flatnonzero(~(np.abs(q) <= self.bounds))
-        if bad.size:
-            k = int(bad[0])
-            raise _Bad(
-                f"joint {self.accepted[k][0]} is {q[k]:g}, not a finite number within "
-                f"±{self.bounds[k]:g}"
-            )
-        return q
 
 
 class BagPairs:
@@ -802,111 +489,3 @@ class BagPairs:
             f"tf tree connects, or its changing transforms' stamps, do not give one); its "
             f"frames: {shown}"
         )
-
-
-class BagRecording:
-    """A bag's pairs as a :class:`~fkcheck.backends.recording.Recording`, streamed.
-
-    What :func:`fkcheck.backends.measured.open_recording` returns for a bag: its rows
-    are the pairs, numbered from 1 in the order their poses were recorded; its
-    :attr:`method` is the provenance line once the bag has been read to its end.
-    """
-
-    where = "row"
-
-    def __init__(self, pairs: BagPairs) -> None:
-        self.pairs = pairs
-        self.pair: tuple[str, str] | None = pairs.frames
-        self.method = "ROS 2 bag"
-
-    def chunks(self) -> Iterator[PoseChunk]:
-        """The pairs, :data:`~fkcheck.backends.recording.CHUNK_ROWS` at a time.
-
-        Raises:
-            BagError: See :meth:`BagPairs.chunks`; or more than
-                :data:`~fkcheck.backends.recording.MAX_RECORDING_ROWS` pairs.
-        """
-        count = 0
-        for q, poses, t in self.pairs.chunks(CHUNK_ROWS):
-            first, count = count, count + q.shape[0]
-            if count > MAX_RECORDING_ROWS:
-                raise BagError(
-                    self.pairs.path,
-                    f"more than {MAX_RECORDING_ROWS:,} pairs (at most {MAX_RECORDING_ROWS:,}); "
-                    "cut the bag (ros2 bag convert with a start and end time)",
-                )
-            yield PoseChunk(q, poses, t, np.arange(first + 1, count + 1, dtype=np.int64))
-        self.method = self.pairs.provenance.method
-
-
-def bag_pairs(path: Path, model: Model, options: BackendOptions) -> BagPairs:
-    """The reader of a bag's pairs for ``model``, as the check's options set it.
-
-    Args:
-        path: The bag.
-        model: The model: its joints (names, URDF joint names, types) and ``[check]`` pair.
-        options: The check's frames (``None``: the model's pair), topics and tolerance.
-
-    Raises:
-        BagError: A frame the model does not have, or a stamp tolerance out of range.
-    """
-    from fkcheck.errors import FrameError
-
-    try:
-        pair = (
-            resolve_frame(model, options.frame_from or model.check.frame_from).name,
-            resolve_frame(model, options.frame_to or model.check.frame_to).name,
-        )
-    except FrameError as exc:
-        raise BagError(path, str(exc)) from None
-    urdf = model.urdf.joints if model.urdf is not None and model.urdf.joints else ()
-    names = [(j.name, *((urdf[i],) if i < len(urdf) else ())) for i, j in enumerate(model.joints)]
-    bounds = [MAX_JOINT_RAD if j.type == "revolute" else MAX_LENGTH_M for j in model.joints]
-    topics = BagTopics(options.bag_joint_states, options.bag_tf, options.bag_tf_static)
-    return BagPairs(path, joint_names=names, joint_bounds=bounds, frames=pair, topics=topics,
-                    stamp_tolerance_s=options.bag_stamp_tolerance_s)  # fmt: skip
-
-
-def read_bag(
-    path: Path, model: Model, options: BackendOptions
-) -> tuple[Float, Float, tuple[str, str], str]:
-    """Read a bag whole, as :func:`fkcheck.backends.measured.read_poses_file` reads a file.
-
-    Args:
-        path: The bag.
-        model: The model (see :func:`bag_pairs`).
-        options: The check's frames, topics and tolerance.
-
-    Returns:
-        ``(q, poses, pair, method)``: ``(N, n)`` joint values, ``(N, 4, 4)`` poses
-        ``from_T_to``, the pair (the model's frame names) and the report's method text.
-
-    Raises:
-        BagError: See :func:`bag_pairs` and :meth:`BagPairs.chunks`; also more pairs
-            than :data:`~fkcheck.backends.measured.MAX_POSES_ROWS`, or one
-            configuration paired with two different poses.
-    """
-    from fkcheck.backends import measured
-
-    pairs = bag_pairs(path, model, options)
-    pair = pairs.frames
-    qs: list[Float] = []
-    poses: list[Float] = []
-    count = 0
-    for q, T, _ in pairs.chunks():
-        count += q.shape[0]
-        if count > measured.MAX_POSES_ROWS:
-            raise BagError(
-                path,
-                f"more than {measured.MAX_POSES_ROWS:,} pairs (at most "
-                f"{measured.MAX_POSES_ROWS:,}); cut the bag (ros2 bag convert with a start and "
-                "end time)",
-            )
-        qs.append(q)
-        poses.append(T)
-    q_all, poses_all = np.concatenate(qs), np.concatenate(poses)
-    try:
-        measured._check_duplicates(q_all, poses_all, np.arange(1, count + 1, dtype=np.int64), path)
-    except PosesFileError as exc:  # its rows are the pairs, counted from 1 as recorded
-        raise BagError(path, exc.problem.replace("lines", "pairs", 1)) from None
-    return q_all, poses_all, pair, pairs.provenance.method

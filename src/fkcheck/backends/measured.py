@@ -66,22 +66,21 @@ may appear on several kept lines only with the same pose (within :data:`MATCH_TO
 and rad): the table cannot hold two answers for one question. Matching
 configurations to rows is a hash lookup (a k-d tree for ones that are not bit for
 bit a row), so tens of thousands of rows are matched in well under a second.
+
+The columns of a poses CSV are read in :mod:`.poses_columns`, those of an RTDE
+recording in :mod:`.poses_rtde`, and the rows kept are looked up (and their
+duplicates refused) in :mod:`.poses_table`; this module streams the file and is
+the backend.
 """
 
 from __future__ import annotations
 
-import csv
-import math
-import operator
 import os
 import re
 from collections.abc import Callable, Iterator, Sequence
-from itertools import chain
 from pathlib import Path
-from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from fkcheck.backends.base import (
     BackendDefaults,
@@ -91,6 +90,12 @@ from fkcheck.backends.base import (
     Reads,
     validated_q,
 )
+from fkcheck.backends.poses_columns import CSV_METHOD, PosesFileError, _Layout, _read_header, _show
+from fkcheck.backends.poses_columns import MAX_ROTATION_NUMBER as MAX_ROTATION_NUMBER
+from fkcheck.backends.poses_rtde import RTDE_COLUMNS as RTDE_COLUMNS
+from fkcheck.backends.poses_rtde import _RtdeLayout
+from fkcheck.backends.poses_table import MATCH_TOL as MATCH_TOL
+from fkcheck.backends.poses_table import _check_duplicates, _Table
 from fkcheck.backends.recording import (
     CHUNK_CHARS,
     CHUNK_ROWS,
@@ -103,17 +108,8 @@ from fkcheck.backends.recording import (
 )
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
-from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_lines
-from fkcheck.io.numbers import (
-    MAX_NUMBER_CHARS,
-    NumberError,
-    parse_number,
-    parse_numbers,
-    show_text,
-    split_fields,
-)
-from fkcheck.model.types import MAX_JOINT_RAD, MAX_LENGTH_M, Model, resolve_frame
+from fkcheck.model.types import Model, resolve_frame
 
 __all__ = [
     "MAX_POSES_ROWS",
@@ -124,343 +120,11 @@ __all__ = [
 ]
 
 
-#: Joint values within this of a file row (radians / metres) are that row; two rows
-#: this close must have poses this close (metres and radians).
-MATCH_TOL = 1e-9
-#: Largest rotation number (a quaternion component or an angle in radians).
-MAX_ROTATION_NUMBER = 1e3
 #: Data rows a poses file or RTDE recording may hold: read in chunks, a recording
 #: takes the same memory whatever its length, so the limit bounds the time
 #: (:data:`~fkcheck.backends.recording.MAX_RECORDING_ROWS`: 5.5 hours at 500 Hz).
 MAX_POSES_ROWS = MAX_RECORDING_ROWS
-#: A character none of an RTDE recording's read fields may hold to be read in one go:
-#: with these characters alone, ``float()`` accepts exactly the plain numbers of
-#: :func:`fkcheck.io.numbers.parse_number` (and the spaces and tabs around them).
-_NOT_PLAIN = re.compile(r"[^0-9+\-.eE \t\n]")
 _PAIR = re.compile(r"^#\s*fkcheck poses:\s*from\s*=\s*(\S+)\s+to\s*=\s*(\S+)\s*$")
-#: The columns of an RTDE recording that are read: joints, then TCP pose (UR's recorder
-#: names the elements of a vector output ``name_0 … name_5``).
-RTDE_COLUMNS = tuple(f"actual_q_{i}" for i in range(6)) + tuple(
-    f"actual_TCP_pose_{i}" for i in range(6)
-)
-#: The type names of UR's binary recorder (``record.py --binary``), written as its second line.
-_RTDE_TYPES = frozenset(
-    {"BOOL", "UINT8", "UINT32", "UINT64", "INT32", "INT64", "DOUBLE", "VECTOR3D", "VECTOR6D",
-     "VECTOR6INT32", "VECTOR6UINT32"}
-)  # fmt: skip
-_ROTATIONS: dict[str, tuple[str, ...]] = {
-    "quat": ("qx", "qy", "qz", "qw"),
-    "rotvec": ("rx", "ry", "rz"),
-    "rpy": ("roll", "pitch", "yaw"),
-    "zyx": ("A", "B", "C"),
-}
-
-
-class PosesFileError(FkcheckError):
-    """A measured-poses file that cannot be read.
-
-    Attributes:
-        path: The file.
-        problem: What is wrong (with the line number where there is one).
-    """
-
-    def __init__(self, path: Path, problem: str) -> None:
-        self.path = path
-        self.problem = problem
-        super().__init__(f"{path}: {problem}")
-
-
-#: The unit suffixes a column may carry, per quantity, with their factors to SI: a
-#: suffix is valid only for what it measures (``q1_mm`` on a revolute joint was read
-#: as milliradians, ``x_deg`` as a position, ``rx_mm`` as a rotation).
-_ANGLE: dict[str, float] = {"": 1.0, "_deg": math.pi / 180}
-_LENGTH: dict[str, float] = {"": 1.0, "_mm": 1e-3}
-_PLAIN: dict[str, float] = {"": 1.0}
-_SUFFIXES = ("_deg", "_mm")
-_MEASURES = {"_deg": "an angle", "_mm": "a length"}
-
-
-def _column(
-    header: list[str], name: str, units: dict[str, float], what: str, path: Path
-) -> tuple[int, float] | None:
-    """The index and factor to SI of column ``name`` (with one of ``units``' suffixes).
-
-    ``None`` when no such column is there. ``what`` says what the column measures
-    (``joint 2 (shoulder), revolute``) for the messages.
-
-    Raises:
-        PosesFileError: The column carries a suffix for another quantity, or is
-            there twice with different suffixes.
-    """
-    found = [(header.index(name + u), f) for u, f in units.items() if name + u in header]
-    wrong = [name + u for u in _SUFFIXES if u not in units and name + u in header]
-    if wrong:
-        allowed = " or ".join(name + u for u in units)
-        suffix = wrong[0][len(name) :]
-        raise PosesFileError(
-            path,
-            f"column {wrong[0]}: {suffix} is for {_MEASURES[suffix]}, but {name} is {what}; "
-            f"name it {allowed}",
-        )
-    if len(found) > 1:
-        names = " and ".join(header[i] for i, _ in found)
-        raise PosesFileError(path, f"columns {names} are the same number; keep one")
-    return found[0] if found else None
-
-
-def _columns(
-    header: list[str], names: Sequence[str], units: Sequence[dict[str, float]],
-    whats: Sequence[str], path: Path,
-) -> tuple[list[int], list[float]] | None:  # fmt: skip
-    """:func:`_column` of each name; ``None`` when none of them is there.
-
-    Raises:
-        PosesFileError: Some are there and some are not, or one carries a wrong suffix.
-    """
-    found = [_column(header, n, u, w, path) for n, u, w in zip(names, units, whats, strict=True)]
-    if all(f is None for f in found):
-        return None
-    missing = [n for n, f in zip(names, found, strict=True) if f is None]
-    if missing:
-        raise PosesFileError(
-            path,
-            f"header needs columns {', '.join(names)} (each with its unit's suffix, if any); "
-            f"it lacks {', '.join(missing)}; it has: {_names(header)}",
-        )
-    return [f[0] for f in found if f], [f[1] for f in found if f]
-
-
-def _needed(
-    header: list[str], names: Sequence[str], units: Sequence[dict[str, float]],
-    whats: Sequence[str], path: Path,
-) -> tuple[list[int], list[float]]:  # fmt: skip
-    """:func:`_columns`, which must be there.
-
-    Raises:
-        PosesFileError: They are not, or one carries a wrong suffix.
-    """
-    found = _columns(header, names, units, whats, path)
-    if found is None:
-        raise PosesFileError(
-            path,
-            f"header needs columns {', '.join(names)} (or with their unit's suffix: _deg "
-            f"for angles, _mm for lengths); it has: {_names(header)}",
-        )
-    return found
-
-
-def _show(name: str) -> str:
-    """A header name as it goes into a message: as is when short and printable."""
-    return name if name.isprintable() and len(name) <= 40 else show_text(name)
-
-
-def _names(header: list[str]) -> str:
-    return ", ".join(_show(h) for h in header)
-
-
-def _read_header(text: str, lineno: int, path: Path) -> list[str]:
-    seen: dict[str, int] = {}
-    for column, raw in split_fields(text):
-        name = raw.strip()
-        where = f"line {lineno}, column {column}"
-        if not name:
-            raise PosesFileError(path, f"{where}: a header field without a name")
-        if name in seen:
-            raise PosesFileError(
-                path,
-                f"{where}: column {show_text(name)} is named twice (also field {seen[name] + 1}); "
-                "each column needs its own name",
-            )
-        seen[name] = len(seen)
-    return list(seen)
-
-
-class _Layout:
-    """Which header columns hold what, and their factors to metres / radians."""
-
-    def __init__(self, header: list[str], model: Model, path: Path) -> None:
-        self.header = header
-        revolute = [j.type == "revolute" for j in model.joints]
-        joints = _needed(
-            header,
-            [f"q{i + 1}" for i in range(model.dof)],
-            [_ANGLE if rev else _LENGTH for rev in revolute],
-            [f"joint {i + 1} ({j.name}), {j.type}" for i, j in enumerate(model.joints)],
-            path,
-        )
-        position = _needed(header, ["x", "y", "z"], [_LENGTH] * 3, ["a position"] * 3, path)
-        rotation = None
-        for fmt, names in _ROTATIONS.items():
-            suffixes = [_PLAIN if fmt == "quat" else _ANGLE] * len(names)
-            what = "a quaternion component" if fmt == "quat" else "an angle"
-            rotation = _columns(header, names, suffixes, [what] * len(names), path)
-            if rotation is not None:
-                self.fmt = fmt
-                break
-        if rotation is None:
-            raise PosesFileError(
-                path,
-                "header needs a rotation: qx,qy,qz,qw or rx,ry,rz or "
-                f"roll,pitch,yaw or A,B,C; it has: {_names(header)}",
-            )
-        self.columns = [*joints[0], *position[0], *rotation[0]]
-        self.n = model.dof
-        # Per kept column: factor to SI and the bound after it.
-        self.factor = np.array([*joints[1], *position[1], *rotation[1]])
-        self.bound = np.array(
-            [MAX_JOINT_RAD if rev else MAX_LENGTH_M for rev in revolute]
-            + [MAX_LENGTH_M] * 3
-            + [MAX_ROTATION_NUMBER] * len(rotation[0])
-        )
-        units = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3
-        self.unit = units + [" rad" if self.fmt != "quat" else ""] * len(rotation[0])
-        self.method = MeasuredPoses.method
-
-    def rows(self, lines: list[str], linenos: list[int], path: Path) -> list[float]:
-        """The kept numbers of data lines, in file units, one row after another."""
-        return list(chain.from_iterable(map(self.row, lines, linenos, [path] * len(lines))))
-
-    def row(self, line: str, lineno: int, path: Path) -> list[float]:
-        """The kept numbers of one data line, in file units."""
-        try:
-            numbers = parse_numbers(line)
-        except NumberError as exc:
-            header = self.header
-            name = (
-                f" ({_show(header[exc.index - 1])})"
-                if exc.index and exc.index <= len(header)
-                else ""
-            )
-            raise PosesFileError(
-                path, f"line {lineno}, column {exc.column}{name}: {exc.problem}"
-            ) from None
-        if len(numbers) != len(self.header):
-            raise PosesFileError(
-                path,
-                f"line {lineno}: {len(numbers)} fields, but the header names {len(self.header)}",
-            )
-        return [numbers[c] for c in self.columns]
-
-
-class _RtdeLayout:
-    """The columns of a UR RTDE recording that are read (:data:`RTDE_COLUMNS`), SI units."""
-
-    fmt = "rotvec"
-
-    def __init__(self, line: str, lineno: int, model: Model, path: Path) -> None:
-        self.delimiter = "," if "," in line else "\t" if "\t" in line else " "
-        self.header = [name.strip() for name in self._fields(line, lineno, path)]
-        where: dict[str, list[int]] = {}
-        for k, name in enumerate(self.header):
-            where.setdefault(name, []).append(k + 1)
-        twice = [(n, where[n]) for n in RTDE_COLUMNS if len(where.get(n, ())) > 1]
-        if twice:
-            name, fields = twice[0]
-            raise PosesFileError(
-                path,
-                f"line {lineno}: column {name} is named twice (fields "
-                f"{' and '.join(map(str, fields[:2]))}); the RTDE recording's column to read "
-                "is ambiguous",
-            )
-        missing = [n for n in RTDE_COLUMNS if n not in where]
-        if missing:
-            raise PosesFileError(
-                path,
-                f"line {lineno}: an RTDE recording (its header names actual_q_0) needs columns "
-                f"{', '.join(missing)}; record the outputs actual_q and actual_TCP_pose",
-            )
-        if model.dof != 6:
-            raise PosesFileError(
-                path,
-                f"an RTDE recording holds 6 joints (actual_q_0 … actual_q_5); model "
-                f"{model.name} has {model.dof}",
-            )
-        self.columns = [where[n][0] - 1 for n in RTDE_COLUMNS]
-        self.n = 6
-        self.factor = np.ones(12)
-        revolute = [j.type == "revolute" for j in model.joints]
-        self.bound = np.array(
-            [MAX_JOINT_RAD if rev else MAX_LENGTH_M for rev in revolute]
-            + [MAX_LENGTH_M] * 3
-            + [MAX_ROTATION_NUMBER] * 3
-        )
-        self.unit = [" rad" if rev else " m" for rev in revolute] + [" m"] * 3 + [" rad"] * 3
-        others = len(self.header) - len(RTDE_COLUMNS)
-        separated = {",": "comma", "\t": "tab"}.get(self.delimiter, "space")
-        self.method = (
-            f"UR RTDE recording ({separated}-separated): joints actual_q_0…actual_q_5 (rad), "
-            "pose actual_TCP_pose_0…actual_TCP_pose_5 (x, y, z in m, rotation vector in rad); "
-            f"{others} other column{'s' if others != 1 else ''} ignored"
-        )
-
-    def _fields(self, line: str, lineno: int, path: Path) -> list[str]:
-        try:
-            return next(csv.reader((line,), delimiter=self.delimiter, skipinitialspace=True))
-        except csv.Error as exc:
-            raise PosesFileError(path, f"line {lineno}: {exc}") from None
-
-    @staticmethod
-    def _refuse_binary(fields: list[str], lineno: int, path: Path) -> None:
-        """Refuse the type names UR's binary recorder writes after the header line."""
-        if fields and all(f.strip() in _RTDE_TYPES for f in fields):
-            raise PosesFileError(
-                path,
-                f"line {lineno}: a binary RTDE recording (record.py --binary: a line of "
-                "type names, then packed numbers); record it without --binary",
-            )
-
-    def rows(self, lines: list[str], linenos: list[int], path: Path) -> list[float]:
-        """The 12 numbers read of each data line, one row after another.
-
-        Quick when the lines are as UR's recorder writes them (every field split at the
-        delimiter, the read ones plain numbers); otherwise each line is read by
-        :meth:`row`, which accepts and refuses exactly as this does and says where.
-        """
-        text = "\n".join(lines)
-        spaced = self.delimiter == " " and "  " in text  # csv's skipinitialspace joins them
-        if '"' not in text and "\x00" not in text and not spaced:
-            width = len(self.header)
-            fields = [line.split(self.delimiter) for line in lines]
-            if all(len(f) == width for f in fields):
-                pick = operator.itemgetter(*self.columns)
-                used = list(chain.from_iterable(map(pick, fields)))
-                if max(map(len, used)) <= MAX_NUMBER_CHARS and not _NOT_PLAIN.search(
-                    "\n".join(used)
-                ):
-                    try:
-                        values = list(map(float, used))
-                    except ValueError:  # e.g. "1e", "-": row says which and where
-                        values = [math.inf]
-                    if all(map(math.isfinite, values)):
-                        return values
-        return list(chain.from_iterable(map(self.row, lines, linenos, [path] * len(lines))))
-
-    def row(self, line: str, lineno: int, path: Path) -> list[float]:
-        """The 12 numbers read of one data line: q (rad), position (m), rotation vector (rad)."""
-        fields = self._fields(line, lineno, path)
-        if len(fields) != len(self.header):
-            self._refuse_binary(fields, lineno, path)
-            raise PosesFileError(
-                path,
-                f"line {lineno}: {len(fields)} fields, but the header names {len(self.header)}",
-            )
-        used = [fields[c] for c in self.columns]
-        try:
-            numbers = parse_numbers(",".join(used))
-        except NumberError:
-            numbers = []
-        if len(numbers) == len(used):
-            return numbers
-        self._refuse_binary(fields, lineno, path)
-        for column, text in zip(self.columns, used, strict=True):  # name the first bad field
-            try:
-                parse_number(text)
-            except NumberError as exc:
-                raise PosesFileError(
-                    path,
-                    f"line {lineno}, field {column + 1} ({self.header[column]}): {exc.problem}",
-                ) from None
-        raise PosesFileError(path, f"line {lineno}: the read columns are not 12 numbers")
 
 
 def read_poses_file(path: Path, model: Model) -> tuple[Float, Float, tuple[str, str] | None]:
@@ -648,40 +312,6 @@ def _model_pair(
         raise PosesFileError(path, f"{where}: {exc}") from None
 
 
-def _check_duplicates(q: Float, poses: Float, linenos: NDArray[np.int64], path: Path) -> None:
-    """Refuse two rows with the same configuration (within MATCH_TOL) but different poses."""
-    from scipy.spatial import cKDTree
-
-    from fkcheck.core.metrics import position_error_m, rotation_error_rad
-
-    def refuse_if_different(a: NDArray[np.intp], b: NDArray[np.intp], same: str) -> None:
-        pos = position_error_m(poses[a], poses[b])
-        rot = rotation_error_rad(poses[a], poses[b])
-        bad = np.flatnonzero((pos > MATCH_TOL) | (rot > MATCH_TOL))
-        if bad.size:
-            k = int(bad[0])
-            first, second = sorted((linenos[int(a[k])], linenos[int(b[k])]))
-            raise PosesFileError(
-                path,
-                f"lines {first} and {second} have the same configuration{same} but poses "
-                f"differing by {pos[k]:.3g} m and {rot[k]:.3g} rad; keep one of them",
-            )
-
-    # Identical configurations: each row against the first row like it.
-    _, first, inverse = np.unique(_key_values(q), axis=0, return_index=True, return_inverse=True)
-    inverse = inverse.reshape(-1)
-    rows = np.flatnonzero(first[inverse] != np.arange(q.shape[0]))
-    refuse_if_different(rows, first[inverse[rows]], "")
-    # Configurations within MATCH_TOL but not identical: each against its nearest other.
-    unique = np.sort(first)
-    if unique.size > 1:
-        dist, near = cKDTree(q[unique]).query(
-            q[unique], k=2, p=np.inf, distance_upper_bound=MATCH_TOL
-        )
-        close = np.flatnonzero(np.isfinite(dist[:, 1]))
-        refuse_if_different(unique[close], unique[near[close, 1]], f" (within {MATCH_TOL:g})")
-
-
 def _reading(model: Model) -> tuple[object, ...]:
     """What reading a recording takes from a model: its joints, URDF joint names and frames.
 
@@ -697,41 +327,6 @@ def _reading(model: Model) -> tuple[object, ...]:
     )
 
 
-def _key_values(q: Float) -> Float:
-    """``q`` as a C-contiguous copy with -0.0 made 0.0: equal rows have equal bytes."""
-    return np.ascontiguousarray(q, dtype=np.float64) + 0.0
-
-
-class _Table:
-    """A read poses file (the rows kept of it), with a lookup from configurations to its rows."""
-
-    def __init__(self, q: Float, poses: Float, recording: Recording, kept: RowKeeper) -> None:
-        self.q = q
-        self.poses = poses
-        self.pair = recording.pair
-        self.method = recording.method
-        self.recording = recording
-        self.keeper = kept
-        keys = _key_values(q)
-        self._index = {keys[k].tobytes(): k for k in range(keys.shape[0] - 1, -1, -1)}
-        self._tree: Any = None
-
-    def rows_of(self, q: Float) -> NDArray[np.intp]:
-        """The file row of each configuration (within MATCH_TOL), ``-1`` where none is."""
-        q = _key_values(q)
-        rows = np.array([self._index.get(row.tobytes(), -1) for row in q], dtype=np.intp)
-        inexact = np.flatnonzero(rows < 0)
-        if inexact.size:
-            from scipy.spatial import cKDTree
-
-            if self._tree is None:
-                self._tree = cKDTree(self.q)
-            dist, near = self._tree.query(q[inexact], p=np.inf, distance_upper_bound=MATCH_TOL)
-            found = np.isfinite(dist)
-            rows[inexact[found]] = near[found]
-        return rows
-
-
 class MeasuredPoses(BackendDefaults):
     """Reference poses read from a CSV file, at that file's configurations.
 
@@ -743,7 +338,7 @@ class MeasuredPoses(BackendDefaults):
         path: The CSV file.
     """
 
-    method = "measured poses (CSV)"
+    method = CSV_METHOD
     evidence: Evidence = "table"
     reads: Reads = "poses"
 

@@ -320,13 +320,26 @@ def format_text(d: Diagnosis) -> str:
         f"disagreement as given: {d.before.text()} (tolerance {d.tol_pos_m:g} m, "
         f"{d.tol_rot_rad:g} rad)",
     ]
+    lines.extend(_verdict_lines(d))
+    for k, e in enumerate(d.explanations, start=1):
+        lines.extend(_explanation_lines(k, e, d.before))
+    lines.extend(_axes_lines(d))
+    if d.tried:
+        lines.append("")
+        lines.append("tried: " + "; ".join(d.tried))
+    lines.append(f"took {format_seconds(d.duration_s)}")
+    return "\n".join(lines) + "\n"
+
+
+def _verdict_lines(d: Diagnosis) -> list[str]:
+    """Whether the table agrees, and what an agreement leaves unidentified."""
     if d.agrees and d.unsettled:
         one = len(d.unsettled) == 1
-        lines.append(
+        lines = [
             f"the table agrees with the reference, but {len(d.unsettled)} "
             f"{'number is' if one else 'numbers are'} not identifiable in this comparison: "
             f"the agreement says nothing about {'it' if one else 'them'}"
-        )
+        ]
         settles: list[str] = []
         for u in d.unsettled:
             lines.append(
@@ -335,23 +348,36 @@ def format_text(d: Diagnosis) -> str:
             if u.settle not in settles:
                 settles.append(u.settle)
         lines.extend(f"   to settle {'it' if one else 'them'}: {s}" for s in settles)
-    elif d.agrees:
-        lines.append("the table agrees with the reference: nothing to explain")
-    elif not d.explanations:
-        lines.append("no hypothesis explains the disagreement, or even half of it")
-    for k, e in enumerate(d.explanations, start=1):
-        verdict = "explains it" if e.explains else "explains part of it"
-        lines.append("")
-        lines.append(f"{k}. [{e.kind}] {e.title}")
-        lines.append(f"   {verdict}: {d.before.text()} → {e.residual.text()}")
-        lines.extend(f"   {c.text()}" + (f" ({c.note})" if c.note else "") for c in e.changes)
-        lines.extend(f"   {line}" for line in e.details)
-        if e.edits:
-            lines.append("   edit, in the model file:")
-            lines.extend(f"     {line}" for line in e.edits)
-        if e.fix_toml:
-            lines.append("   and set these tables:" if e.edits else "   fix, in the model file:")
-            lines.extend(f"     {line}" for line in e.fix_toml.rstrip("\n").splitlines())
+        return lines
+    if d.agrees:
+        return ["the table agrees with the reference: nothing to explain"]
+    if not d.explanations:
+        return ["no hypothesis explains the disagreement, or even half of it"]
+    return []
+
+
+def _explanation_lines(k: int, e: Explanation, before: Residual) -> list[str]:
+    """The ``k``-th explanation: what it leaves, its changes, details and fix."""
+    verdict = "explains it" if e.explains else "explains part of it"
+    lines = [
+        "",
+        f"{k}. [{e.kind}] {e.title}",
+        f"   {verdict}: {before.text()} → {e.residual.text()}",
+    ]
+    lines.extend(f"   {c.text()}" + (f" ({c.note})" if c.note else "") for c in e.changes)
+    lines.extend(f"   {line}" for line in e.details)
+    if e.edits:
+        lines.append("   edit, in the model file:")
+        lines.extend(f"     {line}" for line in e.edits)
+    if e.fix_toml:
+        lines.append("   and set these tables:" if e.edits else "   fix, in the model file:")
+        lines.extend(f"     {line}" for line in e.fix_toml.rstrip("\n").splitlines())
+    return lines
+
+
+def _axes_lines(d: Diagnosis) -> list[str]:
+    """The joint axes compared as lines in the base frame, and the note on them."""
+    lines: list[str] = []
     if d.axes:
         lines.append("")
         lines.append("joint axes as lines in the base frame (convention-free):")
@@ -364,8 +390,4 @@ def format_text(d: Diagnosis) -> str:
             )
     if d.axes_note:
         lines.append(f"   {d.axes_note}")
-    if d.tried:
-        lines.append("")
-        lines.append("tried: " + "; ".join(d.tried))
-    lines.append(f"took {format_seconds(d.duration_s)}")
-    return "\n".join(lines) + "\n"
+    return lines

@@ -97,35 +97,9 @@ def diagnose(
         else:
             problem = replace(problem, known=known)
     if not problem.exact(before):
-        explanations += explain_offsets(problem)
-        tried.append("constant base/tip frame offsets (least squares on SE(3))")
-        found, hypotheses_tried = explain_hypotheses(problem)
-        explanations += found
-        tried += hypotheses_tried
-        if reads_model_description(backend, model):
-            swaps, n_swaps = explain_swapped_mapping(problem)
-            explanations += swaps
-            tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
-            if not any(e.explains for e in explanations):
-                explanations += explain_conventions(problem)
-                tried.append(
-                    "reversed joints, quarter-turn zeros and the end frames together, "
-                    "from the URDF's chain"
-                )
-        # Re-checked against the backend before deciding on the fit: a black box can rule
-        # out a fix (a frame offset) that looked like it explained everything.
-        explanations = [_verified(problem, e) for e in explanations]
-        # The general form, when nothing simpler leaves less than the tolerances (a
-        # change that leaves the recorded known difference explains, but the fit is
-        # still shown: it says where the recorded difference comes from).
-        if not any(e.explains and problem.exact(e.residual) for e in explanations):
-            explanations += [_verified(problem, e) for e in explain_parameter_fit(problem)]
-            tried.append("all DH parameters + base + tool fitted together")
-        if problem.known is not None:
-            explanations = [_leaves_known(problem, problem.known, e) for e in explanations]
-        if reads_model_description(backend, model):
-            axes = compare_axes(problem)
-            tried.append("joint axes against the URDF")
+        explanations, tried, axes = _steps(
+            problem, explanations, reads_model_description(backend, model)
+        )
     unsettled: tuple[Unsettled, ...] = ()
     if problem.exact(before) and backend.evidence == "table":  # agreement: what it leaves open
         unsettled = unsettled_numbers(model, pair, tol, configs)
@@ -145,6 +119,49 @@ def diagnose(
         duration_s=time.perf_counter() - start,
         unsettled=unsettled,
     )
+
+
+def _steps(
+    problem: Problem, explanations: list[Explanation], reads_urdf: bool
+) -> tuple[list[Explanation], list[str], tuple[AxisRow, ...]]:
+    """Every step on a disagreement, after ``explanations`` (the model's record, if any).
+
+    Returns:
+        The explanations (re-checked against the reference), what was tried, and the
+        joint axes compared (only when the reference reads the URDF, ``reads_urdf``).
+    """
+    tried: list[str] = []
+    axes: tuple[AxisRow, ...] = ()
+    explanations += explain_offsets(problem)
+    tried.append("constant base/tip frame offsets (least squares on SE(3))")
+    found, hypotheses_tried = explain_hypotheses(problem)
+    explanations += found
+    tried += hypotheses_tried
+    if reads_urdf:
+        swaps, n_swaps = explain_swapped_mapping(problem)
+        explanations += swaps
+        tried.append(f"two URDF joints swapped in [urdf].joints ({n_swaps})")
+        if not any(e.explains for e in explanations):
+            explanations += explain_conventions(problem)
+            tried.append(
+                "reversed joints, quarter-turn zeros and the end frames together, "
+                "from the URDF's chain"
+            )
+    # Re-checked against the backend before deciding on the fit: a black box can rule
+    # out a fix (a frame offset) that looked like it explained everything.
+    explanations = [_verified(problem, e) for e in explanations]
+    # The general form, when nothing simpler leaves less than the tolerances (a
+    # change that leaves the recorded known difference explains, but the fit is
+    # still shown: it says where the recorded difference comes from).
+    if not any(e.explains and problem.exact(e.residual) for e in explanations):
+        explanations += [_verified(problem, e) for e in explain_parameter_fit(problem)]
+        tried.append("all DH parameters + base + tool fitted together")
+    if problem.known is not None:
+        explanations = [_leaves_known(problem, problem.known, e) for e in explanations]
+    if reads_urdf:
+        axes = compare_axes(problem)
+        tried.append("joint axes against the URDF")
+    return explanations, tried, axes
 
 
 def _verified(problem: Problem, e: Explanation) -> Explanation:
