@@ -252,13 +252,13 @@ def test_models_lists_every_bundled_model_on_one_line_each_within_80_columns(cap
     # A header, one line per model, a footer: no wrapped source text.
     assert len(lines) == len(bundled) + 2
     assert max(len(line) for line in lines) <= 80
-    assert lines[0].split() == ["model", "joints", "DH", "evidence", "(URDF)"]
+    assert lines[0].split() == ["model", "DOF", "DH", "evidence", "(description)"]
     rows = {line.split()[0]: line.split(maxsplit=3)[1:] for line in lines[1:-1]}
     assert list(rows) == list(bundled)  # sorted by name
     assert "ur_description" not in out  # the bundled description is no model
     assert rows["ur5"] == ["6", "standard", "table + code (ur.urdf.xacro)"]
     assert rows["panda"] == ["7", "modified", "table + code (panda.urdf)"]
-    assert rows["planar2"] == ["2", "standard", "code only (no URDF)"]
+    assert rows["planar2"] == ["2", "standard", "code only (no description)"]
     assert rows["xarm7"] == ["7", "modified", "table + code (xarm7.urdf, 1 known difference)"]
     assert lines[-1] == (
         f"{len(bundled)} bundled models; details: fkcheck models NAME (e.g. ur5), or --long for all"

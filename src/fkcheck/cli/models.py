@@ -41,16 +41,16 @@ def add_parser(sub: Any) -> None:
 def evidence_text(model: Model) -> str:
     """What a check of ``model`` can verify, in a few words.
 
-    With a URDF, backends that read it check the table itself (``table + code
+    With a description (URDF, xacro, MJCF), backends that read it check the table itself (``table + code
     (ur.urdf.xacro)``, the URDF's file name); without one, only other
-    implementations of the same table can answer (``code only (no URDF)``). A
+    implementations of the same table can answer (``code only (no description)``). A
     recorded difference with its URDF is counted.
     """
     from fkcheck.description.registry import model_format
 
     fmt = model_format(model)
     if fmt is None:
-        return "code only (no URDF)"
+        return "code only (no description)"
     file = fmt.written(model).split(":")[-1].rsplit("/", 1)[-1]
     known = len(model.known_differences)
     recorded = f", {known} known difference{'s' if known != 1 else ''}" if known else ""
@@ -60,9 +60,9 @@ def evidence_text(model: Model) -> str:
 def _compact(models: dict[str, Model]) -> list[str]:
     """One line per model, under a header line, then the footer."""
     width = max(len("model"), *(len(n) for n in models))
-    rows = [("model", "joints", "DH", "evidence (URDF)")]
+    rows = [("model", "DOF", "DH", "evidence (description)")]
     rows += [(n, str(m.dof), m.convention, evidence_text(m)) for n, m in models.items()]
-    lines = [f"{n:<{width}}  {j:>6}  {c:<8}  {e}".rstrip() for n, j, c, e in rows]
+    lines = [f"{n:<{width}}  {j:>3}  {c:<8}  {e}".rstrip() for n, j, c, e in rows]
     return [*lines, f"{len(models)} bundled models; {FOOTER}"]
 
 
