@@ -41,10 +41,10 @@ def add_parser(sub: Any) -> None:
 def evidence_text(model: Model) -> str:
     """What a check of ``model`` can verify, in a few words.
 
-    With a description (URDF, xacro, MJCF), backends that read it check the table itself (``table + code
-    (ur.urdf.xacro)``, the URDF's file name); without one, only other
-    implementations of the same table can answer (``code only (no description)``). A
-    recorded difference with its URDF is counted.
+    With a description (URDF, xacro, MJCF), backends that read it check the table
+    itself (``table + code (ur.urdf.xacro)``, the description's file name); without
+    one, only other implementations of the same table can answer (``code only (no
+    description)``). A recorded difference is counted.
     """
     from fkcheck.description.registry import model_format
 
