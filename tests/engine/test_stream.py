@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from fkcheck import load_model
-from fkcheck.backends import recording
+from fkcheck.backends import measured, recording
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError, read_poses_file
 from fkcheck.cli.main import main
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
@@ -39,8 +39,6 @@ def ur5():
 def small(monkeypatch):
     monkeypatch.setattr(recording, "KEEP_ROWS", KEEP)
     monkeypatch.setattr(recording, "CHUNK_ROWS", CHUNK)
-    from fkcheck.backends import measured
-
     monkeypatch.setattr(measured, "CHUNK_ROWS", CHUNK)
 
 
@@ -296,6 +294,19 @@ class _ChunkedRecording:
             )
 
 
+def _count_reads(monkeypatch) -> list:
+    """The paths of the CSV recordings read from here on, once per read (appended to)."""
+    reads = []
+    chunks = measured._CsvRecording.chunks
+
+    def counted(self):
+        reads.append(self.path)
+        return chunks(self)
+
+    monkeypatch.setattr(measured._CsvRecording, "chunks", counted)
+    return reads
+
+
 def test_a_failing_check_reads_the_recording_once_and_counts_every_row(
     ur5, motion, tmp_path, small, capsys, monkeypatch
 ):
@@ -312,16 +323,7 @@ def test_a_failing_check_reads_the_recording_once_and_counts_every_row(
         lines.append(" ".join(map(repr, row)))
     path = tmp_path / "rec.csv"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    from fkcheck.backends import measured
-
-    reads = []
-    chunks = measured._CsvRecording.chunks
-
-    def counted(self):
-        reads.append(self.path)
-        return chunks(self)
-
-    monkeypatch.setattr(measured._CsvRecording, "chunks", counted)
+    reads = _count_reads(monkeypatch)
     code = main(["check", "ur5", "--against", f"poses:{path}"])
     out = " ".join(capsys.readouterr().out.split())
     assert code == 1, out
@@ -337,16 +339,7 @@ def test_the_diagnosis_of_a_streamed_recording_explains_it_without_reading_it_ag
     # verified against the recording's own rows (the ones the check kept).
     ur10e = load_model("ur10e")
     path = write_rtde_csv(tmp_path / "rec.csv", ur10e, motion)
-    from fkcheck.backends import measured
-
-    reads = []
-    chunks = measured._CsvRecording.chunks
-
-    def counted(self):
-        reads.append(self.path)
-        return chunks(self)
-
-    monkeypatch.setattr(measured._CsvRecording, "chunks", counted)
+    reads = _count_reads(monkeypatch)
     code = main(["check", "ur10", "--against", f"poses:{path}"])
     out = " ".join(capsys.readouterr().out.split())
     assert code == 1, out
