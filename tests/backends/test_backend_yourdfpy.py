@@ -51,7 +51,7 @@ def test_registry_builds_the_backend() -> None:
     assert isinstance(backend, Backend)
     assert not isinstance(backend, SharesDHFrames)
     assert backend.name == "yourdfpy-urdf"
-    assert backend.method == "URDF.update_cfg + URDF.get_transform (loop, own processes)"
+    assert backend.method == "URDF.update_cfg + URDF.get_transform (loop)"
     assert backend.isolated
 
 

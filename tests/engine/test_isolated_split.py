@@ -16,6 +16,7 @@ import pytest
 
 from fkcheck import load_model
 from fkcheck.engine import runner
+from fkcheck.engine.plan import BackendPlan
 from fkcheck.engine.runner import run_check
 from tests.engine.test_check_engine import ReferenceChain
 from tests.processes import LINUX_ONLY, alive, descendants
@@ -180,3 +181,58 @@ def test_the_parts_side_by_side_share_the_cores_between_their_thread_pools(
     assert check.backends[0].status == "pass"
     written = [p.read_text() for p in two_parts.iterdir()]
     assert written == [each] * (2 if processes is None else 1)
+
+
+class CostedPidChain(PidChain):
+    """:class:`PidChain` with a declared cost, µs a configuration of a 6-joint arm."""
+
+    name = "costed-pid-chain"
+
+    def __init__(self, pose_cost_us: float) -> None:
+        self.pose_cost_us = pose_cost_us
+
+
+def _pids(where: Path) -> set[int]:
+    return {int(p.name.split("-")[0]) for p in where.iterdir()}
+
+
+def _declared_s(backend: CostedPidChain, configurations: int) -> float:
+    return backend.pose_cost_us * 1e-6 * configurations  # UR5: six joints, the unit
+
+
+def test_a_share_under_half_a_second_runs_in_the_engines_process(ur5, two_parts):
+    cheap = CostedPidChain(10.0)  # less than a process costs to start
+    check = run_check(ur5, [cheap, ReferenceChain()], samples=10)
+    assert _declared_s(cheap, check.q.shape[0]) < runner.IN_PROCESS_MAX_S
+    assert [r.status for r in check.backends] == ["pass", "pass"]
+    assert _pids(two_parts) == {os.getpid()}
+
+
+def test_a_share_of_half_a_second_or_more_runs_in_processes_of_its_own(ur5, two_parts):
+    dear = CostedPidChain(10_000.0)
+    check = run_check(ur5, [dear, ReferenceChain()], samples=100)
+    assert _declared_s(dear, check.q.shape[0]) >= runner.IN_PROCESS_MAX_S
+    assert [r.status for r in check.backends] == ["pass", "pass"]
+    assert os.getpid() not in _pids(two_parts)
+    assert len(_pids(two_parts)) == 2  # split over the two cores, as before
+
+
+def test_an_isolated_backend_without_a_declared_cost_always_runs_in_its_own_process(ur5, two_parts):
+    run_check(ur5, [PidChain(), ReferenceChain()], samples=2)
+    assert os.getpid() not in _pids(two_parts)
+
+
+@pytest.mark.parametrize(
+    ("full_s", "compared", "own"),
+    [
+        (None, 64, True),  # no declared cost
+        (0.49, 64, False),
+        (0.5, 64, True),
+        (4.0, 8, True),  # 0.5 s of its share
+        (4.0, 7, False),  # 0.44 s of its share
+    ],
+)
+def test_in_own_processes_weighs_the_declared_cost_of_the_share(full_s, compared, own):
+    plan = BackendPlan("x", compared, 64, 0, full_s, None, 120.0)
+    assert runner.in_own_processes(PidChain(), plan) is own
+    assert runner.in_own_processes(ReferenceChain(), plan) is False  # not isolated

@@ -84,10 +84,14 @@ class YourdfpyUrdf(UrdfReader):
     #: Declared cost, µs per configuration of a 6-joint arm (the plan: fkcheck.engine.plan).
     pose_cost_us = 630.0
     distributions = ("yourdfpy", "trimesh")
-    method = "URDF.update_cfg + URDF.get_transform (loop, own processes)"
+    method = "URDF.update_cfg + URDF.get_transform (loop)"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
-    #: the engine computes its poses in processes of its own, split over the cores.
+    #: the engine computes its poses in processes of its own, split over the cores
+    #: (a share under half a second, e.g. 64 poses, in the engine's process:
+    #: fkcheck.engine.runner.in_own_processes).
     isolated = True
+    #: Imported before the backends' threads start when it runs in the engine's process.
+    imports = ("yourdfpy",)
 
     def __init__(self, arg: str = "", options: BackendOptions | None = None) -> None:
         """Build the backend; ``arg`` is unused (built-in backends take none)."""

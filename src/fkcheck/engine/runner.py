@@ -8,7 +8,8 @@ a backend whose declared cost does not fit its limit gets a stated subset);
 then the core's kernels load (a phase of its own, charged to no backend) and
 :func:`run_backends` runs each backend in a thread — an isolated one's poses in
 a child process, started first, while the libraries of the others are imported
-— within its time limit, with :func:`fkcheck.engine.compare.compare` comparing
+(unless its share is too small to be worth one: :func:`in_own_processes`) —
+within its time limit, with :func:`fkcheck.engine.compare.compare` comparing
 each with the in-house core; :func:`~fkcheck.engine.judge.judge` gives the
 :class:`~fkcheck.engine.results.CheckResult` with the verdict. :func:`run_check`
 is one request from a model, backends and options by name.
@@ -38,7 +39,7 @@ from fkcheck.description.registry import model_format
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.jacobian import Explain
 from fkcheck.engine.judge import judge
-from fkcheck.engine.plan import Plan
+from fkcheck.engine.plan import BackendPlan, Plan
 from fkcheck.engine.prepare import EVIDENCE_MIN_S, PreparedCheck, prepare
 from fkcheck.engine.request import CheckRequest
 from fkcheck.engine.results import BackendResult, CheckResult
@@ -61,8 +62,10 @@ if TYPE_CHECKING:
 
 __all__ = [
     "EVIDENCE_MIN_S",
+    "IN_PROCESS_MAX_S",
     "CheckRequest",
     "Progress",
+    "in_own_processes",
     "load_kernels",
     "run_backends",
     "run_check",
@@ -81,9 +84,18 @@ def _skipped(backend: Backend, reason: str) -> BackendResult:
 
 
 def _run_one(
-    job: Job, timeout_s: float, on_progress: Progress | None = None, processes: int | None = None
+    job: Job,
+    timeout_s: float,
+    on_progress: Progress | None = None,
+    processes: int | None = None,
+    *,
+    own_processes: bool = False,
 ) -> BackendResult | FkcheckError:
-    """Run one backend with a time limit; returns a result, or bad input to re-raise."""
+    """Run one backend with a time limit; returns a result, or bad input to re-raise.
+
+    ``own_processes``: its poses are computed in processes of its own
+    (:func:`in_own_processes`).
+    """
     backend = job.backend
     try:
         reason = backend.unavailable_reason(job.model)
@@ -92,7 +104,7 @@ def _run_one(
     if reason is not None:
         return _skipped(backend, reason)
 
-    if backend.isolated:
+    if own_processes:
         job = replace(job, backend=_InChild(backend, timeout_s, processes))
 
     box: list[BackendResult | FkcheckError] = []
@@ -154,6 +166,27 @@ def _in_child(call: Callable[[], Any]) -> tuple[str, Any]:
 #: about a second (an interpreter, NumPy, the backend's library, its model), about
 #: 3,000 of yourdfpy's UR5 poses.
 SPLIT_MIN_CONFIGS = 2_500
+
+
+#: An isolated backend whose planned share is declared to take less than this, seconds,
+#: runs in the engine's process instead: a process of its own costs more to start than
+#: such a share's work (an interpreter, NumPy, the backend's library and its model:
+#: 0.7 s of CPU for yourdfpy's, against its 40 ms for 64 UR5 poses). A backend that
+#: declares no cost (``pose_cost_us``) always runs in processes of its own.
+IN_PROCESS_MAX_S = 0.5
+
+
+def in_own_processes(backend: Backend, plan: BackendPlan) -> bool:
+    """Whether the engine runs ``backend``'s share of a check in processes of its own.
+
+    An isolated backend does, unless its declared cost puts the ``plan``'s share
+    under :data:`IN_PROCESS_MAX_S`; no other backend does.
+    """
+    if not backend.isolated:
+        return False
+    if plan.full_s is None or plan.total == 0:
+        return True
+    return plan.full_s * plan.compared / plan.total >= IN_PROCESS_MAX_S
 
 
 def _split(n: int, processes: int | None = None) -> list[tuple[int, int]]:
@@ -295,7 +328,7 @@ class _InChild:
 
 
 def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
-    """Import what in-process backends import lazily, once, before their threads start.
+    """Import what ``backends`` (those run here) import lazily, once, before their threads start.
 
     Two threads importing one heavy library for the first time at the same time
     can end in ``_DeadlockError`` (seen with ``roboticstoolbox.ets``); importing
@@ -303,7 +336,7 @@ def _import_libraries(model: Model, backends: Sequence[Backend]) -> None:
     that fails to import is left to its backend, which reports it.
     """
     for backend in backends:
-        if backend.isolated or not backend.imports:  # nothing to import here
+        if not backend.imports:  # nothing to import here
             continue
         try:
             if backend.unavailable_reason(model) is not None:
@@ -439,8 +472,10 @@ def run_backends(
     errors: list[FkcheckError] = []
     lock = threading.Lock()
 
+    own = [in_own_processes(b, p) for b, p in zip(backends, prepared.plan.backends, strict=True)]
+
     def run_and_collect(index: int, backend: Backend) -> None:
-        outcome = _one_backend(prepared, index, backend, on_progress)
+        outcome = _one_backend(prepared, index, backend, on_progress, own_processes=own[index])
         with lock:
             if isinstance(outcome, FkcheckError):
                 errors.append(outcome)
@@ -455,12 +490,12 @@ def run_backends(
     ]
     # An isolated backend's process starts first: it imports its own libraries on the
     # other core while this process imports those of the backends that run here.
-    for worker, backend in zip(workers, backends, strict=True):
-        if backend.isolated:
+    for worker, in_child in zip(workers, own, strict=True):
+        if in_child:
             worker.start()
-    _import_libraries(model, backends)
-    for worker, backend in zip(workers, backends, strict=True):
-        if not backend.isolated:
+    _import_libraries(model, [b for b, in_child in zip(backends, own, strict=True) if not in_child])
+    for worker, in_child in zip(workers, own, strict=True):
+        if not in_child:
             worker.start()
     for worker in workers:
         # In slices: a signal that lands on a backend's thread (SIGTERM, Ctrl-C) runs its
@@ -474,7 +509,12 @@ def run_backends(
 
 
 def _one_backend(
-    prepared: PreparedCheck, index: int, backend: Backend, on_progress: Progress | None
+    prepared: PreparedCheck,
+    index: int,
+    backend: Backend,
+    on_progress: Progress | None,
+    *,
+    own_processes: bool,
 ) -> BackendResult | FkcheckError:
     """One backend's result on its share of the plan (or bad input to re-raise)."""
     urdf = model_format(prepared.model, "urdf")  # placed urdf:LINK frames are its readers' alone
@@ -485,7 +525,9 @@ def _one_backend(
     job = Job(backend, prepared.model, prepared.samples.q[: share.compared], prepared.pair,
               prepared.tol, prepared.jacobian, request.explain_jacobian)  # fmt: skip
     options = request.options
-    outcome = _run_one(job, options.timeout_s, on_progress, options.processes)
+    outcome = _run_one(
+        job, options.timeout_s, on_progress, options.processes, own_processes=own_processes
+    )
     if share.subset and isinstance(outcome, BackendResult):
         outcome = replace(outcome, subset=(share.compared, share.total))
     return outcome
