@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, settings
 
+from fkcheck.process.threads import one_blas_thread
+
 # In CI (FKCHECK_REQUIRE_BACKENDS=1, set by .ci/run) a skipped test is a failure.
 pytest_plugins = ["tests.ci_require"]
 
@@ -24,6 +26,10 @@ settings.register_profile(
     "fuzz", max_examples=600, deadline=None, suppress_health_check=[HealthCheck.too_slow]
 )
 settings.load_profile(os.environ.get("FKCHECK_HYPOTHESIS_PROFILE", "default"))
+
+# The suite is fkcheck's own small linear algebra, as the program's: BLAS on one thread
+# (fkcheck.process.threads.one_blas_thread; children started by the tests inherit it).
+one_blas_thread()
 
 
 @pytest.fixture(autouse=True)

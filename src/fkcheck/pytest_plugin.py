@@ -86,13 +86,15 @@ class FkcheckCollectionWarning(pytest.PytestWarning):
 def pytest_configure(config: pytest.Config) -> None:
     """Read ``[tool.fkcheck]`` once; a table that is wrong stops the run with its one line.
 
-    A project with models, in a pytest-xdist worker: the thread pools are sized to
-    the worker's share of the cores (:func:`fkcheck.process.threads.share_xdist_cores`),
-    so that every check it runs shares them with the other workers.
+    A project with models: BLAS runs on one thread
+    (:func:`fkcheck.process.threads.one_blas_thread`), and in a pytest-xdist worker
+    the other pools are sized to the worker's share of the cores
+    (:func:`fkcheck.process.threads.share_xdist_cores`), so that every check it runs
+    shares them with the other workers.
     """
     from fkcheck.errors import FkcheckError
     from fkcheck.model.project import load_project
-    from fkcheck.process.threads import share_xdist_cores
+    from fkcheck.process.threads import one_blas_thread, share_xdist_cores
 
     try:
         project = load_project(config.rootpath)
@@ -101,6 +103,7 @@ def pytest_configure(config: pytest.Config) -> None:
         raise pytest.UsageError(f"fkcheck: {exc}") from None
     config.stash[_PROJECT_KEY] = (project, paths) if project is not None and paths else None
     if config.stash[_PROJECT_KEY] is not None:
+        one_blas_thread()
         share_xdist_cores()
     config.stash[_COLLECTED_KEY] = set()
     config.stash[_VOUCHED_KEY] = {}

@@ -103,6 +103,7 @@ def test_no_share_outside_xdist_or_when_the_user_sized_the_pools(env):
 def test_children_side_by_side_each_get_their_share(monkeypatch):
     monkeypatch.setattr(threads, "usable_cores", lambda: 8)
     monkeypatch.setattr(threads, "_limit", None)
+    monkeypatch.setattr(threads, "_one_blas", False)  # the suite's conftest set it
     for name in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS"):
         monkeypatch.delenv(name, raising=False)
     assert threads.child_environment(1) is None  # one child: this process's environment
@@ -118,3 +119,77 @@ def test_children_side_by_side_each_get_their_share(monkeypatch):
     env = threads.child_environment(2)
     assert env is not None
     assert env["OMP_NUM_THREADS"] == "1"
+
+
+_ONE_BLAS = """
+import json, os, sys
+import numpy
+from fkcheck.process import threads
+threads.usable_cores = lambda: int(sys.argv[1])
+from threadpoolctl import threadpool_info
+def pools():
+    return sorted({(p["user_api"], p["num_threads"]) for p in threadpool_info()})
+one = threads.one_blas_thread()
+first = pools()
+got = threads.share_xdist_cores()
+import scipy.linalg  # its OpenBLAS loads after: sized by the variables
+print(json.dumps({"one": one, "first": first, "got": got, "after": pools(),
+                  "env": {k: os.environ.get(k) for k in threads.THREAD_VARIABLES},
+                  "child": threads.child_environment(2)}))
+"""
+
+
+def _one_blas(cores: int, env: dict[str, str]) -> dict:
+    clean = {
+        k: v
+        for k, v in os.environ.items()
+        if k not in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS", threads.XDIST_WORKERS)
+    }
+    done = subprocess.run(
+        [sys.executable, "-c", _ONE_BLAS, str(cores)],
+        env={**clean, **env},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 0, done.stderr
+    result: dict = json.loads(done.stdout.splitlines()[-1])
+    return result
+
+
+def test_one_blas_thread_keeps_blas_at_one_thread_through_a_share_and_in_children():
+    got = _one_blas(8, {threads.XDIST_WORKERS: "2"})
+    assert got["one"] is True
+    assert ["blas", 1] in got["first"]
+    assert got["got"] == 4  # the workers' share: OpenMP and numba
+    assert {n for api, n in got["after"] if api == "blas"} == {1}  # numpy's and SciPy's
+    assert got["env"] == {"OMP_NUM_THREADS": "4", "OPENBLAS_NUM_THREADS": "1",
+                          "MKL_NUM_THREADS": "1"}  # fmt: skip
+    child = got["child"]
+    assert (child["OMP_NUM_THREADS"], child["NUMBA_NUM_THREADS"]) == ("2", "2")
+    assert (child["OPENBLAS_NUM_THREADS"], child["MKL_NUM_THREADS"]) == ("1", "1")
+
+
+def test_one_blas_thread_leaves_the_pools_the_user_sized():
+    got = _one_blas(8, {"OPENBLAS_NUM_THREADS": "2"})
+    assert got["one"] is False
+    assert got["got"] is None  # not an xdist worker
+    assert got["env"]["OPENBLAS_NUM_THREADS"] == "2"
+    assert got["env"]["MKL_NUM_THREADS"] is None
+
+
+def test_the_fkcheck_program_runs_blas_on_one_thread(tmp_path):
+    # The program (argv None), not a Python caller of main([...]): it sets the variable
+    # its children and the libraries it loads later read.
+    script = (
+        "import os, sys; from fkcheck.cli.main import main; "
+        "sys.argv = ['fkcheck', '--version']; "
+        "import atexit; atexit.register(lambda: print(os.environ.get('OPENBLAS_NUM_THREADS'))); "
+        "main()"
+    )
+    clean = {k: v for k, v in os.environ.items() if k not in threads.THREAD_VARIABLES}
+    done = subprocess.run(
+        [sys.executable, "-c", script], env=clean, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split()[-1] == "1"

@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 from fkcheck._version import __version__
 from fkcheck.errors import FkcheckError, Skip, missing_extra
 from fkcheck.io.text import terminal_text
+from fkcheck.process.threads import one_blas_thread
 
 if TYPE_CHECKING:
     from _typeshed import SupportsWrite
@@ -250,6 +251,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     _tolerant_streams()
     if argv is None and not isinstance(sys.stdout, _ClosedPipeTolerant):  # the program
         sys.stdout = _ClosedPipeTolerant(sys.stdout)
+    if argv is None:  # the program's BLAS, not a Python caller's
+        one_blas_thread()
     args_list = _join_negative_values(list(sys.argv[1:] if argv is None else argv))
     code = _flush_stdout(_run(args_list))
     if argv is None:  # the program, not a caller in Python

@@ -14,6 +14,15 @@ fkcheck's numba kernels through :func:`thread_limit`. :func:`child_environment`
 sizes the pools of child processes started side by side (numba's
 ``NUMBA_NUM_THREADS`` too: it cannot change once numba runs in a process).
 
+:func:`one_blas_thread` runs BLAS on one thread, whatever the share: fkcheck's
+own linear algebra is small (the evidence's SVDs and least squares, a few
+thousand rows by tens of columns; the map's fits), where waking a BLAS thread per
+core costs more than it saves — and on a busy machine far more: an 870 × 24 SVD
+of a check's evidence took 0.3 s with OpenBLAS's two threads on a loaded 2-core
+machine, 1 ms with one. The ``fkcheck`` program takes it when it starts, as do
+the pytest plugin (for a project with ``[tool.fkcheck]`` models) and fkcheck's own
+test suite; a Python caller's process is left as it is.
+
 :func:`share_xdist_cores` is the share of a pytest-xdist worker, taken by the
 pytest plugin (for a project with ``[tool.fkcheck]`` models) and by
 :func:`fkcheck.testing.assert_fk_matches`. A user who set any of those variables
@@ -27,9 +36,11 @@ import os
 from fkcheck.process.cpus import usable_cores
 
 __all__ = [
+    "BLAS_VARIABLES",
     "THREAD_VARIABLES",
     "XDIST_WORKERS",
     "child_environment",
+    "one_blas_thread",
     "share_cores",
     "share_xdist_cores",
     "thread_limit",
@@ -37,6 +48,8 @@ __all__ = [
 
 #: The variables that size the thread pools of a library loaded after they are set.
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+#: Of those, the BLAS libraries' (NumPy's and SciPy's OpenBLAS, MKL).
+BLAS_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 #: numba's, read once when numba is imported (a child process's only).
 _NUMBA_VARIABLE = "NUMBA_NUM_THREADS"
 
@@ -44,13 +57,48 @@ _NUMBA_VARIABLE = "NUMBA_NUM_THREADS"
 XDIST_WORKERS = "PYTEST_XDIST_WORKER_COUNT"
 
 _limit: int | None = None
+#: Whether :func:`one_blas_thread` set BLAS to one thread in this process.
+_one_blas = False
 
 
 def _user_chose() -> bool:
     """Whether the user set a pool's size (before fkcheck set any)."""
-    return _limit is None and any(
-        name in os.environ for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE)
+    return (
+        _limit is None
+        and not _one_blas
+        and any(name in os.environ for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE))
     )
+
+
+def _sizes(threads: int) -> dict[str, str]:
+    """Each variable of :data:`THREAD_VARIABLES` for pools of ``threads`` (BLAS: one, if so)."""
+    return {
+        name: "1" if _one_blas and name in BLAS_VARIABLES else str(threads)
+        for name in THREAD_VARIABLES
+    }
+
+
+def one_blas_thread() -> bool:
+    """Run this process's BLAS on one thread, loaded already or later (see the module).
+
+    Idempotent; the user's variables (any of :data:`THREAD_VARIABLES` or numba's,
+    set before) leave every pool alone. Children inherit the variables.
+
+    Returns:
+        Whether BLAS runs on one thread now.
+    """
+    global _one_blas
+    if _one_blas:
+        return True
+    if _user_chose():
+        return False
+    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
+
+    for name in BLAS_VARIABLES:  # for the libraries this process loads later
+        os.environ[name] = "1"
+    threadpool_limits(limits=1, user_api="blas")  # for those loaded already
+    _one_blas = True
+    return True
 
 
 def share_cores(workers: int) -> int | None:
@@ -67,11 +115,10 @@ def share_cores(workers: int) -> int | None:
     threads = max(1, usable_cores() // max(1, workers))
     if _limit is not None and _limit <= threads:
         return _limit
-    from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
+    from threadpoolctl import threadpool_limits
 
-    for name in THREAD_VARIABLES:  # for the libraries this process loads later
-        os.environ[name] = str(threads)
-    threadpool_limits(limits=threads)  # for those loaded already
+    os.environ.update(_sizes(threads))  # for the libraries this process loads later
+    threadpool_limits(limits={"blas": 1 if _one_blas else threads, "openmp": threads})
     _limit = threads
     return threads
 
@@ -105,8 +152,5 @@ def child_environment(workers: int) -> dict[str, str] | None:
     """
     if workers <= 1 or _user_chose():
         return None
-    threads = str(max(1, (_limit or usable_cores()) // workers))
-    env = dict(os.environ)
-    for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE):
-        env[name] = threads
-    return env
+    threads = max(1, (_limit or usable_cores()) // workers)
+    return {**os.environ, **_sizes(threads), _NUMBA_VARIABLE: str(threads)}
