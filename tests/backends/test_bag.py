@@ -393,13 +393,105 @@ def test_a_chunk_inflating_beyond_its_declared_size_stops_there(codec):
 
     bomb = (zstd.compress if codec == "zstd" else lz4.frame.compress)(bytes(100_000_000))
     assert len(bomb) < 500_000  # zstd: kilobytes; lz4: 0.4 MB
-    bag_module._bounded_decompressors()
     tracemalloc.start()
-    with pytest.raises(bag_module._Bad, match="decompresses to more than its declared 1,000 bytes"):
+    with (
+        bag_module._BOUNDED,
+        pytest.raises(bag_module._Bad, match="decompresses to more than its declared 1,000 bytes"),
+    ):
         storage_mcap.DECOMPRESSORS[codec](bomb, 1000)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert peak < 1_000_000  # not the 100 MB
+
+
+def _rosbags_decompressors() -> dict:
+    from rosbags.rosbag2 import storage_mcap
+
+    return dict(storage_mcap.DECOMPRESSORS)
+
+
+def _same(table: dict) -> bool:
+    """Whether rosbags' decompressors are the very objects of ``table`` (none of ours)."""
+    assert not any(f.__module__ == bag_module.__name__ for f in table.values())  # rosbags'
+    now = _rosbags_decompressors()
+    return now.keys() == table.keys() and all(now[k] is table[k] for k in table)
+
+
+def test_rosbags_decompressors_are_its_own_after_a_read_and_while_the_caller_holds_a_chunk(
+    models, motion, tmp_path
+):
+    # Bounded only while rosbags' reader runs: another user of rosbags in the same
+    # process (a user's code, the pytest plugin) never meets them after a read.
+    before = _rosbags_decompressors()
+    bag = _bag(tmp_path, models[0], motion[:50], compress=True)
+    pairs = BagPairs(
+        bag, joint_names=[(n,) for n in UR_JOINTS], joint_bounds=[7.0] * 6,
+        frames=("base", "tool0_controller"),
+    )  # fmt: skip
+    held = []
+    for chunk in pairs.chunks(rows=7):
+        held.append(_same(before))
+        assert chunk[0].shape[1] == 6
+    assert held == [True] * 8  # 50 rows, 7 at a time
+    assert _same(before)
+    dropped = pairs.chunks(rows=7)
+    next(dropped)
+    dropped.close()  # a caller that stops early
+    assert _same(before)
+
+
+def test_rosbags_decompressors_are_its_own_after_a_read_that_fails(
+    models, motion, tmp_path, monkeypatch
+):
+    before = _rosbags_decompressors()
+    bag = _bag(tmp_path, models[0], motion[:50], compress=True)
+    monkeypatch.setattr(bag_module, "MAX_CHUNK_BYTES", 1000)  # refused by the bounded one
+    with pytest.raises(BagError, match=r"a chunk declares [\d,]+ bytes \(at most 1,000 are read\)"):
+        read_bag(bag, load_model(str(models[0])), BackendOptions(frame_to="tool0_controller"))
+    assert _same(before)
+
+
+def test_two_reads_at_once_share_the_bounded_decompressors_until_the_last_one_ends():
+    import threading
+
+    from rosbags.rosbag2 import storage_mcap
+
+    before = _rosbags_decompressors()
+    entered, leave = threading.Barrier(3), threading.Event()
+    seen: list[bool] = []
+
+    def read() -> None:
+        with bag_module._BOUNDED:
+            entered.wait()
+            leave.wait()
+            seen.append(storage_mcap.DECOMPRESSORS["zstd"] is not before["zstd"])
+
+    threads = [threading.Thread(target=read) for _ in range(2)]
+    for t in threads:
+        t.start()
+    entered.wait()  # both inside
+    assert storage_mcap.DECOMPRESSORS["zstd"] is not before["zstd"]
+    assert storage_mcap.DECOMPRESSORS["lz4"] is not before["lz4"]
+    leave.set()
+    for t in threads:
+        t.join()
+    assert seen == [True, True]  # the first to leave did not take them from the second
+    assert _same(before)
+
+
+def test_a_decompressor_replaced_during_a_read_is_left_as_its_owner_set_it(monkeypatch):
+    from rosbags.rosbag2 import storage_mcap
+
+    before = _rosbags_decompressors()
+
+    def theirs(data: bytes, size: int) -> bytes:
+        return data
+
+    monkeypatch.setitem(storage_mcap.DECOMPRESSORS, "lz4", before["lz4"])  # undone at the end
+    with bag_module._BOUNDED:
+        storage_mcap.DECOMPRESSORS["lz4"] = theirs
+    assert storage_mcap.DECOMPRESSORS["lz4"] is theirs
+    assert storage_mcap.DECOMPRESSORS["zstd"] is before["zstd"]
 
 
 @pytest.mark.slow

@@ -41,7 +41,8 @@ generated code; it is not called). A bag directory's files must be regular files
 in it (no symbolic link leads out of it) and it may not be compressed as a
 whole or per message (``ros2 bag convert`` writes it uncompressed); an MCAP
 file's compressed chunks are decompressed to at most their declared size, itself
-at most :data:`MAX_CHUNK_BYTES`. Messages are at most :data:`MAX_MESSAGE_BYTES`,
+at most :data:`MAX_CHUNK_BYTES` (rosbags' decompressors are replaced only while its
+reader runs: :class:`_BoundedDecompression`). Messages are at most :data:`MAX_MESSAGE_BYTES`,
 a joint state names at most :data:`MAX_JOINT_NAMES` joints, a tf message holds at
 most :data:`MAX_TRANSFORMS` transforms, the tree at most :data:`MAX_FRAMES` frames.
 Anything the reader cannot read (a truncated file, a corrupt database, bad
@@ -60,8 +61,9 @@ of rows, and keeps only the joint states of the last
 from __future__ import annotations
 
 import bisect
+import threading
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -197,36 +199,87 @@ class BagProvenance:
         return text
 
 
-def _bounded_decompressors() -> None:
-    """Make :mod:`rosbags` decompress an MCAP chunk to at most its declared size.
+def _bounded(make: Any) -> Callable[[bytes, int], bytes]:
+    """A decompressor (rosbags' signature) that stops one byte past the declared size."""
+
+    def decompress(data: bytes, size: int) -> bytes:
+        if not 0 <= size <= MAX_CHUNK_BYTES:
+            raise _Bad(f"a chunk declares {size:,} bytes (at most {MAX_CHUNK_BYTES:,} are read)")
+        out: bytes = make().decompress(data, max_length=size + 1)
+        if len(out) > size:
+            raise _Bad(f"a chunk decompresses to more than its declared {size:,} bytes")
+        return out
+
+    return decompress
+
+
+class _BoundedDecompression:
+    """Makes :mod:`rosbags` decompress an MCAP chunk to at most its declared size, for a while.
 
     rosbags decompresses a chunk whole, then compares its size with the declared
-    one: a few kilobytes of zstd can expand to gigabytes first. These replacements
-    stop at the declared size (at most :data:`MAX_CHUNK_BYTES`).
+    one: a few kilobytes of zstd can expand to gigabytes first. Its decompressors
+    are a module-level table (``rosbags.rosbag2.storage_mcap.DECOMPRESSORS``, looked
+    up at each chunk) that no reader takes in its place, so the bounded ones
+    (:func:`_bounded`: they stop at the declared size, itself at most
+    :data:`MAX_CHUNK_BYTES`) are put in it only while a bag's reader runs, as
+    ``with _BOUNDED:``, and what was there before is put back when the last reader
+    running leaves (two reads at once, in two threads, share one replacement: a
+    lock guards the count). An entry that someone else replaced in between is left
+    as they set it.
     """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._depth = 0
+        self._saved: dict[str, Callable[[bytes, int], bytes]] = {}
+        self._ours: dict[str, Callable[[bytes, int], bytes]] = {}
+
+    def __enter__(self) -> None:
+        from rosbags.rosbag2 import storage_mcap
+
+        with self._lock:
+            if not self._depth:
+                table = storage_mcap.DECOMPRESSORS
+                self._ours = self._ours or _bounded_decompressors()
+                self._saved = {codec: table[codec] for codec in self._ours if codec in table}
+                table.update(self._ours)
+            self._depth += 1
+
+    def __exit__(self, *exc: object) -> None:
+        from rosbags.rosbag2 import storage_mcap
+
+        with self._lock:
+            self._depth -= 1
+            if self._depth:
+                return
+            table = storage_mcap.DECOMPRESSORS
+            for codec, ours in self._ours.items():
+                if table.get(codec) is not ours:
+                    continue  # replaced by someone else meanwhile: theirs stays
+                if codec in self._saved:
+                    table[codec] = self._saved[codec]
+                else:
+                    del table[codec]
+            self._saved = {}
+
+
+def _bounded_decompressors() -> dict[str, Callable[[bytes, int], bytes]]:
+    """The bounded decompressors of MCAP chunks, by rosbags' codec names."""
     import lz4.frame  # type: ignore[import-untyped]
-    from rosbags.rosbag2 import storage_mcap
 
     try:
         from compression import zstd  # type: ignore[import-not-found,unused-ignore]
     except ImportError:
         from backports import zstd  # type: ignore[no-redef,import-not-found,unused-ignore]
 
-    def bounded(make: Any) -> Any:
-        def decompress(data: bytes, size: int) -> bytes:
-            if not 0 <= size <= MAX_CHUNK_BYTES:
-                raise _Bad(
-                    f"a chunk declares {size:,} bytes (at most {MAX_CHUNK_BYTES:,} are read)"
-                )
-            out: bytes = make().decompress(data, max_length=size + 1)
-            if len(out) > size:
-                raise _Bad(f"a chunk decompresses to more than its declared {size:,} bytes")
-            return out
+    return {
+        "zstd": _bounded(zstd.ZstdDecompressor),
+        "lz4": _bounded(lz4.frame.LZ4FrameDecompressor),
+    }
 
-        return decompress
 
-    storage_mcap.DECOMPRESSORS["zstd"] = bounded(zstd.ZstdDecompressor)
-    storage_mcap.DECOMPRESSORS["lz4"] = bounded(lz4.frame.LZ4FrameDecompressor)
+#: The one scoped replacement of rosbags' decompressors (:class:`_BoundedDecompression`).
+_BOUNDED = _BoundedDecompression()
 
 
 class BagPairs:
@@ -295,8 +348,16 @@ class BagPairs:
             import rosbags.rosbag2  # noqa: F401
         except ImportError as exc:
             raise (missing_extra(exc) or exc) from None
+        reading = self._read(storage, rows)
         try:
-            yield from self._read(storage, rows)
+            while True:
+                # rosbags' decompressors are bounded while its reader runs, not while
+                # the caller holds a chunk (nor after a read that fails or is dropped)
+                with _BOUNDED:
+                    chunk = next(reading, None)
+                if chunk is None:
+                    return
+                yield chunk
         except BagError:
             raise
         except _Bad as exc:
@@ -304,12 +365,13 @@ class BagPairs:
         except Exception as exc:  # rosbags' and the bag's: any failure is one line
             text = str(exc).splitlines()[0][:300] if str(exc).strip() else type(exc).__name__
             raise BagError(self.path, f"not readable as a ROS 2 bag ({storage}): {text}") from None
+        finally:
+            reading.close()  # the bag's files, now, when the caller stops early
 
     def _read(self, storage: str, rows: int) -> Iterator[tuple[Float, Float, Float]]:
         from rosbags.rosbag2 import Reader
         from rosbags.typesys import Stores, get_typestore
 
-        _bounded_decompressors()
         store = get_typestore(Stores.ROS2_HUMBLE)
         t = self.topics
         wanted = {
