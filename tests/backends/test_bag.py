@@ -338,6 +338,31 @@ def test_pairs_stream_in_chunks_of_bounded_rows(models, motion, tmp_path):
     )
 
 
+def test_a_bag_without_pairs_for_a_while_yields_empty_chunks_for_the_callers_clock(
+    models, motion, tmp_path, monkeypatch
+):
+    # A bag whose pose is never found (here: a frame no transform leads to) read its
+    # every message before its first chunk, outside any time limit; now the reader
+    # yields every QUIET_MESSAGES messages, rows or not.
+    bag = _bag(tmp_path, models[0], motion[:50])
+    monkeypatch.setattr(bag_module, "QUIET_MESSAGES", 10)
+    pairs = BagPairs(
+        bag, joint_names=[(n,) for n in UR_JOINTS], joint_bounds=[7.0] * 6,
+        frames=("base", "camera"),
+    )  # fmt: skip
+    sizes = []
+
+    def read() -> None:
+        for q, T, t in pairs.chunks(rows=7):
+            sizes.append((q.shape, T.shape, t.shape))
+
+    with pytest.raises(BagError, match=r"no transform of camera in base changes on /tf"):
+        read()
+    # 50 joint states and at least 50 tf messages: 10 or more quiet stretches of 10.
+    assert len(sizes) >= 10
+    assert set(sizes) == {((0, 6), (0, 4, 4), (0,))}
+
+
 def test_an_unread_bag_has_no_provenance_yet(tmp_path):
     pairs = BagPairs(tmp_path, joint_names=[], joint_bounds=[], frames=("a", "b"))
     with pytest.raises(RuntimeError, match="not been read to its end"):

@@ -124,6 +124,11 @@ REORDER_WINDOW_S = 1.0
 MAX_KEPT_JOINT_STATES = 100_000
 #: Rows per chunk :meth:`BagPairs.chunks` yields by default.
 DEFAULT_CHUNK_ROWS = 10_000
+#: Messages read at most between two chunks :meth:`BagPairs.chunks` yields: after
+#: this many without a full chunk (joint states alone, other frames' transforms,
+#: static transforms), it yields the rows it has, perhaps none, so that its caller
+#: looks at its time limit (about 0.1 s of messages).
+QUIET_MESSAGES = 4096
 
 
 @dataclass(frozen=True)
@@ -333,7 +338,9 @@ class BagPairs:
         """The pairs in the order their poses were recorded, ``rows`` at a time.
 
         Each chunk is ``(q, base_T_tip, t)``: ``(m, n)`` joint values, ``(m, 4, 4)``
-        poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``.
+        poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``;
+        after :data:`QUIET_MESSAGES` messages without ``rows`` pairs, the pairs found
+        so far, perhaps none (so that a caller's time limit is looked at).
 
         Raises:
             BagError: The bag cannot be read, a message on a topic read is not of
@@ -399,7 +406,10 @@ class BagPairs:
                     )
             tree = _Tree(*self.frames)
             static = [c for c in conns if c.topic == t.tf_static]
-            for _, _, raw in reader.messages(connections=static) if static else ():
+            n = len(self._joints.accepted)
+            for k, (_, _, raw) in enumerate(reader.messages(connections=static) if static else ()):
+                if k % QUIET_MESSAGES == QUIET_MESSAGES - 1:  # no rows yet: the caller's clock
+                    yield np.empty((0, n)), np.empty((0, 4, 4)), np.empty(0)
                 for tf in self._transforms(store, raw):
                     tree.set_static(
                         _frame_id(tf.header.frame_id), _frame_id(tf.child_frame_id), tf.transform
@@ -475,7 +485,12 @@ class BagPairs:
             out_t.clear()
             return q, T, t
 
+        quiet = 0  # messages read since the last chunk
         for conn, _, raw in messages:
+            quiet += 1
+            if quiet >= QUIET_MESSAGES:  # what there is, perhaps nothing: the caller's clock
+                quiet = 0
+                yield chunk()
             if conn.topic == self.topics.joint_states:
                 self._size(raw)
                 msg = store.deserialize_cdr(raw, JOINT_STATE_TYPE)
@@ -515,6 +530,7 @@ class BagPairs:
                 pending.append((stamp, pose))
             resolve(force=False)
             if len(out_t) >= rows:
+                quiet = 0
                 yield chunk()
         resolve(force=True)
         if out_t:
