@@ -413,6 +413,63 @@ def test_a_recording_whose_first_rows_come_late_ends_at_the_time_limit_in_one_li
     assert took < _LIMIT_S + _SLACK_S, took
 
 
+def test_diagnose_reads_a_recording_within_its_timeout_as_the_check_does(
+    ur5, motion, tmp_path, capsys, monkeypatch
+):
+    # fkcheck diagnose read the whole recording with no limit at all.
+    import time
+
+    from fkcheck.engine import stream
+
+    path = _late_rows(ur5, motion[:20], tmp_path / "late.csv", _BLANK_LINES)
+    monkeypatch.setattr(stream, "READ_MIN_S", 0.0)
+    start = time.monotonic()
+    code = main(["diagnose", "ur5", "--against", f"poses:{path}", "--timeout", f"{_LIMIT_S:g}"])
+    took = time.monotonic() - start
+    captured = capsys.readouterr()
+    assert code == 2, captured.out
+    assert captured.err.count("\n") == 1, captured.err
+    assert re.search(
+        rf"reading {re.escape(str(path))} did not finish within its time limit of 1 s "
+        r"\(0 rows read\); give it more with --timeout",
+        captured.err,
+    ), captured.err
+    assert took < _LIMIT_S + _SLACK_S, took
+
+
+def test_diagnose_reads_a_recording_whole_within_the_default_timeout(
+    ur5, motion, tmp_path, capsys, monkeypatch
+):
+    from fkcheck.backends.measured import MeasuredPoses
+    from fkcheck.model.options import DEFAULT_TIMEOUT_S
+
+    limits = []
+    keep_with = MeasuredPoses.keep_with
+
+    def spy(self, keeper):
+        limits.append(keeper.read_limit_s)
+        keep_with(self, keeper)
+
+    monkeypatch.setattr(MeasuredPoses, "keep_with", spy)
+    path = _late_rows(ur5, motion[:20], tmp_path / "late.csv", 3)
+    assert main(["diagnose", "ur5", "--against", f"poses:{path}"]) == 0
+    assert "20 configurations" in capsys.readouterr().out
+    assert limits == [DEFAULT_TIMEOUT_S]
+
+
+@pytest.mark.parametrize(
+    ("value", "problem"),
+    [("0", r"must be > 0 and at most 86400 s"), ("nan", r"must be > 0 and at most 86400 s"),
+     ("1e9", r"must be > 0 and at most 86400 s")],
+)  # fmt: skip
+def test_a_bad_diagnose_timeout_is_one_line_exit_2(ur5, motion, tmp_path, capsys, value, problem):
+    path = _late_rows(ur5, motion[:20], tmp_path / "rec.csv", 0)
+    assert main(["diagnose", "ur5", "--against", f"poses:{path}", "--timeout", value]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert re.search(rf"--timeout: {problem}", err), err
+
+
 def test_a_reader_yields_empty_chunks_while_it_finds_no_rows(ur5, motion, tmp_path, small):
     # What lets the caller look at its clock: every CHUNK lines without a row.
     path = _late_rows(ur5, motion[:30], tmp_path / "late.csv", 100)

@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -45,6 +46,9 @@ from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import WORST_CASES
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Model
+
+if TYPE_CHECKING:
+    from fkcheck.backends.measured import KeeperFactory
 
 __all__ = [
     "HISTOGRAM_RATIO",
@@ -237,11 +241,18 @@ def stream_recordings(
     time limit: a read that takes longer (and at least :data:`READ_MIN_S`), from
     before the recording is opened, ends in :class:`~fkcheck.errors.TimeLimitError`.
     """
-    from fkcheck.backends.measured import MeasuredPoses
-
     for backend in backends:
-        if isinstance(backend, MeasuredPoses):
+        if isinstance(backend, _KeepsRows):  # a wrapper of one too (fkcheck diagnose's)
             backend.keep_with(StreamKeeper(tol, timeout_s))
+
+
+@runtime_checkable
+class _KeepsRows(Protocol):
+    """A backend that reads a recording through the keeper it is handed (``poses:``)."""
+
+    def keep_with(self, keeper: KeeperFactory) -> None:
+        """Read the recording through ``keeper`` from now on."""
+        ...
 
 
 def _count_beyond(pos: Float, rot: Float, tol: tuple[float, float]) -> int:
