@@ -194,6 +194,76 @@ def test_topics_named_otherwise_are_chosen_with_flags(models, motion, tmp_path, 
     )
 
 
+def test_the_bag_settings_may_be_set_in_the_project_and_a_flag_wins(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    topics = ("/ur/joint_states", "/ur/tf", "/ur/tf_static")
+    bag = _bag(tmp_path, models[0], motion[:20], topics=topics, offset_ns=1_500_000)
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        "[tool.fkcheck]\n"
+        f'bag_joint_states = "{topics[0]}"\nbag_tf = "{topics[1]}"\n'
+        f'bag_tf_static = "{topics[2]}"\nbag_stamp_tolerance = 0.0015\n',
+        encoding="utf-8",
+    )
+    monkeypatch.chdir(project)
+    report = tmp_path / "r.json"
+    assert _check(models[0], bag, report) == 0, capsys.readouterr()
+    (backend,) = json.loads(report.read_text())["backends"]
+    assert (
+        "from /ur/tf and /ur/tf_static, joints from /ur/joint_states; 20 pairs" in backend["method"]
+    )
+    assert "within 1.5 ms" in backend["method"]
+    capsys.readouterr()
+    # Flags win over the file: a tolerance below the bag's lag, another topic.
+    assert _check(models[0], bag, None, "--bag-stamp-tolerance", "0.001") == 2
+    assert "within 1 ms (the nearest joint state before one was 1.5 ms earlier)" in (
+        _one_line_error(capsys)
+    )
+    assert _check(models[0], bag, None, "--bag-tf", "/other/tf") == 2
+    assert "no topic /other/tf in the bag" in _one_line_error(capsys)
+    # --isolated ignores the file: the default topics are not in the bag.
+    assert _check(models[0], bag, None, "--isolated") == 2
+    assert "no topic /joint_states in the bag" in _one_line_error(capsys)
+
+
+def test_a_bad_bag_setting_in_the_project_is_one_line_exit_2(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    bag = _bag(tmp_path, models[0], motion[:5])
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        "[tool.fkcheck]\nbag_stamp_tolerance = 5\n", encoding="utf-8"
+    )
+    monkeypatch.chdir(project)
+    assert _check(models[0], bag) == 2
+    assert _one_line_error(capsys) == (
+        f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.bag_stamp_tolerance: must "
+        "be seconds from 0 to 1 (a larger lag pairs poses with other cycles' readings), got 5\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("flag", "value", "problem"),
+    [
+        ("--bag-stamp-tolerance", "2", r"must be seconds from 0 to 1 \(.*\), got 2"),
+        ("--bag-stamp-tolerance", "abc", r"'abc' is not a number of seconds"),
+        ("--bag-tf", "/tf static", r"must be a topic name \(.*\), got '/tf static'"),
+        ("--bag-joint-states", "", r"must be a topic name \(.*\), got ''"),
+    ],
+)
+def test_a_bad_bag_flag_is_one_line_exit_2_by_the_keys_rule(
+    models, motion, tmp_path, capsys, flag, value, problem
+):
+    import re
+
+    bag = _bag(tmp_path, models[0], motion[:5])
+    assert _check(models[0], bag, None, f"{flag}={value}") == 2
+    assert re.search(rf"argument {flag}: {problem}", _one_line_error(capsys))
+
+
 def test_a_frame_the_bags_tree_does_not_connect_is_refused_with_its_frames(
     models, motion, tmp_path, capsys
 ):

@@ -63,7 +63,7 @@ from __future__ import annotations
 import bisect
 import threading
 from collections import deque
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -90,6 +90,7 @@ from fkcheck.backends.bag_screen import QUATERNION_NORM_TOL as QUATERNION_NORM_T
 from fkcheck.backends.bag_tf import _NS, _frame_id, _stamp_ns, _Tree
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
+from fkcheck.model.options import MAX_BAG_STAMP_TOLERANCE_S
 
 __all__ = [
     "DEFAULT_STAMP_TOLERANCE_S",
@@ -110,8 +111,8 @@ __all__ = [
 #: default of :attr:`~fkcheck.backends.registry.BackendOptions.bag_stamp_tolerance_s`.
 DEFAULT_STAMP_TOLERANCE_S: float = BackendOptions.bag_stamp_tolerance_s
 #: Largest stamp tolerance that may be set (seconds): a larger one pairs poses with
-#: readings of other cycles whenever one is missing.
-MAX_STAMP_TOLERANCE_S = 1.0
+#: readings of other cycles whenever one is missing (the flag's and key's rule too).
+MAX_STAMP_TOLERANCE_S = MAX_BAG_STAMP_TOLERANCE_S
 #: The message types read, by their ROS 2 names.
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 TF_MESSAGE_TYPE = "tf2_msgs/msg/TFMessage"
@@ -375,7 +376,7 @@ class BagPairs:
         finally:
             reading.close()  # the bag's files, now, when the caller stops early
 
-    def _read(self, storage: str, rows: int) -> Iterator[tuple[Float, Float, Float]]:
+    def _read(self, storage: str, rows: int) -> Generator[tuple[Float, Float, Float]]:
         from rosbags.rosbag2 import Reader
         from rosbags.typesys import Stores, get_typestore
 
