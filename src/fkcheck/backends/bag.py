@@ -127,8 +127,9 @@ MAX_KEPT_JOINT_STATES = 100_000
 DEFAULT_CHUNK_ROWS = 10_000
 #: Messages read at most between two chunks :meth:`BagPairs.chunks` yields: after
 #: this many without a full chunk (joint states alone, other frames' transforms,
-#: static transforms), it yields the rows it has, perhaps none, so that its caller
-#: looks at its time limit (about 0.1 s of messages).
+#: static transforms, pairs that come rarely), it yields a chunk of no pairs, so
+#: that its caller looks at its time limit (about 0.1 s of messages); the pairs
+#: found so far wait for their chunk.
 QUIET_MESSAGES = 4096
 
 
@@ -340,8 +341,8 @@ class BagPairs:
 
         Each chunk is ``(q, base_T_tip, t)``: ``(m, n)`` joint values, ``(m, 4, 4)``
         poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``;
-        after :data:`QUIET_MESSAGES` messages without ``rows`` pairs, the pairs found
-        so far, perhaps none (so that a caller's time limit is looked at).
+        after :data:`QUIET_MESSAGES` messages without a chunk, a chunk of no pairs
+        (``m = 0``, so that a caller's time limit is looked at).
 
         Raises:
             BagError: The bag cannot be read, a message on a topic read is not of
@@ -407,10 +408,9 @@ class BagPairs:
                     )
             tree = _Tree(*self.frames)
             static = [c for c in conns if c.topic == t.tf_static]
-            n = len(self._joints.accepted)
             for k, (_, _, raw) in enumerate(reader.messages(connections=static) if static else ()):
                 if k % QUIET_MESSAGES == QUIET_MESSAGES - 1:  # no rows yet: the caller's clock
-                    yield np.empty((0, n)), np.empty((0, 4, 4)), np.empty(0)
+                    yield self._no_rows()
                 for tf in self._transforms(store, raw):
                     tree.set_static(
                         _frame_id(tf.header.frame_id), _frame_id(tf.child_frame_id), tf.transform
@@ -418,6 +418,10 @@ class BagPairs:
             moving = [c for c in conns if c.topic in (t.joint_states, t.tf)]
             messages = reader.messages(connections=moving)
             yield from self._pairs(store, tree, messages, rows, storage)
+
+    def _no_rows(self) -> tuple[Float, Float, Float]:
+        """A chunk of no pairs (see :data:`QUIET_MESSAGES`)."""
+        return np.empty((0, len(self._joints.accepted))), np.empty((0, 4, 4)), np.empty(0)
 
     def _transforms(self, store: Any, raw: Any) -> Any:
         self._size(raw)
@@ -489,9 +493,9 @@ class BagPairs:
         quiet = 0  # messages read since the last chunk
         for conn, _, raw in messages:
             quiet += 1
-            if quiet >= QUIET_MESSAGES:  # what there is, perhaps nothing: the caller's clock
+            if quiet >= QUIET_MESSAGES:  # a chunk of no rows, for the caller's clock
                 quiet = 0
-                yield chunk()
+                yield self._no_rows()
             if conn.topic == self.topics.joint_states:
                 self._size(raw)
                 msg = store.deserialize_cdr(raw, JOINT_STATE_TYPE)

@@ -232,12 +232,8 @@ class _CsvRecording:
                     continue
                 idle, idle_chars = idle + 1, idle_chars + len(line)
                 if idle >= CHUNK_ROWS or idle_chars >= CHUNK_CHARS:  # no rows for a while:
-                    # what there is, perhaps nothing, so that the caller looks at its clock
-                    if layout is not None and lines:
-                        yield _chunk(layout, lines, linenos, path)
-                    else:
-                        yield _none(model)
-                    lines, linenos, chars, idle, idle_chars = [], [], 0, 0, 0
+                    idle, idle_chars = 0, 0  # a chunk of none, for the caller's clock
+                    yield _none(model)
         except (InputFileError, PosesFileError) as exc:
             # The first problem in the file is the one said: the rows read before this
             # one (a binary recording's line of types before its packed numbers) first.

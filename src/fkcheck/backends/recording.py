@@ -102,12 +102,12 @@ class Recording(Protocol):
     def chunks(self) -> Iterator[PoseChunk]:
         """The rows, in order, at most :data:`CHUNK_ROWS` at a time; read as they are asked for.
 
-        A chunk may hold fewer rows, or none: a reader yields what it has once it
-        has read :data:`CHUNK_ROWS` lines (or :data:`CHUNK_CHARS` of text) of a
-        text file, or :data:`fkcheck.backends.bag.QUIET_MESSAGES` messages of a bag,
-        without a row (comments, blank lines, joint states alone, other frames), so
-        that its caller can look at its time limit (:class:`ReadClock`) whatever
-        precedes or separates the rows.
+        A chunk may hold no rows: a reader yields one once it has read
+        :data:`CHUNK_ROWS` lines (or :data:`CHUNK_CHARS` of text) of a text file
+        that are no rows, or :data:`fkcheck.backends.bag.QUIET_MESSAGES` messages
+        of a bag, since its last chunk (comments, blank lines, joint states alone,
+        other frames), so that its caller can look at its time limit
+        (:class:`ReadClock`) whatever precedes or separates the rows.
 
         Raises:
             FkcheckError: Bad input (with where it is), or more than
