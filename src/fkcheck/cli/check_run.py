@@ -168,9 +168,9 @@ def model_command(args: argparse.Namespace, model: str) -> str:
     for value in args.against or ():
         argv += ["--against", value]
     if any(value.startswith("poses:") for value in args.against or ()):
-        for name, flag in BAG_FLAGS.items():  # a ROS 2 bag's settings (flag, [tool.fkcheck])
-            if (setting := getattr(args, name, None)) is not None:
-                argv += [flag, str(setting)]
+        for setting, flag in BAG_FLAGS.items():  # a ROS 2 bag's (flag, [tool.fkcheck])
+            if (given := getattr(args, setting, None)) is not None:
+                argv += [flag, str(given)]
     if getattr(args, "allow_xacro", False):
         argv.append("--allow-xacro")
     return "fkcheck " + shlex.join(argv)
