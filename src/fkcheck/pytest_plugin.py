@@ -321,6 +321,7 @@ class ModelFile(pytest.File):
                 timeout_s=options.timeout_s,
                 frame_from=options.frame_from,
                 frame_to=options.frame_to,
+                **p.bag_settings(),  # a ROS 2 bag's topics and stamp tolerance
             )
             against = list(p.against) if p.against else None
             model = load_model(self.path)

@@ -194,6 +194,76 @@ def test_topics_named_otherwise_are_chosen_with_flags(models, motion, tmp_path, 
     )
 
 
+def test_the_bag_settings_may_be_set_in_the_project_and_a_flag_wins(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    topics = ("/ur/joint_states", "/ur/tf", "/ur/tf_static")
+    bag = _bag(tmp_path, models[0], motion[:20], topics=topics, offset_ns=1_500_000)
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        "[tool.fkcheck]\n"
+        f'bag_joint_states = "{topics[0]}"\nbag_tf = "{topics[1]}"\n'
+        f'bag_tf_static = "{topics[2]}"\nbag_stamp_tolerance = 0.0015\n',
+        encoding="utf-8",
+    )
+    monkeypatch.chdir(project)
+    report = tmp_path / "r.json"
+    assert _check(models[0], bag, report) == 0, capsys.readouterr()
+    (backend,) = json.loads(report.read_text())["backends"]
+    assert (
+        "from /ur/tf and /ur/tf_static, joints from /ur/joint_states; 20 pairs" in backend["method"]
+    )
+    assert "within 1.5 ms" in backend["method"]
+    capsys.readouterr()
+    # Flags win over the file: a tolerance below the bag's lag, another topic.
+    assert _check(models[0], bag, None, "--bag-stamp-tolerance", "0.001") == 2
+    assert "within 1 ms (the nearest joint state before one was 1.5 ms earlier)" in (
+        _one_line_error(capsys)
+    )
+    assert _check(models[0], bag, None, "--bag-tf", "/other/tf") == 2
+    assert "no topic /other/tf in the bag" in _one_line_error(capsys)
+    # --isolated ignores the file: the default topics are not in the bag.
+    assert _check(models[0], bag, None, "--isolated") == 2
+    assert "no topic /joint_states in the bag" in _one_line_error(capsys)
+
+
+def test_a_bad_bag_setting_in_the_project_is_one_line_exit_2(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    bag = _bag(tmp_path, models[0], motion[:5])
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        "[tool.fkcheck]\nbag_stamp_tolerance = 5\n", encoding="utf-8"
+    )
+    monkeypatch.chdir(project)
+    assert _check(models[0], bag) == 2
+    assert _one_line_error(capsys) == (
+        f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.bag_stamp_tolerance: must "
+        "be seconds from 0 to 1 (a larger lag pairs poses with other cycles' readings), got 5\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("flag", "value", "problem"),
+    [
+        ("--bag-stamp-tolerance", "2", r"must be seconds from 0 to 1 \(.*\), got 2"),
+        ("--bag-stamp-tolerance", "abc", r"'abc' is not a number of seconds"),
+        ("--bag-tf", "/tf static", r"must be a topic name \(.*\), got '/tf static'"),
+        ("--bag-joint-states", "", r"must be a topic name \(.*\), got ''"),
+    ],
+)
+def test_a_bad_bag_flag_is_one_line_exit_2_by_the_keys_rule(
+    models, motion, tmp_path, capsys, flag, value, problem
+):
+    import re
+
+    bag = _bag(tmp_path, models[0], motion[:5])
+    assert _check(models[0], bag, None, f"{flag}={value}") == 2
+    assert re.search(rf"argument {flag}: {problem}", _one_line_error(capsys))
+
+
 def test_a_frame_the_bags_tree_does_not_connect_is_refused_with_its_frames(
     models, motion, tmp_path, capsys
 ):
@@ -338,6 +408,31 @@ def test_pairs_stream_in_chunks_of_bounded_rows(models, motion, tmp_path):
     )
 
 
+def test_a_bag_without_pairs_for_a_while_yields_empty_chunks_for_the_callers_clock(
+    models, motion, tmp_path, monkeypatch
+):
+    # A bag whose pose is never found (here: a frame no transform leads to) read its
+    # every message before its first chunk, outside any time limit; now the reader
+    # yields every QUIET_MESSAGES messages, rows or not.
+    bag = _bag(tmp_path, models[0], motion[:50])
+    monkeypatch.setattr(bag_module, "QUIET_MESSAGES", 10)
+    pairs = BagPairs(
+        bag, joint_names=[(n,) for n in UR_JOINTS], joint_bounds=[7.0] * 6,
+        frames=("base", "camera"),
+    )  # fmt: skip
+    sizes = []
+
+    def read() -> None:
+        for q, T, t in pairs.chunks(rows=7):
+            sizes.append((q.shape, T.shape, t.shape))
+
+    with pytest.raises(BagError, match=r"no transform of camera in base changes on /tf"):
+        read()
+    # 50 joint states and at least 50 tf messages: 10 or more quiet stretches of 10.
+    assert len(sizes) >= 10
+    assert set(sizes) == {((0, 6), (0, 4, 4), (0,))}
+
+
 def test_an_unread_bag_has_no_provenance_yet(tmp_path):
     pairs = BagPairs(tmp_path, joint_names=[], joint_bounds=[], frames=("a", "b"))
     with pytest.raises(RuntimeError, match="not been read to its end"):
@@ -393,13 +488,105 @@ def test_a_chunk_inflating_beyond_its_declared_size_stops_there(codec):
 
     bomb = (zstd.compress if codec == "zstd" else lz4.frame.compress)(bytes(100_000_000))
     assert len(bomb) < 500_000  # zstd: kilobytes; lz4: 0.4 MB
-    bag_module._bounded_decompressors()
     tracemalloc.start()
-    with pytest.raises(bag_module._Bad, match="decompresses to more than its declared 1,000 bytes"):
+    with (
+        bag_module._BOUNDED,
+        pytest.raises(bag_module._Bad, match="decompresses to more than its declared 1,000 bytes"),
+    ):
         storage_mcap.DECOMPRESSORS[codec](bomb, 1000)
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert peak < 1_000_000  # not the 100 MB
+
+
+def _rosbags_decompressors() -> dict:
+    from rosbags.rosbag2 import storage_mcap
+
+    return dict(storage_mcap.DECOMPRESSORS)
+
+
+def _same(table: dict) -> bool:
+    """Whether rosbags' decompressors are the very objects of ``table`` (none of ours)."""
+    assert not any(f.__module__ == bag_module.__name__ for f in table.values())  # rosbags'
+    now = _rosbags_decompressors()
+    return now.keys() == table.keys() and all(now[k] is table[k] for k in table)
+
+
+def test_rosbags_decompressors_are_its_own_after_a_read_and_while_the_caller_holds_a_chunk(
+    models, motion, tmp_path
+):
+    # Bounded only while rosbags' reader runs: another user of rosbags in the same
+    # process (a user's code, the pytest plugin) never meets them after a read.
+    before = _rosbags_decompressors()
+    bag = _bag(tmp_path, models[0], motion[:50], compress=True)
+    pairs = BagPairs(
+        bag, joint_names=[(n,) for n in UR_JOINTS], joint_bounds=[7.0] * 6,
+        frames=("base", "tool0_controller"),
+    )  # fmt: skip
+    held = []
+    for chunk in pairs.chunks(rows=7):
+        held.append(_same(before))
+        assert chunk[0].shape[1] == 6
+    assert held == [True] * 8  # 50 rows, 7 at a time
+    assert _same(before)
+    dropped = pairs.chunks(rows=7)
+    next(dropped)
+    dropped.close()  # a caller that stops early
+    assert _same(before)
+
+
+def test_rosbags_decompressors_are_its_own_after_a_read_that_fails(
+    models, motion, tmp_path, monkeypatch
+):
+    before = _rosbags_decompressors()
+    bag = _bag(tmp_path, models[0], motion[:50], compress=True)
+    monkeypatch.setattr(bag_module, "MAX_CHUNK_BYTES", 1000)  # refused by the bounded one
+    with pytest.raises(BagError, match=r"a chunk declares [\d,]+ bytes \(at most 1,000 are read\)"):
+        read_bag(bag, load_model(str(models[0])), BackendOptions(frame_to="tool0_controller"))
+    assert _same(before)
+
+
+def test_two_reads_at_once_share_the_bounded_decompressors_until_the_last_one_ends():
+    import threading
+
+    from rosbags.rosbag2 import storage_mcap
+
+    before = _rosbags_decompressors()
+    entered, leave = threading.Barrier(3), threading.Event()
+    seen: list[bool] = []
+
+    def read() -> None:
+        with bag_module._BOUNDED:
+            entered.wait()
+            leave.wait()
+            seen.append(storage_mcap.DECOMPRESSORS["zstd"] is not before["zstd"])
+
+    threads = [threading.Thread(target=read) for _ in range(2)]
+    for t in threads:
+        t.start()
+    entered.wait()  # both inside
+    assert storage_mcap.DECOMPRESSORS["zstd"] is not before["zstd"]
+    assert storage_mcap.DECOMPRESSORS["lz4"] is not before["lz4"]
+    leave.set()
+    for t in threads:
+        t.join()
+    assert seen == [True, True]  # the first to leave did not take them from the second
+    assert _same(before)
+
+
+def test_a_decompressor_replaced_during_a_read_is_left_as_its_owner_set_it(monkeypatch):
+    from rosbags.rosbag2 import storage_mcap
+
+    before = _rosbags_decompressors()
+
+    def theirs(data: bytes, size: int) -> bytes:
+        return data
+
+    monkeypatch.setitem(storage_mcap.DECOMPRESSORS, "lz4", before["lz4"])  # undone at the end
+    with bag_module._BOUNDED:
+        storage_mcap.DECOMPRESSORS["lz4"] = theirs
+    assert storage_mcap.DECOMPRESSORS["lz4"] is theirs
+    assert storage_mcap.DECOMPRESSORS["zstd"] is before["zstd"]
 
 
 @pytest.mark.slow

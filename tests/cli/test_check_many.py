@@ -90,6 +90,30 @@ def test_project_gives_the_models_and_defaults_and_flags_win(repo, capsys):
     assert "--samples 2 --seed 5" in doc["command"]
 
 
+def test_a_bags_settings_from_the_project_are_in_each_models_command_line(repo, capsys):
+    # Against a recording (here an RTDE CSV, which they leave alone), as they were given.
+    import numpy as np
+
+    from fkcheck import load_model
+    from tests.rtde_cases import write_rtde_csv
+
+    q = np.random.default_rng(7).uniform(-2.0, 2.0, (5, 6))
+    write_rtde_csv(repo / "rec.csv", load_model(str(repo / "robots" / "good.toml")), q)
+    (repo / "pyproject.toml").write_text(
+        '[tool.fkcheck]\nmodels = ["robots/good.toml"]\nsamples = 3\n'
+        'against = ["poses:rec.csv"]\nbag_tf = "/ur/tf"\nbag_stamp_tolerance = 0.002\n',
+        encoding="utf-8",
+    )
+    assert main(["check", "--out-dir", "r", "--bag-tf-static", "/ur/tf_static"]) == 0, (
+        capsys.readouterr()
+    )
+    command = json.loads((repo / "r" / "good.json").read_text())["command"]
+    assert command.endswith(
+        " --against poses:rec.csv --bag-tf /ur/tf --bag-tf-static /ur/tf_static "
+        "--bag-stamp-tolerance 0.002"
+    ), command
+
+
 def test_project_jacobian_keys_are_defaults_the_flags_override(repo, capsys):
     (repo / "pyproject.toml").write_text(
         '[tool.fkcheck]\nmodels = ["robots/good.toml"]\nsamples = 3\n'

@@ -361,18 +361,131 @@ def test_reading_a_recording_past_the_checks_time_limit_is_one_line_exit_2(
     assert code == 2, captured.out
     assert captured.err.count("\n") == 1, captured.err
     assert re.search(
-        r"reading the recording did not finish within the check's time limit of 1e-09 s "
+        rf"reading {re.escape(str(path))} did not finish within its time limit of 1e-09 s "
         r"\(\d+ rows read\); give it more with --timeout",
         captured.err,
     ), captured.err
     assert "Traceback" not in captured.err
 
 
+#: Blank lines before the header of the recording whose rows come late: 10 MB on
+#: disk. Before the fix (the time limit started at the first chunk of rows) its
+#: check with ``--timeout 1`` read through them and passed, 8.4 s; now 1.3 s, exit 2.
+_BLANK_LINES = 10_000_000
+#: The time limit of that read (``READ_MIN_S`` set to 0), and how much longer the
+#: run may take: the model's loading and one reader's step, on a busy 2-core machine.
+_LIMIT_S = 1.0
+_SLACK_S = 3.0
+
+
+def _late_rows(ur5, q, path, blank_lines: int):
+    """An RTDE recording of ``q`` whose header comes after ``blank_lines`` blank lines."""
+    rows = rtde_rows(ur5, q)
+    body = [" ".join(RTDE_HEADER), *(" ".join(map(repr, r)) for r in rows)]
+    with path.open("wb") as f:
+        f.write(b"\n" * blank_lines)
+        f.write(("\n".join(body) + "\n").encode())
+    return path
+
+
+def test_a_recording_whose_first_rows_come_late_ends_at_the_time_limit_in_one_line(
+    ur5, motion, tmp_path, capsys, monkeypatch
+):
+    # Before the fix the clock started at the first chunk of rows: 10 million blank
+    # lines (or a bag of joint states without a pose) were read with no limit at all.
+    import time
+
+    from fkcheck.engine import stream
+
+    path = _late_rows(ur5, motion[:20], tmp_path / "late.csv", _BLANK_LINES)
+    monkeypatch.setattr(stream, "READ_MIN_S", 0.0)  # the time limit is --timeout alone
+    start = time.monotonic()
+    code = main(["check", "ur5", "--against", f"poses:{path}", "--timeout", f"{_LIMIT_S:g}"])
+    took = time.monotonic() - start
+    captured = capsys.readouterr()
+    assert code == 2, captured.out
+    assert captured.err.count("\n") == 1, captured.err
+    assert re.search(
+        rf"reading {re.escape(str(path))} did not finish within its time limit of 1 s "
+        r"\(0 rows read\); give it more with --timeout",
+        captured.err,
+    ), captured.err
+    assert took < _LIMIT_S + _SLACK_S, took
+
+
+def test_diagnose_reads_a_recording_within_its_timeout_as_the_check_does(
+    ur5, motion, tmp_path, capsys, monkeypatch
+):
+    # fkcheck diagnose read the whole recording with no limit at all.
+    import time
+
+    from fkcheck.engine import stream
+
+    path = _late_rows(ur5, motion[:20], tmp_path / "late.csv", _BLANK_LINES)
+    monkeypatch.setattr(stream, "READ_MIN_S", 0.0)
+    start = time.monotonic()
+    code = main(["diagnose", "ur5", "--against", f"poses:{path}", "--timeout", f"{_LIMIT_S:g}"])
+    took = time.monotonic() - start
+    captured = capsys.readouterr()
+    assert code == 2, captured.out
+    assert captured.err.count("\n") == 1, captured.err
+    assert re.search(
+        rf"reading {re.escape(str(path))} did not finish within its time limit of 1 s "
+        r"\(0 rows read\); give it more with --timeout",
+        captured.err,
+    ), captured.err
+    assert took < _LIMIT_S + _SLACK_S, took
+
+
+def test_diagnose_reads_a_recording_whole_within_the_default_timeout(
+    ur5, motion, tmp_path, capsys, monkeypatch
+):
+    from fkcheck.backends.measured import MeasuredPoses
+    from fkcheck.model.options import DEFAULT_TIMEOUT_S
+
+    limits = []
+    keep_with = MeasuredPoses.keep_with
+
+    def spy(self, keeper):
+        limits.append(keeper.read_limit_s)
+        keep_with(self, keeper)
+
+    monkeypatch.setattr(MeasuredPoses, "keep_with", spy)
+    path = _late_rows(ur5, motion[:20], tmp_path / "late.csv", 3)
+    assert main(["diagnose", "ur5", "--against", f"poses:{path}"]) == 0
+    assert "20 configurations" in capsys.readouterr().out
+    assert limits == [DEFAULT_TIMEOUT_S]
+
+
+@pytest.mark.parametrize(
+    ("value", "problem"),
+    [("0", r"must be > 0 and at most 86400 s"), ("nan", r"must be > 0 and at most 86400 s"),
+     ("1e9", r"must be > 0 and at most 86400 s")],
+)  # fmt: skip
+def test_a_bad_diagnose_timeout_is_one_line_exit_2(ur5, motion, tmp_path, capsys, value, problem):
+    path = _late_rows(ur5, motion[:20], tmp_path / "rec.csv", 0)
+    assert main(["diagnose", "ur5", "--against", f"poses:{path}", "--timeout", value]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert re.search(rf"--timeout: {problem}", err), err
+
+
+def test_a_reader_yields_empty_chunks_while_it_finds_no_rows(ur5, motion, tmp_path, small):
+    # What lets the caller look at its clock: every CHUNK lines without a row.
+    path = _late_rows(ur5, motion[:30], tmp_path / "late.csv", 100)
+    chunks = list(measured.open_recording(path, ur5).chunks())
+    assert [c.q.shape[0] for c in chunks] == [0, 0, 0, 0, CHUNK, 30 - CHUNK]
+    np.testing.assert_array_equal(np.concatenate([c.q for c in chunks]), motion[:30])
+    assert np.concatenate([c.lines for c in chunks]).tolist() == list(range(102, 132))
+
+
 def test_the_time_limit_of_a_recordings_read_is_never_below_read_min_s(ur5, motion, small):
     from fkcheck.engine.stream import READ_MIN_S, StreamKeeper
 
+    assert StreamKeeper((1e-6, 1e-6), 1e-9).read_limit_s == READ_MIN_S
+    assert StreamKeeper((1e-6, 1e-6), 2 * READ_MIN_S).read_limit_s == 2 * READ_MIN_S
+    assert StreamKeeper((1e-6, 1e-6)).read_limit_s is None
     summary = StreamKeeper((1e-6, 1e-6), 1e-9)(ur5, ("base", "tool0"))
-    assert summary.limit_s == READ_MIN_S
     poses = poses_of(ur5, motion)
     summary.add(recording.PoseChunk(motion, poses, None, np.arange(ROWS) + 2))
     assert summary.rows == ROWS

@@ -668,6 +668,21 @@ HANGING = {
         ["diagnose", "ur5", "--against", "poses:p.csv"],
         r"p\.csv: is a FIFO \(named pipe\), not a regular file",
     ),
+    "poses_bag_is_a_fifo": (
+        {"rec.mcap": "FIFO"},
+        ["check", "ur5", "--against", "poses:rec.mcap"],
+        r"rec\.mcap: the bag is not a regular file$",
+    ),
+    "poses_bags_file_is_a_fifo": (
+        {
+            "bag": "DIR",
+            "bag/metadata.yaml": "rosbag2_bagfile_information:\n  storage_identifier: mcap\n"
+            "  relative_file_paths: [bag_0.mcap]\n",
+            "bag/bag_0.mcap": "FIFO",
+        },
+        ["check", "ur5", "--against", "poses:bag"],
+        r"bag: its file bag_0\.mcap is not a regular file$",
+    ),
 }
 
 FAMILIES = {

@@ -68,6 +68,26 @@ def test_jacobian_keys_read_as_the_flags(tmp_path, table, wanted):
     assert config.wants_jacobian is wanted
 
 
+def test_the_bag_keys_read_as_their_flags(tmp_path):
+    table = (
+        'bag_joint_states = "/arm/joint_states"\nbag_tf = "/arm/tf"\n'
+        'bag_tf_static = "/arm/tf_static"\nbag_stamp_tolerance = 0  # an int: seconds\n'
+    )
+    config = load_project(_project(tmp_path, table))
+    assert config is not None
+    settings = config.bag_settings()
+    assert settings == {
+        "bag_joint_states": "/arm/joint_states",
+        "bag_tf": "/arm/tf",
+        "bag_tf_static": "/arm/tf_static",
+        "bag_stamp_tolerance_s": 0.0,
+    }
+    assert isinstance(settings["bag_stamp_tolerance_s"], float)
+    other = tmp_path / "other"
+    other.mkdir()
+    assert load_project(_project(other, "samples = 3")).bag_settings() == {}
+
+
 def test_no_table_means_no_project(tmp_path):
     (tmp_path / "pyproject.toml").write_text("[project]\nname = 'x'\n")
     assert load_project(tmp_path) is None
@@ -117,6 +137,26 @@ def test_no_table_means_no_project(tmp_path):
             r"tool\.fkcheck\.tol_jacobian: must be > 0 and at most 0\.01 m/rad and rad/rad .*, "
             r"got 1e\+300$",
         ),
+        # A ROS 2 bag's settings, by the rule of their --bag-* flags.
+        (
+            "bag_stamp_tolerance = 2",
+            r"tool\.fkcheck\.bag_stamp_tolerance: must be seconds from 0 to 1 \(a larger lag "
+            r"pairs poses with other cycles' readings\), got 2$",
+        ),
+        ("bag_stamp_tolerance = -0.001", r"bag_stamp_tolerance: must be seconds .*, got -0\.001$"),
+        ("bag_stamp_tolerance = nan", r"bag_stamp_tolerance: must be seconds .*, got nan$"),
+        ('bag_stamp_tolerance = "1ms"', r"bag_stamp_tolerance: must be seconds .*, got '1ms'$"),
+        ("bag_stamp_tolerance = true", r"bag_stamp_tolerance: must be seconds .*, got True$"),
+        (
+            "bag_tf = 1",
+            r"tool\.fkcheck\.bag_tf: must be a topic name \(at most 256 characters of text, no "
+            r"spaces\), got 1$",
+        ),
+        ('bag_joint_states = ""', r"tool\.fkcheck\.bag_joint_states: must be a topic name"),
+        ('bag_tf_static = "/tf static"', r"tool\.fkcheck\.bag_tf_static: must be a topic name"),
+        ('bag_tf = "/tf\\u0007"', r"tool\.fkcheck\.bag_tf: must be a topic name"),
+        ("bag_tf = ['/tf']", r"tool\.fkcheck\.bag_tf: must be a topic name .*, got \['/tf'\]$"),
+        ("bag_topic = '/tf'", r"tool\.fkcheck\.bag_topic: unknown key; keys are: .*bag_tf, "),
     ],
 )
 def test_a_bad_table_is_one_line_naming_the_key(tmp_path, table, match):

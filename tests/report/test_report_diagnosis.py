@@ -317,6 +317,27 @@ def test_diagnose_command_names_only_what_differs_from_the_model_file():
         "fkcheck diagnose golden-3r --against rtb-urdf --from base --to tool "
         "--tol-pos 2.5e-05 --tol-rot 0.0001"
     )
+    # A --timeout other than the default: a recording's read is within it.
+    slower = replace(check, options=replace(check.options, timeout_s=600.0))
+    assert diagnose_command(slower, "poses:rec.csv") == (
+        "fkcheck diagnose golden-3r --against poses:rec.csv --from base --to tool --seed 7 "
+        "--timeout 600.0"
+    )
+
+
+def test_a_checks_diagnosis_reads_a_recording_within_the_checks_timeout(monkeypatch):
+    asked = []
+
+    def diagnose(model, backend, **kwargs):
+        asked.append(kwargs)
+        raise RuntimeError("not run here")
+
+    monkeypatch.setattr(fkcheck.diagnose.failures, "diagnose", diagnose)
+    check = golden_check()
+    slower = replace(check, options=replace(check.options, timeout_s=600.0))
+    result, text = fkcheck.diagnose.failures._run_one(slower, backends()[0])
+    assert (result, text) == (None, "RuntimeError: not run here")
+    assert [a["timeout_s"] for a in asked] == [600.0]
 
 
 SHIFTED_BEFORE = Residual(3e-4, 0.0)

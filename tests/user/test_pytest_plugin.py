@@ -258,3 +258,38 @@ def test_an_unreadable_model_is_one_failing_test(tmp_path: Path) -> None:
     assert "collected 1 item" in result.stdout
     assert re.search(r"^FAILED robots/bad\.toml::fkcheck\[load\]", result.stdout, re.MULTILINE)
     assert "bad.toml: convention: 'sideways' is not one of: standard, modified" in result.stdout
+
+
+def test_the_plugin_reads_a_bags_settings_from_tool_fkcheck(tmp_path: Path, monkeypatch) -> None:
+    # In process: the options the plugin hands the backends it builds for a model.
+    from types import SimpleNamespace
+
+    from fkcheck import api, pytest_plugin
+    from fkcheck.backends import registry
+    from fkcheck.model.project import load_project
+
+    (tmp_path / "pyproject.toml").write_text(
+        '[tool.fkcheck]\nagainst = ["poses:rec.mcap"]\nbag_joint_states = "/ur/joint_states"\n'
+        'bag_tf = "/ur/tf"\nbag_tf_static = "/ur/tf_static"\nbag_stamp_tolerance = 0.002\n',
+        encoding="utf-8",
+    )
+    handed: list = []
+
+    def parse_against(names, options):
+        handed.append((list(names), options))
+        return []
+
+    monkeypatch.setattr(registry, "parse_against", parse_against)
+    monkeypatch.setattr(api, "check_request", lambda request: "checked")
+    model_file = SimpleNamespace(
+        project=load_project(tmp_path), path=bundled_model_paths()["ur5"], _error=None
+    )
+    assert pytest_plugin.ModelFile._run(model_file) == "checked"
+    ((names, options),) = handed
+    assert names == ["poses:rec.mcap"]
+    assert (
+        options.bag_joint_states,
+        options.bag_tf,
+        options.bag_tf_static,
+        options.bag_stamp_tolerance_s,
+    ) == ("/ur/joint_states", "/ur/tf", "/ur/tf_static", 0.002)

@@ -41,7 +41,8 @@ generated code; it is not called). A bag directory's files must be regular files
 in it (no symbolic link leads out of it) and it may not be compressed as a
 whole or per message (``ros2 bag convert`` writes it uncompressed); an MCAP
 file's compressed chunks are decompressed to at most their declared size, itself
-at most :data:`MAX_CHUNK_BYTES`. Messages are at most :data:`MAX_MESSAGE_BYTES`,
+at most :data:`MAX_CHUNK_BYTES` (rosbags' decompressors are replaced only while its
+reader runs: :class:`_BoundedDecompression`). Messages are at most :data:`MAX_MESSAGE_BYTES`,
 a joint state names at most :data:`MAX_JOINT_NAMES` joints, a tf message holds at
 most :data:`MAX_TRANSFORMS` transforms, the tree at most :data:`MAX_FRAMES` frames.
 Anything the reader cannot read (a truncated file, a corrupt database, bad
@@ -60,8 +61,9 @@ of rows, and keeps only the joint states of the last
 from __future__ import annotations
 
 import bisect
+import threading
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Generator, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -88,6 +90,7 @@ from fkcheck.backends.bag_screen import QUATERNION_NORM_TOL as QUATERNION_NORM_T
 from fkcheck.backends.bag_tf import _NS, _frame_id, _stamp_ns, _Tree
 from fkcheck.backends.registry import BackendOptions
 from fkcheck.core.typing import Float
+from fkcheck.model.options import MAX_BAG_STAMP_TOLERANCE_S
 
 __all__ = [
     "DEFAULT_STAMP_TOLERANCE_S",
@@ -108,8 +111,8 @@ __all__ = [
 #: default of :attr:`~fkcheck.backends.registry.BackendOptions.bag_stamp_tolerance_s`.
 DEFAULT_STAMP_TOLERANCE_S: float = BackendOptions.bag_stamp_tolerance_s
 #: Largest stamp tolerance that may be set (seconds): a larger one pairs poses with
-#: readings of other cycles whenever one is missing.
-MAX_STAMP_TOLERANCE_S = 1.0
+#: readings of other cycles whenever one is missing (the flag's and key's rule too).
+MAX_STAMP_TOLERANCE_S = MAX_BAG_STAMP_TOLERANCE_S
 #: The message types read, by their ROS 2 names.
 JOINT_STATE_TYPE = "sensor_msgs/msg/JointState"
 TF_MESSAGE_TYPE = "tf2_msgs/msg/TFMessage"
@@ -122,6 +125,12 @@ REORDER_WINDOW_S = 1.0
 MAX_KEPT_JOINT_STATES = 100_000
 #: Rows per chunk :meth:`BagPairs.chunks` yields by default.
 DEFAULT_CHUNK_ROWS = 10_000
+#: Messages read at most between two chunks :meth:`BagPairs.chunks` yields: after
+#: this many without a full chunk (joint states alone, other frames' transforms,
+#: static transforms, pairs that come rarely), it yields a chunk of no pairs, so
+#: that its caller looks at its time limit (about 0.1 s of messages); the pairs
+#: found so far wait for their chunk.
+QUIET_MESSAGES = 4096
 
 
 @dataclass(frozen=True)
@@ -197,36 +206,87 @@ class BagProvenance:
         return text
 
 
-def _bounded_decompressors() -> None:
-    """Make :mod:`rosbags` decompress an MCAP chunk to at most its declared size.
+def _bounded(make: Any) -> Callable[[bytes, int], bytes]:
+    """A decompressor (rosbags' signature) that stops one byte past the declared size."""
+
+    def decompress(data: bytes, size: int) -> bytes:
+        if not 0 <= size <= MAX_CHUNK_BYTES:
+            raise _Bad(f"a chunk declares {size:,} bytes (at most {MAX_CHUNK_BYTES:,} are read)")
+        out: bytes = make().decompress(data, max_length=size + 1)
+        if len(out) > size:
+            raise _Bad(f"a chunk decompresses to more than its declared {size:,} bytes")
+        return out
+
+    return decompress
+
+
+class _BoundedDecompression:
+    """Makes :mod:`rosbags` decompress an MCAP chunk to at most its declared size, for a while.
 
     rosbags decompresses a chunk whole, then compares its size with the declared
-    one: a few kilobytes of zstd can expand to gigabytes first. These replacements
-    stop at the declared size (at most :data:`MAX_CHUNK_BYTES`).
+    one: a few kilobytes of zstd can expand to gigabytes first. Its decompressors
+    are a module-level table (``rosbags.rosbag2.storage_mcap.DECOMPRESSORS``, looked
+    up at each chunk) that no reader takes in its place, so the bounded ones
+    (:func:`_bounded`: they stop at the declared size, itself at most
+    :data:`MAX_CHUNK_BYTES`) are put in it only while a bag's reader runs, as
+    ``with _BOUNDED:``, and what was there before is put back when the last reader
+    running leaves (two reads at once, in two threads, share one replacement: a
+    lock guards the count). An entry that someone else replaced in between is left
+    as they set it.
     """
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+        self._depth = 0
+        self._saved: dict[str, Callable[[bytes, int], bytes]] = {}
+        self._ours: dict[str, Callable[[bytes, int], bytes]] = {}
+
+    def __enter__(self) -> None:
+        from rosbags.rosbag2 import storage_mcap
+
+        with self._lock:
+            if not self._depth:
+                table = storage_mcap.DECOMPRESSORS
+                self._ours = self._ours or _bounded_decompressors()
+                self._saved = {codec: table[codec] for codec in self._ours if codec in table}
+                table.update(self._ours)
+            self._depth += 1
+
+    def __exit__(self, *exc: object) -> None:
+        from rosbags.rosbag2 import storage_mcap
+
+        with self._lock:
+            self._depth -= 1
+            if self._depth:
+                return
+            table = storage_mcap.DECOMPRESSORS
+            for codec, ours in self._ours.items():
+                if table.get(codec) is not ours:
+                    continue  # replaced by someone else meanwhile: theirs stays
+                if codec in self._saved:
+                    table[codec] = self._saved[codec]
+                else:
+                    del table[codec]
+            self._saved = {}
+
+
+def _bounded_decompressors() -> dict[str, Callable[[bytes, int], bytes]]:
+    """The bounded decompressors of MCAP chunks, by rosbags' codec names."""
     import lz4.frame  # type: ignore[import-untyped]
-    from rosbags.rosbag2 import storage_mcap
 
     try:
         from compression import zstd  # type: ignore[import-not-found,unused-ignore]
     except ImportError:
         from backports import zstd  # type: ignore[no-redef,import-not-found,unused-ignore]
 
-    def bounded(make: Any) -> Any:
-        def decompress(data: bytes, size: int) -> bytes:
-            if not 0 <= size <= MAX_CHUNK_BYTES:
-                raise _Bad(
-                    f"a chunk declares {size:,} bytes (at most {MAX_CHUNK_BYTES:,} are read)"
-                )
-            out: bytes = make().decompress(data, max_length=size + 1)
-            if len(out) > size:
-                raise _Bad(f"a chunk decompresses to more than its declared {size:,} bytes")
-            return out
+    return {
+        "zstd": _bounded(zstd.ZstdDecompressor),
+        "lz4": _bounded(lz4.frame.LZ4FrameDecompressor),
+    }
 
-        return decompress
 
-    storage_mcap.DECOMPRESSORS["zstd"] = bounded(zstd.ZstdDecompressor)
-    storage_mcap.DECOMPRESSORS["lz4"] = bounded(lz4.frame.LZ4FrameDecompressor)
+#: The one scoped replacement of rosbags' decompressors (:class:`_BoundedDecompression`).
+_BOUNDED = _BoundedDecompression()
 
 
 class BagPairs:
@@ -280,7 +340,9 @@ class BagPairs:
         """The pairs in the order their poses were recorded, ``rows`` at a time.
 
         Each chunk is ``(q, base_T_tip, t)``: ``(m, n)`` joint values, ``(m, 4, 4)``
-        poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``.
+        poses and ``(m,)`` the poses' stamps in seconds since the epoch, ``m <= rows``;
+        after :data:`QUIET_MESSAGES` messages without a chunk, a chunk of no pairs
+        (``m = 0``, so that a caller's time limit is looked at).
 
         Raises:
             BagError: The bag cannot be read, a message on a topic read is not of
@@ -295,8 +357,16 @@ class BagPairs:
             import rosbags.rosbag2  # noqa: F401
         except ImportError as exc:
             raise (missing_extra(exc) or exc) from None
+        reading = self._read(storage, rows)
         try:
-            yield from self._read(storage, rows)
+            while True:
+                # rosbags' decompressors are bounded while its reader runs, not while
+                # the caller holds a chunk (nor after a read that fails or is dropped)
+                with _BOUNDED:
+                    chunk = next(reading, None)
+                if chunk is None:
+                    return
+                yield chunk
         except BagError:
             raise
         except _Bad as exc:
@@ -304,12 +374,13 @@ class BagPairs:
         except Exception as exc:  # rosbags' and the bag's: any failure is one line
             text = str(exc).splitlines()[0][:300] if str(exc).strip() else type(exc).__name__
             raise BagError(self.path, f"not readable as a ROS 2 bag ({storage}): {text}") from None
+        finally:
+            reading.close()  # the bag's files, now, when the caller stops early
 
-    def _read(self, storage: str, rows: int) -> Iterator[tuple[Float, Float, Float]]:
+    def _read(self, storage: str, rows: int) -> Generator[tuple[Float, Float, Float]]:
         from rosbags.rosbag2 import Reader
         from rosbags.typesys import Stores, get_typestore
 
-        _bounded_decompressors()
         store = get_typestore(Stores.ROS2_HUMBLE)
         t = self.topics
         wanted = {
@@ -337,7 +408,9 @@ class BagPairs:
                     )
             tree = _Tree(*self.frames)
             static = [c for c in conns if c.topic == t.tf_static]
-            for _, _, raw in reader.messages(connections=static) if static else ():
+            for k, (_, _, raw) in enumerate(reader.messages(connections=static) if static else ()):
+                if k % QUIET_MESSAGES == QUIET_MESSAGES - 1:  # no rows yet: the caller's clock
+                    yield self._no_rows()
                 for tf in self._transforms(store, raw):
                     tree.set_static(
                         _frame_id(tf.header.frame_id), _frame_id(tf.child_frame_id), tf.transform
@@ -345,6 +418,10 @@ class BagPairs:
             moving = [c for c in conns if c.topic in (t.joint_states, t.tf)]
             messages = reader.messages(connections=moving)
             yield from self._pairs(store, tree, messages, rows, storage)
+
+    def _no_rows(self) -> tuple[Float, Float, Float]:
+        """A chunk of no pairs (see :data:`QUIET_MESSAGES`)."""
+        return np.empty((0, len(self._joints.accepted))), np.empty((0, 4, 4)), np.empty(0)
 
     def _transforms(self, store: Any, raw: Any) -> Any:
         self._size(raw)
@@ -413,7 +490,12 @@ class BagPairs:
             out_t.clear()
             return q, T, t
 
+        quiet = 0  # messages read since the last chunk
         for conn, _, raw in messages:
+            quiet += 1
+            if quiet >= QUIET_MESSAGES:  # a chunk of no rows, for the caller's clock
+                quiet = 0
+                yield self._no_rows()
             if conn.topic == self.topics.joint_states:
                 self._size(raw)
                 msg = store.deserialize_cdr(raw, JOINT_STATE_TYPE)
@@ -453,6 +535,7 @@ class BagPairs:
                 pending.append((stamp, pose))
             resolve(force=False)
             if len(out_t) >= rows:
+                quiet = 0
                 yield chunk()
         resolve(force=True)
         if out_t:

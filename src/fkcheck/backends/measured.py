@@ -77,8 +77,10 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 
@@ -102,6 +104,7 @@ from fkcheck.backends.recording import (
     MAX_RECORDING_BYTES,
     MAX_RECORDING_ROWS,
     PoseChunk,
+    ReadClock,
     Recording,
     RowKeeper,
     SampleKeeper,
@@ -194,6 +197,7 @@ class _CsvRecording:
         linenos: list[int] = []
         chars = 0
         rows = 0
+        idle, idle_chars = 0, 0  # lines (and their text) read since the last yield, not rows
         try:
             for lineno, line in read_lines(path, MAX_RECORDING_BYTES):
                 text = line.strip()
@@ -206,26 +210,30 @@ class _CsvRecording:
                             "rows; put it before the header line",
                         )
                     self.pair = _model_pair(match.group(1), match.group(2), model, lineno, path)
-                    continue
-                if not text or text.startswith("#"):
-                    continue
-                if layout is None:
+                elif not text or text.startswith("#"):
+                    pass  # a comment or a blank line
+                elif layout is None:
                     layout = _layout(line, lineno, model, path)
                     self.method = layout.method
+                else:
+                    if rows == MAX_POSES_ROWS:  # counted while streaming: refused unparsed
+                        raise PosesFileError(
+                            path,
+                            f"line {lineno}: more than {MAX_POSES_ROWS:,} data rows (at most "
+                            f"{MAX_POSES_ROWS:,}); cut the recording or keep every k-th row",
+                        )
+                    rows += 1
+                    lines.append(line)
+                    linenos.append(lineno)
+                    chars += len(line)
+                    if len(lines) == CHUNK_ROWS or chars >= CHUNK_CHARS:
+                        yield _chunk(layout, lines, linenos, path)
+                        lines, linenos, chars, idle, idle_chars = [], [], 0, 0, 0
                     continue
-                if rows == MAX_POSES_ROWS:  # counted while streaming: refused unparsed
-                    raise PosesFileError(
-                        path,
-                        f"line {lineno}: more than {MAX_POSES_ROWS:,} data rows (at most "
-                        f"{MAX_POSES_ROWS:,}); cut the recording or keep every k-th row",
-                    )
-                rows += 1
-                lines.append(line)
-                linenos.append(lineno)
-                chars += len(line)
-                if len(lines) == CHUNK_ROWS or chars >= CHUNK_CHARS:
-                    yield _chunk(layout, lines, linenos, path)
-                    lines, linenos, chars = [], [], 0
+                idle, idle_chars = idle + 1, idle_chars + len(line)
+                if idle >= CHUNK_ROWS or idle_chars >= CHUNK_CHARS:  # no rows for a while:
+                    idle, idle_chars = 0, 0  # a chunk of none, for the caller's clock
+                    yield _none(model)
         except (InputFileError, PosesFileError) as exc:
             # The first problem in the file is the one said: the rows read before this
             # one (a binary recording's line of types before its packed numbers) first.
@@ -238,6 +246,13 @@ class _CsvRecording:
             raise PosesFileError(path, "no header line and data rows")
         if lines:
             yield _chunk(layout, lines, linenos, path)
+
+
+def _none(model: Model) -> PoseChunk:
+    """A chunk of no rows: what a reader yields while it finds none (see :class:`Recording`)."""
+    return PoseChunk(
+        np.empty((0, model.dof)), np.empty((0, 4, 4)), None, np.empty(0, dtype=np.int64)
+    )
 
 
 def _chunk(
@@ -266,12 +281,35 @@ def _chunk(
     return PoseChunk(q, poses, None, np.array(linenos, dtype=np.int64))
 
 
-#: Makes the keeper of a recording's rows for a model and the recording's frame pair.
-KeeperFactory = Callable[[Model, tuple[str, str]], RowKeeper]
+class KeeperFactory(Protocol):
+    """Makes the keeper of a recording's rows for a model and the recording's frame pair.
+
+    Attributes:
+        read_limit_s: How long a read through it may take, seconds, from its start
+            (opening the recording) to its end; ``None``: no limit.
+    """
+
+    @property
+    def read_limit_s(self) -> float | None:
+        """The read's time limit, seconds (``None``: none)."""
+        ...
+
+    def __call__(self, model: Model, pair: tuple[str, str]) -> RowKeeper:
+        """The keeper of a recording of ``pair``'s poses, for ``model``."""
+        ...
 
 
-def _sample_keeper(model: Model, pair: tuple[str, str]) -> RowKeeper:
-    return SampleKeeper(model.dof)
+@dataclass(frozen=True)
+class _SampleKeeperFactory:
+    """The deterministic sample of a recording (:class:`SampleKeeper`), read without a limit."""
+
+    read_limit_s: float | None = None
+
+    def __call__(self, model: Model, pair: tuple[str, str]) -> RowKeeper:
+        return SampleKeeper(model.dof)
+
+
+_sample_keeper = _SampleKeeperFactory()
 
 
 def _read(
@@ -280,14 +318,29 @@ def _read(
     keeper: KeeperFactory = _sample_keeper,
     options: BackendOptions | None = None,
 ) -> _Table:
-    """Stream the recording at ``path`` through ``keeper``: the rows it keeps, as a table."""
+    """Stream the recording at ``path`` through ``keeper``: the rows it keeps, as a table.
+
+    Within the keeper's time limit (:attr:`KeeperFactory.read_limit_s`), from before
+    the recording is opened: its first rows, and whatever precedes them, included.
+
+    Raises:
+        TimeLimitError: The read took longer.
+        PosesFileError: The recording cannot be read.
+    """
+    clock = ReadClock(path, keeper.read_limit_s)
     recording = open_recording(path, model, options)
     kept: RowKeeper | None = None
+    rows = 0
     for chunk in recording.chunks():
+        clock.check(rows)
+        if not chunk.q.shape[0]:
+            continue  # the reader found no rows for a while: only the clock is looked at
         if kept is None:  # the pair is known once the first rows are
             pair = recording.pair or (model.check.frame_from, model.check.frame_to)
             kept = keeper(model, pair)
         kept.add(chunk)
+        rows += chunk.q.shape[0]
+    clock.check(rows)
     if kept is None:  # a reader yields at least one row or refuses
         raise PosesFileError(path, "no data rows")
     q, poses, lines = kept.kept()

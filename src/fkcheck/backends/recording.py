@@ -21,14 +21,18 @@ never computes the core's poses itself, so the keeper is handed to it
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.core.typing import Float
+from fkcheck.errors import TimeLimitError
 
 __all__ = [
     "CHUNK_CHARS",
@@ -37,6 +41,7 @@ __all__ = [
     "MAX_RECORDING_BYTES",
     "MAX_RECORDING_ROWS",
     "PoseChunk",
+    "ReadClock",
     "Recording",
     "RowKeeper",
     "SampleKeeper",
@@ -86,7 +91,7 @@ class Recording(Protocol):
         method: How its rows were read, for the reports (which columns or topics).
         pair: The frame pair its poses are of, when it says (model frame names), else
             ``None`` (the model's ``[check]`` pair). Known once :meth:`chunks` has
-            yielded its first chunk (a text file may say it before its rows).
+            yielded its first chunk with rows (a text file may say it before its rows).
         where: ``"line"`` when :attr:`PoseChunk.lines` are line numbers, else ``"row"``.
     """
 
@@ -97,11 +102,50 @@ class Recording(Protocol):
     def chunks(self) -> Iterator[PoseChunk]:
         """The rows, in order, at most :data:`CHUNK_ROWS` at a time; read as they are asked for.
 
+        A chunk may hold no rows: a reader yields one once it has read
+        :data:`CHUNK_ROWS` lines (or :data:`CHUNK_CHARS` of text) of a text file
+        that are no rows, or :data:`fkcheck.backends.bag.QUIET_MESSAGES` messages
+        of a bag, since its last chunk (comments, blank lines, joint states alone,
+        other frames), so that its caller can look at its time limit
+        (:class:`ReadClock`) whatever precedes or separates the rows.
+
         Raises:
             FkcheckError: Bad input (with where it is), or more than
                 :data:`MAX_RECORDING_ROWS` rows (refused before they are read).
         """
         ...
+
+
+class ReadClock:
+    """The time limit of one read of a recording, from its start (opening it) to its end.
+
+    Looked at as each chunk arrives, the empty ones a reader yields while it finds
+    no rows included (:meth:`Recording.chunks`), and once more at the end: a read
+    ends within its limit plus the time of one chunk, whatever the recording holds
+    before its first row.
+
+    Attributes:
+        path: The recording, for the message.
+        limit_s: The limit, seconds; ``None``: none.
+    """
+
+    def __init__(self, path: Path, limit_s: float | None) -> None:
+        """Start the clock now."""
+        self.path = path
+        self.limit_s = limit_s
+        self._deadline = math.inf if limit_s is None else time.monotonic() + limit_s
+
+    def check(self, rows: int) -> None:
+        """Raise once the limit has passed; ``rows``: the rows read so far, for the message.
+
+        Raises:
+            TimeLimitError: The limit has passed.
+        """
+        if time.monotonic() > self._deadline:
+            raise TimeLimitError(
+                f"reading {self.path} did not finish within its time limit of "
+                f"{self.limit_s:g} s ({rows:,} rows read); give it more with --timeout"
+            )
 
 
 @runtime_checkable

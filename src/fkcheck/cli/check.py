@@ -12,8 +12,9 @@ stem; two models with one stem are refused (exit 2) rather than one
 overwriting the other. With no MODEL and no ``--all``, the models listed in
 ``[tool.fkcheck] models`` of the nearest ``pyproject.toml`` are checked; that
 table also gives defaults for ``--samples``, ``--seed``, ``--sampler``,
-``--timeout``, ``--against``, ``--require``, ``--tol-pos`` and ``--tol-rot``
-(a flag on the command line wins; ``--isolated`` ignores the table). Every
+``--timeout``, ``--against``, ``--require``, ``--tol-pos``, ``--tol-rot`` and a
+ROS 2 bag's ``--bag-*`` settings (a flag on the command line wins; ``--isolated``
+ignores the table). Every
 model is read, and its URDF screened, before any check runs: bad input in any
 of them is one line and exit 2.
 
@@ -227,14 +228,28 @@ def add_parser(sub: Any) -> None:
 
 
 def _stamp_tolerance(value: str) -> float:
-    """``--bag-stamp-tolerance``: seconds, 0 … 1."""
+    """``--bag-stamp-tolerance``: seconds, by the rule of its ``[tool.fkcheck]`` key."""
+    from fkcheck.model.options import bag_problem
+
     try:
         seconds = float(value)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{value!r} is not a number of seconds") from None
-    if not 0.0 <= seconds <= 1.0:
-        raise argparse.ArgumentTypeError(f"{value} s is not within 0 … 1 s")
+    problem = bag_problem("bag_stamp_tolerance_s", seconds)
+    if problem is not None:
+        raise argparse.ArgumentTypeError(problem)
     return seconds
+
+
+def _topic(value: str) -> str:
+    """``--bag-joint-states`` and the other topics: by the rule of their ``[tool.fkcheck]`` keys."""
+    from fkcheck.cli._arguments import utf8_text
+    from fkcheck.model.options import bag_problem
+
+    problem = bag_problem("bag_tf", utf8_text(value))
+    if problem is not None:
+        raise argparse.ArgumentTypeError(problem)
+    return value
 
 
 def _add_pair_arguments(p: argparse.ArgumentParser) -> None:
@@ -320,16 +335,22 @@ def _pair_file(spec: str) -> Description:
 
 
 def _add_bag_arguments(p: argparse.ArgumentParser) -> None:
-    """The settings of a ROS 2 bag given as ``--against poses:BAG`` (fkcheck.backends.bag)."""
-    from fkcheck.cli._arguments import utf8_text
+    """The settings of a ROS 2 bag given as ``--against poses:BAG`` (fkcheck.backends.bag).
 
-    bag = p.add_argument_group("ROS 2 bags (--against poses:BAG)")
-    bag.add_argument("--bag-joint-states", type=utf8_text,
+    Each may be set in ``[tool.fkcheck]`` too (:data:`fkcheck.model.options.BAG_KEYS`);
+    a flag wins.
+    """
+    bag = p.add_argument_group(
+        "ROS 2 bags (--against poses:BAG)",
+        "each may also be set in [tool.fkcheck] of pyproject.toml (bag_joint_states, bag_tf, "
+        "bag_tf_static, bag_stamp_tolerance); a flag wins",
+    )
+    bag.add_argument("--bag-joint-states", type=_topic,
                      metavar="TOPIC", help="topic of sensor_msgs/msg/JointState (default "
                      "/joint_states)")  # fmt: skip
-    bag.add_argument("--bag-tf", type=utf8_text, metavar="TOPIC",
+    bag.add_argument("--bag-tf", type=_topic, metavar="TOPIC",
                      help="topic of the changing transforms (default /tf)")  # fmt: skip
-    bag.add_argument("--bag-tf-static", type=utf8_text, metavar="TOPIC",
+    bag.add_argument("--bag-tf-static", type=_topic, metavar="TOPIC",
                      help="topic of the static transforms (default /tf_static)")  # fmt: skip
     bag.add_argument(
         "--bag-stamp-tolerance",
@@ -368,6 +389,9 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     args.require = list(options.require) or None
     if args.against is None and project is not None and project.against is not None:
         args.against = list(project.against)
+    for name, value in (project.bag_settings() if project is not None else {}).items():
+        if getattr(args, name, None) is None:  # a --bag-* flag wins over the key
+            setattr(args, name, value)
     args.lint_ignore = project.lint_ignore if project is not None else ()
 
 

@@ -154,9 +154,10 @@ def model_command(args: argparse.Namespace, model: str) -> str:
 
     Every option the check was given (``args.options``: flag, ``[tool.fkcheck]``)
     is written as its flag, in :data:`~fkcheck.model.options.OPTIONS`' order; the
-    samples, seed, sampler and time limit always, so that no default is assumed.
+    samples, seed, sampler and time limit always, so that no default is assumed;
+    against a recording (``poses:``), a ROS 2 bag's settings given too.
     """
-    from fkcheck.model.options import FLAGS, OPTIONS, CheckOptions
+    from fkcheck.model.options import BAG_FLAGS, FLAGS, OPTIONS, CheckOptions
 
     defaults = CheckOptions()
     argv = ["check", operand(model)]
@@ -166,6 +167,10 @@ def model_command(args: argparse.Namespace, model: str) -> str:
             argv += _flag(FLAGS[name], value)
     for value in args.against or ():
         argv += ["--against", value]
+    if any(value.startswith("poses:") for value in args.against or ()):
+        for setting, flag in BAG_FLAGS.items():  # a ROS 2 bag's (flag, [tool.fkcheck])
+            if (given := getattr(args, setting, None)) is not None:
+                argv += [flag, str(given)]
     if getattr(args, "allow_xacro", False):
         argv.append("--allow-xacro")
     return "fkcheck " + shlex.join(argv)

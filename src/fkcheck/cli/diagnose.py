@@ -22,6 +22,8 @@ def add_parser(sub: Any) -> None:
     """Register the subcommand."""
     from fkcheck.cli.expand import add_allow_xacro
     from fkcheck.core.tolerances import MAX_TOL_POS_M, MAX_TOL_ROT_RAD
+    from fkcheck.engine.stream import READ_MIN_S
+    from fkcheck.model.options import DEFAULT_TIMEOUT_S, MAX_TIMEOUT_S
 
     p = sub.add_parser(
         "diagnose",
@@ -48,6 +50,10 @@ def add_parser(sub: Any) -> None:
                    help=f"position tolerance, metres (at most {MAX_TOL_POS_M:g})")  # fmt: skip
     p.add_argument("--tol-rot", type=float, metavar="RAD",
                    help=f"rotation tolerance, radians (at most {MAX_TOL_ROT_RAD:g})")  # fmt: skip
+    p.add_argument("--timeout", type=float, metavar="S",
+                   help="time limit of reading a recording (--against poses:FILE), seconds, as "
+                   f"fkcheck check's (default {DEFAULT_TIMEOUT_S:g}, at least "
+                   f"{READ_MIN_S:g} for the read, at most {MAX_TIMEOUT_S:g})")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the diagnosis as JSON here")
     add_allow_xacro(p)
     p.set_defaults(run=run)
@@ -66,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.strict_json import strict_json
     from fkcheck.io.text import terminal_lines, terminal_text
-    from fkcheck.model.options import check_option
+    from fkcheck.model.options import DEFAULT_TIMEOUT_S, check_option
     from fkcheck.model.read import load_model
 
     check_option("samples", args.samples, "--samples", lowest=1)
@@ -75,6 +81,8 @@ def run(args: argparse.Namespace) -> int:
         check_option("tol_pos_m", args.tol_pos, "--tol-pos")
     if args.tol_rot is not None:
         check_option("tol_rot_rad", args.tol_rot, "--tol-rot")
+    timeout_s = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
+    check_option("timeout_s", timeout_s, "--timeout")
     model = load_model(args.model)
     check_known_differences(model)  # the names are the registry's, as for check and lint
     if args.allow_xacro:
@@ -115,6 +123,7 @@ def run(args: argparse.Namespace) -> int:
         seed=args.seed,
         tol_pos_m=args.tol_pos,
         tol_rot_rad=args.tol_rot,
+        timeout_s=timeout_s,
     )
     sys.stdout.write(terminal_lines(format_text(result)))
     if not result.agrees:  # another reader of the same file may show it is this one's

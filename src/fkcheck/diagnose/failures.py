@@ -24,6 +24,7 @@ from fkcheck.diagnose.findings import Diagnosis
 from fkcheck.diagnose.run import diagnose
 from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.io.text import operand
+from fkcheck.model.options import DEFAULT_TIMEOUT_S
 
 __all__ = ["BackendDiagnosis", "diagnose_command", "diagnose_failures", "same_disagreement"]
 
@@ -76,6 +77,8 @@ def diagnose_command(check: CheckResult, backend: str) -> str:
         argv += ["--tol-pos", repr(check.tol_pos_m)]
     if check.tol_rot_rad != model.check.tol_rot_rad:
         argv += ["--tol-rot", repr(check.tol_rot_rad)]
+    if check.options.timeout_s != DEFAULT_TIMEOUT_S:  # a recording's read is within it
+        argv += ["--timeout", repr(check.options.timeout_s)]
     return "fkcheck " + shlex.join(argv)
 
 
@@ -90,6 +93,7 @@ def _run_one(check: CheckResult, backend: Backend) -> tuple[Diagnosis | None, st
             seed=check.options.seed,
             tol_pos_m=check.tol_pos_m,
             tol_rot_rad=check.tol_rot_rad,
+            timeout_s=check.options.timeout_s,
         )
     except Exception as exc:  # a report is written whatever the diagnosis does
         return None, f"{type(exc).__name__}: {exc}"

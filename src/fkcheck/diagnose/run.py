@@ -17,6 +17,7 @@ from fkcheck.diagnose.offsets import explain_offsets
 from fkcheck.diagnose.paramfit import explain_parameter_fit
 from fkcheck.diagnose.problem import Problem, Residual, diagnosis_configurations
 from fkcheck.engine.expected import known_difference_for, library_of
+from fkcheck.model.options import DEFAULT_TIMEOUT_S
 from fkcheck.model.types import KnownDifference, Model
 
 __all__ = ["diagnose"]
@@ -33,6 +34,7 @@ def diagnose(
     q: Float | None = None,
     tol_pos_m: float | None = None,
     tol_rot_rad: float | None = None,
+    timeout_s: float | None = DEFAULT_TIMEOUT_S,
 ) -> Diagnosis:
     """Explain why the table disagrees with a reference backend.
 
@@ -65,6 +67,9 @@ def diagnose(
             own (it has poses at no others), else sampled ones.
         tol_pos_m: Position tolerance (default: the model's ``[check]``).
         tol_rot_rad: Rotation tolerance (default: the model's ``[check]``).
+        timeout_s: Time limit of reading a recording (``poses:FILE``), as the check's
+            ``--timeout`` limits it (at least :data:`~fkcheck.engine.stream.READ_MIN_S`,
+            from before it is opened); ``None``: none.
 
     Returns:
         The diagnosis, explanations ranked most likely first.
@@ -73,6 +78,7 @@ def diagnose(
         FrameError: An unknown frame name.
         ToleranceError: A tolerance out of its range (:mod:`fkcheck.core.tolerances`).
         BackendUnavailable, FrameUnavailable, FkcheckError: The reference cannot run.
+        TimeLimitError: A recording's read did not finish within ``timeout_s``.
     """
     start = time.perf_counter()
     pair = (frame_from or model.check.frame_from, frame_to or model.check.frame_to)
@@ -82,7 +88,7 @@ def diagnose(
     if q is None and isinstance(backend, FixedConfigurations):
         from fkcheck.engine.stream import stream_recordings
 
-        stream_recordings([backend], tol)  # a long recording: its sample and its worst rows
+        stream_recordings([backend], tol, timeout_s)  # a long one: its sample, its worst rows
         q = backend.configurations(model)
     configs = q if q is not None else diagnosis_configurations(model, samples, seed)
     problem = Problem.build(model, backend, configs, pair, tol)

@@ -32,9 +32,9 @@ exact, as the worst rows are among them. The recording is read once.
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -44,9 +44,11 @@ from fkcheck.backends.recording import PoseChunk, Recording, SampleKeeper
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import WORST_CASES
-from fkcheck.errors import TimeLimitError
 from fkcheck.model.frames import reference_poses, relative_pose
 from fkcheck.model.types import Model
+
+if TYPE_CHECKING:
+    from fkcheck.backends.measured import KeeperFactory
 
 __all__ = [
     "HISTOGRAM_RATIO",
@@ -134,20 +136,13 @@ class StreamSummary(SampleKeeper):
         model: Model,
         pair: tuple[str, str],
         tol: tuple[float, float],
-        timeout_s: float | None = None,
     ) -> None:
-        """Compare rows of ``pair``'s poses with ``model``'s core; count those beyond ``tol``.
-
-        With ``timeout_s``, the rows must all be added within it (at least
-        :data:`READ_MIN_S`) from now.
-        """
+        """Compare rows of ``pair``'s poses with ``model``'s core; count those beyond ``tol``."""
         super().__init__(model.dof)
         self.model = model
         self.pair = pair
         self.tol = tol
         self.beyond = 0
-        self.limit_s = None if timeout_s is None else max(timeout_s, READ_MIN_S)
-        self._deadline = math.inf if self.limit_s is None else time.monotonic() + self.limit_s
         self.max_position_m = 0.0
         self.max_rotation_rad = 0.0
         self._hist = {
@@ -158,16 +153,7 @@ class StreamSummary(SampleKeeper):
         self._top_rot = _Top(WORST_CASES, model.dof)
 
     def add(self, chunk: PoseChunk) -> None:
-        """Compare one chunk's rows with the core; keep the sample, the worst, the statistics.
-
-        Raises:
-            TimeLimitError: The time limit has passed (checked once a chunk).
-        """
-        if time.monotonic() > self._deadline:
-            raise TimeLimitError(
-                f"reading the recording did not finish within the check's time limit of "
-                f"{self.limit_s:g} s ({self.rows:,} rows read); give it more with --timeout"
-            )
+        """Compare one chunk's rows with the core; keep the sample, the worst, the statistics."""
         if not chunk.q.shape[0]:
             return
         first = self.rows
@@ -225,16 +211,24 @@ class StreamKeeper:
 
     Attributes:
         tol: ``(position m, rotation rad)``: the check's tolerances.
-        timeout_s: The check's time limit for the read (at least :data:`READ_MIN_S`),
-            from when the summary is made; ``None``: none.
+        timeout_s: The check's (or the diagnosis's) ``--timeout``; ``None``: none.
     """
 
     tol: tuple[float, float]
     timeout_s: float | None = field(default=None, compare=False)
 
+    @property
+    def read_limit_s(self) -> float | None:
+        """The read's time limit: :attr:`timeout_s`, but at least :data:`READ_MIN_S`.
+
+        From before the recording is opened to its last row
+        (:class:`~fkcheck.backends.recording.ReadClock`); ``None``: none.
+        """
+        return None if self.timeout_s is None else max(self.timeout_s, READ_MIN_S)
+
     def __call__(self, model: Model, pair: tuple[str, str]) -> StreamSummary:
         """The summary of a recording of ``pair``'s poses, compared with ``model``."""
-        return StreamSummary(model, pair, self.tol, self.timeout_s)
+        return StreamSummary(model, pair, self.tol)
 
 
 def stream_recordings(
@@ -244,14 +238,21 @@ def stream_recordings(
 
     ``tol`` is the check's ``(position m, rotation rad)`` tolerances: the rows
     beyond them are counted as the recording streams. ``timeout_s`` is the check's
-    time limit: a read that takes longer (and at least :data:`READ_MIN_S`) ends in
-    :class:`~fkcheck.errors.TimeLimitError`.
+    time limit: a read that takes longer (and at least :data:`READ_MIN_S`), from
+    before the recording is opened, ends in :class:`~fkcheck.errors.TimeLimitError`.
     """
-    from fkcheck.backends.measured import MeasuredPoses
-
     for backend in backends:
-        if isinstance(backend, MeasuredPoses):
+        if isinstance(backend, _KeepsRows):  # a wrapper of one too (fkcheck diagnose's)
             backend.keep_with(StreamKeeper(tol, timeout_s))
+
+
+@runtime_checkable
+class _KeepsRows(Protocol):
+    """A backend that reads a recording through the keeper it is handed (``poses:``)."""
+
+    def keep_with(self, keeper: KeeperFactory) -> None:
+        """Read the recording through ``keeper`` from now on."""
+        ...
 
 
 def _count_beyond(pos: Float, rot: Float, tol: tuple[float, float]) -> int:
@@ -272,5 +273,6 @@ def rows_beyond(
     """
     count = 0
     for chunk in recording.chunks():
-        count += _count_beyond(*_errors(model, pair, chunk), tol)
+        if chunk.q.shape[0]:  # a reader's chunk of no rows: nothing to count
+            count += _count_beyond(*_errors(model, pair, chunk), tol)
     return count

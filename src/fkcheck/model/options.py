@@ -35,12 +35,15 @@ if TYPE_CHECKING:
     from fkcheck.model.types import Model
 
 __all__ = [
+    "BAG_FLAGS",
+    "BAG_KEYS",
     "DEFAULT_SAMPLER",
     "DEFAULT_SAMPLES",
     "DEFAULT_SEED",
     "DEFAULT_TIMEOUT_S",
     "FLAGS",
     "FLOAT_OPTIONS",
+    "MAX_BAG_STAMP_TOLERANCE_S",
     "MAX_PROCESSES",
     "MAX_SAMPLES",
     "MAX_SEED",
@@ -53,6 +56,7 @@ __all__ = [
     "OptionLayer",
     "OptionName",
     "Sampler",
+    "bag_problem",
     "check_option",
     "jacobian_for",
     "option_problem",
@@ -173,6 +177,66 @@ def _timeout_problem(value: object) -> str | None:
     if 0.0 < number <= MAX_TIMEOUT_S:
         return None
     return f"must be > 0 and at most {MAX_TIMEOUT_S:g} s ({_TIMEOUT_WHY}), got {_shown(value)}"
+
+
+#: The settings of a ROS 2 bag read as measured poses (``--against poses:BAG``), by the
+#: :class:`~fkcheck.backends.registry.BackendOptions` attribute each sets: its
+#: ``fkcheck check`` flag ...
+BAG_FLAGS: Mapping[str, str] = MappingProxyType(
+    {
+        "bag_joint_states": "--bag-joint-states",
+        "bag_tf": "--bag-tf",
+        "bag_tf_static": "--bag-tf-static",
+        "bag_stamp_tolerance_s": "--bag-stamp-tolerance",
+    }
+)
+#: ... and its ``[tool.fkcheck]`` key (a flag wins over the key).
+BAG_KEYS: Mapping[str, str] = MappingProxyType(
+    {
+        "bag_joint_states": "bag_joint_states",
+        "bag_tf": "bag_tf",
+        "bag_tf_static": "bag_tf_static",
+        "bag_stamp_tolerance_s": "bag_stamp_tolerance",
+    }
+)
+#: Largest stamp tolerance of a bag (seconds): a larger one pairs poses with readings
+#: of other cycles whenever one is missing.
+MAX_BAG_STAMP_TOLERANCE_S = 1.0
+#: Longest topic name of a bag setting (characters); ROS's are a few dozen.
+_MAX_TOPIC_CHARS = 256
+
+
+def bag_problem(name: str, value: object) -> str | None:
+    """Why ``value`` cannot be the bag setting ``name`` (:data:`BAG_FLAGS`), one phrase.
+
+    The one rule of the flags and the ``[tool.fkcheck]`` keys: a topic is a
+    non-empty name of at most 256 characters of UTF-8 text, without spaces or
+    control characters; the stamp tolerance a number of seconds from 0 to
+    :data:`MAX_BAG_STAMP_TOLERANCE_S`. ``None`` when it can.
+    """
+    if name == "bag_stamp_tolerance_s":
+        number = (
+            float(value)
+            if isinstance(value, int | float) and not isinstance(value, bool)
+            else math.nan
+        )
+        if 0.0 <= number <= MAX_BAG_STAMP_TOLERANCE_S:
+            return None
+        return (
+            f"must be seconds from 0 to {MAX_BAG_STAMP_TOLERANCE_S:g} (a larger lag pairs "
+            f"poses with other cycles' readings), got {_shown(value)}"
+        )
+    if (
+        isinstance(value, str)
+        and 0 < len(value) <= _MAX_TOPIC_CHARS
+        and all(c.isprintable() and not c.isspace() for c in value)
+        and not any("\ud800" <= c <= "\udfff" for c in value)
+    ):
+        return None
+    return (
+        f"must be a topic name (at most {_MAX_TOPIC_CHARS} characters of text, no spaces), "
+        f"got {_shown(value)}"
+    )
 
 
 def option_problem(name: OptionName, value: object, *, lowest: int | None = None) -> str | None:

@@ -32,10 +32,12 @@ from fkcheck.errors import FkcheckError
 from fkcheck.io.files import InputFileError, read_text
 from fkcheck.model.lint_rules import parse_lint_rules
 from fkcheck.model.options import (
+    BAG_KEYS,
     FLOAT_OPTIONS,
     PROJECT_KEYS,
     OptionLayer,
     OptionName,
+    bag_problem,
     option_problem,
 )
 from fkcheck.model.read import is_model_file
@@ -60,7 +62,8 @@ REPOSITORY_MARKERS = (".git", ".hg")
 MAX_MODEL_FILES = 10_000
 
 #: Every key, in the order messages list them: the project's own, then the options'.
-_KEYS = ("models", "against", "lint_ignore", "ik_solvers", *PROJECT_KEYS.values())
+_KEYS = ("models", "against", "lint_ignore", "ik_solvers", *PROJECT_KEYS.values(),
+         *BAG_KEYS.values())  # fmt: skip
 #: What a model file is, in messages.
 _MODEL_FILES = "a .toml file with [[joint]] tables, or a DH .csv"
 
@@ -103,6 +106,14 @@ class ProjectConfig:
             ``jacobian_reference`` or ``tol_jacobian`` without ``jacobian`` sets
             ``jacobian`` too (they imply it, as ``--jacobian-reference`` and
             ``--tol-jacobian`` do).
+        bag_joint_states: A ROS 2 bag's topic of ``sensor_msgs/msg/JointState``
+            (``--against poses:BAG``; default ``/joint_states``), as ``--bag-joint-states``.
+        bag_tf: A bag's topic of changing transforms (default ``/tf``), as ``--bag-tf``.
+        bag_tf_static: A bag's topic of static transforms (default ``/tf_static``), as
+            ``--bag-tf-static``.
+        bag_stamp_tolerance: Seconds, 0 … 1: a bag's pose is paired with the joint
+            state stamped at or before it at most this much earlier (default 0.001),
+            as ``--bag-stamp-tolerance``.
     """
 
     path: Path
@@ -111,6 +122,15 @@ class ProjectConfig:
     lint_ignore: tuple[str, ...] = ()
     ik_solvers: tuple[str, ...] = ()
     options: OptionLayer = field(default_factory=OptionLayer)
+    bag_joint_states: str | None = None
+    bag_tf: str | None = None
+    bag_tf_static: str | None = None
+    bag_stamp_tolerance: float | None = None
+
+    def bag_settings(self) -> dict[str, Any]:
+        """The bag settings it sets, by :class:`~fkcheck.backends.registry.BackendOptions` name."""
+        given = {name: getattr(self, key) for name, key in BAG_KEYS.items()}
+        return {name: value for name, value in given.items() if value is not None}
 
     @property
     def wants_jacobian(self) -> bool | None:
@@ -198,7 +218,22 @@ def read_project(path: Path, table: Mapping[str, Any]) -> ProjectConfig:
         lint_ignore=lint_ignore,
         ik_solvers=_strings(path, "ik_solvers", table.get("ik_solvers", [])),
         options=_options(path, table),
+        **_bag(path, table),
     )
+
+
+def _bag(path: Path, table: Mapping[str, Any]) -> dict[str, Any]:
+    """The bag settings the table sets, by key, each checked by its flag's rule."""
+    out: dict[str, Any] = {}
+    for name, key in BAG_KEYS.items():
+        if key not in table:
+            continue
+        problem = bag_problem(name, table[key])
+        if problem is not None:
+            raise ProjectError(path, f"tool.fkcheck.{key}", problem)
+        value = table[key]
+        out[key] = float(value) if name == "bag_stamp_tolerance_s" else value
+    return out
 
 
 def _options(path: Path, table: Mapping[str, Any]) -> OptionLayer:
