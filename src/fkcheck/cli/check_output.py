@@ -252,7 +252,7 @@ def _backends_table(record: CheckRecord, *, evidence: bool) -> Any:
     table.add_row("fkcheck-dh", *kind, "reference", "", "", "", "")
     for r in record.backends:
         kind = (r.evidence,) if evidence else ()
-        status = f"[{_STYLE[r.status]}]{r.status}[/]"
+        status = f"[{_STYLE[r.status]}]{r.label}[/]"
         # A backend on a subset (the check's plan) is named with its count.
         subset = r.subset.removesuffix(" configurations")
         name = terminal_markup(r.name) + (f"\n({subset})" if subset else "")

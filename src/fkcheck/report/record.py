@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from fkcheck.engine.compare import joint_label
-from fkcheck.engine.results import BackendResult, CheckResult, JacobianResult
+from fkcheck.engine.results import BackendResult, CheckResult, JacobianResult, status_label
 from fkcheck.engine.verdict import (
     KINDS,
     EvidenceSummary,
@@ -305,6 +305,7 @@ def backend_record(
     return BackendRecord(
         name=r.name,
         status=r.status,
+        label=status_label(r.status, r.reader_finding),
         evidence=r.evidence,
         method=r.method,
         message=r.message,
