@@ -369,8 +369,11 @@ def print_models_table(
 ) -> None:
     """The terminal table of a run over several models: one row per model.
 
-    Under it, each failing backend's message, and each failing model's diagnosis in
-    one line (:func:`diagnosis_lines`).
+    A model's max errors are the worst of its backends that count for the verdict:
+    a recorded expected failure's (``xfail``, its known difference) are left out,
+    and a line under the table names those left out. Under it, each failing
+    backend's message, and each failing model's diagnosis in one line
+    (:func:`diagnosis_lines`).
 
     Args:
         checks: Each model's label (its file as given, or the bundled name) and its check.
@@ -391,8 +394,9 @@ def print_models_table(
         counts: dict[str, int] = {}
         for r in record.backends:
             counts[r.status] = counts.get(r.status, 0) + 1
-        pos = [r.max_position_m for r in record.backends if r.max_position_m is not None]
-        rot = [r.max_rotation_rad for r in record.backends if r.max_rotation_rad is not None]
+        counted = [r for r in record.backends if r.status != "xfail"]
+        pos = [r.max_position_m for r in counted if r.max_position_m is not None]
+        rot = [r.max_rotation_rad for r in counted if r.max_rotation_rad is not None]
         style = "bold green" if record.verdict == "pass" else "bold red"
         table.add_row(
             terminal_markup(label),
@@ -403,6 +407,16 @@ def print_models_table(
             record.of("table").status,
         )
     console.print(table)
+    expected = [
+        f"{label}'s " + ", ".join(r.name for r in record.backends if r.status == "xfail")
+        for label, record in records
+        if any(r.status == "xfail" for r in record.backends)
+    ]
+    if expected:
+        console.print(
+            "max errors: of the backends that count for the verdict; left out, as recorded "
+            f"expected failures (xfail): {terminal_markup('; '.join(expected))}"
+        )
     for k, (label, record) in enumerate(records):
         for r in record.backends:
             name = terminal_markup(label)
