@@ -116,14 +116,44 @@ def _known_difference_ok(name: str, used: Sequence[Backend]) -> bool:
     return bool(registration.declared("evidence") == "table")
 
 
-def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
-    """Refuse a ``[[known_difference]]`` naming a backend whose evidence is not the table's.
+def _distributions(name: str, used: Sequence[Backend]) -> tuple[str, ...] | None:
+    """The distributions backend ``name`` computes with (``None``: not known without running it).
 
+    A backend this check uses says its own; a built-in's are read from it; a
+    third party's only by a check that uses it (as :func:`_known_difference_ok`).
+    """
+    for backend in used:
+        if backend.name == name:
+            return tuple(backend.distributions or ())
+    registration, _ = find_registration(name, registrations())
+    if registration is None or registration is PLUGIN or registration.origin != "fkcheck":
+        return None
+    return tuple(registration.declared("distributions") or ())
+
+
+def _versioned() -> str:
+    """The built-ins a ``versions = …`` record may name: table evidence with a library."""
+    found = [
+        r.name + ("…" if r.name.endswith(":") else "")
+        for r in BUILTIN
+        if r.declared("evidence") == "table" and r.declared("distributions")
+    ]
+    return ", ".join(found) + ", or a third-party backend that names its distributions"
+
+
+def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
+    """Refuse a ``[[known_difference]]`` that can never apply.
+
+    One naming a backend whose evidence is not the table's, or recording
+    ``versions = …`` for a backend with no library whose version it could match
+    (``poses:``, a backend that names no ``distributions``: the record would
+    never apply, and the difference it records would fail the check unexplained).
     Builds no backend but the built-ins it names (``used``: those a check has
     built already).
 
     Raises:
-        ModelError: The first such name, with its field and the names allowed.
+        ModelError: The first such record, with its field, what is wrong and
+            the names allowed.
     """
     if not model.known_differences:
         return
@@ -139,6 +169,15 @@ def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
                     f"{show_text(name)} is not a backend whose evidence is independent of the "
                     f"table; known differences may name: {shown}",
                 )
+        if known.versions and _distributions(known.backends[0], used) == ():
+            raise ModelError(
+                model.path,
+                f"known_difference[{i}].versions",
+                f"{show_text(known.backends[0])} computes with no library (it names no "
+                f"distributions): versions = {show_text(known.versions)} has no version to "
+                f"match and the record would never apply; drop versions, or record them for: "
+                f"{_versioned()}",
+            )
 
 
 def against_help() -> str:
