@@ -370,7 +370,11 @@ def check_record(check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ())
             for k, text in zip(KINDS, sentences, strict=True)
         ),
         numbers_line=(
-            numbers_line(check.numbers, evidence.table.status) if check.numbers is not None else ""
+            numbers_line(
+                check.numbers, evidence.table.status, derived=check.model.derived is not None
+            )
+            if check.numbers is not None
+            else ""
         ),
         frame_from=check.frame_from,
         frame_to=check.frame_to,
