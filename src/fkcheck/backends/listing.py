@@ -70,7 +70,13 @@ def default_names(model: Model | None = None) -> tuple[str, ...]:
 
     The default set, then the readers of each description format ``model``
     declares (``default_for``: ``mujoco-mjcf`` and ``pinocchio-mjcf`` for a
-    model with ``[mjcf]``); without a model, the default set alone.
+    model with ``[mjcf]``); without a model, the default set alone. A model
+    that declares a description leaves out the default set's readers of the
+    formats it does not declare, as a model with ``[urdf]`` only never lists
+    the MJCF readers: a reader of a file the model does not have is no
+    skipped check of it (asked for by name, it still says why it cannot run).
+    A model with no description keeps them: their ``model has no [urdf]`` says
+    where table evidence would come from.
     """
     plain = names(default=True)
     if model is None:
@@ -78,7 +84,16 @@ def default_names(model: Model | None = None) -> tuple[str, ...]:
     from fkcheck.description.registry import model_formats
 
     declared = {fmt.name for fmt in model_formats(model)}
+    if declared:
+        plain = tuple(n for n in plain if _reads_one_of(n, declared))
     return plain + tuple(r.name for r in registrations() if r.default_for in declared)
+
+
+def _reads_one_of(name: str, declared: set[str]) -> bool:
+    """Whether backend ``name`` reads no description file, or one of the formats ``declared``."""
+    registration, _ = find_registration(name, registrations())
+    formats = () if registration is None else registration.declared("formats") or ()
+    return not formats or bool(declared.intersection(formats))
 
 
 def default_backends(
