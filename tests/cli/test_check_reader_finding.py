@@ -168,3 +168,26 @@ def test_diagnose_against_the_disagreeing_reader_says_the_table_is_not_blamed(tm
     out = capsys.readouterr().out
     assert "the table agrees with the reference" in out
     assert "note:" not in out
+
+
+def test_the_annotation_and_the_index_say_it_is_the_readers(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("GITHUB_ACTIONS", "true")
+    model = rounded_ur5e(tmp_path)
+    code = main(["check", str(model), *ARGV])
+    out = capsys.readouterr().out
+    if not pinocchio_drops_the_turn():
+        assert code == 0
+        return
+    assert code == 1
+    errors = [line for line in out.splitlines() if line.startswith("::error")]
+    assert len(errors) == 1
+    assert (  # a property's ':' and ',' escaped, as GitHub reads them
+        "title=fkcheck ur5e_menagerie%3A fail (reader)%3A pinocchio-mjcf disagrees with another "
+        "reader of the same description%2C which agrees with the table::"
+    ) in errors[0]
+    assert "in-house core" not in errors[0]
+    reports = tmp_path / "reports"
+    assert main(["check", str(model), "ur3", *ARGV, "--out-dir", str(reports)]) == 1
+    capsys.readouterr()
+    index = (reports / "index.html").read_text(encoding="utf-8")
+    assert index.count('<span class="status fail" data-status="fail">fail (reader)</span>') == 1
