@@ -213,3 +213,20 @@ def test_menageries_ur5e_against_urs_own_description_names_the_millimetre(tmp_pa
         f"fkcheck: derived by fkcheck from {urdf} (the source, base → tool0), checked against "
         f"{menagerie} (world → attachment_site)\n"
     )
+
+
+@pytest.mark.parametrize("fmt", ["html", "junit", "summary"])
+def test_no_report_offers_fkcheck_diagnose_for_a_derived_table(tmp_path, capsys, fmt):
+    """No model file to name: the check's own diagnosis is in the report, no command for it."""
+    urdf, xml = write_pair(tmp_path, seeded("body 1 mm off"))
+    report = tmp_path / f"r.{fmt}"
+    argv = ["check", "--source", str(urdf), "--against-description", str(xml), "--against",
+            MJCF_READERS, "--samples", "20", f"--{fmt}", str(report)]  # fmt: skip
+    assert main(argv) == 1
+    capsys.readouterr()
+    text = report.read_text(encoding="utf-8")
+    assert "one number differs: a2 (j2)" in text  # the diagnosis is there
+    assert "fkcheck diagnose arm" not in text  # no command naming a model (arm3) there is not
+    assert "Reproduce: <code>fkcheck diagnose" not in text
+    assert "explain it:" not in text
+    assert "the check's diagnosis names which" in text.replace("&#39;", "'")
