@@ -98,3 +98,25 @@ def test_diagnose_names_the_ur10e_site_short_of_d6(capsys):
     out = capsys.readouterr().out
     assert "d6 (wrist_3) = 0.11655 here, 0.1 would match, Δ = -16.550 mm" in out
     assert "a3 (elbow) = -0.57155 here, -0.571 would match, Δ = +0.550 mm" in out
+
+
+def test_a_twin_lists_no_urdf_reader_as_ur5_lists_no_mjcf_reader(tmp_path, capsys):
+    """A reader of a format the model does not have is left out, both ways round."""
+    assert main(["check", "ur5e_menagerie", "--samples", "2"]) == 0
+    twin = capsys.readouterr().out
+    assert twin.splitlines()[0].startswith(
+        "fkcheck ur5e_menagerie: base → tool0, 2 sobol samples (seed 0), tolerance 1e-06 m / "
+        "1e-06 rad, against rtb-dh, pinocchio-dh, mujoco-mjcf, pinocchio-mjcf; "
+    )
+    assert "-urdf" not in twin
+    assert "has no [urdf]" not in twin
+    assert main(["check", "ur5", "--samples", "2"]) == 0
+    ur5 = capsys.readouterr().out
+    assert "pinocchio-urdf" in ur5
+    assert "-mjcf" not in ur5
+
+
+def test_a_urdf_reader_asked_for_by_name_still_says_why_it_cannot_run(tmp_path, capsys):
+    argv = ["check", "ur5e_menagerie", "--samples", "2", "--against", "pinocchio-urdf,rtb-dh"]
+    assert main(argv) == 0
+    assert "pinocchio-urdf (skipped): model has no [urdf]\n" in capsys.readouterr().out

@@ -86,6 +86,11 @@ def test_the_disagreeing_reader_is_named_with_its_version_and_the_table_is_not_b
     assert rows["pinocchio-mjcf"]["reader_finding"] == FINDING
     assert rows["mujoco-mjcf"]["reader_finding"] is None
     assert f"pinocchio-mjcf: {FINDING} — " in out
+    rows_shown = {cells[0]: cells for line in out.splitlines() if line.startswith("│ ")
+                  for cells in [[c.strip() for c in line.strip("│").split("│")]]}  # fmt: skip
+    assert "fail (reader)" in rows_shown["pinocchio-mjcf"]  # the row's status says it
+    assert "pass" in rows_shown["mujoco-mjcf"]
+    assert out.count("fail (reader)") == 1
     assert "table PARTLY verified: mujoco-mjcf agrees (evidence independent of the table)" in out
     assert "table FAILED" not in out
     assert "table disagrees" not in out
@@ -126,7 +131,16 @@ def test_a_known_difference_for_other_versions_does_not_apply_and_says_so(tmp_pa
         assert (code, rows["pinocchio-mjcf"]["status"]) == (0, "pass")
 
 
-@pytest.mark.parametrize("fmt", ["html", "junit"])
+#: How each report's backends table shows the reader's row: the status, ``fail (reader)``.
+SHOWN = {
+    "html": '<span class="status fail" data-status="fail">fail (reader)</span>',
+    "junit": "fail (reader): pinocchio-mjcf disagrees with another reader of the same "
+    "description, which agrees with the table (base -&gt; tool0)",
+    "summary": "| pinocchio-mjcf | ❌ fail (reader) | ",
+}
+
+
+@pytest.mark.parametrize("fmt", ["html", "junit", "summary"])
 def test_every_report_says_the_finding(tmp_path, capsys, fmt):
     out = tmp_path / f"r.{fmt}"
     code = main(["check", str(rounded_ur5e(tmp_path)), *ARGV, f"--{fmt}", str(out)])
@@ -136,7 +150,9 @@ def test_every_report_says_the_finding(tmp_path, capsys, fmt):
         return
     assert code == 1
     text = out.read_text(encoding="utf-8")
-    assert FINDING in text.replace("&#39;", "'").replace("&quot;", '"')
+    assert SHOWN[fmt] in text
+    assert text.count("fail (reader)") == 1  # mujoco-mjcf's row is not
+    assert FINDING in text.replace("&#39;", "'").replace("&quot;", '"').replace("\\_", "_")
 
 
 def test_diagnose_against_the_disagreeing_reader_says_the_table_is_not_blamed(tmp_path, capsys):
@@ -152,3 +168,26 @@ def test_diagnose_against_the_disagreeing_reader_says_the_table_is_not_blamed(tm
     out = capsys.readouterr().out
     assert "the table agrees with the reference" in out
     assert "note:" not in out
+
+
+def test_the_annotation_and_the_index_say_it_is_the_readers(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("GITHUB_ACTIONS", "true")
+    model = rounded_ur5e(tmp_path)
+    code = main(["check", str(model), *ARGV])
+    out = capsys.readouterr().out
+    if not pinocchio_drops_the_turn():
+        assert code == 0
+        return
+    assert code == 1
+    errors = [line for line in out.splitlines() if line.startswith("::error")]
+    assert len(errors) == 1
+    assert (  # a property's ':' and ',' escaped, as GitHub reads them
+        "title=fkcheck ur5e_menagerie%3A fail (reader)%3A pinocchio-mjcf disagrees with another "
+        "reader of the same description%2C which agrees with the table::"
+    ) in errors[0]
+    assert "in-house core" not in errors[0]
+    reports = tmp_path / "reports"
+    assert main(["check", str(model), "ur3", *ARGV, "--out-dir", str(reports)]) == 1
+    capsys.readouterr()
+    index = (reports / "index.html").read_text(encoding="utf-8")
+    assert index.count('<span class="status fail" data-status="fail">fail (reader)</span>') == 1

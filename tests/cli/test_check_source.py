@@ -33,13 +33,14 @@ def test_a_right_urdf_to_mjcf_conversion_passes_and_says_which_was_the_source(tm
     assert doc["derived"]["source"] == str(urdf)
     assert doc["derived"]["checked"] == str(xml)
     assert (doc["from"], doc["to"]) == ("base_link", "link3")
+    assert (doc["derived"]["checked_from"], doc["derived"]["checked_to"]) == ("base_link", "link3")
     # Honest about what agreement shows, wherever the verdict is read.
     for said in (doc["headline"], doc["evidence"]["table"]["summary"]):
         assert f"table derived by fkcheck from {urdf} (the source)" in said
         assert "not whether either holds the vendor's numbers" in said
     out = capsys.readouterr().out
-    assert out.startswith(f"fkcheck: derived by fkcheck from {urdf} (the source), checked "
-                          f"against {xml}\n")  # fmt: skip
+    assert out.startswith(f"fkcheck: derived by fkcheck from {urdf} (the source, base_link → "
+                          f"link3), checked against {xml} (base_link → link3)\n")  # fmt: skip
 
 
 def test_the_other_way_an_mjcf_to_urdf_conversion_passes(tmp_path):
@@ -67,7 +68,21 @@ def test_a_seeded_conversion_fault_fails_in_both_mjcf_readers(tmp_path, capsys, 
         # Two numbers (link2's quarter turn, link3's 0.5 rad) read as degrees: no one change.
         "radians read as degrees": "not explained by any one change",
     }[fault]
-    assert f"diagnosis (mujoco-mjcf, pinocchio-mjcf): {where}" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert f"diagnosis (mujoco-mjcf, pinocchio-mjcf): {where}" in out
+    # No model file to diagnose or to set flip in: the check's own diagnosis is the answer.
+    assert " compared in a failing check (the check's diagnosis names which)" in out
+    assert "fkcheck diagnose" not in out
+    assert "flip = " not in out
+
+
+def test_an_axis_flipped_in_the_conversion_is_said_of_the_two_files(tmp_path, capsys):
+    urdf, xml = write_pair(tmp_path, seeded("axis sign flipped"))
+    code, _ = run(["--source", str(urdf), "--against-description", str(xml),
+                   "--against", MJCF_READERS], tmp_path)  # fmt: skip
+    assert code == 1
+    hint = f"joint 2 (j2) turns the other way: {xml}'s axis of j2 is opposite to {urdf}'s"
+    assert f"diagnosis (mujoco-mjcf, pinocchio-mjcf): {hint}\n" in capsys.readouterr().out
 
 
 def test_a_urdf_one_millimetre_off_an_mjcf_source_fails_in_the_urdf_readers(tmp_path, capsys):
@@ -178,6 +193,7 @@ def test_menageries_ur5e_against_urs_own_description_names_the_millimetre(tmp_pa
               "--arg", "name=ur5e", "--package", f"ur_description={description}",
               "-o", str(urdf)]  # fmt: skip
     assert main(expand) == 0
+    capsys.readouterr()  # the expansion's lines
     menagerie = REPO_ROOT / "models" / "mujoco_menagerie" / "universal_robots_ur5e" / "ur5e.xml"
     argv = ["--source", str(urdf), "--against-description", str(menagerie),
             "--base", "base", "--tip", "tool0", "--checked-base", "world",
@@ -188,3 +204,29 @@ def test_menageries_ur5e_against_urs_own_description_names_the_millimetre(tmp_pa
     # At most the 1.49 mm the issue measured over the workspace; 40 samples reach 1.39 mm.
     assert 1.3e-3 < row["max_position_error_m"] <= 1.49e-3
     assert row["max_rotation_error_rad"] < 1e-9  # the frames agree; the lengths do not
+    # Both files' ends are said: the source's as the check's frames, the checked file's too.
+    assert (doc["from"], doc["to"]) == ("base", "tool0")
+    ends = (doc["derived"]["checked_from"], doc["derived"]["checked_to"])
+    assert ends == ("world", "attachment_site")
+    assert f"{menagerie} (world → attachment_site) checked against it" in doc["headline"]
+    assert capsys.readouterr().out.startswith(
+        f"fkcheck: derived by fkcheck from {urdf} (the source, base → tool0), checked against "
+        f"{menagerie} (world → attachment_site)\n"
+    )
+
+
+@pytest.mark.parametrize("fmt", ["html", "junit", "summary"])
+def test_no_report_offers_fkcheck_diagnose_for_a_derived_table(tmp_path, capsys, fmt):
+    """No model file to name: the check's own diagnosis is in the report, no command for it."""
+    urdf, xml = write_pair(tmp_path, seeded("body 1 mm off"))
+    report = tmp_path / f"r.{fmt}"
+    argv = ["check", "--source", str(urdf), "--against-description", str(xml), "--against",
+            MJCF_READERS, "--samples", "20", f"--{fmt}", str(report)]  # fmt: skip
+    assert main(argv) == 1
+    capsys.readouterr()
+    text = report.read_text(encoding="utf-8")
+    assert "one number differs: a2 (j2)" in text  # the diagnosis is there
+    assert "fkcheck diagnose arm" not in text  # no command naming a model (arm3) there is not
+    assert "Reproduce: <code>fkcheck diagnose" not in text
+    assert "explain it:" not in text
+    assert "the check's diagnosis names which" in text.replace("&#39;", "'")

@@ -123,3 +123,16 @@ def test_its_readers_run_by_default_only_for_a_model_with_mjcf(tmp_path):
     assert not set(READERS) & set(plain)
     assert default_names(load_model("ur5")) == plain  # no skipped rows for a model without [mjcf]
     assert default_names(panda(tmp_path)) == (*plain, *READERS)
+
+
+def test_a_model_with_mjcf_only_leaves_out_the_urdf_readers():
+    """Symmetric with a URDF-only model's MJCF readers: a reader of a file it lacks is no check."""
+    from fkcheck.backends.registry import default_names
+
+    plain = default_names()
+    urdf_readers = [n for n in plain if n.endswith("-urdf")]
+    assert len(urdf_readers) == 5
+    assert default_names(load_model("ur5e_menagerie")) == (
+        *(n for n in plain if n not in urdf_readers), *READERS,
+    )  # fmt: skip
+    assert default_names(load_model("planar2")) == plain  # no description: they say where to add

@@ -112,3 +112,52 @@ def test_a_spec_is_parsed_into_clauses():
     assert release("v2.3") == (2, 3, 0, 0, 0)
     with pytest.raises(ValueError, match="longer than 200"):
         parse_versions("<1," * 100)
+
+
+def _versions_for(tmp_path, backend: str):
+    """A model recording ``versions = "<=1.0"`` for ``backend``."""
+    path = tmp_path / "m.toml"
+    path.write_text(
+        TOP + READER.format(versions="<=1.0", pos=1, rot=1).replace("pinocchio-mjcf", backend)
+    )
+    return load_model(path)
+
+
+@pytest.mark.parametrize("backend", ["pinocchio-mjcf", "mujoco-urdf", "rtb-model:UR5"])
+def test_versions_for_a_backend_with_a_library_are_taken(tmp_path, backend):
+    from fkcheck.backends import registry
+
+    registry.check_known_differences(_versions_for(tmp_path, backend))  # no error
+
+
+def test_versions_for_a_backend_without_a_library_are_refused_at_load(tmp_path):
+    """Measured poses have no library version: a ``versions`` record of them never applies."""
+    from fkcheck.backends import registry
+
+    model = _versions_for(tmp_path, "poses:rec.csv")
+    with pytest.raises(ModelError) as info:
+        registry.check_known_differences(model)
+    said = str(info.value)
+    assert said.startswith(f"{model.path}: known_difference[0].versions: 'poses:rec.csv' ")
+    assert "names no distributions" in said
+    assert "never apply" in said
+    assert "record them for: pinocchio-urdf, yourdfpy-urdf, rtb-urdf, mujoco-urdf," in said
+    assert "mujoco-mjcf, pinocchio-mjcf, rtb-model:…, or a third-party backend" in said
+    assert "poses:" not in said.split("record them for:")[1]
+    assert "\n" not in said
+
+
+@pytest.mark.parametrize(("distributions", "refused"), [((), True), (("acme-fk",), False)])
+def test_a_used_backend_says_whether_it_has_a_library(tmp_path, distributions, refused):
+    """A third-party backend a check uses is held to its own ``distributions``."""
+    from types import SimpleNamespace
+
+    from fkcheck.backends import registry
+
+    model = _versions_for(tmp_path, "acme-reader")
+    used = SimpleNamespace(name="acme-reader", evidence="table", distributions=distributions)
+    if refused:
+        with pytest.raises(ModelError, match=r"'acme-reader' computes with no library"):
+            registry.check_known_differences(model, [used])
+    else:
+        registry.check_known_differences(model, [used])

@@ -70,7 +70,13 @@ def default_names(model: Model | None = None) -> tuple[str, ...]:
 
     The default set, then the readers of each description format ``model``
     declares (``default_for``: ``mujoco-mjcf`` and ``pinocchio-mjcf`` for a
-    model with ``[mjcf]``); without a model, the default set alone.
+    model with ``[mjcf]``); without a model, the default set alone. A model
+    that declares a description leaves out the default set's readers of the
+    formats it does not declare, as a model with ``[urdf]`` only never lists
+    the MJCF readers: a reader of a file the model does not have is no
+    skipped check of it (asked for by name, it still says why it cannot run).
+    A model with no description keeps them: their ``model has no [urdf]`` says
+    where table evidence would come from.
     """
     plain = names(default=True)
     if model is None:
@@ -78,7 +84,16 @@ def default_names(model: Model | None = None) -> tuple[str, ...]:
     from fkcheck.description.registry import model_formats
 
     declared = {fmt.name for fmt in model_formats(model)}
+    if declared:
+        plain = tuple(n for n in plain if _reads_one_of(n, declared))
     return plain + tuple(r.name for r in registrations() if r.default_for in declared)
+
+
+def _reads_one_of(name: str, declared: set[str]) -> bool:
+    """Whether backend ``name`` reads no description file, or one of the formats ``declared``."""
+    registration, _ = find_registration(name, registrations())
+    formats = () if registration is None else registration.declared("formats") or ()
+    return not formats or bool(declared.intersection(formats))
 
 
 def default_backends(
@@ -116,14 +131,44 @@ def _known_difference_ok(name: str, used: Sequence[Backend]) -> bool:
     return bool(registration.declared("evidence") == "table")
 
 
-def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
-    """Refuse a ``[[known_difference]]`` naming a backend whose evidence is not the table's.
+def _distributions(name: str, used: Sequence[Backend]) -> tuple[str, ...] | None:
+    """The distributions backend ``name`` computes with (``None``: not known without running it).
 
+    A backend this check uses says its own; a built-in's are read from it; a
+    third party's only by a check that uses it (as :func:`_known_difference_ok`).
+    """
+    for backend in used:
+        if backend.name == name:
+            return tuple(backend.distributions or ())
+    registration, _ = find_registration(name, registrations())
+    if registration is None or registration is PLUGIN or registration.origin != "fkcheck":
+        return None
+    return tuple(registration.declared("distributions") or ())
+
+
+def _versioned() -> str:
+    """The built-ins a ``versions = …`` record may name: table evidence with a library."""
+    found = [
+        r.name + ("…" if r.name.endswith(":") else "")
+        for r in BUILTIN
+        if r.declared("evidence") == "table" and r.declared("distributions")
+    ]
+    return ", ".join(found) + ", or a third-party backend that names its distributions"
+
+
+def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
+    """Refuse a ``[[known_difference]]`` that can never apply.
+
+    One naming a backend whose evidence is not the table's, or recording
+    ``versions = …`` for a backend with no library whose version it could match
+    (``poses:``, a backend that names no ``distributions``: the record would
+    never apply, and the difference it records would fail the check unexplained).
     Builds no backend but the built-ins it names (``used``: those a check has
     built already).
 
     Raises:
-        ModelError: The first such name, with its field and the names allowed.
+        ModelError: The first such record, with its field, what is wrong and
+            the names allowed.
     """
     if not model.known_differences:
         return
@@ -139,6 +184,15 @@ def check_known_differences(model: Model, used: Sequence[Backend] = ()) -> None:
                     f"{show_text(name)} is not a backend whose evidence is independent of the "
                     f"table; known differences may name: {shown}",
                 )
+        if known.versions and _distributions(known.backends[0], used) == ():
+            raise ModelError(
+                model.path,
+                f"known_difference[{i}].versions",
+                f"{show_text(known.backends[0])} computes with no library (it names no "
+                f"distributions): versions = {show_text(known.versions)} has no version to "
+                f"match and the record would never apply; drop versions, or record them for: "
+                f"{_versioned()}",
+            )
 
 
 def against_help() -> str:

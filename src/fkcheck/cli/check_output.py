@@ -252,7 +252,7 @@ def _backends_table(record: CheckRecord, *, evidence: bool) -> Any:
     table.add_row("fkcheck-dh", *kind, "reference", "", "", "", "")
     for r in record.backends:
         kind = (r.evidence,) if evidence else ()
-        status = f"[{_STYLE[r.status]}]{r.status}[/]"
+        status = f"[{_STYLE[r.status]}]{r.label}[/]"
         # A backend on a subset (the check's plan) is named with its count.
         subset = r.subset.removesuffix(" configurations")
         name = terminal_markup(r.name) + (f"\n({subset})" if subset else "")
@@ -369,8 +369,11 @@ def print_models_table(
 ) -> None:
     """The terminal table of a run over several models: one row per model.
 
-    Under it, each failing backend's message, and each failing model's diagnosis in
-    one line (:func:`diagnosis_lines`).
+    A model's max errors are the worst of its backends that count for the verdict:
+    a recorded expected failure's (``xfail``, its known difference) are left out,
+    and a line under the table says so when any row has one. Under it, each failing
+    backend's message, and each failing model's diagnosis in one line
+    (:func:`diagnosis_lines`).
 
     Args:
         checks: Each model's label (its file as given, or the bundled name) and its check.
@@ -391,8 +394,9 @@ def print_models_table(
         counts: dict[str, int] = {}
         for r in record.backends:
             counts[r.status] = counts.get(r.status, 0) + 1
-        pos = [r.max_position_m for r in record.backends if r.max_position_m is not None]
-        rot = [r.max_rotation_rad for r in record.backends if r.max_rotation_rad is not None]
+        counted = [r for r in record.backends if r.status != "xfail"]
+        pos = [r.max_position_m for r in counted if r.max_position_m is not None]
+        rot = [r.max_rotation_rad for r in counted if r.max_rotation_rad is not None]
         style = "bold green" if record.verdict == "pass" else "bold red"
         table.add_row(
             terminal_markup(label),
@@ -403,6 +407,11 @@ def print_models_table(
             record.of("table").status,
         )
     console.print(table)
+    if any(r.status == "xfail" for _, record in records for r in record.backends):
+        console.print(
+            "max errors: of the backends that count for the verdict, not of a recorded "
+            "expected failure (a row's xfail: its own check and report give their errors)"
+        )
     for k, (label, record) in enumerate(records):
         for r in record.backends:
             name = terminal_markup(label)

@@ -137,9 +137,10 @@ def derived_model(
         table,
         name=source.tree.name or Path(names[0]).stem,
         description=f"{source.tree.name}: {base} → {tip}, derived by fkcheck from {names[0]}",
-        source=f"derived by fkcheck from {names[0]} (the source), checked against {names[1]}",
+        source=f"derived by fkcheck from {names[0]} (the source, {base} → {tip}), checked "
+        f"against {names[1]} ({checked_base} → {checked_tip})",
         urdf=None,
         frames=frames,
-        derived=DerivedTable(names[0], names[1]),
+        derived=DerivedTable(names[0], names[1], checked_base, checked_tip),
     )
     return fmt.declared(model, str(checked.path.resolve()), theirs)

@@ -39,7 +39,8 @@ class BackendDiagnosis:
         error: The exception it raised, ``"Type: message"`` in full (empty when it ran).
         also: Other disagreeing backends this diagnosis stands for (see
             :func:`same_disagreement`).
-        command: The ``fkcheck diagnose`` command line that reproduces it.
+        command: The ``fkcheck diagnose`` command line that reproduces it (``""`` for a
+            table fkcheck derived: no model file to name).
     """
 
     backend: str
@@ -67,8 +68,14 @@ def same_disagreement(check: CheckResult, a: BackendResult, b: BackendResult) ->
 
 
 def diagnose_command(check: CheckResult, backend: str) -> str:
-    """The ``fkcheck diagnose`` command line that reproduces a diagnosis of the report."""
+    """The ``fkcheck diagnose`` command line that reproduces a diagnosis of the report.
+
+    ``""`` for a table fkcheck derived (``check --source A --against-description
+    B``): there is no model file to name, the check's own run is the reproduction.
+    """
     model = check.model
+    if model.derived is not None:
+        return ""
     argv = ["diagnose", operand(str(model.path)) if model.path is not None else model.name]
     argv += ["--against", backend, "--from", check.frame_from, "--to", check.frame_to]
     if check.options.seed != 0:

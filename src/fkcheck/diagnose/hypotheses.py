@@ -258,11 +258,21 @@ def _theta_offsets(model: Model) -> Iterator[Candidate]:
 
 
 def _flips(model: Model) -> Iterator[Candidate]:
+    """One joint turned the other way: the ``flip`` to set, or what differs in a conversion.
+
+    A table fkcheck derived (``check --source A --against-description B``) has no
+    model file to set ``flip`` in: the hint says B's axis of that joint is the
+    opposite of A's.
+    """
+    derived = model.derived
     for i, joint in enumerate(model.joints):
-        state = "true" if not joint.flip else "false"
+        if derived is not None:
+            fix = f"{derived.checked}'s axis of {joint.name} is opposite to {derived.source}'s"
+        else:
+            fix = f"set flip = {'true' if not joint.flip else 'false'}"
         yield Candidate(
             "flip",
-            f"joint {i + 1} ({joint.name}) turns the other way: set flip = {state}",
+            f"joint {i + 1} ({joint.name}) turns the other way: {fix}",
             _with_joint(model, i, flip=not joint.flip),
         )
 

@@ -10,7 +10,10 @@ apply here (library missing, frame out of its reach), with the reason;
 ``xfail`` — it disagrees as the model's ``[[known_difference]]`` records
 (expected failure: the check may pass, the table is not verified by it);
 ``xpass`` — it was recorded to disagree but agrees (a stale record: the check
-fails). See :mod:`fkcheck.engine.expected`. What the
+fails). See :mod:`fkcheck.engine.expected`. A ``fail`` that is a reader
+finding (:mod:`fkcheck.engine.readers`: another reader of the same description
+agrees with the table) is shown as ``fail (reader)`` in every table
+(:func:`status_label`); its status stays ``fail``. What the
 run proved — implementation and table evidence — and the verdict are in
 :mod:`fkcheck.engine.verdict`. A run where no backend ran is never a pass.
 """
@@ -34,12 +37,38 @@ from fkcheck.model.options import CheckOptions
 from fkcheck.model.types import Model
 from fkcheck.urdf.locate import display_path
 
-__all__ = ["REFERENCE_NAME", "BackendResult", "CheckResult", "JacobianResult", "Status"]
+__all__ = [
+    "READER_FAIL",
+    "REFERENCE_NAME",
+    "BackendResult",
+    "CheckResult",
+    "JacobianResult",
+    "Status",
+    "status_label",
+]
 
 Status = Literal["pass", "fail", "error", "skipped", "xfail", "xpass"]
 
 #: Name of the reference row: the in-house DH core.
 REFERENCE_NAME = "fkcheck-dh"
+
+#: How a table shows a ``fail`` that is a reader finding (:func:`status_label`).
+READER_FAIL = "fail (reader)"
+
+
+def status_label(status: str, reader_finding: str = "") -> str:
+    """A backend's status as a table shows it: ``fail (reader)`` for a reader finding.
+
+    The one word set of every output (terminal, HTML, Markdown, JUnit): the
+    status itself, except a ``fail`` that is a reader finding (another reader of
+    the same description agrees with the table, :mod:`fkcheck.engine.readers`),
+    which still fails the check but is the reader's, not the table's.
+
+    Args:
+        status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail`` or ``xpass``.
+        reader_finding: The backend's reader-finding sentence (``""``: none).
+    """
+    return READER_FAIL if status == "fail" and reader_finding else status
 
 
 def _max(values: Float | None) -> float | None:

@@ -443,10 +443,17 @@ def number_status(status: str, table: KindStatus) -> NumberStatus:
     return "not-checked"
 
 
-def numbers_line(numbers: Coverage, table: KindStatus) -> str:
+def numbers_line(numbers: Coverage, table: KindStatus, *, derived: bool = False) -> str:
     """The model's numbers in one line, the same in every output format.
 
     ``numbers (base → tool0): 24 in the table: 24 verified; only as a combination: d2 + d3 + d4``
+
+    Args:
+        numbers: What the compared frame pair can verify, number by number.
+        table: The table's evidence.
+        derived: The table is one fkcheck derived (``check --source``): there is
+            no model file for ``fkcheck diagnose``, the check's own diagnosis
+            names the numbers that differ.
     """
     total = len(numbers.table_numbers)
     counts: dict[str, int] = {}
@@ -457,7 +464,8 @@ def numbers_line(numbers: Coverage, table: KindStatus) -> str:
     words = {
         "failed": "compared, and the table differs as the model's [[known_difference]] records"
         if table == "expected-failure"
-        else "compared in a failing check (fkcheck diagnose names which)"
+        else "compared in a failing check "
+        + ("(the check's diagnosis names which)" if derived else "(fkcheck diagnose names which)")
     }
     shown = [f"{counts[s]} {words.get(s, s.replace('-', ' '))}" for s in order if counts.get(s)]
     text = f"numbers ({numbers.frame_from} → {numbers.frame_to}): {total} in the table: "

@@ -361,18 +361,28 @@ class DerivedTable:
     Attributes:
         source: The description the table was derived from, as named.
         checked: The description checked against it, as named.
+        checked_from: The link (body, site) of ``checked`` compared as the
+            check's ``from`` frame: the chain's base in that file.
+        checked_to: The link (body, site) of ``checked`` compared as its ``to``
+            frame: the chain's tip in that file.
     """
 
     source: str
     checked: str
+    checked_from: str
+    checked_to: str
 
     @property
     def line(self) -> str:
-        """What the check of such a table shows, one line for every output."""
+        """What the check of such a table shows, one line for every output.
+
+        The checked file's ends are named, as the check's frames (the source's
+        ends) are by every output.
+        """
         return (
             f"table derived by fkcheck from {self.source} (the source), {self.checked} "
-            "checked against it: this shows whether the two descriptions agree, not "
-            "whether either holds the vendor's numbers"
+            f"({self.checked_from} → {self.checked_to}) checked against it: this shows "
+            "whether the two descriptions agree, not whether either holds the vendor's numbers"
         )
 
 

@@ -212,6 +212,11 @@ def github_annotations(
         done.update(group)
         verb = "disagree" if len(group) > 1 else "disagrees"
         title = f"fkcheck {name}: {', '.join(group)} {verb} with the in-house core"
+        if r.reader_finding:  # the reader's, not the table's (no diagnosis stands for it)
+            title = (
+                f"fkcheck {name}: {r.label}: {r.name} disagrees with another reader of the same "
+                "description, which agrees with the table"
+            )
         lines.append(_command(file, line, terminal_text(title), terminal_text(message)))
     if record.verdict == "unverified":
         sentence = record.of("table").sentence

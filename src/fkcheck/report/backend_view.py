@@ -51,6 +51,7 @@ def backend_row(r: BackendRecord, has_detail: bool) -> BackendRow:
         name=r.name,
         anchor=anchor(r.name) if has_detail else "",
         status=r.status,
+        label=r.label,
         method=r.method,
         duration=format_seconds(r.duration_s),
         message=r.message,

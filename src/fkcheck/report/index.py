@@ -79,6 +79,7 @@ def _model(e: IndexEntry, record: CheckRecord) -> IndexModel:
             IndexRow(
                 backend=r.name,
                 status=r.status,
+                label=r.label,
                 pos_max=measure_m(r.max_position_m),
                 rot_max=measure_rad(r.max_rotation_rad),
                 message=r.message,

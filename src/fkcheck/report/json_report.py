@@ -161,7 +161,13 @@ def _derived(check: CheckResult) -> dict[str, str] | None:
     derived = check.model.derived
     if derived is None:
         return None
-    return {"source": derived.source, "checked": derived.checked, "line": derived.line}
+    return {
+        "source": derived.source,
+        "checked": derived.checked,
+        "checked_from": derived.checked_from,
+        "checked_to": derived.checked_to,
+        "line": derived.line,
+    }
 
 
 def _jacobian_spec(check: CheckResult) -> dict[str, Any]:

@@ -50,7 +50,9 @@ def _failure(record: BackendRecord, check: CheckResult) -> tuple[str, str]:
     message, the numbers, the tolerance: :attr:`BackendRecord.reasons`) and the
     diagnosis headline with the command that reproduces it — each once.
     """
-    lines = [f"fail: {record.name} disagrees with the in-house core "
+    whom = ("another reader of the same description, which agrees with the table"
+            if record.reader_finding else "the in-house core")  # fmt: skip
+    lines = [f"{record.label}: {record.name} disagrees with {whom} "
              f"({check.frame_from} -> {check.frame_to})", record.reasons]  # fmt: skip
     summary = f"{record.name} disagrees: {record.reasons}"
     if record.diagnosis:

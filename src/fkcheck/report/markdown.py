@@ -120,7 +120,7 @@ def markdown_summary(
             lines.append(f"| – | {_ICON['error']} error | – | – | no backends |")
         for r in record.backends:
             lines.append(
-                f"| {escape_markdown(r.name)} | {_ICON[r.status]} {r.status} | "
+                f"| {escape_markdown(r.name)} | {_ICON[r.status]} {r.label} | "
                 f"{format_length_summary(r.max_position_m)} | "
                 f"{format_angle_summary(r.max_rotation_rad)} | "
                 f"{escape_markdown(r.message)} |"

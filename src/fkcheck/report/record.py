@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from fkcheck.engine.compare import joint_label
-from fkcheck.engine.results import BackendResult, CheckResult, JacobianResult
+from fkcheck.engine.results import BackendResult, CheckResult, JacobianResult, status_label
 from fkcheck.engine.verdict import (
     KINDS,
     EvidenceSummary,
@@ -305,6 +305,7 @@ def backend_record(
     return BackendRecord(
         name=r.name,
         status=r.status,
+        label=status_label(r.status, r.reader_finding),
         evidence=r.evidence,
         method=r.method,
         message=r.message,
@@ -369,7 +370,11 @@ def check_record(check: CheckResult, diagnoses: Sequence[BackendDiagnosis] = ())
             for k, text in zip(KINDS, sentences, strict=True)
         ),
         numbers_line=(
-            numbers_line(check.numbers, evidence.table.status) if check.numbers is not None else ""
+            numbers_line(
+                check.numbers, evidence.table.status, derived=check.model.derived is not None
+            )
+            if check.numbers is not None
+            else ""
         ),
         frame_from=check.frame_from,
         frame_to=check.frame_to,

@@ -91,6 +91,9 @@ class BackendRecord:
     Attributes:
         name: Backend name.
         status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail`` or ``xpass``.
+        label: Its status as every table shows it: the status, or ``fail
+            (reader)`` for a reader finding
+            (:func:`~fkcheck.engine.results.status_label`).
         evidence: ``implementation`` or ``table``: what its agreement proves.
         method: The library call it used.
         message: The engine's words: why it was skipped or errored, or why it fails.
@@ -136,6 +139,7 @@ class BackendRecord:
 
     name: str
     status: str
+    label: str
     evidence: str
     method: str
     message: str

@@ -47,6 +47,8 @@ class BackendRow:
         name: Backend name.
         anchor: HTML id of its detail section (empty when it has none).
         status: ``pass``, ``fail``, ``error``, ``skipped``, ``xfail``, ``xpass``.
+        label: The status as shown: the status, or ``fail (reader)`` for a
+            reader finding (:func:`~fkcheck.engine.results.status_label`).
         method: The library call it used.
         duration: Wall time, formatted.
         message: Why it was skipped or errored, or the failure summary, in full.
@@ -63,6 +65,7 @@ class BackendRow:
     name: str
     anchor: str
     status: str
+    label: str
     method: str
     duration: str
     message: str

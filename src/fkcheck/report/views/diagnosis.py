@@ -90,7 +90,8 @@ class DiagnosisView:
         axes: Joint axes against the URDF (empty when the backend does not read it).
         axes_note: What the axes point at, in one line.
         tried: The hypotheses tried, one line each.
-        command: The ``fkcheck diagnose`` command line that reproduces it.
+        command: The ``fkcheck diagnose`` command line that reproduces it (``""``: none,
+            for a table fkcheck derived).
         duration: How long it took, formatted.
     """
 

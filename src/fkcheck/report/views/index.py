@@ -23,6 +23,8 @@ class IndexRow:
     Attributes:
         backend: Backend name.
         status: Its status.
+        label: Its status as shown (``fail (reader)`` for a reader finding,
+            :func:`~fkcheck.engine.results.status_label`).
         pos_max: Largest position error.
         rot_max: Largest rotation error.
         message: Skip/error reason or failure summary.
@@ -30,6 +32,7 @@ class IndexRow:
 
     backend: str
     status: str
+    label: str
     pos_max: Measure
     rot_max: Measure
     message: str
