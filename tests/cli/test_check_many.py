@@ -198,9 +198,13 @@ def test_names_after_double_dash_are_files_and_every_command_line_keeps_them_fil
     assert f"hint: explain it: fkcheck diagnose ./{hostile} --against pinocchio-urdf" in out
 
 
-def test_a_models_max_errors_leave_out_its_recorded_expected_failures(tmp_path, capsys):
+def test_a_models_max_errors_leave_out_its_recorded_expected_failures(
+    tmp_path, capsys, monkeypatch
+):
     """ur5e_menagerie's MJCF readers differ as recorded (xfail): its row shows rtb-dh's errors."""
     from fkcheck.io.format import format_angle_console, format_length_console
+
+    monkeypatch.setenv("COLUMNS", "200")  # each row on one line, whatever the terminal
 
     against = "rtb-dh,mujoco-mjcf,pinocchio-mjcf"
     argv = ["check", "ur5", "ur5e_menagerie", "--samples", "4", "--against", against,

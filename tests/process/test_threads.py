@@ -43,7 +43,13 @@ def _share(cores: int, env: dict[str, str]) -> dict:
     clean = {
         k: v
         for k, v in os.environ.items()
-        if k not in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS", threads.XDIST_WORKERS)
+        if k
+        not in (
+            *threads.THREAD_VARIABLES,
+            "NUMBA_NUM_THREADS",
+            threads.XDIST_WORKERS,
+            threads.SET_BY_FKCHECK,
+        )
     }
     done = subprocess.run(
         [sys.executable, "-c", _SHARE, str(cores)],
@@ -143,7 +149,13 @@ def _one_blas(cores: int, env: dict[str, str]) -> dict:
     clean = {
         k: v
         for k, v in os.environ.items()
-        if k not in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS", threads.XDIST_WORKERS)
+        if k
+        not in (
+            *threads.THREAD_VARIABLES,
+            "NUMBA_NUM_THREADS",
+            threads.XDIST_WORKERS,
+            threads.SET_BY_FKCHECK,
+        )
     }
     done = subprocess.run(
         [sys.executable, "-c", _ONE_BLAS, str(cores)],
@@ -193,3 +205,29 @@ def test_the_fkcheck_program_runs_blas_on_one_thread(tmp_path):
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.split()[-1] == "1"
+
+
+def test_variables_a_parent_fkcheck_set_are_not_the_users_choice(monkeypatch):
+    # An xdist worker inherits the variables its controller's plugin set: still fkcheck's.
+    monkeypatch.setattr(threads, "_limit", None)
+    monkeypatch.setattr(threads, "_one_blas", False)
+    for name in (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS"):
+        monkeypatch.delenv(name, raising=False)
+    marker = "MKL_NUM_THREADS=1,OPENBLAS_NUM_THREADS=1"
+    monkeypatch.setenv(threads.SET_BY_FKCHECK, marker)
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "1")
+    monkeypatch.setenv("MKL_NUM_THREADS", "1")
+    assert threads._user_chose() is False
+    env = threads.child_environment(2)
+    assert env is not None
+    assert threads._ours(env) == {
+        "MKL_NUM_THREADS": "1",
+        "NUMBA_NUM_THREADS": env["NUMBA_NUM_THREADS"],
+        "OMP_NUM_THREADS": env["OMP_NUM_THREADS"],
+        "OPENBLAS_NUM_THREADS": env["OPENBLAS_NUM_THREADS"],
+    }
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")  # not what fkcheck set: the user's
+    assert threads._user_chose() is True
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "1")
+    monkeypatch.setenv("OMP_NUM_THREADS", "3")  # fkcheck set no OMP_NUM_THREADS
+    assert threads._user_chose() is True

@@ -26,17 +26,20 @@ test suite; a Python caller's process is left as it is.
 :func:`share_xdist_cores` is the share of a pytest-xdist worker, taken by the
 pytest plugin (for a project with ``[tool.fkcheck]`` models) and by
 :func:`fkcheck.testing.assert_fk_matches`. A user who set any of those variables
-chose: their pools are left alone.
+chose: their pools are left alone (those a parent fkcheck set, which
+:data:`SET_BY_FKCHECK` names, are fkcheck's, not a choice).
 """
 
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 
 from fkcheck.process.cpus import usable_cores
 
 __all__ = [
     "BLAS_VARIABLES",
+    "SET_BY_FKCHECK",
     "THREAD_VARIABLES",
     "XDIST_WORKERS",
     "child_environment",
@@ -56,17 +59,36 @@ _NUMBA_VARIABLE = "NUMBA_NUM_THREADS"
 #: The variable pytest-xdist sets in each of its workers: how many workers it runs.
 XDIST_WORKERS = "PYTEST_XDIST_WORKER_COUNT"
 
+#: Which of those variables fkcheck set, and to what (``NAME=VALUE,…``), for the
+#: processes it starts: a child (an xdist worker of a controller that took
+#: :func:`one_blas_thread`) finds them fkcheck's, not the user's choice.
+SET_BY_FKCHECK = "FKCHECK_THREAD_VARIABLES"
+
 _limit: int | None = None
 #: Whether :func:`one_blas_thread` set BLAS to one thread in this process.
 _one_blas = False
 
 
+def _ours(environ: Mapping[str, str]) -> dict[str, str]:
+    """The variables :data:`SET_BY_FKCHECK` says fkcheck set, with their values."""
+    items = (item.partition("=") for item in environ.get(SET_BY_FKCHECK, "").split(","))
+    return {name: value for name, eq, value in items if eq}
+
+
+def _setting(environ: Mapping[str, str], values: Mapping[str, str]) -> dict[str, str]:
+    """``values``, and :data:`SET_BY_FKCHECK` naming them with those ``environ`` names."""
+    ours = {**_ours(environ), **values}
+    return {**values, SET_BY_FKCHECK: ",".join(f"{k}={v}" for k, v in sorted(ours.items()))}
+
+
 def _user_chose() -> bool:
-    """Whether the user set a pool's size (before fkcheck set any)."""
-    return (
-        _limit is None
-        and not _one_blas
-        and any(name in os.environ for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE))
+    """Whether the user set a pool's size (not fkcheck, here or in a parent)."""
+    if _limit is not None or _one_blas:
+        return False
+    ours = _ours(os.environ)
+    return any(
+        name in os.environ and os.environ[name] != ours.get(name)
+        for name in (*THREAD_VARIABLES, _NUMBA_VARIABLE)
     )
 
 
@@ -94,8 +116,8 @@ def one_blas_thread() -> bool:
         return False
     from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
 
-    for name in BLAS_VARIABLES:  # for the libraries this process loads later
-        os.environ[name] = "1"
+    # For the libraries this process loads later, and its children.
+    os.environ.update(_setting(os.environ, dict.fromkeys(BLAS_VARIABLES, "1")))
     threadpool_limits(limits=1, user_api="blas")  # for those loaded already
     _one_blas = True
     return True
@@ -117,7 +139,7 @@ def share_cores(workers: int) -> int | None:
         return _limit
     from threadpoolctl import threadpool_limits
 
-    os.environ.update(_sizes(threads))  # for the libraries this process loads later
+    os.environ.update(_setting(os.environ, _sizes(threads)))  # for libraries loaded later
     threadpool_limits(limits={"blas": 1 if _one_blas else threads, "openmp": threads})
     _limit = threads
     return threads
@@ -153,4 +175,5 @@ def child_environment(workers: int) -> dict[str, str] | None:
     if workers <= 1 or _user_chose():
         return None
     threads = max(1, (_limit or usable_cores()) // workers)
-    return {**os.environ, **_sizes(threads), _NUMBA_VARIABLE: str(threads)}
+    sizes = {**_sizes(threads), _NUMBA_VARIABLE: str(threads)}
+    return {**os.environ, **_setting(os.environ, sizes)}
