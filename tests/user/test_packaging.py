@@ -144,7 +144,9 @@ def test_the_tests_session_leaves_the_slow_tests_to_a_session_ci_runs_too() -> N
     # CI: the README's test command, then the slow session, each with its own JUnit file
     # (both counted for skips), so no test is dropped from CI.
     ci = (REPO_ROOT / ".ci" / "run").read_text("utf-8").splitlines()
-    tests = ci.index("python3 -m pip install nox && python3 -m nox -s tests || tests_status=$?")
+    tests = ci.index(
+        "python3 -m pip install 'nox[uv]' && python3 -m nox -s tests || tests_status=$?"
+    )
     slow = ci.index("python3 -m nox -s slow || tests_status=$?")
     assert ci[tests - 1] == 'export PYTEST_ADDOPTS="--junitxml=${tests_junit}"'
     assert ci[slow - 1] == 'export PYTEST_ADDOPTS="--junitxml=${slow_junit}"'
