@@ -11,6 +11,11 @@ three tenths, it was read as a trade and the numbers as verified. An error of
 show with the joint free: other kinematics, which only the limits hide. These
 are the three tables found (seeds 1-3), each held as the property held it, and
 one the default profile found when the bar first moved.
+
+A held slide was freed only a metre either side, the sampling default of a slide
+without limits: the seeds then found a slide whose hidden change grows with its
+displacement but shows under a tenth of a tolerance per tolerance within a metre.
+It is freed :data:`~fkcheck.model.coverage.FREED_PRISMATIC_M` either side now.
 """
 
 from __future__ import annotations
@@ -21,11 +26,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from fkcheck.backends.registry import make_backend
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
+from fkcheck.engine.runner import run_check
 from fkcheck.model.coverage import coverage
 from fkcheck.model.names import PARAMS, param_symbol
+from fkcheck.model.read import load_model
 from fkcheck.model.types import Joint, Model, Offset
+from fkcheck.urdf.export import model_for_urdf, urdf_from_model
 from tests.engine.test_subset_limits_property import HIDDEN_TOLERANCES, _held, _hidden, _moved
+from tests.urdf.test_map_never_hides_property import reframe_moving_links
 
 TOL = 1e-6
 
@@ -107,8 +117,25 @@ def _mixed_basis() -> tuple[Model, int, float, int]:
     return model, 3, 0.5743983219006478, 1748
 
 
+def _tilted_slide() -> tuple[Model, int, float, int]:
+    """A turn, a slide, a turn, no lengths (seeds 1-3, the slide freed a metre): the slide held.
+
+    Held at its lower limit (-1 m), the change tilts the slide (α1 against α2) and
+    takes back with d1, d2 and d3 what that moves at -1 m; the tilt's effect grows
+    with the slide's displacement from there: 0.067 per tolerance (root mean
+    square) within a metre, 0.67 within ten.
+    """
+    joints = (
+        Joint("j0", 0.0, 0.0, 0.0, 0.0, "revolute", False, (-1.0, 0.0)),
+        Joint("j1", 0.0, 3.0, 0.0, 0.0, "prismatic", False, (-1.0, 0.0)),
+        Joint("j2", 0.0, 0.0, 0.0, 0.0, "revolute", False, (-1.0, 0.0)),
+    )
+    return Model(name="random", convention="standard", joints=joints), 1, 0.0, 0
+
+
 CASES = {"prismatic tilt": _prismatic_tilt, "zero lengths": _zero_lengths,
-         "held slide": _held_slide, "mixed basis": _mixed_basis}  # fmt: skip
+         "held slide": _held_slide, "mixed basis": _mixed_basis,
+         "tilted slide": _tilted_slide}  # fmt: skip
 
 
 @pytest.fixture(params=list(CASES), scope="module")
@@ -165,3 +192,86 @@ def test_the_joint_free_the_same_tables_are_verified(held):
     free = replace(right, joints=tuple(joints))
     evidence = coverage(free, "world", "tcp", TOL, TOL)
     assert not [n.name for n in evidence.table_numbers if n.reason == "limits"]
+
+
+def _trades(model: Model) -> dict[str, tuple[str, ...]]:
+    return {n.name: n.trades_with for n in coverage(model, "world", "tcp", TOL, TOL).table_numbers}
+
+
+def test_a_held_slide_keeps_the_kinematics_own_trades():
+    """Freed ten metres, a slide blames on its limits only what its displacement shows.
+
+    The tilted slide's table, the slide held: θ1 and θ2 turn about one axis (the
+    slide's θ is a constant) and d1, d2 slide along it, whatever the slide's
+    value. Those trades are the kinematics' own, as with the slide free: θ1 and θ2
+    stay verified, each trading the other only; d1 and d2 still name each other,
+    within the combination the held slide hides.
+    """
+    model, joint, where, _seed = _tilted_slide()
+    right = _held(model, joint, where)
+    joints = list(right.joints)
+    joints[joint] = replace(joints[joint], limits=(-1.5, -0.5))
+    free = _trades(replace(right, joints=tuple(joints)))
+    trades = {"d1": ("d2",), "θ1": ("θ2",), "d2": ("d1",), "θ2": ("θ1",)}
+    assert {k: v for k, v in free.items() if v} == trades
+    evidence = {n.name: n for n in coverage(right, "world", "tcp", TOL, TOL).table_numbers}
+    for name in ("θ1", "θ2"):
+        assert (evidence[name].status, evidence[name].trades_with) == ("verified", free[name])
+    for name in ("d1", "d2"):
+        assert evidence[name].reason == "limits"
+        assert set(free[name]) <= set(evidence[name].trades_with)
+
+
+def test_a_slide_held_mid_range_on_stanford_keeps_its_own_d_trade():
+    """The Stanford arm, its slide (joint 3) held at mid-range: d3 and d4 still trade.
+
+    d3 (the slide's own offset) and d4 slide along one axis whatever the slide's
+    value: verified, as a trade, not the limits'. What the limits hide is what a
+    displacement of the slide shows: a2, θ2, α3, θ3 and θ4 (as with the slide
+    freed one metre: ten do not add a number).
+    """
+    stanford = load_model("stanford")
+    lo, hi = stanford.limits[2]
+    held = _held(stanford, 2, 0.5)
+    assert held.limits[2][0] == held.limits[2][1] == pytest.approx((lo + hi) / 2)
+    evidence = {n.name: n for n in coverage(held, "world", "tcp", TOL, TOL).table_numbers}
+    limited = sorted(name for name, n in evidence.items() if n.reason == "limits")
+    assert limited == sorted(["a2", "θ2", "α3", "θ3", "θ4"])
+    for name in limited:
+        assert "the limits of joint 3 " in evidence[name].absorbed_by
+    assert (evidence["d3"].status, evidence["d3"].trades_with) == ("verified", ("d4",))
+    assert (evidence["d4"].status, evidence["d4"].trades_with) == ("verified", ("d3",))
+    assert sorted(name for name, n in evidence.items() if n.status != "verified") == limited
+
+
+def test_the_tilted_slide_the_check_of_the_right_table_passes_the_wrong_one_is_not_verified(
+    tmp_path,
+):
+    """End to end: the held slide's tables pass against a URDF of the right one, in part verified.
+
+    The wrong table agrees with the same URDF within the limits (the change is
+    under a tenth of a tolerance there), so only its evidence can tell: it reads
+    partly verified, never verified.
+    """
+
+    model, joint, where, seed = _tilted_slide()
+    right = _held(model, joint, where)
+    change = _hidden(right, joint, np.random.default_rng(seed))
+    assert change is not None
+    wrong = _moved(right, HIDDEN_TOLERANCES * TOL * change)
+    path = tmp_path / "robot.urdf"
+    # Another robot's description of the same arm, as the property gives it: its
+    # moving links' own frames (a table's own export proves nothing).
+    urdf = reframe_moving_links(urdf_from_model(right).text, np.random.default_rng(seed))
+    path.write_text(urdf, encoding="utf-8")
+    for table in (right, wrong):
+        mapped = model_for_urdf(table, urdf_from_model(table), str(path))
+        check = run_check(mapped, [make_backend("pinocchio-urdf")], samples=64, seed=1)
+        assert (check.evidence.table.status, check.backends[0].status) == (
+            "partly-verified",
+            "pass",
+        )
+        assert check.evidence.table.gaps == (
+            "α1, d1, α2, d2, d3 not identifiable (the joint limits keep any configuration"
+            " from telling them apart: are the limits right?)"
+        )

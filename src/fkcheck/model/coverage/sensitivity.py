@@ -18,9 +18,9 @@ from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.model.coverage.clock import _NO_LIMIT, _Clock
 from fkcheck.model.coverage.results import Unit
-from fkcheck.model.coverage.tuning import _COMPONENTS, STEP
+from fkcheck.model.coverage.tuning import _COMPONENTS, FREED_PRISMATIC_M, STEP
 from fkcheck.model.names import PARAMS, param_symbol
-from fkcheck.model.sampling import UNLIMITED_PRISMATIC_M, sampling_box
+from fkcheck.model.sampling import sampling_box
 from fkcheck.model.types import FrameSpec, Model
 
 __all__: list[str] = []
@@ -277,16 +277,18 @@ def _configurations(
     """Seeded configurations within limits; the joints in ``free`` (all: ``None``) freed.
 
     A freed joint ranges over at least a whole turn (revolute) or
-    :data:`~fkcheck.model.sampling.UNLIMITED_PRISMATIC_M` either side of its
-    range's middle (prismatic): what the kinematics could tell, whatever the limits.
+    :data:`~fkcheck.model.coverage.tuning.FREED_PRISMATIC_M` either side of its
+    range's middle (prismatic: a slide has no natural range, and what a change
+    hides at one displacement shows in proportion to the displacement): what the
+    kinematics could tell, whatever the limits.
     """
     lo, hi = sampling_box(model)
     for j in range(model.dof) if free is None else free:
         if model.joints[j].type == "prismatic":
             mid = (lo[j] + hi[j]) / 2.0
             lo[j], hi[j] = (
-                min(lo[j], mid - UNLIMITED_PRISMATIC_M),
-                max(hi[j], mid + UNLIMITED_PRISMATIC_M),
+                min(lo[j], mid - FREED_PRISMATIC_M),
+                max(hi[j], mid + FREED_PRISMATIC_M),
             )
         else:
             lo[j], hi[j] = min(lo[j], -math.pi), max(hi[j], math.pi)

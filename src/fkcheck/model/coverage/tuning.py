@@ -10,6 +10,7 @@ __all__ = [
     "CARRY_EPS",
     "CHECK_SAMPLES",
     "FLAT",
+    "FREED_PRISMATIC_M",
     "MOVING_EPS",
     "RESOLUTION_LIMIT",
     "SAMPLES",
@@ -54,6 +55,18 @@ FLAT = 1e-3
 #: An unobstructed length or angle shows 1:1 (resolution = one tolerance); 10
 #: leaves room for a partial overlap with a carried offset.
 RESOLUTION_LIMIT = 10.0
+#: A held (or limit-confined) sliding joint is freed this far either side of its
+#: range's middle (m) to see what the kinematics could tell. A prismatic joint
+#: has no natural range (a revolute one has its turn), and a change of the table
+#: hidden at one displacement shows, to first order, in proportion to the
+#: displacement: an angle error of one tolerance (1 µrad) moves the pose by one
+#: more µm per metre of slide. Whatever changes with the displacement at all is
+#: what the kinematics could tell, not what shows within an arbitrary metre (the
+#: sampling default for a slide without limits): 10 m shows such a change ten
+#: times as much, a tenth of a tolerance per tolerance at a hundredth of the
+#: rate, while the largest column stays ~10 per unit, so the differences'
+#: round-off (~ε·10/STEP ≈ 2e-9 relative) stays far below ``SPAN_RTOL``.
+FREED_PRISMATIC_M = 10.0
 
 _AXES = ("x", "y", "z")
 _COMPONENTS = ("x", "y", "z", "rx", "ry", "rz")  # translations along, rotations about
