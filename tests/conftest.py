@@ -22,8 +22,14 @@ settings.register_profile(
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow],
 )
+# derandomize=False said outright: a profile registered without it inherited the
+# default profile's True, and --hypothesis-seed then changed nothing.
 settings.register_profile(
-    "fuzz", max_examples=600, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+    "fuzz",
+    max_examples=600,
+    derandomize=False,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
 )
 settings.load_profile(os.environ.get("FKCHECK_HYPOTHESIS_PROFILE", "default"))
 
