@@ -87,7 +87,10 @@ def _reference_env(session: nox.Session) -> Path:
     else:
         stamp.unlink(missing_ok=True)
         installer = (
-            [uv, "pip", "install", "--python", str(bin_dir / "python")]
+            # Byte-compiled at install, as pip does: a module compiled at its first
+            # import under the tests' warnings-as-errors fails on a library's
+            # SyntaxWarning (spatialmath's "\m"), and the suite's first imports wait.
+            [uv, "pip", "install", "--compile-bytecode", "--python", str(bin_dir / "python")]
             if uv
             else [str(bin_dir / "python"), "-m", "pip", "install"]
         )
