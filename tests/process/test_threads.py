@@ -39,7 +39,8 @@ print(json.dumps({"got": got, "before": before, "after": after, "jit": dh.jit_ta
 """
 
 
-def _share(cores: int, env: dict[str, str]) -> dict:
+def _run(script: str, cores: int, env: dict[str, str]) -> dict:
+    """``script``'s last line, read as JSON, run on ``cores`` cores with ``env`` only set."""
     clean = {
         k: v
         for k, v in os.environ.items()
@@ -52,7 +53,7 @@ def _share(cores: int, env: dict[str, str]) -> dict:
         )
     }
     done = subprocess.run(
-        [sys.executable, "-c", _SHARE, str(cores)],
+        [sys.executable, "-c", script, str(cores)],
         env={**clean, **env},
         capture_output=True,
         text=True,
@@ -61,6 +62,10 @@ def _share(cores: int, env: dict[str, str]) -> dict:
     assert done.returncode == 0, done.stderr
     result: dict = json.loads(done.stdout.splitlines()[-1])
     return result
+
+
+def _share(cores: int, env: dict[str, str]) -> dict:
+    return _run(_SHARE, cores, env)
 
 
 def test_an_xdist_worker_gets_its_share_of_the_cores_in_every_pool():
@@ -146,27 +151,7 @@ print(json.dumps({"one": one, "first": first, "got": got, "after": pools(),
 
 
 def _one_blas(cores: int, env: dict[str, str]) -> dict:
-    clean = {
-        k: v
-        for k, v in os.environ.items()
-        if k
-        not in (
-            *threads.THREAD_VARIABLES,
-            "NUMBA_NUM_THREADS",
-            threads.XDIST_WORKERS,
-            threads.SET_BY_FKCHECK,
-        )
-    }
-    done = subprocess.run(
-        [sys.executable, "-c", _ONE_BLAS, str(cores)],
-        env={**clean, **env},
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert done.returncode == 0, done.stderr
-    result: dict = json.loads(done.stdout.splitlines()[-1])
-    return result
+    return _run(_ONE_BLAS, cores, env)
 
 
 def test_one_blas_thread_keeps_blas_at_one_thread_through_a_share_and_in_children():
