@@ -76,7 +76,7 @@ def _ours(environ: Mapping[str, str]) -> dict[str, str]:
 
 
 def _setting(environ: Mapping[str, str], values: Mapping[str, str]) -> dict[str, str]:
-    """``values``, and :data:`SET_BY_FKCHECK` naming them with those ``environ`` names."""
+    """``values``, and :data:`SET_BY_FKCHECK` naming them and those ``environ``'s named already."""
     ours = {**_ours(environ), **values}
     return {**values, SET_BY_FKCHECK: ",".join(f"{k}={v}" for k, v in sorted(ours.items()))}
 
