@@ -348,21 +348,23 @@ def print_diagnose_hint(
 
     A reader finding (:mod:`fkcheck.engine.readers`) is the reader's, not the
     table's: no diagnosis of the table's numbers is offered for it, but how to
-    record it for the reader's versions: up to the installed version of its
+    record it for the reader's versions: up to the installed release of its
     library (:func:`fkcheck.engine.expected.library_of` of its backend in
-    ``backends``), ``VERSION`` when that is not known. The ``fkcheck diagnose``
+    ``backends``; ``4.1.1`` of ``4.1.1rc1``, as a record reads it), ``VERSION``
+    when that is not known. The ``fkcheck diagnose``
     line reads a ROS 2 bag by the check's ``--bag-*`` settings. Not for a table
     fkcheck derived (``check --source``): there is no model file to name.
     """
     from fkcheck.diagnose.failures import bag_arguments
     from fkcheck.engine.expected import library_of
+    from fkcheck.model.version_spec import release_text
 
     by_name = {b.name: b for b in backends}
     failed = [r for r in check.backends if r.status == "fail" and not r.reader_finding]
     readers = [r.name for r in check.backends if r.status == "fail" and r.reader_finding]
     if readers and not failed:
         library = library_of(by_name[readers[0]]) if readers[0] in by_name else None
-        version = library[1] if library is not None else "VERSION"
+        version = (release_text(library[1]) if library is not None else None) or "VERSION"
         print(
             f"hint: a reader's finding, not the table's: record it for the reader's version "
             f'with [[known_difference]] backends = ["{terminal_text(readers[0])}"], '
