@@ -501,6 +501,14 @@ def test_diagnose_reads_a_namespaced_bag_by_the_flags_or_the_projects_keys(
     assert "no topic /other/tf in the bag" in _one_line_error(capsys)
     assert _diagnose(models[1], bag, "--isolated") == 2
     assert "no topic /joint_states in the bag" in _one_line_error(capsys)
+    # The file read is an input: no output of the diagnosis replaces it.
+    before = (project / "pyproject.toml").read_bytes()
+    assert _diagnose(models[1], bag, "--json", "pyproject.toml") == 2
+    assert _one_line_error(capsys) == (
+        "fkcheck: error: --json pyproject.toml: is the configuration file, an input of this "
+        "run: write elsewhere\n"
+    )
+    assert (project / "pyproject.toml").read_bytes() == before
 
 
 def test_a_bad_bag_setting_is_one_line_exit_2_for_diagnose_too(

@@ -111,6 +111,22 @@ def test_the_disagreeing_reader_is_named_with_its_version_and_the_table_is_not_b
     assert (code, rows["pinocchio-mjcf"]["status"]) == (0, "xfail")
 
 
+def test_the_hint_says_version_when_the_readers_library_is_not_known(
+    tmp_path, capsys, monkeypatch
+):
+    # A reader whose distribution names no installed version (a plugin's, say): the hint
+    # asks for the version rather than inventing one. The finding itself is unchanged.
+    from fkcheck.engine import expected
+
+    monkeypatch.setattr(expected, "library_of", lambda backend: None)
+    code, out, rows = run(tmp_path, rounded_ur5e(tmp_path), capsys)
+    if not pinocchio_drops_the_turn():
+        assert code == 0
+        return
+    assert rows["pinocchio-mjcf"]["reader_finding"] == FINDING
+    assert 'backends = ["pinocchio-mjcf"], versions = "<=VERSION" (docs/' in out
+
+
 def test_a_known_difference_for_the_installed_version_records_it(tmp_path, capsys):
     code, _, rows = run(tmp_path, rounded_ur5e(tmp_path, record(f"<={PIN}")), capsys)
     if not pinocchio_drops_the_turn():  # the record is stale on a fixed Pinocchio

@@ -94,7 +94,8 @@ def run(args: argparse.Namespace) -> int:
     timeout_s = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
     check_option("timeout_s", timeout_s, "--timeout")
     # A ROS 2 bag's settings: a --bag-* flag, else its [tool.fkcheck] key (as for check)
-    apply_bag_settings(args, None if args.isolated else project_config())
+    project = None if args.isolated else project_config()
+    apply_bag_settings(args, project)
     model = load_model(args.model)
     check_known_differences(model)  # the names are the registry's, as for check and lint
     if args.allow_xacro:
@@ -125,6 +126,8 @@ def run(args: argparse.Namespace) -> int:
     backend = make_backend(name, options)
     outputs = [("--json", args.json)]
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend], model)]
+    if project is not None:  # read, so no output replaces it (as for check)
+        inputs.append(("the configuration file", project.path))
     plan(args, outputs, inputs)
     reference = _Reference(backend)
     reason = reference.unavailable_reason(model)
