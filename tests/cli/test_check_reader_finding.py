@@ -111,9 +111,7 @@ def test_the_disagreeing_reader_is_named_with_its_version_and_the_table_is_not_b
     assert (code, rows["pinocchio-mjcf"]["status"]) == (0, "xfail")
 
 
-def test_the_hint_says_version_when_the_readers_library_is_not_known(
-    tmp_path, capsys, monkeypatch
-):
+def test_the_hint_says_version_when_the_readers_library_is_not_known(tmp_path, capsys, monkeypatch):
     # A reader whose distribution names no installed version (a plugin's, say): the hint
     # asks for the version rather than inventing one. The finding itself is unchanged.
     from fkcheck.engine import expected
