@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import json
 import os
+import re
+import shlex
 import shutil
 from pathlib import Path
 
@@ -257,8 +259,6 @@ def test_a_bad_bag_setting_in_the_project_is_one_line_exit_2(
 def test_a_bad_bag_flag_is_one_line_exit_2_by_the_keys_rule(
     models, motion, tmp_path, capsys, flag, value, problem
 ):
-    import re
-
     bag = _bag(tmp_path, models[0], motion[:5])
     assert _check(models[0], bag, None, f"{flag}={value}") == 2
     assert re.search(rf"argument {flag}: {problem}", _one_line_error(capsys))
@@ -348,7 +348,6 @@ def test_a_bag_that_cannot_be_read_is_one_line_exit_2(
 ):
     bag = spoil(_bag(tmp_path, models[0], motion[:20]))
     assert _check(models[0], bag) == 2
-    import re
 
     assert re.search(problem, _one_line_error(capsys))
 
@@ -460,6 +459,104 @@ def test_diagnose_reads_the_bag_for_the_frames_it_is_given(models, motion, tmp_p
         f"fkcheck diagnose ur5: base → tool0_controller against poses:{bag}, 60 configurations"
         in out
     )
+
+
+#: A bag recorded under a namespace: none of the default topics is in it.
+_NAMESPACED = ("/ur/joint_states", "/ur/tf", "/ur/tf_static")
+_NAMESPACED_FLAGS = ("--bag-joint-states", _NAMESPACED[0], "--bag-tf", _NAMESPACED[1],
+                     "--bag-tf-static", _NAMESPACED[2])  # fmt: skip
+
+
+def _diagnose(model: Path, bag: Path, *extra: str) -> int:
+    return main(["diagnose", str(model), "--against", f"poses:{bag}", "--to", "tool0_controller",
+                 *extra])  # fmt: skip
+
+
+def test_diagnose_reads_a_namespaced_bag_by_the_flags_or_the_projects_keys(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    bag = _bag(tmp_path, models[0], motion[:60], topics=_NAMESPACED)
+    monkeypatch.chdir(tmp_path)  # no pyproject.toml above tmp_path: the defaults
+    assert _diagnose(models[1], bag) == 2
+    assert "no topic /joint_states in the bag; it has: /chatter, /ur/joint_states" in (
+        _one_line_error(capsys)
+    )
+    header = f"fkcheck diagnose ur5: base → tool0_controller against poses:{bag}, 60 configurations"
+    assert _diagnose(models[1], bag, *_NAMESPACED_FLAGS) == 0
+    assert header in " ".join(capsys.readouterr().out.split())
+    # The same settings as [tool.fkcheck] keys, as fkcheck check reads them.
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        "[tool.fkcheck]\n"
+        + "".join(f'{key} = "{topic}"\n' for key, topic in
+                  zip(("bag_joint_states", "bag_tf", "bag_tf_static"), _NAMESPACED, strict=True)),
+        encoding="utf-8",
+    )  # fmt: skip
+    monkeypatch.chdir(project)
+    assert _diagnose(models[1], bag) == 0
+    assert header in " ".join(capsys.readouterr().out.split())
+    # A flag wins over the key; --isolated ignores the file.
+    assert _diagnose(models[1], bag, "--bag-tf", "/other/tf") == 2
+    assert "no topic /other/tf in the bag" in _one_line_error(capsys)
+    assert _diagnose(models[1], bag, "--isolated") == 2
+    assert "no topic /joint_states in the bag" in _one_line_error(capsys)
+    # The file read is an input: no output of the diagnosis replaces it.
+    before = (project / "pyproject.toml").read_bytes()
+    assert _diagnose(models[1], bag, "--json", "pyproject.toml") == 2
+    assert _one_line_error(capsys) == (
+        "fkcheck: error: --json pyproject.toml: is the configuration file, an input of this "
+        "run: write elsewhere\n"
+    )
+    assert (project / "pyproject.toml").read_bytes() == before
+
+
+def test_a_bad_bag_setting_is_one_line_exit_2_for_diagnose_too(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    bag = _bag(tmp_path, models[0], motion[:5])
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        '[tool.fkcheck]\nbag_tf = "/tf static"\n', encoding="utf-8"
+    )
+    monkeypatch.chdir(project)
+    assert _diagnose(models[1], bag) == 2
+    assert _one_line_error(capsys) == (
+        f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.bag_tf: must be a topic "
+        "name (at most 256 characters of text, no spaces), got '/tf static'\n"
+    )
+    assert _diagnose(models[1], bag, "--isolated", "--bag-stamp-tolerance", "2") == 2
+    assert re.search(
+        r"argument --bag-stamp-tolerance: must be seconds from 0 to 1 \(.*\), got 2",
+        _one_line_error(capsys),
+    )
+
+
+def test_the_checks_diagnose_lines_carry_the_bag_settings_and_reproduce_it(
+    models, motion, tmp_path, capsys, monkeypatch
+):
+    bag = _bag(tmp_path, models[0], motion[:60], topics=_NAMESPACED, offset_ns=1_500_000)
+    monkeypatch.chdir(tmp_path)
+    html = tmp_path / "r.html"
+    flags = (*_NAMESPACED_FLAGS, "--bag-stamp-tolerance", "0.0015")
+    assert _check(models[1], bag, None, "--html", str(html), *flags) == 1
+    out = capsys.readouterr().out
+    wanted = shlex.join(flags)
+    # The report's Reproduce line (fkcheck.diagnose.failures.diagnose_command) ...
+    (reproduce,) = re.findall(r"Reproduce: <code>(fkcheck diagnose [^<]*)</code>", html.read_text())
+    assert reproduce.endswith(" " + wanted), reproduce
+    # ... and the hint printed under the results, which runs as printed.
+    (hint,) = (line for line in out.splitlines() if line.startswith("hint: explain it: "))
+    assert hint.endswith(" " + wanted), hint
+    assert main(shlex.split(hint.removeprefix("hint: explain it: fkcheck "))) == 0
+    assert "60 configurations" in capsys.readouterr().out
+    # Settings left at their defaults add nothing: the line stays as short as before.
+    plain = _bag(tmp_path / "plain", models[0], motion[:20])
+    assert _check(models[1], plain, None, "--html", str(html)) == 1
+    (hint,) = (line for line in capsys.readouterr().out.splitlines() if "explain it" in line)
+    assert hint.endswith("--to tool0_controller"), hint
+    assert "--bag" not in html.read_text()
 
 
 def test_the_python_api_reads_the_bag_for_its_frames(models, motion, tmp_path):

@@ -9,6 +9,7 @@ what that Pinocchio must produce.
 from __future__ import annotations
 
 import json
+import re
 from importlib import metadata
 
 import numpy as np
@@ -97,11 +98,31 @@ def test_the_disagreeing_reader_is_named_with_its_version_and_the_table_is_not_b
     assert "verdict: fail — a reader disagrees where another reader of the same description" in out
     assert "diagnosis (pinocchio-mjcf)" not in out  # no table number is blamed
     assert "fkcheck diagnose" not in out
+    # The hint names the installed version of the reader's library, not a placeholder ...
     hint = (
         "hint: a reader's finding, not the table's: record it for the reader's version with "
-        '[[known_difference]] backends = ["pinocchio-mjcf"]'
+        f'[[known_difference]] backends = ["pinocchio-mjcf"], versions = "<={PIN}" '
+        "(docs/reference/model-file.md)"
     )
-    assert hint in out
+    assert hint in out.splitlines()
+    # ... and the versions it prints, recorded as it says, make the finding expected.
+    (versions,) = re.findall(r'versions = "([^"]*)"', hint)
+    code, _, rows = run(tmp_path, rounded_ur5e(tmp_path, record(versions)), capsys)
+    assert (code, rows["pinocchio-mjcf"]["status"]) == (0, "xfail")
+
+
+def test_the_hint_says_version_when_the_readers_library_is_not_known(tmp_path, capsys, monkeypatch):
+    # A reader whose distribution names no installed version (a plugin's, say): the hint
+    # asks for the version rather than inventing one. The finding itself is unchanged.
+    from fkcheck.engine import expected
+
+    monkeypatch.setattr(expected, "library_of", lambda backend: None)
+    code, out, rows = run(tmp_path, rounded_ur5e(tmp_path), capsys)
+    if not pinocchio_drops_the_turn():
+        assert code == 0
+        return
+    assert rows["pinocchio-mjcf"]["reader_finding"] == FINDING
+    assert 'backends = ["pinocchio-mjcf"], versions = "<=VERSION" (docs/' in out
 
 
 def test_a_known_difference_for_the_installed_version_records_it(tmp_path, capsys):

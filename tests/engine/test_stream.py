@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import re
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -20,7 +21,9 @@ from fkcheck.backends import measured, recording
 from fkcheck.backends.measured import MeasuredPoses, PosesFileError, read_poses_file
 from fkcheck.cli.main import main
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
-from fkcheck.engine.stream import HISTOGRAM_RATIO, StreamSummary, rows_beyond
+from fkcheck.engine import compare
+from fkcheck.engine.compare import Job
+from fkcheck.engine.stream import HISTOGRAM_RATIO, StreamSummary
 from tests.rtde_cases import RTDE_HEADER, poses_of, rtde_rows, write_rtde_csv
 
 #: Rows of the recordings here, and the most the check keeps of them.
@@ -267,12 +270,50 @@ def test_the_summary_counts_the_rows_beyond_tolerance_as_numpy_does_over_every_r
         )
     assert summary.stride > 1  # a sample is kept, not every row
     assert summary.beyond == beyond
-    # Another tolerance: the second pass counts against it, as NumPy does.
+    # Another tolerance is another summary, counted as it streams, as NumPy does.
     looser = (2.5e-6, 1e-6)
     want = _beyond(size, turn, looser)
     assert 0 < want < beyond
+    other = StreamSummary(ur5, ("base", "tool0"), looser)
+    for first in range(0, ROWS, CHUNK):
+        stop = min(ROWS, first + CHUNK)
+        other.add(recording.PoseChunk(motion[first:stop], poses[first:stop], None,
+                                      np.arange(first, stop) + 2))  # fmt: skip
+    assert other.beyond == want
+
+
+def test_a_summary_of_other_tolerances_or_pair_is_an_error_never_a_second_read(ur5, motion):
+    # The check's comparison takes the count its one read made (under the read's
+    # clock); a summary that counted against anything else is a broken contract.
+    poses, size, turn = _off_by_known_amounts(ur5, motion, 1)
     rec = _ChunkedRecording(motion, poses)
-    assert rows_beyond(rec, ur5, ("base", "tool0"), looser) == want
+    summary = StreamSummary(ur5, ("base", "tool0"), (1e-6, 1e-6))
+    for chunk in rec.chunks():
+        summary.add(chunk)
+    assert rec.reads == 1
+    backend = MeasuredPoses("rec.csv")
+    job = Job(backend, ur5, motion, ("base", "tool0"), (1e-6, 1e-6))
+    assert compare._rows_beyond((rec, summary), job) == _beyond(size, turn)
+    for other in (replace(job, tol=(2.5e-6, 1e-6)), replace(job, pair=("base_link", "tool0"))):
+        with pytest.raises(RuntimeError, match=r"counted against tolerances .* not read again"):
+            compare._rows_beyond((rec, summary), other)
+    assert rec.reads == 1  # never read again
+
+
+def test_a_check_at_other_tolerances_counts_against_them_in_its_one_read(
+    ur5, motion, tmp_path, small, capsys, monkeypatch
+):
+    poses, size, turn = _off_by_known_amounts(ur5, motion, 3)
+    want = _beyond(size, turn, (2.5e-6, 1e-6))
+    assert 0 < want < _beyond(size, turn)  # fewer than at the model's own tolerance
+    path = _recording_of(ur5, motion, poses, tmp_path)
+    reads = _count_reads(monkeypatch)
+    code = main(["check", "ur5", "--against", f"poses:{path}", "--tol-pos", "2.5e-6",
+                 "--no-diagnose"])  # fmt: skip
+    out = " ".join(capsys.readouterr().out.split())
+    assert code == 1, out
+    assert f"{want} of 600 rows differ" in out
+    assert reads == [path]
 
 
 class _ChunkedRecording:
@@ -307,22 +348,28 @@ def _count_reads(monkeypatch) -> list:
     return reads
 
 
-def test_a_failing_check_reads_the_recording_once_and_counts_every_row(
-    ur5, motion, tmp_path, small, capsys, monkeypatch
-):
-    poses, size, turn = _off_by_known_amounts(ur5, motion, 3)
-    beyond = _beyond(size, turn)
-    rows = rtde_rows(ur5, motion)
-    lines = [" ".join(RTDE_HEADER)]
-    x = RTDE_HEADER.index("actual_TCP_pose_0")
+def _recording_of(ur5, q, poses, tmp_path):
+    """An RTDE recording of ``q`` whose TCP poses are ``poses``."""
     from scipy.spatial.transform import Rotation
 
+    rows = rtde_rows(ur5, q)
+    lines = [" ".join(RTDE_HEADER)]
+    x = RTDE_HEADER.index("actual_TCP_pose_0")
     rotvec = Rotation.from_matrix(poses[:, :3, :3]).as_rotvec()
     for row, pose in zip(rows, np.hstack([poses[:, :3, 3], rotvec]), strict=True):
         row[x : x + 6] = pose.tolist()
         lines.append(" ".join(map(repr, row)))
     path = tmp_path / "rec.csv"
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
+
+
+def test_a_failing_check_reads_the_recording_once_and_counts_every_row(
+    ur5, motion, tmp_path, small, capsys, monkeypatch
+):
+    poses, size, turn = _off_by_known_amounts(ur5, motion, 3)
+    beyond = _beyond(size, turn)
+    path = _recording_of(ur5, motion, poses, tmp_path)
     reads = _count_reads(monkeypatch)
     code = main(["check", "ur5", "--against", f"poses:{path}"])
     out = " ".join(capsys.readouterr().out.split())

@@ -9,7 +9,7 @@ import pytest
 from fkcheck import ModelError, load_model
 from fkcheck.core.tolerances import MAX_READER_POSITION_M
 from fkcheck.model.types import KnownDifference
-from fkcheck.model.version_spec import parse_versions, release, versions_match
+from fkcheck.model.version_spec import parse_versions, release, release_text, versions_match
 
 TOP = 'name = "m"\nconvention = "standard"\n[[joint]]\na = 0.1\nalpha = 0.0\nd = 0.2\n'
 READER = (
@@ -112,6 +112,19 @@ def test_a_spec_is_parsed_into_clauses():
     assert release("v2.3") == (2, 3, 0, 0, 0)
     with pytest.raises(ValueError, match="longer than 200"):
         parse_versions("<1," * 100)
+
+
+@pytest.mark.parametrize(
+    ("installed", "written"),
+    [("4.1.0", "4.1.0"), ("4.1.1rc1", "4.1.1"), ("3.3.7.post2", "3.3.7"), ("v2.3", "2.3"),
+     ("1.2.3.4.5.6", "1.2.3.4.5"), ("unknown", None)],
+)  # fmt: skip
+def test_the_release_written_in_a_clause_matches_the_installed_version(installed, written):
+    # What the reader-finding hint prints after "<=": a record of it must match.
+    assert release_text(installed) == written
+    if written is not None:
+        assert versions_match(f"<={written}", installed)
+        assert versions_match(f"=={written}", installed)
 
 
 def _versions_for(tmp_path, backend: str):

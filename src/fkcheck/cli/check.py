@@ -65,6 +65,7 @@ if TYPE_CHECKING:
     from fkcheck.description.types import Description
     from fkcheck.model.project import ProjectConfig
 
+from fkcheck.cli._arguments import add_bag_arguments, apply_bag_settings
 from fkcheck.cli._targets import ONLY_MODELS_HELP
 from fkcheck.cli.check_run import require_from_args, run_many, run_one
 
@@ -165,7 +166,7 @@ def add_parser(sub: Any) -> None:
     )
     add_allow_xacro(p)
     _add_pair_arguments(p)
-    _add_bag_arguments(p)
+    add_bag_arguments(p)
     p.add_argument("--only-models", action="store_true", help=ONLY_MODELS_HELP)
     p.add_argument(
         "--isolated",
@@ -225,31 +226,6 @@ def add_parser(sub: Any) -> None:
         f"lines of each running backend (default {PLAIN_INTERVAL_S:g})",
     )
     p.set_defaults(run=run)
-
-
-def _stamp_tolerance(value: str) -> float:
-    """``--bag-stamp-tolerance``: seconds, by the rule of its ``[tool.fkcheck]`` key."""
-    from fkcheck.model.options import bag_problem
-
-    try:
-        seconds = float(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{value!r} is not a number of seconds") from None
-    problem = bag_problem("bag_stamp_tolerance_s", seconds)
-    if problem is not None:
-        raise argparse.ArgumentTypeError(problem)
-    return seconds
-
-
-def _topic(value: str) -> str:
-    """``--bag-joint-states`` and the other topics: by the rule of their ``[tool.fkcheck]`` keys."""
-    from fkcheck.cli._arguments import utf8_text
-    from fkcheck.model.options import bag_problem
-
-    problem = bag_problem("bag_tf", utf8_text(value))
-    if problem is not None:
-        raise argparse.ArgumentTypeError(problem)
-    return value
 
 
 def _add_pair_arguments(p: argparse.ArgumentParser) -> None:
@@ -334,34 +310,6 @@ def _pair_file(spec: str) -> Description:
         ) from None
 
 
-def _add_bag_arguments(p: argparse.ArgumentParser) -> None:
-    """The settings of a ROS 2 bag given as ``--against poses:BAG`` (fkcheck.backends.bag).
-
-    Each may be set in ``[tool.fkcheck]`` too (:data:`fkcheck.model.options.BAG_KEYS`);
-    a flag wins.
-    """
-    bag = p.add_argument_group(
-        "ROS 2 bags (--against poses:BAG)",
-        "each may also be set in [tool.fkcheck] of pyproject.toml (bag_joint_states, bag_tf, "
-        "bag_tf_static, bag_stamp_tolerance); a flag wins",
-    )
-    bag.add_argument("--bag-joint-states", type=_topic,
-                     metavar="TOPIC", help="topic of sensor_msgs/msg/JointState (default "
-                     "/joint_states)")  # fmt: skip
-    bag.add_argument("--bag-tf", type=_topic, metavar="TOPIC",
-                     help="topic of the changing transforms (default /tf)")  # fmt: skip
-    bag.add_argument("--bag-tf-static", type=_topic, metavar="TOPIC",
-                     help="topic of the static transforms (default /tf_static)")  # fmt: skip
-    bag.add_argument(
-        "--bag-stamp-tolerance",
-        dest="bag_stamp_tolerance_s",
-        type=_stamp_tolerance,
-        metavar="S",
-        help="pair each pose with the joint state stamped at or before it, at most this many "
-        "seconds earlier (default 0.001: half a cycle at 500 Hz; at most 1)",
-    )
-
-
 def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> None:
     """Resolve the check's options, flag > ``[tool.fkcheck]`` > default, into ``args.options``.
 
@@ -389,9 +337,7 @@ def _apply_project(args: argparse.Namespace, project: ProjectConfig | None) -> N
     args.require = list(options.require) or None
     if args.against is None and project is not None and project.against is not None:
         args.against = list(project.against)
-    for name, value in (project.bag_settings() if project is not None else {}).items():
-        if getattr(args, name, None) is None:  # a --bag-* flag wins over the key
-            setattr(args, name, value)
+    apply_bag_settings(args, project)
     args.lint_ignore = project.lint_ignore if project is not None else ()
 
 

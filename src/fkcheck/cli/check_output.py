@@ -341,25 +341,39 @@ def print_diagnoses(diagnoses: Sequence[BackendDiagnosis], prefix: str = "") -> 
         print(f"{prefix}{line}", flush=True)
 
 
-def print_diagnose_hint(model_arg: str, check: CheckResult) -> None:
+def print_diagnose_hint(
+    model_arg: str, check: CheckResult, backends: Sequence[Backend] = ()
+) -> None:
     """Offer ``fkcheck diagnose`` for the first backend that disagrees with the table.
 
     A reader finding (:mod:`fkcheck.engine.readers`) is the reader's, not the
     table's: no diagnosis of the table's numbers is offered for it, but how to
-    record it for the reader's versions. Not for a table fkcheck derived
-    (``check --source``): there is no model file to name.
+    record it for the reader's versions: up to the installed release of its
+    library (:func:`fkcheck.engine.expected.library_of` of its backend in
+    ``backends``; ``4.1.1`` of ``4.1.1rc1``, as a record reads it), ``VERSION``
+    when that is not known. The ``fkcheck diagnose``
+    line reads a ROS 2 bag by the check's ``--bag-*`` settings. Not for a table
+    fkcheck derived (``check --source``): there is no model file to name.
     """
+    from fkcheck.diagnose.failures import bag_arguments
+    from fkcheck.engine.expected import library_of
+    from fkcheck.model.version_spec import release_text
+
+    by_name = {b.name: b for b in backends}
     failed = [r for r in check.backends if r.status == "fail" and not r.reader_finding]
     readers = [r.name for r in check.backends if r.status == "fail" and r.reader_finding]
     if readers and not failed:
+        library = library_of(by_name[readers[0]]) if readers[0] in by_name else None
+        version = (release_text(library[1]) if library is not None else None) or "VERSION"
         print(
             f"hint: a reader's finding, not the table's: record it for the reader's version "
             f'with [[known_difference]] backends = ["{terminal_text(readers[0])}"], '
-            'versions = "<=VERSION" (docs/reference/model-file.md)'
+            f'versions = "<={terminal_text(version)}" (docs/reference/model-file.md)'
         )
     if failed and check.model.derived is None:
         argv = ["diagnose", operand(model_arg), "--against", failed[0].name,
-                "--from", check.frame_from, "--to", check.frame_to]  # fmt: skip
+                "--from", check.frame_from, "--to", check.frame_to,
+                *bag_arguments(by_name.get(failed[0].name))]  # fmt: skip
         print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
 
 

@@ -53,17 +53,13 @@ def backends_from_args(args: argparse.Namespace, model: Model | None = None) -> 
     declares (:func:`fkcheck.backends.registry.default_names`).
     """
     from fkcheck.backends.registry import BackendOptions, default_backends, parse_against
+    from fkcheck.cli._arguments import bag_options
 
-    bag = {  # a ROS 2 bag's settings given (else the defaults): fkcheck check's --bag-* flags
-        name: value
-        for name in ("bag_joint_states", "bag_tf", "bag_tf_static", "bag_stamp_tolerance_s")
-        if (value := getattr(args, name, None)) is not None
-    }
     options = BackendOptions(
         timeout_s=args.options.timeout_s,
         frame_from=args.options.frame_from,
         frame_to=args.options.frame_to,
-        **bag,
+        **bag_options(args),  # a ROS 2 bag's settings given (else the defaults)
     )
     return (
         parse_against(args.against, options) if args.against else default_backends(options, model)
@@ -328,5 +324,5 @@ def run_one(args: argparse.Namespace, target: Target) -> int:
     print_summary(check)
     print_diagnoses(outcome.diagnoses)
     print_annotations(check, outcome.diagnoses)
-    print_diagnose_hint(target.arg, check)
+    print_diagnose_hint(target.arg, check, backends)
     return 0 if check.verdict == "pass" else 1

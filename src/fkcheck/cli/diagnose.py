@@ -20,6 +20,7 @@ __all__ = ["add_parser", "run"]
 
 def add_parser(sub: Any) -> None:
     """Register the subcommand."""
+    from fkcheck.cli._arguments import add_bag_arguments
     from fkcheck.cli.expand import add_allow_xacro
     from fkcheck.core.tolerances import MAX_TOL_POS_M, MAX_TOL_ROT_RAD
     from fkcheck.engine.stream import READ_MIN_S
@@ -56,6 +57,13 @@ def add_parser(sub: Any) -> None:
                    f"{READ_MIN_S:g} for the read, at most {MAX_TIMEOUT_S:g})")  # fmt: skip
     p.add_argument("--json", type=Path, metavar="PATH", help="write the diagnosis as JSON here")
     add_allow_xacro(p)
+    add_bag_arguments(p)  # fkcheck check's, and its [tool.fkcheck] keys
+    p.add_argument(
+        "--isolated",
+        action="store_true",
+        help="ignore [tool.fkcheck] of pyproject.toml (its bag_* keys): the flags and the "
+        "defaults only, as fkcheck check --isolated",
+    )
     p.set_defaults(run=run)
 
 
@@ -67,7 +75,9 @@ def run(args: argparse.Namespace) -> int:
         check_known_differences,
         make_backend,
     )
+    from fkcheck.cli._arguments import apply_bag_settings, bag_options
     from fkcheck.cli._outputs import backend_inputs, model_inputs, plan, writes
+    from fkcheck.cli._targets import project_config
     from fkcheck.diagnose import diagnose, format_text, to_dict
     from fkcheck.io.atomic import write_text_atomic
     from fkcheck.io.strict_json import strict_json
@@ -83,6 +93,9 @@ def run(args: argparse.Namespace) -> int:
         check_option("tol_rot_rad", args.tol_rot, "--tol-rot")
     timeout_s = DEFAULT_TIMEOUT_S if args.timeout is None else args.timeout
     check_option("timeout_s", timeout_s, "--timeout")
+    # A ROS 2 bag's settings: a --bag-* flag, else its [tool.fkcheck] key (as for check)
+    project = None if args.isolated else project_config()
+    apply_bag_settings(args, project)
     model = load_model(args.model)
     check_known_differences(model)  # the names are the registry's, as for check and lint
     if args.allow_xacro:
@@ -106,9 +119,15 @@ def run(args: argparse.Namespace) -> int:
             )
         name = registry.names(format=fmt.name, default=True)[0]  # pinocchio-urdf for a URDF
     # the frames too: a ROS 2 bag (poses:BAG) composes its transform for them
-    backend = make_backend(name, BackendOptions(frame_from=args.frame_from, frame_to=args.frame_to))
+    # and reads its topics with the settings given
+    options = BackendOptions(
+        frame_from=args.frame_from, frame_to=args.frame_to, **bag_options(args)
+    )
+    backend = make_backend(name, options)
     outputs = [("--json", args.json)]
     inputs = [*model_inputs(model, expand=writes(outputs)), *backend_inputs([backend], model)]
+    if project is not None:  # read, so no output replaces it (as for check)
+        inputs.append(("the configuration file", project.path))
     plan(args, outputs, inputs)
     reference = _Reference(backend)
     reason = reference.unavailable_reason(model)

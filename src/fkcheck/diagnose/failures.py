@@ -16,6 +16,7 @@ from __future__ import annotations
 import shlex
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -26,7 +27,13 @@ from fkcheck.engine.results import BackendResult, CheckResult
 from fkcheck.io.text import operand
 from fkcheck.model.options import DEFAULT_TIMEOUT_S
 
-__all__ = ["BackendDiagnosis", "diagnose_command", "diagnose_failures", "same_disagreement"]
+__all__ = [
+    "BackendDiagnosis",
+    "bag_arguments",
+    "diagnose_command",
+    "diagnose_failures",
+    "same_disagreement",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -67,11 +74,35 @@ def same_disagreement(check: CheckResult, a: BackendResult, b: BackendResult) ->
     )
 
 
-def diagnose_command(check: CheckResult, backend: str) -> str:
+def bag_arguments(backend: Backend | None) -> list[str]:
+    """The ``--bag-*`` flags that read ``backend``'s ROS 2 bag as the check read it.
+
+    Only the settings that differ from the defaults, and only for a bag read as
+    measured poses (``poses:BAG``); ``[]`` for any other backend.
+    """
+    from fkcheck.backends.bag_screen import is_bag
+    from fkcheck.backends.registration import BackendOptions
+    from fkcheck.model.options import BAG_FLAGS
+
+    options, path = getattr(backend, "options", None), getattr(backend, "path", None)
+    if not (isinstance(options, BackendOptions) and isinstance(path, Path) and is_bag(path)):
+        return []
+    default = BackendOptions()
+    argv: list[str] = []
+    for name, flag in BAG_FLAGS.items():
+        value = getattr(options, name)
+        if value != getattr(default, name):
+            argv += [flag, repr(value) if isinstance(value, float) else str(value)]
+    return argv
+
+
+def diagnose_command(check: CheckResult, backend: str, bag: Sequence[str] = ()) -> str:
     """The ``fkcheck diagnose`` command line that reproduces a diagnosis of the report.
 
     ``""`` for a table fkcheck derived (``check --source A --against-description
     B``): there is no model file to name, the check's own run is the reproduction.
+    ``bag`` is the backend's :func:`bag_arguments`: a ROS 2 bag whose topics are not
+    the default ones is read by the same settings.
     """
     model = check.model
     if model.derived is not None:
@@ -86,7 +117,7 @@ def diagnose_command(check: CheckResult, backend: str) -> str:
         argv += ["--tol-rot", repr(check.tol_rot_rad)]
     if check.options.timeout_s != DEFAULT_TIMEOUT_S:  # a recording's read is within it
         argv += ["--timeout", repr(check.options.timeout_s)]
-    return "fkcheck " + shlex.join(argv)
+    return "fkcheck " + shlex.join([*argv, *bag])
 
 
 def _run_one(check: CheckResult, backend: Backend) -> tuple[Diagnosis | None, str]:
@@ -139,7 +170,7 @@ def diagnose_failures(
             twin[2].append(result.name)
             continue
         diagnosis, error = _run_one(check, backend)
-        command = diagnose_command(check, result.name)
+        command = diagnose_command(check, result.name, bag_arguments(backend))
         diagnosed.append((result, BackendDiagnosis(result.name, diagnosis, error, (), command), []))
     return tuple(
         BackendDiagnosis(d.backend, d.diagnosis, d.error, tuple(also), d.command)

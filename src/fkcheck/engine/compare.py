@@ -32,7 +32,7 @@ from fkcheck.engine.evidence import (
 from fkcheck.engine.jacobian import Explain, JacobianComparison, JacobianSpec
 from fkcheck.engine.plan import count_text
 from fkcheck.engine.results import REFERENCE_NAME, BackendResult, JacobianResult, Status
-from fkcheck.engine.stream import StreamSummary, rows_beyond
+from fkcheck.engine.stream import StreamSummary
 from fkcheck.io.format import format_angle_summary, format_length_summary
 from fkcheck.model.frames import (
     CHUNK,
@@ -342,13 +342,23 @@ def _streamed(job: Job) -> tuple[Recording, StreamSummary] | None:
 def _rows_beyond(stream: tuple[Recording, StreamSummary], job: Job) -> int:
     """A streamed recording's rows beyond the job's tolerances, over every row.
 
-    Counted as it streamed (the check's tolerances are its summary's); other
-    tolerances take a second pass.
+    Counted as it streamed, in its one read under the read's clock: the check's
+    tolerances are its summary's (:func:`~fkcheck.engine.stream.stream_recordings`
+    is handed the prepared check's, as its jobs are), and a recording answers only
+    for its own frame pair (``FrameUnavailable`` before this). The recording is
+    never read again here, which would be a pass without a time limit.
+
+    Raises:
+        RuntimeError: The summary counted against other tolerances or another pair
+            than the job's: a broken contract (the backend's error), not a count.
     """
-    recording, summary = stream
-    if summary.tol == job.tol and summary.pair == job.pair:
-        return summary.beyond
-    return rows_beyond(recording, job.model, summary.pair, job.tol)
+    summary = stream[1]
+    if summary.tol != job.tol or summary.pair != job.pair:
+        raise RuntimeError(
+            f"the recording was counted against tolerances {summary.tol} and pair "
+            f"{summary.pair}, not the check's {job.tol} and {job.pair}; it is not read again"
+        )
+    return summary.beyond
 
 
 def _stream_spread(summary: StreamSummary) -> str:

@@ -25,8 +25,13 @@ forgotten; what is kept is bounded whatever the recording's length:
 The check runs on the kept rows — the sample and the worst rows, in the
 recording's order: every other backend, the coverage of the table's numbers, the
 calibration's effect and the plots see those, and its verdict on the recording is
-exact, as the worst rows are among them. The recording is read once.
-:func:`rows_beyond` counts for other tolerances, with a second pass.
+exact, as the worst rows are among them. The recording is read once, under the
+read's clock (:attr:`StreamKeeper.read_limit_s`). There is no second pass: the
+check's comparison of it (:mod:`fkcheck.engine.compare`) has the tolerances
+and frame pair the summary counted against, both from the one prepared check
+(``stream_recordings`` is handed the check's tolerances, and a recording
+answers only for its own pair); a summary that does not match them is a broken
+contract, that backend's error, never an unbounded read.
 """
 
 from __future__ import annotations
@@ -40,7 +45,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from fkcheck.backends.base import Backend
-from fkcheck.backends.recording import PoseChunk, Recording, SampleKeeper
+from fkcheck.backends.recording import PoseChunk, SampleKeeper
 from fkcheck.core.metrics import position_error_m, rotation_error_rad
 from fkcheck.core.typing import Float
 from fkcheck.engine.evidence import WORST_CASES
@@ -55,7 +60,6 @@ __all__ = [
     "READ_MIN_S",
     "StreamKeeper",
     "StreamSummary",
-    "rows_beyond",
     "stream_recordings",
 ]
 
@@ -258,21 +262,3 @@ class _KeepsRows(Protocol):
 def _count_beyond(pos: Float, rot: Float, tol: tuple[float, float]) -> int:
     """Rows whose position or rotation error exceeds its tolerance (``inf`` does)."""
     return int(np.count_nonzero((pos > tol[0]) | (rot > tol[1])))
-
-
-def rows_beyond(
-    recording: Recording, model: Model, pair: tuple[str, str], tol: tuple[float, float]
-) -> int:
-    """How many rows of ``recording`` differ from the core by more than ``tol``: a second pass.
-
-    The check needs none: its :class:`StreamSummary` counts against the check's
-    tolerances as the recording streams (:attr:`StreamSummary.beyond`).
-
-    Raises:
-        FkcheckError: The recording cannot be read (as on its first pass).
-    """
-    count = 0
-    for chunk in recording.chunks():
-        if chunk.q.shape[0]:  # a reader's chunk of no rows: nothing to count
-            count += _count_beyond(*_errors(model, pair, chunk), tol)
-    return count

@@ -16,7 +16,7 @@ import operator
 import re
 from collections.abc import Callable
 
-__all__ = ["OPERATORS", "parse_versions", "release", "versions_match"]
+__all__ = ["OPERATORS", "parse_versions", "release", "release_text", "versions_match"]
 
 #: The operators a clause may use, and what each compares.
 OPERATORS: dict[str, Callable[[tuple[int, ...], tuple[int, ...]], bool]] = {
@@ -63,6 +63,16 @@ def release(version: str) -> tuple[int, ...] | None:
     """The release part of an installed version (``4.1.1rc1`` → ``(4, 1, 1, 0, 0)``); ``None``."""
     found = _RELEASE.match(version)
     return _padded(found.group(1)) if found else None
+
+
+def release_text(version: str) -> str | None:
+    """The release part of an installed version as a clause writes it (``4.1.1rc1`` → ``4.1.1``).
+
+    What :func:`release` reads of ``version``, so that ``<=`` it matches that version;
+    ``None`` when it has none.
+    """
+    found = _RELEASE.match(version)
+    return found.group(1) if found else None
 
 
 def versions_match(spec: str, version: str) -> bool:
