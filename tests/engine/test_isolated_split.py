@@ -15,6 +15,8 @@ import numpy as np
 import pytest
 
 from fkcheck import load_model
+from fkcheck.backends.registry import make_backend
+from fkcheck.description.registry import load_description
 from fkcheck.engine import runner
 from fkcheck.engine.plan import BackendPlan
 from fkcheck.engine.runner import run_check
@@ -236,3 +238,51 @@ def test_in_own_processes_weighs_the_declared_cost_of_the_share(full_s, compared
     plan = BackendPlan("x", compared, 64, 0, full_s, None, 120.0)
     assert runner.in_own_processes(PidChain(), plan) is own
     assert runner.in_own_processes(ReferenceChain(), plan) is False  # not isolated
+
+
+def test_a_long_description_keeps_a_cheap_share_in_processes_of_its_own():
+    # The declared cost counts poses only; a reader's load of a long description does
+    # not stop at the time limit in a thread.
+    plan = BackendPlan("x", 64, 64, 0, 0.04, None, 120.0)
+    limit = runner.IN_PROCESS_MAX_DESCRIPTION_CHARS
+    assert runner.in_own_processes(PidChain(), plan, limit) is False
+    assert runner.in_own_processes(PidChain(), plan, limit + 1) is True
+    assert runner.in_own_processes(ReferenceChain(), plan, limit + 1) is False  # not isolated
+
+
+def _padded_ur5(tmp_path: Path, links: int) -> Path:
+    """ur5.toml on its URDF with ``links`` extra fixed links (no visuals) on ``base_link``."""
+    from tests.hostile.test_hostile_urdf import UR5_TEXT, joint, model_with_urdf
+
+    extra = "".join(
+        f'<link name="x{i}"/>' + joint(f"xj{i}", "base_link", f"x{i}") for i in range(links)
+    )
+    return model_with_urdf(tmp_path, UR5_TEXT.replace("</robot>", extra + "</robot>"))
+
+
+@pytest.mark.parametrize(("links", "own"), [(0, False), (1_000, True)])
+def test_yourdfpy_on_a_description_past_the_limit_runs_in_its_own_process(
+    tmp_path, monkeypatch, links, own
+):
+    pytest.importorskip("yourdfpy")
+    model = load_model(_padded_ur5(tmp_path, links))
+    chars = len(load_description(model, language="urdf").text)
+    assert (chars > runner.IN_PROCESS_MAX_DESCRIPTION_CHARS) is own, chars
+    started = []
+    real = runner.run_isolated
+    monkeypatch.setattr(runner, "run_isolated", lambda *a, **k: started.append(1) or real(*a, **k))
+    check = run_check(model, [make_backend("yourdfpy-urdf")], samples=64)
+    assert check.backends[0].status == "pass", check.backends[0].message
+    assert bool(started) is own
+
+
+def test_every_bundled_urdf_is_short_enough_to_run_in_the_engines_process():
+    # 64 poses of a bundled model stay in-process (the reason the split exists).
+    from fkcheck.model.read import bundled_model_paths
+
+    longest = 0
+    for path in bundled_model_paths().values():
+        model = load_model(path)
+        if model.urdf is not None:
+            longest = max(longest, len(load_description(model, language="urdf").text))
+    assert 0 < longest <= runner.IN_PROCESS_MAX_DESCRIPTION_CHARS

@@ -275,3 +275,33 @@ def test_the_tilted_slide_the_check_of_the_right_table_passes_the_wrong_one_is_n
             "α1, d1, α2, d2, d3 not identifiable (the joint limits keep any configuration"
             " from telling them apart: are the limits right?)"
         )
+
+
+@pytest.mark.parametrize("where", [100.0, 1000.0])
+def test_a_slide_held_far_out_still_blames_its_limits(where):
+    """Stanford's slide held at 100 m or 1 km: what the held slide hides is never verified.
+
+    The hidden change's sparsest basis weighs lengths by the displacement (a tilt of the
+    distal chain at ``where`` metres is mostly a translation, which lengths make up), so a
+    fixed ten metres either side showed it at a tenth of what it shows at the held
+    value: freed only that far, a slide held at 100 m read the whole table verified, while
+    a change of a hundred tolerances moved no pose within the limits by 4e-10 m. Freed
+    its held displacement either side as well, it is the limits' again.
+    """
+    stanford = load_model("stanford")
+    joints = list(stanford.joints)
+    joints[2] = replace(joints[2], limits=(where, where))
+    right = replace(stanford, joints=tuple(joints))
+    change = _hidden(right, 2, np.random.default_rng(1))
+    assert change is not None
+    wrong = _moved(right, HIDDEN_TOLERANCES * TOL * change)
+    q = right.limits[:, 0] + np.zeros((50, right.dof))
+    q[:, [0, 1, 3, 4, 5]] = np.random.default_rng(5).uniform(-3, 3, (50, 5))
+    assert position_error_m(right.fk(q), wrong.fk(q)).max() < 0.1 * TOL  # hidden
+    names = [param_symbol(right, k // 4, PARAMS[k % 4]) for k in range(4 * right.dof)]
+    largest = names[int(np.argmax(np.abs(change)))]
+    evidence = coverage(right, "world", "tcp", TOL, TOL)
+    assert not evidence.complete
+    limited = {n.name for n in evidence.table_numbers if n.reason == "limits"}
+    assert largest in limited
+    assert {"a2", "θ2", "α3", "θ3"} <= limited  # what it hides held at 0.79 m too

@@ -216,3 +216,65 @@ def test_variables_a_parent_fkcheck_set_are_not_the_users_choice(monkeypatch):
     monkeypatch.setenv("OPENBLAS_NUM_THREADS", "1")
     monkeypatch.setenv("OMP_NUM_THREADS", "3")  # fkcheck set no OMP_NUM_THREADS
     assert threads._user_chose() is True
+
+
+_CALLER = """
+import json, os, sys
+import numpy
+from fkcheck.process import threads
+threads.usable_cores = lambda: int(sys.argv[1])
+from threadpoolctl import threadpool_info, threadpool_limits
+threadpool_limits(limits=2, user_api="blas")  # the caller's own size, whatever the machine
+def pools():
+    return sorted({(p["user_api"], p["num_threads"]) for p in threadpool_info()})
+names = (*threads.THREAD_VARIABLES, "NUMBA_NUM_THREADS", threads.SET_BY_FKCHECK)
+before = (pools(), {k: os.environ.get(k) for k in names})
+import fkcheck
+checked = [fkcheck.check("ur5", against=["pinocchio-dh"], samples=64).verdict,
+           fkcheck.check("ur5", against=["yourdfpy-urdf"], samples=64).verdict]
+from fkcheck.core import dh
+import numba
+print(json.dumps({"before": before, "after": (pools(), {k: os.environ.get(k) for k in names}),
+                  "checked": checked, "jit": dh.load_jit(),
+                  "numba": [numba.get_num_threads(), numba.config.NUMBA_DEFAULT_NUM_THREADS]}))
+"""
+
+
+def test_a_python_caller_keeps_its_blas_and_variables_through_fkcheck_check():
+    # fkcheck.check() is a library call: the caller's pools and environment are its own
+    # (one_blas_thread is the program's and the plugin's only).
+    got = _run(_CALLER, 8, {})
+    assert got["checked"] == ["pass", "pass"]
+    assert ["blas", 2] in got["before"][0]
+    assert [api for api, n in got["after"][0] if api == "blas" and n != 2] == []
+    assert got["after"][1] == got["before"][1] == dict.fromkeys(got["before"][1])
+
+
+_NUMBA_AFTER_ONE_BLAS = """
+import json, sys
+import numpy
+from fkcheck.process import threads
+assert threads.one_blas_thread()
+from fkcheck.core import dh
+assert dh.load_jit()
+import numba
+from threadpoolctl import threadpool_info
+print(json.dumps({"numba": [numba.get_num_threads(), numba.config.NUMBA_DEFAULT_NUM_THREADS],
+                  "pools": sorted({(p["user_api"], p["num_threads"]) for p in threadpool_info()})}))
+"""
+
+
+def test_one_blas_thread_leaves_numba_its_threads():
+    # Only BLAS runs on one thread: the core's parallel FK (numba, large checks) keeps one
+    # thread per core, and so does the OpenMP pool numba's threading layer may use.
+    got = _run(_NUMBA_AFTER_ONE_BLAS, 8, {})
+    used, default = got["numba"]
+    assert used == default == numba_default_threads()
+    assert {n for api, n in got["pools"] if api == "blas"} == {1}
+    assert {n for api, n in got["pools"] if api == "openmp"} <= {default}
+
+
+def numba_default_threads() -> int:
+    """numba's default: one thread per CPU it sees (not fkcheck's usable cores)."""
+    numba = pytest.importorskip("numba")
+    return int(numba.config.NUMBA_DEFAULT_NUM_THREADS)

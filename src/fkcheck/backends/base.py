@@ -113,8 +113,10 @@ class Backend(Protocol):
             the cores — for slow pure-Python backends that hold the GIL; the object,
             the model and ``q`` must pickle. A share its declared cost puts under
             :data:`fkcheck.engine.runner.IN_PROCESS_MAX_S` runs in the engine's
-            process (starting a process would cost more); with no declared cost,
-            always in its own.
+            process (starting a process would cost more), unless a description it
+            reads is longer than
+            :data:`~fkcheck.engine.runner.IN_PROCESS_MAX_DESCRIPTION_CHARS`; with no
+            declared cost, always in its own.
         imports: Module names the engine imports once, in the main thread, before
             backends start (two threads importing one heavy library lazily at the
             same time can hit Python's import-deadlock detection).

@@ -87,8 +87,8 @@ class YourdfpyUrdf(UrdfReader):
     method = "URDF.update_cfg + URDF.get_transform (loop)"
     #: ~370 µs per pose of pure Python holding the GIL (trimesh's scene graph):
     #: the engine computes its poses in processes of its own, split over the cores
-    #: (a share under half a second, e.g. 64 poses, in the engine's process:
-    #: fkcheck.engine.runner.in_own_processes).
+    #: (a share under half a second, e.g. 64 poses, of a URDF of at most 64,000
+    #: characters, in the engine's process: fkcheck.engine.runner.in_own_processes).
     isolated = True
     #: Imported before the backends' threads start when it runs in the engine's process.
     imports = ("yourdfpy",)

@@ -8,9 +8,10 @@ a backend whose declared cost does not fit its limit gets a stated subset);
 then the core's kernels load (a phase of its own, charged to no backend) and
 :func:`run_backends` runs each backend in a thread — an isolated one's poses in
 a child process, started first, while the libraries of the others are imported
-(unless its share is too small to be worth one: :func:`in_own_processes`) —
-within its time limit, with :func:`fkcheck.engine.compare.compare` comparing
-each with the in-house core; :func:`~fkcheck.engine.judge.judge` gives the
+(unless its share, of a short description, is too small to be worth one:
+:func:`in_own_processes`) — within its time limit, with
+:func:`fkcheck.engine.compare.compare` comparing each with the in-house core;
+:func:`~fkcheck.engine.judge.judge` gives the
 :class:`~fkcheck.engine.results.CheckResult` with the verdict. :func:`run_check`
 is one request from a model, backends and options by name.
 
@@ -35,7 +36,7 @@ import numpy as np
 
 from fkcheck.backends.base import Backend, reads_format
 from fkcheck.core.typing import Float, JacobianReference
-from fkcheck.description.registry import model_format
+from fkcheck.description.registry import load_description, model_format, model_formats
 from fkcheck.engine.compare import Job, NoAnswerError, Progress, compare
 from fkcheck.engine.jacobian import Explain
 from fkcheck.engine.judge import judge
@@ -62,6 +63,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "EVIDENCE_MIN_S",
+    "IN_PROCESS_MAX_DESCRIPTION_CHARS",
     "IN_PROCESS_MAX_S",
     "CheckRequest",
     "Progress",
@@ -175,18 +177,45 @@ SPLIT_MIN_CONFIGS = 2_500
 #: declares no cost (``pose_cost_us``) always runs in processes of its own.
 IN_PROCESS_MAX_S = 0.5
 
+#: An isolated backend that reads a description longer than this, characters, runs in
+#: processes of its own whatever its share: the declared cost counts poses only, and a
+#: reader's load can grow faster than its description (yourdfpy's: 0.7 s for 1,000
+#: links with a box visual each, 3 s for 2,000, minutes at fkcheck's URDF limits), while
+#: a thread left running at the time limit cannot be stopped — it would go on taking a
+#: core and the GIL from the caller of ``fkcheck.check()`` long after the check ended.
+#: The largest bundled URDF, Baxter's arm, has 48,391.
+IN_PROCESS_MAX_DESCRIPTION_CHARS = 64_000
 
-def in_own_processes(backend: Backend, plan: BackendPlan) -> bool:
+
+def in_own_processes(backend: Backend, plan: BackendPlan, description_chars: int = 0) -> bool:
     """Whether the engine runs ``backend``'s share of a check in processes of its own.
 
     An isolated backend does, unless its declared cost puts the ``plan``'s share
-    under :data:`IN_PROCESS_MAX_S`; no other backend does.
+    under :data:`IN_PROCESS_MAX_S` and the longest description it reads,
+    ``description_chars`` long, is at most :data:`IN_PROCESS_MAX_DESCRIPTION_CHARS`;
+    no other backend does.
     """
     if not backend.isolated:
         return False
     if plan.full_s is None or plan.total == 0:
         return True
+    if description_chars > IN_PROCESS_MAX_DESCRIPTION_CHARS:
+        return True
     return plan.full_s * plan.compared / plan.total >= IN_PROCESS_MAX_S
+
+
+def _description_chars(model: Model, backend: Backend) -> int:
+    """The length of the longest description of ``model`` that ``backend`` reads (0: none).
+
+    The descriptions were read while the check was prepared (this is the cache's
+    answer); one that cannot be read counts 0: the backend's own run reports it.
+    """
+    chars = 0
+    for fmt in model_formats(model):
+        if reads_format(backend, fmt.name):
+            with contextlib.suppress(Exception):
+                chars = max(chars, len(load_description(model, language=fmt.language).text))
+    return chars
 
 
 def _split(n: int, processes: int | None = None) -> list[tuple[int, int]]:
@@ -472,7 +501,10 @@ def run_backends(
     errors: list[FkcheckError] = []
     lock = threading.Lock()
 
-    own = [in_own_processes(b, p) for b, p in zip(backends, prepared.plan.backends, strict=True)]
+    own = [
+        in_own_processes(b, p, _description_chars(model, b) if b.isolated else 0)
+        for b, p in zip(backends, prepared.plan.backends, strict=True)
+    ]
 
     def run_and_collect(index: int, backend: Backend) -> None:
         outcome = _one_backend(prepared, index, backend, on_progress, own_processes=own[index])

@@ -68,7 +68,8 @@ def _limited(
     per tolerance of each number; ``frozen`` the joints whose whole range moves
     the pose by at most :data:`RESOLUTION_LIMIT` tolerances (``[0, 0]``,
     ±1e-7°). The same numbers with those joints free (a whole turn each, a slide
-    :data:`~fkcheck.model.coverage.tuning.FREED_PRISMATIC_M` either side) show
+    :data:`~fkcheck.model.coverage.tuning.FREED_PRISMATIC_M` either side, or its
+    held displacement when farther out) show
     what the kinematics could tell: a combination only their limits hide is the
     limits'. A joint is named when freeing it alone shows that number's combination.
     """

@@ -278,18 +278,18 @@ def _configurations(
 
     A freed joint ranges over at least a whole turn (revolute) or
     :data:`~fkcheck.model.coverage.tuning.FREED_PRISMATIC_M` either side of its
-    range's middle (prismatic: a slide has no natural range, and what a change
-    hides at one displacement shows in proportion to the displacement): what the
-    kinematics could tell, whatever the limits.
+    range's middle, or that middle's own distance from zero when larger
+    (prismatic: a slide has no natural range, and what a change hides at one
+    displacement shows in proportion to the displacement — and, held far out, in
+    proportion to the displacement's share of the held one): what the kinematics
+    could tell, whatever the limits.
     """
     lo, hi = sampling_box(model)
     for j in range(model.dof) if free is None else free:
         if model.joints[j].type == "prismatic":
             mid = (lo[j] + hi[j]) / 2.0
-            lo[j], hi[j] = (
-                min(lo[j], mid - FREED_PRISMATIC_M),
-                max(hi[j], mid + FREED_PRISMATIC_M),
-            )
+            half = max(FREED_PRISMATIC_M, abs(mid))
+            lo[j], hi[j] = min(lo[j], mid - half), max(hi[j], mid + half)
         else:
             lo[j], hi[j] = min(lo[j], -math.pi), max(hi[j], math.pi)
     rng = np.random.default_rng(seed)
