@@ -84,6 +84,15 @@ def _one_line_error(capsys) -> str:
     return err
 
 
+def _in_project(tmp_path: Path, monkeypatch, table: str) -> Path:
+    """A project directory whose pyproject.toml holds ``[tool.fkcheck]`` ``table``; made cwd."""
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(f"[tool.fkcheck]\n{table}", encoding="utf-8")
+    monkeypatch.chdir(project)
+    return project
+
+
 @pytest.mark.parametrize("storage", ["mcap", "sqlite3"])
 def test_the_calibrated_model_passes_and_the_report_names_the_bag(
     models, motion, tmp_path, capsys, storage
@@ -201,15 +210,12 @@ def test_the_bag_settings_may_be_set_in_the_project_and_a_flag_wins(
 ):
     topics = ("/ur/joint_states", "/ur/tf", "/ur/tf_static")
     bag = _bag(tmp_path, models[0], motion[:20], topics=topics, offset_ns=1_500_000)
-    project = tmp_path / "project"
-    project.mkdir()
-    (project / "pyproject.toml").write_text(
-        "[tool.fkcheck]\n"
+    _in_project(
+        tmp_path,
+        monkeypatch,
         f'bag_joint_states = "{topics[0]}"\nbag_tf = "{topics[1]}"\n'
         f'bag_tf_static = "{topics[2]}"\nbag_stamp_tolerance = 0.0015\n',
-        encoding="utf-8",
     )
-    monkeypatch.chdir(project)
     report = tmp_path / "r.json"
     assert _check(models[0], bag, report) == 0, capsys.readouterr()
     (backend,) = json.loads(report.read_text())["backends"]
@@ -234,12 +240,7 @@ def test_a_bad_bag_setting_in_the_project_is_one_line_exit_2(
     models, motion, tmp_path, capsys, monkeypatch
 ):
     bag = _bag(tmp_path, models[0], motion[:5])
-    project = tmp_path / "project"
-    project.mkdir()
-    (project / "pyproject.toml").write_text(
-        "[tool.fkcheck]\nbag_stamp_tolerance = 5\n", encoding="utf-8"
-    )
-    monkeypatch.chdir(project)
+    project = _in_project(tmp_path, monkeypatch, "bag_stamp_tolerance = 5\n")
     assert _check(models[0], bag) == 2
     assert _one_line_error(capsys) == (
         f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.bag_stamp_tolerance: must "
@@ -485,15 +486,12 @@ def test_diagnose_reads_a_namespaced_bag_by_the_flags_or_the_projects_keys(
     assert _diagnose(models[1], bag, *_NAMESPACED_FLAGS) == 0
     assert header in " ".join(capsys.readouterr().out.split())
     # The same settings as [tool.fkcheck] keys, as fkcheck check reads them.
-    project = tmp_path / "project"
-    project.mkdir()
-    (project / "pyproject.toml").write_text(
-        "[tool.fkcheck]\n"
-        + "".join(f'{key} = "{topic}"\n' for key, topic in
-                  zip(("bag_joint_states", "bag_tf", "bag_tf_static"), _NAMESPACED, strict=True)),
-        encoding="utf-8",
-    )  # fmt: skip
-    monkeypatch.chdir(project)
+    keys = ("bag_joint_states", "bag_tf", "bag_tf_static")
+    project = _in_project(
+        tmp_path,
+        monkeypatch,
+        "".join(f'{key} = "{topic}"\n' for key, topic in zip(keys, _NAMESPACED, strict=True)),
+    )
     assert _diagnose(models[1], bag) == 0
     assert header in " ".join(capsys.readouterr().out.split())
     # A flag wins over the key; --isolated ignores the file.
@@ -515,12 +513,7 @@ def test_a_bad_bag_setting_is_one_line_exit_2_for_diagnose_too(
     models, motion, tmp_path, capsys, monkeypatch
 ):
     bag = _bag(tmp_path, models[0], motion[:5])
-    project = tmp_path / "project"
-    project.mkdir()
-    (project / "pyproject.toml").write_text(
-        '[tool.fkcheck]\nbag_tf = "/tf static"\n', encoding="utf-8"
-    )
-    monkeypatch.chdir(project)
+    project = _in_project(tmp_path, monkeypatch, 'bag_tf = "/tf static"\n')
     assert _diagnose(models[1], bag) == 2
     assert _one_line_error(capsys) == (
         f"fkcheck: error: {project / 'pyproject.toml'}: tool.fkcheck.bag_tf: must be a topic "

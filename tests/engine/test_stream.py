@@ -404,12 +404,17 @@ def test_reading_a_recording_past_the_checks_time_limit_is_one_line_exit_2(
     path = write_rtde_csv(tmp_path / "rec.csv", ur5, motion)
     monkeypatch.setattr(stream, "READ_MIN_S", 0.0)  # the time limit is --timeout alone
     code = main(["check", "ur5", "--against", f"poses:{path}", "--timeout", "1e-9"])
+    _assert_timed_out(code, capsys, path, "1e-09", r"\d+")
+
+
+def _assert_timed_out(code: int, capsys, path, limit: str, rows: str) -> None:
+    """Exit 2 and one line: the read of ``path`` ran past ``limit`` s, ``rows`` (a pattern) read."""
     captured = capsys.readouterr()
     assert code == 2, captured.out
     assert captured.err.count("\n") == 1, captured.err
     assert re.search(
-        rf"reading {re.escape(str(path))} did not finish within its time limit of 1e-09 s "
-        r"\(\d+ rows read\); give it more with --timeout",
+        rf"reading {re.escape(str(path))} did not finish within its time limit of {limit} s "
+        rf"\({rows} rows read\); give it more with --timeout",
         captured.err,
     ), captured.err
     assert "Traceback" not in captured.err
@@ -451,14 +456,7 @@ def test_a_recording_whose_first_rows_come_late_ends_at_the_time_limit_in_one_li
     start = time.monotonic()
     code = main([command, "ur5", "--against", f"poses:{path}", "--timeout", f"{_LIMIT_S:g}"])
     took = time.monotonic() - start
-    captured = capsys.readouterr()
-    assert code == 2, captured.out
-    assert captured.err.count("\n") == 1, captured.err
-    assert re.search(
-        rf"reading {re.escape(str(path))} did not finish within its time limit of 1 s "
-        r"\(0 rows read\); give it more with --timeout",
-        captured.err,
-    ), captured.err
+    _assert_timed_out(code, capsys, path, "1", "0")
     assert took < _LIMIT_S + _SLACK_S, took
 
 
