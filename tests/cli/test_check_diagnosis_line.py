@@ -75,3 +75,19 @@ def test_a_run_over_many_models_says_each_failing_models_diagnosis(tmp_path, cap
     at = lines.index(f"robots/b_wrong.toml: {LINE}")
     assert lines[at - 1].startswith("robots/b_wrong.toml: pinocchio-urdf: ")
     assert lines[at + 1].startswith("fkcheck: 1 of 2 models pass")
+
+
+def test_the_hint_reproduces_the_checks_seed_tolerance_and_time_limit(
+    wrong_ur5, capsys, monkeypatch
+):
+    # The hint is the report's reproducing line: a seed, a tolerance or a time limit
+    # other than the defaults is carried, else the diagnosis would run another check.
+    monkeypatch.chdir(wrong_ur5.parent)
+    argv = ["check", wrong_ur5.name, *FAST, "--no-diagnose", "--seed", "3",
+            "--tol-pos", "2e-06", "--timeout", "60"]  # fmt: skip
+    assert main(argv) == 1
+    (hint,) = (line for line in capsys.readouterr().out.splitlines() if "explain it" in line)
+    assert hint == (
+        f"hint: explain it: fkcheck diagnose {wrong_ur5.name} --against pinocchio-urdf "
+        "--from base --to tool0 --seed 3 --tol-pos 2e-06 --timeout 60.0"
+    )

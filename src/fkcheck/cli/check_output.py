@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import shlex
 from typing import TYPE_CHECKING, Any
 
 from fkcheck._version import __version__
 from fkcheck.io.format import format_angle_console, format_length_console, format_scientific
-from fkcheck.io.text import operand, terminal_markup, terminal_text
+from fkcheck.io.text import terminal_markup, terminal_text
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -351,11 +350,13 @@ def print_diagnose_hint(
     record it for the reader's versions: up to the installed release of its
     library (:func:`fkcheck.engine.expected.library_of` of its backend in
     ``backends``; ``4.1.1`` of ``4.1.1rc1``, as a record reads it), ``VERSION``
-    when that is not known. The ``fkcheck diagnose``
-    line reads a ROS 2 bag by the check's ``--bag-*`` settings. Not for a table
-    fkcheck derived (``check --source``): there is no model file to name.
+    when that is not known. The ``fkcheck diagnose`` line is the report's
+    (:func:`~fkcheck.diagnose.failures.diagnose_command`, with the model as given):
+    the check's seed, tolerances, time limit and ``--bag-*`` settings when not the
+    defaults. Not for a table fkcheck derived (``check --source``): there is no
+    model file to name.
     """
-    from fkcheck.diagnose.failures import bag_arguments
+    from fkcheck.diagnose.failures import bag_arguments, diagnose_command
     from fkcheck.engine.expected import library_of
     from fkcheck.model.version_spec import release_text
 
@@ -371,10 +372,9 @@ def print_diagnose_hint(
             f'versions = "<={terminal_text(version)}" (docs/reference/model-file.md)'
         )
     if failed and check.model.derived is None:
-        argv = ["diagnose", operand(model_arg), "--against", failed[0].name,
-                "--from", check.frame_from, "--to", check.frame_to,
-                *bag_arguments(by_name.get(failed[0].name))]  # fmt: skip
-        print(f"hint: explain it: fkcheck {terminal_text(shlex.join(argv))}")
+        bag = bag_arguments(by_name.get(failed[0].name))
+        command = diagnose_command(check, failed[0].name, bag, model_arg)  # the report's line
+        print(f"hint: explain it: {terminal_text(command)}")
 
 
 def print_models_table(

@@ -96,18 +96,22 @@ def bag_arguments(backend: Backend | None) -> list[str]:
     return argv
 
 
-def diagnose_command(check: CheckResult, backend: str, bag: Sequence[str] = ()) -> str:
+def diagnose_command(
+    check: CheckResult, backend: str, bag: Sequence[str] = (), model_arg: str | None = None
+) -> str:
     """The ``fkcheck diagnose`` command line that reproduces a diagnosis of the report.
 
     ``""`` for a table fkcheck derived (``check --source A --against-description
     B``): there is no model file to name, the check's own run is the reproduction.
     ``bag`` is the backend's :func:`bag_arguments`: a ROS 2 bag whose topics are not
-    the default ones is read by the same settings.
+    the default ones is read by the same settings. ``model_arg``: the model as the
+    check was given it (default: its file, or its bundled name).
     """
     model = check.model
     if model.derived is not None:
         return ""
-    argv = ["diagnose", operand(str(model.path)) if model.path is not None else model.name]
+    named = model_arg or (str(model.path) if model.path is not None else model.name)
+    argv = ["diagnose", operand(named)]
     argv += ["--against", backend, "--from", check.frame_from, "--to", check.frame_to]
     if check.options.seed != 0:
         argv += ["--seed", str(check.options.seed)]
